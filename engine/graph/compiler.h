@@ -1,0 +1,36 @@
+#pragma once
+#include <functional>
+#include <set>
+#include <string>
+
+#include "graph/graph_desc.h"
+#include "graph/plan.h"
+
+namespace caustica::graph {
+
+struct DeviceLimits {
+  uint32_t max_image_dimension_2d = 16384;
+  uint64_t max_storage_buffer_range = 128ull << 20;  // lavapipe's; see DESIGN.md
+  uint64_t max_buffer_size = 4ull << 30;
+};
+
+using MemoryRequirementsFn = std::function<MemoryRequirements(const PlannedResource&)>;
+
+// A device-independent stand-in for vkGetDevice*MemoryRequirements: tightly packed texels, 4 KiB
+// alignment for images and 256 bytes for buffers, any memory type. Used where no device exists.
+MemoryRequirements estimate_memory_requirements(const PlannedResource& resource);
+
+struct CompileOptions {
+  uint32_t output_width = 1280;
+  uint32_t output_height = 720;
+  DeviceLimits limits;
+  uint64_t memory_limit_bytes = 1536ull << 20;  // the engine's own limit; lavapipe enforces none
+  std::set<std::string> retained;               // resources kept whole to the end of the frame (--dump)
+  bool alias = true;                            // share memory between disjoint lifetimes
+  MemoryRequirementsFn memory_requirements = estimate_memory_requirements;
+};
+
+// Validates and compiles; throws InputError naming the file, line and JSON pointer of the problem.
+Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options);
+
+}  // namespace caustica::graph

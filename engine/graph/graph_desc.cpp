@@ -1,0 +1,271 @@
+#include "graph/graph_desc.h"
+
+#include <set>
+
+#include "core/suggest.h"
+
+namespace caustica::graph {
+
+const ResourceDesc* GraphDesc::find_resource(std::string_view wanted) const {
+  for (const auto& r : resources) {
+    if (r.name == wanted) return &r;
+  }
+  return nullptr;
+}
+
+const GraphParameter* GraphDesc::find_parameter(std::string_view wanted) const {
+  for (const auto& p : parameters) {
+    if (p.decl.name == wanted) return &p;
+  }
+  return nullptr;
+}
+
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(const JsonDocument& doc) : doc_(doc) {}
+
+  const nlohmann::json& object(const nlohmann::json& value, const std::string& pointer, const char* what) const {
+    if (!value.is_object()) throw doc_.error(pointer, std::string(what) + " must be an object, not " + type_name(value));
+    return value;
+  }
+
+  void only_keys(const nlohmann::json& value, const std::string& pointer, const std::vector<std::string>& allowed,
+                 const char* what) const {
+    for (const auto& [key, unused] : value.items()) {
+      bool known = false;
+      for (const auto& a : allowed) known = known || a == key;
+      if (!known) {
+        throw doc_.error(json_pointer_append(pointer, key),
+                         "unknown member '" + key + "' in " + what + did_you_mean(key, allowed));
+      }
+    }
+  }
+
+  std::string string(const nlohmann::json& value, const std::string& pointer, const char* what) const {
+    if (!value.is_string()) throw doc_.error(pointer, std::string(what) + " must be a string, not " + type_name(value));
+    return value.get<std::string>();
+  }
+
+  std::string name(const nlohmann::json& value, const std::string& pointer, const char* what) const {
+    std::string text = string(value, pointer, what);
+    if (text.empty()) throw doc_.error(pointer, std::string(what) + " must not be empty");
+    if (text.size() > 128) throw doc_.error(pointer, std::string(what) + " is longer than 128 characters");
+    for (char c : text) {
+      bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+      if (!ok) throw doc_.error(pointer, std::string(what) + " \"" + text + "\" may only use letters, digits, '_', '-' and '.'");
+    }
+    return text;
+  }
+
+  // An expression: a string, or a positive integer literal.
+  std::string expression(const nlohmann::json& value, const std::string& pointer, const char* what) const {
+    if (value.is_number_integer()) return std::to_string(value.get<long long>());
+    if (value.is_number_float()) return value.dump();
+    if (value.is_string()) return value.get<std::string>();
+    throw doc_.error(pointer, std::string(what) + " must be a number or an expression string, not " + type_name(value));
+  }
+
+  static std::string type_name(const nlohmann::json& value) {
+    switch (value.type()) {
+      case nlohmann::json::value_t::null: return "null";
+      case nlohmann::json::value_t::object: return "an object";
+      case nlohmann::json::value_t::array: return "an array";
+      case nlohmann::json::value_t::string: return "a string";
+      case nlohmann::json::value_t::boolean: return "a boolean";
+      default: return "a number";
+    }
+  }
+
+ private:
+  const JsonDocument& doc_;
+};
+
+ParamType parse_param_type(const JsonDocument& doc, const nlohmann::json& value, const std::string& pointer) {
+  static const std::vector<std::string> names{"float", "int", "bool", "choice"};
+  std::string text = Reader(doc).string(value, pointer, "a parameter type");
+  if (text == "float") return ParamType::float_;
+  if (text == "int") return ParamType::int_;
+  if (text == "bool") return ParamType::bool_;
+  if (text == "choice") return ParamType::choice;
+  throw doc.error(pointer, "unknown parameter type '" + text + "'" + did_you_mean(text, names));
+}
+
+void load_parameters(GraphDesc& graph, const Reader& read) {
+  const auto& root = graph.doc.root();
+  if (!root.contains("parameters")) return;
+  const auto& params = read.object(root["parameters"], "/parameters", "\"parameters\"");
+  for (const auto& [key, value] : params.items()) {
+    std::string pointer = json_pointer_append("/parameters", key);
+    GraphParameter p;
+    p.pointer = pointer;
+    p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
+    read.object(value, pointer, "a parameter");
+    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description"}, "a parameter");
+    if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
+    if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
+    p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
+    for (const char* bound : {"min", "max"}) {
+      if (!value.contains(bound)) continue;
+      if (!value[bound].is_number()) throw graph.error(pointer + "/" + bound, std::string("\"") + bound + "\" must be a number");
+      (std::string(bound) == "min" ? p.decl.min : p.decl.max) = value[bound].get<double>();
+    }
+    if (p.decl.min && p.decl.max && *p.decl.min > *p.decl.max) {
+      throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
+    }
+    if (value.contains("choices")) {
+      const auto& choices = value["choices"];
+      if (!choices.is_array() || choices.empty()) throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
+      for (size_t i = 0; i < choices.size(); ++i) {
+        p.decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
+      }
+    } else if (p.decl.type == ParamType::choice) {
+      throw graph.error(pointer, "parameter '" + key + "' of type choice needs \"choices\"");
+    }
+    if (value.contains("description")) p.decl.description = read.string(value["description"], pointer + "/description", "a description");
+    p.decl.default_value = value["default"];
+    std::string problem = check_param_value(p.decl, p.decl.default_value);
+    if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
+    p.value = p.decl.default_value;
+    graph.parameters.push_back(std::move(p));
+  }
+}
+
+void load_resources(GraphDesc& graph, const Reader& read) {
+  const auto& root = graph.doc.root();
+  if (!root.contains("resources")) throw graph.error("", "a graph needs \"resources\"");
+  const auto& resources = read.object(root["resources"], "/resources", "\"resources\"");
+  for (const auto& [key, value] : resources.items()) {
+    std::string pointer = json_pointer_append("/resources", key);
+    ResourceDesc r;
+    r.pointer = pointer;
+    r.name = read.name(nlohmann::json(key), pointer, "a resource name");
+    read.object(value, pointer, "a resource");
+    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "size", "description"}, "a resource");
+    std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
+    if (type == "image") {
+      r.kind = ResourceKind::image;
+      if (!value.contains("format")) throw graph.error(pointer, "image '" + key + "' needs a \"format\"");
+      std::string format = read.string(value["format"], pointer + "/format", "\"format\"");
+      auto parsed = parse_format(format);
+      if (!parsed) throw graph.error(pointer + "/format", "unknown format '" + format + "'" + did_you_mean(format, format_names()));
+      r.format = *parsed;
+      if (value.contains("width")) r.width = read.expression(value["width"], pointer + "/width", "\"width\"");
+      if (value.contains("height")) r.height = read.expression(value["height"], pointer + "/height", "\"height\"");
+      if (value.contains("mips")) r.mips = read.expression(value["mips"], pointer + "/mips", "\"mips\"");
+      if (value.contains("size")) throw graph.error(pointer + "/size", "\"size\" is for buffers; an image has \"width\" and \"height\"");
+    } else if (type == "buffer") {
+      r.kind = ResourceKind::buffer;
+      if (!value.contains("size")) throw graph.error(pointer, "buffer '" + key + "' needs a \"size\" in bytes");
+      r.size = read.expression(value["size"], pointer + "/size", "\"size\"");
+      for (const char* image_only : {"format", "width", "height", "mips"}) {
+        if (value.contains(image_only)) throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
+      }
+    } else {
+      throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
+    }
+    graph.resources.push_back(std::move(r));
+  }
+}
+
+std::map<std::string, std::string> load_bindings(const Reader& read, const nlohmann::json& pass,
+                                                 const std::string& pointer, const char* section) {
+  std::map<std::string, std::string> out;
+  if (!pass.contains(section)) return out;
+  std::string section_pointer = pointer + "/" + section;
+  read.object(pass[section], section_pointer, section);
+  for (const auto& [port, resource] : pass[section].items()) {
+    out[port] = read.name(resource, json_pointer_append(section_pointer, port), "a resource name");
+  }
+  return out;
+}
+
+void load_passes(GraphDesc& graph, const Reader& read) {
+  const auto& root = graph.doc.root();
+  if (!root.contains("passes")) throw graph.error("", "a graph needs \"passes\"");
+  const auto& passes = root["passes"];
+  if (!passes.is_array()) throw graph.error("/passes", "\"passes\" must be an array of pass objects");
+  if (passes.empty()) throw graph.error("/passes", "a graph needs at least one pass");
+  if (passes.size() > 100000) throw graph.error("/passes", "more than 100000 passes");
+  std::set<std::string> names;
+  for (size_t i = 0; i < passes.size(); ++i) {
+    std::string pointer = "/passes/" + std::to_string(i);
+    const auto& value = read.object(passes[i], pointer, "a pass");
+    read.only_keys(value, pointer, {"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"}, "a pass");
+    PassDesc p;
+    p.pointer = pointer;
+    if (!value.contains("type")) throw graph.error(pointer, "pass needs a \"type\"");
+    p.type = read.string(value["type"], pointer + "/type", "\"type\"");
+    if (!value.contains("name")) throw graph.error(pointer, "pass needs a \"name\"");
+    p.name = read.name(value["name"], pointer + "/name", "a pass name");
+    if (!names.insert(p.name).second) throw graph.error(pointer + "/name", "two passes are named '" + p.name + "'");
+    if (value.contains("params")) p.params = read.object(value["params"], pointer + "/params", "\"params\"");
+    p.inputs = load_bindings(read, value, pointer, "inputs");
+    p.outputs = load_bindings(read, value, pointer, "outputs");
+    if (value.contains("after")) {
+      const auto& after = value["after"];
+      if (!after.is_array()) throw graph.error(pointer + "/after", "\"after\" must be an array of pass names");
+      for (size_t j = 0; j < after.size(); ++j) {
+        p.after.push_back(read.name(after[j], pointer + "/after/" + std::to_string(j), "a pass name"));
+      }
+    }
+    if (value.contains("enabled")) {
+      if (!value["enabled"].is_boolean()) throw graph.error(pointer + "/enabled", "\"enabled\" must be true or false");
+      p.enabled = value["enabled"].get<bool>();
+    }
+    graph.passes.push_back(std::move(p));
+  }
+}
+
+}  // namespace
+
+GraphDesc load_graph(JsonDocument doc) {
+  GraphDesc graph;
+  graph.doc = std::move(doc);
+  Reader read(graph.doc);
+  const auto& root = read.object(graph.doc.root(), "", "a graph file");
+  read.only_keys(root, "", {"$schema", "name", "description", "parameters", "resources", "passes", "outputs"}, "a graph");
+  graph.name = root.contains("name") ? read.name(root["name"], "/name", "the graph name") : "graph";
+  if (root.contains("description")) graph.description = read.string(root["description"], "/description", "\"description\"");
+  load_parameters(graph, read);
+  load_resources(graph, read);
+  load_passes(graph, read);
+  if (!root.contains("outputs")) throw graph.error("", "a graph needs \"outputs\": the resources it produces");
+  const auto& outputs = root["outputs"];
+  if (!outputs.is_array() || outputs.empty()) throw graph.error("/outputs", "\"outputs\" must be a non-empty array of resource names");
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    graph.outputs.push_back(read.name(outputs[i], "/outputs/" + std::to_string(i), "an output"));
+  }
+  return graph;
+}
+
+GraphDesc load_graph_file(const std::string& path) { return load_graph(JsonDocument::load(path)); }
+
+void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments) {
+  std::vector<std::string> known;
+  for (const auto& p : graph.parameters) known.push_back(p.decl.name);
+  for (const auto& assignment : assignments) {
+    size_t eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw InputError("--set " + assignment + ": expected name=value");
+    }
+    std::string name = assignment.substr(0, eq);
+    std::string text = assignment.substr(eq + 1);
+    GraphParameter* target = nullptr;
+    for (auto& p : graph.parameters) {
+      if (p.decl.name == name) target = &p;
+    }
+    if (!target) {
+      throw InputError("--set " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" +
+                       did_you_mean(name, known));
+    }
+    nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+    if (value.is_discarded()) value = text;
+    std::string problem = check_param_value(target->decl, value);
+    if (!problem.empty()) throw InputError("--set " + assignment + ": parameter '" + name + "' " + problem);
+    target->value = value;
+  }
+}
+
+}  // namespace caustica::graph

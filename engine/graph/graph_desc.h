@@ -1,0 +1,63 @@
+#pragma once
+// A graph file as written: what the user said, with the pointer of every part for messages.
+// Structural checks happen while loading; meaning (types, ports, order) is the compiler's job.
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "graph/pass_type.h"
+#include "io/json_document.h"
+
+namespace caustica::graph {
+
+struct GraphParameter {
+  ParamDecl decl;        // type, default, range, description
+  nlohmann::json value;  // the default, or what --set gave
+  std::string pointer;
+};
+
+struct ResourceDesc {
+  std::string name;
+  ResourceKind kind = ResourceKind::image;
+  Format format = Format::rgba8;
+  std::string width = "output.width";  // expressions
+  std::string height = "output.height";
+  std::string mips = "1";
+  std::string size;  // buffers: bytes
+  std::string pointer;
+};
+
+struct PassDesc {
+  std::string name;
+  std::string type;
+  nlohmann::json params = nlohmann::json::object();  // literals or "$parameter" references
+  std::map<std::string, std::string> inputs;          // port -> resource
+  std::map<std::string, std::string> outputs;
+  std::vector<std::string> after;  // explicit ordering for resources written by several passes
+  bool enabled = true;
+  std::string pointer;
+};
+
+struct GraphDesc {
+  JsonDocument doc;
+  std::string name;
+  std::string description;
+  std::vector<GraphParameter> parameters;
+  std::vector<ResourceDesc> resources;
+  std::vector<PassDesc> passes;
+  std::vector<std::string> outputs;  // the first one is what `render --out` writes
+
+  const ResourceDesc* find_resource(std::string_view name) const;
+  const GraphParameter* find_parameter(std::string_view name) const;
+  InputError error(std::string_view pointer, const std::string& message) const { return doc.error(pointer, message); }
+};
+
+GraphDesc load_graph_file(const std::string& path);
+GraphDesc load_graph(JsonDocument doc);
+
+// Applies "name=value" overrides from --set; the value is parsed as JSON, or taken as a string.
+// Throws InputError for an unknown name (with a suggestion) or a value of the wrong type or range.
+void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments);
+
+}  // namespace caustica::graph

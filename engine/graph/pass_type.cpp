@@ -1,0 +1,91 @@
+#include "graph/pass_type.h"
+
+#include <cassert>
+#include <cmath>
+#include <sstream>
+
+namespace caustica::graph {
+
+const PortDecl* PassTypeDecl::find_port(std::string_view name) const {
+  for (const auto& port : ports) {
+    if (port.name == name) return &port;
+  }
+  return nullptr;
+}
+
+const ParamDecl* PassTypeDecl::find_param(std::string_view name) const {
+  for (const auto& param : params) {
+    if (param.name == name) return &param;
+  }
+  return nullptr;
+}
+
+std::string_view param_type_name(ParamType type) {
+  switch (type) {
+    case ParamType::float_: return "float";
+    case ParamType::int_: return "int";
+    case ParamType::bool_: return "bool";
+    case ParamType::choice: return "choice";
+  }
+  return "?";
+}
+
+namespace {
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+}  // namespace
+
+std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value) {
+  switch (decl.type) {
+    case ParamType::bool_:
+      if (!value.is_boolean()) return "expects true or false, got " + value.dump();
+      return "";
+    case ParamType::choice: {
+      if (!value.is_string()) return "expects one of its choices as a string, got " + value.dump();
+      for (const auto& c : decl.choices) {
+        if (c == value.get<std::string>()) return "";
+      }
+      std::string list;
+      for (const auto& c : decl.choices) list += (list.empty() ? "" : ", ") + c;
+      return "has no choice " + value.dump() + "; choices: " + list;
+    }
+    case ParamType::int_:
+      if (!value.is_number_integer()) return "expects an integer, got " + value.dump();
+      break;
+    case ParamType::float_:
+      if (!value.is_number()) return "expects a number, got " + value.dump();
+      break;
+  }
+  double v = value.get<double>();
+  if (!std::isfinite(v)) return "must be finite";
+  if (decl.min && v < *decl.min) return "is " + format_number(v) + ", below its minimum " + format_number(*decl.min);
+  if (decl.max && v > *decl.max) return "is " + format_number(v) + ", above its maximum " + format_number(*decl.max);
+  return "";
+}
+
+void PassRegistry::add(PassTypeDecl decl) {
+  assert(!decl.type.empty() && "a pass type needs a name");
+  assert(!types_.contains(decl.type) && "pass type registered twice");
+  for (const auto& param : decl.params) {
+    assert(check_param_value(param, param.default_value).empty() && "a declared default breaks its own range");
+    (void)param;
+  }
+  std::string key = decl.type;
+  types_.emplace(std::move(key), std::move(decl));
+}
+
+const PassTypeDecl* PassRegistry::find(std::string_view type) const {
+  auto it = types_.find(type);
+  return it == types_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::string> PassRegistry::names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, decl] : types_) out.push_back(name);
+  return out;
+}
+
+}  // namespace caustica::graph

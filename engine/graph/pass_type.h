@@ -1,0 +1,88 @@
+#pragma once
+// What a pass type declares before anything runs (Falcor's "reflect"): its ports, its parameters,
+// the queue work it records and whether it has side effects. The compiler sees only this; the
+// executor later creates the pass object and calls execute() with real resources.
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "graph/format.h"
+
+namespace caustica::graph {
+
+class Pass;
+
+enum class ResourceKind { image, buffer };
+enum class PortAccess { read, write, read_write };
+enum class PortUsage {
+  sampled,           // image read through a sampler
+  storage,           // storage image or storage buffer
+  color_attachment,  // image rendered to
+  depth_attachment,  // depth image rendered to or tested against
+  transfer_src,
+  transfer_dst,
+  uniform,           // uniform buffer
+  indirect,          // indirect dispatch or draw arguments
+};
+enum class PassQueue { graphics, compute, transfer };
+
+struct PortDecl {
+  std::string name;
+  PortAccess access = PortAccess::read;
+  ResourceKind kind = ResourceKind::image;
+  PortUsage usage = PortUsage::sampled;
+  std::vector<Format> formats;  // accepted formats; empty accepts any
+  bool optional = false;
+  // Ports of one pass sharing a non-empty group must be bound to images of equal extent.
+  std::string extent_group;
+  std::string description;
+};
+
+enum class ParamType { float_, int_, bool_, choice };
+
+struct ParamDecl {
+  std::string name;
+  ParamType type = ParamType::float_;
+  nlohmann::json default_value;
+  std::optional<double> min;
+  std::optional<double> max;
+  std::vector<std::string> choices;  // for ParamType::choice
+  std::string description;
+};
+
+struct PassTypeDecl {
+  std::string type;
+  std::string description;
+  PassQueue queue = PassQueue::graphics;
+  std::vector<PortDecl> ports;
+  std::vector<ParamDecl> params;
+  bool side_effects = false;  // kept even when it reaches no output
+  std::function<std::unique_ptr<Pass>()> create;
+
+  const PortDecl* find_port(std::string_view name) const;
+  const ParamDecl* find_param(std::string_view name) const;
+};
+
+std::string_view param_type_name(ParamType type);
+
+// Checks a parameter value against its declaration; returns the reason it is wrong, or "".
+std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value);
+
+class PassRegistry {
+ public:
+  void add(PassTypeDecl decl);
+  const PassTypeDecl* find(std::string_view type) const;
+  std::vector<std::string> names() const;
+  const std::map<std::string, PassTypeDecl, std::less<>>& types() const { return types_; }
+
+ private:
+  std::map<std::string, PassTypeDecl, std::less<>> types_;
+};
+
+}  // namespace caustica::graph

@@ -1,0 +1,107 @@
+#pragma once
+// The compiled, read-only form of a graph: passes in execution order with their barriers, every
+// resource with its lifetime and its place in memory. Nothing here touches a device, so the compiler
+// is tested on the CPU; the executor turns a Plan into Vulkan objects and command buffers.
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "graph/pass_type.h"
+
+namespace caustica::graph {
+
+inline constexpr uint32_t kNoPass = UINT32_MAX;
+inline constexpr uint32_t kNoBlock = UINT32_MAX;
+
+struct MemoryRequirements {
+  uint64_t size = 0;
+  uint64_t alignment = 1;
+  uint32_t type_bits = ~0u;  // memory types the resource may live in
+};
+
+// Where a resource stands after an access: its layout, and the stages/accesses a later barrier waits on.
+struct AccessState {
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 access = VK_ACCESS_2_NONE;
+};
+
+struct PlannedBarrier {
+  uint32_t resource = 0;
+  VkPipelineStageFlags2 src_stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 src_access = VK_ACCESS_2_NONE;
+  VkPipelineStageFlags2 dst_stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 dst_access = VK_ACCESS_2_NONE;
+  VkImageLayout old_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkImageLayout new_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  bool aliasing = false;  // first use of memory that an earlier resource used in this frame
+};
+
+struct PlannedResource {
+  std::string name;
+  std::string pointer;  // in the graph file
+  ResourceKind kind = ResourceKind::image;
+  Format format = Format::rgba8;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t mips = 1;
+  uint64_t buffer_size = 0;
+  VkImageUsageFlags image_usage = 0;
+  VkBufferUsageFlags buffer_usage = 0;
+  bool transient = true;  // false for outputs and retained resources, which get memory of their own
+  bool output = false;
+  uint32_t first_use = kNoPass;  // index into Plan::passes
+  uint32_t last_use = kNoPass;
+  MemoryRequirements memory;
+  uint32_t block = kNoBlock;  // transient resources: which shared block, and where in it
+  uint64_t offset = 0;
+  AccessState final_state;  // after the last pass of the frame
+
+  bool used() const { return first_use != kNoPass; }
+};
+
+struct PlannedPass {
+  std::string name;
+  std::string type;
+  std::string pointer;
+  const PassTypeDecl* decl = nullptr;
+  nlohmann::json params;                 // every declared parameter, resolved
+  std::map<std::string, uint32_t> ports;  // bound port -> resource index
+  std::vector<PlannedBarrier> barriers;   // recorded before the pass
+};
+
+struct MemoryBlock {
+  uint64_t size = 0;
+  uint64_t alignment = 1;
+  uint32_t type_bits = ~0u;
+};
+
+struct Plan {
+  std::string graph_name;
+  std::string graph_path;
+  uint32_t output_width = 0;
+  uint32_t output_height = 0;
+  std::vector<PlannedPass> passes;  // execution order
+  std::vector<std::string> culled;  // enabled passes that reach no output and have no side effect
+  std::vector<PlannedResource> resources;
+  std::vector<MemoryBlock> blocks;
+  std::vector<uint32_t> outputs;  // resource indices, in the graph's order
+  uint64_t transient_bytes_aliased = 0;
+  uint64_t transient_bytes_unaliased = 0;
+  uint64_t persistent_bytes = 0;
+
+  int find_resource(std::string_view name) const;
+};
+
+nlohmann::json plan_to_json(const Plan& plan);
+std::string plan_to_dot(const Plan& plan);
+
+std::string stage_names(VkPipelineStageFlags2 stages);
+std::string access_names(VkAccessFlags2 access);
+std::string layout_name(VkImageLayout layout);
+
+}  // namespace caustica::graph

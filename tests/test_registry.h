@@ -1,0 +1,44 @@
+#pragma once
+// Pass types that exist only for compiler tests: declarations without any device code.
+#include "graph/pass_type.h"
+
+namespace caustica::test {
+
+inline graph::PassRegistry make_test_registry() {
+  using namespace graph;
+  PassRegistry registry;
+  auto color_out = [](std::string name, bool optional = false) {
+    PortDecl p{name, PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {}, optional, "frame", ""};
+    return p;
+  };
+  auto sampled_in = [](std::string name, bool optional = false) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, optional, "", ""};
+  };
+  registry.add({"source", "writes an image", PassQueue::graphics, {color_out("color")},
+                {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, "brightness"}, {"mode", ParamType::choice, "a", {}, {}, {"a", "b"}, ""}},
+                false, nullptr});
+  registry.add({"filter", "reads one image, writes another of the same size", PassQueue::compute,
+                {sampled_in("source"),
+                 {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f, Format::rgba8}, false, "", ""}},
+                {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, ""}}, false, nullptr});
+  registry.add({"blend", "two inputs into one output of the same extent", PassQueue::graphics,
+                {{"a", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
+                 {"b", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
+                 color_out("color")},
+                {}, false, nullptr});
+  registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
+                {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
+  registry.add({"report", "reads an image and reports on it (side effect)", PassQueue::compute, {sampled_in("source")}, {}, true, nullptr});
+  // A pass with many optional ports of every kind, for randomly generated graphs.
+  PassTypeDecl node{"node", "random graph node", PassQueue::compute, {}, {}, false, nullptr};
+  for (int i = 0; i < 4; ++i) node.ports.push_back(sampled_in("in" + std::to_string(i), true));
+  for (int i = 0; i < 2; ++i) {
+    node.ports.push_back({"bin" + std::to_string(i), PortAccess::read, ResourceKind::buffer, PortUsage::storage, {}, true, "", ""});
+    node.ports.push_back({"out" + std::to_string(i), PortAccess::write, ResourceKind::image, PortUsage::storage, {}, true, "", ""});
+    node.ports.push_back({"bout" + std::to_string(i), PortAccess::write, ResourceKind::buffer, PortUsage::storage, {}, true, "", ""});
+  }
+  registry.add(node);
+  return registry;
+}
+
+}  // namespace caustica::test
