@@ -2,7 +2,9 @@
 function(caustica_target_defaults target)
   target_compile_options(${target} PRIVATE
     -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
-    -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+    -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough
+    # Vulkan structs are written "VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};": the rest is zeroed on purpose.
+    -Wno-missing-field-initializers)
 endfunction()
 
 # Sanitizers are global so that static libraries and the executables linking them agree.

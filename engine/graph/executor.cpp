@@ -1,0 +1,527 @@
+#include "graph/executor.h"
+
+#include <algorithm>
+#include <cassert>
+#include <chrono>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace caustica::graph {
+namespace {
+
+constexpr uint32_t kMaxCounters = 256;
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+
+VkImageCreateInfo image_info(const PlannedResource& r) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format_info(r.format).vk;
+  info.extent = {r.width, r.height, 1};
+  info.mipLevels = r.mips;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = r.image_usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return info;
+}
+
+VkBufferCreateInfo buffer_info(const PlannedResource& r) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = r.buffer_size;
+  info.usage = r.buffer_usage;
+  return info;
+}
+
+VkImageAspectFlags aspect_of(Format format) {
+  return format_info(format).depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+}
+
+}  // namespace
+
+struct Executor::RealImage {
+  vk::OwnedImage image;
+  vk::OwnedImageView view;
+};
+
+struct Executor::RealBuffer {
+  vk::OwnedBuffer buffer;
+};
+
+struct Executor::Realized {
+  std::vector<vk::OwnedMemory> blocks;
+  std::vector<vk::OwnedMemory> dedicated;
+  std::vector<RealImage> images;    // by resource index (empty for buffers and unused resources)
+  std::vector<RealBuffer> buffers;  // by resource index
+  struct Readback {
+    uint32_t resource;
+    vk::OwnedBuffer buffer;
+    vk::OwnedMemory memory;
+    void* mapped = nullptr;
+    uint64_t bytes = 0;
+  };
+  std::vector<Readback> readbacks;
+  std::vector<std::unique_ptr<Pass>> passes;
+  std::vector<std::string> counter_names;
+  vk::OwnedBuffer counters;
+  vk::OwnedMemory counter_memory;
+  uint32_t* counter_values = nullptr;
+  vk::OwnedSampler linear;
+  vk::OwnedSampler nearest;
+  vk::OwnedCommandPool pool;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  vk::OwnedFence fence;
+  vk::OwnedQueryPool queries;
+  uint32_t query_count = 0;
+  bool read_back_done = false;
+};
+
+// ---- PassSetup / PassContext --------------------------------------------------------------------
+
+vk::Context& PassSetup::vk() const { return executor_.vk_; }
+shader::ShaderCompiler& PassSetup::shaders() const { return executor_.shaders_; }
+const PlannedResource& PassSetup::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
+uint32_t PassSetup::add_counter(const std::string& name) {
+  auto& names = executor_.realized_->counter_names;
+  auto it = std::find(names.begin(), names.end(), name);
+  if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
+  if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
+  names.push_back(name);
+  return static_cast<uint32_t>(names.size() - 1);
+}
+
+vk::Context& PassContext::vk() const { return executor_.vk_; }
+const PlannedResource& PassContext::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
+VkImage PassContext::image(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].image.get(); }
+VkImageView PassContext::view(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].view.get(); }
+VkBuffer PassContext::buffer(const std::string& port) const { return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get(); }
+VkExtent2D PassContext::extent(const std::string& port) const {
+  const auto& r = resource(port);
+  return {r.width, r.height};
+}
+VkSampler PassContext::linear_sampler() const { return executor_.realized_->linear.get(); }
+VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
+VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
+
+// ---- Executor ------------------------------------------------------------------------------------
+
+Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
+    : vk_(vk), shaders_(shaders), registry_(registry) {}
+
+Executor::~Executor() {
+  realized_.reset();
+  vk_.wait_idle();
+}
+
+CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const {
+  CompileOptions options;
+  options.output_width = width;
+  options.output_height = height;
+  const auto& limits = vk_.properties().limits;
+  options.limits.max_image_dimension_2d = limits.maxImageDimension2D;
+  options.limits.max_storage_buffer_range = limits.maxStorageBufferRange;
+  VkDevice device = vk_.device();
+  options.memory_requirements = [device](const PlannedResource& r) {
+    VkMemoryRequirements2 requirements{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
+    if (r.kind == ResourceKind::image) {
+      VkImageCreateInfo create = image_info(r);
+      VkDeviceImageMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_IMAGE_MEMORY_REQUIREMENTS};
+      query.pCreateInfo = &create;
+      vkGetDeviceImageMemoryRequirements(device, &query, &requirements);
+    } else {
+      VkBufferCreateInfo create = buffer_info(r);
+      VkDeviceBufferMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_BUFFER_MEMORY_REQUIREMENTS};
+      query.pCreateInfo = &create;
+      vkGetDeviceBufferMemoryRequirements(device, &query, &requirements);
+    }
+    const auto& m = requirements.memoryRequirements;
+    return MemoryRequirements{m.size, m.alignment, m.memoryTypeBits};
+  };
+  return options;
+}
+
+bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained,
+                         uint64_t memory_limit_bytes) {
+  std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) +
+                    "\n" + std::to_string(memory_limit_bytes);
+  for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
+  for (const auto& r : retained) key += "\nretain " + r;
+  if (plan_ && key == configured_key_) return false;
+  CompileOptions options = compile_options(width, height);
+  options.retained = retained;
+  options.memory_limit_bytes = memory_limit_bytes;
+  Plan plan = compile_graph(graph, registry_, options);
+  realize(std::move(plan));
+  configured_key_ = key;
+  ++compile_count_;
+  return true;
+}
+
+void Executor::realize(Plan plan) {
+  realized_.reset();  // its objects are destroyed once the GPU is done with them
+  plan_ = std::make_unique<const Plan>(std::move(plan));
+  realized_ = std::make_unique<Realized>();
+  Realized& real = *realized_;
+  const Plan& p = *plan_;
+  VkDevice device = vk_.device();
+
+  for (size_t b = 0; b < p.blocks.size(); ++b) {
+    VkMemoryRequirements req{p.blocks[b].size, p.blocks[b].alignment, p.blocks[b].type_bits};
+    real.blocks.push_back(vk_.allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, ("transient block " + std::to_string(b)).c_str()));
+  }
+  real.images.resize(p.resources.size());
+  real.buffers.resize(p.resources.size());
+  for (uint32_t i = 0; i < p.resources.size(); ++i) {
+    const PlannedResource& res = p.resources[i];
+    if (!res.used()) continue;
+    VkDeviceMemory memory;
+    VkDeviceSize offset;
+    if (res.transient) {
+      memory = real.blocks[res.block].get();
+      offset = res.offset;
+    } else {
+      real.dedicated.push_back(vk_.allocate({res.memory.size, res.memory.alignment, res.memory.type_bits},
+                                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, res.name.c_str()));
+      memory = real.dedicated.back().get();
+      offset = 0;
+    }
+    if (res.kind == ResourceKind::image) {
+      VkImageCreateInfo create = image_info(res);
+      VkImage image = VK_NULL_HANDLE;
+      vk::check(vkCreateImage(device, &create, nullptr, &image), "vkCreateImage");
+      real.images[i].image = vk::OwnedImage(vk_, image);
+      vk::check(vkBindImageMemory(device, image, memory, offset), "vkBindImageMemory");
+      vk_.set_name(VK_OBJECT_TYPE_IMAGE, reinterpret_cast<uint64_t>(image), res.name);
+      VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+      view_info.image = image;
+      view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+      view_info.format = create.format;
+      view_info.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
+      VkImageView view = VK_NULL_HANDLE;
+      vk::check(vkCreateImageView(device, &view_info, nullptr, &view), "vkCreateImageView");
+      real.images[i].view = vk::OwnedImageView(vk_, view);
+    } else {
+      VkBufferCreateInfo create = buffer_info(res);
+      VkBuffer buffer = VK_NULL_HANDLE;
+      vk::check(vkCreateBuffer(device, &create, nullptr, &buffer), "vkCreateBuffer");
+      real.buffers[i].buffer = vk::OwnedBuffer(vk_, buffer);
+      vk::check(vkBindBufferMemory(device, buffer, memory, offset), "vkBindBufferMemory");
+      vk_.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer), res.name);
+    }
+  }
+
+  auto host_buffer = [&](uint64_t bytes, VkBufferUsageFlags usage, const char* name, vk::OwnedBuffer& buffer, vk::OwnedMemory& memory) {
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = bytes;
+    info.usage = usage;
+    VkBuffer handle = VK_NULL_HANDLE;
+    vk::check(vkCreateBuffer(device, &info, nullptr, &handle), "vkCreateBuffer");
+    buffer = vk::OwnedBuffer(vk_, handle);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device, handle, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = vk_.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                            VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    VkDeviceMemory mem = VK_NULL_HANDLE;
+    vk::check(vkAllocateMemory(device, &alloc, nullptr, &mem), "vkAllocateMemory");
+    memory = vk::OwnedMemory(vk_, mem);
+    vk::check(vkBindBufferMemory(device, handle, mem, 0), "vkBindBufferMemory");
+    vk_.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(handle), name);
+    void* mapped = nullptr;
+    vk::check(vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+    return mapped;
+  };
+
+  for (uint32_t i = 0; i < p.resources.size(); ++i) {
+    const PlannedResource& res = p.resources[i];
+    if (!res.used() || res.transient) continue;
+    Realized::Readback rb;
+    rb.resource = i;
+    rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * format_info(res.format).bytes_per_texel : res.buffer_size;
+    rb.mapped = host_buffer(rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ("readback " + res.name).c_str(), rb.buffer, rb.memory);
+    real.readbacks.push_back(std::move(rb));
+  }
+  real.counter_values = static_cast<uint32_t*>(host_buffer(
+      kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, "pass counters", real.counters,
+      real.counter_memory));
+
+  for (VkFilter filter : {VK_FILTER_LINEAR, VK_FILTER_NEAREST}) {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = filter;
+    info.mipmapMode = filter == VK_FILTER_LINEAR ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.maxLod = VK_LOD_CLAMP_NONE;
+    VkSampler sampler = VK_NULL_HANDLE;
+    vk::check(vkCreateSampler(device, &info, nullptr, &sampler), "vkCreateSampler");
+    (filter == VK_FILTER_LINEAR ? real.linear : real.nearest) = vk::OwnedSampler(vk_, sampler);
+  }
+
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = vk_.queue_family();
+  VkCommandPool pool = VK_NULL_HANDLE;
+  vk::check(vkCreateCommandPool(device, &pool_info, nullptr, &pool), "vkCreateCommandPool");
+  real.pool = vk::OwnedCommandPool(vk_, pool);
+  VkCommandBufferAllocateInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cmd_info.commandPool = pool;
+  cmd_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cmd_info.commandBufferCount = 1;
+  vk::check(vkAllocateCommandBuffers(device, &cmd_info, &real.cmd), "vkAllocateCommandBuffers");
+  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence = VK_NULL_HANDLE;
+  vk::check(vkCreateFence(device, &fence_info, nullptr, &fence), "vkCreateFence");
+  real.fence = vk::OwnedFence(vk_, fence);
+  // Two timestamps per pass plus two for the frame, each followed by a dummy (see DESIGN.md: on
+  // lavapipe a timestamp after a render pass is only right when another timestamp follows it).
+  real.query_count = 2 * (2 * static_cast<uint32_t>(p.passes.size()) + 2);
+  VkQueryPoolCreateInfo query_info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  query_info.queryCount = real.query_count;
+  VkQueryPool queries = VK_NULL_HANDLE;
+  vk::check(vkCreateQueryPool(device, &query_info, nullptr, &queries), "vkCreateQueryPool");
+  real.queries = vk::OwnedQueryPool(vk_, queries);
+
+  for (const auto& pass : p.passes) {
+    assert(pass.decl && pass.decl->create && "a registered pass type without an implementation");
+    real.passes.push_back(pass.decl->create());
+    PassSetup setup(*this, pass);
+    real.passes.back()->setup(setup);
+  }
+}
+
+void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const {
+  if (barriers.empty()) return;
+  std::vector<VkImageMemoryBarrier2> images;
+  std::vector<VkBufferMemoryBarrier2> buffers;
+  for (const auto& b : barriers) {
+    const PlannedResource& res = plan_->resources[b.resource];
+    if (res.kind == ResourceKind::image) {
+      VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+      ib.srcStageMask = b.src_stages;
+      ib.srcAccessMask = b.src_access;
+      ib.dstStageMask = b.dst_stages;
+      ib.dstAccessMask = b.dst_access;
+      ib.oldLayout = b.old_layout;
+      ib.newLayout = b.new_layout;
+      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      ib.image = realized_->images[b.resource].image.get();
+      ib.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
+      images.push_back(ib);
+    } else {
+      VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+      bb.srcStageMask = b.src_stages;
+      bb.srcAccessMask = b.src_access;
+      bb.dstStageMask = b.dst_stages;
+      bb.dstAccessMask = b.dst_access;
+      bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      bb.buffer = realized_->buffers[b.resource].buffer.get();
+      bb.size = VK_WHOLE_SIZE;
+      buffers.push_back(bb);
+    }
+  }
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.imageMemoryBarrierCount = static_cast<uint32_t>(images.size());
+  dependency.pImageMemoryBarriers = images.data();
+  dependency.bufferMemoryBarrierCount = static_cast<uint32_t>(buffers.size());
+  dependency.pBufferMemoryBarriers = buffers.data();
+  vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+FrameResult Executor::run_frame(bool read_back) {
+  assert(plan_ && "configure() before run_frame()");
+  Realized& real = *realized_;
+  const Plan& p = *plan_;
+  VkCommandBuffer cmd = real.cmd;
+  FrameResult result;
+  const auto frame_start = Clock::now();
+  const uint64_t submission = vk_.begin_submission();
+
+  vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vk::check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  vkCmdResetQueryPool(cmd, real.queries.get(), 0, real.query_count);
+  uint32_t next_query = 0;
+  auto stamp = [&]() {
+    uint32_t index = next_query;
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, real.queries.get(), next_query++);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, real.queries.get(), next_query++);  // the dummy
+    return index;
+  };
+
+  vkCmdFillBuffer(cmd, real.counters.get(), 0, VK_WHOLE_SIZE, 0);
+  VkMemoryBarrier2 counters_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  counters_ready.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+  counters_ready.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  counters_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  counters_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  VkDependencyInfo counters_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  counters_dep.memoryBarrierCount = 1;
+  counters_dep.pMemoryBarriers = &counters_ready;
+  vkCmdPipelineBarrier2(cmd, &counters_dep);
+
+  const uint32_t frame_begin = stamp();
+  std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
+  for (size_t i = 0; i < p.passes.size(); ++i) {
+    const PlannedPass& pass = p.passes[i];
+    const auto pass_start = Clock::now();
+    vk_.begin_label(cmd, pass.name);
+    record_barriers(cmd, pass.barriers);
+    uint32_t start = stamp();
+    PassContext context(*this, pass, cmd);
+    real.passes[i]->execute(context);
+    uint32_t end = stamp();
+    vk_.end_label(cmd);
+    pass_stamps.emplace_back(start, end);
+    result.passes.push_back({pass.name, 0, ms_since(pass_start),
+                             0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count()});
+  }
+  const uint32_t frame_end = stamp();
+
+  if (read_back) {
+    for (const auto& rb : real.readbacks) {
+      const PlannedResource& res = p.resources[rb.resource];
+      vk_.begin_label(cmd, "read back " + res.name);
+      if (res.kind == ResourceKind::image) {
+        VkImageMemoryBarrier2 to_src{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+        to_src.srcStageMask = res.final_state.stages;
+        to_src.srcAccessMask = res.final_state.access;
+        to_src.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+        to_src.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+        to_src.oldLayout = res.final_state.layout;
+        to_src.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        to_src.srcQueueFamilyIndex = to_src.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        to_src.image = real.images[rb.resource].image.get();
+        to_src.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
+        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        dep.imageMemoryBarrierCount = 1;
+        dep.pImageMemoryBarriers = &to_src;
+        vkCmdPipelineBarrier2(cmd, &dep);
+        VkBufferImageCopy copy{};
+        copy.imageSubresource = {aspect_of(res.format), 0, 0, 1};
+        copy.imageExtent = {res.width, res.height, 1};
+        vkCmdCopyImageToBuffer(cmd, to_src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer.get(), 1, &copy);
+      } else {
+        VkBufferMemoryBarrier2 to_src{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+        to_src.srcStageMask = res.final_state.stages;
+        to_src.srcAccessMask = res.final_state.access;
+        to_src.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+        to_src.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+        to_src.srcQueueFamilyIndex = to_src.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        to_src.buffer = real.buffers[rb.resource].buffer.get();
+        to_src.size = VK_WHOLE_SIZE;
+        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        dep.bufferMemoryBarrierCount = 1;
+        dep.pBufferMemoryBarriers = &to_src;
+        vkCmdPipelineBarrier2(cmd, &dep);
+        VkBufferCopy copy{0, 0, rb.bytes};
+        vkCmdCopyBuffer(cmd, to_src.buffer, rb.buffer.get(), 1, &copy);
+      }
+      vk_.end_label(cmd);
+    }
+  }
+  VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  to_host.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+  to_host.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
+  to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+  to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+  VkDependencyInfo host_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  host_dep.memoryBarrierCount = 1;
+  host_dep.pMemoryBarriers = &to_host;
+  vkCmdPipelineBarrier2(cmd, &host_dep);
+  vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+
+  VkCommandBufferSubmitInfo cmd_submit{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+  cmd_submit.commandBuffer = cmd;
+  VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+  submit.commandBufferInfoCount = 1;
+  submit.pCommandBufferInfos = &cmd_submit;
+  vk::check(vkQueueSubmit2(vk_.queue(), 1, &submit, real.fence.get()), "vkQueueSubmit2");
+  result.cpu_ms = ms_since(frame_start);
+
+  // A lost device or a hung GPU ends the frame with an error instead of waiting forever.
+  constexpr uint64_t kFrameTimeoutNs = 120ull * 1000 * 1000 * 1000;
+  VkFence fence = real.fence.get();
+  VkResult waited = vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, kFrameTimeoutNs);
+  if (waited == VK_TIMEOUT) throw DeviceError("frame did not finish within 120 s (VK_TIMEOUT)");
+  vk::check(waited, "vkWaitForFences");
+  vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
+  vk_.retire(submission);
+
+  std::vector<uint64_t> stamps(real.query_count);
+  vk::check(vkGetQueryPoolResults(vk_.device(), real.queries.get(), 0, next_query, stamps.size() * sizeof(uint64_t), stamps.data(),
+                                  sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+            "vkGetQueryPoolResults");
+  const double period_ms = static_cast<double>(vk_.properties().limits.timestampPeriod) * 1e-6;
+  const uint64_t mask = vk_.timestamp_valid_bits() >= 64 ? ~0ull : (1ull << vk_.timestamp_valid_bits()) - 1;
+  auto elapsed = [&](uint32_t a, uint32_t b) { return static_cast<double>((stamps[b] - stamps[a]) & mask) * period_ms; };
+  result.gpu_ms = elapsed(frame_begin, frame_end);
+  for (size_t i = 0; i < pass_stamps.size(); ++i) {
+    result.passes[i].gpu_ms = elapsed(pass_stamps[i].first, pass_stamps[i].second);
+    result.passes[i].gpu_start_ms = elapsed(frame_begin, pass_stamps[i].first);
+  }
+  for (size_t c = 0; c < real.counter_names.size(); ++c) result.counters[real.counter_names[c]] = real.counter_values[c];
+  real.read_back_done = read_back;
+  return result;
+}
+
+io::ImageData Executor::read_image(const std::string& name) const {
+  const int index = plan_->find_resource(name);
+  const auto& real = *realized_;
+  auto rb = std::find_if(real.readbacks.begin(), real.readbacks.end(),
+                         [&](const Realized::Readback& r) { return static_cast<int>(r.resource) == index; });
+  if (index < 0 || rb == real.readbacks.end() || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image) {
+    throw InputError("'" + name + "' is not an image output or a retained image of graph " + plan_->graph_path);
+  }
+  if (!real.read_back_done) throw DeviceError("read_image('" + name + "') before a frame that read back");
+  const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
+  io::ImageData image;
+  image.width = res.width;
+  image.height = res.height;
+  const size_t texels = size_t{res.width} * res.height;
+  image.rgba.assign(texels * 4, 0.0f);
+  const auto* bytes = static_cast<const uint8_t*>(rb->mapped);
+  const FormatInfo& info = format_info(res.format);
+  for (size_t t = 0; t < texels; ++t) {
+    float* out = &image.rgba[t * 4];
+    const uint8_t* in = bytes + t * info.bytes_per_texel;
+    auto f32 = [&](int c) {
+      float v;
+      std::memcpy(&v, in + 4 * c, 4);
+      return v;
+    };
+    auto f16 = [&](int c) {
+      uint16_t h;
+      std::memcpy(&h, in + 2 * c, 2);
+      return io::half_to_float(h);
+    };
+    switch (res.format) {
+      case Format::rgba8:
+      case Format::rgba8_srgb:
+        for (int c = 0; c < 4; ++c) out[c] = static_cast<float>(in[c]) / 255.0f;
+        break;
+      case Format::rgba16f: for (int c = 0; c < 4; ++c) out[c] = f16(c); break;
+      case Format::rgba32f: for (int c = 0; c < 4; ++c) out[c] = f32(c); break;
+      case Format::r16f: out[0] = out[1] = out[2] = f16(0); out[3] = 1; break;
+      case Format::rg16f: out[0] = f16(0); out[1] = f16(1); out[3] = 1; break;
+      case Format::r32f:
+      case Format::d32f: out[0] = out[1] = out[2] = f32(0); out[3] = 1; break;
+      case Format::rg32f: out[0] = f32(0); out[1] = f32(1); out[3] = 1; break;
+      case Format::r32ui: {
+        uint32_t v;
+        std::memcpy(&v, in, 4);
+        out[0] = out[1] = out[2] = static_cast<float>(v);
+        out[3] = 1;
+        break;
+      }
+    }
+  }
+  image.display_encoded = res.format == Format::rgba8 || res.format == Format::rgba8_srgb;
+  return image;
+}
+
+}  // namespace caustica::graph

@@ -1,0 +1,73 @@
+#pragma once
+// Turns a Plan into Vulkan objects (shared memory blocks with aliased resources, one allocation per
+// persistent resource, pass objects) and records and submits frames. Recompiles only when the graph
+// or the output size changes.
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "graph/compiler.h"
+#include "graph/pass.h"
+#include "io/image_io.h"
+
+namespace caustica::graph {
+
+struct PassTiming {
+  std::string name;
+  double gpu_ms = 0;
+  double cpu_ms = 0;
+  double gpu_start_ms = 0;  // from the frame's first timestamp
+  double cpu_start_ms = 0;  // from the start of recording
+};
+
+struct FrameResult {
+  std::vector<PassTiming> passes;
+  double gpu_ms = 0;  // first to last timestamp of the frame, barriers included
+  double cpu_ms = 0;  // recording and submission
+  std::map<std::string, uint64_t> counters;
+};
+
+class Executor {
+ public:
+  Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry);
+  ~Executor();
+
+  // Options for compile_graph() on this device: its limits and its memory requirements.
+  CompileOptions compile_options(uint32_t width, uint32_t height) const;
+
+  // Compiles `graph` at this size unless the same graph was compiled at the same size already.
+  // Returns true when it compiled.
+  bool configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained = {},
+                 uint64_t memory_limit_bytes = CompileOptions{}.memory_limit_bytes);
+
+  // Records, submits and waits for one frame. With read_back, outputs and retained resources are
+  // copied out and can be read with read_image().
+  FrameResult run_frame(bool read_back);
+
+  io::ImageData read_image(const std::string& resource) const;
+  const Plan& plan() const { return *plan_; }
+  uint32_t compile_count() const { return compile_count_; }
+
+ private:
+  friend class PassSetup;
+  friend class PassContext;
+  struct RealImage;
+  struct RealBuffer;
+  struct Realized;
+
+  void realize(Plan plan);
+  void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
+
+  vk::Context& vk_;
+  shader::ShaderCompiler& shaders_;
+  const PassRegistry& registry_;
+  std::unique_ptr<const Plan> plan_;
+  std::unique_ptr<Realized> realized_;
+  std::string configured_key_;
+  uint32_t compile_count_ = 0;
+};
+
+}  // namespace caustica::graph

@@ -1,0 +1,62 @@
+#pragma once
+// The device side of a pass type. setup() runs once per compiled plan (pipelines, counters);
+// execute() records commands each frame. Both see resources only through their port names.
+#include <vulkan/vulkan.h>
+
+#include <string>
+
+#include "graph/plan.h"
+#include "shader/shader_compiler.h"
+#include "vk/context.h"
+
+namespace caustica::graph {
+
+class Executor;
+
+class PassSetup {
+ public:
+  PassSetup(Executor& executor, const PlannedPass& pass) : executor_(executor), pass_(pass) {}
+  vk::Context& vk() const;
+  shader::ShaderCompiler& shaders() const;
+  const PlannedPass& pass() const { return pass_; }
+  const PlannedResource& resource(const std::string& port) const;
+  bool bound(const std::string& port) const { return pass_.ports.count(port) != 0; }
+  // A named counter the pass increments on the device; reported in --stats and the trace.
+  uint32_t add_counter(const std::string& name);
+
+ private:
+  Executor& executor_;
+  const PlannedPass& pass_;
+};
+
+class PassContext {
+ public:
+  PassContext(Executor& executor, const PlannedPass& pass, VkCommandBuffer cmd) : executor_(executor), pass_(pass), cmd_(cmd) {}
+  VkCommandBuffer cmd() const { return cmd_; }
+  vk::Context& vk() const;
+  const nlohmann::json& params() const { return pass_.params; }
+  const PlannedResource& resource(const std::string& port) const;
+  VkImage image(const std::string& port) const;
+  VkImageView view(const std::string& port) const;
+  VkBuffer buffer(const std::string& port) const;
+  VkExtent2D extent(const std::string& port) const;
+  VkSampler linear_sampler() const;
+  VkSampler nearest_sampler() const;
+  // The buffer holding every counter (uint32 each) and the byte offset of one.
+  VkBuffer counter_buffer() const;
+  VkDeviceSize counter_offset(uint32_t counter) const { return counter * sizeof(uint32_t); }
+
+ private:
+  Executor& executor_;
+  const PlannedPass& pass_;
+  VkCommandBuffer cmd_;
+};
+
+class Pass {
+ public:
+  virtual ~Pass() = default;
+  virtual void setup(PassSetup& setup) { (void)setup; }
+  virtual void execute(PassContext& context) = 0;
+};
+
+}  // namespace caustica::graph

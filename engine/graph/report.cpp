@@ -1,0 +1,86 @@
+#include "graph/report.h"
+
+#include <algorithm>
+
+namespace caustica::graph {
+namespace {
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
+  using json = nlohmann::ordered_json;
+  const size_t first = run.frames.size() > 1 ? 1 : 0;
+  json out;
+  out["graph"] = plan.graph_name;
+  out["file"] = plan.graph_path;
+  out["device"] = run.device;
+  out["size"] = {plan.output_width, plan.output_height};
+  out["frames"] = run.frames.size();
+  out["frames_timed"] = run.frames.size() - first;
+  out["passes"] = json::array();
+  for (size_t p = 0; p < plan.passes.size(); ++p) {
+    std::vector<double> gpu, cpu;
+    for (size_t f = first; f < run.frames.size(); ++f) {
+      gpu.push_back(run.frames[f].passes[p].gpu_ms);
+      cpu.push_back(run.frames[f].passes[p].cpu_ms);
+    }
+    out["passes"].push_back({{"name", plan.passes[p].name}, {"type", plan.passes[p].type}, {"gpu_ms", median(gpu)}, {"cpu_ms", median(cpu)}});
+  }
+  std::vector<double> gpu, cpu;
+  for (size_t f = first; f < run.frames.size(); ++f) {
+    gpu.push_back(run.frames[f].gpu_ms);
+    cpu.push_back(run.frames[f].cpu_ms);
+  }
+  out["frame"] = {{"gpu_ms", median(gpu)}, {"cpu_ms", median(cpu)}};
+  out["memory"] = {{"transient_bytes_aliased", plan.transient_bytes_aliased},
+                   {"transient_bytes_unaliased", plan.transient_bytes_unaliased},
+                   {"persistent_bytes", plan.persistent_bytes}};
+  out["counters"] = json::object();
+  if (!run.frames.empty()) {
+    for (const auto& [name, value] : run.frames.back().counters) out["counters"][name] = value;
+  }
+  return nlohmann::json::parse(out.dump());
+}
+
+nlohmann::json chrome_trace_json(const Plan& plan, const RunRecord& run) {
+  using json = nlohmann::json;
+  constexpr int kPid = 1, kGpu = 1, kCpu = 2;
+  json events = json::array();
+  events.push_back({{"name", "process_name"}, {"ph", "M"}, {"pid", kPid}, {"args", {{"name", "caustica: " + plan.graph_name}}}});
+  events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", kPid}, {"tid", kGpu}, {"args", {{"name", "GPU (" + run.device + ")"}}}});
+  events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", kPid}, {"tid", kCpu}, {"args", {{"name", "CPU recording"}}}});
+  for (size_t f = 0; f < run.frames.size(); ++f) {
+    const FrameResult& frame = run.frames[f];
+    // The GPU track starts each frame where its recording started; lavapipe has no shared clock.
+    const double base_us = run.frame_start_ms[f] * 1000.0;
+    events.push_back({{"name", "frame " + std::to_string(f)}, {"ph", "X"}, {"pid", kPid}, {"tid", kGpu}, {"ts", base_us},
+                      {"dur", frame.gpu_ms * 1000.0}, {"args", {{"frame", f}}}});
+    events.push_back({{"name", "frame " + std::to_string(f)}, {"ph", "X"}, {"pid", kPid}, {"tid", kCpu}, {"ts", base_us},
+                      {"dur", frame.cpu_ms * 1000.0}, {"args", {{"frame", f}}}});
+    for (size_t p = 0; p < frame.passes.size(); ++p) {
+      const PassTiming& t = frame.passes[p];
+      json args = {{"type", plan.passes[p].type}, {"frame", f}};
+      events.push_back({{"name", t.name}, {"ph", "X"}, {"pid", kPid}, {"tid", kGpu}, {"ts", base_us + t.gpu_start_ms * 1000.0},
+                        {"dur", t.gpu_ms * 1000.0}, {"args", args}});
+      events.push_back({{"name", t.name}, {"ph", "X"}, {"pid", kPid}, {"tid", kCpu}, {"ts", base_us + t.cpu_start_ms * 1000.0},
+                        {"dur", t.cpu_ms * 1000.0}, {"args", args}});
+    }
+    for (const auto& [name, value] : frame.counters) {
+      events.push_back({{"name", name}, {"ph", "C"}, {"pid", kPid}, {"ts", base_us}, {"args", {{"value", value}}}});
+    }
+  }
+  json passes = json::array();
+  for (const auto& p : plan.passes) passes.push_back({{"name", p.name}, {"type", p.type}});
+  return {{"traceEvents", events},
+          {"displayTimeUnit", "ms"},
+          {"otherData", {{"graph", plan.graph_name}, {"file", plan.graph_path}, {"device", run.device}, {"passes", passes}}}};
+}
+
+}  // namespace caustica::graph

@@ -1,0 +1,23 @@
+#pragma once
+// What `render --stats` and `trace` write: per-pass timings, memory and counters.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "graph/executor.h"
+
+namespace caustica::graph {
+
+struct RunRecord {
+  std::string device;
+  std::vector<FrameResult> frames;
+  std::vector<double> frame_start_ms;  // CPU time of each frame's start, from the first
+};
+
+// Medians over the frames after the first (pipelines JIT-compile on first use), or the one frame.
+nlohmann::json stats_json(const Plan& plan, const RunRecord& run);
+
+// Chrome trace-event JSON (Perfetto, chrome://tracing): a GPU track, a CPU track, counter tracks.
+nlohmann::json chrome_trace_json(const Plan& plan, const RunRecord& run);
+
+}  // namespace caustica::graph

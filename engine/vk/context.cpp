@@ -1,0 +1,292 @@
+#include "vk/context.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace caustica::vk {
+
+const char* result_name(VkResult result) {
+  switch (result) {
+    case VK_SUCCESS: return "VK_SUCCESS";
+    case VK_NOT_READY: return "VK_NOT_READY";
+    case VK_TIMEOUT: return "VK_TIMEOUT";
+    case VK_INCOMPLETE: return "VK_INCOMPLETE";
+    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";
+    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_TOO_MANY_OBJECTS: return "VK_ERROR_TOO_MANY_OBJECTS";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    case VK_ERROR_OUT_OF_POOL_MEMORY: return "VK_ERROR_OUT_OF_POOL_MEMORY";
+    default: return "VkResult(other)";
+  }
+}
+
+void check(VkResult result, const char* call) {
+  if (result != VK_SUCCESS) throw DeviceError(std::string(call) + " failed: " + result_name(result));
+}
+
+void defer_destroy(Context& context, void (*destroy)(VkDevice, uint64_t), uint64_t handle) {
+  context.defer([destroy, handle](VkDevice device) { destroy(device, handle); });
+}
+
+namespace {
+
+bool has_layer(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool has_device_extension(VkPhysicalDevice device, const char* name) {
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  return std::any_of(extensions.begin(), extensions.end(), [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+VkInstance create_instance(bool validation, bool with_messenger_info, VkDebugUtilsMessengerCreateInfoEXT* messenger_info) {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "caustica";
+  app.pEngineName = "caustica";
+  app.apiVersion = VK_API_VERSION_1_3;
+  std::vector<const char*> layers;
+  std::vector<const char*> extensions;
+  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = enables;
+  if (validation) {
+    if (!has_layer("VK_LAYER_KHRONOS_validation")) {
+      throw DeviceError("--validate: VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)");
+    }
+    layers.push_back("VK_LAYER_KHRONOS_validation");
+    features.pNext = with_messenger_info ? messenger_info : nullptr;
+  }
+  extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  info.pApplicationInfo = &app;
+  info.enabledLayerCount = static_cast<uint32_t>(layers.size());
+  info.ppEnabledLayerNames = layers.data();
+  info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  if (validation) info.pNext = &features;
+  VkInstance instance = VK_NULL_HANDLE;
+  check(vkCreateInstance(&info, nullptr, &instance), "vkCreateInstance");
+  return instance;
+}
+
+}  // namespace
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  auto* self = static_cast<Context*>(user);
+  if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
+  self->validation_messages_.fetch_add(1);
+  if (!self->quiet_validation_) {
+    std::fprintf(stderr, "validation %s: %s\n", severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+                 data->pMessage ? data->pMessage : "");
+  }
+  return VK_FALSE;
+}
+
+std::vector<DeviceInfo> Context::list_devices() {
+  VkInstance instance = create_instance(false, false, nullptr);
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  std::vector<DeviceInfo> out;
+  for (auto d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    out.push_back({p.deviceName, p.deviceType, p.apiVersion});
+  }
+  vkDestroyInstance(instance, nullptr);
+  return out;
+}
+
+Context::Context(const ContextOptions& options) : validation_(options.validation), quiet_validation_(options.quiet_validation) {
+  VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  messenger_info.pfnUserCallback = &Context::on_message;
+  messenger_info.pUserData = this;
+  instance_ = create_instance(validation_, true, &messenger_info);
+  if (validation_) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+    check(create(instance_, &messenger_info, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
+  }
+
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+  std::string available;
+  VkPhysicalDevice fallback = VK_NULL_HANDLE;
+  for (auto d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    available += std::string(available.empty() ? "" : ", ") + "'" + p.deviceName + "'";
+    if (p.apiVersion < VK_API_VERSION_1_3 || !has_device_extension(d, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) continue;
+    if (!options.device_name.empty()) {
+      if (lower(p.deviceName).find(lower(options.device_name)) != std::string::npos && !physical_) physical_ = d;
+    } else if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !physical_) {
+      physical_ = d;  // lavapipe: the target device
+    } else if (!fallback) {
+      fallback = d;
+    }
+  }
+  if (!physical_ && options.device_name.empty()) physical_ = fallback;
+  if (!physical_) {
+    std::string why = options.device_name.empty() ? "no Vulkan 1.3 device with VK_KHR_push_descriptor"
+                                                  : "no Vulkan 1.3 device matches --device '" + options.device_name + "'";
+    vkDestroyInstance(instance_, nullptr);  // the destructor does not run for a failed constructor
+    if (!options.device_name.empty()) throw InputError(why + "; devices: " + (available.empty() ? "none" : available));
+    throw DeviceError(why + " (devices: " + (available.empty() ? "none" : available) + "; Debian: mesa-vulkan-drivers)");
+  }
+  vkGetPhysicalDeviceProperties(physical_, &properties_);
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
+  device_name_ = properties_.deviceName;
+
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
+  queue_family_ = UINT32_MAX;
+  for (uint32_t i = 0; i < family_count; ++i) {
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0) {
+      queue_family_ = i;
+      timestamp_valid_bits_ = families[i].timestampValidBits;
+      break;
+    }
+  }
+  if (queue_family_ == UINT32_MAX) {
+    vkDestroyInstance(instance_, nullptr);
+    throw DeviceError(device_name_ + " has no graphics+compute queue with timestamps");
+  }
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue_info.queueFamilyIndex = queue_family_;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  features13.synchronization2 = VK_TRUE;
+  features13.dynamicRendering = VK_TRUE;
+  features13.maintenance4 = VK_TRUE;  // required in 1.3; glslang emits LocalSizeId for SPIR-V 1.6
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  features.pNext = &features13;
+  const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  info.pNext = &features;
+  info.queueCreateInfoCount = 1;
+  info.pQueueCreateInfos = &queue_info;
+  info.enabledExtensionCount = 1;
+  info.ppEnabledExtensionNames = extensions;
+  VkResult created = vkCreateDevice(physical_, &info, nullptr, &device_);
+  if (created != VK_SUCCESS) {
+    vkDestroyInstance(instance_, nullptr);
+    check(created, "vkCreateDevice");
+  }
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  push_descriptor_set = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+  begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+  end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+  set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+}
+
+Context::~Context() {
+  wait_idle();
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    destroy(instance_, messenger_, nullptr);
+  }
+  vkDestroyDevice(device_, nullptr);
+  vkDestroyInstance(instance_, nullptr);
+}
+
+void Context::defer(std::function<void(VkDevice)> destroy) { pending_.push_back({submission_, std::move(destroy)}); }
+
+void Context::retire(uint64_t completed_submission) {
+  // Destroy in reverse order of release so views die before their images and memory last.
+  std::vector<Pending> keep;
+  for (auto it = pending_.rbegin(); it != pending_.rend(); ++it) {
+    if (it->submission <= completed_submission) it->destroy(device_);
+  }
+  for (auto& p : pending_) {
+    if (p.submission > completed_submission) keep.push_back(std::move(p));
+  }
+  pending_ = std::move(keep);
+}
+
+void Context::wait_idle() {
+  if (!device_) return;
+  vkDeviceWaitIdle(device_);
+  retire(submission_);
+}
+
+uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const {
+  for (int pass = 0; pass < 2; ++pass) {
+    VkMemoryPropertyFlags want = pass == 0 ? required | preferred : required;
+    for (uint32_t i = 0; i < memory_properties_.memoryTypeCount; ++i) {
+      if ((type_bits & (1u << i)) && (memory_properties_.memoryTypes[i].propertyFlags & want) == want) return i;
+    }
+  }
+  throw DeviceError("no memory type with the required properties on " + device_name_);
+}
+
+OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what) {
+  VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  info.allocationSize = requirements.size;
+  info.memoryTypeIndex = memory_type(requirements.memoryTypeBits, required, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkResult result = vkAllocateMemory(device_, &info, nullptr, &memory);
+  if (result != VK_SUCCESS) {
+    throw DeviceError(std::string("vkAllocateMemory for ") + what + " (" + std::to_string(requirements.size) + " bytes) failed: " +
+                      result_name(result));
+  }
+  set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, reinterpret_cast<uint64_t>(memory), what);
+  return OwnedMemory(*this, memory);
+}
+
+void Context::set_name(VkObjectType type, uint64_t handle, const std::string& name) const {
+  if (!set_name_) return;
+  VkDebugUtilsObjectNameInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+  info.objectType = type;
+  info.objectHandle = handle;
+  info.pObjectName = name.c_str();
+  set_name_(device_, &info);
+}
+
+void Context::begin_label(VkCommandBuffer cmd, const std::string& name) const {
+  if (!begin_label_) return;
+  VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+  label.pLabelName = name.c_str();
+  begin_label_(cmd, &label);
+}
+
+void Context::end_label(VkCommandBuffer cmd) const {
+  if (end_label_) end_label_(cmd);
+}
+
+}  // namespace caustica::vk

@@ -1,0 +1,100 @@
+#pragma once
+// The Vulkan instance and device: lavapipe by default, any Vulkan 1.3 device by name. Owns the
+// deferred-destruction queue and the validation messenger whose message count tests assert on.
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "vk/owned.h"
+
+namespace caustica::vk {
+
+struct ContextOptions {
+  std::string device_name;  // substring of the device name; empty picks lavapipe, else the first 1.3 device
+  bool validation = false;  // Khronos validation with synchronization validation
+  bool quiet_validation = false;  // count messages without printing them
+};
+
+struct DeviceInfo {
+  std::string name;
+  VkPhysicalDeviceType type;
+  uint32_t api_version;
+};
+
+// Throws DeviceError when Vulkan cannot start; InputError when --device names no device.
+class Context {
+ public:
+  explicit Context(const ContextOptions& options);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physical_device() const { return physical_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queue_family() const { return queue_family_; }
+  const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  const std::string& device_name() const { return device_name_; }
+  bool validation_enabled() const { return validation_; }
+  uint32_t validation_messages() const { return validation_messages_.load(); }
+  uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
+
+  // Memory type index with all of `required` among `type_bits`, preferring `preferred` too.
+  uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0) const;
+  OwnedMemory allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what);
+
+  // Names an object for validation messages and capture tools.
+  void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
+  void begin_label(VkCommandBuffer cmd, const std::string& name) const;
+  void end_label(VkCommandBuffer cmd) const;
+
+  // Push descriptors (VK_KHR_push_descriptor) keep passes free of descriptor pools.
+  PFN_vkCmdPushDescriptorSetKHR push_descriptor_set = nullptr;
+
+  // Deferred destruction: queued destroys run after the GPU finished everything submitted so far.
+  void defer(std::function<void(VkDevice)> destroy);
+  uint64_t begin_submission() { return ++submission_; }  // the serial of the submission being built
+  void retire(uint64_t completed_submission);             // call once that submission's fence signalled
+  void wait_idle();
+
+  static std::vector<DeviceInfo> list_devices();
+
+ private:
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  uint32_t timestamp_valid_bits_ = 0;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_properties_{};
+  std::string device_name_;
+  bool validation_ = false;
+  bool quiet_validation_ = false;
+  std::atomic<uint32_t> validation_messages_{0};
+  PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;
+  PFN_vkCmdEndDebugUtilsLabelEXT end_label_ = nullptr;
+  PFN_vkSetDebugUtilsObjectNameEXT set_name_ = nullptr;
+  struct Pending {
+    uint64_t submission;
+    std::function<void(VkDevice)> destroy;
+  };
+  std::vector<Pending> pending_;
+  uint64_t submission_ = 0;
+
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                   VkDebugUtilsMessageTypeFlagsEXT types,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+};
+
+// Throws DeviceError naming the call and the VkResult.
+void check(VkResult result, const char* call);
+const char* result_name(VkResult result);
+
+}  // namespace caustica::vk

@@ -1,0 +1,139 @@
+#include "vk/pipeline.h"
+
+namespace caustica::vk {
+namespace {
+
+OwnedShaderModule make_module(Context& vk, const std::vector<uint32_t>& spirv) {
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = spirv.size() * sizeof(uint32_t);
+  info.pCode = spirv.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  check(vkCreateShaderModule(vk.device(), &info, nullptr, &module), "vkCreateShaderModule");
+  return OwnedShaderModule(vk, module);
+}
+
+void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stages, Pipeline& out) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  for (uint32_t i = 0; i < desc.bindings.size(); ++i) bindings.push_back({i, desc.bindings[i], 1, stages, nullptr});
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  set_info.bindingCount = static_cast<uint32_t>(bindings.size());
+  set_info.pBindings = bindings.data();
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  check(vkCreateDescriptorSetLayout(vk.device(), &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+  out.set_layout = OwnedSetLayout(vk, set_layout);
+
+  VkPushConstantRange range{stages, 0, desc.push_constant_bytes};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout;
+  layout_info.pushConstantRangeCount = desc.push_constant_bytes ? 1 : 0;
+  layout_info.pPushConstantRanges = &range;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  check(vkCreatePipelineLayout(vk.device(), &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
+  out.layout = OwnedPipelineLayout(vk, layout);
+  out.stages = stages;
+}
+
+}  // namespace
+
+Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv) {
+  Pipeline out;
+  out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
+  make_layout(vk, desc, VK_SHADER_STAGE_COMPUTE_BIT, out);
+  OwnedShaderModule module = make_module(vk, spirv);
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module.get(), "main", nullptr};
+  info.layout = out.layout.get();
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check(vkCreateComputePipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateComputePipelines");
+  out.pipeline = OwnedPipeline(vk, pipeline);
+  vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
+  return out;
+}
+
+Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
+                                  const std::vector<uint32_t>& fragment_spirv, const std::vector<VkFormat>& color_formats) {
+  Pipeline out;
+  out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  make_layout(vk, desc, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, out);
+  OwnedShaderModule vertex = make_module(vk, vertex_spirv);
+  OwnedShaderModule fragment = make_module(vk, fragment_spirv);
+  VkPipelineShaderStageCreateInfo stages[] = {
+      {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vertex.get(), "main", nullptr},
+      {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fragment.get(), "main", nullptr}};
+  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  std::vector<VkPipelineColorBlendAttachmentState> blend(color_formats.size());
+  for (auto& b : blend) b.colorWriteMask = 0xF;
+  VkPipelineColorBlendStateCreateInfo blend_state{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend_state.attachmentCount = static_cast<uint32_t>(blend.size());
+  blend_state.pAttachments = blend.data();
+  VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = static_cast<uint32_t>(color_formats.size());
+  rendering.pColorAttachmentFormats = color_formats.data();
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.pNext = &rendering;
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &vertex_input;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend_state;
+  info.pDynamicState = &dynamic;
+  info.layout = out.layout.get();
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check(vkCreateGraphicsPipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateGraphicsPipelines");
+  out.pipeline = OwnedPipeline(vk, pipeline);
+  vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
+  return out;
+}
+
+DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view, VkSampler sampler) {
+  items_.push_back({binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}, {}});
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::storage_image(uint32_t binding, VkImageView view) {
+  items_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL}, {}});
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize range) {
+  items_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, {}, {buffer, offset, range}});
+  return *this;
+}
+
+void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) {
+  std::vector<VkWriteDescriptorSet> writes;
+  for (const auto& item : items_) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstBinding = item.binding;
+    w.descriptorCount = 1;
+    w.descriptorType = item.type;
+    if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) w.pBufferInfo = &item.buffer;
+    else w.pImageInfo = &item.image;
+    writes.push_back(w);
+  }
+  vk.push_descriptor_set(cmd, pipeline.bind_point, pipeline.layout.get(), 0, static_cast<uint32_t>(writes.size()), writes.data());
+}
+
+}  // namespace caustica::vk

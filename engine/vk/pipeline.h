@@ -1,0 +1,47 @@
+#pragma once
+// Pipelines with one push-descriptor set: passes push their bindings each frame and need no pools.
+#include <string>
+#include <vector>
+
+#include "vk/context.h"
+
+namespace caustica::vk {
+
+struct PipelineDesc {
+  std::string name;
+  std::vector<VkDescriptorType> bindings;  // binding i has type bindings[i]
+  uint32_t push_constant_bytes = 0;
+};
+
+struct Pipeline {
+  OwnedSetLayout set_layout;
+  OwnedPipelineLayout layout;
+  OwnedPipeline pipeline;
+  VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
+  VkShaderStageFlags stages = 0;
+};
+
+Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv);
+// A full-screen triangle drawn with dynamic rendering into `color_formats`.
+Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
+                                  const std::vector<uint32_t>& fragment_spirv, const std::vector<VkFormat>& color_formats);
+
+// Collects descriptor writes and pushes them in one call.
+class DescriptorWriter {
+ public:
+  DescriptorWriter& sampled_image(uint32_t binding, VkImageView view, VkSampler sampler);
+  DescriptorWriter& storage_image(uint32_t binding, VkImageView view);
+  DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
+  void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline);
+
+ private:
+  struct Item {
+    uint32_t binding;
+    VkDescriptorType type;
+    VkDescriptorImageInfo image;
+    VkDescriptorBufferInfo buffer;
+  };
+  std::vector<Item> items_;
+};
+
+}  // namespace caustica::vk

@@ -1,0 +1,60 @@
+// box_blur: a compute pass that filters a sampled image along one axis into a storage image.
+#include "builtin_passes.h"
+#include "graph/pass.h"
+#include "vk/pipeline.h"
+
+namespace caustica::passes {
+namespace {
+
+struct BlurParams {
+  int32_t size[2];
+  int32_t axis[2];
+  int32_t radius;
+};
+
+class BoxBlurPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    const auto& target = setup.resource("target");
+    auto spirv = setup.shaders().compile("core/box_blur.comp", {{"OUT_FORMAT", graph::format_info(target.format).glsl_qualifier}});
+    pipeline_ = vk::make_compute_pipeline(
+        setup.vk(), {"box_blur", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(BlurParams)}, spirv);
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("target");
+    const bool vertical = ctx.params()["axis"].get<std::string>() == "y";
+    BlurParams params{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)},
+                      {vertical ? 0 : 1, vertical ? 1 : 0},
+                      ctx.params()["radius"].get<int32_t>()};
+    VkCommandBuffer cmd = ctx.cmd();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
+    vk::DescriptorWriter()
+        .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
+        .storage_image(1, ctx.view("target"))
+        .push(ctx.vk(), cmd, pipeline_);
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
+    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+};
+
+}  // namespace
+
+graph::PassTypeDecl box_blur_pass_type() {
+  using namespace graph;
+  return {"box_blur",
+          "Compute pass: a box filter along one axis, edges clamped; two of them make a separable blur.",
+          PassQueue::compute,
+          {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "image to filter"},
+           {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f}, false, "frame",
+            "filtered image, same extent"}},
+          {{"radius", ParamType::int_, 2, 0.0, 64.0, {}, "texels on each side"},
+           {"axis", ParamType::choice, "x", {}, {}, {"x", "y"}, "filter direction"}},
+          false,
+          [] { return std::make_unique<BoxBlurPass>(); }};
+}
+
+}  // namespace caustica::passes

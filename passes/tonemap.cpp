@@ -1,0 +1,62 @@
+// tonemap: a compute pass from linear HDR to 8-bit sRGB, reporting how many pixels exceeded white.
+#include "builtin_passes.h"
+#include "graph/pass.h"
+#include "vk/pipeline.h"
+
+namespace caustica::passes {
+namespace {
+
+struct TonemapParams {
+  int32_t size[2];
+  float exposure;
+  uint32_t bright_counter;
+};
+
+class TonemapPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    bright_counter_ = setup.add_counter("tonemap.bright_pixels");
+    pipeline_ = vk::make_compute_pipeline(setup.vk(),
+                                          {"tonemap",
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                           sizeof(TonemapParams)},
+                                          setup.shaders().compile("core/tonemap.comp"));
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("target");
+    TonemapParams params{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)},
+                         ctx.params()["exposure"].get<float>(),
+                         bright_counter_};
+    VkCommandBuffer cmd = ctx.cmd();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
+    vk::DescriptorWriter()
+        .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
+        .storage_image(1, ctx.view("target"))
+        .storage_buffer(2, ctx.counter_buffer())
+        .push(ctx.vk(), cmd, pipeline_);
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
+    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+  uint32_t bright_counter_ = 0;
+};
+
+}  // namespace
+
+graph::PassTypeDecl tonemap_pass_type() {
+  using namespace graph;
+  return {"tonemap",
+          "Compute pass: exposure, 1 - exp(-x) tonemap, sRGB encode into an 8-bit image. Counter tonemap.bright_pixels.",
+          PassQueue::compute,
+          {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "linear HDR"},
+           {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba8}, false, "frame", "display-ready"}},
+          {{"exposure", ParamType::float_, 1.0, 0.0, 1000.0, {}, "multiplies the HDR input"}},
+          false,
+          [] { return std::make_unique<TonemapPass>(); }};
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,317 @@
+// The caustica command: render, trace, validate, graph plan|dot, devices.
+// Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (DESIGN.md).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "builtin_passes.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "core/suggest.h"
+#include "graph/executor.h"
+#include "graph/report.h"
+#include "io/image_io.h"
+
+using namespace caustica;
+
+namespace {
+
+constexpr const char* kDefaultGraph = "graphs/core_demo.json";
+
+const char* kMainHelp = R"(caustica: a frame-graph renderer whose pipelines are JSON files
+
+usage: caustica <command> [options]
+
+commands:
+  render     render frames headless to PNG or EXR, with stats and resource dumps
+  trace      render frames and write a Chrome trace-event file (Perfetto, chrome://tracing)
+  validate   check graph files; exit 0 when all are valid, 1 with messages otherwise
+  graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
+  devices    list the Vulkan devices
+
+'caustica <command> --help' describes each command.
+exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
+)";
+
+const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/core_demo.json in the data folder)
+  --size WxH            output size (default 1280x720)
+  --frames N            frames to run (default 1; timings are medians over frames 2..N)
+  --set NAME=VALUE      override a graph parameter (repeatable)
+  --stats FILE.json     per-pass GPU/CPU times, frame times, memory and counters
+  --dump RES=FILE.exr   write an image resource as it stood at the end of the last frame (repeatable)
+  --device NAME         Vulkan device whose name contains NAME (default: lavapipe)
+  --validate            enable Khronos validation (with synchronization validation); any
+                        message makes the command exit 3
+  --memory-limit MIB    the engine's device-memory limit for the graph (default 1536)
+)";
+
+struct RenderOptions {
+  std::string graph;
+  std::string out = "caustica.png";
+  std::string stats;
+  std::string trace;
+  uint32_t width = 1280;
+  uint32_t height = 720;
+  uint32_t frames = 1;
+  std::vector<std::string> sets;
+  std::vector<std::pair<std::string, std::string>> dumps;
+  std::string device;
+  bool validate = false;
+  uint64_t memory_limit_mib = 1536;
+};
+
+class Args {
+ public:
+  Args(int argc, char** argv, int first) {
+    for (int i = first; i < argc; ++i) items_.emplace_back(argv[i]);
+  }
+  bool done() const { return next_ >= items_.size(); }
+  std::string take() { return items_[next_++]; }
+  std::string value(const std::string& flag) {
+    if (done()) throw UsageError(flag + " needs a value");
+    return take();
+  }
+  bool wants_help() const {
+    for (const auto& a : items_) {
+      if (a == "--help" || a == "-h") return true;
+    }
+    return false;
+  }
+
+ private:
+  std::vector<std::string> items_;
+  size_t next_ = 0;
+};
+
+uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t min, uint64_t max) {
+  size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-' || v < min || v > max) {
+    throw UsageError(flag + " " + text + ": expected a whole number from " + std::to_string(min) + " to " + std::to_string(max));
+  }
+  return v;
+}
+
+void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
+  throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
+}
+
+RenderOptions parse_render(Args& args, bool trace) {
+  RenderOptions o;
+  const std::vector<std::string> known = {"--graph", "--out", "--size", "--frames", "--set", "--stats", "--dump", "--device", "--validate",
+                                          "--memory-limit"};
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--graph") o.graph = args.value(a);
+    else if (a == "--out") (trace ? o.trace : o.out) = args.value(a);
+    else if (a == "--stats") o.stats = args.value(a);
+    else if (a == "--set") o.sets.push_back(args.value(a));
+    else if (a == "--device") o.device = args.value(a);
+    else if (a == "--validate") o.validate = true;
+    else if (a == "--frames") o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100000));
+    else if (a == "--memory-limit") o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
+    else if (a == "--size") {
+      std::string v = args.value(a);
+      size_t x = v.find('x');
+      if (x == std::string::npos) throw UsageError("--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+      o.width = static_cast<uint32_t>(parse_uint("--size width", v.substr(0, x), 1, 16384));
+      o.height = static_cast<uint32_t>(parse_uint("--size height", v.substr(x + 1), 1, 16384));
+    } else if (a == "--dump") {
+      std::string v = args.value(a);
+      size_t eq = v.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == v.size()) throw UsageError("--dump " + v + ": expected RESOURCE=FILE.exr");
+      o.dumps.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+    } else {
+      unknown_option(a, known);
+    }
+  }
+  if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
+  if (trace && o.trace.empty()) throw UsageError("trace needs --out FILE.json");
+  return o;
+}
+
+// Writes JSON through a temporary file so a failed run never leaves half a file.
+void write_json(const std::string& path, const nlohmann::json& value) { io::write_text_atomically(path, value.dump(2) + "\n"); }
+
+int run_render(const RenderOptions& o, bool trace) {
+  graph::GraphDesc graph = graph::load_graph_file(o.graph);
+  graph::apply_overrides(graph, o.sets);
+  std::set<std::string> retained;
+  for (const auto& [resource, file] : o.dumps) retained.insert(resource);
+
+  vk::Context vk({o.device, o.validate, false});
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  graph::Executor executor(vk, shaders, passes::builtin_registry());
+  executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
+  for (const auto& [resource, file] : o.dumps) {
+    const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(resource))];
+    if (r.kind != graph::ResourceKind::image) throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
+    if (!r.used()) throw InputError("--dump " + resource + ": '" + resource + "' is not used by any pass that runs");
+  }
+
+  graph::RunRecord run;
+  run.device = vk.device_name();
+  const bool show_progress = o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
+  const auto start = std::chrono::steady_clock::now();
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    run.frame_start_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    run.frames.push_back(executor.run_frame(f + 1 == o.frames));
+    if (show_progress) {
+      double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      double left = elapsed / (f + 1) * (o.frames - f - 1);
+      std::fprintf(stderr, "\rframe %u/%u  %.1f s elapsed, %.1f s left   ", f + 1, o.frames, elapsed, left);
+      if (f + 1 == o.frames) std::fprintf(stderr, "\n");
+    }
+  }
+
+  if (!trace) {
+    const auto& outputs = executor.plan().outputs;
+    io::write_image(o.out, executor.read_image(executor.plan().resources[outputs.front()].name));
+  }
+  for (const auto& [resource, file] : o.dumps) io::write_image(file, executor.read_image(resource));
+  if (!o.stats.empty()) write_json(o.stats, graph::stats_json(executor.plan(), run));
+  if (trace) write_json(o.trace, graph::chrome_trace_json(executor.plan(), run));
+
+  const auto& frame = run.frames.back();
+  std::fprintf(stderr, "%s: %ux%u, %u frame%s on %s, last frame GPU %.2f ms, CPU %.2f ms -> %s\n", executor.plan().graph_name.c_str(),
+               o.width, o.height, o.frames, o.frames == 1 ? "" : "s", run.device.c_str(), frame.gpu_ms, frame.cpu_ms,
+               trace ? o.trace.c_str() : o.out.c_str());
+  if (vk.validation_messages() > 0) {
+    std::fprintf(stderr, "caustica: %u validation message%s (see above)\n", vk.validation_messages(), vk.validation_messages() == 1 ? "" : "s");
+    return 3;
+  }
+  return 0;
+}
+
+int cmd_render(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica render [options]\n\nRenders frames of a graph headless and writes its first output.\n"
+                 "With no options: the default graph at 1280x720 to caustica.png.\n\noptions:\n"
+                 "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float); default caustica.png\n"
+              << kRenderOptionsHelp;
+    return 0;
+  }
+  return run_render(parse_render(args, false), false);
+}
+
+int cmd_trace(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica trace --out TRACE.json [--frames N] [render options]\n\n"
+                 "Runs frames and writes Chrome trace-event JSON that Perfetto (ui.perfetto.dev) and chrome://tracing\n"
+                 "open: a GPU track with each pass from timestamps, a CPU track with recording times, one counter\n"
+                 "track per pass counter, and the graph and pass names as metadata.\n\noptions:\n"
+                 "  --out FILE.json       the trace file (required)\n"
+              << kRenderOptionsHelp;
+    return 0;
+  }
+  return run_render(parse_render(args, true), true);
+}
+
+int cmd_validate(Args& args) {
+  if (args.wants_help() || args.done()) {
+    std::cout << "usage: caustica validate FILE...\n\nLoads and compiles each graph at 1280x720 against the built-in pass types,\n"
+                 "without a device. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
+                 "Exit 0 when every file is valid, 1 otherwise.\n";
+    return args.wants_help() ? 0 : 2;
+  }
+  int status = 0;
+  while (!args.done()) {
+    std::string file = args.take();
+    try {
+      graph::compile_graph(graph::load_graph_file(file), passes::builtin_registry(), {});
+      std::cout << file << ": ok\n";
+    } catch (const InputError& e) {
+      std::cerr << e.what() << "\n";
+      status = 1;
+    }
+  }
+  return status;
+}
+
+int cmd_graph(Args& args) {
+  const char* help =
+      "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]...\n"
+      "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]...\n\n"
+      "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
+      "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
+      "Memory sizes are the device-independent estimate (tightly packed texels).\n";
+  if (args.wants_help()) {
+    std::cout << help;
+    return 0;
+  }
+  if (args.done()) throw UsageError("graph needs 'plan' or 'dot' and a FILE; see caustica graph --help");
+  std::string what = args.take();
+  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan' or 'dot'" + did_you_mean(what, {"plan", "dot"}));
+  if (args.done()) throw UsageError("graph " + what + " needs a FILE");
+  std::string file = args.take();
+  RenderOptions o = parse_render(args, false);
+  graph::GraphDesc graph = graph::load_graph_file(file);
+  graph::apply_overrides(graph, o.sets);
+  graph::CompileOptions options;
+  options.output_width = o.width;
+  options.output_height = o.height;
+  options.memory_limit_bytes = o.memory_limit_mib << 20;
+  graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
+  if (what == "plan") std::cout << graph::plan_to_json(plan).dump(2) << "\n";
+  else std::cout << graph::plan_to_dot(plan);
+  return 0;
+}
+
+int cmd_devices(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica devices\n\nLists the Vulkan devices; --device NAME picks one by a part of its name.\n";
+    return 0;
+  }
+  for (const auto& d : vk::Context::list_devices()) {
+    std::cout << d.name << "  (Vulkan " << VK_API_VERSION_MAJOR(d.api_version) << "." << VK_API_VERSION_MINOR(d.api_version)
+              << (d.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? ", CPU" : "") << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 2) {
+      Args none(argc, argv, 1);
+      return cmd_render(none);
+    }
+    std::string command = argv[1];
+    Args args(argc, argv, 2);
+    if (command == "--help" || command == "-h" || command == "help") {
+      std::cout << kMainHelp;
+      return 0;
+    }
+    if (command == "render") return cmd_render(args);
+    if (command == "trace") return cmd_trace(args);
+    if (command == "validate") return cmd_validate(args);
+    if (command == "graph") return cmd_graph(args);
+    if (command == "devices") return cmd_devices(args);
+    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices"}) +
+                     "; see caustica --help");
+  } catch (const InputError& e) {
+    std::cerr << "caustica: " << e.what() << "\n";
+    return 1;
+  } catch (const UsageError& e) {
+    std::cerr << "caustica: " << e.what() << "\n";
+    return 2;
+  } catch (const DeviceError& e) {
+    std::cerr << "caustica: device error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "caustica: runtime error: " << e.what() << "\n";
+    return 3;
+  }
+}
