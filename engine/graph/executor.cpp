@@ -370,8 +370,8 @@ FrameResult Executor::run_frame(bool read_back) {
     const PlannedPass& pass = p.passes[i];
     const auto pass_start = Clock::now();
     vk_.begin_label(cmd, pass.name);
+    uint32_t start = stamp();  // a pass's barriers count as part of its cost
     record_barriers(cmd, pass.barriers);
-    uint32_t start = stamp();
     PassContext context(*this, pass, cmd);
     real.passes[i]->execute(context);
     uint32_t end = stamp();

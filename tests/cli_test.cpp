@@ -1,0 +1,169 @@
+// Runs the caustica binary as a user would: exit codes, messages, files written or not written.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string output;  // stdout and stderr together
+};
+
+CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) {
+  std::string command = "cd '" + cwd.string() + "' && '" CAUSTICA_BIN "' " + args + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer;
+  while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+  int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("caustica_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+const fs::path kSource = CAUSTICA_SOURCE_DIR;
+
+}  // namespace
+
+TEST(Cli, EveryBadGraphGivesItsMessageAndExitCode1) {
+  int cases = 0;
+  for (const auto& entry : fs::directory_iterator(kSource / "tests/data/bad_graphs")) {
+    if (entry.path().extension() != ".json") continue;
+    fs::path expect_file = entry.path();
+    expect_file.replace_extension(".expect");
+    std::string expected = read(expect_file);
+    while (!expected.empty() && expected.back() == '\n') expected.pop_back();
+    ASSERT_FALSE(expected.empty()) << expect_file;
+    CliRun r = run("validate '" + entry.path().string() + "'");
+    EXPECT_EQ(r.code, 1) << entry.path().filename() << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << entry.path().filename() << "\nexpected: " << expected << "\ngot: " << r.output;
+    ++cases;
+  }
+  EXPECT_GE(cases, 30);
+}
+
+TEST(Cli, BundledGraphsValidate) {
+  for (const auto& entry : fs::directory_iterator(kSource / "graphs")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
+    CliRun r = run("validate '" + entry.path().string() + "'");
+    EXPECT_EQ(r.code, 0) << r.output;
+  }
+}
+
+TEST(Cli, UsageErrorsExit2) {
+  EXPECT_EQ(run("rendr").code, 2);
+  EXPECT_NE(run("rendr").output.find("did you mean 'render'"), std::string::npos);
+  EXPECT_EQ(run("render --size 0x10").code, 2);
+  EXPECT_EQ(run("render --size 640").code, 2);
+  EXPECT_EQ(run("render --frames -3").code, 2);
+  EXPECT_EQ(run("render --frams 3").code, 2);
+  EXPECT_EQ(run("render --set").code, 2);
+  EXPECT_EQ(run("trace --frames 2").code, 2);  // needs --out
+  EXPECT_EQ(run("graph plon x.json").code, 2);
+}
+
+TEST(Cli, EveryCommandHasHelp) {
+  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices "}) {
+    CliRun r = run(std::string(command) + "--help");
+    EXPECT_EQ(r.code, 0) << command;
+    EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
+  }
+}
+
+TEST(Cli, InputErrorsExit1AndWriteNothing) {
+  fs::path dir = scratch("input");
+  CliRun missing = run("render --graph does_not_exist.json --out out.png", dir);
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.output.find("does_not_exist.json: cannot open"), std::string::npos) << missing.output;
+  CliRun bad_set = run("render --set blur_radus=2 --out out.png", dir);
+  EXPECT_EQ(bad_set.code, 1);
+  EXPECT_NE(bad_set.output.find("did you mean 'blur_radius'"), std::string::npos) << bad_set.output;
+  EXPECT_EQ(run("render --set blur_radius=1000 --out out.png", dir).code, 1);
+  EXPECT_EQ(run("render --device no-such-gpu --out out.png", dir).code, 1);
+  EXPECT_EQ(run("render --dump nothing=x.exr --out out.png", dir).code, 1);
+  EXPECT_EQ(run("render --size 32x32 --out missing_folder/out.png", dir).code, 1);
+  EXPECT_TRUE(fs::is_empty(dir)) << "a failed run left files behind";
+  fs::remove_all(dir);
+}
+
+TEST(Cli, DefaultRenderWritesCausticaPng) {
+  fs::path dir = scratch("default");
+  CliRun r = run("", dir);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir / "caustica.png"), 1000u);
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path().filename());
+  EXPECT_EQ(files.size(), 1u) << "temporary files left behind";
+  fs::remove_all(dir);
+}
+
+TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
+  fs::path dir = scratch("render");
+  CliRun r = run("render --validate --size 160x90 --frames 3 --set blur_radius=1 --stats stats.json --dump hdr=hdr.exr --out frame.exr", dir);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("validation"), std::string::npos) << r.output;
+  auto stats = nlohmann::json::parse(read(dir / "stats.json"));
+  ASSERT_EQ(stats["passes"].size(), 4u);
+  for (const auto& p : stats["passes"]) {
+    EXPECT_TRUE(p.contains("name") && p.contains("gpu_ms") && p.contains("cpu_ms"));
+  }
+  EXPECT_GT(stats["frame"]["gpu_ms"].get<double>(), 0);
+  EXPECT_TRUE(stats["counters"].contains("tonemap.bright_pixels"));
+  EXPECT_GT(stats["memory"]["transient_bytes_unaliased"].get<uint64_t>(), 0u);
+  EXPECT_GT(fs::file_size(dir / "hdr.exr"), 1000u);
+  EXPECT_GT(fs::file_size(dir / "frame.exr"), 1000u);
+
+  CliRun t = run("trace --validate --size 640x360 --frames 4 --out trace.json", dir);
+  ASSERT_EQ(t.code, 0) << t.output;
+  auto trace = nlohmann::json::parse(read(dir / "trace.json"));
+  std::set<std::string> gpu_passes;
+  double gpu_sum = 0, gpu_frame = 0;
+  for (const auto& ev : trace["traceEvents"]) {
+    if (ev["ph"] != "X" || ev["tid"] != 1 || ev["args"]["frame"] != 3) continue;
+    if (ev["name"] == "frame 3") gpu_frame = ev["dur"].get<double>();
+    else {
+      gpu_passes.insert(ev["name"].get<std::string>());
+      gpu_sum += ev["dur"].get<double>();
+    }
+  }
+  EXPECT_EQ(gpu_passes, (std::set<std::string>{"pattern", "blur_x", "blur_y", "tonemap"}));
+  EXPECT_NEAR(gpu_sum, gpu_frame, 0.1 * gpu_frame);
+  EXPECT_EQ(trace["otherData"]["graph"], "core_demo");
+  fs::remove_all(dir);
+}
+
+TEST(Cli, GraphPlanAndDot) {
+  CliRun plan = run("graph plan '" + (kSource / "graphs/core_demo.json").string() + "' --size 640x360");
+  ASSERT_EQ(plan.code, 0) << plan.output;
+  auto j = nlohmann::json::parse(plan.output);
+  EXPECT_EQ(j["order"], nlohmann::json({"pattern", "blur_x", "blur_y", "tonemap"}));
+  EXPECT_EQ(j["culled"], nlohmann::json({"unused_preview"}));
+  EXPECT_LT(j["memory"]["transient_bytes_aliased"].get<uint64_t>(), j["memory"]["transient_bytes_unaliased"].get<uint64_t>());
+  CliRun dot = run("graph dot '" + (kSource / "graphs/core_demo.json").string() + "'");
+  ASSERT_EQ(dot.code, 0);
+  EXPECT_EQ(dot.output.rfind("digraph", 0), 0u);
+  EXPECT_NE(dot.output.find("(culled)"), std::string::npos);
+}
