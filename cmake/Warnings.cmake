@@ -5,6 +5,9 @@ function(caustica_target_defaults target)
     -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough
     # Vulkan structs are written "VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};": the rest is zeroed on purpose.
     -Wno-missing-field-initializers)
+  if(CAUSTICA_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
 endfunction()
 
 # Sanitizers are global so that static libraries and the executables linking them agree.

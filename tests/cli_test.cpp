@@ -167,3 +167,10 @@ TEST(Cli, GraphPlanAndDot) {
   EXPECT_EQ(dot.output.rfind("digraph", 0), 0u);
   EXPECT_NE(dot.output.find("(culled)"), std::string::npos);
 }
+
+TEST(Cli, CheckedInSchemaMatchesThePassRegistry) {
+  CliRun schema = run("graph schema");
+  ASSERT_EQ(schema.code, 0);
+  EXPECT_EQ(nlohmann::json::parse(schema.output), nlohmann::json::parse(read(kSource / "graphs/schema.json")))
+      << "graphs/schema.json is stale: regenerate it with 'caustica graph schema > graphs/schema.json'";
+}

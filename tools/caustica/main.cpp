@@ -16,6 +16,7 @@
 #include "core/suggest.h"
 #include "graph/executor.h"
 #include "graph/report.h"
+#include "graph/schema.h"
 #include "io/image_io.h"
 
 using namespace caustica;
@@ -242,7 +243,8 @@ int cmd_validate(Args& args) {
 int cmd_graph(Args& args) {
   const char* help =
       "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]...\n"
-      "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]...\n\n"
+      "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]...\n"
+      "       caustica graph schema      (the JSON Schema of graph files, as in graphs/schema.json)\n\n"
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
       "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
       "Memory sizes are the device-independent estimate (tightly packed texels).\n";
@@ -250,9 +252,13 @@ int cmd_graph(Args& args) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("graph needs 'plan' or 'dot' and a FILE; see caustica graph --help");
+  if (args.done()) throw UsageError("graph needs 'plan', 'dot' or 'schema'; see caustica graph --help");
   std::string what = args.take();
-  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan' or 'dot'" + did_you_mean(what, {"plan", "dot"}));
+  if (what == "schema") {
+    std::cout << graph::graph_schema_json(passes::builtin_registry()).dump(2) << "\n";
+    return 0;
+  }
+  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan' or 'dot'" + did_you_mean(what, {"plan", "dot", "schema"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
   std::string file = args.take();
   RenderOptions o = parse_render(args, false);
