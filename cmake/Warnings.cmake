@@ -4,7 +4,9 @@ function(caustica_target_defaults target)
     -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
     -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough
     # Vulkan structs are written "VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};": the rest is zeroed on purpose.
-    -Wno-missing-field-initializers)
+    -Wno-missing-field-initializers
+    # GCC 12 reports "literal" + std::string as overlapping memcpy at -O3 (GCC bug 105329).
+    -Wno-restrict)
   if(CAUSTICA_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
