@@ -222,13 +222,9 @@ void Executor::realize(Plan plan) {
     buffer = vk::OwnedBuffer(vk_, handle);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device, handle, &req);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = vk_.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                            VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-    VkDeviceMemory mem = VK_NULL_HANDLE;
-    vk::check(vkAllocateMemory(device, &alloc, nullptr, &mem), "vkAllocateMemory");
-    memory = vk::OwnedMemory(vk_, mem);
+    memory = vk_.allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, name,
+                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    VkDeviceMemory mem = memory.get();
     vk::check(vkBindBufferMemory(device, handle, mem, 0), "vkBindBufferMemory");
     vk_.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(handle), name);
     void* mapped = nullptr;
@@ -383,46 +379,28 @@ FrameResult Executor::run_frame(bool read_back) {
   const uint32_t frame_end = stamp();
 
   if (read_back) {
+    std::vector<PlannedBarrier> to_transfer;
     for (const auto& rb : real.readbacks) {
       const PlannedResource& res = p.resources[rb.resource];
-      vk_.begin_label(cmd, "read back " + res.name);
+      to_transfer.push_back({rb.resource, res.final_state.stages, res.final_state.access, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                             VK_ACCESS_2_TRANSFER_READ_BIT, res.final_state.layout,
+                             res.kind == ResourceKind::image ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED, false});
+    }
+    vk_.begin_label(cmd, "read back");
+    record_barriers(cmd, to_transfer);
+    for (const auto& rb : real.readbacks) {
+      const PlannedResource& res = p.resources[rb.resource];
       if (res.kind == ResourceKind::image) {
-        VkImageMemoryBarrier2 to_src{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-        to_src.srcStageMask = res.final_state.stages;
-        to_src.srcAccessMask = res.final_state.access;
-        to_src.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-        to_src.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-        to_src.oldLayout = res.final_state.layout;
-        to_src.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        to_src.srcQueueFamilyIndex = to_src.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_src.image = real.images[rb.resource].image.get();
-        to_src.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
-        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dep.imageMemoryBarrierCount = 1;
-        dep.pImageMemoryBarriers = &to_src;
-        vkCmdPipelineBarrier2(cmd, &dep);
         VkBufferImageCopy copy{};
         copy.imageSubresource = {aspect_of(res.format), 0, 0, 1};
         copy.imageExtent = {res.width, res.height, 1};
-        vkCmdCopyImageToBuffer(cmd, to_src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer.get(), 1, &copy);
+        vkCmdCopyImageToBuffer(cmd, real.images[rb.resource].image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer.get(), 1, &copy);
       } else {
-        VkBufferMemoryBarrier2 to_src{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-        to_src.srcStageMask = res.final_state.stages;
-        to_src.srcAccessMask = res.final_state.access;
-        to_src.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-        to_src.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-        to_src.srcQueueFamilyIndex = to_src.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_src.buffer = real.buffers[rb.resource].buffer.get();
-        to_src.size = VK_WHOLE_SIZE;
-        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dep.bufferMemoryBarrierCount = 1;
-        dep.pBufferMemoryBarriers = &to_src;
-        vkCmdPipelineBarrier2(cmd, &dep);
         VkBufferCopy copy{0, 0, rb.bytes};
-        vkCmdCopyBuffer(cmd, to_src.buffer, rb.buffer.get(), 1, &copy);
+        vkCmdCopyBuffer(cmd, real.buffers[rb.resource].buffer.get(), rb.buffer.get(), 1, &copy);
       }
-      vk_.end_label(cmd);
     }
+    vk_.end_label(cmd);
   }
   VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
   to_host.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;

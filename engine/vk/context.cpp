@@ -255,10 +255,11 @@ uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required
   throw DeviceError("no memory type with the required properties on " + device_name_);
 }
 
-OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what) {
+OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what,
+                              VkMemoryPropertyFlags preferred) {
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   info.allocationSize = requirements.size;
-  info.memoryTypeIndex = memory_type(requirements.memoryTypeBits, required, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  info.memoryTypeIndex = memory_type(requirements.memoryTypeBits, required, preferred);
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkResult result = vkAllocateMemory(device_, &info, nullptr, &memory);
   if (result != VK_SUCCESS) {

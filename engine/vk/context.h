@@ -46,7 +46,8 @@ class Context {
 
   // Memory type index with all of `required` among `type_bits`, preferring `preferred` too.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0) const;
-  OwnedMemory allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what);
+  OwnedMemory allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what,
+                       VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
 
   // Names an object for validation messages and capture tools.
   void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
