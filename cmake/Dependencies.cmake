@@ -5,6 +5,8 @@ find_package(glslang CONFIG REQUIRED)
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(glm CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
+find_package(TinyGLTF CONFIG REQUIRED)
+find_package(embree 3 CONFIG REQUIRED)
 
 # Debian's OpenImageIO config lists /usr/include/opencv4, which does not exist without
 # libopencv-dev; CMake rejects targets with missing include directories.

@@ -8,6 +8,13 @@ const graph::PassRegistry& builtin_registry() {
     r.add(pattern_pass_type());
     r.add(box_blur_pass_type());
     r.add(tonemap_pass_type());
+    r.add(gbuffer_pass_type());
+    r.add(shadow_map_pass_type());
+    r.add(lighting_pass_type());
+    r.add(refractor_buffers_pass_type());
+    r.add(deferred_refraction_pass_type());
+    r.add(forward_refraction_pass_type());
+    r.add(refraction_layers_pass_type());
     return r;
   }();
   return registry;

@@ -7,6 +7,13 @@ namespace caustica::passes {
 graph::PassTypeDecl pattern_pass_type();
 graph::PassTypeDecl box_blur_pass_type();
 graph::PassTypeDecl tonemap_pass_type();
+graph::PassTypeDecl gbuffer_pass_type();
+graph::PassTypeDecl shadow_map_pass_type();
+graph::PassTypeDecl lighting_pass_type();
+graph::PassTypeDecl refractor_buffers_pass_type();
+graph::PassTypeDecl deferred_refraction_pass_type();
+graph::PassTypeDecl forward_refraction_pass_type();
+graph::PassTypeDecl refraction_layers_pass_type();
 
 // Every pass type the engine ships, registered under its type name.
 const graph::PassRegistry& builtin_registry();

@@ -11,6 +11,7 @@ packages=(
   libglfw3-dev libimgui-dev xvfb
   libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev
+  libembree-dev glmark2-data libcgal-demo assimp-testmodels
   python3
 )
 
@@ -21,6 +22,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
+  "$(dirname "$0")/fetch-models.sh"
   exit 0
 fi
 
@@ -29,3 +31,4 @@ sudo_cmd=()
 echo "install-deps: installing ${missing[*]}"
 "${sudo_cmd[@]}" apt-get update -qq
 DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+"$(dirname "$0")/fetch-models.sh"

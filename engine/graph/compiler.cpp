@@ -569,6 +569,7 @@ class Compiler {
         if (r.first_use == kNoPass) r.first_use = i;
         r.last_use = i;
         add_usage(r, b.port->usage);
+        if (b.port->also_sampled) add_usage(r, PortUsage::sampled);
         if (r.kind == ResourceKind::buffer && b.port->usage == PortUsage::storage &&
             r.buffer_size > options_.limits.max_storage_buffer_range) {
           throw graph_.error(b.pointer, "buffer '" + r.name + "' is " + mib(r.buffer_size) + ", above this device's maxStorageBufferRange (" +

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "vk/buffer.h"
 
 namespace caustica::graph {
 namespace {
@@ -58,17 +59,13 @@ struct Executor::Realized {
   std::vector<RealBuffer> buffers;  // by resource index
   struct Readback {
     uint32_t resource;
-    vk::OwnedBuffer buffer;
-    vk::OwnedMemory memory;
-    void* mapped = nullptr;
+    vk::Buffer buffer;
     uint64_t bytes = 0;
   };
   std::vector<Readback> readbacks;
   std::vector<std::unique_ptr<Pass>> passes;
   std::vector<std::string> counter_names;
-  vk::OwnedBuffer counters;
-  vk::OwnedMemory counter_memory;
-  uint32_t* counter_values = nullptr;
+  vk::Buffer counters;  // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
   vk::OwnedCommandPool pool;
@@ -105,14 +102,24 @@ VkExtent2D PassContext::extent(const std::string& port) const {
 VkSampler PassContext::linear_sampler() const { return executor_.realized_->linear.get(); }
 VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
 VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
+const scene::GpuScene& PassContext::scene() const {
+  assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
+  return *executor_.scene_;
+}
 
 // ---- Executor ------------------------------------------------------------------------------------
 
 Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
     : vk_(vk), shaders_(shaders), registry_(registry) {}
 
+void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
+  scene_.reset();  // its buffers are destroyed once the GPU is done with them
+  if (scene) scene_ = std::make_unique<scene::GpuScene>(vk_, std::move(scene));
+}
+
 Executor::~Executor() {
   realized_.reset();
+  scene_.reset();
   vk_.wait_idle();
 }
 
@@ -154,6 +161,11 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
   options.retained = retained;
   options.memory_limit_bytes = memory_limit_bytes;
   Plan plan = compile_graph(graph, registry_, options);
+  for (const auto& pass : plan.passes) {
+    if (pass.decl->needs_scene && !scene_) {
+      throw graph.error(pass.pointer, "pass '" + pass.name + "' (" + pass.decl->type + ") draws a scene, and none was given (--scene)");
+    }
+  }
   realize(std::move(plan));
   configured_key_ = key;
   ++compile_count_;
@@ -213,37 +225,18 @@ void Executor::realize(Plan plan) {
     }
   }
 
-  auto host_buffer = [&](uint64_t bytes, VkBufferUsageFlags usage, const char* name, vk::OwnedBuffer& buffer, vk::OwnedMemory& memory) {
-    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    info.size = bytes;
-    info.usage = usage;
-    VkBuffer handle = VK_NULL_HANDLE;
-    vk::check(vkCreateBuffer(device, &info, nullptr, &handle), "vkCreateBuffer");
-    buffer = vk::OwnedBuffer(vk_, handle);
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(device, handle, &req);
-    memory = vk_.allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, name,
-                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-    VkDeviceMemory mem = memory.get();
-    vk::check(vkBindBufferMemory(device, handle, mem, 0), "vkBindBufferMemory");
-    vk_.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(handle), name);
-    void* mapped = nullptr;
-    vk::check(vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
-    return mapped;
-  };
-
+  const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   for (uint32_t i = 0; i < p.resources.size(); ++i) {
     const PlannedResource& res = p.resources[i];
     if (!res.used() || res.transient) continue;
     Realized::Readback rb;
     rb.resource = i;
     rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * format_info(res.format).bytes_per_texel : res.buffer_size;
-    rb.mapped = host_buffer(rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ("readback " + res.name).c_str(), rb.buffer, rb.memory);
+    rb.buffer = vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     real.readbacks.push_back(std::move(rb));
   }
-  real.counter_values = static_cast<uint32_t*>(host_buffer(
-      kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, "pass counters", real.counters,
-      real.counter_memory));
+  real.counters = vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                  host, "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 
   for (VkFilter filter : {VK_FILTER_LINEAR, VK_FILTER_NEAREST}) {
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -335,6 +328,7 @@ FrameResult Executor::run_frame(bool read_back) {
   FrameResult result;
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
+  if (scene_) scene_->update_frame(p.output_width, p.output_height);
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -353,8 +347,9 @@ FrameResult Executor::run_frame(bool read_back) {
   VkMemoryBarrier2 counters_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
   counters_ready.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
   counters_ready.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-  counters_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-  counters_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  // Passes count in shaders or set a counter with a transfer (refraction_layers.layers).
+  counters_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+  counters_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
   VkDependencyInfo counters_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   counters_dep.memoryBarrierCount = 1;
   counters_dep.pMemoryBarriers = &counters_ready;
@@ -442,7 +437,7 @@ FrameResult Executor::run_frame(bool read_back) {
     result.passes[i].gpu_ms = elapsed(pass_stamps[i].first, pass_stamps[i].second);
     result.passes[i].gpu_start_ms = elapsed(frame_begin, pass_stamps[i].first);
   }
-  for (size_t c = 0; c < real.counter_names.size(); ++c) result.counters[real.counter_names[c]] = real.counter_values[c];
+  for (size_t c = 0; c < real.counter_names.size(); ++c) result.counters[real.counter_names[c]] = static_cast<const uint32_t*>(real.counters.mapped)[c];
   real.read_back_done = read_back;
   return result;
 }
@@ -462,7 +457,7 @@ io::ImageData Executor::read_image(const std::string& name) const {
   image.height = res.height;
   const size_t texels = size_t{res.width} * res.height;
   image.rgba.assign(texels * 4, 0.0f);
-  const auto* bytes = static_cast<const uint8_t*>(rb->mapped);
+  const auto* bytes = static_cast<const uint8_t*>(rb->buffer.mapped);
   const FormatInfo& info = format_info(res.format);
   for (size_t t = 0; t < texels; ++t) {
     float* out = &image.rgba[t * 4];

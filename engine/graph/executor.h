@@ -43,6 +43,10 @@ class Executor {
   bool configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained = {},
                  uint64_t memory_limit_bytes = CompileOptions{}.memory_limit_bytes);
 
+  // The scene that passes draw; kept across configure() calls. Uploads it now.
+  void set_scene(std::shared_ptr<const scene::Scene> scene);
+  const scene::GpuScene* scene() const { return scene_.get(); }
+
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().
   FrameResult run_frame(bool read_back);
@@ -66,6 +70,7 @@ class Executor {
   const PassRegistry& registry_;
   std::unique_ptr<const Plan> plan_;
   std::unique_ptr<Realized> realized_;
+  std::unique_ptr<scene::GpuScene> scene_;
   std::string configured_key_;
   uint32_t compile_count_ = 0;
 };

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "core/suggest.h"
+#include "io/json_reader.h"
 
 namespace caustica::graph {
 
@@ -22,65 +23,7 @@ const GraphParameter* GraphDesc::find_parameter(std::string_view wanted) const {
 
 namespace {
 
-class Reader {
- public:
-  explicit Reader(const JsonDocument& doc) : doc_(doc) {}
-
-  const nlohmann::json& object(const nlohmann::json& value, const std::string& pointer, const char* what) const {
-    if (!value.is_object()) throw doc_.error(pointer, std::string(what) + " must be an object, not " + type_name(value));
-    return value;
-  }
-
-  void only_keys(const nlohmann::json& value, const std::string& pointer, const std::vector<std::string>& allowed,
-                 const char* what) const {
-    for (const auto& [key, unused] : value.items()) {
-      bool known = false;
-      for (const auto& a : allowed) known = known || a == key;
-      if (!known) {
-        throw doc_.error(json_pointer_append(pointer, key),
-                         "unknown member '" + key + "' in " + what + did_you_mean(key, allowed));
-      }
-    }
-  }
-
-  std::string string(const nlohmann::json& value, const std::string& pointer, const char* what) const {
-    if (!value.is_string()) throw doc_.error(pointer, std::string(what) + " must be a string, not " + type_name(value));
-    return value.get<std::string>();
-  }
-
-  std::string name(const nlohmann::json& value, const std::string& pointer, const char* what) const {
-    std::string text = string(value, pointer, what);
-    if (text.empty()) throw doc_.error(pointer, std::string(what) + " must not be empty");
-    if (text.size() > 128) throw doc_.error(pointer, std::string(what) + " is longer than 128 characters");
-    for (char c : text) {
-      bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
-      if (!ok) throw doc_.error(pointer, std::string(what) + " \"" + text + "\" may only use letters, digits, '_', '-' and '.'");
-    }
-    return text;
-  }
-
-  // An expression: a string, or a positive integer literal.
-  std::string expression(const nlohmann::json& value, const std::string& pointer, const char* what) const {
-    if (value.is_number_integer()) return std::to_string(value.get<long long>());
-    if (value.is_number_float()) return value.dump();
-    if (value.is_string()) return value.get<std::string>();
-    throw doc_.error(pointer, std::string(what) + " must be a number or an expression string, not " + type_name(value));
-  }
-
-  static std::string type_name(const nlohmann::json& value) {
-    switch (value.type()) {
-      case nlohmann::json::value_t::null: return "null";
-      case nlohmann::json::value_t::object: return "an object";
-      case nlohmann::json::value_t::array: return "an array";
-      case nlohmann::json::value_t::string: return "a string";
-      case nlohmann::json::value_t::boolean: return "a boolean";
-      default: return "a number";
-    }
-  }
-
- private:
-  const JsonDocument& doc_;
-};
+using Reader = JsonReader;
 
 ParamType parse_param_type(const JsonDocument& doc, const nlohmann::json& value, const std::string& pointer) {
   static const std::vector<std::string> names{"float", "int", "bool", "choice"};

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "graph/plan.h"
+#include "scene/gpu_scene.h"
 #include "shader/shader_compiler.h"
 #include "vk/context.h"
 
@@ -44,6 +45,8 @@ class PassContext {
   VkSampler nearest_sampler() const;
   // The buffer holding every counter (uint32 each) and the byte offset of one.
   VkBuffer counter_buffer() const;
+  // The scene being rendered; only passes whose type declares needs_scene may ask.
+  const scene::GpuScene& scene() const;
   VkDeviceSize counter_offset(uint32_t counter) const { return counter * sizeof(uint32_t); }
 
  private:

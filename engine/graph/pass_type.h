@@ -42,6 +42,9 @@ struct PortDecl {
   // Ports of one pass sharing a non-empty group must be bound to images of equal extent.
   std::string extent_group;
   std::string description;
+  // The pass also samples the image between its own draws (and transitions it itself), so the
+  // image is created with sampled usage; the plan's barriers still see only `usage`.
+  bool also_sampled = false;
 };
 
 enum class ParamType { float_, int_, bool_, choice };
@@ -64,6 +67,7 @@ struct PassTypeDecl {
   std::vector<ParamDecl> params;
   bool side_effects = false;  // kept even when it reaches no output
   std::function<std::unique_ptr<Pass>()> create;
+  bool needs_scene = false;  // draws or reads the scene: running it without one is an input error
 
   const PortDecl* find_port(std::string_view name) const;
   const ParamDecl* find_param(std::string_view name) const;

@@ -62,6 +62,8 @@ class Context {
   uint64_t begin_submission() { return ++submission_; }  // the serial of the submission being built
   void retire(uint64_t completed_submission);             // call once that submission's fence signalled
   void wait_idle();
+  // Records commands into a one-time command buffer, submits it and waits (uploads at load time).
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
 
   static std::vector<DeviceInfo> list_devices();
 

@@ -54,6 +54,14 @@ Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std:
 
 Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
                                   const std::vector<uint32_t>& fragment_spirv, const std::vector<VkFormat>& color_formats) {
+  RasterState state;
+  state.color_formats = color_formats;
+  return make_graphics_pipeline(vk, desc, vertex_spirv, fragment_spirv, state);
+}
+
+Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
+                                const std::vector<uint32_t>& fragment_spirv, const RasterState& state) {
+  const std::vector<VkFormat>& color_formats = state.color_formats;
   Pipeline out;
   out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
   make_layout(vk, desc, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, out);
@@ -70,11 +78,15 @@ Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const s
   viewport.scissorCount = 1;
   VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
   raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;
+  raster.cullMode = state.cull;
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
   raster.lineWidth = 1.0f;
   VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = state.depth_format != VK_FORMAT_UNDEFINED;
+  depth.depthWriteEnable = state.depth_format != VK_FORMAT_UNDEFINED && state.depth_write;
+  depth.depthCompareOp = state.depth_compare;
   std::vector<VkPipelineColorBlendAttachmentState> blend(color_formats.size());
   for (auto& b : blend) b.colorWriteMask = 0xF;
   VkPipelineColorBlendStateCreateInfo blend_state{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
@@ -87,6 +99,7 @@ Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const s
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   rendering.colorAttachmentCount = static_cast<uint32_t>(color_formats.size());
   rendering.pColorAttachmentFormats = color_formats.data();
+  rendering.depthAttachmentFormat = state.depth_format;
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   info.pNext = &rendering;
   info.stageCount = 2;
@@ -122,6 +135,11 @@ DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t binding, VkBuffer bu
   return *this;
 }
 
+DescriptorWriter& DescriptorWriter::uniform_buffer(uint32_t binding, VkBuffer buffer) {
+  items_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, {}, {buffer, 0, VK_WHOLE_SIZE}});
+  return *this;
+}
+
 void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) {
   std::vector<VkWriteDescriptorSet> writes;
   for (const auto& item : items_) {
@@ -129,7 +147,7 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
     w.dstBinding = item.binding;
     w.descriptorCount = 1;
     w.descriptorType = item.type;
-    if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) w.pBufferInfo = &item.buffer;
+    if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || item.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) w.pBufferInfo = &item.buffer;
     else w.pImageInfo = &item.image;
     writes.push_back(w);
   }

@@ -21,10 +21,22 @@ struct Pipeline {
   VkShaderStageFlags stages = 0;
 };
 
+// Fixed-function state of a graphics pipeline drawn with dynamic rendering; viewport and scissor
+// are dynamic. Vertices are pulled from storage buffers, so there is no vertex input state.
+struct RasterState {
+  std::vector<VkFormat> color_formats;
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;  // no depth test without one
+  bool depth_write = true;
+  VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
+  VkCullModeFlags cull = VK_CULL_MODE_NONE;  // counter-clockwise triangles face the viewer
+};
+
 Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv);
 // A full-screen triangle drawn with dynamic rendering into `color_formats`.
 Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
                                   const std::vector<uint32_t>& fragment_spirv, const std::vector<VkFormat>& color_formats);
+Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
+                                const std::vector<uint32_t>& fragment_spirv, const RasterState& state);
 
 // Collects descriptor writes and pushes them in one call.
 class DescriptorWriter {
@@ -32,6 +44,7 @@ class DescriptorWriter {
   DescriptorWriter& sampled_image(uint32_t binding, VkImageView view, VkSampler sampler);
   DescriptorWriter& storage_image(uint32_t binding, VkImageView view);
   DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
+  DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer);
   void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline);
 
  private:

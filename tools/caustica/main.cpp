@@ -2,6 +2,7 @@
 // Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (DESIGN.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,12 +19,14 @@
 #include "graph/report.h"
 #include "graph/schema.h"
 #include "io/image_io.h"
+#include "scene/scene.h"
 
 using namespace caustica;
 
 namespace {
 
-constexpr const char* kDefaultGraph = "graphs/core_demo.json";
+constexpr const char* kDefaultGraph = "graphs/refraction_multilayer.json";
+constexpr const char* kDefaultScene = "scenes/bunny_plane.json";
 
 const char* kMainHelp = R"(caustica: a frame-graph renderer whose pipelines are JSON files
 
@@ -32,7 +35,7 @@ usage: caustica <command> [options]
 commands:
   render     render frames headless to PNG or EXR, with stats and resource dumps
   trace      render frames and write a Chrome trace-event file (Perfetto, chrome://tracing)
-  validate   check graph files; exit 0 when all are valid, 1 with messages otherwise
+  validate   check graph and scene files; exit 0 when all are valid, 1 with messages otherwise
   graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
   devices    list the Vulkan devices
 
@@ -40,7 +43,9 @@ commands:
 exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
 )";
 
-const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/core_demo.json in the data folder)
+const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/refraction_multilayer.json in the data folder)
+  --scene FILE          scene for graphs that draw one (default: scenes/bunny_plane.json); a graph
+                        without scene passes ignores it
   --size WxH            output size (default 1280x720)
   --frames N            frames to run (default 1; timings are medians over frames 2..N)
   --set NAME=VALUE      override a graph parameter (repeatable)
@@ -54,6 +59,7 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
 
 struct RenderOptions {
   std::string graph;
+  std::string scene;
   std::string out = "caustica.png";
   std::string stats;
   std::string trace;
@@ -110,11 +116,12 @@ void unknown_option(const std::string& arg, const std::vector<std::string>& know
 
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
-  const std::vector<std::string> known = {"--graph", "--out", "--size", "--frames", "--set", "--stats", "--dump", "--device", "--validate",
+  const std::vector<std::string> known = {"--graph", "--scene", "--out", "--size", "--frames", "--set", "--stats", "--dump", "--device", "--validate",
                                           "--memory-limit"};
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--graph") o.graph = args.value(a);
+    else if (a == "--scene") o.scene = args.value(a);
     else if (a == "--out") (trace ? o.trace : o.out) = args.value(a);
     else if (a == "--stats") o.stats = args.value(a);
     else if (a == "--set") o.sets.push_back(args.value(a));
@@ -138,6 +145,7 @@ RenderOptions parse_render(Args& args, bool trace) {
     }
   }
   if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
+  if (o.scene.empty()) o.scene = (data_dir() / kDefaultScene).string();
   if (trace && o.trace.empty()) throw UsageError("trace needs --out FILE.json");
   return o;
 }
@@ -151,9 +159,18 @@ int run_render(const RenderOptions& o, bool trace) {
   std::set<std::string> retained;
   for (const auto& [resource, file] : o.dumps) retained.insert(resource);
 
+  // Model no more than the graph needs: a graph without scene passes loads no scene.
+  const bool needs_scene = std::any_of(graph.passes.begin(), graph.passes.end(), [](const graph::PassDesc& p) {
+    const auto* decl = passes::builtin_registry().find(p.type);
+    return decl && decl->needs_scene;
+  });
+  std::shared_ptr<const scene::Scene> scene;
+  if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene));
+
   vk::Context vk({o.device, o.validate, false});
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   graph::Executor executor(vk, shaders, passes::builtin_registry());
+  executor.set_scene(scene);
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& [resource, file] : o.dumps) {
     const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(resource))];
@@ -221,8 +238,9 @@ int cmd_trace(Args& args) {
 
 int cmd_validate(Args& args) {
   if (args.wants_help() || args.done()) {
-    std::cout << "usage: caustica validate FILE...\n\nLoads and compiles each graph at 1280x720 against the built-in pass types,\n"
-                 "without a device. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
+    std::cout << "usage: caustica validate FILE...\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
+                 "1280x720 against the built-in pass types; a scene (a file with \"camera\" or \"objects\") is loaded\n"
+                 "with its meshes. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
                  "Exit 0 when every file is valid, 1 otherwise.\n";
     return args.wants_help() ? 0 : 2;
   }
@@ -230,7 +248,12 @@ int cmd_validate(Args& args) {
   while (!args.done()) {
     std::string file = args.take();
     try {
-      graph::compile_graph(graph::load_graph_file(file), passes::builtin_registry(), {});
+      JsonDocument doc = JsonDocument::load(file);
+      if (doc.root().is_object() && (doc.root().contains("camera") || doc.root().contains("objects"))) {
+        scene::load_scene(doc);
+      } else {
+        graph::compile_graph(graph::load_graph(std::move(doc)), passes::builtin_registry(), {});
+      }
       std::cout << file << ": ok\n";
     } catch (const InputError& e) {
       std::cerr << e.what() << "\n";

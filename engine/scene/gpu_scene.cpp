@@ -1,0 +1,80 @@
+#include "scene/gpu_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace caustica::scene {
+
+GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
+  std::vector<gpu::Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<gpu::ObjectData> objects;
+  ranges_.resize(scene_->objects.size());
+  for (int refractors = 0; refractors < 2; ++refractors) {
+    DrawRange& group = refractors ? refractors_ : opaque_;
+    group.first_index = static_cast<uint32_t>(indices.size());
+    for (uint32_t o = 0; o < scene_->objects.size(); ++o) {
+      const Object& object = scene_->objects[o];
+      if (object.material.refractor != (refractors == 1)) continue;
+      const auto base = static_cast<uint32_t>(vertices.size());
+      for (size_t v = 0; v < object.mesh.positions.size(); ++v) {
+        const float dn = object.mesh.normal_distance.empty() ? 0.0f : object.mesh.normal_distance[v];
+        vertices.push_back({glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o))});
+      }
+      ranges_[o].first_index = static_cast<uint32_t>(indices.size());
+      ranges_[o].index_count = static_cast<uint32_t>(object.mesh.indices.size());
+      for (uint32_t index : object.mesh.indices) indices.push_back(base + index);
+    }
+    group.index_count = static_cast<uint32_t>(indices.size()) - group.first_index;
+  }
+  for (const Object& object : scene_->objects) {
+    const Material& m = object.material;
+    objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior)});
+  }
+  vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                     "scene vertices");
+  indices_ = vk::make_static_buffer(vk, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                                    "scene indices");
+  objects_ = vk::make_static_buffer(vk, objects.data(), objects.size() * sizeof(gpu::ObjectData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                    "scene objects");
+  frame_ = vk::make_buffer(vk, sizeof(gpu::FrameData), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "scene frame data");
+}
+
+std::vector<uint32_t> GpuScene::refractors_back_to_front(glm::vec3 eye) const {
+  std::vector<uint32_t> order;
+  for (uint32_t o = 0; o < scene_->objects.size(); ++o) {
+    if (scene_->objects[o].material.refractor) order.push_back(o);
+  }
+  // Ties broken by index so the order never depends on the sort's stability.
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const float da = glm::length(scene_->objects[a].center() - eye), db = glm::length(scene_->objects[b].center() - eye);
+    return da != db ? da > db : a < b;
+  });
+  return order;
+}
+
+void GpuScene::update_frame(uint32_t width, uint32_t height) {
+  const Scene& s = *scene_;
+  gpu::FrameData& f = frame_data_;
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  f.view_proj = s.camera.view_projection(aspect);
+  f.inv_view_proj = glm::inverse(f.view_proj);
+  f.camera_position = glm::vec4(s.camera.position, aspect);
+  f.sky_ambient = glm::vec4(s.sky, s.ambient);
+  f.sizes = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
+  f.light_count = static_cast<uint32_t>(std::min<size_t>(s.lights.size(), CAUSTICA_MAX_LIGHTS));
+  for (uint32_t i = 0; i < f.light_count; ++i) {
+    const Light& light = s.lights[i];
+    gpu::LightData& l = f.lights[i];
+    l.view_proj = light.view.view_projection(1.0f);
+    l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : 1.0f);
+    // A square frustum's inscribed cone: the half angle is half the field of view.
+    l.direction_cos = glm::vec4(glm::normalize(light.view.target - light.view.position), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
+    l.radiant = glm::vec4(light.color * light.intensity, 0.0f);
+  }
+  std::memcpy(frame_.mapped, &f, sizeof(f));
+}
+
+}  // namespace caustica::scene

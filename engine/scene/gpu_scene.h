@@ -1,0 +1,47 @@
+#pragma once
+// A scene on the device: one vertex buffer and one index buffer for every object (opaque objects
+// first, then refractors, each object a contiguous index range), object materials, and per-frame
+// data (camera, lights) that run_frame() refreshes before recording.
+#include <memory>
+#include <vector>
+
+#include "common/scene_types.h"  // shaders/ is on the include path: the layouts GLSL sees
+#include "scene/scene.h"
+#include "vk/buffer.h"
+
+namespace caustica::scene {
+
+struct DrawRange {
+  uint32_t first_index = 0;
+  uint32_t index_count = 0;
+};
+
+class GpuScene {
+ public:
+  GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene);
+
+  const Scene& scene() const { return *scene_; }
+  VkBuffer vertices() const { return vertices_.get(); }
+  VkBuffer indices() const { return indices_.get(); }
+  VkBuffer objects() const { return objects_.get(); }
+  VkBuffer frame() const { return frame_.get(); }
+
+  DrawRange opaque() const { return opaque_; }
+  DrawRange refractors() const { return refractors_; }
+  DrawRange object(uint32_t index) const { return ranges_[index]; }
+  // Indices into scene().objects of the refractors, farthest from `eye` first (by bounding-box centre).
+  std::vector<uint32_t> refractors_back_to_front(glm::vec3 eye) const;
+
+  // Writes camera and light data for an output of this size; call before recording a frame.
+  void update_frame(uint32_t width, uint32_t height);
+  const gpu::FrameData& frame_data() const { return frame_data_; }
+
+ private:
+  std::shared_ptr<const Scene> scene_;
+  vk::Buffer vertices_, indices_, objects_, frame_;
+  DrawRange opaque_, refractors_;
+  std::vector<DrawRange> ranges_;
+  gpu::FrameData frame_data_{};
+};
+
+}  // namespace caustica::scene

@@ -1,0 +1,319 @@
+// Mesh files: Wavefront OBJ and OFF (the Stanford models Debian ships), glTF 2.0 through tinygltf.
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+#include <functional>
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>  // the implementation is Debian's libtinygltf
+
+namespace caustica::scene {
+namespace {
+
+constexpr size_t kMaxMeshFileBytes = 512u << 20;
+
+[[noreturn]] void fail(const std::string& path, size_t line, const std::string& message) {
+  throw InputError(path + (line ? ":" + std::to_string(line) : std::string()) + ": " + message);
+}
+
+void check_mesh(const std::string& path, const Mesh& mesh) {
+  if (mesh.indices.empty()) fail(path, 0, "the mesh has no triangles");
+  for (uint32_t index : mesh.indices) {
+    if (index >= mesh.positions.size()) fail(path, 0, "a triangle refers to vertex " + std::to_string(index) + " of " + std::to_string(mesh.positions.size()));
+  }
+  for (const auto& p : mesh.positions) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) fail(path, 0, "a vertex position is not finite");
+  }
+}
+
+// Splits a line into whitespace-separated tokens.
+std::vector<std::string_view> tokens(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) out.push_back(line.substr(start, i - start));
+  }
+  return out;
+}
+
+float parse_float(std::string_view text, const std::string& path, size_t line) {
+  float v = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) {
+    fail(path, line, "'" + std::string(text) + "' is not a finite number");
+  }
+  return v;
+}
+
+long parse_int(std::string_view text, const std::string& path, size_t line) {
+  long v = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size()) fail(path, line, "'" + std::string(text) + "' is not an integer");
+  return v;
+}
+
+Mesh load_obj(const std::string& path, const std::string& text) {
+  Mesh mesh;
+  std::istringstream in(text);
+  std::string line;
+  size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    auto t = tokens(line);
+    if (t.empty() || t[0][0] == '#') continue;
+    if (t[0] == "v") {
+      if (t.size() < 4) fail(path, number, "a vertex needs three coordinates");
+      mesh.positions.emplace_back(parse_float(t[1], path, number), parse_float(t[2], path, number), parse_float(t[3], path, number));
+    } else if (t[0] == "f") {
+      if (t.size() < 4) fail(path, number, "a face needs at least three vertices");
+      std::vector<uint32_t> face;
+      for (size_t i = 1; i < t.size(); ++i) {
+        long index = parse_int(t[i].substr(0, t[i].find('/')), path, number);
+        long count = static_cast<long>(mesh.positions.size());
+        long resolved = index < 0 ? count + index : index - 1;  // OBJ counts from 1; negative counts back
+        if (index == 0 || resolved < 0 || resolved >= count) {
+          fail(path, number, "face vertex " + std::to_string(index) + " does not exist (" + std::to_string(count) + " vertices so far)");
+        }
+        face.push_back(static_cast<uint32_t>(resolved));
+      }
+      for (size_t i = 1; i + 1 < face.size(); ++i) mesh.indices.insert(mesh.indices.end(), {face[0], face[i], face[i + 1]});
+    }
+    // vn, vt, o, g, s, usemtl, mtllib: not needed (normals are recomputed smooth)
+  }
+  return mesh;
+}
+
+Mesh load_off(const std::string& path, const std::string& text) {
+  Mesh mesh;
+  std::istringstream in(text);
+  std::string line;
+  size_t number = 0;
+  auto next = [&]() -> std::vector<std::string_view> {
+    while (std::getline(in, line)) {
+      ++number;
+      auto t = tokens(line);
+      if (!t.empty() && t[0][0] != '#') return t;
+    }
+    fail(path, number, "the file ends early");
+  };
+  auto header = next();
+  if (header[0] != "OFF") fail(path, number, "an OFF file starts with 'OFF'");
+  if (header.size() == 1) header = next();
+  else header.erase(header.begin());
+  if (header.size() < 2) fail(path, number, "expected vertex and face counts");
+  long vertices = parse_int(header[0], path, number), faces = parse_int(header[1], path, number);
+  if (vertices <= 0 || faces <= 0 || vertices > 50'000'000 || faces > 50'000'000) fail(path, number, "vertex or face count out of range");
+  for (long v = 0; v < vertices; ++v) {
+    auto t = next();
+    if (t.size() < 3) fail(path, number, "a vertex needs three coordinates");
+    mesh.positions.emplace_back(parse_float(t[0], path, number), parse_float(t[1], path, number), parse_float(t[2], path, number));
+  }
+  for (long f = 0; f < faces; ++f) {
+    auto t = next();
+    long n = parse_int(t[0], path, number);
+    if (n < 3 || static_cast<size_t>(n) + 1 > t.size()) fail(path, number, "a face needs its vertex count and at least three vertices");
+    std::vector<uint32_t> face;
+    for (long i = 1; i <= n; ++i) {
+      long index = parse_int(t[static_cast<size_t>(i)], path, number);
+      if (index < 0 || index >= vertices) fail(path, number, "face vertex " + std::to_string(index) + " does not exist");
+      face.push_back(static_cast<uint32_t>(index));
+    }
+    for (size_t i = 1; i + 1 < face.size(); ++i) mesh.indices.insert(mesh.indices.end(), {face[0], face[i], face[i + 1]});
+  }
+  return mesh;
+}
+
+// ---- glTF ---------------------------------------------------------------------------------------
+
+glm::mat4 node_matrix(const tinygltf::Node& node) {
+  if (node.matrix.size() == 16) return glm::make_mat4(std::vector<float>(node.matrix.begin(), node.matrix.end()).data());
+  glm::mat4 m(1.0f);
+  if (node.translation.size() == 3) m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4) {
+    m *= glm::mat4_cast(glm::quat(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                                  static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2])));
+  }
+  if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+  return m;
+}
+
+// Reads accessor `index` as `components` floats (or integers converted) per element.
+template <typename T>
+std::vector<T> read_accessor(const tinygltf::Model& model, int index, int components, const std::string& path) {
+  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) fail(path, 0, "accessor " + std::to_string(index) + " does not exist");
+  const auto& accessor = model.accessors[static_cast<size_t>(index)];
+  if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)) != components) {
+    fail(path, 0, "accessor " + std::to_string(index) + " has the wrong type");
+  }
+  if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) {
+    fail(path, 0, "accessor " + std::to_string(index) + " has no valid buffer view");
+  }
+  const auto& view = model.bufferViews[static_cast<size_t>(accessor.bufferView)];
+  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) fail(path, 0, "a buffer view names a missing buffer");
+  const auto& buffer = model.buffers[static_cast<size_t>(view.buffer)].data;
+  const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.componentType));
+  if (component_size <= 0) fail(path, 0, "accessor " + std::to_string(index) + " has an unknown component type");
+  const size_t element = static_cast<size_t>(component_size) * static_cast<size_t>(components);
+  const size_t stride = view.byteStride ? view.byteStride : element;
+  const size_t start = view.byteOffset + accessor.byteOffset;
+  if (accessor.count > 0 && (start + (accessor.count - 1) * stride + element > buffer.size() ||
+                             accessor.byteOffset + (accessor.count - 1) * stride + element > view.byteLength)) {
+    fail(path, 0, "accessor " + std::to_string(index) + " reads past the end of its buffer");
+  }
+  std::vector<T> out;
+  out.reserve(accessor.count * static_cast<size_t>(components));
+  for (size_t i = 0; i < accessor.count; ++i) {
+    const unsigned char* p = buffer.data() + start + i * stride;
+    for (int c = 0; c < components; ++c) {
+      const unsigned char* q = p + c * component_size;
+      switch (accessor.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, q, 4); out.push_back(static_cast<T>(v)); break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, q, 4); out.push_back(static_cast<T>(v)); break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, q, 2); out.push_back(static_cast<T>(v)); break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out.push_back(static_cast<T>(*q)); break;
+        default: fail(path, 0, "accessor " + std::to_string(index) + " has a component type this loader does not read");
+      }
+    }
+  }
+  return out;
+}
+
+Material gltf_material(const tinygltf::Model& model, int index) {
+  Material m;
+  if (index < 0 || static_cast<size_t>(index) >= model.materials.size()) return m;
+  const auto& mat = model.materials[static_cast<size_t>(index)];
+  const auto& base = mat.pbrMetallicRoughness.baseColorFactor;
+  if (base.size() >= 3) m.albedo = glm::vec3(base[0], base[1], base[2]);
+  auto ext = [&](const char* name) -> const tinygltf::Value* {
+    auto it = mat.extensions.find(name);
+    return it == mat.extensions.end() ? nullptr : &it->second;
+  };
+  auto number = [](const tinygltf::Value& v, const char* key, double fallback) {
+    return v.Has(key) && v.Get(key).IsNumber() ? v.Get(key).GetNumberAsDouble() : fallback;
+  };
+  if (const auto* t = ext("KHR_materials_transmission")) m.refractor = number(*t, "transmissionFactor", 0.0) > 0.0;
+  if (const auto* i = ext("KHR_materials_ior")) m.ior = static_cast<float>(number(*i, "ior", 1.5));
+  if (const auto* v = ext("KHR_materials_volume")) {
+    const double distance = number(*v, "attenuationDistance", 0.0);
+    if (distance > 0 && v->Has("attenuationColor") && v->Get("attenuationColor").IsArray() && v->Get("attenuationColor").ArrayLen() == 3) {
+      for (int c = 0; c < 3; ++c) {
+        const double color = v->Get("attenuationColor").Get(c).GetNumberAsDouble();
+        m.absorption[c] = static_cast<float>(-std::log(std::max(color, 1e-6)) / distance);  // colour reached after `distance`
+      }
+    }
+  }
+  return m;
+}
+
+std::vector<MeshPart> load_gltf(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warning;
+  const bool binary = std::filesystem::path(path).extension() == ".glb";
+  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path) : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+  if (!ok) {
+    while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
+    fail(path, 0, "not a valid glTF file: " + (error.empty() ? std::string("tinygltf gave no reason") : error));
+  }
+  std::vector<MeshPart> parts;
+  std::vector<int> visiting;  // guards against node cycles, which the spec forbids
+  std::function<void(int, const glm::mat4&)> visit = [&](int node_index, const glm::mat4& parent) {
+    if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size()) fail(path, 0, "node " + std::to_string(node_index) + " does not exist");
+    if (std::find(visiting.begin(), visiting.end(), node_index) != visiting.end()) fail(path, 0, "node " + std::to_string(node_index) + " is its own ancestor");
+    visiting.push_back(node_index);
+    const auto& node = model.nodes[static_cast<size_t>(node_index)];
+    const glm::mat4 world = parent * node_matrix(node);
+    if (node.mesh >= 0) {
+      if (static_cast<size_t>(node.mesh) >= model.meshes.size()) fail(path, 0, "node " + std::to_string(node_index) + " names a missing mesh");
+      const auto& mesh = model.meshes[static_cast<size_t>(node.mesh)];
+      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+      for (const auto& prim : mesh.primitives) {
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;  // points and lines do not refract
+        auto position = prim.attributes.find("POSITION");
+        if (position == prim.attributes.end()) fail(path, 0, "a primitive of mesh '" + mesh.name + "' has no POSITION");
+        MeshPart part;
+        part.name = mesh.name;
+        auto p = read_accessor<float>(model, position->second, 3, path);
+        for (size_t i = 0; i + 2 < p.size(); i += 3) part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
+        auto normal = prim.attributes.find("NORMAL");
+        if (normal != prim.attributes.end()) {
+          auto n = read_accessor<float>(model, normal->second, 3, path);
+          if (n.size() != p.size()) fail(path, 0, "NORMAL and POSITION of mesh '" + mesh.name + "' differ in count");
+          for (size_t i = 0; i + 2 < n.size(); i += 3) {
+            glm::vec3 v = normal_matrix * glm::vec3(n[i], n[i + 1], n[i + 2]);
+            float len = glm::length(v);
+            part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
+          }
+        }
+        if (prim.indices >= 0) {
+          part.mesh.indices = read_accessor<uint32_t>(model, prim.indices, 1, path);
+        } else {
+          for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
+        }
+        part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
+        part.material = gltf_material(model, prim.material);
+        parts.push_back(std::move(part));
+      }
+    }
+    for (int child : node.children) visit(child, world);
+    visiting.pop_back();
+  };
+  if (model.scenes.empty()) {
+    for (size_t n = 0; n < model.nodes.size(); ++n) visit(static_cast<int>(n), glm::mat4(1.0f));
+  } else {
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (static_cast<size_t>(scene) >= model.scenes.size()) fail(path, 0, "the default scene does not exist");
+    for (int root : model.scenes[static_cast<size_t>(scene)].nodes) visit(root, glm::mat4(1.0f));
+  }
+  if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
+  return parts;
+}
+
+}  // namespace
+
+void compute_smooth_normals(Mesh& mesh) {
+  mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    const glm::vec3 n = glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);  // area-weighted
+    mesh.normals[a] += n;
+    mesh.normals[b] += n;
+    mesh.normals[c] += n;
+  }
+  for (auto& n : mesh.normals) {
+    const float len = glm::length(n);
+    n = len > 0 ? n / len : glm::vec3(0, 1, 0);
+  }
+}
+
+std::vector<MeshPart> load_mesh_file(const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  std::vector<MeshPart> parts;
+  if (extension == ".gltf" || extension == ".glb") {
+    if (!std::filesystem::is_regular_file(path)) fail(path, 0, "no such mesh file");
+    parts = load_gltf(path);
+  } else if (extension == ".obj" || extension == ".off") {
+    const std::string text = read_text_file(path, kMaxMeshFileBytes);
+    parts.push_back({std::filesystem::path(path).stem().string(), extension == ".obj" ? load_obj(path, text) : load_off(path, text), std::nullopt});
+  } else {
+    fail(path, 0, "unknown mesh format '" + extension + "' (expected .gltf, .glb, .obj or .off)");
+  }
+  for (auto& part : parts) {
+    check_mesh(path, part.mesh);
+    if (part.mesh.normals.size() != part.mesh.positions.size()) compute_smooth_normals(part.mesh);
+  }
+  return parts;
+}
+
+}  // namespace caustica::scene

@@ -1,0 +1,235 @@
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/paths.h"
+#include "io/json_reader.h"
+
+namespace caustica::scene {
+
+glm::mat4 View::view_matrix() const {
+  glm::vec3 forward = glm::normalize(target - position);
+  // Looking straight up or down: any up vector not parallel to the view direction serves.
+  const glm::vec3 up = std::abs(forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+  return glm::lookAt(position, target, up);
+}
+
+glm::mat4 View::projection(float aspect) const {
+  // Vulkan: depth 0..1 and framebuffer y pointing down.
+  const float f = 1.0f / std::tan(glm::radians(fov_y_degrees) * 0.5f);
+  glm::mat4 p(0.0f);
+  p[0][0] = f / aspect;
+  p[1][1] = -f;
+  p[2][2] = far_plane / (near_plane - far_plane);
+  p[2][3] = -1.0f;
+  p[3][2] = near_plane * far_plane / (near_plane - far_plane);
+  return p;
+}
+
+size_t Scene::refractor_count() const {
+  return static_cast<size_t>(std::count_if(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor; }));
+}
+
+size_t Scene::triangle_count() const {
+  size_t n = 0;
+  for (const auto& o : objects) n += o.mesh.indices.size() / 3;
+  return n;
+}
+
+namespace {
+
+constexpr double kBig = 1e6;  // coordinates, sizes: anything larger is a mistake
+
+glm::vec3 vec3(const JsonReader& read, const nlohmann::json& value, const std::string& pointer, const char* what, double lo = -kBig,
+               double hi = kBig) {
+  auto v = read.numbers(value, pointer, what, 3, lo, hi);
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+View load_view(const JsonDocument& doc, const JsonReader& read, const nlohmann::json& value, const std::string& pointer, const char* what,
+               std::vector<std::string> extra_keys) {
+  read.object(value, pointer, what);
+  std::vector<std::string> keys{"position", "target", "fov", "near", "far"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  read.only_keys(value, pointer, keys, what);
+  View v;
+  if (!value.contains("position")) throw doc.error(pointer, std::string(what) + " needs a \"position\"");
+  v.position = vec3(read, value["position"], pointer + "/position", "\"position\"");
+  if (value.contains("target")) v.target = vec3(read, value["target"], pointer + "/target", "\"target\"");
+  if (glm::length(v.target - v.position) < 1e-6f) throw doc.error(pointer + "/target", "\"target\" must differ from \"position\"");
+  if (value.contains("fov")) v.fov_y_degrees = static_cast<float>(read.number(value["fov"], pointer + "/fov", "\"fov\"", 1.0, 170.0));
+  if (value.contains("near")) v.near_plane = static_cast<float>(read.number(value["near"], pointer + "/near", "\"near\"", 1e-4, 1e4));
+  if (value.contains("far")) v.far_plane = static_cast<float>(read.number(value["far"], pointer + "/far", "\"far\"", 1e-3, 1e6));
+  if (v.far_plane <= v.near_plane) throw doc.error(pointer + "/far", "\"far\" must be greater than \"near\"");
+  return v;
+}
+
+glm::mat4 load_transform(const JsonReader& read, const nlohmann::json& value, const std::string& pointer) {
+  read.object(value, pointer, "a transform");
+  read.only_keys(value, pointer, {"translate", "rotate", "scale"}, "a transform");
+  glm::mat4 m(1.0f);
+  if (value.contains("translate")) m = glm::translate(m, vec3(read, value["translate"], pointer + "/translate", "\"translate\""));
+  if (value.contains("rotate")) {
+    const glm::vec3 r = vec3(read, value["rotate"], pointer + "/rotate", "\"rotate\" (degrees about x, y, z)", -3600, 3600);
+    m = glm::rotate(m, glm::radians(r.z), glm::vec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(r.y), glm::vec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(r.x), glm::vec3(1, 0, 0));
+  }
+  if (value.contains("scale")) {
+    const auto& s = value["scale"];
+    const glm::vec3 scale = s.is_number() ? glm::vec3(static_cast<float>(read.number(s, pointer + "/scale", "\"scale\"", 1e-6, kBig)))
+                                          : vec3(read, s, pointer + "/scale", "\"scale\"", 1e-6, kBig);
+    m = glm::scale(m, scale);
+  }
+  return m;
+}
+
+void apply_material(const JsonReader& read, const nlohmann::json& value, const std::string& pointer, Material& m) {
+  read.object(value, pointer, "a material");
+  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption"}, "a material");
+  if (value.contains("color")) m.albedo = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1.0);
+  if (value.contains("refractor")) m.refractor = read.boolean(value["refractor"], pointer + "/refractor", "\"refractor\"");
+  if (value.contains("ior")) m.ior = static_cast<float>(read.number(value["ior"], pointer + "/ior", "\"ior\" (index of refraction)", 1.0, 4.0));
+  if (value.contains("absorption")) {
+    m.absorption = vec3(read, value["absorption"], pointer + "/absorption", "\"absorption\" (per unit length)", 0.0, 1e4);
+  }
+}
+
+Mesh load_primitive(const JsonDocument& doc, const JsonReader& read, const nlohmann::json& value, const std::string& pointer) {
+  static const std::vector<std::string> types{"sphere", "plane", "box", "torus", "slab"};
+  read.object(value, pointer, "a primitive");
+  read.only_keys(value, pointer, {"type", "radius", "size", "major_radius", "minor_radius", "detail"}, "a primitive");
+  if (!value.contains("type")) throw doc.error(pointer, "a primitive needs a \"type\"" + did_you_mean("", types));
+  const std::string type = read.string(value["type"], pointer + "/type", "a primitive type");
+  const int detail = value.contains("detail") ? static_cast<int>(read.number(value["detail"], pointer + "/detail", "\"detail\"", 3, 1024)) : 64;
+  auto number = [&](const char* key, double fallback, double lo, double hi) {
+    return static_cast<float>(value.contains(key) ? read.number(value[key], pointer + "/" + key, key, lo, hi) : fallback);
+  };
+  if (type == "sphere") return make_sphere(number("radius", 1.0, 1e-6, kBig), detail, std::max(2, detail / 2));
+  if (type == "plane") {
+    auto size = value.contains("size") ? read.numbers(value["size"], pointer + "/size", "\"size\" (width, depth)", 2, 1e-6, kBig)
+                                       : std::vector<double>{10, 10};
+    return make_plane(static_cast<float>(size[0]), static_cast<float>(size[1]));
+  }
+  if (type == "box" || type == "slab") {
+    glm::vec3 fallback = type == "box" ? glm::vec3(1.0f) : glm::vec3(2.0f, 0.2f, 2.0f);
+    return make_box(value.contains("size") ? vec3(read, value["size"], pointer + "/size", "\"size\"", 1e-6, kBig) : fallback);
+  }
+  if (type == "torus") {
+    const float major = number("major_radius", 1.0, 1e-6, kBig), minor = number("minor_radius", 0.3, 1e-6, kBig);
+    if (minor >= major) throw doc.error(pointer + "/minor_radius", "\"minor_radius\" must be smaller than \"major_radius\"");
+    return make_torus(major, minor, detail, std::max(3, detail / 2));
+  }
+  throw doc.error(pointer + "/type", "unknown primitive '" + type + "'" + did_you_mean(type, types));
+}
+
+// Mesh paths resolve against the scene file's folder; absolute paths are used as they are.
+std::string resolve_mesh_path(const JsonDocument& doc, const std::string& text) {
+  std::filesystem::path p(text);
+  if (p.is_absolute()) return p.string();
+  return (std::filesystem::path(doc.path()).parent_path() / p).lexically_normal().string();
+}
+
+void finish_object(Object& o, const glm::mat4& transform) {
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
+  for (auto& p : o.mesh.positions) p = glm::vec3(transform * glm::vec4(p, 1.0f));
+  for (auto& n : o.mesh.normals) n = glm::normalize(normal_matrix * n);
+  if (glm::determinant(glm::mat3(transform)) < 0) {
+    for (size_t t = 0; t + 2 < o.mesh.indices.size(); t += 3) std::swap(o.mesh.indices[t + 1], o.mesh.indices[t + 2]);
+  }
+  o.bounds_min = o.bounds_max = o.mesh.positions.front();
+  for (const auto& p : o.mesh.positions) {
+    o.bounds_min = glm::min(o.bounds_min, p);
+    o.bounds_max = glm::max(o.bounds_max, p);
+  }
+  if (o.material.refractor) o.mesh.normal_distance = normal_distances(o.mesh);
+}
+
+}  // namespace
+
+Scene load_scene(const JsonDocument& doc) {
+  JsonReader read(doc);
+  const auto& root = read.object(doc.root(), "", "a scene");
+  read.only_keys(root, "", {"$schema", "name", "description", "camera", "lights", "objects", "sky", "ambient"}, "a scene");
+  Scene scene;
+  scene.path = doc.path();
+  scene.name = root.contains("name") ? read.name(root["name"], "/name", "the scene name") : std::filesystem::path(doc.path()).stem().string();
+  if (root.contains("description")) read.string(root["description"], "/description", "\"description\"");
+  if (!root.contains("camera")) throw doc.error("", "a scene needs a \"camera\"");
+  scene.camera = load_view(doc, read, root["camera"], "/camera", "the camera", {});
+  if (root.contains("sky")) scene.sky = vec3(read, root["sky"], "/sky", "\"sky\" (radiance)", 0.0, 1e4);
+  if (root.contains("ambient")) scene.ambient = static_cast<float>(read.number(root["ambient"], "/ambient", "\"ambient\"", 0.0, 1.0));
+
+  if (!root.contains("lights")) throw doc.error("", "a scene needs \"lights\" (an array, at least one light)");
+  const auto& lights = root["lights"];
+  if (!lights.is_array() || lights.empty()) throw doc.error("/lights", "\"lights\" must be a non-empty array");
+  if (lights.size() > 8) throw doc.error("/lights", "at most 8 lights");
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const std::string pointer = "/lights/" + std::to_string(i);
+    const auto& value = lights[i];
+    Light light;
+    light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color"});
+    static const std::vector<std::string> types{"spot", "point"};
+    const std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "a light type") : "spot";
+    if (type == "spot") light.type = LightType::spot;
+    else if (type == "point") light.type = LightType::point;
+    else throw doc.error(pointer + "/type", "unknown light type '" + type + "'" + did_you_mean(type, types));
+    if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
+    if (value.contains("intensity")) light.intensity = static_cast<float>(read.number(value["intensity"], pointer + "/intensity", "\"intensity\"", 0.0, 1e9));
+    if (value.contains("color")) light.color = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1e4);
+    scene.lights.push_back(light);
+  }
+
+  if (!root.contains("objects")) throw doc.error("", "a scene needs \"objects\" (an array)");
+  const auto& objects = root["objects"];
+  if (!objects.is_array()) throw doc.error("/objects", "\"objects\" must be an array");
+  if (objects.size() > 256) throw doc.error("/objects", "at most 256 objects");
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const std::string pointer = "/objects/" + std::to_string(i);
+    const auto& value = read.object(objects[i], pointer, "an object");
+    read.only_keys(value, pointer, {"name", "mesh", "primitive", "transform", "material"}, "an object");
+    const std::string name = value.contains("name") ? read.name(value["name"], pointer + "/name", "an object name") : "object" + std::to_string(i);
+    for (const auto& o : scene.objects) {
+      if (o.name == name || o.name.rfind(name + ".", 0) == 0) throw doc.error(pointer + "/name", "two objects are named '" + name + "'");
+    }
+    if (value.contains("mesh") == value.contains("primitive")) throw doc.error(pointer, "an object needs exactly one of \"mesh\" and \"primitive\"");
+    const glm::mat4 transform = value.contains("transform") ? load_transform(read, value["transform"], pointer + "/transform") : glm::mat4(1.0f);
+    std::vector<Object> parts;
+    if (value.contains("primitive")) {
+      Object o;
+      o.mesh = load_primitive(doc, read, value["primitive"], pointer + "/primitive");
+      parts.push_back(std::move(o));
+    } else {
+      const std::string path = resolve_mesh_path(doc, read.string(value["mesh"], pointer + "/mesh", "\"mesh\""));
+      std::vector<MeshPart> mesh_parts;
+      try {
+        mesh_parts = load_mesh_file(path);
+      } catch (const InputError& e) {
+        throw doc.error(pointer + "/mesh", e.what());
+      }
+      for (auto& part : mesh_parts) {
+        Object o;
+        o.mesh = std::move(part.mesh);
+        if (part.material) o.material = *part.material;
+        parts.push_back(std::move(o));
+      }
+    }
+    for (size_t p = 0; p < parts.size(); ++p) {
+      Object& o = parts[p];
+      o.name = parts.size() == 1 ? name : name + "." + std::to_string(p);
+      o.pointer = pointer;
+      if (value.contains("material")) apply_material(read, value["material"], pointer + "/material", o.material);
+      finish_object(o, transform);
+      scene.objects.push_back(std::move(o));
+    }
+  }
+  if (scene.objects.empty()) throw doc.error("/objects", "a scene needs at least one object");
+  return scene;
+}
+
+Scene load_scene_file(const std::string& path) { return load_scene(JsonDocument::load(path)); }
+
+}  // namespace caustica::scene

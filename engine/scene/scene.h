@@ -1,0 +1,98 @@
+#pragma once
+// A scene as the renderer sees it: a camera, lights, and objects whose meshes are already in world
+// space (transforms are baked at load, since nothing moves an object after loading). Refractors
+// carry, per vertex, the distance through the object along the inverted normal (d_N in Wyman 2005),
+// ray cast once at load time.
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/json_document.h"
+
+namespace caustica::scene {
+
+struct Material {
+  glm::vec3 albedo{0.8f};
+  bool refractor = false;
+  float ior = 1.5f;
+  glm::vec3 absorption{0.0f};  // per unit of distance travelled inside, per channel (Beer-Lambert)
+};
+
+struct Mesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<uint32_t> indices;  // triangles
+  std::vector<float> normal_distance;  // d_N per vertex; refractors only
+};
+
+struct Object {
+  std::string name;
+  std::string pointer;  // JSON pointer of the object in the scene file, for messages
+  Mesh mesh;
+  Material material;
+  glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+  glm::vec3 center() const { return 0.5f * (bounds_min + bounds_max); }
+};
+
+// A perspective view with Vulkan clip conventions (depth 0..1, y down in framebuffer space).
+struct View {
+  glm::vec3 position{0.0f, 2.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  float fov_y_degrees = 45.0f;
+  float near_plane = 0.05f;
+  float far_plane = 100.0f;
+  glm::mat4 view_matrix() const;
+  glm::mat4 projection(float aspect) const;
+  glm::mat4 view_projection(float aspect) const { return projection(aspect) * view_matrix(); }
+};
+
+enum class LightType { spot, point };
+
+struct Light {
+  LightType type = LightType::spot;
+  View view;                     // spot: position, target and the cone as a square frustum
+  float intensity = 10.0f;       // radiant intensity (W/sr) along the axis
+  glm::vec3 color{1.0f};
+};
+
+struct Scene {
+  std::string path;
+  std::string name;
+  View camera;
+  std::vector<Light> lights;
+  std::vector<Object> objects;
+  glm::vec3 sky{0.35f, 0.45f, 0.6f};  // radiance of everything that is not geometry
+  float ambient = 0.03f;               // fraction of albedo lit without a light
+
+  size_t refractor_count() const;
+  size_t triangle_count() const;
+};
+
+// Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
+Scene load_scene_file(const std::string& path);
+Scene load_scene(const JsonDocument& doc);
+
+// One primitive of a mesh file with its material, if the file gives one (glTF does, OBJ and OFF
+// do not). Positions are in the file's space with glTF node transforms applied.
+struct MeshPart {
+  std::string name;
+  Mesh mesh;
+  std::optional<Material> material;
+};
+
+// .gltf, .glb, .obj, .off. Throws InputError naming `path` (and the line, for text formats).
+std::vector<MeshPart> load_mesh_file(const std::string& path);
+void compute_smooth_normals(Mesh& mesh);
+
+// Primitives in object space, centred on the origin (the plane faces +y).
+Mesh make_sphere(float radius, int slices = 64, int stacks = 32);
+Mesh make_plane(float width, float depth);
+Mesh make_box(glm::vec3 size);
+Mesh make_torus(float major_radius, float minor_radius, int segments = 64, int sides = 32);
+
+// d_N: for every vertex, the distance from it along -normal to where the ray leaves the mesh; 0
+// where it never does (open meshes). Ray cast with Embree.
+std::vector<float> normal_distances(const Mesh& mesh);
+
+}  // namespace caustica::scene

@@ -1,0 +1,68 @@
+// deferred_refraction: one full-screen pass over refractor_buffers' front and back surfaces.
+#include "builtin_passes.h"
+#include "refraction.h"
+
+namespace caustica::passes {
+namespace {
+
+class DeferredRefractionPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
+    pipeline_ = vk::make_fullscreen_pipeline(
+        setup.vk(),
+        {"deferred_refraction",
+         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         sizeof(RefractionPush)},
+        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"),
+        {graph::format_info(setup.resource("color").format).vk});
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    VkCommandBuffer cmd = ctx.cmd();
+    begin_rendering(cmd, ctx.extent("color"), {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
+    scene_descriptors(ctx)
+        .sampled_image(3, ctx.view("background"), ctx.linear_sampler())
+        .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
+        .sampled_image(5, ctx.view("front"), ctx.nearest_sampler())
+        .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
+        .storage_buffer(7, ctx.counter_buffer())
+        .push(ctx.vk(), cmd, pipeline_);
+    const RefractionPush push = refraction_push(ctx, tir_counter_);
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+  uint32_t tir_counter_ = 0;
+};
+
+}  // namespace
+
+graph::PassTypeDecl deferred_refraction_pass_type() {
+  using namespace graph;
+  auto ports = refraction_inputs();
+  ports.push_back({"front", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+                   "refractor front surfaces (refractor_buffers)"});
+  ports.push_back({"back", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+                   "refractor back surfaces (refractor_buffers)"});
+  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
+                   "frame", "the background with the refractors composited"});
+  PassTypeDecl decl{"deferred_refraction",
+                    "Full-screen image-space refraction through two interfaces (Wyman 2005) from G-buffer-like refractor surfaces: every "
+                    "pixel shaded once. Counter <pass>.tir_pixels: pixels that met total internal reflection at the back surface.",
+                    PassQueue::graphics,
+                    ports,
+                    refraction_params(),
+                    false,
+                    [] { return std::make_unique<DeferredRefractionPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,90 @@
+// forward_refraction: the paper's baseline. The background is copied into the target, then every
+// refractor front face is rasterized with the refraction shader, hidden fragments included.
+#include "builtin_passes.h"
+#include "refraction.h"
+
+namespace caustica::passes {
+namespace {
+
+struct ForwardPush {
+  DrawPush draw;
+  RefractionPush refraction;
+};
+
+class ForwardRefractionPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
+    const VkFormat color = graph::format_info(setup.resource("color").format).vk;
+    copy_ = vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
+                                         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
+                                         {color});
+    vk::RasterState state;
+    state.color_formats = {color};
+    state.depth_format = graph::format_info(setup.resource("refractor_depth").format).vk;
+    state.cull = VK_CULL_MODE_BACK_BIT;
+    refract_ = make_scene_pipeline(setup, "forward_refraction", "refraction/forward_refraction.frag", state,
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                   sizeof(ForwardPush));
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("color");
+    VkCommandBuffer cmd = ctx.cmd();
+    begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
+    vk::DescriptorWriter().sampled_image(0, ctx.view("background"), ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+    image_barrier(cmd, ctx.image("color"), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+
+    begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_LOAD}}, Attachment{ctx.view("refractor_depth")});
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
+    scene_descriptors(ctx)
+        .sampled_image(3, ctx.view("background"), ctx.linear_sampler())
+        .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
+        .sampled_image(5, ctx.view("back"), ctx.nearest_sampler())  // unread: keeps the binding numbers of the deferred pass
+        .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
+        .storage_buffer(7, ctx.counter_buffer())
+        .push(ctx.vk(), cmd, refract_);
+    const SceneView view = camera_view(ctx, extent);
+    const ForwardPush push{{view.view_proj, glm::vec4(view.eye, 1.0f)}, refraction_push(ctx, tir_counter_)};
+    vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
+    draw_range(cmd, ctx.scene(), ctx.scene().refractors());
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  vk::Pipeline copy_, refract_;
+  uint32_t tir_counter_ = 0;
+};
+
+}  // namespace
+
+graph::PassTypeDecl forward_refraction_pass_type() {
+  using namespace graph;
+  auto ports = refraction_inputs();
+  ports.push_back({"back", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+                   "refractor back surfaces (refractor_buffers)"});
+  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
+                   "frame", "the background with the refractors composited"});
+  ports.push_back({"refractor_depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame",
+                   "depth test among refractor front faces"});
+  PassTypeDecl decl{"forward_refraction",
+                    "Image-space refraction through two interfaces (Wyman 2005) shaded while rasterizing refractor front faces: the "
+                    "paper's forward baseline, where hidden fragments are shaded too. Counter <pass>.tir_pixels.",
+                    PassQueue::graphics,
+                    ports,
+                    refraction_params(),
+                    false,
+                    [] { return std::make_unique<ForwardRefractionPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,53 @@
+// gbuffer: opaque geometry from the camera into depth, world normal and albedo.
+#include "builtin_passes.h"
+#include "scene_draw.h"
+
+namespace caustica::passes {
+namespace {
+
+class GBufferPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    vk::RasterState state;
+    state.color_formats = {graph::format_info(setup.resource("normal").format).vk, graph::format_info(setup.resource("albedo").format).vk};
+    state.depth_format = graph::format_info(setup.resource("depth").format).vk;
+    pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state);
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("depth");
+    const SceneView view = camera_view(ctx, extent);
+    VkCommandBuffer cmd = ctx.cmd();
+    begin_rendering(cmd, extent, {{ctx.view("normal")}, {ctx.view("albedo")}}, Attachment{ctx.view("depth")});
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
+    scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
+    const DrawPush push{view.view_proj, glm::vec4(view.eye, 1.0f)};
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
+    draw_range(cmd, ctx.scene(), ctx.scene().opaque());
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+};
+
+}  // namespace
+
+graph::PassTypeDecl gbuffer_pass_type() {
+  using namespace graph;
+  PassTypeDecl decl{"gbuffer",
+                    "Opaque geometry seen from the camera: depth, world normal (facing the viewer) and albedo. Refractors are left out.",
+                    PassQueue::graphics,
+                    {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
+                     {"normal", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
+                      "frame", "world-space normal"},
+                     {"albedo", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba8, Format::rgba16f}, false,
+                      "frame", "base colour"}},
+                    {},
+                    false,
+                    [] { return std::make_unique<GBufferPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,72 @@
+// lighting: direct light on the G-buffer (all lights, the first one shadowed), ambient, sky.
+#include "builtin_passes.h"
+#include "scene_draw.h"
+
+namespace caustica::passes {
+namespace {
+
+struct LightingParams {
+  float shadow_bias;
+  uint32_t has_shadow;
+};
+
+class LightingPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    pipeline_ = vk::make_fullscreen_pipeline(
+        setup.vk(),
+        {"lighting",
+         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+         sizeof(LightingParams)},
+        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag"),
+        {graph::format_info(setup.resource("color").format).vk});
+    has_shadow_ = setup.bound("shadow");
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("color");
+    VkCommandBuffer cmd = ctx.cmd();
+    begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
+    vk::DescriptorWriter()
+        .uniform_buffer(0, ctx.scene().frame())
+        .sampled_image(1, ctx.view("depth"), ctx.nearest_sampler())
+        .sampled_image(2, ctx.view("normal"), ctx.nearest_sampler())
+        .sampled_image(3, ctx.view("albedo"), ctx.nearest_sampler())
+        .sampled_image(4, ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
+        .push(ctx.vk(), cmd, pipeline_);
+    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+  bool has_shadow_ = false;
+};
+
+}  // namespace
+
+graph::PassTypeDecl lighting_pass_type() {
+  using namespace graph;
+  PassTypeDecl decl{
+      "lighting",
+      "Full-screen pass: direct light from every scene light on the G-buffer (inverse square, spot cone; the first light shadowed "
+      "when a shadow map is bound), ambient sky light, the sky where there is no geometry. Linear HDR radiance out.",
+      PassQueue::graphics,
+      {{"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "camera depth"},
+       {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
+       {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "albedo"},
+       {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
+       {"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "frame",
+        "lit radiance"}},
+      {{"shadow_bias", ParamType::float_, 0.0005, 0.0, 0.1, {}, "depth bias of the shadow test, in light clip depth"}},
+      false,
+      [] { return std::make_unique<LightingPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,155 @@
+// refraction_layers: multi-layer deferred refraction. One layer per refractor, sorted back to front
+// from the camera every frame; each layer draws that refractor's surfaces, then refracts the
+// previous layer's result (the background for the farthest) in a full-screen pass. Two colour
+// images ping-pong so that the last layer lands in `color`.
+#include <map>
+
+#include "builtin_passes.h"
+#include "refraction.h"
+#include "refractor_buffers.h"
+
+namespace caustica::passes {
+namespace {
+
+constexpr auto kColorOut = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+constexpr auto kFragment = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+constexpr auto kAttachment = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+constexpr auto kSampled = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+
+void to_sampled(VkCommandBuffer cmd, VkImage image) {
+  image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, kAttachment, kSampled, kColorOut, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, kFragment,
+                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+}
+void to_attachment(VkCommandBuffer cmd, VkImage image) {
+  image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, kSampled, kAttachment, kFragment, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, kColorOut,
+                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+}
+
+class RefractionLayersPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
+    layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
+    surfaces_.setup(setup, "front", "front_depth");
+    const VkFormat color = graph::format_info(setup.resource("color").format).vk;
+    refract_ = vk::make_fullscreen_pipeline(
+        setup.vk(),
+        {"refraction_layer",
+         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         sizeof(RefractionPush)},
+        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"), {color});
+    copy_ = vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
+                                         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
+                                         {color});
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    VkCommandBuffer cmd = ctx.cmd();
+    const VkExtent2D extent = ctx.extent("color");
+    const auto& scene = ctx.scene();
+    const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.scene().camera.position);
+    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(layers_counter_), sizeof(uint32_t), static_cast<uint32_t>(order.size()));
+    // The fill is a transfer write to the buffer every counting shader binds whole, in this pass and later ones.
+    VkMemoryBarrier2 fill{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, nullptr, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
+    VkDependencyInfo fill_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    fill_dep.memoryBarrierCount = 1;
+    fill_dep.pMemoryBarriers = &fill;
+    vkCmdPipelineBarrier2(cmd, &fill_dep);
+    if (order.empty()) {  // no refractor, no layer: the background passes through
+      begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
+      vk::DescriptorWriter().sampled_image(0, ctx.view("background"), ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
+      vkCmdDraw(cmd, 3, 1, 0, 0);
+      vkCmdEndRendering(cmd);
+      return;
+    }
+    const SceneView view = camera_view(ctx, extent);
+    const RefractionPush push = refraction_push(ctx, tir_counter_);
+    const std::string ping_pong[2] = {"color", "scratch"};
+    std::map<std::string, VkImageLayout> layout{{"color", kAttachment}, {"scratch", kAttachment}};
+    const auto layers = static_cast<uint32_t>(order.size());
+    for (uint32_t i = 0; i < layers; ++i) {
+      if (i > 0) {
+        // The previous layer's surfaces were sampled and its depth written: both are reused.
+        to_attachment(cmd, ctx.image("front"));
+        to_attachment(cmd, ctx.image("back"));
+        for (const char* depth : {"front_depth", "back_depth"}) {
+          image_barrier(cmd, ctx.image(depth), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+        }
+      }
+      surfaces_.record(ctx, view, scene.object(order[i]),
+                       {extent, ctx.view("front"), ctx.view("back"), ctx.view("front_depth"), ctx.view("back_depth")});
+      to_sampled(cmd, ctx.image("front"));
+      to_sampled(cmd, ctx.image("back"));
+
+      const std::string& target = ping_pong[(layers - 1 - i) % 2];
+      const std::string& previous = ping_pong[(layers - i) % 2];
+      if (i > 0) {
+        to_sampled(cmd, ctx.image(previous));
+        layout[previous] = kSampled;
+      }
+      if (layout[target] == kSampled) {
+        to_attachment(cmd, ctx.image(target));
+        layout[target] = kAttachment;
+      }
+      begin_rendering(cmd, extent, {{ctx.view(target), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
+      scene_descriptors(ctx)
+          .sampled_image(3, ctx.view(i == 0 ? "background" : previous), ctx.linear_sampler())
+          .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
+          .sampled_image(5, ctx.view("front"), ctx.nearest_sampler())
+          .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
+          .storage_buffer(7, ctx.counter_buffer())
+          .push(ctx.vk(), cmd, refract_);
+      vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
+      vkCmdDraw(cmd, 3, 1, 0, 0);
+      vkCmdEndRendering(cmd);
+    }
+    // Leave every port in the layout the plan expects after this pass.
+    to_attachment(cmd, ctx.image("front"));
+    to_attachment(cmd, ctx.image("back"));
+    if (layout["scratch"] == kSampled) to_attachment(cmd, ctx.image("scratch"));
+  }
+
+ private:
+  RefractorSurfaces surfaces_;
+  vk::Pipeline refract_, copy_;
+  uint32_t tir_counter_ = 0, layers_counter_ = 0;
+};
+
+}  // namespace
+
+graph::PassTypeDecl refraction_layers_pass_type() {
+  using namespace graph;
+  auto ports = refraction_inputs();
+  auto scratch = [](const char* name, Format format, PortUsage usage, const char* what) {
+    return PortDecl{name, PortAccess::write, ResourceKind::image, usage, {format}, false, "frame", what};
+  };
+  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f}, false, "frame",
+                   "the background with every refractor composited, back to front"});
+  ports.push_back(scratch("scratch", Format::rgba16f, PortUsage::color_attachment, "ping-pong partner of color (same format)"));
+  ports.push_back(scratch("front", Format::rgba32f, PortUsage::color_attachment, "one refractor's front surface, reused per layer"));
+  ports.push_back(scratch("back", Format::rgba32f, PortUsage::color_attachment, "one refractor's back surface, reused per layer"));
+  for (auto& port : ports) port.also_sampled = port.name == "scratch" || port.name == "front" || port.name == "back" || port.name == "color";
+  ports.push_back(scratch("front_depth", Format::d32f, PortUsage::depth_attachment, "depth for the front-surface draw"));
+  ports.push_back(scratch("back_depth", Format::d32f, PortUsage::depth_attachment, "depth for the back-surface draw"));
+  PassTypeDecl decl{"refraction_layers",
+                    "Multi-layer deferred refraction: one layer per refractor, sorted back to front from the camera each frame; each "
+                    "layer refracts the result of the layers behind it. Counters <pass>.layers and <pass>.tir_pixels.",
+                    PassQueue::graphics,
+                    ports,
+                    refraction_params(),
+                    false,
+                    [] { return std::make_unique<RefractionLayersPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

@@ -1,0 +1,80 @@
+// refractor_buffers: front and back surfaces of the refractors from the camera or a light, in one
+// pass (two draws with opposite culling). Each texel: packed outward normal, distance from the eye,
+// d_N, object index; distance 0 where there is no refractor.
+#include "refractor_buffers.h"
+
+#include "builtin_passes.h"
+
+namespace caustica::passes {
+
+void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front, const std::string& front_depth) {
+  for (int back = 0; back < 2; ++back) {
+    vk::RasterState state;
+    state.color_formats = {graph::format_info(setup.resource(front).format).vk};
+    state.depth_format = graph::format_info(setup.resource(front_depth).format).vk;
+    state.cull = back ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
+    pipelines_[back] = make_scene_pipeline(setup, back ? "refractor_back" : "refractor_front", "scene/refractor.frag", state);
+  }
+}
+
+void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, scene::DrawRange range, const Targets& targets,
+                               bool back_only) {
+  VkCommandBuffer cmd = ctx.cmd();
+  const DrawPush push{view.view_proj, glm::vec4(view.eye, 1.0f)};
+  for (int back = 0; back < 2; ++back) {
+    const scene::DrawRange drawn = back || !back_only ? range : scene::DrawRange{};  // back_only: the front is only cleared
+    begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}}, Attachment{back ? targets.back_depth : targets.front_depth});
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_[back].pipeline.get());
+    scene_descriptors(ctx).push(ctx.vk(), cmd, pipelines_[back]);
+    vkCmdPushConstants(cmd, pipelines_[back].layout.get(), pipelines_[back].stages, 0, sizeof(push), &push);
+    draw_range(cmd, ctx.scene(), drawn);
+    vkCmdEndRendering(cmd);
+  }
+}
+
+namespace {
+
+class RefractorBuffersPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override { surfaces_.setup(setup, "front", "front_depth"); }
+
+  void execute(graph::PassContext& ctx) override {
+    const VkExtent2D extent = ctx.extent("front");
+    surfaces_.record(ctx, chosen_view(ctx, extent), ctx.scene().refractors(),
+                     {extent, ctx.view("front"), ctx.view("back"), ctx.view("front_depth"), ctx.view("back_depth")},
+                     ctx.params()["faces"].get<std::string>() == "back");
+  }
+
+ private:
+  RefractorSurfaces surfaces_;
+};
+
+}  // namespace
+
+graph::PassTypeDecl refractor_buffers_pass_type() {
+  using namespace graph;
+  auto surface = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba32f}, false, "view", what};
+  };
+  auto depth = [](const char* name) {
+    return PortDecl{name, PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "view",
+                    "depth for the surface draw"};
+  };
+  PassTypeDecl decl{"refractor_buffers",
+                    "Nearest front and nearest back surfaces of all refractors from the camera or a light: packed outward normal, "
+                    "distance from the eye, d_N and object index per texel (distance 0: no refractor).",
+                    PassQueue::graphics,
+                    {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), depth("back_depth")},
+                    [] {
+                      auto params = view_params();
+                      params.push_back({"faces", ParamType::choice, "both", {}, {}, {"both", "back"},
+                                        "draw both surfaces, or only the back ones (the front is then cleared: forward refraction)"});
+                      return params;
+                    }(),
+                    false,
+                    [] { return std::make_unique<RefractorBuffersPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

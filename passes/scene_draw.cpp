@@ -1,0 +1,96 @@
+#include "scene_draw.h"
+
+namespace caustica::passes {
+
+SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
+  const auto& camera = ctx.scene().scene().camera;
+  return {camera.view_projection(static_cast<float>(extent.width) / static_cast<float>(extent.height)), camera.position};
+}
+
+SceneView light_view(const graph::PassContext& ctx, uint32_t light) {
+  const auto& lights = ctx.scene().scene().lights;
+  const auto& view = lights[std::min<size_t>(light, lights.size() - 1)].view;  // the scene always has one light
+  return {view.view_projection(1.0f), view.position};
+}
+
+SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent) {
+  if (ctx.params()["view"].get<std::string>() == "light") return light_view(ctx, ctx.params()["light"].get<uint32_t>());
+  return camera_view(ctx, extent);
+}
+
+std::vector<graph::ParamDecl> view_params() {
+  return {{"view", graph::ParamType::choice, "camera", {}, {}, {"camera", "light"}, "look from the camera or from a light"},
+          {"light", graph::ParamType::int_, 0, 0.0, 7.0, {}, "which light, for view = light (the last one if fewer)"}};
+}
+
+vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
+                                 std::vector<VkDescriptorType> extra, uint32_t push_bytes) {
+  std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  bindings.insert(bindings.end(), extra.begin(), extra.end());
+  return vk::make_graphics_pipeline(setup.vk(), {name, bindings, push_bytes}, setup.shaders().compile("scene/mesh.vert"),
+                                    setup.shaders().compile(fragment_shader), state);
+}
+
+vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx) {
+  const auto& scene = ctx.scene();
+  vk::DescriptorWriter writer;
+  writer.uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
+  return writer;
+}
+
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<Attachment>& colors, std::optional<Attachment> depth) {
+  std::vector<VkRenderingAttachmentInfo> color_infos;
+  for (const auto& c : colors) {
+    VkRenderingAttachmentInfo info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    info.imageView = c.view;
+    info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    info.loadOp = c.load;
+    info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color_infos.push_back(info);
+  }
+  VkRenderingAttachmentInfo depth_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  if (depth) {
+    depth_info.imageView = depth->view;
+    depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth_info.loadOp = depth->load;
+    depth_info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depth_info.clearValue.depthStencil = {1.0f, 0};
+  }
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = {{0, 0}, extent};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = static_cast<uint32_t>(color_infos.size());
+  rendering.pColorAttachments = color_infos.data();
+  rendering.pDepthAttachment = depth ? &depth_info : nullptr;
+  vkCmdBeginRendering(cmd, &rendering);
+  VkViewport viewport{0, 0, static_cast<float>(extent.width), static_cast<float>(extent.height), 0, 1};
+  VkRect2D scissor{{0, 0}, extent};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+}
+
+void draw_range(VkCommandBuffer cmd, const scene::GpuScene& scene, scene::DrawRange range) {
+  if (range.index_count == 0) return;
+  vkCmdBindIndexBuffer(cmd, scene.indices(), 0, VK_INDEX_TYPE_UINT32);
+  vkCmdDrawIndexed(cmd, range.index_count, 1, range.first_index, 0, 0);
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access) {
+  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = src_stages;
+  barrier.srcAccessMask = src_access;
+  barrier.dstStageMask = dst_stages;
+  barrier.dstAccessMask = dst_access;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.imageMemoryBarrierCount = 1;
+  dependency.pImageMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+}  // namespace caustica::passes

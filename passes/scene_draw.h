@@ -1,0 +1,47 @@
+#pragma once
+// What the scene passes share: the mesh pipeline layout (frame, vertices, objects, then the pass's
+// own bindings), the per-draw push constants, choosing a view, and dynamic rendering set-up.
+#include <glm/glm.hpp>
+#include <optional>
+#include <vector>
+
+#include "graph/pass.h"
+#include "vk/pipeline.h"
+
+namespace caustica::passes {
+
+struct DrawPush {
+  glm::mat4 view_proj;
+  glm::vec4 eye;
+};
+
+// "camera", or "light" with a light index: where a scene pass looks from.
+struct SceneView {
+  glm::mat4 view_proj;
+  glm::vec3 eye;
+};
+SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent);
+SceneView light_view(const graph::PassContext& ctx, uint32_t light);
+// The view named by a pass's "view" and "light" parameters.
+SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
+
+// Bindings 0..2 are the scene's (frame data, vertices, objects); `extra` follow from binding 3.
+vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
+                                 std::vector<VkDescriptorType> extra = {}, uint32_t push_bytes = sizeof(DrawPush));
+vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx);
+
+struct Attachment {
+  VkImageView view = VK_NULL_HANDLE;
+  VkAttachmentLoadOp load = VK_ATTACHMENT_LOAD_OP_CLEAR;  // clears to zero (colour) or 1 (depth)
+};
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<Attachment>& colors, std::optional<Attachment> depth);
+void draw_range(VkCommandBuffer cmd, const scene::GpuScene& scene, scene::DrawRange range);
+
+// A layout transition of a whole single-level colour or depth image inside one pass.
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access);
+
+// Parameters every pass that shows a choice of view declares.
+std::vector<graph::ParamDecl> view_params();
+
+}  // namespace caustica::passes

@@ -1,0 +1,47 @@
+// Struct layouts shared by C++ (engine/scene/gpu_scene.h) and GLSL (std430 / std140 compatible:
+// only vec4, mat4 and scalars in groups of four).
+#ifndef CAUSTICA_SCENE_TYPES_H
+#define CAUSTICA_SCENE_TYPES_H
+
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+namespace caustica::scene::gpu {
+using vec4 = glm::vec4;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+#endif
+
+#define CAUSTICA_MAX_LIGHTS 8
+
+struct Vertex {
+  vec4 position_dn;   // xyz world position, w: d_N (distance through the object along -normal)
+  vec4 normal_object;  // xyz world normal, w: object index as a float
+};
+
+struct ObjectData {
+  vec4 albedo_refractor;  // rgb albedo, a: 1 for refractors
+  vec4 absorption_ior;    // rgb absorption per unit length, a: index of refraction
+};
+
+struct LightData {
+  mat4 view_proj;        // the light's frustum (spot lights; shadow map lookups)
+  vec4 position_type;    // xyz, w: 0 spot, 1 point
+  vec4 direction_cos;    // xyz axis, w: cosine of the cone's half angle (spot)
+  vec4 radiant;          // rgb: colour * intensity (W/sr)
+};
+
+struct FrameData {
+  mat4 view_proj;
+  mat4 inv_view_proj;
+  vec4 camera_position;  // xyz, w: output width / height
+  vec4 sky_ambient;      // rgb sky radiance, a: ambient fraction
+  vec4 sizes;            // output width, height, 1/width, 1/height
+  uint light_count;
+  uint pad0, pad1, pad2;
+  LightData lights[CAUSTICA_MAX_LIGHTS];
+};
+
+#ifdef __cplusplus
+}  // namespace caustica::scene::gpu
+#endif
+#endif

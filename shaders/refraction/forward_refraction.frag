@@ -1,0 +1,35 @@
+#version 460
+// Forward refraction: the refraction shader runs for every rasterized front-face fragment of every
+// refractor, hidden ones included (the paper's baseline).
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+SCENE_FRAME
+SCENE_OBJECTS
+layout(set = 0, binding = 3) uniform sampler2D background_tex;
+layout(set = 0, binding = 4) uniform sampler2D depth_tex;
+layout(set = 0, binding = 6) uniform sampler2D back_tex;
+layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
+
+layout(push_constant) uniform Params {
+  mat4 view_proj;
+  vec4 eye;
+  uint distance_mode;
+  uint search_steps;
+  float search_distance;
+  uint tir_counter;
+} params;
+
+#include "refraction/refraction.glsl"
+
+layout(location = 0) in vec3 world_position;
+layout(location = 1) in vec3 world_normal;
+layout(location = 2) in float normal_distance;
+layout(location = 3) flat in uint object_index;
+layout(location = 0) out vec4 out_color;
+
+void main() {
+  vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
+  if (texture(depth_tex, uv).r < gl_FragCoord.z) discard;  // behind opaque geometry
+  float front_distance = distance(world_position, frame.camera_position.xyz);
+  out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, uv), 1.0);
+}

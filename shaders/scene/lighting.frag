@@ -1,0 +1,60 @@
+#version 460
+// Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone, the
+// first light shadowed through its shadow map (3x3 PCF), plus ambient sky light. Sky where empty.
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+SCENE_FRAME
+layout(set = 0, binding = 1) uniform sampler2D depth_tex;
+layout(set = 0, binding = 2) uniform sampler2D normal_tex;
+layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
+layout(set = 0, binding = 4) uniform sampler2D shadow_tex;
+
+layout(push_constant) uniform Params {
+  float shadow_bias;
+  uint has_shadow;
+} params;
+
+layout(location = 0) out vec4 out_color;
+
+const float PI = 3.14159265358979;
+
+float shadow_factor(LightData light, vec3 p) {
+  vec4 clip = light.view_proj * vec4(p, 1.0);
+  if (clip.w <= 0.0) return 0.0;
+  vec3 ndc = clip.xyz / clip.w;
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 0.0;
+  vec2 texel = 1.0 / vec2(textureSize(shadow_tex, 0));
+  float lit = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x) lit += ndc.z - params.shadow_bias <= texture(shadow_tex, uv + vec2(x, y) * texel).r ? 1.0 : 0.0;
+  return lit / 9.0;
+}
+
+void main() {
+  vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
+  float depth = texture(depth_tex, uv).r;
+  if (depth >= 1.0) {
+    out_color = vec4(frame.sky_ambient.rgb, 1.0);
+    return;
+  }
+  vec3 p = world_from_depth(frame.inv_view_proj, uv, depth);
+  vec3 n = normalize(texture(normal_tex, uv).xyz);
+  vec3 albedo = texture(albedo_tex, uv).rgb;
+  vec3 irradiance = vec3(0.0);
+  for (uint i = 0; i < frame.light_count; ++i) {
+    LightData light = frame.lights[i];
+    vec3 to_light = light.position_type.xyz - p;
+    float d2 = max(dot(to_light, to_light), 1e-8);
+    vec3 l = to_light * inversesqrt(d2);
+    float cone = 1.0;
+    if (light.position_type.w == 0.0) {
+      // The cone edge is softened over a small band so that it does not alias.
+      float c = dot(-l, light.direction_cos.xyz);
+      cone = smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), c);
+      if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p);
+    }
+    irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
+  }
+  out_color = vec4(albedo * (frame.sky_ambient.a * frame.sky_ambient.rgb + irradiance / PI), 1.0);
+}

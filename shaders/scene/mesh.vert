@@ -1,0 +1,24 @@
+#version 460
+// Vertex pulling from the scene's vertex buffer; one shader for every view (camera or light).
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+SCENE_VERTICES
+
+layout(push_constant) uniform Draw {
+  mat4 view_proj;
+  vec4 eye;
+} draw;
+
+layout(location = 0) out vec3 world_position;
+layout(location = 1) out vec3 world_normal;
+layout(location = 2) out float normal_distance;
+layout(location = 3) flat out uint object_index;
+
+void main() {
+  Vertex v = vertices[gl_VertexIndex];
+  world_position = v.position_dn.xyz;
+  world_normal = v.normal_object.xyz;
+  normal_distance = v.position_dn.w;
+  object_index = uint(v.normal_object.w);
+  gl_Position = draw.view_proj * vec4(world_position, 1.0);
+}

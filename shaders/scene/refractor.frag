@@ -1,0 +1,20 @@
+#version 460
+// Refractor surfaces, front or back faces depending on the pipeline's culling: the outward normal,
+// the distance from the eye, d_N, and the object, in one rgba32f texel.
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+
+layout(push_constant) uniform Draw {
+  mat4 view_proj;
+  vec4 eye;
+} draw;
+
+layout(location = 0) in vec3 world_position;
+layout(location = 1) in vec3 world_normal;
+layout(location = 2) in float normal_distance;
+layout(location = 3) flat in uint object_index;
+layout(location = 0) out vec4 out_surface;
+
+void main() {
+  out_surface = vec4(pack_normal(normalize(world_normal)), distance(world_position, draw.eye.xyz), normal_distance, float(object_index));
+}

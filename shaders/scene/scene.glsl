@@ -1,0 +1,31 @@
+#ifndef CAUSTICA_SCENE_GLSL
+#define CAUSTICA_SCENE_GLSL
+#extension GL_GOOGLE_include_directive : require
+#include "common/scene_types.h"
+
+// Bindings every scene pass shares; a shader declares the ones it uses with these macros.
+#define SCENE_FRAME layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameData frame; };
+#define SCENE_VERTICES layout(set = 0, binding = 1, std430) readonly buffer VertexBlock { Vertex vertices[]; };
+#define SCENE_OBJECTS layout(set = 0, binding = 2, std430) readonly buffer ObjectBlock { ObjectData objects[]; };
+
+// Octahedral unit-vector encoding in two snorm16 values packed into one float's bits.
+vec2 oct_wrap(vec2 v) { return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }
+float pack_normal(vec3 n) {
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  vec2 e = n.z >= 0.0 ? n.xy : oct_wrap(n.xy);
+  return uintBitsToFloat(packSnorm2x16(e));
+}
+vec3 unpack_normal(float packed) {
+  vec2 e = unpackSnorm2x16(floatBitsToUint(packed));
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = oct_wrap(n.xy);
+  return normalize(n);
+}
+
+// World position of a pixel from its depth-buffer value.
+vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
+  vec4 p = inv_view_proj * vec4(uv * 2.0 - 1.0, depth, 1.0);
+  return p.xyz / p.w;
+}
+
+#endif
