@@ -62,7 +62,7 @@ graph::PassTypeDecl lighting_pass_type() {
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
        {"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "frame",
         "lit radiance"}},
-      {{"shadow_bias", ParamType::float_, 0.0005, 0.0, 0.1, {}, "depth bias of the shadow test, in light clip depth"}},
+      {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis"}},
       false,
       [] { return std::make_unique<LightingPass>(); }};
   decl.needs_scene = true;

@@ -45,24 +45,44 @@ fs::path scratch(const std::string& name) {
 }
 
 const fs::path kSource = CAUSTICA_SOURCE_DIR;
+const std::string kCoreDemo = "--graph '" + (kSource / "graphs/core_demo.json").string() + "' ";
 
-}  // namespace
-
-TEST(Cli, EveryBadGraphGivesItsMessageAndExitCode1) {
+// Runs `caustica validate` on every FOLDER/*.json and checks exit code 1 and the message in its
+// .expect file; returns the number of cases.
+int check_bad_inputs(const fs::path& folder) {
   int cases = 0;
-  for (const auto& entry : fs::directory_iterator(kSource / "tests/data/bad_graphs")) {
+  for (const auto& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() != ".json") continue;
     fs::path expect_file = entry.path();
     expect_file.replace_extension(".expect");
     std::string expected = read(expect_file);
     while (!expected.empty() && expected.back() == '\n') expected.pop_back();
-    ASSERT_FALSE(expected.empty()) << expect_file;
-    CliRun r = run("validate '" + entry.path().string() + "'");
+    EXPECT_FALSE(expected.empty()) << expect_file;
+    CliRun r = run("validate '" + entry.path().filename().string() + "'", folder);
     EXPECT_EQ(r.code, 1) << entry.path().filename() << "\n" << r.output;
     EXPECT_NE(r.output.find(expected), std::string::npos) << entry.path().filename() << "\nexpected: " << expected << "\ngot: " << r.output;
     ++cases;
   }
-  EXPECT_GE(cases, 30);
+  return cases;
+}
+
+}  // namespace
+
+TEST(Cli, EveryBadGraphGivesItsMessageAndExitCode1) { EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_graphs"), 30); }
+
+// Scenes and the meshes they name: malformed JSON, wrong values, missing and broken mesh files,
+// and the broken glTF files of Debian's assimp-testmodels.
+TEST(Cli, EveryBadSceneGivesItsMessageAndExitCode1) { EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_scenes"), 30); }
+
+TEST(Cli, BundledScenesValidate) {
+  int scenes = 0;
+  for (const auto& entry : fs::directory_iterator(kSource / "scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    CliRun r = run("validate '" + entry.path().string() + "'");
+    EXPECT_EQ(r.code, 0) << r.output;
+    ++scenes;
+  }
+  EXPECT_GE(scenes, 8);
 }
 
 TEST(Cli, BundledGraphsValidate) {
@@ -98,10 +118,13 @@ TEST(Cli, InputErrorsExit1AndWriteNothing) {
   CliRun missing = run("render --graph does_not_exist.json --out out.png", dir);
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.output.find("does_not_exist.json: cannot open"), std::string::npos) << missing.output;
-  CliRun bad_set = run("render --set blur_radus=2 --out out.png", dir);
+  CliRun missing_scene = run("render --scene no_scene.json --out out.png", dir);
+  EXPECT_EQ(missing_scene.code, 1);
+  EXPECT_NE(missing_scene.output.find("no_scene.json: cannot open"), std::string::npos) << missing_scene.output;
+  CliRun bad_set = run("render " + kCoreDemo + "--set blur_radus=2 --out out.png", dir);
   EXPECT_EQ(bad_set.code, 1);
   EXPECT_NE(bad_set.output.find("did you mean 'blur_radius'"), std::string::npos) << bad_set.output;
-  EXPECT_EQ(run("render --set blur_radius=1000 --out out.png", dir).code, 1);
+  EXPECT_EQ(run("render " + kCoreDemo + "--set blur_radius=1000 --out out.png", dir).code, 1);
   EXPECT_EQ(run("render --device no-such-gpu --out out.png", dir).code, 1);
   EXPECT_EQ(run("render --dump nothing=x.exr --out out.png", dir).code, 1);
   EXPECT_EQ(run("render --size 32x32 --out missing_folder/out.png", dir).code, 1);
@@ -122,7 +145,7 @@ TEST(Cli, DefaultRenderWritesCausticaPng) {
 
 TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   fs::path dir = scratch("render");
-  CliRun r = run("render --validate --size 160x90 --frames 3 --set blur_radius=1 --stats stats.json --dump hdr=hdr.exr --out frame.exr", dir);
+  CliRun r = run("render " + kCoreDemo + "--validate --size 160x90 --frames 3 --set blur_radius=1 --stats stats.json --dump hdr=hdr.exr --out frame.exr", dir);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("validation"), std::string::npos) << r.output;
   auto stats = nlohmann::json::parse(read(dir / "stats.json"));
@@ -136,7 +159,7 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   EXPECT_GT(fs::file_size(dir / "hdr.exr"), 1000u);
   EXPECT_GT(fs::file_size(dir / "frame.exr"), 1000u);
 
-  CliRun t = run("trace --validate --size 640x360 --frames 4 --out trace.json", dir);
+  CliRun t = run("trace " + kCoreDemo + "--validate --size 640x360 --frames 4 --out trace.json", dir);
   ASSERT_EQ(t.code, 0) << t.output;
   auto trace = nlohmann::json::parse(read(dir / "trace.json"));
   std::set<std::string> gpu_passes;

@@ -99,6 +99,8 @@ class JsonReader {
     return j.dump();
   }
 
+  InputError error(const std::string& pointer, const std::string& message) const { return doc_.error(pointer, message); }
+
  private:
   const JsonDocument& doc_;
 };

@@ -19,6 +19,9 @@ RayScene::RayScene() : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw DeviceError("Embree could not start (rtcNewDevice failed)");
   impl_->scene = rtcNewScene(impl_->device);
+  // Watertight: a ray through a shared vertex or edge (a sphere's vertex towards its antipode) must
+  // not slip between the triangles.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
 }
 
 RayScene::~RayScene() {
@@ -63,7 +66,7 @@ std::optional<RayHit> RayScene::intersect(glm::vec3 origin, glm::vec3 direction,
   if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   glm::vec3 n(query.hit.Ng_x, query.hit.Ng_y, query.hit.Ng_z);
   const float len = glm::length(n);
-  return RayHit{query.ray.tfar, query.hit.geomID, query.hit.primID, len > 0 ? n / len : glm::vec3(0, 1, 0)};
+  return RayHit{query.ray.tfar, query.hit.geomID, query.hit.primID, len > 0 ? n / len : glm::vec3(0, 1, 0), query.hit.u, query.hit.v};
 }
 
 }  // namespace caustica::reference

@@ -13,6 +13,7 @@ struct RayHit {
   uint32_t geometry;  // in the order meshes were added
   uint32_t triangle;
   glm::vec3 geometric_normal;  // unit length, facing where the triangle's winding says
+  float u, v;                  // barycentric coordinates of vertices 1 and 2 of the triangle
 };
 
 class RayScene {

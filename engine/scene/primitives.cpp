@@ -94,8 +94,15 @@ std::vector<float> normal_distances(const Mesh& mesh) {
   // Skip the triangles around the vertex itself: start a small fraction of the mesh's size inside.
   const float epsilon = 1e-4f * glm::length(hi - lo);
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
-    if (auto hit = rays.intersect(mesh.positions[i], -mesh.normals[i], epsilon, std::numeric_limits<float>::infinity())) {
-      out[i] = hit->distance;
+    // A ray aimed exactly at a vertex of the far side can still pass between its triangles in
+    // single precision; a slightly tilted ray finds the same surface.
+    const glm::vec3 n = mesh.normals[i];
+    const glm::vec3 tangent = glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
+    for (float tilt : {0.0f, 1e-3f, -1e-3f}) {
+      if (auto hit = rays.intersect(mesh.positions[i], glm::normalize(-n + tilt * tangent), epsilon, std::numeric_limits<float>::infinity())) {
+        out[i] = hit->distance;
+        break;
+      }
     }
   }
   return out;

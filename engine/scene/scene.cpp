@@ -80,8 +80,12 @@ glm::mat4 load_transform(const JsonReader& read, const nlohmann::json& value, co
   }
   if (value.contains("scale")) {
     const auto& s = value["scale"];
-    const glm::vec3 scale = s.is_number() ? glm::vec3(static_cast<float>(read.number(s, pointer + "/scale", "\"scale\"", 1e-6, kBig)))
-                                          : vec3(read, s, pointer + "/scale", "\"scale\"", 1e-6, kBig);
+    const glm::vec3 scale = s.is_number() ? glm::vec3(static_cast<float>(read.number(s, pointer + "/scale", "\"scale\"", -kBig, kBig)))
+                                          : vec3(read, s, pointer + "/scale", "\"scale\"");
+    // Negative factors mirror (winding is fixed when the transform is baked); zero flattens.
+    if (glm::any(glm::lessThan(glm::abs(scale), glm::vec3(1e-6f)))) {
+      throw read.error(pointer + "/scale", "\"scale\" must not be zero (or closer to zero than 1e-6) on any axis");
+    }
     m = glm::scale(m, scale);
   }
   return m;

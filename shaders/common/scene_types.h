@@ -28,6 +28,7 @@ struct LightData {
   vec4 position_type;    // xyz, w: 0 spot, 1 point
   vec4 direction_cos;    // xyz axis, w: cosine of the cone's half angle (spot)
   vec4 radiant;          // rgb: colour * intensity (W/sr)
+  vec4 clip;             // near and far plane of view_proj, for linear depth
 };
 
 struct FrameData {

@@ -18,6 +18,12 @@ layout(location = 0) out vec4 out_color;
 
 const float PI = 3.14159265358979;
 
+// Distance along the light's axis for a depth-buffer value of its projection.
+float linear_depth(LightData light, float depth) {
+  float n = light.clip.x, f = light.clip.y;
+  return n * f / (f - depth * (f - n));
+}
+
 float shadow_factor(LightData light, vec3 p) {
   vec4 clip = light.view_proj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
@@ -25,9 +31,12 @@ float shadow_factor(LightData light, vec3 p) {
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 0.0;
   vec2 texel = 1.0 / vec2(textureSize(shadow_tex, 0));
+  // The bias is a distance: a fixed bias in depth-buffer units would grow with the square of the
+  // distance from the light.
+  float receiver = linear_depth(light, ndc.z) - params.shadow_bias;
   float lit = 0.0;
   for (int y = -1; y <= 1; ++y)
-    for (int x = -1; x <= 1; ++x) lit += ndc.z - params.shadow_bias <= texture(shadow_tex, uv + vec2(x, y) * texel).r ? 1.0 : 0.0;
+    for (int x = -1; x <= 1; ++x) lit += receiver <= linear_depth(light, texture(shadow_tex, uv + vec2(x, y) * texel).r) ? 1.0 : 0.0;
   return lit / 9.0;
 }
 

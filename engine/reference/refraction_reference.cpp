@@ -1,0 +1,167 @@
+#include "reference/refraction_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+#include <thread>
+
+#include "reference/ray_scene.h"
+
+namespace caustica::reference {
+namespace {
+
+constexpr int kMaxInterfaces = 32;  // per refractor crossing; TIR can bounce a ray around inside
+
+float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
+  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
+  const float sin_t = eta_i / eta_t * std::sqrt(std::max(0.0f, 1.0f - cos_i * cos_i));
+  if (sin_t >= 1.0f) return 1.0f;
+  const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin_t * sin_t));
+  const float rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+  const float rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
+float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
+
+class Tracer {
+ public:
+  explicit Tracer(const scene::Scene& scene) : scene_(scene) {
+    float extent = 0;
+    for (const auto& o : scene.objects) {
+      rays_.add_mesh(o.mesh.positions, o.mesh.indices);
+      extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
+    }
+    rays_.commit();
+    epsilon_ = 1e-4f * std::max(extent, 1.0f);
+  }
+
+  glm::vec3 smooth_normal(const RayHit& hit) const {
+    const auto& mesh = scene_.objects[hit.geometry].mesh;
+    const uint32_t* tri = &mesh.indices[3 * hit.triangle];
+    const glm::vec3 n = (1 - hit.u - hit.v) * mesh.normals[tri[0]] + hit.u * mesh.normals[tri[1]] + hit.v * mesh.normals[tri[2]];
+    const float len = glm::length(n);
+    return len > 0 ? n / len : hit.geometric_normal;
+  }
+
+  // The engine's lighting model (scene/lighting.frag) with exact shadow rays.
+  glm::vec3 shade_opaque(glm::vec3 p, glm::vec3 n, glm::vec3 albedo) const {
+    glm::vec3 irradiance(0.0f);
+    for (size_t i = 0; i < scene_.lights.size(); ++i) {
+      const auto& light = scene_.lights[i];
+      const glm::vec3 to_light = light.view.position - p;
+      const float d2 = std::max(glm::dot(to_light, to_light), 1e-8f);
+      const glm::vec3 l = to_light / std::sqrt(d2);
+      float cone = 1.0f;
+      if (light.type == scene::LightType::spot) {
+        const float cos_cut = std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f);
+        const float c = glm::dot(-l, glm::normalize(light.view.target - light.view.position));
+        const float edge = cos_cut + (1.0f - cos_cut) * 0.02f;
+        const float x = std::clamp((c - cos_cut) / (edge - cos_cut), 0.0f, 1.0f);
+        cone = x * x * (3 - 2 * x);
+        // The engine shadows the first light only (through its shadow map); so does the reference.
+        if (i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_)) cone = 0;
+      }
+      irradiance += light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
+    }
+    return albedo * (scene_.ambient * scene_.sky + irradiance / glm::pi<float>());
+  }
+
+  glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, bool* hit_refractor) const {
+    glm::vec3 throughput(1.0f), radiance(0.0f);
+    for (int segment = 0; segment < 16; ++segment) {
+      auto hit = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
+      if (!hit) return radiance + throughput * scene_.sky;
+      const auto& object = scene_.objects[hit->geometry];
+      glm::vec3 p = origin + direction * hit->distance;
+      glm::vec3 n = smooth_normal(*hit);
+      if (!object.material.refractor) {
+        if (glm::dot(n, direction) > 0) n = -n;
+        return radiance + throughput * shade_opaque(p, n, object.material.albedo);
+      }
+      if (segment == 0 && hit_refractor) *hit_refractor = true;
+      // Entry: reflection sees the sky (as in the engine); the rest refracts in.
+      if (glm::dot(n, direction) > 0) n = -n;
+      const float ior = object.material.ior;
+      const float reflect_in = fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior);
+      radiance += throughput * reflect_in * scene_.sky;
+      throughput *= 1.0f - reflect_in;
+      direction = glm::refract(direction, n, 1.0f / ior);
+      origin = p;
+      bool left = false;
+      for (int bounce = 0; bounce < kMaxInterfaces && !left; ++bounce) {
+        auto inner = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
+        if (!inner) return radiance;  // an open mesh: the ray is lost inside
+        throughput *= glm::exp(-object.material.absorption * inner->distance);
+        p = origin + direction * inner->distance;
+        glm::vec3 inward = smooth_normal(*inner);
+        if (glm::dot(inward, direction) > 0) inward = -inward;
+        const glm::vec3 out = glm::refract(direction, inward, ior);
+        origin = p;
+        if (glm::dot(out, out) == 0.0f) {
+          direction = glm::reflect(direction, inward);  // total internal reflection
+        } else {
+          throughput *= 1.0f - fresnel_dielectric(-glm::dot(direction, inward), ior, 1.0f);
+          direction = glm::normalize(out);
+          left = true;
+        }
+      }
+      if (!left) return radiance;  // trapped: its energy stays inside
+    }
+    return radiance;
+  }
+
+ private:
+  const scene::Scene& scene_;
+  RayScene rays_;
+  float epsilon_ = 1e-4f;
+};
+
+}  // namespace
+
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height) {
+  Tracer tracer(scene);
+  RefractionImage out;
+  out.radiance.width = width;
+  out.radiance.height = height;
+  out.radiance.rgba.assign(size_t{width} * height * 4, 1.0f);
+  out.refractor.assign(size_t{width} * height, 0);
+  const glm::mat4 inv = glm::inverse(scene.camera.view_projection(static_cast<float>(width) / static_cast<float>(height)));
+  auto rows = [&](uint32_t first, uint32_t step) {
+    for (uint32_t y = first; y < height; y += step) {
+      for (uint32_t x = 0; x < width; ++x) {
+        // Pixel centres, as the engine's gl_FragCoord.
+        const glm::vec2 ndc((static_cast<float>(x) + 0.5f) / static_cast<float>(width) * 2 - 1,
+                            (static_cast<float>(y) + 0.5f) / static_cast<float>(height) * 2 - 1);
+        const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
+        const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
+        bool refractor = false;
+        const glm::vec3 c = tracer.trace(scene.camera.position, direction, &refractor);
+        float* px = &out.radiance.rgba[(size_t{y} * width + x) * 4];
+        px[0] = c.r;
+        px[1] = c.g;
+        px[2] = c.b;
+        out.refractor[size_t{y} * width + x] = refractor ? 1 : 0;
+      }
+    }
+  };
+  const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (uint32_t t = 0; t < threads; ++t) pool.emplace_back(rows, t, threads);
+  for (auto& t : pool) t.join();
+  return out;
+}
+
+double refraction_relative_l1(const io::ImageData& engine, const RefractionImage& reference) {
+  double difference = 0, total = 0;
+  const size_t pixels = reference.refractor.size();
+  for (size_t i = 0; i < pixels && i * 4 < engine.rgba.size(); ++i) {
+    if (!reference.refractor[i]) continue;
+    const double e = luminance(&engine.rgba[i * 4]), r = luminance(&reference.radiance.rgba[i * 4]);
+    difference += std::abs(e - r);
+    total += std::abs(r);
+  }
+  return total > 0 ? difference / total : 0.0;
+}
+
+}  // namespace caustica::reference

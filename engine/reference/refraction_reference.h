@@ -1,0 +1,26 @@
+#pragma once
+// The ground truth for image-space refraction: the camera image of a scene ray traced on its exact
+// geometry with Embree, refracting at every interface (not two), following total internal
+// reflection inside, with Fresnel transmittance and absorption. Everything else matches the
+// engine's model so that the difference measures the image-space approximation only: the same
+// direct lighting (exact shadow rays instead of a shadow map), the same sky, and reflection off a
+// refractor's entry surface seeing the sky.
+#include <cstdint>
+
+#include "io/image_io.h"
+#include "scene/scene.h"
+
+namespace caustica::reference {
+
+struct RefractionImage {
+  io::ImageData radiance;          // linear HDR, rgba32f-like floats
+  std::vector<uint8_t> refractor;  // 1 where the primary ray hits a refractor first
+};
+
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height);
+
+// Error between an engine image and the reference, over the reference's refractor pixels:
+// sum |engine - reference| / sum |reference|, on luminance.
+double refraction_relative_l1(const io::ImageData& engine, const RefractionImage& reference);
+
+}  // namespace caustica::reference

@@ -1,0 +1,167 @@
+// Refraction on the device (lavapipe, validation and synchronization validation on; any message
+// fails): forward against deferred, the engine against the exact ray-traced reference, the
+// multi-layer order, and scenes without refractors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "builtin_passes.h"
+#include "core/paths.h"
+#include "graph/executor.h"
+#include "reference/refraction_reference.h"
+
+using namespace caustica;
+
+namespace {
+
+constexpr uint32_t kWidth = 320, kHeight = 180;
+
+struct Engine {
+  vk::Context vk{{"", true, false}};
+  shader::ShaderCompiler shaders{data_dir() / "shaders"};
+  graph::Executor executor{vk, shaders, passes::builtin_registry()};
+
+  struct Result {
+    io::ImageData refracted;  // linear HDR, before tonemapping
+    io::ImageData lit;
+    graph::FrameResult frame;
+  };
+
+  Result render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets = {}) {
+    auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
+    graph::apply_overrides(graph, sets);
+    executor.set_scene(std::move(scene));
+    executor.configure(graph, kWidth, kHeight, {"refracted", "lit"});
+    Result r;
+    r.frame = executor.run_frame(true);
+    r.refracted = executor.read_image("refracted");
+    r.lit = executor.read_image("lit");
+    return r;
+  }
+
+  ~Engine() { EXPECT_EQ(vk.validation_messages(), 0u); }
+};
+
+std::shared_ptr<const scene::Scene> load(const std::string& name) {
+  return std::make_shared<const scene::Scene>(scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()));
+}
+
+float luminance(const float* p) { return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]; }
+
+size_t non_finite(const io::ImageData& image) {
+  size_t n = 0;
+  for (float v : image.rgba) n += std::isfinite(v) ? 0 : 1;
+  return n;
+}
+
+struct Difference {
+  double mean_relative;   // mean |a - b| / mean |b|, luminance
+  double fraction_over;   // pixels whose luminance differs by more than 5% of b (and 0.01 absolute)
+};
+
+Difference compare(const io::ImageData& a, const io::ImageData& b) {
+  double diff = 0, total = 0;
+  size_t over = 0, pixels = size_t{a.width} * a.height;
+  for (size_t i = 0; i < pixels; ++i) {
+    const float la = luminance(&a.rgba[i * 4]), lb = luminance(&b.rgba[i * 4]);
+    diff += static_cast<double>(std::abs(la - lb));
+    total += static_cast<double>(std::abs(lb));
+    if (std::abs(la - lb) > std::max(0.05f * std::abs(lb), 0.01f)) ++over;
+  }
+  return {diff / std::max(total, 1e-12), static_cast<double>(over) / static_cast<double>(pixels)};
+}
+
+const char* kScenes[] = {"sphere_plane", "bunny_plane", "two_refractors", "three_refractors", "torus", "armadillo", "dragon", "no_refractor"};
+
+}  // namespace
+
+// The two graphs share the shading code; they differ in where the front surface comes from (a
+// rasterized fragment, or the refractor buffer with its normal packed in 2 x 16 bits). The stated
+// tolerance: mean luminance difference under 0.2%, and under 0.5% of pixels off by more than 5%.
+TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
+  Engine e;
+  for (const char* name : kScenes) {
+    auto scene = load(name);
+    auto deferred = e.render("refraction_deferred", scene);
+    auto forward = e.render("refraction_forward", scene);
+    EXPECT_EQ(non_finite(deferred.refracted), 0u) << name;
+    EXPECT_EQ(non_finite(forward.refracted), 0u) << name;
+    Difference d = compare(forward.refracted, deferred.refracted);
+    EXPECT_LT(d.mean_relative, 0.002) << name;
+    EXPECT_LT(d.fraction_over, 0.005) << name;
+    std::printf("%-18s forward vs deferred: mean relative %.5f, pixels over 5%%: %.4f%%\n", name, d.mean_relative, 100 * d.fraction_over);
+  }
+}
+
+// Relative L1 of luminance over the pixels where the camera sees a refractor, against exact ray
+// tracing through every interface. Thresholds are the errors measured when this test was written
+// (docs/refraction.md: sphere 0.201 d_V, 0.154 d_V/d_N; bunny 0.532, 0.482) plus about 8%; the test
+// fails if the error grows.
+TEST(Refraction, CloseToTheRayTracedReference) {
+  Engine e;
+  struct Case {
+    const char* scene;
+    const char* distance;
+    double limit;
+  };
+  double sphere_dv = 0, sphere_dvdn = 0;
+  for (auto [name, distance, limit] : {Case{"sphere_plane", "dv", 0.22}, Case{"sphere_plane", "dv_dn", 0.17}, Case{"bunny_plane", "dv", 0.57},
+                                       Case{"bunny_plane", "dv_dn", 0.52}}) {
+    auto scene = load(name);
+    auto engine = e.render("refraction_deferred", scene, {std::string("distance=") + distance});
+    auto reference = reference::render_refraction_reference(*scene, kWidth, kHeight);
+    const double error = reference::refraction_relative_l1(engine.refracted, reference);
+    std::printf("%-14s %-6s relative L1 against the reference: %.4f\n", name, distance, error);
+    EXPECT_LT(error, limit) << name << " " << distance;
+    if (std::string(name) == "sphere_plane") (std::string(distance) == "dv" ? sphere_dv : sphere_dvdn) = error;
+  }
+  // ORACLES.md: on a sphere the d_V/d_N blend is the better distance estimate; measured 0.154 against
+  // 0.201 (d_V) at 320x180 when this was written.
+  EXPECT_LT(sphere_dvdn, sphere_dv);
+}
+
+TEST(Refraction, MultilayerIgnoresTheOrderOfObjectsInTheFile) {
+  Engine e;
+  std::ifstream in(data_dir() / "scenes/two_refractors.json");
+  nlohmann::json scene_json = nlohmann::json::parse(in);
+  auto& objects = scene_json["objects"];
+  std::reverse(objects.begin(), objects.end());
+  auto swapped = std::make_shared<const scene::Scene>(scene::load_scene(JsonDocument::parse(scene_json.dump(), "swapped.json")));
+  auto a = e.render("refraction_multilayer", load("two_refractors"));
+  auto b = e.render("refraction_multilayer", swapped);
+  EXPECT_EQ(a.frame.counters.at("refraction.layers"), 2u);
+  Difference d = compare(a.refracted, b.refracted);
+  EXPECT_EQ(d.fraction_over, 0.0);
+  EXPECT_LT(d.mean_relative, 1e-6);
+}
+
+TEST(Refraction, AHiddenRefractorShowsThroughTheNearOne) {
+  Engine e;
+  auto both = load("two_refractors");
+  auto near_only_scene = std::make_shared<scene::Scene>(*both);
+  auto& objects = near_only_scene->objects;
+  objects.erase(std::remove_if(objects.begin(), objects.end(), [](const scene::Object& o) { return o.name == "far"; }), objects.end());
+  auto with_far = e.render("refraction_multilayer", both);
+  auto without_far = e.render("refraction_multilayer", near_only_scene);
+  // Where the near sphere covers the screen, removing the far sphere behind it changes what is seen.
+  auto near_mask = reference::render_refraction_reference(*near_only_scene, kWidth, kHeight).refractor;
+  size_t near_pixels = 0, changed = 0;
+  for (size_t i = 0; i < near_mask.size(); ++i) {
+    if (!near_mask[i]) continue;
+    ++near_pixels;
+    const float a = luminance(&with_far.refracted.rgba[i * 4]), b = luminance(&without_far.refracted.rgba[i * 4]);
+    if (std::abs(a - b) > 0.05f * std::max(b, 0.01f)) ++changed;
+  }
+  ASSERT_GT(near_pixels, 1000u);
+  EXPECT_GT(changed, near_pixels / 20) << changed << " of " << near_pixels;
+}
+
+TEST(Refraction, NoRefractorMeansNoLayerAndAnUnchangedImage) {
+  Engine e;
+  auto r = e.render("refraction_multilayer", load("no_refractor"));
+  EXPECT_EQ(r.frame.counters.at("refraction.layers"), 0u);
+  EXPECT_EQ(r.frame.counters.at("refraction.tir_pixels"), 0u);
+  EXPECT_EQ(r.refracted.rgba, r.lit.rgba);
+}
