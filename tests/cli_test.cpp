@@ -103,10 +103,12 @@ TEST(Cli, UsageErrorsExit2) {
   EXPECT_EQ(run("render --set").code, 2);
   EXPECT_EQ(run("trace --frames 2").code, 2);  // needs --out
   EXPECT_EQ(run("graph plon x.json").code, 2);
+  EXPECT_EQ(run("reference --size 10x10").code, 2);  // needs --out
+  EXPECT_EQ(run("bench refractoin").code, 2);
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices "}) {
+  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;

@@ -77,7 +77,8 @@ const char* kScenes[] = {"sphere_plane", "bunny_plane", "two_refractors", "three
 
 }  // namespace
 
-// The two graphs share the shading code; they differ in where the front surface comes from (a
+// Every refraction graph on every bundled scene renders without a validation message and without
+// NaN or Inf. The forward and deferred graphs share the shading code; they differ in where the front surface comes from (a
 // rasterized fragment, or the refractor buffer with its normal packed in 2 x 16 bits). The stated
 // tolerance: mean luminance difference under 0.2%, and under 0.5% of pixels off by more than 5%.
 TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
@@ -86,6 +87,9 @@ TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
     auto scene = load(name);
     auto deferred = e.render("refraction_deferred", scene);
     auto forward = e.render("refraction_forward", scene);
+    auto layers = e.render("refraction_multilayer", scene);
+    EXPECT_EQ(layers.frame.counters.at("refraction.layers"), scene->refractor_count()) << name;
+    EXPECT_EQ(non_finite(layers.refracted), 0u) << name;
     EXPECT_EQ(non_finite(deferred.refracted), 0u) << name;
     EXPECT_EQ(non_finite(forward.refracted), 0u) << name;
     Difference d = compare(forward.refracted, deferred.refracted);

@@ -39,6 +39,7 @@ commands:
   validate   check graph and scene files; exit 0 when all are valid, 1 with messages otherwise
   graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
   devices    list the Vulkan devices
+  bench      benchmarks: 'bench refraction' (deferred against forward refraction)
   reference  ray trace the exact refraction image of a scene (the ground truth), with Embree
 
 'caustica <command> --help' describes each command.
@@ -337,6 +338,111 @@ int cmd_reference(Args& args) {
   return 0;
 }
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Deferred against forward refraction: the same scene through both graphs, frames interleaved so
+// that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
+int cmd_bench_refraction(Args& args) {
+  std::vector<std::string> scenes;
+  uint32_t width = 1280, height = 720, frames = 7;
+  std::vector<uint32_t> sphere_details;
+  std::string device, csv;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene") scenes.push_back(args.value(a));
+    else if (a == "--size") parse_size(args.value(a), width, height);
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
+    else if (a == "--sphere-detail") sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
+    else if (a == "--device") device = args.value(a);
+    else if (a == "--csv") csv = args.value(a);
+    else unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
+  }
+  struct Case {
+    std::string label;
+    std::shared_ptr<const scene::Scene> scene;
+  };
+  std::vector<Case> cases;
+  for (const auto& file : scenes) {
+    auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
+    cases.push_back({s->name, s});
+  }
+  for (uint32_t detail : sphere_details) {
+    // The ball-lens scene with its sphere tessellated more or less finely: triangle count alone varies.
+    scene::Scene s = scene::load_scene_file((data_dir() / "scenes/sphere_plane.json").string());
+    for (auto& o : s.objects) {
+      if (!o.material.refractor) continue;
+      const glm::vec3 centre = o.center();
+      const float radius = 0.5f * (o.bounds_max.y - o.bounds_min.y);
+      o.mesh = scene::make_sphere(radius, static_cast<int>(detail), static_cast<int>(std::max(2u, detail / 2)));
+      for (auto& p : o.mesh.positions) p += centre;
+      o.mesh.normal_distance = scene::normal_distances(o.mesh);
+    }
+    cases.push_back({"sphere, detail " + std::to_string(detail), std::make_shared<const scene::Scene>(std::move(s))});
+  }
+  if (cases.empty()) throw UsageError("bench refraction needs --scene FILE or --sphere-detail N (repeatable)");
+
+  vk::Context vk({device, false, false});
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
+  std::string table = "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | deferred frame |\n|---|---|---|---|---|---|---|\n";
+  std::string rows_csv = "scene,refractor_triangles,forward_refraction_ms,deferred_refraction_ms,forward_frame_ms,deferred_frame_ms\n";
+  for (const auto& c : cases) {
+    std::unique_ptr<graph::Executor> executors[2];
+    for (int g = 0; g < 2; ++g) {
+      executors[g] = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executors[g]->set_scene(c.scene);
+      executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
+    }
+    std::vector<double> refraction[2], frame[2];
+    for (uint32_t f = 0; f < frames + 2; ++f) {
+      for (int g = 0; g < 2; ++g) {
+        auto result = executors[g]->run_frame(false);
+        if (f < 2) continue;  // pipelines compile on first use on lavapipe
+        double ms = 0;
+        for (const auto& p : result.passes) {
+          if (p.name == "refractors" || p.name == "refraction") ms += p.gpu_ms;
+        }
+        refraction[g].push_back(ms);
+        frame[g].push_back(result.gpu_ms);
+      }
+      std::fprintf(stderr, "\r%s: frame %u/%u   ", c.label.c_str(), f + 1, frames + 2);
+    }
+    std::fprintf(stderr, "\n");
+    size_t triangles = 0;
+    for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
+    const double fw = median(refraction[0]), df = median(refraction[1]);
+    char row[512];
+    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df, df / fw,
+                  median(frame[0]), median(frame[1]));
+    table += row;
+    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
+    rows_csv += row;
+  }
+  std::cout << "device: " << vk.device_name() << ", " << width << "x" << height << ", median of " << frames << " frames after 2 warm-up\n\n"
+            << table;
+  if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
+  return 0;
+}
+
+int cmd_bench(Args& args) {
+  const char* help =
+      "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n\n"
+      "Deferred against forward refraction on the same scenes, one run, frames interleaved: median GPU time of the\n"
+      "refraction passes (refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders\n"
+      "the ball-lens scene with its sphere tessellated into N slices (triangle count alone varies).\n";
+  if (args.wants_help()) {
+    std::cout << help;
+    return 0;
+  }
+  if (args.done()) throw UsageError("bench needs a benchmark name: refraction; see caustica bench --help");
+  std::string what = args.take();
+  if (what == "refraction") return cmd_bench_refraction(args);
+  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction"}));
+}
+
 int cmd_devices(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica devices\n\nLists the Vulkan devices; --device NAME picks one by a part of its name.\n";
@@ -369,7 +475,8 @@ int main(int argc, char** argv) {
     if (command == "graph") return cmd_graph(args);
     if (command == "devices") return cmd_devices(args);
     if (command == "reference") return cmd_reference(args);
-    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference"}) +
+    if (command == "bench") return cmd_bench(args);
+    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
