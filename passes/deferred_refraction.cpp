@@ -9,28 +9,14 @@ class DeferredRefractionPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
-    pipeline_ = vk::make_fullscreen_pipeline(
-        setup.vk(),
-        {"deferred_refraction",
-         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         sizeof(RefractionPush)},
-        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"),
-        {graph::format_info(setup.resource("color").format).vk});
+    pipeline_ = make_deferred_refraction_pipeline(setup, graph::format_info(setup.resource("color").format).vk);
   }
 
   void execute(graph::PassContext& ctx) override {
     VkCommandBuffer cmd = ctx.cmd();
     begin_rendering(cmd, ctx.extent("color"), {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    scene_descriptors(ctx)
-        .sampled_image(3, ctx.view("background"), ctx.linear_sampler())
-        .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
-        .sampled_image(5, ctx.view("front"), ctx.nearest_sampler())
-        .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
-        .storage_buffer(7, ctx.counter_buffer())
-        .push(ctx.vk(), cmd, pipeline_);
+    push_refraction_descriptors(ctx, pipeline_, ctx.view("background"), ctx.view("front"), ctx.view("back"));
     const RefractionPush push = refraction_push(ctx, tir_counter_);
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
     vkCmdDraw(cmd, 3, 1, 0, 0);

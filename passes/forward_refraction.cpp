@@ -16,9 +16,7 @@ class ForwardRefractionPass final : public graph::Pass {
   void setup(graph::PassSetup& setup) override {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
     const VkFormat color = graph::format_info(setup.resource("color").format).vk;
-    copy_ = vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
-                                         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
-                                         {color});
+    copy_ = make_copy_pipeline(setup, color);
     vk::RasterState state;
     state.color_formats = {color};
     state.depth_format = graph::format_info(setup.resource("refractor_depth").format).vk;
@@ -33,11 +31,7 @@ class ForwardRefractionPass final : public graph::Pass {
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("color");
     VkCommandBuffer cmd = ctx.cmd();
-    begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
-    vk::DescriptorWriter().sampled_image(0, ctx.view("background"), ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    vkCmdEndRendering(cmd);
+    record_copy(ctx, copy_, ctx.view("background"), ctx.view("color"), extent);
     image_barrier(cmd, ctx.image("color"), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
@@ -45,13 +39,8 @@ class ForwardRefractionPass final : public graph::Pass {
 
     begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_LOAD}}, Attachment{ctx.view("refractor_depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-    scene_descriptors(ctx)
-        .sampled_image(3, ctx.view("background"), ctx.linear_sampler())
-        .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
-        .sampled_image(5, ctx.view("back"), ctx.nearest_sampler())  // unread: keeps the binding numbers of the deferred pass
-        .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
-        .storage_buffer(7, ctx.counter_buffer())
-        .push(ctx.vk(), cmd, refract_);
+    // Binding 5 (front) is unread here: the back buffer fills it to keep the deferred pass's layout.
+    push_refraction_descriptors(ctx, refract_, ctx.view("background"), ctx.view("back"), ctx.view("back"));
     const SceneView view = camera_view(ctx, extent);
     const ForwardPush push{{view.view_proj, glm::vec4(view.eye, 1.0f)}, refraction_push(ctx, tir_counter_)};
     vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);

@@ -32,17 +32,8 @@ class RefractionLayersPass final : public graph::Pass {
     layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
     surfaces_.setup(setup, "front", "front_depth");
     const VkFormat color = graph::format_info(setup.resource("color").format).vk;
-    refract_ = vk::make_fullscreen_pipeline(
-        setup.vk(),
-        {"refraction_layer",
-         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         sizeof(RefractionPush)},
-        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"), {color});
-    copy_ = vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
-                                         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
-                                         {color});
+    refract_ = make_deferred_refraction_pipeline(setup, color);
+    copy_ = make_copy_pipeline(setup, color);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -59,11 +50,7 @@ class RefractionLayersPass final : public graph::Pass {
     fill_dep.pMemoryBarriers = &fill;
     vkCmdPipelineBarrier2(cmd, &fill_dep);
     if (order.empty()) {  // no refractor, no layer: the background passes through
-      begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
-      vk::DescriptorWriter().sampled_image(0, ctx.view("background"), ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
-      vkCmdDraw(cmd, 3, 1, 0, 0);
-      vkCmdEndRendering(cmd);
+      record_copy(ctx, copy_, ctx.view("background"), ctx.view("color"), extent);
       return;
     }
     const SceneView view = camera_view(ctx, extent);
@@ -101,13 +88,7 @@ class RefractionLayersPass final : public graph::Pass {
       }
       begin_rendering(cmd, extent, {{ctx.view(target), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-      scene_descriptors(ctx)
-          .sampled_image(3, ctx.view(i == 0 ? "background" : previous), ctx.linear_sampler())
-          .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
-          .sampled_image(5, ctx.view("front"), ctx.nearest_sampler())
-          .sampled_image(6, ctx.view("back"), ctx.nearest_sampler())
-          .storage_buffer(7, ctx.counter_buffer())
-          .push(ctx.vk(), cmd, refract_);
+      push_refraction_descriptors(ctx, refract_, ctx.view(i == 0 ? "background" : previous), ctx.view("front"), ctx.view("back"));
       vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
       vkCmdDraw(cmd, 3, 1, 0, 0);
       vkCmdEndRendering(cmd);
