@@ -375,3 +375,59 @@ TEST(Compiler, RandomGraphsNeverOverlapLiveMemoryAndAlwaysSynchronize) {
   EXPECT_EQ(compiled, 300);
   EXPECT_GT(saved, 0u);  // aliasing must actually happen on these graphs
 }
+
+// A pass that only makes sense for some scenes: "enabled" is an expression over scene values, and a
+// resource that no enabled pass writes is replaced by its fallback wherever it is read.
+nlohmann::json scene_dependent() {
+  return {{"resources", {{"lit", image()}, {"refracted", {{"type", "image"}, {"format", "rgba16f"}, {"fallback", "lit"}}},
+                         {"scratch", image()}, {"out", image("rgba8")}}},
+          {"passes",
+           {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+            {{"name", "layers"}, {"type", "blend"}, {"enabled", "scene.refractors"}, {"inputs", {{"a", "lit"}, {"b", "scratch"}}},
+             {"outputs", {{"color", "refracted"}}}},
+            {{"name", "scratch_source"}, {"type", "source"}, {"enabled", "scene.refractors"}, {"outputs", {{"color", "scratch"}}}},
+            {{"name", "tonemap"}, {"type", "filter"}, {"inputs", {{"source", "refracted"}}}, {"outputs", {{"target", "out"}}}}}},
+          {"outputs", {"out"}}};
+}
+
+TEST(Compiler, ScenesWithoutRefractorsBuildNoRefractionPassOrResource) {
+  CompileOptions none, two;
+  none.scene_values = {{"scene.refractors", 0}};
+  two.scene_values = {{"scene.refractors", 2}};
+  Plan without = compile(scene_dependent(), none);
+  EXPECT_EQ(order(without), (std::vector<std::string>{"light", "tonemap"}));
+  EXPECT_EQ(without.disabled, (std::vector<std::string>{"layers", "scratch_source"}));
+  EXPECT_EQ(without.fallbacks.at("refracted"), "lit");
+  EXPECT_FALSE(without.resources[static_cast<size_t>(without.find_resource("scratch"))].used());
+  EXPECT_FALSE(without.resources[static_cast<size_t>(without.find_resource("refracted"))].used());
+  EXPECT_EQ(without.passes.back().ports.count("source"), 1u);
+  EXPECT_EQ(without.resources[without.passes.back().ports.at("source")].name, "lit");
+  EXPECT_EQ(without.resolve("refracted"), "lit");
+
+  Plan with = compile(scene_dependent(), two);
+  EXPECT_EQ(order(with).size(), 4u);
+  EXPECT_TRUE(with.fallbacks.empty());
+  EXPECT_GT(with.transient_bytes_unaliased, without.transient_bytes_unaliased);
+}
+
+TEST(Compiler, FallbackAndEnabledErrorsNameTheProblem) {
+  CompileOptions none;
+  none.scene_values = {{"scene.refractors", 0}};
+  auto g = scene_dependent();
+  g["resources"]["refracted"]["fallback"] = "litt";
+  EXPECT_NE(compile_error(g, none).find("fallback 'litt' of 'refracted' is not a resource of this graph (did you mean 'lit'?)"),
+            std::string::npos)
+      << compile_error(g, none);
+  g = scene_dependent();
+  g["resources"]["refracted"]["fallback"] = "out";
+  EXPECT_NE(compile_error(g, none).find("fallback 'out' of 'refracted' must have the same format"), std::string::npos);
+  g = scene_dependent();
+  g["resources"]["lit"]["fallback"] = "refracted";
+  g["passes"][0]["enabled"] = false;
+  EXPECT_NE(compile_error(g, none).find("fallback cycle: lit -> refracted -> lit"), std::string::npos) << compile_error(g, none);
+  g = scene_dependent();
+  g["passes"][1]["enabled"] = "scene.refractor";
+  EXPECT_NE(compile_error(g, none).find("did you mean 'scene.refractors'"), std::string::npos) << compile_error(g, none);
+  // Without a scene, expressions about it are unknown names.
+  EXPECT_NE(compile_error(scene_dependent()).find("scene.refractors"), std::string::npos);
+}

@@ -88,7 +88,9 @@ TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
     auto deferred = e.render("refraction_deferred", scene);
     auto forward = e.render("refraction_forward", scene);
     auto layers = e.render("refraction_multilayer", scene);
-    EXPECT_EQ(layers.frame.counters.at("refraction.layers"), scene->refractor_count()) << name;
+    if (scene->refractor_count() > 0) {
+      EXPECT_EQ(layers.frame.counters.at("refraction.layers"), scene->refractor_count()) << name;
+    }
     EXPECT_EQ(non_finite(layers.refracted), 0u) << name;
     EXPECT_EQ(non_finite(deferred.refracted), 0u) << name;
     EXPECT_EQ(non_finite(forward.refracted), 0u) << name;
@@ -162,10 +164,20 @@ TEST(Refraction, AHiddenRefractorShowsThroughTheNearOne) {
   EXPECT_GT(changed, near_pixels / 20) << changed << " of " << near_pixels;
 }
 
-TEST(Refraction, NoRefractorMeansNoLayerAndAnUnchangedImage) {
+// "Model no more than a scene needs": without refractors the refraction passes are disabled by
+// their "enabled": "scene.refractors", their images are never allocated, and "refracted" falls
+// back to "lit".
+TEST(Refraction, NoRefractorMeansNoRefractionPassAndNoRefractionMemory) {
   Engine e;
-  auto r = e.render("refraction_multilayer", load("no_refractor"));
-  EXPECT_EQ(r.frame.counters.at("refraction.layers"), 0u);
-  EXPECT_EQ(r.frame.counters.at("refraction.tir_pixels"), 0u);
-  EXPECT_EQ(r.refracted.rgba, r.lit.rgba);
+  for (const char* graph : {"refraction_multilayer", "refraction_deferred", "refraction_forward"}) {
+    auto with = e.render(graph, load("two_refractors"));
+    const uint64_t memory_with = e.executor.plan().transient_bytes_unaliased;
+    auto r = e.render(graph, load("no_refractor"));
+    const auto& plan = e.executor.plan();
+    for (const auto& pass : plan.passes) EXPECT_NE(pass.name, "refraction") << graph;
+    EXPECT_EQ(r.frame.counters.count("refraction.tir_pixels"), 0u) << graph;
+    EXPECT_EQ(plan.resolve("refracted"), "lit") << graph;
+    EXPECT_LT(plan.transient_bytes_unaliased, memory_with) << graph;
+    EXPECT_EQ(r.refracted.rgba, r.lit.rgba) << graph;
+  }
 }

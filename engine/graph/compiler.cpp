@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <queue>
+#include <set>
 #include <sstream>
 
 #include "core/suggest.h"
@@ -116,6 +117,7 @@ class Compiler {
     plan_.graph_path = graph_.doc.path();
     plan_.output_width = options_.output_width;
     plan_.output_height = options_.output_height;
+    decide_enabled_and_fallbacks();
     size_resources();
     resolve_passes();
     build_edges();
@@ -147,18 +149,78 @@ class Compiler {
   std::vector<Node> nodes_;
   std::vector<std::vector<uint32_t>> writers_;  // per resource, node indices
   std::vector<std::vector<uint32_t>> readers_;
+  std::vector<bool> enabled_;                  // per pass of the file
+  std::map<std::string, std::string> redirect_;  // resource no enabled pass writes -> its fallback
+
+  // ---- enabled passes and fallbacks -----------------------------------------------------------
+
+  std::string redirected(const std::string& name) const {
+    auto it = redirect_.find(name);
+    return it == redirect_.end() ? name : it->second;
+  }
+
+  void decide_enabled_and_fallbacks() {
+    std::set<std::string> written;
+    for (const auto& pass : graph_.passes) {
+      const bool on = evaluate(pass.enabled, pass.pointer + "/enabled") != 0.0;
+      enabled_.push_back(on);
+      if (!on) {
+        plan_.disabled.push_back(pass.name);
+        continue;
+      }
+      for (const auto& [port, resource] : pass.outputs) written.insert(resource);
+    }
+    for (const auto& r : graph_.resources) {
+      if (r.fallback.empty() || written.count(r.name)) continue;
+      // Follow the chain to a resource that is written (or has no fallback of its own).
+      std::string target = r.name;
+      std::vector<std::string> chain{target};
+      while (true) {
+        const ResourceDesc* d = graph_.find_resource(target);
+        if (d->fallback.empty() || written.count(target)) break;
+        const ResourceDesc* next = graph_.find_resource(d->fallback);
+        if (!next) {
+          throw graph_.error(d->pointer + "/fallback", "fallback '" + d->fallback + "' of '" + d->name + "' is not a resource of this graph" +
+                                                           did_you_mean(d->fallback, resource_names_of_file()));
+        }
+        if (next->kind != d->kind || (d->kind == ResourceKind::image && next->format != d->format)) {
+          throw graph_.error(d->pointer + "/fallback", "fallback '" + next->name + "' of '" + d->name + "' must have the same " +
+                                                           (next->kind != d->kind ? "type" : "format"));
+        }
+        if (std::find(chain.begin(), chain.end(), next->name) != chain.end()) {
+          std::string cycle;
+          for (const auto& c : chain) cycle += c + " -> ";
+          throw graph_.error(d->pointer + "/fallback", "fallback cycle: " + cycle + next->name);
+        }
+        target = next->name;
+        chain.push_back(target);
+      }
+      if (target != r.name) {
+        redirect_[r.name] = target;
+        plan_.fallbacks[r.name] = target;
+      }
+    }
+  }
+
+  std::vector<std::string> resource_names_of_file() const {
+    std::vector<std::string> names;
+    for (const auto& r : graph_.resources) names.push_back(r.name);
+    return names;
+  }
 
   // ---- parameters and expressions -------------------------------------------------------------
 
   ExpressionScope scope() const {
     ExpressionScope s;
     s.known_names = {"output.width", "output.height"};
+    for (const auto& [name, value] : options_.scene_values) s.known_names.push_back(name);
     for (const auto& p : graph_.parameters) {
       if (p.decl.type != ParamType::choice) s.known_names.push_back(p.decl.name);
     }
     s.lookup = [this](std::string_view name) -> std::optional<double> {
       if (name == "output.width") return options_.output_width;
       if (name == "output.height") return options_.output_height;
+      if (auto it = options_.scene_values.find(std::string(name)); it != options_.scene_values.end()) return it->second;
       const GraphParameter* p = graph_.find_parameter(name);
       if (!p || p->decl.type == ParamType::choice) return std::nullopt;
       if (p->value.is_boolean()) return p->value.get<bool>() ? 1.0 : 0.0;
@@ -222,7 +284,7 @@ class Compiler {
       plan_.resources.push_back(std::move(r));
     }
     for (size_t i = 0; i < graph_.outputs.size(); ++i) {
-      int index = plan_.find_resource(graph_.outputs[i]);
+      int index = plan_.find_resource(redirected(graph_.outputs[i]));
       std::string pointer = "/outputs/" + std::to_string(i);
       if (index < 0) {
         throw graph_.error(pointer, "output '" + graph_.outputs[i] + "' is not a resource of this graph" +
@@ -236,7 +298,7 @@ class Compiler {
       plan_.outputs.push_back(static_cast<uint32_t>(index));
     }
     for (const auto& name : options_.retained) {
-      int index = plan_.find_resource(name);
+      int index = plan_.find_resource(redirected(name));
       if (index < 0) {
         throw InputError(graph_.doc.path() + ": no resource named '" + name + "' to keep" + did_you_mean(name, resource_names()));
       }
@@ -300,7 +362,7 @@ class Compiler {
                                         (port_writes ? "output" : "input") + "; list it under \"" +
                                         (port_writes ? "outputs" : "inputs") + "\"");
       }
-      int index = plan_.find_resource(resource_name);
+      int index = plan_.find_resource(outputs ? resource_name : redirected(resource_name));
       if (index < 0) {
         throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
       }
@@ -351,7 +413,7 @@ class Compiler {
       if (!decl) {
         throw graph_.error(pass.pointer + "/type", "unknown pass type '" + pass.type + "'" + did_you_mean(pass.type, type_names));
       }
-      if (!pass.enabled) continue;
+      if (!enabled_[i]) continue;
       node.decl = decl;
       node.params = resolve_params(pass, *decl);
       bind_section(node, pass.inputs, false);
@@ -766,6 +828,8 @@ class Compiler {
 };
 
 }  // namespace
+
+std::map<std::string, double> typical_scene_values() { return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}}; }
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {
   return Compiler(graph, registry, options).run();

@@ -1,5 +1,6 @@
 #pragma once
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 
@@ -28,7 +29,13 @@ struct CompileOptions {
   std::set<std::string> retained;               // resources kept whole to the end of the frame (--dump)
   bool alias = true;                            // share memory between disjoint lifetimes
   MemoryRequirementsFn memory_requirements = estimate_memory_requirements;
+  // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects"): a
+  // pass's "enabled" can depend on it. Empty when there is no scene.
+  std::map<std::string, double> scene_values;
 };
+
+// The scene values `caustica validate` and `graph plan` assume without a scene file.
+std::map<std::string, double> typical_scene_values();
 
 // Validates and compiles; throws InputError naming the file, line and JSON pointer of the problem.
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options);

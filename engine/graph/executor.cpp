@@ -112,6 +112,14 @@ const scene::GpuScene& PassContext::scene() const {
 Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
     : vk_(vk), shaders_(shaders), registry_(registry) {}
 
+std::map<std::string, double> Executor::scene_values() const {
+  if (!scene_) return {};
+  const auto& s = scene_->scene();
+  return {{"scene.refractors", static_cast<double>(s.refractor_count())},
+          {"scene.lights", static_cast<double>(s.lights.size())},
+          {"scene.objects", static_cast<double>(s.objects.size())}};
+}
+
 void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
   scene_.reset();  // its buffers are destroyed once the GPU is done with them
   if (scene) scene_ = std::make_unique<scene::GpuScene>(vk_, std::move(scene));
@@ -156,10 +164,13 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
                     "\n" + std::to_string(memory_limit_bytes);
   for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
   for (const auto& r : retained) key += "\nretain " + r;
+  const auto scene_values = this->scene_values();
+  for (const auto& [name, value] : scene_values) key += "\n" + name + "=" + std::to_string(value);
   if (plan_ && key == configured_key_) return false;
   CompileOptions options = compile_options(width, height);
   options.retained = retained;
   options.memory_limit_bytes = memory_limit_bytes;
+  options.scene_values = scene_values;
   Plan plan = compile_graph(graph, registry_, options);
   for (const auto& pass : plan.passes) {
     if (pass.decl->needs_scene && !scene_) {
@@ -443,7 +454,7 @@ FrameResult Executor::run_frame(bool read_back) {
 }
 
 io::ImageData Executor::read_image(const std::string& name) const {
-  const int index = plan_->find_resource(name);
+  const int index = plan_->find_resource(plan_->resolve(name));
   const auto& real = *realized_;
   auto rb = std::find_if(real.readbacks.begin(), real.readbacks.end(),
                          [&](const Realized::Readback& r) { return static_cast<int>(r.resource) == index; });

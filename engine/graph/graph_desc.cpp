@@ -85,7 +85,7 @@ void load_resources(GraphDesc& graph, const Reader& read) {
     r.pointer = pointer;
     r.name = read.name(nlohmann::json(key), pointer, "a resource name");
     read.object(value, pointer, "a resource");
-    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "size", "description"}, "a resource");
+    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "size", "fallback", "description"}, "a resource");
     std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
     if (type == "image") {
       r.kind = ResourceKind::image;
@@ -108,6 +108,7 @@ void load_resources(GraphDesc& graph, const Reader& read) {
     } else {
       throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
     }
+    if (value.contains("fallback")) r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name)");
     graph.resources.push_back(std::move(r));
   }
 }
@@ -154,8 +155,10 @@ void load_passes(GraphDesc& graph, const Reader& read) {
       }
     }
     if (value.contains("enabled")) {
-      if (!value["enabled"].is_boolean()) throw graph.error(pointer + "/enabled", "\"enabled\" must be true or false");
-      p.enabled = value["enabled"].get<bool>();
+      const auto& enabled = value["enabled"];
+      if (enabled.is_boolean()) p.enabled = enabled.get<bool>() ? "1" : "0";
+      else if (enabled.is_string()) p.enabled = enabled.get<std::string>();
+      else throw graph.error(pointer + "/enabled", "\"enabled\" must be true, false or an expression string such as \"scene.refractors\"");
     }
     graph.passes.push_back(std::move(p));
   }

@@ -25,6 +25,8 @@ struct ResourceDesc {
   std::string height = "output.height";
   std::string mips = "1";
   std::string size;  // buffers: bytes
+  // Read in this resource's place when no enabled pass writes it (a pass disabled for the scene).
+  std::string fallback;
   std::string pointer;
 };
 
@@ -35,7 +37,7 @@ struct PassDesc {
   std::map<std::string, std::string> inputs;          // port -> resource
   std::map<std::string, std::string> outputs;
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
-  bool enabled = true;
+  std::string enabled = "1";  // an expression (true/false in the file are 1/0); the pass runs when non-zero
   std::string pointer;
 };
 

@@ -4,6 +4,11 @@
 
 namespace caustica::graph {
 
+std::string Plan::resolve(const std::string& name) const {
+  auto it = fallbacks.find(name);
+  return it == fallbacks.end() ? name : it->second;
+}
+
 int Plan::find_resource(std::string_view name) const {
   for (size_t i = 0; i < resources.size(); ++i) {
     if (resources[i].name == name) return static_cast<int>(i);
@@ -82,6 +87,8 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["order"] = json::array();
   for (const auto& p : plan.passes) out["order"].push_back(p.name);
   out["culled"] = plan.culled;
+  out["disabled"] = plan.disabled;
+  out["fallbacks"] = plan.fallbacks;
   out["passes"] = json::array();
   for (const auto& p : plan.passes) {
     json pass;

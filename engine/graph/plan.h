@@ -87,6 +87,8 @@ struct Plan {
   uint32_t output_height = 0;
   std::vector<PlannedPass> passes;  // execution order
   std::vector<std::string> culled;  // enabled passes that reach no output and have no side effect
+  std::vector<std::string> disabled;  // passes whose "enabled" is 0 for this scene and these parameters
+  std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
   std::vector<PlannedResource> resources;
   std::vector<MemoryBlock> blocks;
   std::vector<uint32_t> outputs;  // resource indices, in the graph's order
@@ -95,6 +97,8 @@ struct Plan {
   uint64_t persistent_bytes = 0;
 
   int find_resource(std::string_view name) const;
+  // `name`, or the resource read in its place when it fell back.
+  std::string resolve(const std::string& name) const;
 };
 
 nlohmann::json plan_to_json(const Plan& plan);

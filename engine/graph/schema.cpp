@@ -67,6 +67,7 @@ json graph_schema_json(const PassRegistry& registry) {
                      {"height", expression},
                      {"mips", expression},
                      {"size", expression},
+                     {"fallback", {{"type", "string"}, {"description", "resource read in this one's place when no enabled pass writes it"}}},
                      {"description", {{"type", "string"}}}}},
                    {"additionalProperties", false}};
   json pass = {{"type", "object"},
@@ -78,7 +79,7 @@ json graph_schema_json(const PassRegistry& registry) {
                  {"inputs", {{"type", "object"}}},
                  {"outputs", {{"type", "object"}}},
                  {"after", {{"type", "array"}, {"items", {{"type", "string"}}}}},
-                 {"enabled", {{"type", "boolean"}}},
+                 {"enabled", {{"type", {"boolean", "string"}}, {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
                  {"description", {{"type", "string"}}}}},
                {"additionalProperties", false},
                {"allOf", per_type}};

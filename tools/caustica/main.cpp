@@ -63,6 +63,7 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
 struct RenderOptions {
   std::string graph;
   std::string scene;
+  bool scene_given = false;
   std::string out = "caustica.png";
   std::string stats;
   std::string trace;
@@ -131,7 +132,10 @@ RenderOptions parse_render(Args& args, bool trace) {
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--graph") o.graph = args.value(a);
-    else if (a == "--scene") o.scene = args.value(a);
+    else if (a == "--scene") {
+      o.scene = args.value(a);
+      o.scene_given = true;
+    }
     else if (a == "--out") (trace ? o.trace : o.out) = args.value(a);
     else if (a == "--stats") o.stats = args.value(a);
     else if (a == "--set") o.sets.push_back(args.value(a));
@@ -183,7 +187,7 @@ int run_render(const RenderOptions& o, bool trace) {
   executor.set_scene(scene);
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& [resource, file] : o.dumps) {
-    const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(resource))];
+    const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(executor.plan().resolve(resource)))];
     if (r.kind != graph::ResourceKind::image) throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
     if (!r.used()) throw InputError("--dump " + resource + ": '" + resource + "' is not used by any pass that runs");
   }
@@ -249,7 +253,8 @@ int cmd_trace(Args& args) {
 int cmd_validate(Args& args) {
   if (args.wants_help() || args.done()) {
     std::cout << "usage: caustica validate FILE...\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
-                 "1280x720 against the built-in pass types; a scene (a file with \"camera\" or \"objects\") is loaded\n"
+                 "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
+                 "objects); a scene (a file with \"camera\" or \"objects\") is loaded\n"
                  "with its meshes. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
                  "Exit 0 when every file is valid, 1 otherwise.\n";
     return args.wants_help() ? 0 : 2;
@@ -262,7 +267,9 @@ int cmd_validate(Args& args) {
       if (doc.root().is_object() && (doc.root().contains("camera") || doc.root().contains("objects"))) {
         scene::load_scene(doc);
       } else {
-        graph::compile_graph(graph::load_graph(std::move(doc)), passes::builtin_registry(), {});
+        graph::CompileOptions options;
+        options.scene_values = graph::typical_scene_values();
+        graph::compile_graph(graph::load_graph(std::move(doc)), passes::builtin_registry(), options);
       }
       std::cout << file << ": ok\n";
     } catch (const InputError& e) {
@@ -275,12 +282,14 @@ int cmd_validate(Args& args) {
 
 int cmd_graph(Args& args) {
   const char* help =
-      "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]...\n"
-      "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]...\n"
+      "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
+      "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
       "       caustica graph schema      (the JSON Schema of graph files, as in graphs/schema.json)\n\n"
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
       "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
-      "Memory sizes are the device-independent estimate (tightly packed texels).\n";
+      "Memory sizes are the device-independent estimate (tightly packed texels). Expressions about the scene\n"
+      "(scene.refractors, scene.lights, scene.objects) see --scene S, or one refractor, one light and two\n"
+      "objects without it.\n";
   if (args.wants_help()) {
     std::cout << help;
     return 0;
@@ -301,6 +310,13 @@ int cmd_graph(Args& args) {
   options.output_width = o.width;
   options.output_height = o.height;
   options.memory_limit_bytes = o.memory_limit_mib << 20;
+  options.scene_values = graph::typical_scene_values();
+  if (o.scene_given) {
+    const scene::Scene scene = scene::load_scene_file(o.scene);
+    options.scene_values = {{"scene.refractors", static_cast<double>(scene.refractor_count())},
+                            {"scene.lights", static_cast<double>(scene.lights.size())},
+                            {"scene.objects", static_cast<double>(scene.objects.size())}};
+  }
   graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
   if (what == "plan") std::cout << graph::plan_to_json(plan).dump(2) << "\n";
   else std::cout << graph::plan_to_dot(plan);
