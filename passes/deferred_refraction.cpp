@@ -9,22 +9,20 @@ class DeferredRefractionPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
-    pipeline_ = make_deferred_refraction_pipeline(setup, graph::format_info(setup.resource("color").format).vk);
+    shading_.setup(setup, graph::format_info(setup.resource("color").format).vk);
   }
 
   void execute(graph::PassContext& ctx) override {
-    VkCommandBuffer cmd = ctx.cmd();
-    begin_rendering(cmd, ctx.extent("color"), {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    push_refraction_descriptors(ctx, pipeline_, ctx.view("background"), ctx.view("front"), ctx.view("back"));
-    const RefractionPush push = refraction_push(ctx, tir_counter_);
-    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    vkCmdEndRendering(cmd);
+    const VkExtent2D extent = ctx.extent("color");
+    const auto& scene = ctx.scene();
+    const VkRect2D rect = screen_rect(scene.scene(), camera_view(ctx, extent).view_proj,
+                                      scene.refractors_back_to_front(scene.scene().camera.position), extent);
+    shading_.record(ctx, refraction_push(ctx, tir_counter_), ctx.view("background"), ctx.view("front"), ctx.view("back"), ctx.view("color"),
+                    extent, rect);
   }
 
  private:
-  vk::Pipeline pipeline_;
+  DeferredRefractionShading shading_;
   uint32_t tir_counter_ = 0;
 };
 

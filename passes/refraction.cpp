@@ -1,5 +1,8 @@
 #include "refraction.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace caustica::passes {
 
 std::vector<graph::ParamDecl> refraction_params() {
@@ -20,17 +23,6 @@ std::vector<graph::PortDecl> refraction_inputs() {
   using namespace graph;
   return {{"background", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "radiance behind the refractors"},
           {"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "depth of the background"}};
-}
-
-vk::Pipeline make_deferred_refraction_pipeline(graph::PassSetup& setup, VkFormat color) {
-  return vk::make_fullscreen_pipeline(
-      setup.vk(),
-      {"deferred_refraction",
-       {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-       sizeof(RefractionPush)},
-      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"), {color});
 }
 
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color) {
@@ -56,6 +48,73 @@ void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeli
       .sampled_image(6, back, ctx.nearest_sampler())
       .storage_buffer(7, ctx.counter_buffer())
       .push(ctx.vk(), ctx.cmd(), pipeline);
+}
+
+VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent) {
+  const VkRect2D full{{0, 0}, extent};
+  glm::vec2 lo(1e30f), hi(-1e30f);
+  for (uint32_t index : objects) {
+    const auto& o = scene.objects[index];
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 p((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
+                        (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
+      const glm::vec4 clip = view_proj * glm::vec4(p, 1.0f);
+      if (clip.w <= 1e-6f) return full;
+      const glm::vec2 pixel = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(extent.width, extent.height);
+      lo = glm::min(lo, pixel);
+      hi = glm::max(hi, pixel);
+    }
+  }
+  const auto clamp_to = [](float v, uint32_t size) { return static_cast<int32_t>(std::clamp(v, 0.0f, static_cast<float>(size))); };
+  const int32_t x0 = clamp_to(std::floor(lo.x) - 1, extent.width), y0 = clamp_to(std::floor(lo.y) - 1, extent.height);
+  const int32_t x1 = clamp_to(std::ceil(hi.x) + 1, extent.width), y1 = clamp_to(std::ceil(hi.y) + 1, extent.height);
+  if (x1 <= x0 || y1 <= y0) return {{0, 0}, {0, 0}};
+  return {{x0, y0}, {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0)}};
+}
+
+void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color) {
+  refract_ = vk::make_fullscreen_pipeline(
+      setup.vk(),
+      {"deferred_refraction",
+       {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+       sizeof(RefractionPush)},
+      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"), {color});
+  copy_ = make_copy_pipeline(setup, color);
+}
+
+void DeferredRefractionShading::record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front,
+                                       VkImageView back, VkImageView target, VkExtent2D extent, VkRect2D rect) const {
+  VkCommandBuffer cmd = ctx.cmd();
+  begin_rendering(cmd, extent, {{target, VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
+  // Up to four bands around the rectangle get the copy.
+  const int32_t x0 = rect.offset.x, y0 = rect.offset.y;
+  const int32_t x1 = x0 + static_cast<int32_t>(rect.extent.width), y1 = y0 + static_cast<int32_t>(rect.extent.height);
+  const auto w = static_cast<int32_t>(extent.width), h = static_cast<int32_t>(extent.height);
+  const VkRect2D bands[4] = {{{0, 0}, {extent.width, static_cast<uint32_t>(y0)}},
+                             {{0, y1}, {extent.width, static_cast<uint32_t>(h - y1)}},
+                             {{0, y0}, {static_cast<uint32_t>(x0), rect.extent.height}},
+                             {{x1, y0}, {static_cast<uint32_t>(w - x1), rect.extent.height}}};
+  bool copy_bound = false;
+  for (const VkRect2D& band : bands) {
+    if (band.extent.width == 0 || band.extent.height == 0) continue;
+    if (!copy_bound) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
+      vk::DescriptorWriter().sampled_image(0, background, ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
+      copy_bound = true;
+    }
+    vkCmdSetScissor(cmd, 0, 1, &band);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+  }
+  if (rect.extent.width > 0 && rect.extent.height > 0) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
+    push_refraction_descriptors(ctx, refract_, background, front, back);
+    vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
+    vkCmdSetScissor(cmd, 0, 1, &rect);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+  }
+  vkCmdEndRendering(cmd);
 }
 
 }  // namespace caustica::passes

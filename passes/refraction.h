@@ -17,8 +17,6 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
 
-// The full-screen deferred refraction pipeline (shaders/refraction/deferred_refraction.frag).
-vk::Pipeline make_deferred_refraction_pipeline(graph::PassSetup& setup, VkFormat color);
 // A full-screen copy of a sampled image into a colour attachment.
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().
@@ -26,5 +24,23 @@ void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImag
 // Scene bindings plus the refraction shader's: background, depth, front, back, counters.
 void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
                                  VkImageView back);
+
+// The screen rectangle, one pixel wider on each side, that covers the bounding boxes of `objects`
+// seen by `view_proj`; the whole extent when any box reaches behind the eye.
+VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent);
+
+// Deferred refraction shading over a target: the refraction shader inside the refractors' screen
+// rectangle, a plain copy of the background outside it, so that pixels that cannot show a
+// refractor cost a copy and not a refraction lookup.
+class DeferredRefractionShading {
+ public:
+  void setup(graph::PassSetup& setup, VkFormat color);
+  void record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front, VkImageView back,
+              VkImageView target, VkExtent2D extent, VkRect2D rect) const;
+  const vk::Pipeline& copy() const { return copy_; }
+
+ private:
+  vk::Pipeline refract_, copy_;
+};
 
 }  // namespace caustica::passes

@@ -32,8 +32,7 @@ class RefractionLayersPass final : public graph::Pass {
     layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
     surfaces_.setup(setup, "front", "front_depth");
     const VkFormat color = graph::format_info(setup.resource("color").format).vk;
-    refract_ = make_deferred_refraction_pipeline(setup, color);
-    copy_ = make_copy_pipeline(setup, color);
+    shading_.setup(setup, color);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -50,7 +49,7 @@ class RefractionLayersPass final : public graph::Pass {
     fill_dep.pMemoryBarriers = &fill;
     vkCmdPipelineBarrier2(cmd, &fill_dep);
     if (order.empty()) {  // no refractor, no layer: the background passes through
-      record_copy(ctx, copy_, ctx.view("background"), ctx.view("color"), extent);
+      record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
       return;
     }
     const SceneView view = camera_view(ctx, extent);
@@ -86,12 +85,8 @@ class RefractionLayersPass final : public graph::Pass {
         to_attachment(cmd, ctx.image(target));
         layout[target] = kAttachment;
       }
-      begin_rendering(cmd, extent, {{ctx.view(target), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-      push_refraction_descriptors(ctx, refract_, ctx.view(i == 0 ? "background" : previous), ctx.view("front"), ctx.view("back"));
-      vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
-      vkCmdDraw(cmd, 3, 1, 0, 0);
-      vkCmdEndRendering(cmd);
+      shading_.record(ctx, push, ctx.view(i == 0 ? "background" : previous), ctx.view("front"), ctx.view("back"), ctx.view(target), extent,
+                      screen_rect(scene.scene(), view.view_proj, {order[i]}, extent));
     }
     // Leave every port in the layout the plan expects after this pass.
     to_attachment(cmd, ctx.image("front"));
@@ -101,7 +96,7 @@ class RefractionLayersPass final : public graph::Pass {
 
  private:
   RefractorSurfaces surfaces_;
-  vk::Pipeline refract_, copy_;
+  DeferredRefractionShading shading_;
   uint32_t tir_counter_ = 0, layers_counter_ = 0;
 };
 

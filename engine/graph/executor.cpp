@@ -112,13 +112,6 @@ const scene::GpuScene& PassContext::scene() const {
 Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
     : vk_(vk), shaders_(shaders), registry_(registry) {}
 
-std::map<std::string, double> Executor::scene_values() const {
-  if (!scene_) return {};
-  const auto& s = scene_->scene();
-  return {{"scene.refractors", static_cast<double>(s.refractor_count())},
-          {"scene.lights", static_cast<double>(s.lights.size())},
-          {"scene.objects", static_cast<double>(s.objects.size())}};
-}
 
 void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
   scene_.reset();  // its buffers are destroyed once the GPU is done with them
@@ -164,7 +157,7 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
                     "\n" + std::to_string(memory_limit_bytes);
   for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
   for (const auto& r : retained) key += "\nretain " + r;
-  const auto scene_values = this->scene_values();
+  const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
   for (const auto& [name, value] : scene_values) key += "\n" + name + "=" + std::to_string(value);
   if (plan_ && key == configured_key_) return false;
   CompileOptions options = compile_options(width, height);

@@ -46,8 +46,6 @@ class Executor {
   // The scene that passes draw; kept across configure() calls. Uploads it now.
   void set_scene(std::shared_ptr<const scene::Scene> scene);
   const scene::GpuScene* scene() const { return scene_.get(); }
-  // What graph expressions see of the scene (scene.refractors, scene.lights, scene.objects).
-  std::map<std::string, double> scene_values() const;
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().

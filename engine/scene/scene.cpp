@@ -33,6 +33,12 @@ size_t Scene::refractor_count() const {
   return static_cast<size_t>(std::count_if(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor; }));
 }
 
+std::map<std::string, double> Scene::expression_values() const {
+  return {{"scene.refractors", static_cast<double>(refractor_count())},
+          {"scene.lights", static_cast<double>(lights.size())},
+          {"scene.objects", static_cast<double>(objects.size())}};
+}
+
 size_t Scene::triangle_count() const {
   size_t n = 0;
   for (const auto& o : objects) n += o.mesh.indices.size() / 3;

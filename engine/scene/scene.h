@@ -4,6 +4,7 @@
 // carry, per vertex, the distance through the object along the inverted normal (d_N in Wyman 2005),
 // ray cast once at load time.
 #include <glm/glm.hpp>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +68,8 @@ struct Scene {
 
   size_t refractor_count() const;
   size_t triangle_count() const;
+  // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects.
+  std::map<std::string, double> expression_values() const;
 };
 
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).

@@ -311,12 +311,7 @@ int cmd_graph(Args& args) {
   options.output_height = o.height;
   options.memory_limit_bytes = o.memory_limit_mib << 20;
   options.scene_values = graph::typical_scene_values();
-  if (o.scene_given) {
-    const scene::Scene scene = scene::load_scene_file(o.scene);
-    options.scene_values = {{"scene.refractors", static_cast<double>(scene.refractor_count())},
-                            {"scene.lights", static_cast<double>(scene.lights.size())},
-                            {"scene.objects", static_cast<double>(scene.objects.size())}};
-  }
+  if (o.scene_given) options.scene_values = scene::load_scene_file(o.scene).expression_values();
   graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
   if (what == "plan") std::cout << graph::plan_to_json(plan).dump(2) << "\n";
   else std::cout << graph::plan_to_dot(plan);
