@@ -1,5 +1,6 @@
 // lighting: direct light on the G-buffer (all lights, the first one shadowed), ambient, sky.
 #include "builtin_passes.h"
+#include "core/error.h"
 #include "scene_draw.h"
 
 namespace caustica::passes {
@@ -8,6 +9,7 @@ namespace {
 struct LightingParams {
   float shadow_bias;
   uint32_t has_shadow;
+  uint32_t has_caustics;
 };
 
 class LightingPass final : public graph::Pass {
@@ -17,11 +19,16 @@ class LightingPass final : public graph::Pass {
         setup.vk(),
         {"lighting",
          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
          sizeof(LightingParams)},
         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag"),
         {graph::format_info(setup.resource("color").format).vk});
     has_shadow_ = setup.bound("shadow");
+    has_caustics_ = setup.bound("caustics");
+    if (has_caustics_ != setup.bound("caustic_depth")) {
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): bind both \"caustics\" and \"caustic_depth\", or neither");
+    }
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -35,8 +42,10 @@ class LightingPass final : public graph::Pass {
         .sampled_image(2, ctx.view("normal"), ctx.nearest_sampler())
         .sampled_image(3, ctx.view("albedo"), ctx.nearest_sampler())
         .sampled_image(4, ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
+        .sampled_image(5, ctx.view(has_caustics_ ? "caustics" : "depth"), has_caustics_ ? ctx.linear_sampler() : ctx.nearest_sampler())
+        .sampled_image(6, ctx.view(has_caustics_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())
         .push(ctx.vk(), cmd, pipeline_);
-    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
+    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u, has_caustics_ ? 1u : 0u};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
@@ -45,6 +54,7 @@ class LightingPass final : public graph::Pass {
  private:
   vk::Pipeline pipeline_;
   bool has_shadow_ = false;
+  bool has_caustics_ = false;
 };
 
 }  // namespace
@@ -60,6 +70,10 @@ graph::PassTypeDecl lighting_pass_type() {
        {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
        {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "albedo"},
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
+       {"caustics", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::r32f}, true, "",
+        "caustic map of the first light: flux per texel of its image plane (caustic_map)"},
+       {"caustic_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "",
+        "the first light's depth of opaque geometry, for the caustic map's receiver test"},
        {"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "frame",
         "lit radiance"}},
       {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis"}},

@@ -113,7 +113,7 @@ TEST(Device, CoreDemoMatchesItsCpuModel) {
   EXPECT_LE(worst, 1.5 / 255.0) << "8-bit output differs from the CPU model by " << worst * 255 << " levels";
   ASSERT_TRUE(frame.counters.count("tonemap.bright_pixels"));
   EXPECT_GT(bright, 100u);  // the sun is brighter than white: the counter must see it
-  EXPECT_LE(std::llabs(static_cast<long long>(frame.counters["tonemap.bright_pixels"]) - static_cast<long long>(bright)),
+  EXPECT_LE(std::llabs(std::llround(frame.counters["tonemap.bright_pixels"]) - static_cast<long long>(bright)),
             static_cast<long long>(borderline));
   EXPECT_EQ(e.vk.validation_messages(), 0u);
 }

@@ -89,7 +89,7 @@ TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
     auto forward = e.render("refraction_forward", scene);
     auto layers = e.render("refraction_multilayer", scene);
     if (scene->refractor_count() > 0) {
-      EXPECT_EQ(layers.frame.counters.at("refraction.layers"), scene->refractor_count()) << name;
+      EXPECT_EQ(layers.frame.counters.at("refraction.layers"), static_cast<double>(scene->refractor_count())) << name;
     }
     EXPECT_EQ(non_finite(layers.refracted), 0u) << name;
     EXPECT_EQ(non_finite(deferred.refracted), 0u) << name;
@@ -137,7 +137,7 @@ TEST(Refraction, MultilayerIgnoresTheOrderOfObjectsInTheFile) {
   auto swapped = std::make_shared<const scene::Scene>(scene::load_scene(JsonDocument::parse(scene_json.dump(), "swapped.json")));
   auto a = e.render("refraction_multilayer", load("two_refractors"));
   auto b = e.render("refraction_multilayer", swapped);
-  EXPECT_EQ(a.frame.counters.at("refraction.layers"), 2u);
+  EXPECT_EQ(a.frame.counters.at("refraction.layers"), 2.0);
   Difference d = compare(a.refracted, b.refracted);
   EXPECT_EQ(d.fraction_over, 0.0);
   EXPECT_LT(d.mean_relative, 1e-6);

@@ -171,6 +171,11 @@ class Compiler {
       for (const auto& [port, resource] : pass.outputs) written.insert(resource);
     }
     for (const auto& r : graph_.resources) {
+      if (r.fallback_to_nothing && !written.count(r.name)) {
+        redirect_[r.name] = "";
+        plan_.fallbacks[r.name] = "";
+        continue;
+      }
       if (r.fallback.empty() || written.count(r.name)) continue;
       // Follow the chain to a resource that is written (or has no fallback of its own).
       std::string target = r.name;
@@ -362,7 +367,13 @@ class Compiler {
                                         (port_writes ? "output" : "input") + "; list it under \"" +
                                         (port_writes ? "outputs" : "inputs") + "\"");
       }
-      int index = plan_.find_resource(outputs ? resource_name : redirected(resource_name));
+      const std::string source = outputs ? resource_name : redirected(resource_name);
+      if (source.empty()) {  // "fallback": null and nothing writes it
+        if (port->optional) continue;
+        throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
+                                        "', which no enabled pass writes and whose fallback is null; only optional inputs may");
+      }
+      int index = plan_.find_resource(source);
       if (index < 0) {
         throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
       }

@@ -65,6 +65,7 @@ struct Executor::Realized {
   std::vector<Readback> readbacks;
   std::vector<std::unique_ptr<Pass>> passes;
   std::vector<std::string> counter_names;
+  std::vector<bool> counter_is_sum;
   vk::Buffer counters;  // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
@@ -81,12 +82,13 @@ struct Executor::Realized {
 vk::Context& PassSetup::vk() const { return executor_.vk_; }
 shader::ShaderCompiler& PassSetup::shaders() const { return executor_.shaders_; }
 const PlannedResource& PassSetup::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
-uint32_t PassSetup::add_counter(const std::string& name) {
+uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   auto& names = executor_.realized_->counter_names;
   auto it = std::find(names.begin(), names.end(), name);
   if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
   if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
   names.push_back(name);
+  executor_.realized_->counter_is_sum.push_back(kind == CounterKind::sum);
   return static_cast<uint32_t>(names.size() - 1);
 }
 
@@ -441,7 +443,18 @@ FrameResult Executor::run_frame(bool read_back) {
     result.passes[i].gpu_ms = elapsed(pass_stamps[i].first, pass_stamps[i].second);
     result.passes[i].gpu_start_ms = elapsed(frame_begin, pass_stamps[i].first);
   }
-  for (size_t c = 0; c < real.counter_names.size(); ++c) result.counters[real.counter_names[c]] = static_cast<const uint32_t*>(real.counters.mapped)[c];
+  for (size_t c = 0; c < real.counter_names.size(); ++c) {
+    const auto* slot = static_cast<const unsigned char*>(real.counters.mapped) + c * sizeof(uint32_t);
+    if (real.counter_is_sum[c]) {
+      float sum;
+      std::memcpy(&sum, slot, sizeof(sum));  // the zero fill is 0.0f too
+      result.counters[real.counter_names[c]] = sum;
+    } else {
+      uint32_t count;
+      std::memcpy(&count, slot, sizeof(count));
+      result.counters[real.counter_names[c]] = count;
+    }
+  }
   real.read_back_done = read_back;
   return result;
 }

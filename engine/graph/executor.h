@@ -27,7 +27,7 @@ struct FrameResult {
   std::vector<PassTiming> passes;
   double gpu_ms = 0;  // first to last timestamp of the frame, barriers included
   double cpu_ms = 0;  // recording and submission
-  std::map<std::string, uint64_t> counters;
+  std::map<std::string, double> counters;  // counts are whole numbers; sums (caustic.flux) are floats
 };
 
 class Executor {

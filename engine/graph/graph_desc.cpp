@@ -108,7 +108,10 @@ void load_resources(GraphDesc& graph, const Reader& read) {
     } else {
       throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
     }
-    if (value.contains("fallback")) r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name)");
+    if (value.contains("fallback")) {
+      if (value["fallback"].is_null()) r.fallback_to_nothing = true;
+      else r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name, or null)");
+    }
     graph.resources.push_back(std::move(r));
   }
 }

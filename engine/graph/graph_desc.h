@@ -27,6 +27,8 @@ struct ResourceDesc {
   std::string size;  // buffers: bytes
   // Read in this resource's place when no enabled pass writes it (a pass disabled for the scene).
   std::string fallback;
+  // "fallback": null: when no enabled pass writes it, optional inputs bound to it are left unbound.
+  bool fallback_to_nothing = false;
   std::string pointer;
 };
 

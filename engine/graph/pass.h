@@ -22,8 +22,10 @@ class PassSetup {
   const PlannedPass& pass() const { return pass_; }
   const PlannedResource& resource(const std::string& port) const;
   bool bound(const std::string& port) const { return pass_.ports.count(port) != 0; }
-  // A named counter the pass increments on the device; reported in --stats and the trace.
-  uint32_t add_counter(const std::string& name);
+  // A named counter the pass increments on the device; reported in --stats and the trace. A count
+  // is a uint32 (atomicAdd on uint); a sum is a float32 in the same slot (atomicAdd on float).
+  enum class CounterKind { count, sum };
+  uint32_t add_counter(const std::string& name, CounterKind kind = CounterKind::count);
 
  private:
   Executor& executor_;

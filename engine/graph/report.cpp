@@ -1,9 +1,16 @@
 #include "graph/report.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace caustica::graph {
 namespace {
+
+// Counts print as integers, sums as numbers with a fraction.
+nlohmann::json counter_value(double v) {
+  if (v >= 0 && v < 9007199254740992.0 && v == std::floor(v)) return static_cast<uint64_t>(v);
+  return v;
+}
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0;
@@ -44,7 +51,7 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
                    {"persistent_bytes", plan.persistent_bytes}};
   out["counters"] = json::object();
   if (!run.frames.empty()) {
-    for (const auto& [name, value] : run.frames.back().counters) out["counters"][name] = value;
+    for (const auto& [name, value] : run.frames.back().counters) out["counters"][name] = counter_value(value);
   }
   return nlohmann::json::parse(out.dump());
 }
@@ -73,7 +80,7 @@ nlohmann::json chrome_trace_json(const Plan& plan, const RunRecord& run) {
                         {"dur", t.cpu_ms * 1000.0}, {"args", args}});
     }
     for (const auto& [name, value] : frame.counters) {
-      events.push_back({{"name", name}, {"ph", "C"}, {"pid", kPid}, {"ts", base_us}, {"args", {{"value", value}}}});
+      events.push_back({{"name", name}, {"ph", "C"}, {"pid", kPid}, {"ts", base_us}, {"args", {{"value", counter_value(value)}}}});
     }
   }
   json passes = json::array();

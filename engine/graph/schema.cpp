@@ -67,7 +67,7 @@ json graph_schema_json(const PassRegistry& registry) {
                      {"height", expression},
                      {"mips", expression},
                      {"size", expression},
-                     {"fallback", {{"type", "string"}, {"description", "resource read in this one's place when no enabled pass writes it"}}},
+                     {"fallback", {{"type", {"string", "null"}}, {"description", "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
                      {"description", {{"type", "string"}}}}},
                    {"additionalProperties", false}};
   json pass = {{"type", "object"},

@@ -69,11 +69,12 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
     const Light& light = s.lights[i];
     gpu::LightData& l = f.lights[i];
     l.view_proj = light.view.view_projection(1.0f);
+    l.inv_view_proj = glm::inverse(l.view_proj);
     l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : 1.0f);
     // A square frustum's inscribed cone: the half angle is half the field of view.
     l.direction_cos = glm::vec4(glm::normalize(light.view.target - light.view.position), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
-    l.radiant = glm::vec4(light.color * light.intensity, 0.0f);
-    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, 0.0f, 0.0f);
+    l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
+    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
 }

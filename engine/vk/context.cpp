@@ -196,13 +196,29 @@ Context::Context(const ContextOptions& options) : validation_(options.validation
   features13.maintenance4 = VK_TRUE;  // required in 1.3; glslang emits LocalSizeId for SPIR-V 1.6
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &features13;
-  const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  // Float atomic adds splat photon power; passes that need them check float_atomics().
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  if (has_device_extension(physical_, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME)) {
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    query.pNext = &atomic_float;
+    vkGetPhysicalDeviceFeatures2(physical_, &query);
+    float_atomics_ = atomic_float.shaderBufferFloat32AtomicAdd && atomic_float.shaderImageFloat32AtomicAdd;
+    if (float_atomics_) {
+      VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+      enable.shaderBufferFloat32AtomicAdd = VK_TRUE;
+      enable.shaderImageFloat32AtomicAdd = VK_TRUE;
+      atomic_float = enable;
+      features13.pNext = &atomic_float;
+      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+    }
+  }
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &features;
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue_info;
-  info.enabledExtensionCount = 1;
-  info.ppEnabledExtensionNames = extensions;
+  info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
   VkResult created = vkCreateDevice(physical_, &info, nullptr, &device_);
   if (created != VK_SUCCESS) {
     vkDestroyInstance(instance_, nullptr);

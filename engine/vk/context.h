@@ -43,6 +43,8 @@ class Context {
   bool validation_enabled() const { return validation_; }
   uint32_t validation_messages() const { return validation_messages_.load(); }
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
+  // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
+  bool float_atomics() const { return float_atomics_; }
 
   // Memory type index with all of `required` among `type_bits`, preferring `preferred` too.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0) const;
@@ -75,6 +77,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   uint32_t timestamp_valid_bits_ = 0;
+  bool float_atomics_ = false;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_properties_{};
   std::string device_name_;

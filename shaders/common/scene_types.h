@@ -25,10 +25,11 @@ struct ObjectData {
 
 struct LightData {
   mat4 view_proj;        // the light's frustum (spot lights; shadow map lookups)
+  mat4 inv_view_proj;
   vec4 position_type;    // xyz, w: 0 spot, 1 point
   vec4 direction_cos;    // xyz axis, w: cosine of the cone's half angle (spot)
-  vec4 radiant;          // rgb: colour * intensity (W/sr)
-  vec4 clip;             // near and far plane of view_proj, for linear depth
+  vec4 radiant;          // rgb: colour * intensity (W/sr), a: intensity
+  vec4 clip;             // near and far plane of view_proj (for linear depth), tan(fov / 2)
 };
 
 struct FrameData {

@@ -4,9 +4,10 @@
 // deferred pass so that they differ only in where the front surface comes from.
 //
 // Needs, declared by the including shader: `frame` (SCENE_FRAME), `objects` (SCENE_OBJECTS),
-// background_tex (the image behind the refractor), depth_tex (its depth), back_tex (the
-// refractor's back surfaces, as written by refractor.frag), and `params` with distance_mode,
-// search_steps, search_distance. And a counter buffer with tir_counter.
+// back_tex (the refractor's back surfaces, as written by refractor.frag), `params` with
+// distance_mode, search_steps, search_distance; and for camera passes (unless
+// REFRACTION_NO_CAMERA is defined) background_tex (the image behind the refractor), depth_tex (its
+// depth) and a `counters` buffer with params.tir_counter.
 #include "scene/scene.glsl"
 
 const uint DISTANCE_DV = 0u;     // d_V: front-to-back distance along the view ray at this pixel
@@ -22,9 +23,9 @@ float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
   return 0.5 * (rs * rs + rp * rp);
 }
 
-// Projects a world point; returns false when it is behind the eye or off screen.
-bool project_to_screen(vec3 p, out vec2 uv, out float depth) {
-  vec4 clip = frame.view_proj * vec4(p, 1.0);
+// Projects a world point through `view_proj`; false when it is behind the eye or outside the image.
+bool project_with(mat4 view_proj, vec3 p, out vec2 uv, out float depth) {
+  vec4 clip = view_proj * vec4(p, 1.0);
   if (clip.w <= 1e-6) return false;
   vec3 ndc = clip.xyz / clip.w;
   uv = ndc.xy * 0.5 + 0.5;
@@ -32,39 +33,50 @@ bool project_to_screen(vec3 p, out vec2 uv, out float depth) {
   return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
 }
 
-// Follows the exit ray through the background's depth buffer: linear steps until the ray passes
-// behind the stored surface, then bisection. Off screen or past the search distance: the sky.
-vec3 background_along(vec3 origin, vec3 direction) {
+bool project_to_screen(vec3 p, out vec2 uv, out float depth) { return project_with(frame.view_proj, p, uv, depth); }
+
+// Follows a ray through a depth image seen through `view_proj`: linear steps until the ray passes
+// behind the stored surface, then bisection. Returns false when it leaves the image or goes past
+// the search distance; else `uv` is where it meets the surface.
+bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
   float step_length = params.search_distance / float(params.search_steps);
   float t_before = 0.0;
+  float ray_depth;
   for (uint i = 1u; i <= params.search_steps; ++i) {
     float t = step_length * float(i);
-    vec2 uv;
-    float ray_depth;
-    if (!project_to_screen(origin + direction * t, uv, ray_depth)) return frame.sky_ambient.rgb;
-    if (ray_depth >= texture(depth_tex, uv).r) {
+    if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) return false;
+    if (ray_depth >= texture(depth_image, uv).r) {
       float lo = t_before, hi = t;
       for (int b = 0; b < 6; ++b) {
         float mid = 0.5 * (lo + hi);
-        if (project_to_screen(origin + direction * mid, uv, ray_depth) && ray_depth >= texture(depth_tex, uv).r) hi = mid;
+        if (project_with(view_proj, origin + direction * mid, uv, ray_depth) && ray_depth >= texture(depth_image, uv).r) hi = mid;
         else lo = mid;
       }
-      project_to_screen(origin + direction * hi, uv, ray_depth);
-      return texture(background_tex, uv).rgb;
+      project_with(view_proj, origin + direction * hi, uv, ray_depth);
+      return true;
     }
     t_before = t;
   }
-  return frame.sky_ambient.rgb;
+  return false;
 }
 
-// Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
-vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
-  ObjectData object = objects[object_index];
-  float ior = object.absorption_ior.a;
-  vec3 v = normalize(p1 - frame.camera_position.xyz);
+// The path through two interfaces from a front surface point p1 (outward normal n1) seen from
+// `eye` through `view_proj`, whose refractor buffers are back_tex (and the front's distance).
+struct TwoInterfaces {
+  vec3 exit_point;
+  vec3 exit_direction;  // unit
+  float distance;       // travelled inside
+  float reflectance_in;
+  float transmit_out;   // 1 - Fresnel reflectance at the exit; 1 when no back surface was found
+  bool tir;             // the exit met total internal reflection; exit_direction is then the reflection
+};
+
+TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior, vec2 pixel_uv) {
+  TwoInterfaces r;
+  vec3 v = normalize(p1 - eye);
   if (dot(v, n1) > 0.0) n1 = -n1;  // interpolated normals can face away at silhouettes
   float cos_i = -dot(v, n1);
-  float reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
+  r.reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
   vec3 t1 = refract(v, n1, 1.0 / ior);
 
   // Distance to the back surface.
@@ -77,33 +89,55 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
     float w = theta_i > 1e-4 ? theta_t / theta_i : 1.0;
     d = w * dv + (1.0 - w) * dn;
   }
-  vec3 p2 = p1 + t1 * d;
+  r.distance = d;
+  r.exit_point = p1 + t1 * d;
+  r.exit_direction = t1;
+  r.transmit_out = 1.0;
+  r.tir = false;
 
-  // Second interface: the back normal where p2 lands on screen.
-  vec3 exit_direction = t1;
-  float transmit_out = 1.0;
+  // Second interface: the back normal where the exit point lands in the image.
   vec2 uv2;
   float depth2;
-  if (project_to_screen(p2, uv2, depth2)) {
+  if (project_with(view_proj, r.exit_point, uv2, depth2)) {
     vec4 back = texture(back_tex, uv2);
     if (back.y > 0.0) {
       vec3 n2 = unpack_normal(back.x);  // outward
       vec3 inward = dot(t1, n2) > 0.0 ? -n2 : n2;
       vec3 t2 = refract(t1, inward, ior);
       if (dot(t2, t2) == 0.0) {
-        // Total internal reflection: the ray reflects and, in this two-interface model, leaves
-        // along the reflected direction with all its energy (no black pixels, no NaN).
-        exit_direction = reflect(t1, inward);
-        atomicAdd(counters[params.tir_counter], 1u);
+        r.tir = true;
+        r.exit_direction = reflect(t1, inward);
+        r.transmit_out = 1.0;
       } else {
-        transmit_out = 1.0 - fresnel_dielectric(-dot(t1, inward), ior, 1.0);
-        exit_direction = t2;
+        r.transmit_out = 1.0 - fresnel_dielectric(-dot(t1, inward), ior, 1.0);
+        r.exit_direction = t2;
       }
     }
   }
-  vec3 absorbed = exp(-object.absorption_ior.rgb * d);
-  vec3 behind = background_along(p2, normalize(exit_direction));
-  return reflectance_in * frame.sky_ambient.rgb + (1.0 - reflectance_in) * transmit_out * absorbed * behind;
+  r.exit_direction = normalize(r.exit_direction);
+  return r;
 }
+
+#ifndef REFRACTION_NO_CAMERA
+// The background seen along an exit ray from the camera: the lit image where the ray meets the
+// background's depth, the sky where it leaves the screen.
+vec3 background_along(vec3 origin, vec3 direction) {
+  vec2 uv;
+  return march_depth(depth_tex, frame.view_proj, origin, direction, uv) ? texture(background_tex, uv).rgb : frame.sky_ambient.rgb;
+}
+
+// Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
+vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
+  ObjectData object = objects[object_index];
+  TwoInterfaces path = refract_two_interfaces(frame.view_proj, frame.camera_position.xyz, p1, n1, front_distance, dn,
+                                              object.absorption_ior.a, pixel_uv);
+  // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
+  // reflected direction with all its energy (no black pixels, no NaN).
+  if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
+  vec3 absorbed = exp(-object.absorption_ior.rgb * path.distance);
+  vec3 behind = background_along(path.exit_point, path.exit_direction);
+  return path.reflectance_in * frame.sky_ambient.rgb + (1.0 - path.reflectance_in) * path.transmit_out * absorbed * behind;
+}
+#endif
 
 #endif

@@ -1,6 +1,7 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone, the
-// first light shadowed through its shadow map (3x3 PCF), plus ambient sky light. Sky where empty.
+// first light shadowed through its shadow map (3x3 PCF) and adding its caustic map when one is
+// bound, plus ambient sky light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -8,10 +9,13 @@ layout(set = 0, binding = 1) uniform sampler2D depth_tex;
 layout(set = 0, binding = 2) uniform sampler2D normal_tex;
 layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
 layout(set = 0, binding = 4) uniform sampler2D shadow_tex;
+layout(set = 0, binding = 5) uniform sampler2D caustics_tex;      // flux per texel in the first light's image plane
+layout(set = 0, binding = 6) uniform sampler2D caustic_depth_tex;  // what that light sees without refractors
 
 layout(push_constant) uniform Params {
   float shadow_bias;
   uint has_shadow;
+  uint has_caustics;
 } params;
 
 layout(location = 0) out vec4 out_color;
@@ -40,6 +44,27 @@ float shadow_factor(LightData light, vec3 p) {
   return lit / 9.0;
 }
 
+// Irradiance from the caustic map: a texel's flux spread over the receiver area its solid angle
+// covers at this point, dw r^2 / cos(theta); only on the surface the light sees first (the
+// receiver depth test, like a shadow map).
+vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
+  vec4 clip = light.view_proj * vec4(p, 1.0);
+  if (clip.w <= 0.0) return vec3(0.0);
+  vec3 ndc = clip.xyz / clip.w;
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+  if (linear_depth(light, ndc.z) - params.shadow_bias > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
+  vec2 size = vec2(textureSize(caustics_tex, 0));
+  vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
+  float cos_axis = inversesqrt(1.0 + dot(plane, plane));
+  float texel_solid_angle = 4.0 * light.clip.z * light.clip.z / (size.x * size.y) * cos_axis * cos_axis * cos_axis;
+  vec3 to_light = light.position_type.xyz - p;
+  float r2 = max(dot(to_light, to_light), 1e-8);
+  float cos_theta = max(dot(n, to_light * inversesqrt(r2)), 0.0);
+  float flux = texture(caustics_tex, uv).r;
+  return light.radiant.rgb / max(light.radiant.a, 1e-20) * flux * cos_theta / (texel_solid_angle * r2);
+}
+
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   float depth = texture(depth_tex, uv).r;
@@ -62,6 +87,7 @@ void main() {
       float c = dot(-l, light.direction_cos.xyz);
       cone = smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), c);
       if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p);
+      if (i == 0 && params.has_caustics != 0) irradiance += caustic_irradiance(light, p, n);
     }
     irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }

@@ -1,0 +1,108 @@
+// caustic_map: the regular caustic map. One photon per texel of an N x N grid in the light's view,
+// refracted through two interfaces, landed on the receivers and splatted into a light-space map of
+// flux per texel, which lighting projects back onto the receivers.
+#include "builtin_passes.h"
+#include "core/error.h"
+#include "refraction.h"
+
+namespace caustica::passes {
+namespace {
+
+struct PhotonPush {
+  uint32_t distance_mode;
+  uint32_t search_steps;
+  float search_distance;
+  uint32_t light;
+  uint32_t grid;
+  uint32_t fresnel;
+  uint32_t counter_slot[7];
+  uint32_t pad;
+};
+
+class CausticMapPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    if (!setup.vk().float_atomics()) {
+      throw DeviceError(setup.vk().device_name() + " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
+                        "(VK_EXT_shader_atomic_float), which caustic_map splats photons with");
+    }
+    using Kind = graph::PassSetup::CounterKind;
+    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir"};
+    const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
+    for (int i = 0; i < 4; ++i) slots_[i] = setup.add_counter(counts[i]);
+    for (int i = 0; i < 3; ++i) slots_[4 + i] = setup.add_counter(sums[i], Kind::sum);
+    clear_ = vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0},
+                                       setup.shaders().compile("caustics/clear.comp"));
+    photons_ = vk::make_compute_pipeline(
+        setup.vk(),
+        {"regular_photons",
+         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         sizeof(PhotonPush)},
+        setup.shaders().compile("caustics/regular_photons.comp"));
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    VkCommandBuffer cmd = ctx.cmd();
+    const VkExtent2D map = ctx.extent("caustic_map");
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_.pipeline.get());
+    vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear_);
+    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+    const auto& p = ctx.params();
+    const RefractionPush shared = refraction_push(ctx, 0);
+    PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
+                    p["fresnel"].get<bool>() ? 1u : 0u, {}, 0};
+    for (int i = 0; i < 7; ++i) push.counter_slot[i] = slots_[i];
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
+    scene_descriptors(ctx)
+        .sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
+        .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
+        .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
+        .storage_image(6, ctx.view("caustic_map"))
+        .storage_buffer(7, ctx.counter_buffer())
+        .storage_buffer(8, ctx.counter_buffer())
+        .push(ctx.vk(), cmd, photons_);
+    vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
+  }
+
+ private:
+  vk::Pipeline clear_, photons_;
+  uint32_t slots_[7] = {};
+};
+
+}  // namespace
+
+graph::PassTypeDecl caustic_map_pass_type() {
+  using namespace graph;
+  auto surfaces = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
+  };
+  auto params = refraction_params();
+  params.push_back({"grid", ParamType::int_, 512, 16.0, 16384.0, {}, "photons per side of the grid over the light's image plane"});
+  params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
+  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  PassTypeDecl decl{
+      "caustic_map",
+      "Regular caustic map: an N x N photon grid over the light's image plane, each photon refracted through two interfaces and "
+      "splatted (nearest texel) into a light-space map of flux per texel. Counters photons.processed, photons.splatted, "
+      "photons.dropped_miss, photons.dropped_tir, caustic.flux, caustic.flux_entering, caustic.flux_dropped.",
+      PassQueue::compute,
+      {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
+       surfaces("back", "refractor back surfaces from the light"),
+       {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
+        "opaque geometry's depth from the light (shadow_map without refractors)"},
+       {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
+        "flux per texel, in the light's image plane"}},
+      params,
+      false,
+      [] { return std::make_unique<CausticMapPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes
