@@ -16,6 +16,7 @@ const graph::PassRegistry& builtin_registry() {
     r.add(forward_refraction_pass_type());
     r.add(refraction_layers_pass_type());
     r.add(caustic_map_pass_type());
+    r.add(adaptive_caustic_map_pass_type());
     return r;
   }();
   return registry;

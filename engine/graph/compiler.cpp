@@ -303,6 +303,7 @@ class Compiler {
       plan_.outputs.push_back(static_cast<uint32_t>(index));
     }
     for (const auto& name : options_.retained) {
+      if (auto it = redirect_.find(name); it != redirect_.end() && it->second.empty()) continue;  // nothing writes it for this scene
       int index = plan_.find_resource(redirected(name));
       if (index < 0) {
         throw InputError(graph_.doc.path() + ": no resource named '" + name + "' to keep" + did_you_mean(name, resource_names()));

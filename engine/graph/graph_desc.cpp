@@ -210,7 +210,8 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
                        did_you_mean(name, known));
     }
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
-    if (value.is_discarded()) value = text;
+    // A choice is a string: "--set grid=2048" means the choice "2048".
+    if (value.is_discarded() || target->decl.type == ParamType::choice) value = text;
     std::string problem = check_param_value(target->decl, value);
     if (!problem.empty()) throw InputError("--set " + assignment + ": parameter '" + name + "' " + problem);
     target->value = value;

@@ -1,0 +1,202 @@
+// adaptive_caustic_map: the adaptive caustic map of Wyman and Nichols 2009. A 64 x 64 photon grid
+// is refined cluster by cluster (2 x 2 photons) towards the effective grid, entirely on the device:
+// each level appends the clusters it refines to a list, a one-thread kernel turns the count into an
+// indirect dispatch, and the next level runs; the CPU never reads anything back. Start clusters are
+// split into batches so that the lists stay within `memory_mib` even if every cluster refined to
+// the last level, and the batches run one after another.
+#include <algorithm>
+#include <cmath>
+
+#include "builtin_passes.h"
+#include "core/error.h"
+#include "refraction.h"
+
+namespace caustica::passes {
+namespace {
+
+constexpr uint32_t kStartSide = 32;  // start clusters per side: a 64 x 64 photon grid
+constexpr uint32_t kStartClusters = kStartSide * kStartSide;
+constexpr uint32_t kGroup = 64;
+constexpr uint32_t kMaxLevels = 16;
+
+struct AdaptivePush {
+  uint32_t distance_mode;
+  uint32_t search_steps;
+  float search_distance;
+  uint32_t light;
+  uint32_t fresnel;
+  uint32_t level;
+  uint32_t max_level;
+  uint32_t converge_level;
+  uint32_t list_capacity;
+  uint32_t batch_first;
+  uint32_t batch_count;
+  uint32_t counter_slot[11];
+};
+
+uint32_t log2_exact(uint32_t v) {
+  uint32_t l = 0;
+  while ((1u << l) < v) ++l;
+  return l;
+}
+
+class AdaptiveCausticMapPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    if (!setup.vk().float_atomics()) {
+      throw DeviceError(setup.vk().device_name() + " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
+    }
+    const auto& p = setup.pass().params;
+    const uint32_t grid = static_cast<uint32_t>(std::stoul(p["grid"].get<std::string>()));
+    max_level_ = log2_exact(grid / 64);
+    const std::string criterion = p["criterion"].get<std::string>();
+    const uint32_t converge_from = p["converge_from"].get<uint32_t>();
+    converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
+    // Two lists of 4-byte entries. A start cluster can grow to 4^max_level clusters at the last level.
+    capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
+    const uint64_t per_start = uint64_t{1} << (2 * max_level_);
+    if (per_start > capacity_) {
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): grid " + std::to_string(grid) + " needs memory_mib of at least " +
+                       std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
+    }
+    starts_per_batch_ = static_cast<uint32_t>(std::min<uint64_t>(kStartClusters, capacity_ / per_start));
+
+    using Kind = graph::PassSetup::CounterKind;
+    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir", "photons.converged",
+                            "photons.overflow"};
+    for (int i = 0; i < 6; ++i) slots_[i] = setup.add_counter(counts[i]);
+    for (uint32_t l = 0; l <= max_level_; ++l) level_slots_.push_back(setup.add_counter("photons.processed.level" + std::to_string(l)));
+    peak_slot_ = setup.add_counter("photons.peak_bytes");
+    batches_slot_ = setup.add_counter("photons.batches");
+    const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
+    for (int i = 0; i < 3; ++i) sum_slots_[i] = setup.add_counter(sums[i], Kind::sum);
+
+    vk::Context& vk = setup.vk();
+    lists_ = vk::make_buffer(vk, uint64_t{capacity_} * 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " cluster lists");
+    control_ = vk::make_buffer(vk, (kMaxLevels + kMaxLevels * 3) * sizeof(uint32_t),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
+                               setup.pass().name + " level control");
+    const vk::PipelineDesc layout{"adaptive_photons",
+                                  {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                   VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                   VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                  sizeof(AdaptivePush)};
+    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp"));
+    args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
+    clear_ = vk::make_compute_pipeline(vk, {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0}, setup.shaders().compile("caustics/clear.comp"));
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    VkCommandBuffer cmd = ctx.cmd();
+    const VkExtent2D map = ctx.extent("caustic_map");
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_.pipeline.get());
+    vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear_);
+    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
+
+    const uint32_t batches = (kStartClusters + starts_per_batch_ - 1) / starts_per_batch_;
+    constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+    // The batch count goes into its counter with a transfer, ordered against every counting shader.
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), batches);
+
+    const RefractionPush shared = refraction_push(ctx, 0);
+    const auto& p = ctx.params();
+    AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
+                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, {}};
+    for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
+    push.counter_slot[7] = peak_slot_;
+    for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
+
+    auto bind = [&](const vk::Pipeline& pipeline) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
+      scene_descriptors(ctx)
+          .sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
+          .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
+          .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
+          .storage_image(6, ctx.view("caustic_map"))
+          .storage_buffer(7, ctx.counter_buffer())
+          .storage_buffer(8, ctx.counter_buffer())
+          .storage_buffer(9, lists_.get())
+          .storage_buffer(10, control_.get())
+          .push(ctx.vk(), cmd, pipeline);
+    };
+    for (uint32_t b = 0; b < batches; ++b) {
+      // Everything the previous batch (or the clear, the counter fill) wrote is visible, and the
+      // control block starts at zero.
+      memory_barrier(cmd, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | kTransfer,
+                     kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, kTransfer,
+                     VK_ACCESS_2_TRANSFER_WRITE_BIT);
+      vkCmdFillBuffer(cmd, control_.get(), 0, VK_WHOLE_SIZE, 0);
+      memory_barrier(cmd, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                     kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+      push.batch_first = b * starts_per_batch_;
+      push.batch_count = std::min(starts_per_batch_, kStartClusters - push.batch_first);
+      for (uint32_t level = 0; level <= max_level_; ++level) {
+        push.level = level;
+        push.counter_slot[6] = level_slots_[level];
+        if (level > 0) {
+          memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+          bind(args_);
+          vkCmdPushConstants(cmd, args_.layout.get(), args_.stages, 0, sizeof(push), &push);
+          vkCmdDispatch(cmd, 1, 1, 1);
+          memory_barrier(cmd, kCompute, kStorage, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                         kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+        }
+        bind(photons_);
+        vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
+        if (level == 0) vkCmdDispatch(cmd, (push.batch_count + kGroup - 1) / kGroup, 1, 1);
+        else vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
+      }
+    }
+  }
+
+ private:
+  vk::Pipeline photons_, args_, clear_;
+  vk::Buffer lists_, control_;
+  uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1;
+  uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;
+  std::vector<uint32_t> level_slots_;
+};
+
+}  // namespace
+
+graph::PassTypeDecl adaptive_caustic_map_pass_type() {
+  using namespace graph;
+  auto surfaces = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
+  };
+  auto params = refraction_params();
+  params.push_back({"grid", ParamType::choice, "2048", {}, {}, {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
+                    "effective photon grid per side: the traversal's last level"});
+  params.push_back({"criterion", ParamType::choice, "hybrid", {}, {}, {"max_level", "max_error", "hybrid"},
+                    "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
+                    "hybrid: max_level below converge_from, max_error from there"});
+  params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
+  params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
+  params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
+  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  PassTypeDecl decl{
+      "adaptive_caustic_map",
+      "Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the effective grid on the "
+      "device (atomic append, indirect dispatch, no read-back), with the max-level, max-error or hybrid termination and batching "
+      "within a memory bound. Counters photons.processed(.level<L>), photons.splatted, photons.dropped_miss, photons.dropped_tir, "
+      "photons.converged, photons.batches, photons.peak_bytes, photons.overflow, caustic.flux, caustic.flux_entering, "
+      "caustic.flux_dropped.",
+      PassQueue::compute,
+      {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
+       surfaces("back", "refractor back surfaces from the light"),
+       {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
+        "opaque geometry's depth from the light (shadow_map without refractors)"},
+       {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
+        "flux per texel, in the light's image plane"}},
+      params,
+      false,
+      [] { return std::make_unique<AdaptiveCausticMapPass>(); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+}  // namespace caustica::passes

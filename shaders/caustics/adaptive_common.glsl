@@ -1,0 +1,43 @@
+#ifndef CAUSTICA_ADAPTIVE_COMMON_GLSL
+#define CAUSTICA_ADAPTIVE_COMMON_GLSL
+// Bindings and push constants shared by the adaptive traversal's two kernels, which use one
+// pipeline layout so that pushed descriptors stay valid between them.
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+SCENE_FRAME
+SCENE_OBJECTS
+layout(set = 0, binding = 3) uniform sampler2D front_tex;
+layout(set = 0, binding = 4) uniform sampler2D back_tex;
+layout(set = 0, binding = 5) uniform sampler2D receiver_depth;
+layout(set = 0, binding = 6, r32f) uniform image2D caustic_map;
+layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
+layout(set = 0, binding = 8, std430) buffer SumBlock { float sums[]; };  // the same buffer, float slots
+// Two cluster lists of `list_capacity` entries each; level L reads list L % 2 and appends to the other.
+layout(set = 0, binding = 9, std430) buffer ListBlock { uint clusters[]; };
+// counts[L]: clusters at level L; args[L]: the indirect dispatch that processes them.
+layout(set = 0, binding = 10, std430) buffer ControlBlock {
+  uint counts[16];
+  uint args[16][3];
+};
+
+const uint START_CLUSTERS_SIDE = 32u;  // a 64 x 64 photon grid: 32 x 32 clusters of 2 x 2 photons
+const uint GROUP = 64u;
+
+layout(push_constant) uniform Params {
+  uint distance_mode;
+  uint search_steps;
+  float search_distance;
+  uint light;
+  uint fresnel;
+  uint level;
+  uint max_level;       // the level whose photon grid is the effective grid
+  uint converge_level;  // first level with the max-error test (beyond max_level: never)
+  uint list_capacity;
+  uint batch_first;     // first start cluster of this batch, row-major over 32 x 32
+  uint batch_count;
+  // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
+  // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
+  uint counter_slot[11];
+} params;
+
+#endif

@@ -1,0 +1,87 @@
+#version 460
+// Adaptive caustic map (Wyman and Nichols 2009), one level of the traversal. A cluster at level L
+// is 2 x 2 photons of the grid of side 64 * 2^L. All four missing the refractor: dropped. At the
+// last level: every photon is output. From converge_level on, four photons landing in one
+// caustic-map texel: output as one photon with the cluster's whole power. Otherwise each photon
+// becomes a cluster of the next level, appended to the other list.
+#extension GL_GOOGLE_include_directive : require
+#include "caustics/adaptive_common.glsl"
+#include "caustics/photon.glsl"
+#include "caustics/group_totals.glsl"
+
+layout(local_size_x = 64) in;
+
+const uint PROCESSED = 0u, SPLATTED = 1u, MISS = 2u, TIR = 3u, CONVERGED = 4u, OVERFLOW = 5u, PROCESSED_LEVEL = 6u;
+const uint FLUX = 0u, ENTERING = 1u, DROPPED = 2u;
+
+void output_photon(Photon ph) {
+  if (!ph.hit) {
+    count(MISS);
+    return;
+  }
+  add_sum(ENTERING, ph.entering);
+  if (ph.tir) {
+    count(TIR);
+    add_sum(DROPPED, ph.power);
+  } else if (!ph.landed) {
+    count(MISS);
+    add_sum(DROPPED, ph.power);
+  } else {
+    splat(ph.texel, ph.power);
+    count(SPLATTED);
+    add_sum(FLUX, ph.power);
+  }
+}
+
+void main() {
+  begin_group_totals();
+  uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
+  uint clusters_here = params.level == 0u ? params.batch_count : min(counts[params.level], params.list_capacity);
+  if (index < clusters_here) {
+    uvec2 cluster;
+    if (params.level == 0u) {
+      uint start = params.batch_first + index;
+      cluster = uvec2(start % START_CLUSTERS_SIDE, start / START_CLUSTERS_SIDE);
+    } else {
+      uint packed = clusters[(params.level % 2u) * params.list_capacity + index];
+      cluster = uvec2(packed & 0xFFFFu, packed >> 16);
+    }
+    LightData light = frame.lights[params.light];
+    uint side = 64u << params.level;
+    float texel = 2.0 * light.clip.z / float(side);
+    Photon ph[4];
+    bool any_hit = false, all_same_texel = true;
+    for (uint k = 0u; k < 4u; ++k) {
+      uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
+      ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
+      any_hit = any_hit || ph[k].hit;
+      all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
+    }
+    count_n(PROCESSED, 4u);
+    count_n(PROCESSED_LEVEL, 4u);
+    if (!any_hit) {
+      count_n(MISS, 4u);
+    } else if (params.level == params.max_level) {
+      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k]);
+    } else if (params.level >= params.converge_level && all_same_texel) {
+      float power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
+      splat(ph[0].texel, power);
+      count(CONVERGED);
+      count(SPLATTED);
+      add_sum(FLUX, power);
+      add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
+    } else {
+      uint at = atomicAdd(counts[params.level + 1u], 4u);
+      if (at + 4u <= params.list_capacity) {
+        uint base = ((params.level + 1u) % 2u) * params.list_capacity + at;
+        for (uint k = 0u; k < 4u; ++k) {
+          uvec2 child = cluster * 2u + uvec2(k & 1u, k >> 1);
+          clusters[base + k] = child.x | (child.y << 16);
+        }
+      } else {
+        count_n(OVERFLOW, 4u);  // cannot happen with the pass's batching; counted, never silent
+      }
+    }
+  }
+  end_group_totals(7u, 8u, 3u);
+}
