@@ -1,9 +1,11 @@
-// adaptive_caustic_map: the adaptive caustic map of Wyman and Nichols 2009. A 64 x 64 photon grid
-// is refined cluster by cluster (2 x 2 photons) towards the effective grid, entirely on the device:
-// each level appends the clusters it refines to a list, a one-thread kernel turns the count into an
-// indirect dispatch, and the next level runs; the CPU never reads anything back. Start clusters are
-// split into batches so that the lists stay within `memory_mib` even if every cluster refined to
-// the last level, and the batches run one after another.
+// adaptive_caustic_map (Wyman and Nichols 2009) and hierarchical_caustic_map (Wyman 2008): a 64 x 64
+// photon grid refined cluster by cluster (2 x 2 photons) towards the effective grid, entirely on
+// the device: each level appends the clusters it refines to a list, a one-thread kernel turns the
+// count into an indirect dispatch, and the next level runs; the CPU never reads anything back.
+// Adaptive decides by tracing each level's photons; hierarchical by a coverage pyramid of the
+// light-view refractor buffer, tracing photons only at the last level. Start clusters are split
+// into batches so that the lists stay within `memory_mib` even if every cluster refined to the last
+// level, and the batches run one after another.
 #include <algorithm>
 #include <cmath>
 
@@ -31,6 +33,7 @@ struct AdaptivePush {
   uint32_t list_capacity;
   uint32_t batch_first;
   uint32_t batch_count;
+  uint32_t light_size_log2;
   uint32_t counter_slot[11];
 };
 
@@ -42,6 +45,8 @@ uint32_t log2_exact(uint32_t v) {
 
 class AdaptiveCausticMapPass final : public graph::Pass {
  public:
+  explicit AdaptiveCausticMapPass(bool hierarchical) : hierarchical_(hierarchical) {}
+
   void setup(graph::PassSetup& setup) override {
     if (!setup.vk().float_atomics()) {
       throw DeviceError(setup.vk().device_name() + " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
@@ -49,9 +54,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const auto& p = setup.pass().params;
     const uint32_t grid = static_cast<uint32_t>(std::stoul(p["grid"].get<std::string>()));
     max_level_ = log2_exact(grid / 64);
-    const std::string criterion = p["criterion"].get<std::string>();
-    const uint32_t converge_from = p["converge_from"].get<uint32_t>();
+    const std::string criterion = hierarchical_ ? "max_level" : p["criterion"].get<std::string>();
+    const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
     converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
+    const uint32_t light_size = setup.resource("front").width;
+    light_size_log2_ = log2_exact(light_size);
+    if (hierarchical_ && (1u << light_size_log2_) != light_size) {
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): the light-view buffers are " +
+                       std::to_string(light_size) + " wide; the coverage pyramid needs a power of two");
+    }
     // Two lists of 4-byte entries. A start cluster can grow to 4^max_level clusters at the last level.
     capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
     const uint64_t per_start = uint64_t{1} << (2 * max_level_);
@@ -76,13 +87,20 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     control_ = vk::make_buffer(vk, (kMaxLevels + kMaxLevels * 3) * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                setup.pass().name + " level control");
-    const vk::PipelineDesc layout{"adaptive_photons",
+    uint64_t coverage_words = 1;
+    for (uint32_t l = 0; hierarchical_ && l <= light_size_log2_; ++l) coverage_words += uint64_t{1} << (2 * (light_size_log2_ - l));
+    coverage_ = vk::make_buffer(vk, coverage_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " coverage");
+    const vk::PipelineDesc layout{hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
                                   {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                   sizeof(AdaptivePush)};
-    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp"));
+    shader::Defines defines;
+    if (hierarchical_) defines["HIERARCHICAL"] = "1";
+    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", defines));
+    if (hierarchical_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     clear_ = vk::make_compute_pipeline(vk, {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0}, setup.shaders().compile("caustics/clear.comp"));
   }
@@ -105,7 +123,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
-                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, {}};
+                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, {}};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -121,8 +139,20 @@ class AdaptiveCausticMapPass final : public graph::Pass {
           .storage_buffer(8, ctx.counter_buffer())
           .storage_buffer(9, lists_.get())
           .storage_buffer(10, control_.get())
+          .storage_buffer(11, coverage_.get())
           .push(ctx.vk(), cmd, pipeline);
     };
+    if (hierarchical_) {
+      // The coverage pyramid, finest level first; each level reads the one before.
+      for (uint32_t level = 0; level <= light_size_log2_; ++level) {
+        if (level > 0) memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+        push.level = level;
+        bind(coverage_pipeline_);
+        vkCmdPushConstants(cmd, coverage_pipeline_.layout.get(), coverage_pipeline_.stages, 0, sizeof(push), &push);
+        const uint32_t side = 1u << (light_size_log2_ - level);
+        vkCmdDispatch(cmd, (side + 7) / 8, (side + 7) / 8, 1);
+      }
+    }
     for (uint32_t b = 0; b < batches; ++b) {
       // Everything the previous batch (or the clear, the counter fill) wrote is visible, and the
       // control block starts at zero.
@@ -154,47 +184,79 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   }
 
  private:
-  vk::Pipeline photons_, args_, clear_;
-  vk::Buffer lists_, control_;
-  uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1;
+  bool hierarchical_;
+  vk::Pipeline photons_, args_, clear_, coverage_pipeline_;
+  vk::Buffer lists_, control_, coverage_;
+  uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0;
   uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;
   std::vector<uint32_t> level_slots_;
 };
+
+
+std::vector<graph::PortDecl> photon_ports() {
+  using namespace graph;
+  auto surfaces = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
+  };
+  return {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
+          surfaces("back", "refractor back surfaces from the light"),
+          {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
+           "opaque geometry's depth from the light (shadow_map without refractors)"},
+          {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
+           "flux per texel, in the light's image plane"}};
+}
+
+std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
+  using namespace graph;
+  auto params = refraction_params();
+  params.push_back({"grid", ParamType::choice, "2048", {}, {}, {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
+                    "effective photon grid per side: the traversal's last level"});
+  if (adaptive) {
+    params.push_back({"criterion", ParamType::choice, "hybrid", {}, {}, {"max_level", "max_error", "hybrid"},
+                      "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
+                      "hybrid: max_level below converge_from, max_error from there"});
+    params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
+  }
+  params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
+  params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
+  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  return params;
+}
+
+const char* kTraversalCounters =
+    "Counters photons.processed(.level<L>), photons.splatted, photons.dropped_miss, photons.dropped_tir, photons.converged, "
+    "photons.batches, photons.peak_bytes, photons.overflow, caustic.flux, caustic.flux_entering, caustic.flux_dropped.";
 
 }  // namespace
 
 graph::PassTypeDecl adaptive_caustic_map_pass_type() {
   using namespace graph;
-  auto surfaces = [](const char* name, const char* what) {
-    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
-  };
-  auto params = refraction_params();
-  params.push_back({"grid", ParamType::choice, "2048", {}, {}, {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
-                    "effective photon grid per side: the traversal's last level"});
-  params.push_back({"criterion", ParamType::choice, "hybrid", {}, {}, {"max_level", "max_error", "hybrid"},
-                    "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
-                    "hybrid: max_level below converge_from, max_error from there"});
-  params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
-  params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
-  params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
-  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
-  PassTypeDecl decl{
-      "adaptive_caustic_map",
-      "Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the effective grid on the "
-      "device (atomic append, indirect dispatch, no read-back), with the max-level, max-error or hybrid termination and batching "
-      "within a memory bound. Counters photons.processed(.level<L>), photons.splatted, photons.dropped_miss, photons.dropped_tir, "
-      "photons.converged, photons.batches, photons.peak_bytes, photons.overflow, caustic.flux, caustic.flux_entering, "
-      "caustic.flux_dropped.",
-      PassQueue::compute,
-      {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
-       surfaces("back", "refractor back surfaces from the light"),
-       {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
-        "opaque geometry's depth from the light (shadow_map without refractors)"},
-       {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
-        "flux per texel, in the light's image plane"}},
-      params,
-      false,
-      [] { return std::make_unique<AdaptiveCausticMapPass>(); }};
+  PassTypeDecl decl{"adaptive_caustic_map",
+                    std::string("Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the "
+                                "effective grid on the device (atomic append, indirect dispatch, no read-back), with the max-level, "
+                                "max-error or hybrid termination and batching within a memory bound. ") +
+                        kTraversalCounters,
+                    PassQueue::compute,
+                    photon_ports(),
+                    traversal_params(true),
+                    false,
+                    [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
+  decl.needs_scene = true;
+  return decl;
+}
+
+graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
+  using namespace graph;
+  PassTypeDecl decl{"hierarchical_caustic_map",
+                    std::string("Hierarchical caustic map (Wyman 2008): a max pyramid of the light-view refractor coverage is traversed top "
+                                "down by 2 x 2 clusters, skipping regions without refractor; only the effective grid's photons under "
+                                "refractors are traced (light-view buffers must be a power of two wide). ") +
+                        kTraversalCounters,
+                    PassQueue::compute,
+                    photon_ports(),
+                    traversal_params(false),
+                    false,
+                    [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
   return decl;
 }

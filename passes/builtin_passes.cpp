@@ -17,6 +17,7 @@ const graph::PassRegistry& builtin_registry() {
     r.add(refraction_layers_pass_type());
     r.add(caustic_map_pass_type());
     r.add(adaptive_caustic_map_pass_type());
+    r.add(hierarchical_caustic_map_pass_type());
     return r;
   }();
   return registry;

@@ -156,3 +156,16 @@ TEST(Caustics, PeakPhotonMemoryStaysUnderTheLimit) {
   EXPECT_EQ(frame.counters.at("photons.overflow"), 0.0);
   EXPECT_GT(frame.counters.at("photons.processed.level8"), 0.0);  // 64 * 2^8 = 16384: the last level ran
 }
+
+// The hierarchical traversal skips only clusters the coverage pyramid shows free of refractors, so
+// it traces exactly the photons of the regular grid that meet a refractor, and no others.
+TEST(Caustics, HierarchicalTracesExactlyTheRegularGridsRefractorPhotons) {
+  Engine e;
+  auto scene = load("sphere_plane");
+  auto regular = e.render("caustics_regular", scene, {"grid=2048"});
+  auto hierarchical = e.render("caustics_hierarchical", scene, {"grid=2048"});
+  EXPECT_EQ(hierarchical.counters.at("photons.splatted"), regular.counters.at("photons.splatted"));
+  EXPECT_EQ(hierarchical.counters.at("photons.dropped_tir"), regular.counters.at("photons.dropped_tir"));
+  EXPECT_NEAR(hierarchical.counters.at("caustic.flux"), regular.counters.at("caustic.flux"), 1e-4 * regular.counters.at("caustic.flux"));
+  EXPECT_LT(hierarchical.counters.at("photons.processed"), 0.25 * regular.counters.at("photons.processed"));
+}

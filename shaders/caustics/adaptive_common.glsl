@@ -19,6 +19,9 @@ layout(set = 0, binding = 10, std430) buffer ControlBlock {
   uint counts[16];
   uint args[16][3];
 };
+// Hierarchical only: a max pyramid of the refractor coverage of the light-view front surfaces,
+// finest level (light_size^2) first, each next level half the side.
+layout(set = 0, binding = 11, std430) buffer CoverageBlock { uint coverage[]; };
 
 const uint START_CLUSTERS_SIDE = 32u;  // a 64 x 64 photon grid: 32 x 32 clusters of 2 x 2 photons
 const uint GROUP = 64u;
@@ -35,6 +38,7 @@ layout(push_constant) uniform Params {
   uint list_capacity;
   uint batch_first;     // first start cluster of this batch, row-major over 32 x 32
   uint batch_count;
+  uint light_size_log2;  // hierarchical: side of the coverage pyramid's finest level
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
   // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
   uint counter_slot[11];

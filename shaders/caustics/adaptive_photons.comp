@@ -1,9 +1,13 @@
 #version 460
-// Adaptive caustic map (Wyman and Nichols 2009), one level of the traversal. A cluster at level L
-// is 2 x 2 photons of the grid of side 64 * 2^L. All four missing the refractor: dropped. At the
-// last level: every photon is output. From converge_level on, four photons landing in one
-// caustic-map texel: output as one photon with the cluster's whole power. Otherwise each photon
-// becomes a cluster of the next level, appended to the other list.
+// One level of the caustic-map traversals. A cluster at level L is 2 x 2 photons of the grid of
+// side 64 * 2^L.
+// Adaptive (Wyman and Nichols 2009): the four photons are traced. All four missing the refractor:
+// dropped. At the last level: every photon is output. From converge_level on, four photons landing
+// in one caustic-map texel: output as one photon with the cluster's whole power. Otherwise each
+// photon becomes a cluster of the next level, appended to the other list.
+// HIERARCHICAL (Wyman 2008): nothing is traced above the last level; a cluster whose footprint the
+// coverage pyramid shows free of refractors is skipped, any other is refined, and the last level
+// traces and outputs its photons.
 #extension GL_GOOGLE_include_directive : require
 #include "caustics/adaptive_common.glsl"
 #include "caustics/photon.glsl"
@@ -33,6 +37,34 @@ void output_photon(Photon ph) {
   }
 }
 
+// Appends the four photons of `cluster` as clusters of the next level.
+void refine(uvec2 cluster) {
+  uint at = atomicAdd(counts[params.level + 1u], 4u);
+  if (at + 4u <= params.list_capacity) {
+    uint base = ((params.level + 1u) % 2u) * params.list_capacity + at;
+    for (uint k = 0u; k < 4u; ++k) {
+      uvec2 child = cluster * 2u + uvec2(k & 1u, k >> 1);
+      clusters[base + k] = child.x | (child.y << 16);
+    }
+  } else {
+    count_n(OVERFLOW, 4u);  // cannot happen with the pass's batching; counted, never silent
+  }
+}
+
+#ifdef HIERARCHICAL
+// Whether any light-view texel under the cluster's footprint shows a refractor: one texel of the
+// pyramid level whose texels are the footprint's size, or the finest level's texel that holds it.
+bool covered(uvec2 cluster) {
+  uint clusters_log2 = 5u + params.level;  // 32 * 2^level clusters per side
+  uint k = params.light_size_log2 > clusters_log2 ? params.light_size_log2 - clusters_log2 : 0u;
+  uint offset = 0u;
+  for (uint l = 0u; l < k; ++l) offset += 1u << (2u * (params.light_size_log2 - l));
+  uint level_side = 1u << (params.light_size_log2 - k);
+  uvec2 texel = clusters_log2 >= params.light_size_log2 ? cluster >> (clusters_log2 - params.light_size_log2) : cluster;
+  return coverage[offset + texel.y * level_side + texel.x] != 0u;
+}
+#endif
+
 void main() {
   begin_group_totals();
   uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
@@ -48,6 +80,21 @@ void main() {
     }
     LightData light = frame.lights[params.light];
     uint side = 64u << params.level;
+#ifdef HIERARCHICAL
+    if (!covered(cluster)) {
+      // skipped: no photon of it is traced
+    } else if (params.level < params.max_level) {
+      refine(cluster);
+    } else {
+      float texel = 2.0 * light.clip.z / float(side);
+      for (uint k = 0u; k < 4u; ++k) {
+        uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
+        output_photon(trace_photon(light, (vec2(p) + 0.5) / float(side), texel));
+      }
+      count_n(PROCESSED, 4u);
+      count_n(PROCESSED_LEVEL, 4u);
+    }
+#else
     float texel = 2.0 * light.clip.z / float(side);
     Photon ph[4];
     bool any_hit = false, all_same_texel = true;
@@ -71,17 +118,9 @@ void main() {
       add_sum(FLUX, power);
       add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
     } else {
-      uint at = atomicAdd(counts[params.level + 1u], 4u);
-      if (at + 4u <= params.list_capacity) {
-        uint base = ((params.level + 1u) % 2u) * params.list_capacity + at;
-        for (uint k = 0u; k < 4u; ++k) {
-          uvec2 child = cluster * 2u + uvec2(k & 1u, k >> 1);
-          clusters[base + k] = child.x | (child.y << 16);
-        }
-      } else {
-        count_n(OVERFLOW, 4u);  // cannot happen with the pass's batching; counted, never silent
-      }
+      refine(cluster);
     }
+#endif
   }
   end_group_totals(7u, 8u, 3u);
 }
