@@ -26,7 +26,7 @@ using namespace caustica;
 
 namespace {
 
-constexpr const char* kDefaultGraph = "graphs/refraction_multilayer.json";
+constexpr const char* kDefaultGraph = "graphs/caustics_adaptive.json";
 constexpr const char* kDefaultScene = "scenes/bunny_plane.json";
 
 const char* kMainHelp = R"(caustica: a frame-graph renderer whose pipelines are JSON files
@@ -39,14 +39,14 @@ commands:
   validate   check graph and scene files; exit 0 when all are valid, 1 with messages otherwise
   graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
   devices    list the Vulkan devices
-  bench      benchmarks: 'bench refraction' (deferred against forward refraction)
+  bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's table)
   reference  ray trace the exact refraction image of a scene (the ground truth), with Embree
 
 'caustica <command> --help' describes each command.
 exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
 )";
 
-const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/refraction_multilayer.json in the data folder)
+const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/caustics_adaptive.json in the data folder)
   --scene FILE          scene for graphs that draw one (default: scenes/bunny_plane.json); a graph
                         without scene passes ignores it
   --size WxH            output size (default 1280x720)
@@ -438,9 +438,102 @@ int cmd_bench_refraction(Args& args) {
   return 0;
 }
 
+// The paper's table: photons processed per method and effective grid on one scene, with the GPU
+// time of the caustic pass, one run.
+int cmd_bench_photons(Args& args) {
+  std::string scene_file = (data_dir() / kDefaultScene).string(), out_dir, device;
+  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
+  uint32_t frames = 3, regular_max = 16384;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene") scene_file = args.value(a);
+    else if (a == "--out") out_dir = args.value(a);
+    else if (a == "--device") device = args.value(a);
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    else if (a == "--grids") {
+      grids.clear();
+      std::string list = args.value(a);
+      for (size_t start = 0; start <= list.size();) {
+        size_t comma = std::min(list.find(',', start), list.size());
+        const uint64_t g = parse_uint("--grids", list.substr(start, comma - start), 64, 65536);
+        if ((g & (g - 1)) != 0) throw UsageError("--grids: " + std::to_string(g) + " is not a power of two");
+        grids.push_back(static_cast<uint32_t>(g));
+        start = comma + 1;
+      }
+    } else {
+      unknown_option(a, {"--scene", "--grids", "--frames", "--regular-max", "--out", "--device"});
+    }
+  }
+  auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
+  vk::Context vk({device, false, false});
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  struct Method {
+    const char* name;
+    const char* graph;
+  };
+  const Method methods[] = {{"regular", "caustics_regular"},
+                            {"hierarchical", "caustics_hierarchical"},
+                            {"adaptive_max_level", "caustics_adaptive_maxlevel"},
+                            {"adaptive_max_error", "caustics_adaptive_maxerror"},
+                            {"adaptive_hybrid", "caustics_adaptive"}};
+  std::string csv = "grid,method,processed,gpu_ms\n";
+  std::string table = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
+  std::string times = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
+  for (uint32_t grid : grids) {
+    std::string row = "| " + std::to_string(grid) + "^2 |", time_row = row;
+    for (const auto& m : methods) {
+      if (std::string(m.name) == "regular" && grid > regular_max) {
+        row += " n/a |";
+        time_row += " n/a |";
+        continue;
+      }
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      executor.set_scene(scene);
+      auto g = graph::load_graph_file((data_dir() / "graphs" / (std::string(m.graph) + ".json")).string());
+      graph::apply_overrides(g, {"grid=" + std::to_string(grid)});
+      executor.configure(g, 640, 360);
+      executor.run_frame(false);  // pipelines compile on first use
+      std::vector<double> ms;
+      double processed = 0;
+      for (uint32_t f = 0; f < frames; ++f) {
+        auto result = executor.run_frame(false);
+        for (const auto& p : result.passes) {
+          if (p.name == "caustics") ms.push_back(p.gpu_ms);
+        }
+        processed = result.counters.count("photons.processed") ? result.counters.at("photons.processed") : 0;
+      }
+      char cell[128];
+      std::snprintf(cell, sizeof(cell), " %.0f |", processed);
+      row += cell;
+      std::snprintf(cell, sizeof(cell), " %.2f ms |", median(ms));
+      time_row += cell;
+      std::snprintf(cell, sizeof(cell), "%u,%s,%.0f,%.4f\n", grid, m.name, processed, median(ms));
+      csv += cell;
+      std::fprintf(stderr, "\r%u^2 %s: %.0f photons, %.2f ms          ", grid, m.name, processed, median(ms));
+    }
+    std::fprintf(stderr, "\n");
+    table += row + "\n";
+    times += time_row + "\n";
+  }
+  std::cout << "scene " << scene->name << ", device " << vk.device_name() << ", median of " << frames
+            << " frames after one warm-up; GPU time of the caustic pass only\n\nphotons processed:\n\n"
+            << table << "\ncaustic pass GPU time:\n\n"
+            << times;
+  if (!out_dir.empty()) {
+    std::filesystem::create_directories(out_dir);
+    io::write_text_atomically((std::filesystem::path(out_dir) / "photons.csv").string(), csv);
+  }
+  return 0;
+}
+
 int cmd_bench(Args& args) {
   const char* help =
-      "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n\n"
+      "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
+      "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n\n"
+      "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
+      "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
+      "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
       "Deferred against forward refraction on the same scenes, one run, frames interleaved: median GPU time of the\n"
       "refraction passes (refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders\n"
       "the ball-lens scene with its sphere tessellated into N slices (triangle count alone varies).\n";
@@ -448,10 +541,11 @@ int cmd_bench(Args& args) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("bench needs a benchmark name: refraction; see caustica bench --help");
+  if (args.done()) throw UsageError("bench needs a benchmark name: refraction or photons; see caustica bench --help");
   std::string what = args.take();
   if (what == "refraction") return cmd_bench_refraction(args);
-  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction"}));
+  if (what == "photons") return cmd_bench_photons(args);
+  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons"}));
 }
 
 int cmd_devices(Args& args) {
