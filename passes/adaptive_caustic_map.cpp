@@ -34,6 +34,7 @@ struct AdaptivePush {
   uint32_t batch_first;
   uint32_t batch_count;
   uint32_t light_size_log2;
+  uint32_t splat_levels;
   uint32_t counter_slot[11];
 };
 
@@ -90,40 +91,44 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     uint64_t coverage_words = 1;
     for (uint32_t l = 0; hierarchical_ && l <= light_size_log2_; ++l) coverage_words += uint64_t{1} << (2 * (light_size_log2_ - l));
     coverage_ = vk::make_buffer(vk, coverage_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " coverage");
+    splat_levels_ = p["splat_levels"].get<uint32_t>();
+    uint64_t pyramid_words = 0;
+    const auto& map = setup.resource("caustic_map");
+    for (uint32_t l = 0; l < splat_levels_; ++l) pyramid_words += uint64_t{std::max(1u, map.width >> l)} * std::max(1u, map.height >> l);
+    pyramid_ = vk::make_buffer(vk, pyramid_words * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
+                               setup.pass().name + " multi-resolution caustic map");
     const vk::PipelineDesc layout{hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
                                   {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                   sizeof(AdaptivePush)};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", defines));
     if (hierarchical_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
-    clear_ = vk::make_compute_pipeline(vk, {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0}, setup.shaders().compile("caustics/clear.comp"));
+    combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
   }
 
   void execute(graph::PassContext& ctx) override {
     VkCommandBuffer cmd = ctx.cmd();
     const VkExtent2D map = ctx.extent("caustic_map");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_.pipeline.get());
-    vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear_);
-    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
-
     const uint32_t batches = (kStartClusters + starts_per_batch_ - 1) / starts_per_batch_;
     constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    // The batch count goes into its counter with a transfer, ordered against every counting shader.
+    // The batch count goes into its counter with a transfer, ordered against every counting shader,
+    // and the multi-resolution map starts at zero.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), batches);
+    vkCmdFillBuffer(cmd, pyramid_.get(), 0, VK_WHOLE_SIZE, 0);
 
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
-                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, {}};
+                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_, {}};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -140,6 +145,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
           .storage_buffer(9, lists_.get())
           .storage_buffer(10, control_.get())
           .storage_buffer(11, coverage_.get())
+          .storage_buffer(12, pyramid_.get())
           .push(ctx.vk(), cmd, pipeline);
     };
     if (hierarchical_) {
@@ -181,13 +187,17 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         else vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
       }
     }
+    memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+    bind(combine_);
+    vkCmdPushConstants(cmd, combine_.layout.get(), combine_.stages, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
   }
 
  private:
   bool hierarchical_;
-  vk::Pipeline photons_, args_, clear_, coverage_pipeline_;
-  vk::Buffer lists_, control_, coverage_;
-  uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0;
+  vk::Pipeline photons_, args_, combine_, coverage_pipeline_;
+  vk::Buffer lists_, control_, coverage_, pyramid_;
+  uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
   uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;
   std::vector<uint32_t> level_slots_;
 };
@@ -218,6 +228,9 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
     params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
   }
   params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
+  params.push_back({"splat_levels", ParamType::int_, 4, 1.0, 8.0, {},
+                    "levels of the multi-resolution caustic map: a photon whose cluster's landing points spread n texels splats "
+                    "into the level with texels n wide; 1: everything into the finest"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
   params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
   return params;

@@ -238,3 +238,35 @@ TEST(Caustics, BallLensCumulativeFluxMatchesTheExactLens) {
   }
   EXPECT_GT(frame.counters.at("photons.splatted"), 0.0);
 }
+
+// Multi-resolution splatting: photons whose cluster's landing points spread apart go to coarser
+// levels, summed into the caustic map with bilinear upsampling. The map keeps the splatted flux,
+// and the speckle of sparse photons falls: measured as the mean absolute difference between
+// horizontally adjacent texels relative to the mean texel, on the bunny's caustic (0.537 with one
+// level, 0.434 with four when this was written; the bound asks for at least 10% less).
+TEST(Caustics, MultiResolutionSplatsKeepTheFluxAndSmoothTheSpeckle) {
+  Engine e;
+  auto scene = load("bunny_plane");
+  auto roughness = [](const io::ImageData& map, double* total) {
+    double sum = 0, steps = 0;
+    for (uint32_t y = 0; y < map.height; ++y) {
+      for (uint32_t x = 0; x + 1 < map.width; ++x) {
+        const size_t i = (size_t{y} * map.width + x) * 4;
+        sum += static_cast<double>(map.rgba[i]);
+        steps += static_cast<double>(std::abs(map.rgba[i + 4] - map.rgba[i]));
+      }
+    }
+    *total = sum;
+    return steps / std::max(sum, 1e-30);
+  };
+  double flux_single = 0, flux_multi = 0;
+  auto single = e.render("caustics_adaptive", scene, {"grid=2048", "splat_levels=1"});
+  const double rough_single = roughness(e.executor.read_image("caustics"), &flux_single);
+  auto multi = e.render("caustics_adaptive", scene, {"grid=2048", "splat_levels=4"});
+  const double rough_multi = roughness(e.executor.read_image("caustics"), &flux_multi);
+  std::printf("single level: flux %.4f (splatted %.4f), roughness %.3f; 4 levels: flux %.4f (splatted %.4f), roughness %.3f\n", flux_single,
+              single.counters.at("caustic.flux"), rough_single, flux_multi, multi.counters.at("caustic.flux"), rough_multi);
+  EXPECT_NEAR(flux_single, single.counters.at("caustic.flux"), 1e-3 * flux_single);
+  EXPECT_NEAR(flux_multi, multi.counters.at("caustic.flux"), 0.01 * flux_multi);
+  EXPECT_LT(rough_multi, 0.9 * rough_single);
+}

@@ -22,6 +22,9 @@ layout(set = 0, binding = 10, std430) buffer ControlBlock {
 // Hierarchical only: a max pyramid of the refractor coverage of the light-view front surfaces,
 // finest level (light_size^2) first, each next level half the side.
 layout(set = 0, binding = 11, std430) buffer CoverageBlock { uint coverage[]; };
+// The multi-resolution caustic map: splat_levels levels of flux per texel, the caustic map's size
+// first, each next level half the side; combine.comp sums them into the caustic map.
+layout(set = 0, binding = 12, std430) buffer PyramidBlock { float pyramid[]; };
 
 const uint START_CLUSTERS_SIDE = 32u;  // a 64 x 64 photon grid: 32 x 32 clusters of 2 x 2 photons
 const uint GROUP = 64u;
@@ -39,9 +42,18 @@ layout(push_constant) uniform Params {
   uint batch_first;     // first start cluster of this batch, row-major over 32 x 32
   uint batch_count;
   uint light_size_log2;  // hierarchical: side of the coverage pyramid's finest level
+  uint splat_levels;
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
   // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
   uint counter_slot[11];
 } params;
+
+uvec2 pyramid_size(uint level) { return max(uvec2(imageSize(caustic_map)) >> level, uvec2(1u)); }
+
+uint pyramid_offset(uint level) {
+  uint offset = 0u;
+  for (uint l = 0u; l < level; ++l) offset += pyramid_size(l).x * pyramid_size(l).y;
+  return offset;
+}
 
 #endif

@@ -18,7 +18,28 @@ layout(local_size_x = 64) in;
 const uint PROCESSED = 0u, SPLATTED = 1u, MISS = 2u, TIR = 3u, CONVERGED = 4u, OVERFLOW = 5u, PROCESSED_LEVEL = 6u;
 const uint FLUX = 0u, ENTERING = 1u, DROPPED = 2u;
 
-void output_photon(Photon ph) {
+// The splat level of a cluster's photons: their footprint on the caustic map is about the spread
+// of the cluster's landing points (Chebyshev distance, in finest texels); a photon whose
+// neighbours land n texels away goes to the level whose texels are n finest texels wide.
+uint footprint_level(Photon ph[4]) {
+  int spread = 0;
+  for (uint a = 0u; a < 4u; ++a) {
+    for (uint b = a + 1u; b < 4u; ++b) {
+      if (ph[a].landed && ph[b].landed) {
+        ivec2 d = abs(ph[a].texel - ph[b].texel);
+        spread = max(spread, max(d.x, d.y));
+      }
+    }
+  }
+  return spread <= 1 ? 0u : min(params.splat_levels - 1u, uint(ceil(log2(float(spread)))));
+}
+
+void splat_at(ivec2 texel, uint level, float power) {
+  uvec2 t = uvec2(texel) >> level;
+  atomicAdd(pyramid[pyramid_offset(level) + t.y * pyramid_size(level).x + t.x], power);
+}
+
+void output_photon(Photon ph, uint level) {
   if (!ph.hit) {
     count(MISS);
     return;
@@ -31,7 +52,7 @@ void output_photon(Photon ph) {
     count(MISS);
     add_sum(DROPPED, ph.power);
   } else {
-    splat(ph.texel, ph.power);
+    splat_at(ph.texel, level, ph.power);
     count(SPLATTED);
     add_sum(FLUX, ph.power);
   }
@@ -87,10 +108,13 @@ void main() {
       refine(cluster);
     } else {
       float texel = 2.0 * light.clip.z / float(side);
+      Photon ph[4];
       for (uint k = 0u; k < 4u; ++k) {
         uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
-        output_photon(trace_photon(light, (vec2(p) + 0.5) / float(side), texel));
+        ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
       }
+      uint level = footprint_level(ph);
+      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
       count_n(PROCESSED, 4u);
       count_n(PROCESSED_LEVEL, 4u);
     }
@@ -109,10 +133,11 @@ void main() {
     if (!any_hit) {
       count_n(MISS, 4u);
     } else if (params.level == params.max_level) {
-      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k]);
+      uint level = footprint_level(ph);
+      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
     } else if (params.level >= params.converge_level && all_same_texel) {
       float power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
-      splat(ph[0].texel, power);
+      splat_at(ph[0].texel, 0u, power);
       count(CONVERGED);
       count(SPLATTED);
       add_sum(FLUX, power);
