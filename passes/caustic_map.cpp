@@ -15,8 +15,7 @@ struct PhotonPush {
   uint32_t light;
   uint32_t grid;
   uint32_t fresnel;
-  uint32_t counter_slot[7];
-  uint32_t pad;
+  uint32_t counter_slot[8];
 };
 
 class CausticMapPass final : public graph::Pass {
@@ -27,10 +26,15 @@ class CausticMapPass final : public graph::Pass {
                         "(VK_EXT_shader_atomic_float), which caustic_map splats photons with");
     }
     using Kind = graph::PassSetup::CounterKind;
-    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir"};
+    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir", "photons.processed.level0"};
     const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
-    for (int i = 0; i < 4; ++i) slots_[i] = setup.add_counter(counts[i]);
-    for (int i = 0; i < 3; ++i) slots_[4 + i] = setup.add_counter(sums[i], Kind::sum);
+    for (int i = 0; i < 5; ++i) slots_[i] = setup.add_counter(counts[i]);
+    for (int i = 0; i < 3; ++i) slots_[5 + i] = setup.add_counter(sums[i], Kind::sum);
+    // Reported by every caustic method; the regular map is one batch of one level, converges
+    // nothing and keeps no photon lists.
+    setup.add_counter("photons.converged");
+    setup.add_counter("photons.peak_bytes");
+    batches_slot_ = setup.add_counter("photons.batches");
     clear_ = vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0},
                                        setup.shaders().compile("caustics/clear.comp"));
     photons_ = vk::make_compute_pipeline(
@@ -55,8 +59,12 @@ class CausticMapPass final : public graph::Pass {
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);
     PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
-                    p["fresnel"].get<bool>() ? 1u : 0u, {}, 0};
-    for (int i = 0; i < 7; ++i) push.counter_slot[i] = slots_[i];
+                    p["fresnel"].get<bool>() ? 1u : 0u, {}};
+    for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
+    constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), 1);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
     scene_descriptors(ctx)
         .sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
@@ -72,7 +80,8 @@ class CausticMapPass final : public graph::Pass {
 
  private:
   vk::Pipeline clear_, photons_;
-  uint32_t slots_[7] = {};
+  uint32_t slots_[8] = {};
+  uint32_t batches_slot_ = 0;
 };
 
 }  // namespace

@@ -270,3 +270,19 @@ TEST(Caustics, MultiResolutionSplatsKeepTheFluxAndSmoothTheSpeckle) {
   EXPECT_NEAR(flux_multi, multi.counters.at("caustic.flux"), 0.01 * flux_multi);
   EXPECT_LT(rough_multi, 0.9 * rough_single);
 }
+
+// Every caustic method reports the same counters, under the names the trace and --stats show.
+TEST(Caustics, EveryMethodReportsEveryCounter) {
+  Engine e;
+  auto scene = load("sphere_plane");
+  for (const char* graph :
+       {"caustics_regular", "caustics_hierarchical", "caustics_adaptive_maxlevel", "caustics_adaptive_maxerror", "caustics_adaptive"}) {
+    auto frame = e.render(graph, scene, {"grid=256"});
+    for (const char* counter : {"photons.processed", "photons.processed.level0", "photons.splatted", "photons.dropped_miss",
+                                "photons.dropped_tir", "photons.converged", "photons.batches", "photons.peak_bytes", "caustic.flux"}) {
+      EXPECT_EQ(frame.counters.count(counter), 1u) << graph << " " << counter;
+    }
+    EXPECT_GT(frame.counters.at("photons.processed"), 0.0) << graph;
+    EXPECT_GE(frame.counters.at("photons.batches"), 1.0) << graph;
+  }
+}

@@ -19,10 +19,9 @@ layout(push_constant) uniform Params {
   uint light;
   uint grid;
   uint fresnel;
-  // Counter slots: processed, splatted, dropped_miss, dropped_tir (counts), then flux,
-  // flux_entering, flux_dropped (sums).
-  uint counter_slot[7];
-  uint pad;
+  // Counter slots: processed, splatted, dropped_miss, dropped_tir, processed.level0 (counts),
+  // then flux, flux_entering, flux_dropped (sums).
+  uint counter_slot[8];
 } params;
 
 #include "caustics/photon.glsl"
@@ -35,6 +34,7 @@ void main() {
   uvec2 id = gl_GlobalInvocationID.xy;
   if (all(lessThan(id, uvec2(params.grid)))) {
     count(0);
+    count(4);
     Photon ph = trace_photon(frame.lights[params.light], (vec2(id) + 0.5) / float(params.grid), 2.0 * frame.lights[params.light].clip.z / float(params.grid));
     if (!ph.hit) {
       count(2);  // misses every refractor: direct light, not a caustic
@@ -53,5 +53,5 @@ void main() {
       }
     }
   }
-  end_group_totals(4u, 4u, 3u);
+  end_group_totals(5u, 5u, 3u);
 }
