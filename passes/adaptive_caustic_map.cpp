@@ -187,10 +187,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         else vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
       }
     }
-    memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+    // Sum the multi-resolution map, coarsest level first; the step into level 0 writes the map.
     bind(combine_);
-    vkCmdPushConstants(cmd, combine_.layout.get(), combine_.stages, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
+    for (uint32_t level = std::max(splat_levels_, 2u) - 1; level >= 1; --level) {
+      memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+      push.level = level;
+      vkCmdPushConstants(cmd, combine_.layout.get(), combine_.stages, 0, sizeof(push), &push);
+      const uint32_t width = std::max(1u, map.width >> (level - 1)), height = std::max(1u, map.height >> (level - 1));
+      vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+    }
   }
 
  private:

@@ -121,12 +121,13 @@ void main() {
 #else
     float texel = 2.0 * light.clip.z / float(side);
     Photon ph[4];
-    bool any_hit = false, all_same_texel = true;
+    bool any_hit = false, all_same_texel = true, all_lost = true;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
       ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
       any_hit = any_hit || ph[k].hit;
       all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
+      all_lost = all_lost && ph[k].hit && !ph[k].landed;
     }
     count_n(PROCESSED, 4u);
     count_n(PROCESSED_LEVEL, 4u);
@@ -135,6 +136,15 @@ void main() {
     } else if (params.level == params.max_level) {
       uint level = footprint_level(ph);
       for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+    } else if (params.level >= params.converge_level && all_lost) {
+      // Converged to nothing: all four met a refractor and none reached a receiver (total internal
+      // reflection or an exit ray that leaves the light's view); their power is dropped as one.
+      for (uint k = 0u; k < 4u; ++k) {
+        count(ph[k].tir ? TIR : MISS);
+        add_sum(ENTERING, ph[k].entering);
+        add_sum(DROPPED, ph[k].power);
+      }
+      count(CONVERGED);
     } else if (params.level >= params.converge_level && all_same_texel) {
       float power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
       splat_at(ph[0].texel, 0u, power);

@@ -1,29 +1,29 @@
 #version 460
-// The multi-resolution caustic map summed into the caustic map: each finest texel gets its own flux
-// plus every coarser level's, bilinearly interpolated at its centre and divided by the number of
-// finest texels a coarse texel covers (4^level), which keeps the total flux.
+// One step of summing the multi-resolution caustic map, coarsest level first: every texel of level
+// params.level - 1 adds level params.level bilinearly interpolated at its centre, divided by 4 (a
+// texel covers four of the finer level's), which keeps the total flux. The step into level 0
+// writes the caustic map.
 #extension GL_GOOGLE_include_directive : require
 #include "caustics/adaptive_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-float pyramid_texel(uint level, ivec2 t) {
-  ivec2 size = ivec2(pyramid_size(level));
-  t = clamp(t, ivec2(0), size - 1);
-  return pyramid[pyramid_offset(level) + uint(t.y * size.x + t.x)];
-}
-
 void main() {
+  uint coarse = params.level, fine = coarse - 1u;
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(p, imageSize(caustic_map)))) return;
-  float flux = pyramid_texel(0u, p);
-  for (uint level = 1u; level < params.splat_levels; ++level) {
-    vec2 c = (vec2(p) + 0.5) / float(1u << level) - 0.5;
+  ivec2 fine_size = ivec2(pyramid_size(fine)), size = ivec2(pyramid_size(coarse));
+  if (any(greaterThanEqual(p, fine_size))) return;
+  uint fine_offset = pyramid_offset(fine), offset = pyramid_offset(coarse);
+  float flux = pyramid[fine_offset + uint(p.y * fine_size.x + p.x)];
+  if (coarse < params.splat_levels) {
+    vec2 c = (vec2(p) + 0.5) * 0.5 - 0.5;
     ivec2 i = ivec2(floor(c));
     vec2 f = c - vec2(i);
-    float v = mix(mix(pyramid_texel(level, i), pyramid_texel(level, i + ivec2(1, 0)), f.x),
-                  mix(pyramid_texel(level, i + ivec2(0, 1)), pyramid_texel(level, i + ivec2(1, 1)), f.x), f.y);
-    flux += v / float(1u << (2u * level));
+    ivec2 a = clamp(i, ivec2(0), size - 1), b = clamp(i + 1, ivec2(0), size - 1);
+    float v00 = pyramid[offset + uint(a.y * size.x + a.x)], v10 = pyramid[offset + uint(a.y * size.x + b.x)];
+    float v01 = pyramid[offset + uint(b.y * size.x + a.x)], v11 = pyramid[offset + uint(b.y * size.x + b.x)];
+    flux += 0.25 * mix(mix(v00, v10, f.x), mix(v01, v11, f.x), f.y);
   }
-  imageStore(caustic_map, p, vec4(flux));
+  if (fine == 0u) imageStore(caustic_map, p, vec4(flux));
+  else pyramid[fine_offset + uint(p.y * fine_size.x + p.x)] = flux;
 }
