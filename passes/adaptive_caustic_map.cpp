@@ -135,13 +135,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
     auto bind = [&](const vk::Pipeline& pipeline) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
-      scene_descriptors(ctx)
-          .sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
-          .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
-          .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
-          .storage_image(6, ctx.view("caustic_map"))
-          .storage_buffer(7, ctx.counter_buffer())
-          .storage_buffer(8, ctx.counter_buffer())
+      photon_descriptors(ctx)
           .storage_buffer(9, lists_.get())
           .storage_buffer(10, control_.get())
           .storage_buffer(11, coverage_.get())
@@ -207,19 +201,6 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   std::vector<uint32_t> level_slots_;
 };
 
-
-std::vector<graph::PortDecl> photon_ports() {
-  using namespace graph;
-  auto surfaces = [](const char* name, const char* what) {
-    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
-  };
-  return {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
-          surfaces("back", "refractor back surfaces from the light"),
-          {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
-           "opaque geometry's depth from the light (shadow_map without refractors)"},
-          {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
-           "flux per texel, in the light's image plane"}};
-}
 
 std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
   using namespace graph;

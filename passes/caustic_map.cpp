@@ -66,14 +66,7 @@ class CausticMapPass final : public graph::Pass {
     vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), 1);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
-    scene_descriptors(ctx)
-        .sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
-        .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
-        .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
-        .storage_image(6, ctx.view("caustic_map"))
-        .storage_buffer(7, ctx.counter_buffer())
-        .storage_buffer(8, ctx.counter_buffer())
-        .push(ctx.vk(), cmd, photons_);
+    photon_descriptors(ctx).push(ctx.vk(), cmd, photons_);
     vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
     vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
   }
@@ -88,9 +81,6 @@ class CausticMapPass final : public graph::Pass {
 
 graph::PassTypeDecl caustic_map_pass_type() {
   using namespace graph;
-  auto surfaces = [](const char* name, const char* what) {
-    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
-  };
   auto params = refraction_params();
   params.push_back({"grid", ParamType::int_, 512, 16.0, 16384.0, {}, "photons per side of the grid over the light's image plane"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
@@ -101,12 +91,7 @@ graph::PassTypeDecl caustic_map_pass_type() {
       "splatted (nearest texel) into a light-space map of flux per texel. Counters photons.processed, photons.splatted, "
       "photons.dropped_miss, photons.dropped_tir, caustic.flux, caustic.flux_entering, caustic.flux_dropped.",
       PassQueue::compute,
-      {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
-       surfaces("back", "refractor back surfaces from the light"),
-       {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
-        "opaque geometry's depth from the light (shadow_map without refractors)"},
-       {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
-        "flux per texel, in the light's image plane"}},
+      photon_ports(),
       params,
       false,
       [] { return std::make_unique<CausticMapPass>(); }};

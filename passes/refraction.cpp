@@ -25,6 +25,30 @@ std::vector<graph::PortDecl> refraction_inputs() {
           {"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "depth of the background"}};
 }
 
+std::vector<graph::PortDecl> photon_ports() {
+  using namespace graph;
+  auto surfaces = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "light", what};
+  };
+  return {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
+          surfaces("back", "refractor back surfaces from the light"),
+          {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
+           "opaque geometry's depth from the light (shadow_map without refractors)"},
+          {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
+           "flux per texel, in the light's image plane"}};
+}
+
+vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
+  vk::DescriptorWriter writer = scene_descriptors(ctx);
+  writer.sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
+      .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
+      .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
+      .storage_image(6, ctx.view("caustic_map"))
+      .storage_buffer(7, ctx.counter_buffer())
+      .storage_buffer(8, ctx.counter_buffer());
+  return writer;
+}
+
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color) {
   return vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
                                       setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"), {color});

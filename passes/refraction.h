@@ -17,6 +17,13 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
 
+// The ports of every caustic method: the light-view refractor surfaces and receiver depth in, the
+// caustic map (flux per texel) out.
+std::vector<graph::PortDecl> photon_ports();
+// Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
+// caustic map, counters as uint and as float.
+vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
+
 // A full-screen copy of a sampled image into a colour attachment.
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().

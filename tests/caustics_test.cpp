@@ -5,9 +5,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
-#include "builtin_passes.h"
-#include "core/paths.h"
-#include "graph/executor.h"
+#include "scene_engine.h"
 
 using namespace caustica;
 
@@ -15,24 +13,17 @@ namespace {
 
 constexpr uint32_t kWidth = 320, kHeight = 180;
 
-struct Engine {
-  vk::Context vk{{"", true, false}};
-  shader::ShaderCompiler shaders{data_dir() / "shaders"};
-  graph::Executor executor{vk, shaders, passes::builtin_registry()};
-
-  graph::FrameResult render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets) {
-    auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
-    graph::apply_overrides(graph, sets);
-    executor.set_scene(std::move(scene));
-    executor.configure(graph, kWidth, kHeight, {"lit", "caustics"});
-    return executor.run_frame(true);
+struct Engine : test::SceneEngine {
+  Engine() {
+    width = kWidth;
+    height = kHeight;
   }
-  ~Engine() { EXPECT_EQ(vk.validation_messages(), 0u); }
+  graph::FrameResult render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets) {
+    return SceneEngine::render(graph_name, std::move(scene), sets, {"lit", "caustics"});
+  }
 };
 
-std::shared_ptr<scene::Scene> load(const std::string& name) {
-  return std::make_shared<scene::Scene>(scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()));
-}
+std::shared_ptr<scene::Scene> load(const std::string& name) { return test::load_bundled_scene(name); }
 
 // The exact flux a spot light sends into a sphere (ORACLES.md's ball lens): intensity times the
 // sphere's solid angle seen from the light.

@@ -7,10 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "builtin_passes.h"
-#include "core/paths.h"
-#include "graph/executor.h"
 #include "reference/refraction_reference.h"
+#include "scene_engine.h"
 
 using namespace caustica;
 
@@ -18,10 +16,11 @@ namespace {
 
 constexpr uint32_t kWidth = 320, kHeight = 180;
 
-struct Engine {
-  vk::Context vk{{"", true, false}};
-  shader::ShaderCompiler shaders{data_dir() / "shaders"};
-  graph::Executor executor{vk, shaders, passes::builtin_registry()};
+struct Engine : test::SceneEngine {
+  Engine() {
+    width = kWidth;
+    height = kHeight;
+  }
 
   struct Result {
     io::ImageData refracted;  // linear HDR, before tonemapping
@@ -30,23 +29,15 @@ struct Engine {
   };
 
   Result render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets = {}) {
-    auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
-    graph::apply_overrides(graph, sets);
-    executor.set_scene(std::move(scene));
-    executor.configure(graph, kWidth, kHeight, {"refracted", "lit"});
     Result r;
-    r.frame = executor.run_frame(true);
+    r.frame = SceneEngine::render(graph_name, std::move(scene), sets, {"refracted", "lit"});
     r.refracted = executor.read_image("refracted");
     r.lit = executor.read_image("lit");
     return r;
   }
-
-  ~Engine() { EXPECT_EQ(vk.validation_messages(), 0u); }
 };
 
-std::shared_ptr<const scene::Scene> load(const std::string& name) {
-  return std::make_shared<const scene::Scene>(scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()));
-}
+std::shared_ptr<const scene::Scene> load(const std::string& name) { return test::load_bundled_scene(name); }
 
 float luminance(const float* p) { return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]; }
 

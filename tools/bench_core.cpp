@@ -13,6 +13,7 @@
 #include "builtin_passes.h"
 #include "core/paths.h"
 #include "graph/executor.h"
+#include "scene_draw.h"
 #include "vk/pipeline.h"
 
 using namespace caustica;
@@ -211,26 +212,8 @@ class HandChain {
   // One barrier on an image, or a global memory barrier when image is null.
   void barrier(VkImage image, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage,
                VkAccessFlags2 dst_access, VkImageLayout old_layout, VkImageLayout new_layout) {
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, nullptr, src_stage, src_access, dst_stage, dst_access};
-    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    if (image == VK_NULL_HANDLE) {
-      dependency.memoryBarrierCount = 1;
-      dependency.pMemoryBarriers = &memory;
-    } else {
-      ib.srcStageMask = src_stage;
-      ib.srcAccessMask = src_access;
-      ib.dstStageMask = dst_stage;
-      ib.dstAccessMask = dst_access;
-      ib.oldLayout = old_layout;
-      ib.newLayout = new_layout;
-      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      ib.image = image;
-      ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      dependency.imageMemoryBarrierCount = 1;
-      dependency.pImageMemoryBarriers = &ib;
-    }
-    vkCmdPipelineBarrier2(cmd_, &dependency);
+    if (image == VK_NULL_HANDLE) passes::memory_barrier(cmd_, src_stage, src_access, dst_stage, dst_access);
+    else passes::image_barrier(cmd_, image, VK_IMAGE_ASPECT_COLOR_BIT, old_layout, new_layout, src_stage, src_access, dst_stage, dst_access);
   }
 
   vk::Context& vk_;

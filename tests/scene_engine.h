@@ -1,0 +1,40 @@
+#pragma once
+// A lavapipe engine with validation and synchronization validation on that renders bundled graphs
+// on scenes, for the device tests; any validation message fails the test that owns it.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "builtin_passes.h"
+#include "core/paths.h"
+#include "graph/executor.h"
+
+namespace caustica::test {
+
+struct SceneEngine {
+  vk::Context vk{{"", true, false}};
+  shader::ShaderCompiler shaders{data_dir() / "shaders"};
+  graph::Executor executor{vk, shaders, passes::builtin_registry()};
+  uint32_t width = 320, height = 180;
+
+  // Runs one frame of graphs/<graph_name>.json on `scene`, reading back the outputs and `retained`.
+  graph::FrameResult render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets,
+                            const std::set<std::string>& retained) {
+    auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
+    graph::apply_overrides(graph, sets);
+    executor.set_scene(std::move(scene));
+    executor.configure(graph, width, height, retained);
+    return executor.run_frame(true);
+  }
+
+  ~SceneEngine() { EXPECT_EQ(vk.validation_messages(), 0u); }
+};
+
+inline std::shared_ptr<scene::Scene> load_bundled_scene(const std::string& name) {
+  return std::make_shared<scene::Scene>(scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()));
+}
+
+}  // namespace caustica::test
