@@ -13,11 +13,8 @@ namespace {
 
 constexpr uint32_t kWidth = 320, kHeight = 180;
 
+// SceneEngine renders at kWidth x kHeight (320 x 180).
 struct Engine : test::SceneEngine {
-  Engine() {
-    width = kWidth;
-    height = kHeight;
-  }
   graph::FrameResult render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets) {
     return SceneEngine::render(graph_name, std::move(scene), sets, {"lit", "caustics"});
   }

@@ -16,11 +16,8 @@ namespace {
 
 constexpr uint32_t kWidth = 320, kHeight = 180;
 
+// SceneEngine renders at kWidth x kHeight (320 x 180).
 struct Engine : test::SceneEngine {
-  Engine() {
-    width = kWidth;
-    height = kHeight;
-  }
 
   struct Result {
     io::ImageData refracted;  // linear HDR, before tonemapping
