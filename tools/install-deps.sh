@@ -12,6 +12,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
+  clang libclang-rt-14-dev
   python3
 )
 

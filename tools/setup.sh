@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One-command set-up on Debian 12: installs the packages, builds, then
 #   tools/setup.sh render   renders the default graph to caustica.png (the default)
-#   tools/setup.sh test     runs every test: the Release build, then the ASan/UBSan build
+#   tools/setup.sh test     runs every test: the Release build, then the ASan/UBSan build, then
+#                           a deterministic run of the fuzz targets
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-render}"
@@ -30,6 +31,9 @@ case "$mode" in
     build build/asan -DCMAKE_BUILD_TYPE=Debug -DCAUSTICA_SANITIZE=ON
     ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --test-dir build/asan --output-on-failure -j "$jobs"
+    # Graph and scene loading under libFuzzer (clang, ASan, UBSan): a fixed seed and input count,
+    # so the run is the same every time; tests/fuzz/run.sh SECONDS explores further.
+    tests/fuzz/run.sh --ci
     ;;
   *)
     echo "usage: tools/setup.sh [render|test]" >&2

@@ -9,6 +9,7 @@
 
 #include "core/suggest.h"
 #include "graph/expression.h"
+#include "io/json_reader.h"
 
 namespace caustica::graph {
 
@@ -234,23 +235,28 @@ class Compiler {
     return s;
   }
 
+  // Every value an expression gives is finite: the sizes, counts and flags computed from it are
+  // converted to integers, which is undefined for NaN and infinities.
   double evaluate(const std::string& text, const std::string& pointer) const {
+    double v = 0;
     try {
-      return evaluate_expression(text, scope());
+      v = evaluate_expression(text, scope());
     } catch (const std::invalid_argument& e) {
       throw graph_.error(pointer, e.what());
     }
+    if (!std::isfinite(v)) throw graph_.error(pointer, "\"" + text + "\" evaluates to " + JsonReader::format_number(v) + ", not a finite number");
+    return v;
   }
 
   uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const {
     double v = std::floor(evaluate(text, pointer));
     if (v < 1) {
       throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " +
-                                      std::to_string(static_cast<long long>(v)) + "; it must be at least 1");
+                                      JsonReader::format_number(v) + "; it must be at least 1");
     }
     if (v > options_.limits.max_image_dimension_2d) {
       throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " +
-                                      std::to_string(static_cast<long long>(v)) + ", above the device limit of " +
+                                      JsonReader::format_number(v) + ", above the device limit of " +
                                       std::to_string(options_.limits.max_image_dimension_2d) + " (maxImageDimension2D)");
     }
     return static_cast<uint32_t>(v);
@@ -269,7 +275,7 @@ class Compiler {
         double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips"));
         uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
         if (mips < 1 || mips > max_mips) {
-          throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + std::to_string(static_cast<long long>(mips)) +
+          throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) +
                                                          " mip levels; a " + std::to_string(r.width) + "x" + std::to_string(r.height) +
                                                          " image has 1 to " + std::to_string(max_mips));
         }
@@ -278,10 +284,10 @@ class Compiler {
         double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
         if (bytes < 4) {
           throw graph_.error(desc.pointer + "/size", "the size of buffer '" + desc.name + "' evaluates to " +
-                                                         std::to_string(static_cast<long long>(bytes)) + " bytes; it must be at least 4");
+                                                         JsonReader::format_number(bytes) + " bytes; it must be at least 4");
         }
         if (bytes > static_cast<double>(options_.limits.max_buffer_size)) {
-          throw graph_.error(desc.pointer + "/size", "buffer '" + desc.name + "' would be " + mib(static_cast<uint64_t>(bytes)) +
+          throw graph_.error(desc.pointer + "/size", "buffer '" + desc.name + "' would be " + JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
                                                          ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
         }
         r.buffer_size = static_cast<uint64_t>(bytes);

@@ -218,6 +218,25 @@ class JsonParser {
     }
   }
 
+  // Bytes in the well-formed UTF-8 sequence at the start of `s` (RFC 3629: no overlong forms, no
+  // surrogates, nothing above U+10FFFF), or 0.
+  static size_t utf8_length(std::string_view s) {
+    const auto byte = [&](size_t i) { return i < s.size() ? static_cast<unsigned char>(s[i]) : 0u; };
+    const unsigned lead = byte(0);
+    size_t n;
+    unsigned code;
+    if (lead >= 0xC2 && lead <= 0xDF) n = 2, code = lead & 0x1Fu;
+    else if (lead >= 0xE0 && lead <= 0xEF) n = 3, code = lead & 0x0Fu;
+    else if (lead >= 0xF0 && lead <= 0xF4) n = 4, code = lead & 0x07u;
+    else return 0;
+    for (size_t i = 1; i < n; ++i) {
+      if ((byte(i) & 0xC0u) != 0x80u) return 0;
+      code = (code << 6) | (byte(i) & 0x3Fu);
+    }
+    if ((n == 3 && code < 0x800) || (n == 4 && (code < 0x10000 || code > 0x10FFFF)) || (code >= 0xD800 && code <= 0xDFFF)) return 0;
+    return n;
+  }
+
   std::string string() {
     advance();  // '"'
     std::string out;
@@ -229,6 +248,16 @@ class JsonParser {
         break;
       }
       if (static_cast<unsigned char>(c) < 0x20) fail("control character inside a string");
+      if (static_cast<unsigned char>(c) >= 0x80) {
+        // JSON text is UTF-8; anything else would surface later as an exception far from its cause.
+        const size_t n = utf8_length(text_.substr(pos_));
+        if (n == 0) fail("invalid UTF-8 inside a string");
+        for (size_t i = 0; i < n; ++i) {
+          out += peek();
+          advance();
+        }
+        continue;
+      }
       if (c != '\\') {
         out += c;
         advance();

@@ -95,7 +95,8 @@ class JsonReader {
 
   static std::string format_number(double v) {
     nlohmann::json j = v;
-    if (v == static_cast<double>(static_cast<long long>(v)) && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
+    // The range test comes first: converting a double beyond long long's range is undefined.
+    if (std::abs(v) < 1e15 && v == std::floor(v)) return std::to_string(static_cast<long long>(v));
     return j.dump();
   }
 

@@ -157,7 +157,7 @@ double refraction_relative_l1(const io::ImageData& engine, const RefractionImage
   const size_t pixels = reference.refractor.size();
   for (size_t i = 0; i < pixels && i * 4 < engine.rgba.size(); ++i) {
     if (!reference.refractor[i]) continue;
-    const double e = luminance(&engine.rgba[i * 4]), r = luminance(&reference.radiance.rgba[i * 4]);
+    const double e = static_cast<double>(luminance(&engine.rgba[i * 4])), r = static_cast<double>(luminance(&reference.radiance.rgba[i * 4]));
     difference += std::abs(e - r);
     total += std::abs(r);
   }
