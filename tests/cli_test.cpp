@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -198,4 +199,25 @@ TEST(Cli, CheckedInSchemaMatchesThePassRegistry) {
   ASSERT_EQ(schema.code, 0);
   EXPECT_EQ(nlohmann::json::parse(schema.output), nlohmann::json::parse(read(kSource / "graphs/schema.json")))
       << "graphs/schema.json is stale: regenerate it with 'caustica graph schema > graphs/schema.json'";
+}
+
+TEST(Cli, ReferenceAndBenchmarksRun) {
+  fs::path dir = scratch("bench");
+  const std::string sphere = "'" + (kSource / "scenes/sphere_plane.json").string() + "'";
+  CliRun ref = run("reference --scene " + sphere + " --size 64x36 --out ref.exr", dir);
+  ASSERT_EQ(ref.code, 0) << ref.output;
+  EXPECT_GT(fs::file_size(dir / "ref.exr"), 1000u);
+
+  CliRun photons = run("bench photons --scene " + sphere + " --grids 64,128 --frames 1 --out photons", dir);
+  ASSERT_EQ(photons.code, 0) << photons.output;
+  EXPECT_NE(photons.output.find("| 128^2 |"), std::string::npos) << photons.output;
+  const std::string csv = read(dir / "photons" / "photons.csv");
+  EXPECT_EQ(csv.rfind("grid,method,processed,gpu_ms\n", 0), 0u);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 5);  // header, two grids x five methods
+  EXPECT_NE(csv.find("128,regular,16384,"), std::string::npos) << csv;
+
+  CliRun refraction = run("bench refraction --sphere-detail 16 --size 64x36 --frames 2 --csv refraction.csv", dir);
+  ASSERT_EQ(refraction.code, 0) << refraction.output;
+  EXPECT_NE(read(dir / "refraction.csv").find("sphere, detail 16,224,"), std::string::npos);
+  fs::remove_all(dir);
 }
