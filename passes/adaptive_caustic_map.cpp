@@ -119,10 +119,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    // The batch count goes into its counter with a transfer, ordered against every counting shader,
-    // and the multi-resolution map starts at zero.
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), batches);
+    ctx.set_counter(batches_slot_, batches);
+    // The multi-resolution map starts at zero, after the previous frame's combine read it.
+    memory_barrier(cmd, kCompute, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, pyramid_.get(), 0, VK_WHOLE_SIZE, 0);
 
     const RefractionPush shared = refraction_push(ctx, 0);

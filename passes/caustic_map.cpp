@@ -61,10 +61,7 @@ class CausticMapPass final : public graph::Pass {
     PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
                     p["fresnel"].get<bool>() ? 1u : 0u, {}};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(batches_slot_), sizeof(uint32_t), 1);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage);
+    ctx.set_counter(batches_slot_, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
     photon_descriptors(ctx).push(ctx.vk(), cmd, photons_);
     vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);

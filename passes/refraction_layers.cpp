@@ -40,12 +40,7 @@ class RefractionLayersPass final : public graph::Pass {
     const VkExtent2D extent = ctx.extent("color");
     const auto& scene = ctx.scene();
     const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.scene().camera.position);
-    // The fill is a transfer write into the buffer that every counting shader binds whole, in
-    // earlier passes and in this and later ones: order it after those and before these.
-    constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdFillBuffer(cmd, ctx.counter_buffer(), ctx.counter_offset(layers_counter_), sizeof(uint32_t), static_cast<uint32_t>(order.size()));
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, kStorage);
+    ctx.set_counter(layers_counter_, static_cast<double>(order.size()));
     if (order.empty()) {  // no refractor, no layer: the background passes through
       record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
       return;

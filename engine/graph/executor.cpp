@@ -66,6 +66,7 @@ struct Executor::Realized {
   std::vector<std::unique_ptr<Pass>> passes;
   std::vector<std::string> counter_names;
   std::vector<bool> counter_is_sum;
+  std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
   vk::Buffer counters;  // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
@@ -104,6 +105,7 @@ VkExtent2D PassContext::extent(const std::string& port) const {
 VkSampler PassContext::linear_sampler() const { return executor_.realized_->linear.get(); }
 VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
 VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
+void PassContext::set_counter(uint32_t counter, double value) const { executor_.realized_->host_counters[counter] = value; }
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
   return *executor_.scene_;
@@ -335,6 +337,7 @@ FrameResult Executor::run_frame(bool read_back) {
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
+  real.host_counters.clear();
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -353,9 +356,8 @@ FrameResult Executor::run_frame(bool read_back) {
   VkMemoryBarrier2 counters_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
   counters_ready.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
   counters_ready.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-  // Passes count in shaders or set a counter with a transfer (refraction_layers.layers).
-  counters_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-  counters_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  counters_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  counters_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
   VkDependencyInfo counters_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   counters_dep.memoryBarrierCount = 1;
   counters_dep.pMemoryBarriers = &counters_ready;
@@ -444,6 +446,10 @@ FrameResult Executor::run_frame(bool read_back) {
     result.passes[i].gpu_start_ms = elapsed(frame_begin, pass_stamps[i].first);
   }
   for (size_t c = 0; c < real.counter_names.size(); ++c) {
+    if (auto host = real.host_counters.find(static_cast<uint32_t>(c)); host != real.host_counters.end()) {
+      result.counters[real.counter_names[c]] = host->second;
+      continue;
+    }
     const auto* slot = static_cast<const unsigned char*>(real.counters.mapped) + c * sizeof(uint32_t);
     if (real.counter_is_sum[c]) {
       float sum;

@@ -50,6 +50,9 @@ class PassContext {
   // The scene being rendered; only passes whose type declares needs_scene may ask.
   const scene::GpuScene& scene() const;
   VkDeviceSize counter_offset(uint32_t counter) const { return counter * sizeof(uint32_t); }
+  // A counter whose value the pass knows while recording (layers, batches): reported as it is,
+  // without a device write. No shader may add to it.
+  void set_counter(uint32_t counter, double value) const;
 
  private:
   Executor& executor_;
