@@ -427,7 +427,7 @@ FrameResult Executor::run_frame(bool read_back) {
   // A lost device or a hung GPU ends the frame with an error instead of waiting forever.
   constexpr uint64_t kFrameTimeoutNs = 120ull * 1000 * 1000 * 1000;
   VkFence fence = real.fence.get();
-  VkResult waited = vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, kFrameTimeoutNs);
+  VkResult waited = vk_.frame_result(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, kFrameTimeoutNs));
   if (waited == VK_TIMEOUT) throw DeviceError("frame did not finish within 120 s (VK_TIMEOUT)");
   vk::check(waited, "vkWaitForFences");
   vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");

@@ -51,11 +51,25 @@ void commit(const std::filesystem::path& temp, const std::filesystem::path& targ
 
 }  // namespace
 
-void write_image(const std::string& path, const ImageData& image) {
-  std::filesystem::path target(path);
-  std::string ext = target.extension().string();
+void check_output_file(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
+    throw InputError(path + ": cannot write: folder '" + folder.string() + "' does not exist");
+  }
+}
+
+std::string check_image_output(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != ".png" && ext != ".exr") throw UsageError(path + ": output must end in .png or .exr");
+  check_output_file(path);
+  return ext;
+}
+
+void write_image(const std::string& path, const ImageData& image) {
+  std::filesystem::path target(path);
+  const std::string ext = check_image_output(path);
   std::filesystem::path temp = temporary_name(target);
   auto out = OIIO::ImageOutput::create(temp.string());
   if (!out) throw InputError(path + ": cannot create an image writer: " + OIIO::geterror());
@@ -107,6 +121,7 @@ ImageData read_image(const std::string& path) {
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
+  check_output_file(path);
   std::filesystem::path target(path);
   std::filesystem::path temp = temporary_name(target);
   {

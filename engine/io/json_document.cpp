@@ -27,6 +27,8 @@ std::string read_text_file(const std::string& path, size_t max_bytes) {
     throw InputError(path + ": cannot open: " + std::strerror(errno));
   }
   if (S_ISDIR(info.st_mode)) throw InputError(path + ": is a directory, not a file");
+  // A FIFO would block the open and a device such as /dev/zero never ends: only plain files are read.
+  if (!S_ISREG(info.st_mode)) throw InputError(path + ": is not a regular file");
   if (static_cast<size_t>(info.st_size) > max_bytes) {
     throw InputError(path + ": file is " + std::to_string(info.st_size) + " bytes, more than the limit of " +
                      std::to_string(max_bytes));

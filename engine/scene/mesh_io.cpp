@@ -5,6 +5,7 @@
 #include <functional>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -221,6 +222,14 @@ std::vector<MeshPart> load_gltf(const std::string& path) {
   tinygltf::Model model;
   std::string error, warning;
   const bool binary = std::filesystem::path(path).extension() == ".glb";
+  if (binary) {
+    // tinygltf reads the GLB container without looking at its version; version 1 was a different format.
+    std::ifstream in(path, std::ios::binary);
+    uint32_t header[2] = {};
+    if (in.read(reinterpret_cast<char*>(header), sizeof header) && std::memcmp(&header[0], "glTF", 4) == 0 && header[1] != 2) {
+      fail(path, 0, "binary glTF version " + std::to_string(header[1]) + ": only version 2 is supported");
+    }
+  }
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path) : loader.LoadASCIIFromFile(&model, &error, &warning, path);
   if (!ok) {
     while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();

@@ -123,7 +123,8 @@ std::vector<DeviceInfo> Context::list_devices() {
   return out;
 }
 
-Context::Context(const ContextOptions& options) : validation_(options.validation), quiet_validation_(options.quiet_validation) {
+Context::Context(const ContextOptions& options)
+    : validation_(options.validation), quiet_validation_(options.quiet_validation), injected_fault_(options.injected_fault) {
   VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
   messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
   messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
@@ -305,7 +306,7 @@ OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropert
   info.allocationSize = requirements.size;
   info.memoryTypeIndex = memory_type(requirements.memoryTypeBits, required, preferred);
   VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkResult result = vkAllocateMemory(device_, &info, nullptr, &memory);
+  VkResult result = injected_fault_ == VK_ERROR_OUT_OF_DEVICE_MEMORY ? injected_fault_ : vkAllocateMemory(device_, &info, nullptr, &memory);
   if (result != VK_SUCCESS) {
     throw DeviceError(std::string("vkAllocateMemory for ") + what + " (" + std::to_string(requirements.size) + " bytes) failed: " +
                       result_name(result));

@@ -17,6 +17,10 @@ struct ContextOptions {
   std::string device_name;  // substring of the device name; empty picks lavapipe, else the first 1.3 device
   bool validation = false;  // Khronos validation with synchronization validation
   bool quiet_validation = false;  // count messages without printing them
+  // Fault injection for tests of the error paths, which lavapipe cannot be made to take:
+  // VK_ERROR_DEVICE_LOST replaces the result of every frame's fence wait, and
+  // VK_ERROR_OUT_OF_DEVICE_MEMORY the result of every vkAllocateMemory. VK_SUCCESS injects nothing.
+  VkResult injected_fault = VK_SUCCESS;
 };
 
 struct DeviceInfo {
@@ -45,6 +49,8 @@ class Context {
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
   bool float_atomics() const { return float_atomics_; }
+  // What a frame's fence wait returns instead of `waited` when a fault is injected (ContextOptions).
+  VkResult frame_result(VkResult waited) const { return injected_fault_ == VK_ERROR_DEVICE_LOST ? injected_fault_ : waited; }
 
   // Memory type index with all of `required` among `type_bits`, preferring `preferred` too.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0) const;
@@ -93,6 +99,7 @@ class Context {
   };
   std::vector<Pending> pending_;
   uint64_t submission_ = 0;
+  VkResult injected_fault_ = VK_SUCCESS;
 
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT types,

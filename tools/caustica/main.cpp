@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -114,6 +115,19 @@ uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t m
   return v;
 }
 
+// CAUSTICA_FAULT=device_lost|out_of_memory makes the device fail on purpose, so tests can check
+// that such failures end the run with exit code 3 and no output (README, "Testing error paths").
+vk::ContextOptions device_options(const std::string& device, bool validate) {
+  vk::ContextOptions options{device, validate, false};
+  const char* fault = std::getenv("CAUSTICA_FAULT");
+  if (fault == nullptr || *fault == '\0') return options;
+  const std::string name = fault;
+  if (name == "device_lost") options.injected_fault = VK_ERROR_DEVICE_LOST;
+  else if (name == "out_of_memory") options.injected_fault = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  else throw UsageError("CAUSTICA_FAULT=" + name + ": expected device_lost or out_of_memory");
+  return options;
+}
+
 void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
   throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
 }
@@ -144,11 +158,7 @@ RenderOptions parse_render(Args& args, bool trace) {
     else if (a == "--frames") o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100000));
     else if (a == "--memory-limit") o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
     else if (a == "--size") {
-      std::string v = args.value(a);
-      size_t x = v.find('x');
-      if (x == std::string::npos) throw UsageError("--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720");
-      o.width = static_cast<uint32_t>(parse_uint("--size width", v.substr(0, x), 1, 16384));
-      o.height = static_cast<uint32_t>(parse_uint("--size height", v.substr(x + 1), 1, 16384));
+      parse_size(args.value(a), o.width, o.height);
     } else if (a == "--dump") {
       std::string v = args.value(a);
       size_t eq = v.find('=');
@@ -161,6 +171,12 @@ RenderOptions parse_render(Args& args, bool trace) {
   if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
   if (o.scene.empty()) o.scene = (data_dir() / kDefaultScene).string();
   if (trace && o.trace.empty()) throw UsageError("trace needs --out FILE.json");
+  // A long render must not fail at the end for an output it could never have written.
+  if (!o.out.empty()) io::check_image_output(o.out);
+  for (const auto& [resource, file] : o.dumps) io::check_image_output(file);
+  for (const std::string* file : {&o.stats, &o.trace}) {
+    if (!file->empty()) io::check_output_file(*file);
+  }
   return o;
 }
 
@@ -181,7 +197,7 @@ int run_render(const RenderOptions& o, bool trace) {
   std::shared_ptr<const scene::Scene> scene;
   if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene));
 
-  vk::Context vk({o.device, o.validate, false});
+  vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   graph::Executor executor(vk, shaders, passes::builtin_registry());
   executor.set_scene(scene);
@@ -303,6 +319,7 @@ int cmd_graph(Args& args) {
   if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan' or 'dot'" + did_you_mean(what, {"plan", "dot", "schema"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
   std::string file = args.take();
+  if (file.rfind("--", 0) == 0) throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + file + " ...");
   RenderOptions o = parse_render(args, false);
   graph::GraphDesc graph = graph::load_graph_file(file);
   graph::apply_overrides(graph, o.sets);
@@ -340,6 +357,7 @@ int cmd_reference(Args& args) {
     else unknown_option(a, {"--scene", "--out", "--size"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
+  io::check_image_output(out);
   const scene::Scene scene = scene::load_scene_file(scene_file);
   const auto start = std::chrono::steady_clock::now();
   auto image = reference::render_refraction_reference(scene, width, height);
@@ -371,6 +389,7 @@ int cmd_bench_refraction(Args& args) {
     else if (a == "--csv") csv = args.value(a);
     else unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
   }
+  if (!csv.empty()) io::check_output_file(csv);
   struct Case {
     std::string label;
     std::shared_ptr<const scene::Scene> scene;
@@ -395,7 +414,7 @@ int cmd_bench_refraction(Args& args) {
   }
   if (cases.empty()) throw UsageError("bench refraction needs --scene FILE or --sphere-detail N (repeatable)");
 
-  vk::Context vk({device, false, false});
+  vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
   std::string table = "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | deferred frame |\n|---|---|---|---|---|---|---|\n";
@@ -466,7 +485,7 @@ int cmd_bench_photons(Args& args) {
     }
   }
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
-  vk::Context vk({device, false, false});
+  vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   struct Method {
     const char* name;
