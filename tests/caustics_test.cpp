@@ -5,6 +5,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
+#include "ball_lens.h"
 #include "scene_engine.h"
 
 using namespace caustica;
@@ -22,15 +23,7 @@ struct Engine : test::SceneEngine {
 
 std::shared_ptr<scene::Scene> load(const std::string& name) { return test::load_bundled_scene(name); }
 
-// The exact flux a spot light sends into a sphere (ORACLES.md's ball lens): intensity times the
-// sphere's solid angle seen from the light.
-double flux_into_ball(const scene::Scene& scene) {
-  const auto& light = scene.lights[0];
-  const auto& ball = scene.objects.back();
-  const double distance = static_cast<double>(glm::length(ball.center() - light.view.position));
-  const double radius = 0.5 * static_cast<double>(ball.bounds_max.y - ball.bounds_min.y);
-  return static_cast<double>(light.intensity) * glm::two_pi<double>() * (1.0 - std::sqrt(1.0 - radius * radius / (distance * distance)));
-}
+using test::flux_into_ball;
 
 const char* kAdaptiveGraphs[] = {"caustics_adaptive_maxlevel", "caustics_adaptive_maxerror", "caustics_adaptive"};
 
@@ -171,52 +164,13 @@ TEST(Caustics, HierarchicalTracesExactlyTheRegularGridsRefractorPhotons) {
 TEST(Caustics, BallLensCumulativeFluxMatchesTheExactLens) {
   Engine e;
   auto scene = load("sphere_plane");
-  const glm::dvec3 light(scene->lights[0].view.position), centre(scene->objects.back().center());
-  const double radius = 1.0, ior = 1.5;
   const std::vector<double> radii{0.05, 0.1, 0.2, 0.3, 0.5};
-
-  // Exact: rays stratified uniformly in solid angle over the cone that the sphere subtends.
-  const glm::dvec3 axis = glm::normalize(centre - light);
-  const double cos_max = std::sqrt(1.0 - radius * radius / glm::dot(centre - light, centre - light));
-  const glm::dvec3 u = glm::normalize(glm::cross(axis, glm::dvec3(1, 0, 0))), v = glm::cross(axis, u);
-  std::vector<double> exact(radii.size(), 0.0);
-  double exact_landed = 0;  // fraction of the samples that reach the floor (all but grazing ones)
-  const int rings = 1000, sectors = 200;
-  for (int i = 0; i < rings; ++i) {
-    const double cos_t = 1.0 - (1.0 - cos_max) * (i + 0.5) / rings, sin_t = std::sqrt(1.0 - cos_t * cos_t);
-    for (int j = 0; j < sectors; ++j) {
-      const double phi = glm::two_pi<double>() * (j + 0.5) / sectors;
-      const glm::dvec3 d = cos_t * axis + sin_t * (std::cos(phi) * u + std::sin(phi) * v);
-      const glm::dvec3 oc = light - centre;
-      const double b = glm::dot(oc, d), c = glm::dot(oc, oc) - radius * radius, disc = b * b - c;
-      if (disc < 0) continue;  // grazing samples past the rim
-      const glm::dvec3 entry = light + (-b - std::sqrt(disc)) * d;
-      const glm::dvec3 t1 = glm::refract(d, (entry - centre) / radius, 1.0 / ior);
-      const glm::dvec3 exit = entry - 2.0 * glm::dot(t1, entry - centre) * t1;
-      const glm::dvec3 t2 = glm::refract(t1, -(exit - centre) / radius, ior);
-      if (t2.y >= 0) continue;
-      const glm::dvec3 floor = exit + (-exit.y / t2.y) * t2;
-      const double r = std::hypot(floor.x, floor.z);
-      exact_landed += 1.0 / (rings * sectors);
-      for (size_t k = 0; k < radii.size(); ++k) exact[k] += r <= radii[k] ? 1.0 / (rings * sectors) : 0.0;
-    }
-  }
+  const test::ExactLens lens = test::exact_ball_lens(*scene, radii);
+  const std::vector<double>& exact = lens.inside;
+  const double exact_landed = lens.landed;
 
   auto frame = e.render("caustics_adaptive", scene, {"fresnel=false", "grid=2048"});
-  const io::ImageData map = e.executor.read_image("caustics");
-  const glm::dmat4 inverse = glm::inverse(glm::dmat4(scene->lights[0].view.view_projection(1.0f)));
-  std::vector<double> engine(radii.size(), 0.0);
-  for (uint32_t y = 0; y < map.height; ++y) {
-    for (uint32_t x = 0; x < map.width; ++x) {
-      const double flux = map.rgba[(size_t{y} * map.width + x) * 4];
-      if (flux == 0) continue;
-      const glm::dvec4 far = inverse * glm::dvec4((x + 0.5) / map.width * 2 - 1, (y + 0.5) / map.height * 2 - 1, 1, 1);
-      const glm::dvec3 d = glm::normalize(glm::dvec3(far) / far.w - light);
-      const glm::dvec3 floor = light + (-light.y / d.y) * d;
-      const double r = std::hypot(floor.x, floor.z);
-      for (size_t k = 0; k < radii.size(); ++k) engine[k] += r <= radii[k] ? flux : 0.0;
-    }
-  }
+  const std::vector<double> engine = test::map_flux_inside(*scene, e.executor.read_image("caustics"), radii);
   const double entering = flux_into_ball(*scene), landed = frame.counters.at("caustic.flux");
   for (size_t k = 0; k < radii.size(); ++k) {
     std::printf("r = %.2f R: exact %.4f, engine %.4f of the entering flux, %.4f of the landed flux\n", radii[k], exact[k],

@@ -5,44 +5,20 @@
 #include <glm/gtc/constants.hpp>
 #include <thread>
 
-#include "reference/ray_scene.h"
+#include "reference/exact_scene.h"
 
 namespace caustica::reference {
 namespace {
 
 constexpr int kMaxInterfaces = 32;  // per refractor crossing; TIR can bounce a ray around inside
 
-float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
-  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
-  const float sin_t = eta_i / eta_t * std::sqrt(std::max(0.0f, 1.0f - cos_i * cos_i));
-  if (sin_t >= 1.0f) return 1.0f;
-  const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin_t * sin_t));
-  const float rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-  const float rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-  return 0.5f * (rs * rs + rp * rp);
-}
-
 float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
 
 class Tracer {
  public:
-  explicit Tracer(const scene::Scene& scene) : scene_(scene) {
-    float extent = 0;
-    for (const auto& o : scene.objects) {
-      rays_.add_mesh(o.mesh.positions, o.mesh.indices);
-      extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
-    }
-    rays_.commit();
-    epsilon_ = 1e-4f * std::max(extent, 1.0f);
-  }
+  explicit Tracer(const scene::Scene& scene) : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()) {}
 
-  glm::vec3 smooth_normal(const RayHit& hit) const {
-    const auto& mesh = scene_.objects[hit.geometry].mesh;
-    const uint32_t* tri = &mesh.indices[3 * hit.triangle];
-    const glm::vec3 n = (1 - hit.u - hit.v) * mesh.normals[tri[0]] + hit.u * mesh.normals[tri[1]] + hit.v * mesh.normals[tri[2]];
-    const float len = glm::length(n);
-    return len > 0 ? n / len : hit.geometric_normal;
-  }
+  glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
 
   // The engine's lighting model (scene/lighting.frag) with exact shadow rays.
   glm::vec3 shade_opaque(glm::vec3 p, glm::vec3 n, glm::vec3 albedo) const {
@@ -52,16 +28,9 @@ class Tracer {
       const glm::vec3 to_light = light.view.position - p;
       const float d2 = std::max(glm::dot(to_light, to_light), 1e-8f);
       const glm::vec3 l = to_light / std::sqrt(d2);
-      float cone = 1.0f;
-      if (light.type == scene::LightType::spot) {
-        const float cos_cut = std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f);
-        const float c = glm::dot(-l, glm::normalize(light.view.target - light.view.position));
-        const float edge = cos_cut + (1.0f - cos_cut) * 0.02f;
-        const float x = std::clamp((c - cos_cut) / (edge - cos_cut), 0.0f, 1.0f);
-        cone = x * x * (3 - 2 * x);
-        // The engine shadows the first light only (through its shadow map); so does the reference.
-        if (i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_)) cone = 0;
-      }
+      float cone = spot_cone(light, -l);
+      // The engine shadows the first spot light only (through its shadow map); so does the reference.
+      if (light.type == scene::LightType::spot && i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_)) cone = 0;
       irradiance += light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
     return albedo * (scene_.ambient * scene_.sky + irradiance / glm::pi<float>());
@@ -112,9 +81,10 @@ class Tracer {
   }
 
  private:
+  ExactScene exact_;
   const scene::Scene& scene_;
-  RayScene rays_;
-  float epsilon_ = 1e-4f;
+  const RayScene& rays_;
+  float epsilon_;
 };
 
 }  // namespace

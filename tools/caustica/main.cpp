@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +21,9 @@
 #include "graph/report.h"
 #include "graph/schema.h"
 #include "io/image_io.h"
+#include "io/json_reader.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
 #include "scene/scene.h"
 
@@ -41,7 +45,8 @@ commands:
   graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
   devices    list the Vulkan devices
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's table)
-  reference  ray trace the exact refraction image of a scene (the ground truth), with Embree
+  reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
+  compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
 
 'caustica <command> --help' describes each command.
 exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
@@ -106,6 +111,12 @@ uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t m
   unsigned long long v = 0;
   try {
     v = std::stoull(text, &used);
+    // Counts such as 1e8 photons: a whole mantissa and a small whole exponent.
+    if (used < text.size() && text[used] == 'e' && used + 1 < text.size() && text.size() - used <= 3 &&
+        std::all_of(text.begin() + static_cast<std::ptrdiff_t>(used) + 1, text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      for (int e = std::stoi(text.substr(used + 1)); e > 0 && v <= max; --e) v *= 10;
+      used = text.size();
+    }
   } catch (const std::exception&) {
     used = 0;
   }
@@ -130,6 +141,20 @@ vk::ContextOptions device_options(const std::string& device, bool validate) {
 
 void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
   throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
+}
+
+double parse_number(const std::string& flag, const std::string& text, double min, double max) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(v) || v < min || v > max) {
+    throw UsageError(flag + " " + text + ": expected a number from " + JsonReader::format_number(min) + " to " + JsonReader::format_number(max));
+  }
+  return v;
 }
 
 void parse_size(const std::string& v, uint32_t& width, uint32_t& height) {
@@ -180,6 +205,15 @@ RenderOptions parse_render(Args& args, bool trace) {
   return o;
 }
 
+// One line on stderr, rewritten in place: "LABEL done/total (p%)  elapsed, left"; ends the line when done.
+void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double left = done > 0 ? elapsed / double(done) * double(total - done) : 0.0;
+  std::fprintf(stderr, "\r%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   ", label, static_cast<unsigned long long>(done),
+               static_cast<unsigned long long>(total), 100.0 * double(done) / double(total), elapsed, left);
+  if (done == total) std::fprintf(stderr, "\n");
+}
+
 // Writes JSON through a temporary file so a failed run never leaves half a file.
 void write_json(const std::string& path, const nlohmann::json& value) { io::write_text_atomically(path, value.dump(2) + "\n"); }
 
@@ -215,12 +249,7 @@ int run_render(const RenderOptions& o, bool trace) {
   for (uint32_t f = 0; f < o.frames; ++f) {
     run.frame_start_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     run.frames.push_back(executor.run_frame(f + 1 == o.frames));
-    if (show_progress) {
-      double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      double left = elapsed / (f + 1) * (o.frames - f - 1);
-      std::fprintf(stderr, "\rframe %u/%u  %.1f s elapsed, %.1f s left   ", f + 1, o.frames, elapsed, left);
-      if (f + 1 == o.frames) std::fprintf(stderr, "\n");
-    }
+    if (show_progress) print_progress("frame", f + 1, o.frames, start);
   }
 
   if (!trace) {
@@ -337,29 +366,71 @@ int cmd_graph(Args& args) {
 
 int cmd_reference(Args& args) {
   if (args.wants_help()) {
-    std::cout << "usage: caustica reference --scene FILE --out FILE.exr [--size WxH]\n\n"
-                 "Ray traces the scene's camera image on its exact geometry with Embree (every core): refraction at\n"
-                 "every interface, total internal reflection followed inside, Fresnel transmittance and absorption,\n"
-                 "and otherwise the engine's own lighting model. It is the ground truth that image-space refraction\n"
-                 "is measured against (docs/refraction.md). Writes linear radiance (EXR) or an 8-bit PNG.\n\noptions:\n"
+    std::cout << "usage: caustica reference --scene FILE --out FILE.exr [--size WxH]\n"
+                 "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
+                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel]\n\n"
+                 "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
+                 "core): refraction at every interface, total internal reflection followed inside, Fresnel\n"
+                 "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
+                 "that image-space refraction is measured against (docs/refraction.md). Writes linear radiance (EXR)\n"
+                 "or an 8-bit PNG.\n\n"
+                 "With --photons: traces N photons from the first (spot) light through every interface, Fresnel and\n"
+                 "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
+                 "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
+                 "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "options:\n"
                  "  --scene FILE          the scene (default: scenes/bunny_plane.json)\n"
                  "  --out FILE            the image (required)\n"
-                 "  --size WxH            image size (default 1280x720)\n";
+                 "  --size WxH            camera image size (default 1280x720)\n"
+                 "  --photons N           photons to trace, e.g. 1e8\n"
+                 "  --seed K              random seed (default 1)\n"
+                 "  --map-size N          side of the light-space map (default 512, the graphs' caustic_size)\n"
+                 "  --camera FILE.exr     also write the caustic irradiance seen by the camera\n"
+                 "  --no-fresnel          transmit every photon unless total internal reflection (the graphs' fresnel=false)\n";
     return 0;
   }
-  std::string scene_file = (data_dir() / kDefaultScene).string(), out;
+  std::string scene_file = (data_dir() / kDefaultScene).string(), out, camera_out;
   uint32_t width = 1280, height = 720;
+  reference::PhotonOptions photons;
+  photons.photons = 0;
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--scene") scene_file = args.value(a);
     else if (a == "--out") out = args.value(a);
     else if (a == "--size") parse_size(args.value(a), width, height);
-    else unknown_option(a, {"--scene", "--out", "--size"});
+    else if (a == "--photons") photons.photons = parse_uint(a, args.value(a), 1, 100'000'000'000ull);
+    else if (a == "--seed") photons.seed = parse_uint(a, args.value(a), 0, ~0ull);
+    else if (a == "--map-size") photons.map_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 8192));
+    else if (a == "--camera") camera_out = args.value(a);
+    else if (a == "--no-fresnel") photons.fresnel = false;
+    else unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
+  if (photons.photons == 0 && (!camera_out.empty() || !photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
   io::check_image_output(out);
+  if (!camera_out.empty()) io::check_image_output(camera_out);
   const scene::Scene scene = scene::load_scene_file(scene_file);
   const auto start = std::chrono::steady_clock::now();
+  if (photons.photons > 0) {
+    if (!camera_out.empty()) {
+      photons.camera_width = width;
+      photons.camera_height = height;
+    }
+    const bool show_progress = photons.photons >= 10'000'000 || ::isatty(STDERR_FILENO);
+    if (show_progress) photons.progress = [&](uint64_t done, uint64_t total) { print_progress("photons", done, total, start); };
+    const auto result = reference::trace_photon_reference(scene, photons);
+    io::write_image(out, result.caustic_map);
+    if (!camera_out.empty()) io::write_image(camera_out, result.camera);
+    const auto& t = result.totals;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("photons %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(t.photons), seconds,
+                double(t.photons) / seconds * 1e-6, static_cast<unsigned long long>(photons.seed));
+    std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
+    std::printf("of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, reflected off the outside %.6g, escaped %.6g, trapped %.6g, absorbed %.6g\n",
+                t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.reflected, t.escaped, t.trapped, t.absorbed);
+    std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), out.c_str(), camera_out.empty() ? "" : ", ", camera_out.c_str());
+    return 0;
+  }
   auto image = reference::render_refraction_reference(scene, width, height);
   io::write_image(out, image.radiance);
   std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), width, height,
@@ -567,6 +638,52 @@ int cmd_bench(Args& args) {
   throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons"}));
 }
 
+int cmd_compare(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica compare A B [--blur SIGMA] [--json] [--max-l1 X]\n\n"
+                 "Compares image A (an engine output, e.g. --dump caustics=A.exr) with image B (the reference, e.g.\n"
+                 "caustica reference --photons), both the same size (docs/accuracy.md):\n"
+                 "  relative_l1    sum |A - B| / sum |B| on luminance after both are blurred by the same Gaussian\n"
+                 "  energy_ratio   sum A / sum B on luminance (above 1: A has more energy than B)\n"
+                 "  mean_error, rms_error, psnr, max_error   OpenImageIO's comparison of the unblurred colours\n"
+                 "  nonfinite_a, nonfinite_b                NaN or Inf values in each image\n\n"
+                 "options:\n"
+                 "  --blur SIGMA          Gaussian sigma in pixels for relative_l1 and energy_ratio (default 1.5; 0: none)\n"
+                 "  --json                print the metrics as JSON\n"
+                 "  --max-l1 X            exit 1 when relative_l1 is above X (for tests)\n";
+    return 0;
+  }
+  std::vector<std::string> files;
+  double sigma = 1.5, max_l1 = -1;
+  bool json = false;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--blur") sigma = parse_number(a, args.value(a), 0, 64);
+    else if (a == "--max-l1") max_l1 = parse_number(a, args.value(a), 0, 1e30);
+    else if (a == "--json") json = true;
+    else if (a.rfind("--", 0) == 0) unknown_option(a, {"--blur", "--json", "--max-l1"});
+    else files.push_back(a);
+  }
+  if (files.size() != 2) throw UsageError("compare needs two images, A and B; see caustica compare --help");
+  const auto c = reference::compare_images(io::read_image(files[0]), io::read_image(files[1]), sigma);
+  const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"mean_error", c.mean_error},
+                                  {"rms_error", c.rms_error},     {"psnr", c.psnr},                 {"max_error", c.max_error},
+                                  {"nonfinite_a", c.nonfinite_a}, {"nonfinite_b", c.nonfinite_b},   {"blur_sigma", sigma}};
+  if (json) {
+    std::cout << metrics.dump(2) << "\n";
+  } else {
+    std::printf("relative_l1   %.6g   (blur sigma %.3g px)\nenergy_ratio  %.6g\nmean_error    %.6g\nrms_error     %.6g\npsnr          %.4g dB\n"
+                "max_error     %.6g\nnonfinite     %llu in A, %llu in B\n",
+                c.relative_l1, sigma, c.energy_ratio, c.mean_error, c.rms_error, c.psnr, c.max_error,
+                static_cast<unsigned long long>(c.nonfinite_a), static_cast<unsigned long long>(c.nonfinite_b));
+  }
+  if (max_l1 >= 0 && !(c.relative_l1 <= max_l1)) {
+    std::fprintf(stderr, "caustica: %s: relative L1 %.6g against %s is above --max-l1 %.6g\n", files[0].c_str(), c.relative_l1, files[1].c_str(), max_l1);
+    return 1;
+  }
+  return 0;
+}
+
 int cmd_devices(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica devices\n\nLists the Vulkan devices; --device NAME picks one by a part of its name.\n";
@@ -600,7 +717,8 @@ int main(int argc, char** argv) {
     if (command == "devices") return cmd_devices(args);
     if (command == "reference") return cmd_reference(args);
     if (command == "bench") return cmd_bench(args);
-    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench"}) +
+    if (command == "compare") return cmd_compare(args);
+    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";

@@ -1,0 +1,91 @@
+#include "reference/image_metrics.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+
+namespace caustica::reference {
+namespace {
+
+OIIO::ImageBuf as_image_buf(const io::ImageData& image) {
+  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  std::vector<float> rgb(size_t{image.width} * image.height * 3);
+  for (size_t p = 0; p < size_t{image.width} * image.height; ++p) {
+    for (size_t c = 0; c < 3; ++c) {
+      const float v = image.rgba[p * 4 + c];
+      rgb[p * 3 + c] = std::isfinite(v) ? v : 0.0f;
+    }
+  }
+  buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data());
+  return buf;
+}
+
+}  // namespace
+
+std::vector<double> blurred_luminance(const io::ImageData& image, double sigma, uint64_t* nonfinite) {
+  const size_t w = image.width, h = image.height;
+  std::vector<double> lum(w * h);
+  for (size_t p = 0; p < w * h; ++p) {
+    const float* px = &image.rgba[p * 4];
+    const double l = 0.2126 * double(px[0]) + 0.7152 * double(px[1]) + 0.0722 * double(px[2]);
+    const bool finite = std::isfinite(l);
+    if (!finite && nonfinite) ++*nonfinite;
+    lum[p] = finite ? l : 0.0;
+  }
+  if (sigma <= 0) return lum;
+  const int radius = static_cast<int>(std::ceil(3 * sigma));
+  std::vector<double> kernel(static_cast<size_t>(2 * radius + 1));
+  double total = 0;
+  for (int i = -radius; i <= radius; ++i) total += kernel[static_cast<size_t>(i + radius)] = std::exp(-0.5 * i * i / (sigma * sigma));
+  for (double& k : kernel) k /= total;
+  std::vector<double> tmp(w * h);
+  auto pass = [&](const std::vector<double>& from, std::vector<double>& to, bool vertical) {
+    for (size_t y = 0; y < h; ++y) {
+      for (size_t x = 0; x < w; ++x) {
+        double sum = 0;
+        for (int i = -radius; i <= radius; ++i) {
+          const long sx = vertical ? long(x) : std::clamp(long(x) + i, 0L, long(w) - 1);
+          const long sy = vertical ? std::clamp(long(y) + i, 0L, long(h) - 1) : long(y);
+          sum += kernel[static_cast<size_t>(i + radius)] * from[size_t(sy) * w + size_t(sx)];
+        }
+        to[y * w + x] = sum;
+      }
+    }
+  };
+  pass(lum, tmp, false);
+  pass(tmp, lum, true);
+  return lum;
+}
+
+ImageComparison compare_images(const io::ImageData& a, const io::ImageData& b, double blur_sigma) {
+  if (a.width != b.width || a.height != b.height) {
+    throw InputError("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " and " +
+                     std::to_string(b.width) + "x" + std::to_string(b.height));
+  }
+  ImageComparison result;
+  const auto la = blurred_luminance(a, blur_sigma, &result.nonfinite_a);
+  const auto lb = blurred_luminance(b, blur_sigma, &result.nonfinite_b);
+  double difference = 0, sum_a = 0, sum_b = 0;
+  for (size_t i = 0; i < la.size(); ++i) {
+    difference += std::abs(la[i] - lb[i]);
+    sum_a += la[i];
+    sum_b += lb[i];
+  }
+  result.relative_l1 = sum_b != 0 ? difference / std::abs(sum_b) : (difference == 0 ? 0.0 : std::numeric_limits<double>::infinity());
+  result.energy_ratio = sum_b != 0 ? sum_a / sum_b : (sum_a == 0 ? 1.0 : std::numeric_limits<double>::infinity());
+  const auto compared = OIIO::ImageBufAlgo::compare(as_image_buf(a), as_image_buf(b), 1e30f, 1e30f);
+  result.mean_error = compared.meanerror;
+  result.rms_error = compared.rms_error;
+  result.psnr = compared.PSNR;
+  result.max_error = compared.maxerror;
+  return result;
+}
+
+}  // namespace caustica::reference

@@ -1,0 +1,251 @@
+#include "reference/photon_reference.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "core/error.h"
+#include "reference/exact_scene.h"
+
+namespace caustica::reference {
+namespace {
+
+constexpr uint64_t kChunk = 1u << 16;  // photons per random stream
+constexpr int kMaxSegments = 64;       // interfaces one photon may cross, TIR bounces included
+// Fixed point: the brightest photon is 2^24 units, so 10^11 of them still fit in 64 bits.
+constexpr double kUnitsPerMaxPhoton = 16777216.0;
+
+uint64_t splitmix64(uint64_t& state) {
+  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+class Random {
+ public:
+  Random(uint64_t seed, uint64_t stream) : state_(seed * 0xD1B54A32D192ED03ull ^ stream) { splitmix64(state_); }
+  float uniform() { return static_cast<float>(splitmix64(state_) >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
+
+ private:
+  uint64_t state_;
+};
+
+struct Accumulator {
+  std::vector<uint64_t> map, camera;
+  PhotonTotals totals;  // per thread in double; summed in thread order (only the printout uses them)
+};
+
+class PhotonTracer {
+ public:
+  PhotonTracer(const scene::Scene& scene, const PhotonOptions& options) : exact_(scene), options_(options), light_(scene.lights.front()) {
+    light_view_proj_ = light_.view.view_projection(1.0f);
+    inv_light_view_proj_ = glm::inverse(light_view_proj_);
+    half_plane_ = std::tan(glm::radians(light_.view.fov_y_degrees) * 0.5f);
+    photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
+    max_power_ = double(light_.intensity) * photon_area_;
+    unit_ = max_power_ / kUnitsPerMaxPhoton;
+    if (options.camera_width > 0) {
+      camera_view_proj_ = scene.camera.view_projection(float(options.camera_width) / float(options.camera_height));
+    }
+  }
+
+  double unit() const { return unit_; }
+
+  void trace_chunk(uint64_t chunk, Accumulator& acc) const {
+    Random random(options_.seed, chunk);
+    const uint64_t first = chunk * kChunk, last = std::min(options_.photons, first + kChunk);
+    for (uint64_t i = first; i < last; ++i) trace(random, acc);
+    acc.totals.photons += last - first;
+  }
+
+ private:
+  void trace(Random& random, Accumulator& acc) const {
+    const glm::vec2 uv(random.uniform(), random.uniform());
+    const glm::vec2 ndc = uv * 2.0f - 1.0f;
+    const glm::vec4 far = inv_light_view_proj_ * glm::vec4(ndc, 0.5f, 1.0f);
+    const glm::vec3 eye = light_.view.position;
+    glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - eye);
+    // The photon stands for photon_area_ of the image plane at distance 1: solid angle area cos^3.
+    const glm::vec2 plane = ndc * half_plane_;
+    const double cos_axis = 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
+    double power = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
+    if (power <= 0) return;
+    acc.totals.emitted += power;
+
+    const auto& objects = exact_.scene().objects;
+    const float epsilon = exact_.epsilon();
+    glm::vec3 origin = eye;
+    int inside = -1;  // the refractor the photon travels in
+    bool refracted = false;
+    for (int segment = 0; segment < kMaxSegments; ++segment) {
+      const auto hit = exact_.rays().intersect(origin, direction, segment == 0 ? 0.0f : epsilon, std::numeric_limits<float>::infinity());
+      if (!hit) {
+        (refracted ? acc.totals.escaped : acc.totals.direct) += power;
+        return;
+      }
+      const auto& object = objects[hit->geometry];
+      const glm::vec3 p = origin + direction * hit->distance;
+      if (inside >= 0) {
+        // The caustic map has one channel: the mean of the three absorption coefficients, as the engine.
+        const glm::vec3& a = objects[static_cast<size_t>(inside)].material.absorption;
+        const double kept = power * std::exp(-double(a.x + a.y + a.z) / 3.0 * double(hit->distance));
+        acc.totals.absorbed += power - kept;
+        power = kept;
+      }
+      if (!object.material.refractor) {
+        if (refracted) land(p, power, acc);
+        else acc.totals.direct += power;
+        return;
+      }
+      const bool entering = inside < 0;
+      if (!refracted) acc.totals.entering += power;
+      glm::vec3 n = exact_.smooth_normal(*hit);
+      if (glm::dot(n, direction) > 0) n = -n;
+      const float ior = object.material.ior;
+      const float eta = entering ? 1.0f / ior : ior;
+      const glm::vec3 transmitted = glm::refract(direction, n, eta);
+      const bool total_internal = glm::dot(transmitted, transmitted) == 0.0f;
+      float reflectance = total_internal ? 1.0f : 0.0f;
+      if (options_.fresnel && !total_internal) reflectance = fresnel_dielectric(-glm::dot(direction, n), entering ? 1.0f : ior, entering ? ior : 1.0f);
+      origin = p;
+      if (reflectance > 0.0f && random.uniform() < reflectance) {
+        if (entering) {
+          // Reflected off the outside: a specular reflection, which no caustic method models.
+          acc.totals.reflected += power;
+          return;
+        }
+        direction = glm::reflect(direction, n);
+      } else {
+        direction = glm::normalize(transmitted);
+        inside = entering ? static_cast<int>(hit->geometry) : -1;
+        refracted = true;
+      }
+    }
+    acc.totals.trapped += power;
+  }
+
+  void land(glm::vec3 p, double power, Accumulator& acc) const {
+    const glm::vec4 clip = light_view_proj_ * glm::vec4(p, 1.0f);
+    const glm::vec2 uv = clip.w > 0 ? glm::vec2(clip) / clip.w * 0.5f + 0.5f : glm::vec2(-1.0f);
+    if (uv.x < 0 || uv.y < 0 || uv.x >= 1 || uv.y >= 1) {
+      acc.totals.off_map += power;
+      return;
+    }
+    acc.totals.landed += power;
+    const uint64_t units = static_cast<uint64_t>(std::llround(power / unit_));
+    const uint32_t size = options_.map_size;
+    const uint32_t x = std::min(size - 1, static_cast<uint32_t>(uv.x * float(size)));
+    const uint32_t y = std::min(size - 1, static_cast<uint32_t>(uv.y * float(size)));
+    acc.map[size_t{y} * size + x] += units;
+    if (options_.camera_width == 0) return;
+    const glm::vec4 cam = camera_view_proj_ * glm::vec4(p, 1.0f);
+    if (cam.w <= 0) return;
+    const glm::vec2 cam_uv = glm::vec2(cam) / cam.w * 0.5f + 0.5f;
+    if (cam_uv.x < 0 || cam_uv.y < 0 || cam_uv.x >= 1 || cam_uv.y >= 1) return;
+    const glm::vec3 to_p = p - exact_.scene().camera.position;
+    const float distance = glm::length(to_p);
+    if (exact_.rays().intersect(exact_.scene().camera.position, to_p / distance, 0.0f, distance - 2 * exact_.epsilon())) return;  // hidden
+    const uint32_t cx = std::min(options_.camera_width - 1, static_cast<uint32_t>(cam_uv.x * float(options_.camera_width)));
+    const uint32_t cy = std::min(options_.camera_height - 1, static_cast<uint32_t>(cam_uv.y * float(options_.camera_height)));
+    acc.camera[size_t{cy} * options_.camera_width + cx] += units;
+  }
+
+  ExactScene exact_;
+  const PhotonOptions& options_;
+  const scene::Light& light_;
+  glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
+  float half_plane_ = 1.0f;
+  double photon_area_ = 0, max_power_ = 0, unit_ = 1;
+};
+
+void add_totals(PhotonTotals& to, const PhotonTotals& from) {
+  to.photons += from.photons;
+  to.emitted += from.emitted;
+  to.direct += from.direct;
+  to.entering += from.entering;
+  to.landed += from.landed;
+  to.off_map += from.off_map;
+  to.reflected += from.reflected;
+  to.escaped += from.escaped;
+  to.trapped += from.trapped;
+  to.absorbed += from.absorbed;
+}
+
+io::ImageData grey_image(uint32_t width, uint32_t height) {
+  io::ImageData image;
+  image.width = width;
+  image.height = height;
+  image.rgba.assign(size_t{width} * height * 4, 1.0f);
+  return image;
+}
+
+}  // namespace
+
+PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options) {
+  if (scene.lights.empty() || scene.lights.front().type != scene::LightType::spot) {
+    throw InputError(scene.path + ": the photon reference traces from the first light, which must be a spot light");
+  }
+  if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
+  const PhotonTracer tracer(scene, options);
+  const unsigned threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
+  std::vector<Accumulator> accumulators(threads);
+  std::atomic<uint64_t> next_chunk{0}, photons_done{0};
+  auto work = [&](Accumulator& acc) {
+    acc.map.assign(size_t{options.map_size} * options.map_size, 0);
+    acc.camera.assign(size_t{options.camera_width} * options.camera_height, 0);
+    for (uint64_t chunk; (chunk = next_chunk.fetch_add(1)) < chunks;) {
+      tracer.trace_chunk(chunk, acc);
+      photons_done.fetch_add(std::min(kChunk, options.photons - chunk * kChunk));
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, std::ref(accumulators[t]));
+  while (options.progress && photons_done.load() < options.photons) {
+    options.progress(photons_done.load(), options.photons);
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  for (auto& t : pool) t.join();
+  if (options.progress) options.progress(options.photons, options.photons);
+
+  PhotonReference out;
+  out.caustic_map = grey_image(options.map_size, options.map_size);
+  out.camera = grey_image(options.camera_width, options.camera_height);
+  for (const auto& acc : accumulators) add_totals(out.totals, acc.totals);
+  auto resolve = [&](std::vector<uint64_t> Accumulator::*member, io::ImageData& image, auto&& scale) {
+    const size_t texels = size_t{image.width} * image.height;
+    for (size_t i = 0; i < texels; ++i) {
+      uint64_t units = 0;
+      for (const auto& acc : accumulators) units += (acc.*member)[i];
+      const float value = static_cast<float>(double(units) * tracer.unit() * scale(i));
+      for (int c = 0; c < 3; ++c) image.rgba[i * 4 + static_cast<size_t>(c)] = value;
+    }
+  };
+  resolve(&Accumulator::map, out.caustic_map, [](size_t) { return 1.0; });
+  if (options.camera_width > 0) {
+    // Flux per pixel over the receiver area the pixel covers, from a ray through its centre.
+    const ExactScene exact(scene);
+    const float aspect = float(options.camera_width) / float(options.camera_height);
+    const glm::mat4 inv = glm::inverse(scene.camera.view_projection(aspect));
+    const double side = 2.0 * std::tan(double(glm::radians(scene.camera.fov_y_degrees)) * 0.5) / double(options.camera_height);
+    const glm::vec3 axis = glm::normalize(scene.camera.target - scene.camera.position);
+    resolve(&Accumulator::camera, out.camera, [&](size_t i) {
+      const uint32_t x = static_cast<uint32_t>(i % options.camera_width), y = static_cast<uint32_t>(i / options.camera_width);
+      const glm::vec2 ndc((float(x) + 0.5f) / float(options.camera_width) * 2 - 1, (float(y) + 0.5f) / float(options.camera_height) * 2 - 1);
+      const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
+      const glm::vec3 d = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
+      const auto hit = exact.rays().intersect(scene.camera.position, d, 0.0f, std::numeric_limits<float>::infinity());
+      if (!hit) return 0.0;
+      const double cos_view = std::abs(double(glm::dot(hit->geometric_normal, d)));
+      const double cos_axis = double(glm::dot(d, axis));
+      const double area = side * side * cos_axis * cos_axis * cos_axis * double(hit->distance) * double(hit->distance) / std::max(cos_view, 1e-6);
+      return 1.0 / area;
+    });
+  }
+  return out;
+}
+
+}  // namespace caustica::reference

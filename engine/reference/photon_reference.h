@@ -1,0 +1,52 @@
+#pragma once
+// The ground truth for caustics: photons from the scene's first (spot) light traced on the exact
+// geometry with Embree through every interface, with exact Fresnel and total internal reflection
+// (reflect or transmit chosen at random by the reflectance), until they land on an opaque
+// receiver. What lands is accumulated as the engine's caustic map holds it (flux per texel of the
+// light's image plane) and, optionally, as the caustic irradiance the camera sees.
+//
+// Deterministic for a seed: photons are drawn in fixed chunks, each from its own random stream, and
+// summed in fixed point, so neither the thread count nor the scheduling changes a single bit.
+#include <cstdint>
+#include <functional>
+
+#include "io/image_io.h"
+#include "scene/scene.h"
+
+namespace caustica::reference {
+
+struct PhotonOptions {
+  uint64_t photons = 10'000'000;
+  uint64_t seed = 1;
+  uint32_t map_size = 512;  // the light-space map's side, as the graphs' caustic_size
+  uint32_t camera_width = 0, camera_height = 0;  // 0: no camera image
+  bool fresnel = true;      // false: every photon transmits unless total internal reflection (ORACLES.md's "no Fresnel")
+  unsigned threads = 0;     // 0: every core
+  std::function<void(uint64_t done, uint64_t total)> progress;  // called from the calling thread
+};
+
+// Flux (the light's units) by what became of it. emitted = direct + entering; entering =
+// landed + off_map + reflected + escaped + trapped + absorbed, up to float rounding.
+struct PhotonTotals {
+  uint64_t photons = 0;
+  double emitted = 0;    // everything the light sent into its view
+  double direct = 0;     // met an opaque surface or nothing before any refractor: not a caustic
+  double entering = 0;   // met a refractor first
+  double landed = 0;     // reached an opaque receiver inside the light's view: in the map
+  double off_map = 0;    // reached a receiver outside the light's view
+  double reflected = 0;  // reflected off a refractor's outside (Fresnel): not a caustic
+  double escaped = 0;    // left the scene after refracting
+  double trapped = 0;    // still bouncing inside after the interface limit
+  double absorbed = 0;   // by the refractors' absorption
+};
+
+struct PhotonReference {
+  io::ImageData caustic_map;  // map_size^2, flux per texel in every colour channel
+  io::ImageData camera;       // caustic irradiance (flux per receiver area) per camera pixel, if asked
+  PhotonTotals totals;
+};
+
+// Throws InputError when the scene's first light is not a spot light.
+PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options);
+
+}  // namespace caustica::reference

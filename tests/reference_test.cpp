@@ -1,0 +1,160 @@
+// The photon ground truth (CPU, Embree) against ORACLES.md: the ball lens, a glass slab, n = 1,
+// energy bookkeeping, and determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ball_lens.h"
+#include "core/paths.h"
+#include "io/json_document.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
+
+using namespace caustica;
+
+namespace {
+
+scene::Scene bundled(const std::string& name) { return scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()); }
+
+scene::Scene from_text(const std::string& text) { return scene::load_scene(JsonDocument::parse(text, "test_scene.json")); }
+
+double map_sum(const io::ImageData& map) {
+  double sum = 0;
+  for (size_t i = 0; i < map.rgba.size(); i += 4) sum += static_cast<double>(map.rgba[i]);
+  return sum;
+}
+
+// Where the entering flux went must add up to it: nothing is created or lost in the bookkeeping.
+void expect_flux_accounted(const reference::PhotonTotals& t) {
+  EXPECT_NEAR(t.direct + t.entering, t.emitted, 1e-9 * t.emitted);
+  EXPECT_NEAR(t.landed + t.off_map + t.reflected + t.escaped + t.trapped + t.absorbed, t.entering, 1e-9 * t.entering);
+}
+
+}  // namespace
+
+// Without Fresnel a sphere passes every entering photon to the floor: none reflected, none trapped
+// (a ray that enters a sphere can never meet total internal reflection). The entering flux is the
+// exact solid-angle answer less what the tessellated sphere's slightly smaller silhouette misses,
+// and the landed flux inside radius r follows the exact lens.
+TEST(PhotonReference, BallLensMatchesTheExactLens) {
+  const scene::Scene scene = bundled("sphere_plane");
+  reference::PhotonOptions options;
+  options.photons = 4'000'000;
+  options.fresnel = false;
+  const auto result = reference::trace_photon_reference(scene, options);
+  const auto& t = result.totals;
+  expect_flux_accounted(t);
+  const double exact_entering = test::flux_into_ball(scene);
+  std::printf("entering %.4f (exact %.4f), landed %.4f, off the map %.4f, escaped %.4f\n", t.entering, exact_entering, t.landed, t.off_map, t.escaped);
+  EXPECT_NEAR(t.entering, exact_entering, 0.006 * exact_entering);
+  EXPECT_LE(t.entering, exact_entering * 1.001);  // an inscribed mesh never covers more than the sphere
+  EXPECT_EQ(t.reflected, 0.0);
+  EXPECT_EQ(t.trapped, 0.0);
+  EXPECT_EQ(t.absorbed, 0.0);
+  EXPECT_NEAR(map_sum(result.caustic_map), t.landed, 1e-5 * t.landed);
+
+  const std::vector<double> radii{0.05, 0.1, 0.2, 0.3, 0.5};
+  const test::ExactLens lens = test::exact_ball_lens(scene, radii);
+  const std::vector<double> inside = test::map_flux_inside(scene, result.caustic_map, radii);
+  for (size_t k = 0; k < radii.size(); ++k) {
+    std::printf("r = %.2f R: exact %.4f, reference %.4f of the entering flux\n", radii[k], lens.inside[k], inside[k] / t.entering);
+    EXPECT_NEAR(inside[k] / t.entering, lens.inside[k], 0.02) << "r = " << radii[k];
+  }
+}
+
+// A glass slab (n = 1.5) under a narrow light at normal incidence: each face reflects
+// R = ((n - 1) / (n + 1))^2 = 0.04, and following every internal reflection the slab transmits
+// (1 - R) / (1 + R) = 0.9231 of the entering flux. The rest leaves upwards: reflected off the top,
+// or escaped after bouncing inside.
+TEST(PhotonReference, SlabTransmitsTheFresnelFraction) {
+  const scene::Scene scene = from_text(R"({
+    "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+    "lights": [{"type": "spot", "position": [0, 40, 0], "target": [0, 0, 0], "fov": 2, "intensity": 1000}],
+    "objects": [
+      {"name": "floor", "primitive": {"type": "plane", "size": [20, 20]}},
+      {"name": "slab", "primitive": {"type": "slab", "size": [4, 0.5, 4]}, "transform": {"translate": [0, 1, 0]},
+       "material": {"refractor": true, "ior": 1.5}}
+    ]})");
+  reference::PhotonOptions options;
+  options.photons = 2'000'000;
+  const auto t = reference::trace_photon_reference(scene, options).totals;
+  expect_flux_accounted(t);
+  const double reflectance = 0.04, transmitted = (1 - reflectance) / (1 + reflectance);
+  std::printf("landed %.5f of the entering flux (exact %.5f), reflected %.5f, escaped %.5f\n", t.landed / t.entering, transmitted,
+              t.reflected / t.entering, t.escaped / t.entering);
+  EXPECT_NEAR(t.landed / t.entering, transmitted, 0.003);
+  EXPECT_NEAR(t.reflected / t.entering, reflectance, 0.002);
+  EXPECT_NEAR(t.entering, t.emitted, 1e-9 * t.emitted) << "the slab covers the whole light view";
+}
+
+// n = 1: the refractor bends and reflects nothing, so every entering photon lands where it would
+// have without it; the caustic map is the light's direct flux on the floor under the sphere.
+TEST(PhotonReference, IndexOneChangesNothing) {
+  scene::Scene scene = bundled("sphere_plane");
+  scene.objects.back().material.ior = 1.0f;
+  reference::PhotonOptions options;
+  options.photons = 2'000'000;
+  const auto t = reference::trace_photon_reference(scene, options).totals;
+  expect_flux_accounted(t);
+  EXPECT_EQ(t.reflected, 0.0);
+  EXPECT_EQ(t.escaped + t.trapped + t.off_map, 0.0);
+  EXPECT_NEAR(t.landed, t.entering, 1e-9 * t.entering);
+}
+
+// Fresnel on, on the bunny: the flux still adds up, some is reflected, and a seed gives the same
+// bits on one thread or two; another seed gives another sample of the same caustic.
+TEST(PhotonReference, DeterministicForASeedOnAnyNumberOfThreads) {
+  const scene::Scene scene = bundled("bunny_plane");
+  reference::PhotonOptions options;
+  options.photons = 300'000;
+  options.map_size = 128;
+  options.camera_width = 64;
+  options.camera_height = 36;
+  options.threads = 1;
+  const auto one = reference::trace_photon_reference(scene, options);
+  options.threads = 2;
+  const auto two = reference::trace_photon_reference(scene, options);
+  options.seed = 2;
+  const auto other = reference::trace_photon_reference(scene, options);
+  expect_flux_accounted(one.totals);
+  EXPECT_GT(one.totals.reflected, 0.0);
+  EXPECT_GT(one.totals.absorbed, 0.0);  // the bunny's glass is tinted
+  EXPECT_GT(one.totals.landed, 0.5 * one.totals.entering);
+  EXPECT_EQ(one.caustic_map.rgba, two.caustic_map.rgba);
+  EXPECT_EQ(one.camera.rgba, two.camera.rgba);
+  EXPECT_NE(one.caustic_map.rgba, other.caustic_map.rgba);
+  const auto c = reference::compare_images(other.caustic_map, one.caustic_map, 2.0);
+  EXPECT_NEAR(c.energy_ratio, 1.0, 0.02);
+  EXPECT_LT(c.relative_l1, 0.25);
+  EXPECT_GT(map_sum(one.camera), 0.0);
+}
+
+TEST(PhotonReference, RefusesASceneWhoseFirstLightIsNotASpot) {
+  const scene::Scene scene = from_text(R"({
+    "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+    "lights": [{"type": "point", "position": [0, 5, 0]}],
+    "objects": [{"name": "floor", "primitive": {"type": "plane"}}]})");
+  EXPECT_THROW(reference::trace_photon_reference(scene, {}), InputError);
+}
+
+// The metrics of caustica compare on images whose answers are known by hand.
+TEST(ImageMetrics, KnownAnswers) {
+  io::ImageData a, b;
+  a.width = b.width = 4;
+  a.height = b.height = 1;
+  a.rgba = {1, 1, 1, 1, 0, 0, 0, 1, 2, 2, 2, 1, 0, 0, 0, 1};
+  b.rgba = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 1};
+  const auto c = reference::compare_images(a, b, 0.0);
+  EXPECT_DOUBLE_EQ(c.energy_ratio, 1.0);            // 3 against 3
+  EXPECT_NEAR(c.relative_l1, 2.0 / 3.0, 1e-12);     // |0 - 1| + |2 - 1| over 3
+  EXPECT_NEAR(c.max_error, 1.0, 1e-6);
+  EXPECT_NEAR(c.mean_error, 0.5, 1e-6);              // 6 of 12 colour values off by 1
+  a.rgba[0] = std::nanf("");
+  EXPECT_EQ(reference::compare_images(a, b, 0.0).nonfinite_a, 1u);
+  // A blur wide enough spreads both to the same level: the error falls, the energy stays.
+  const auto blurred = reference::compare_images(b, b, 8.0);
+  EXPECT_EQ(blurred.relative_l1, 0.0);
+  b.width = 2;
+  b.height = 2;
+  EXPECT_THROW(reference::compare_images(a, b, 0.0), InputError);
+}
