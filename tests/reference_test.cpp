@@ -147,6 +147,11 @@ TEST(ImageMetrics, KnownAnswers) {
   const auto c = reference::compare_images(a, b, 0.0);
   EXPECT_DOUBLE_EQ(c.energy_ratio, 1.0);            // 3 against 3
   EXPECT_NEAR(c.relative_l1, 2.0 / 3.0, 1e-12);     // |0 - 1| + |2 - 1| over 3
+  EXPECT_NEAR(c.shape_l1, 2.0 / 3.0, 1e-12);        // the same, both sums being 3
+  io::ImageData half = a;
+  for (float& v : half.rgba) v *= 0.5f;
+  EXPECT_NEAR(reference::compare_images(half, a, 0.0).shape_l1, 0.0, 1e-12);  // less energy, same place
+  EXPECT_NEAR(reference::compare_images(half, a, 0.0).energy_ratio, 0.5, 1e-12);
   EXPECT_NEAR(c.max_error, 1.0, 1e-6);
   EXPECT_NEAR(c.mean_error, 0.5, 1e-6);              // 6 of 12 colour values off by 1
   a.rgba[0] = std::nanf("");

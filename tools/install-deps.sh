@@ -13,7 +13,7 @@ packages=(
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
   clang libclang-rt-14-dev
-  python3
+  python3 python3-matplotlib
 )
 
 missing=()

@@ -78,6 +78,9 @@ ImageComparison compare_images(const io::ImageData& a, const io::ImageData& b, d
     sum_a += la[i];
     sum_b += lb[i];
   }
+  if (sum_a != 0 && sum_b != 0) {
+    for (size_t i = 0; i < la.size(); ++i) result.shape_l1 += std::abs(la[i] / sum_a - lb[i] / sum_b);
+  }
   result.relative_l1 = sum_b != 0 ? difference / std::abs(sum_b) : (difference == 0 ? 0.0 : std::numeric_limits<double>::infinity());
   result.energy_ratio = sum_b != 0 ? sum_a / sum_b : (sum_a == 0 ? 1.0 : std::numeric_limits<double>::infinity());
   const auto compared = OIIO::ImageBufAlgo::compare(as_image_buf(a), as_image_buf(b), 1e30f, 1e30f);

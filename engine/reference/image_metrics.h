@@ -13,6 +13,9 @@ struct ImageComparison {
   // caustic, so that photon noise at a scale below it is not counted as error.
   double relative_l1 = 0;
   double energy_ratio = 0;  // sum A / sum B, on luminance: above 1, A created energy
+  // The same L1 with each image divided by its own sum (0 to 2): where the energy goes, whatever
+  // its total, so that a method losing flux evenly is told apart from one putting it elsewhere.
+  double shape_l1 = 0;
   // OpenImageIO's ImageBufAlgo::compare on the unblurred colour channels.
   double mean_error = 0, rms_error = 0, psnr = 0, max_error = 0;
   uint64_t nonfinite_a = 0, nonfinite_b = 0;  // NaN or Inf values (counted as 0 in the sums)

@@ -1,4 +1,4 @@
-// The caustica command: render, trace, validate, graph plan|dot, devices.
+// The caustica command: render, trace, validate, graph, reference, compare, devices; bench.cpp has the benchmarks.
 // Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (DESIGN.md).
 #include <unistd.h>
 
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "builtin_passes.h"
+#include "cli.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "core/suggest.h"
@@ -28,11 +29,9 @@
 #include "scene/scene.h"
 
 using namespace caustica;
+using namespace caustica::cli;
 
 namespace {
-
-constexpr const char* kDefaultGraph = "graphs/caustics_adaptive.json";
-constexpr const char* kDefaultScene = "scenes/bunny_plane.json";
 
 const char* kMainHelp = R"(caustica: a frame-graph renderer whose pipelines are JSON files
 
@@ -83,87 +82,6 @@ struct RenderOptions {
   uint64_t memory_limit_mib = 1536;
 };
 
-class Args {
- public:
-  Args(int argc, char** argv, int first) {
-    for (int i = first; i < argc; ++i) items_.emplace_back(argv[i]);
-  }
-  bool done() const { return next_ >= items_.size(); }
-  std::string take() { return items_[next_++]; }
-  std::string value(const std::string& flag) {
-    if (done()) throw UsageError(flag + " needs a value");
-    return take();
-  }
-  bool wants_help() const {
-    for (const auto& a : items_) {
-      if (a == "--help" || a == "-h") return true;
-    }
-    return false;
-  }
-
- private:
-  std::vector<std::string> items_;
-  size_t next_ = 0;
-};
-
-uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t min, uint64_t max) {
-  size_t used = 0;
-  unsigned long long v = 0;
-  try {
-    v = std::stoull(text, &used);
-    // Counts such as 1e8 photons: a whole mantissa and a small whole exponent.
-    if (used < text.size() && text[used] == 'e' && used + 1 < text.size() && text.size() - used <= 3 &&
-        std::all_of(text.begin() + static_cast<std::ptrdiff_t>(used) + 1, text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      for (int e = std::stoi(text.substr(used + 1)); e > 0 && v <= max; --e) v *= 10;
-      used = text.size();
-    }
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || text[0] == '-' || v < min || v > max) {
-    throw UsageError(flag + " " + text + ": expected a whole number from " + std::to_string(min) + " to " + std::to_string(max));
-  }
-  return v;
-}
-
-// CAUSTICA_FAULT=device_lost|out_of_memory makes the device fail on purpose, so tests can check
-// that such failures end the run with exit code 3 and no output (README, "Testing error paths").
-vk::ContextOptions device_options(const std::string& device, bool validate) {
-  vk::ContextOptions options{device, validate, false};
-  const char* fault = std::getenv("CAUSTICA_FAULT");
-  if (fault == nullptr || *fault == '\0') return options;
-  const std::string name = fault;
-  if (name == "device_lost") options.injected_fault = VK_ERROR_DEVICE_LOST;
-  else if (name == "out_of_memory") options.injected_fault = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-  else throw UsageError("CAUSTICA_FAULT=" + name + ": expected device_lost or out_of_memory");
-  return options;
-}
-
-void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
-  throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
-}
-
-double parse_number(const std::string& flag, const std::string& text, double min, double max) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || !std::isfinite(v) || v < min || v > max) {
-    throw UsageError(flag + " " + text + ": expected a number from " + JsonReader::format_number(min) + " to " + JsonReader::format_number(max));
-  }
-  return v;
-}
-
-void parse_size(const std::string& v, uint32_t& width, uint32_t& height) {
-  size_t x = v.find('x');
-  if (x == std::string::npos) throw UsageError("--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720");
-  width = static_cast<uint32_t>(parse_uint("--size width", v.substr(0, x), 1, 16384));
-  height = static_cast<uint32_t>(parse_uint("--size height", v.substr(x + 1), 1, 16384));
-}
-
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
   const std::vector<std::string> known = {"--graph", "--scene", "--out", "--size", "--frames", "--set", "--stats", "--dump", "--device", "--validate",
@@ -203,15 +121,6 @@ RenderOptions parse_render(Args& args, bool trace) {
     if (!file->empty()) io::check_output_file(*file);
   }
   return o;
-}
-
-// One line on stderr, rewritten in place: "LABEL done/total (p%)  elapsed, left"; ends the line when done.
-void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start) {
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double left = done > 0 ? elapsed / double(done) * double(total - done) : 0.0;
-  std::fprintf(stderr, "\r%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   ", label, static_cast<unsigned long long>(done),
-               static_cast<unsigned long long>(total), 100.0 * double(done) / double(total), elapsed, left);
-  if (done == total) std::fprintf(stderr, "\n");
 }
 
 // Writes JSON through a temporary file so a failed run never leaves half a file.
@@ -438,206 +347,6 @@ int cmd_reference(Args& args) {
   return 0;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-// Deferred against forward refraction: the same scene through both graphs, frames interleaved so
-// that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
-int cmd_bench_refraction(Args& args) {
-  std::vector<std::string> scenes;
-  uint32_t width = 1280, height = 720, frames = 7;
-  std::vector<uint32_t> sphere_details;
-  std::string device, csv;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene") scenes.push_back(args.value(a));
-    else if (a == "--size") parse_size(args.value(a), width, height);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
-    else if (a == "--sphere-detail") sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
-    else if (a == "--device") device = args.value(a);
-    else if (a == "--csv") csv = args.value(a);
-    else unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
-  }
-  if (!csv.empty()) io::check_output_file(csv);
-  struct Case {
-    std::string label;
-    std::shared_ptr<const scene::Scene> scene;
-  };
-  std::vector<Case> cases;
-  for (const auto& file : scenes) {
-    auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
-    cases.push_back({s->name, s});
-  }
-  for (uint32_t detail : sphere_details) {
-    // The ball-lens scene with its sphere tessellated more or less finely: triangle count alone varies.
-    scene::Scene s = scene::load_scene_file((data_dir() / "scenes/sphere_plane.json").string());
-    for (auto& o : s.objects) {
-      if (!o.material.refractor) continue;
-      const glm::vec3 centre = o.center();
-      const float radius = 0.5f * (o.bounds_max.y - o.bounds_min.y);
-      o.mesh = scene::make_sphere(radius, static_cast<int>(detail), static_cast<int>(std::max(2u, detail / 2)));
-      for (auto& p : o.mesh.positions) p += centre;
-      o.mesh.normal_distance = scene::normal_distances(o.mesh);
-    }
-    cases.push_back({"sphere, detail " + std::to_string(detail), std::make_shared<const scene::Scene>(std::move(s))});
-  }
-  if (cases.empty()) throw UsageError("bench refraction needs --scene FILE or --sphere-detail N (repeatable)");
-
-  vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
-  const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
-  std::string table = "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | deferred frame |\n|---|---|---|---|---|---|---|\n";
-  std::string rows_csv = "scene,refractor_triangles,forward_refraction_ms,deferred_refraction_ms,forward_frame_ms,deferred_frame_ms\n";
-  for (const auto& c : cases) {
-    std::unique_ptr<graph::Executor> executors[2];
-    for (int g = 0; g < 2; ++g) {
-      executors[g] = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
-      executors[g]->set_scene(c.scene);
-      executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
-    }
-    std::vector<double> refraction[2], frame[2];
-    for (uint32_t f = 0; f < frames + 2; ++f) {
-      for (int g = 0; g < 2; ++g) {
-        auto result = executors[g]->run_frame(false);
-        if (f < 2) continue;  // pipelines compile on first use on lavapipe
-        double ms = 0;
-        for (const auto& p : result.passes) {
-          if (p.name == "refractors" || p.name == "refraction") ms += p.gpu_ms;
-        }
-        refraction[g].push_back(ms);
-        frame[g].push_back(result.gpu_ms);
-      }
-      std::fprintf(stderr, "\r%s: frame %u/%u   ", c.label.c_str(), f + 1, frames + 2);
-    }
-    std::fprintf(stderr, "\n");
-    size_t triangles = 0;
-    for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
-    const double fw = median(refraction[0]), df = median(refraction[1]);
-    char row[512];
-    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df, df / fw,
-                  median(frame[0]), median(frame[1]));
-    table += row;
-    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
-    rows_csv += row;
-  }
-  std::cout << "device: " << vk.device_name() << ", " << width << "x" << height << ", median of " << frames << " frames after 2 warm-up\n\n"
-            << table;
-  if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
-  return 0;
-}
-
-// The paper's table: photons processed per method and effective grid on one scene, with the GPU
-// time of the caustic pass, one run.
-int cmd_bench_photons(Args& args) {
-  std::string scene_file = (data_dir() / kDefaultScene).string(), out_dir, device;
-  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
-  uint32_t frames = 3, regular_max = 16384;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene") scene_file = args.value(a);
-    else if (a == "--out") out_dir = args.value(a);
-    else if (a == "--device") device = args.value(a);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (a == "--grids") {
-      grids.clear();
-      std::string list = args.value(a);
-      for (size_t start = 0; start <= list.size();) {
-        size_t comma = std::min(list.find(',', start), list.size());
-        const uint64_t g = parse_uint("--grids", list.substr(start, comma - start), 64, 65536);
-        if ((g & (g - 1)) != 0) throw UsageError("--grids: " + std::to_string(g) + " is not a power of two");
-        grids.push_back(static_cast<uint32_t>(g));
-        start = comma + 1;
-      }
-    } else {
-      unknown_option(a, {"--scene", "--grids", "--frames", "--regular-max", "--out", "--device"});
-    }
-  }
-  auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
-  vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
-  struct Method {
-    const char* name;
-    const char* graph;
-  };
-  const Method methods[] = {{"regular", "caustics_regular"},
-                            {"hierarchical", "caustics_hierarchical"},
-                            {"adaptive_max_level", "caustics_adaptive_maxlevel"},
-                            {"adaptive_max_error", "caustics_adaptive_maxerror"},
-                            {"adaptive_hybrid", "caustics_adaptive"}};
-  std::string csv = "grid,method,processed,gpu_ms\n";
-  std::string table = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
-  std::string times = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
-  for (uint32_t grid : grids) {
-    std::string row = "| " + std::to_string(grid) + "^2 |", time_row = row;
-    for (const auto& m : methods) {
-      if (std::string(m.name) == "regular" && grid > regular_max) {
-        row += " n/a |";
-        time_row += " n/a |";
-        continue;
-      }
-      graph::Executor executor(vk, shaders, passes::builtin_registry());
-      executor.set_scene(scene);
-      auto g = graph::load_graph_file((data_dir() / "graphs" / (std::string(m.graph) + ".json")).string());
-      graph::apply_overrides(g, {"grid=" + std::to_string(grid)});
-      executor.configure(g, 640, 360);
-      executor.run_frame(false);  // pipelines compile on first use
-      std::vector<double> ms;
-      double processed = 0;
-      for (uint32_t f = 0; f < frames; ++f) {
-        auto result = executor.run_frame(false);
-        for (const auto& p : result.passes) {
-          if (p.name == "caustics") ms.push_back(p.gpu_ms);
-        }
-        processed = result.counters.count("photons.processed") ? result.counters.at("photons.processed") : 0;
-      }
-      char cell[128];
-      std::snprintf(cell, sizeof(cell), " %.0f |", processed);
-      row += cell;
-      std::snprintf(cell, sizeof(cell), " %.2f ms |", median(ms));
-      time_row += cell;
-      std::snprintf(cell, sizeof(cell), "%u,%s,%.0f,%.4f\n", grid, m.name, processed, median(ms));
-      csv += cell;
-      std::fprintf(stderr, "\r%u^2 %s: %.0f photons, %.2f ms          ", grid, m.name, processed, median(ms));
-    }
-    std::fprintf(stderr, "\n");
-    table += row + "\n";
-    times += time_row + "\n";
-  }
-  std::cout << "scene " << scene->name << ", device " << vk.device_name() << ", median of " << frames
-            << " frames after one warm-up; GPU time of the caustic pass only\n\nphotons processed:\n\n"
-            << table << "\ncaustic pass GPU time:\n\n"
-            << times;
-  if (!out_dir.empty()) {
-    std::filesystem::create_directories(out_dir);
-    io::write_text_atomically((std::filesystem::path(out_dir) / "photons.csv").string(), csv);
-  }
-  return 0;
-}
-
-int cmd_bench(Args& args) {
-  const char* help =
-      "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
-      "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n\n"
-      "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
-      "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
-      "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
-      "Deferred against forward refraction on the same scenes, one run, frames interleaved: median GPU time of the\n"
-      "refraction passes (refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders\n"
-      "the ball-lens scene with its sphere tessellated into N slices (triangle count alone varies).\n";
-  if (args.wants_help()) {
-    std::cout << help;
-    return 0;
-  }
-  if (args.done()) throw UsageError("bench needs a benchmark name: refraction or photons; see caustica bench --help");
-  std::string what = args.take();
-  if (what == "refraction") return cmd_bench_refraction(args);
-  if (what == "photons") return cmd_bench_photons(args);
-  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons"}));
-}
-
 int cmd_compare(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica compare A B [--blur SIGMA] [--json] [--max-l1 X]\n\n"
@@ -645,6 +354,7 @@ int cmd_compare(Args& args) {
                  "caustica reference --photons), both the same size (docs/accuracy.md):\n"
                  "  relative_l1    sum |A - B| / sum |B| on luminance after both are blurred by the same Gaussian\n"
                  "  energy_ratio   sum A / sum B on luminance (above 1: A has more energy than B)\n"
+                 "  shape_l1       the same L1 with each image divided by its own sum (0 to 2): misplaced energy only\n"
                  "  mean_error, rms_error, psnr, max_error   OpenImageIO's comparison of the unblurred colours\n"
                  "  nonfinite_a, nonfinite_b                NaN or Inf values in each image\n\n"
                  "options:\n"
@@ -666,15 +376,15 @@ int cmd_compare(Args& args) {
   }
   if (files.size() != 2) throw UsageError("compare needs two images, A and B; see caustica compare --help");
   const auto c = reference::compare_images(io::read_image(files[0]), io::read_image(files[1]), sigma);
-  const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"mean_error", c.mean_error},
+  const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"shape_l1", c.shape_l1}, {"mean_error", c.mean_error},
                                   {"rms_error", c.rms_error},     {"psnr", c.psnr},                 {"max_error", c.max_error},
                                   {"nonfinite_a", c.nonfinite_a}, {"nonfinite_b", c.nonfinite_b},   {"blur_sigma", sigma}};
   if (json) {
     std::cout << metrics.dump(2) << "\n";
   } else {
-    std::printf("relative_l1   %.6g   (blur sigma %.3g px)\nenergy_ratio  %.6g\nmean_error    %.6g\nrms_error     %.6g\npsnr          %.4g dB\n"
+    std::printf("relative_l1   %.6g   (blur sigma %.3g px)\nenergy_ratio  %.6g\nshape_l1      %.6g\nmean_error    %.6g\nrms_error     %.6g\npsnr          %.4g dB\n"
                 "max_error     %.6g\nnonfinite     %llu in A, %llu in B\n",
-                c.relative_l1, sigma, c.energy_ratio, c.mean_error, c.rms_error, c.psnr, c.max_error,
+                c.relative_l1, sigma, c.energy_ratio, c.shape_l1, c.mean_error, c.rms_error, c.psnr, c.max_error,
                 static_cast<unsigned long long>(c.nonfinite_a), static_cast<unsigned long long>(c.nonfinite_b));
   }
   if (max_l1 >= 0 && !(c.relative_l1 <= max_l1)) {

@@ -1,0 +1,421 @@
+// caustica bench: refraction (deferred against forward), photons (the paper's table) and accuracy
+// (speed against accuracy against the ground truth). Run by hand; results go into docs/.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <stdexcept>
+
+#include "builtin_passes.h"
+#include "cli.h"
+#include "core/paths.h"
+#include "core/suggest.h"
+#include "graph/executor.h"
+#include "io/image_io.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
+#include "reference/refraction_reference.h"
+#include "scene/scene.h"
+
+namespace caustica::cli {
+
+// Deferred against forward refraction: the same scene through both graphs, frames interleaved so
+// that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
+int cmd_bench_refraction(Args& args) {
+  std::vector<std::string> scenes;
+  uint32_t width = 1280, height = 720, frames = 7;
+  std::vector<uint32_t> sphere_details;
+  std::string device, csv;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene") scenes.push_back(args.value(a));
+    else if (a == "--size") parse_size(args.value(a), width, height);
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
+    else if (a == "--sphere-detail") sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
+    else if (a == "--device") device = args.value(a);
+    else if (a == "--csv") csv = args.value(a);
+    else unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
+  }
+  if (!csv.empty()) io::check_output_file(csv);
+  struct Case {
+    std::string label;
+    std::shared_ptr<const scene::Scene> scene;
+  };
+  std::vector<Case> cases;
+  for (const auto& file : scenes) {
+    auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
+    cases.push_back({s->name, s});
+  }
+  for (uint32_t detail : sphere_details) {
+    // The ball-lens scene with its sphere tessellated more or less finely: triangle count alone varies.
+    scene::Scene s = scene::load_scene_file((data_dir() / "scenes/sphere_plane.json").string());
+    for (auto& o : s.objects) {
+      if (!o.material.refractor) continue;
+      const glm::vec3 centre = o.center();
+      const float radius = 0.5f * (o.bounds_max.y - o.bounds_min.y);
+      o.mesh = scene::make_sphere(radius, static_cast<int>(detail), static_cast<int>(std::max(2u, detail / 2)));
+      for (auto& p : o.mesh.positions) p += centre;
+      o.mesh.normal_distance = scene::normal_distances(o.mesh);
+    }
+    cases.push_back({"sphere, detail " + std::to_string(detail), std::make_shared<const scene::Scene>(std::move(s))});
+  }
+  if (cases.empty()) throw UsageError("bench refraction needs --scene FILE or --sphere-detail N (repeatable)");
+
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
+  std::string table = "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | deferred frame |\n|---|---|---|---|---|---|---|\n";
+  std::string rows_csv = "scene,refractor_triangles,forward_refraction_ms,deferred_refraction_ms,forward_frame_ms,deferred_frame_ms\n";
+  for (const auto& c : cases) {
+    std::unique_ptr<graph::Executor> executors[2];
+    for (int g = 0; g < 2; ++g) {
+      executors[g] = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executors[g]->set_scene(c.scene);
+      executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
+    }
+    std::vector<double> refraction[2], frame[2];
+    for (uint32_t f = 0; f < frames + 2; ++f) {
+      for (int g = 0; g < 2; ++g) {
+        auto result = executors[g]->run_frame(false);
+        if (f < 2) continue;  // pipelines compile on first use on lavapipe
+        double ms = 0;
+        for (const auto& p : result.passes) {
+          if (p.name == "refractors" || p.name == "refraction") ms += p.gpu_ms;
+        }
+        refraction[g].push_back(ms);
+        frame[g].push_back(result.gpu_ms);
+      }
+      std::fprintf(stderr, "\r%s: frame %u/%u   ", c.label.c_str(), f + 1, frames + 2);
+    }
+    std::fprintf(stderr, "\n");
+    size_t triangles = 0;
+    for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
+    const double fw = median(refraction[0]), df = median(refraction[1]);
+    char row[512];
+    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df, df / fw,
+                  median(frame[0]), median(frame[1]));
+    table += row;
+    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
+    rows_csv += row;
+  }
+  std::cout << "device: " << vk.device_name() << ", " << width << "x" << height << ", median of " << frames << " frames after 2 warm-up\n\n"
+            << table;
+  if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
+  return 0;
+}
+
+// The paper's table: photons processed per method and effective grid on one scene, with the GPU
+// time of the caustic pass, one run.
+int cmd_bench_photons(Args& args) {
+  std::string scene_file = (data_dir() / kDefaultScene).string(), out_dir, device;
+  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
+  uint32_t frames = 3, regular_max = 16384;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene") scene_file = args.value(a);
+    else if (a == "--out") out_dir = args.value(a);
+    else if (a == "--device") device = args.value(a);
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    else if (a == "--grids") {
+      grids = parse_powers_of_two(a, args.value(a), 64, 65536);
+    } else {
+      unknown_option(a, {"--scene", "--grids", "--frames", "--regular-max", "--out", "--device"});
+    }
+  }
+  auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  struct Method {
+    const char* name;
+    const char* graph;
+  };
+  const Method methods[] = {{"regular", "caustics_regular"},
+                            {"hierarchical", "caustics_hierarchical"},
+                            {"adaptive_max_level", "caustics_adaptive_maxlevel"},
+                            {"adaptive_max_error", "caustics_adaptive_maxerror"},
+                            {"adaptive_hybrid", "caustics_adaptive"}};
+  std::string csv = "grid,method,processed,gpu_ms\n";
+  std::string table = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
+  std::string times = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
+  for (uint32_t grid : grids) {
+    std::string row = "| " + std::to_string(grid) + "^2 |", time_row = row;
+    for (const auto& m : methods) {
+      if (std::string(m.name) == "regular" && grid > regular_max) {
+        row += " n/a |";
+        time_row += " n/a |";
+        continue;
+      }
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      executor.set_scene(scene);
+      auto g = graph::load_graph_file((data_dir() / "graphs" / (std::string(m.graph) + ".json")).string());
+      graph::apply_overrides(g, {"grid=" + std::to_string(grid)});
+      executor.configure(g, 640, 360);
+      executor.run_frame(false);  // pipelines compile on first use
+      std::vector<double> ms;
+      double processed = 0;
+      for (uint32_t f = 0; f < frames; ++f) {
+        auto result = executor.run_frame(false);
+        for (const auto& p : result.passes) {
+          if (p.name == "caustics") ms.push_back(p.gpu_ms);
+        }
+        processed = result.counters.count("photons.processed") ? result.counters.at("photons.processed") : 0;
+      }
+      char cell[128];
+      std::snprintf(cell, sizeof(cell), " %.0f |", processed);
+      row += cell;
+      std::snprintf(cell, sizeof(cell), " %.2f ms |", median(ms));
+      time_row += cell;
+      std::snprintf(cell, sizeof(cell), "%u,%s,%.0f,%.4f\n", grid, m.name, processed, median(ms));
+      csv += cell;
+      std::fprintf(stderr, "\r%u^2 %s: %.0f photons, %.2f ms          ", grid, m.name, processed, median(ms));
+    }
+    std::fprintf(stderr, "\n");
+    table += row + "\n";
+    times += time_row + "\n";
+  }
+  std::cout << "scene " << scene->name << ", device " << vk.device_name() << ", median of " << frames
+            << " frames after one warm-up; GPU time of the caustic pass only\n\nphotons processed:\n\n"
+            << table << "\ncaustic pass GPU time:\n\n"
+            << times;
+  if (!out_dir.empty()) {
+    std::filesystem::create_directories(out_dir);
+    io::write_text_atomically((std::filesystem::path(out_dir) / "photons.csv").string(), csv);
+  }
+  return 0;
+}
+
+namespace {
+
+std::string scene_path(const std::string& name) {
+  const bool is_path = name.find('/') != std::string::npos || std::filesystem::path(name).extension() == ".json";
+  return is_path ? name : (data_dir() / "scenes" / (name + ".json")).string();
+}
+
+std::string graph_path(const std::string& name) {
+  const bool is_path = name.find('/') != std::string::npos || std::filesystem::path(name).extension() == ".json";
+  return is_path ? name : (data_dir() / "graphs" / (name + ".json")).string();
+}
+
+bool is_one_of(const std::string& type, std::initializer_list<const char*> types) {
+  return std::any_of(types.begin(), types.end(), [&](const char* t) { return type == t; });
+}
+
+// The graph's passes whose GPU time a method is charged with.
+std::set<std::string> passes_of_types(const graph::GraphDesc& graph, std::initializer_list<const char*> types) {
+  std::set<std::string> names;
+  for (const auto& p : graph.passes) {
+    if (is_one_of(p.type, types)) names.insert(p.name);
+  }
+  return names;
+}
+
+struct Timings {
+  double method_ms = 0, frame_ms = 0;
+  graph::FrameResult last;
+};
+
+// One warm-up frame (pipelines compile on first use), then the median of `frames`.
+Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<std::string>& method_passes) {
+  executor.run_frame(false);
+  std::vector<double> method, frame;
+  Timings t;
+  for (uint32_t f = 0; f < frames; ++f) {
+    t.last = executor.run_frame(f + 1 == frames);
+    double ms = 0;
+    for (const auto& p : t.last.passes) ms += method_passes.count(p.name) ? p.gpu_ms : 0.0;
+    method.push_back(ms);
+    frame.push_back(t.last.gpu_ms);
+  }
+  t.method_ms = median(method);
+  t.frame_ms = median(frame);
+  return t;
+}
+
+constexpr std::initializer_list<const char*> kCausticPassTypes = {"caustic_map", "hierarchical_caustic_map", "adaptive_caustic_map"};
+constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_buffers", "deferred_refraction", "forward_refraction",
+                                                                      "refraction_layers"};
+
+}  // namespace
+
+// Speed against accuracy: every scene x caustic graph x effective photon grid against the photon
+// reference, and every refraction graph x distance estimate against the ray-traced reference.
+int cmd_bench_accuracy(Args& args) {
+  std::vector<std::string> scenes{"sphere_plane", "bunny_plane"};
+  std::vector<std::string> graphs{"caustics_regular", "caustics_hierarchical", "caustics_adaptive_maxlevel", "caustics_adaptive_maxerror",
+                                  "caustics_adaptive", "refraction_forward", "refraction_deferred"};
+  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
+  uint32_t frames = 3, regular_max = 4096, caustic_size = 512, width = 640, height = 360;
+  uint64_t reference_photons = 100'000'000;
+  double blur = 1.5;
+  std::string out_dir, device;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scenes") scenes = parse_names(a, args.value(a));
+    else if (a == "--graphs") graphs = parse_names(a, args.value(a));
+    else if (a == "--grids") grids = parse_powers_of_two(a, args.value(a), 64, 65536);
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    else if (a == "--caustic-size") caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+    else if (a == "--size") parse_size(args.value(a), width, height);
+    else if (a == "--reference-photons") reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+    else if (a == "--blur") blur = parse_number(a, args.value(a), 0, 64);
+    else if (a == "--out") out_dir = args.value(a);
+    else if (a == "--device") device = args.value(a);
+    else unknown_option(a, {"--scenes", "--graphs", "--grids", "--frames", "--regular-max", "--caustic-size", "--size", "--reference-photons", "--blur",
+                            "--out", "--device"});
+  }
+  if (out_dir.empty()) throw UsageError("bench accuracy needs --out DIR");
+  // Everything is loaded and checked before the first long step.
+  std::vector<std::shared_ptr<const scene::Scene>> loaded;
+  for (const auto& name : scenes) loaded.push_back(std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(name))));
+  std::vector<graph::GraphDesc> graph_descs;
+  for (const auto& name : graphs) {
+    graph_descs.push_back(graph::load_graph_file(graph_path(name)));
+    const auto& g = graph_descs.back();
+    if (passes_of_types(g, kCausticPassTypes).empty() && passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
+      throw InputError(graph_path(name) + ": bench accuracy needs a graph with a caustic or a refraction pass");
+    }
+  }
+  const std::filesystem::path plot_script = data_dir() / "tools" / "plot_accuracy.py";
+  if (!std::filesystem::is_regular_file(plot_script)) throw InputError(plot_script.string() + ": the chart script is missing");
+  std::filesystem::create_directories(out_dir);
+  const std::filesystem::path dir(out_dir);
+
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  std::string csv = "scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n";
+  std::string table = "| scene | method | grid | photons processed | method GPU ms | frame GPU ms | relative L1 | energy ratio | shape L1 |\n|---|---|---|---|---|---|---|---|---|\n";
+  const auto start = std::chrono::steady_clock::now();
+  auto add_row = [&](const std::string& scene, const char* kind, const std::string& method, uint32_t grid, double processed, const Timings& t,
+                     const reference::ImageComparison& c) {
+    char line[512];
+    std::snprintf(line, sizeof(line), "%s,%s,%s,%u,%.0f,%.4f,%.4f,%.6f,%.6f,%.6f,%.3f,%llu\n", scene.c_str(), kind, method.c_str(), grid, processed,
+                  t.method_ms, t.frame_ms, c.relative_l1, c.energy_ratio, c.shape_l1, c.psnr, static_cast<unsigned long long>(c.nonfinite_a));
+    csv += line;
+    std::snprintf(line, sizeof(line), "| %s | %s | %s | %.0f | %.2f | %.2f | %.4f | %s | %s |\n", scene.c_str(), method.c_str(),
+                  grid ? (std::to_string(grid) + "^2").c_str() : "-", processed, t.method_ms, t.frame_ms, c.relative_l1,
+                  std::isnan(c.energy_ratio) ? "-" : std::to_string(c.energy_ratio).substr(0, 6).c_str(),
+                  std::isnan(c.shape_l1) ? "-" : std::to_string(c.shape_l1).substr(0, 6).c_str());
+    table += line;
+    std::fprintf(stderr, "%s %s%s: %.2f ms, relative L1 %.4f, energy %.4f  (%.0f s)\n", scene.c_str(), method.c_str(),
+                 grid ? (" " + std::to_string(grid) + "^2").c_str() : "", t.method_ms, c.relative_l1, c.energy_ratio,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  };
+
+  for (size_t si = 0; si < loaded.size(); ++si) {
+    const auto& scene = loaded[si];
+    bool wants_caustics = false, wants_refraction = false;
+    for (const auto& g : graph_descs) {
+      wants_caustics = wants_caustics || !passes_of_types(g, kCausticPassTypes).empty();
+      wants_refraction = wants_refraction || passes_of_types(g, kCausticPassTypes).empty();
+    }
+    reference::PhotonReference photons;
+    if (wants_caustics) {
+      reference::PhotonOptions options;
+      options.photons = reference_photons;
+      options.map_size = caustic_size;
+      const auto reference_start = std::chrono::steady_clock::now();
+      options.progress = [&](uint64_t done, uint64_t total) {
+        print_progress((scene->name + ": reference photons").c_str(), done, total, reference_start);
+      };
+      photons = reference::trace_photon_reference(*scene, options);
+      io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons.caustic_map);
+    }
+    reference::RefractionImage refraction;
+    if (wants_refraction) refraction = reference::render_refraction_reference(*scene, width, height);
+
+    for (size_t gi = 0; gi < graph_descs.size(); ++gi) {
+      const auto& desc = graph_descs[gi];
+      const auto caustic_passes = passes_of_types(desc, kCausticPassTypes);
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      executor.set_scene(scene);
+      if (!caustic_passes.empty()) {
+        for (uint32_t grid : grids) {
+          if (grid > regular_max && !passes_of_types(desc, {"caustic_map"}).empty()) continue;
+          graph::GraphDesc g = desc;
+          graph::apply_overrides(g, {"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)});
+          executor.configure(g, width, height, {"caustics"});
+          const Timings t = time_frames(executor, frames, caustic_passes);
+          const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
+          add_row(scene->name, "caustics", desc.name, grid, processed, t, reference::compare_images(executor.read_image("caustics"), photons.caustic_map, blur));
+        }
+      } else {
+        for (const char* distance : {"dv", "dv_dn"}) {
+          graph::GraphDesc g = desc;
+          graph::apply_overrides(g, {std::string("distance=") + distance});
+          executor.configure(g, width, height, {"refracted"});
+          const Timings t = time_frames(executor, frames, passes_of_types(desc, kRefractionPassTypes));
+          reference::ImageComparison c;
+          c.relative_l1 = reference::refraction_relative_l1(executor.read_image("refracted"), refraction);
+          c.energy_ratio = c.shape_l1 = c.psnr = std::nan("");
+          add_row(scene->name, "refraction", desc.name + " " + distance, 0, 0.0, t, c);
+        }
+      }
+    }
+  }
+
+  io::write_text_atomically((dir / "results.csv").string(), csv);
+  char config[1024];
+  std::snprintf(config, sizeof(config),
+                "Device %s. Frames %ux%u; median GPU time of %u frames after one warm-up. Caustic maps %u^2, compared with %llu "
+                "reference photons (caustica reference --photons, Fresnel on) after a Gaussian blur of sigma %.3g texels; "
+                "refraction compared with the ray-traced reference over the refractor's pixels (no blur).",
+                vk.device_name().c_str(), width, height, frames, caustic_size, static_cast<unsigned long long>(reference_photons), blur);
+  io::write_text_atomically((dir / "README.md").string(),
+                            "# caustica bench accuracy\n\n" + std::string(config) +
+                                "\n\nColumns as in results.csv: `method GPU ms` is the caustic pass (photon work only; the light-space "
+                                "inputs are the same for every method) or, for refraction, refractor_buffers plus the refraction pass. "
+                                "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
+                                table);
+  const std::filesystem::path partial = dir / ".speed_accuracy.partial.png";
+  // Debian's interpreter, where python3-matplotlib installs, even when another python3 comes first on PATH.
+  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string command = python + " '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
+  if (std::system(command.c_str()) != 0) {
+    std::filesystem::remove(partial);
+    throw std::runtime_error("drawing the chart failed: " + command + " (Debian: python3-matplotlib)");
+  }
+  std::filesystem::rename(partial, dir / "speed_accuracy.png");
+  std::cout << config << "\n\n" << table;
+  std::fprintf(stderr, "bench accuracy: %s/results.csv, README.md, speed_accuracy.png\n", out_dir.c_str());
+  return 0;
+}
+
+int cmd_bench(Args& args) {
+  const char* help =
+      "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
+      "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n"
+      "       caustica bench accuracy --out DIR [--scenes A,B] [--graphs G,H,...] [--grids 256,512,...] [--frames N]\n"
+      "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n\n"
+      "accuracy: speed against accuracy. For every scene (bundled names or files; default sphere_plane,bunny_plane) x\n"
+      "caustic graph x effective photon grid (default 256..4096; the regular map only up to --regular-max, 4096): the\n"
+      "median GPU time of the caustic pass and of the frame, and the error of the caustic map against the photon\n"
+      "reference (--reference-photons, default 1e8) after a matched blur; and for every refraction graph x distance\n"
+      "estimate (dv, dv_dn): the refraction passes' time and error against the ray-traced reference. Writes\n"
+      "DIR/results.csv, DIR/speed_accuracy.png (error against time, log-log, python3-matplotlib), DIR/README.md and\n"
+      "each scene's reference map. Default graphs: the five caustic graphs, refraction_forward, refraction_deferred.\n\n"
+      "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
+      "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
+      "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
+      "Deferred against forward refraction on the same scenes, one run, frames interleaved: median GPU time of the\n"
+      "refraction passes (refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders\n"
+      "the ball-lens scene with its sphere tessellated into N slices (triangle count alone varies).\n";
+  if (args.wants_help()) {
+    std::cout << help;
+    return 0;
+  }
+  if (args.done()) throw UsageError("bench needs a benchmark name: refraction, photons or accuracy; see caustica bench --help");
+  std::string what = args.take();
+  if (what == "refraction") return cmd_bench_refraction(args);
+  if (what == "photons") return cmd_bench_photons(args);
+  if (what == "accuracy") return cmd_bench_accuracy(args);
+  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons", "accuracy"}));
+}
+
+}  // namespace caustica::cli

@@ -1,0 +1,105 @@
+#include "cli.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/suggest.h"
+#include "io/json_reader.h"
+
+namespace caustica::cli {
+
+uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t min, uint64_t max) {
+  size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+    // Counts such as 1e8 photons: a whole mantissa and a small whole exponent.
+    if (used < text.size() && text[used] == 'e' && used + 1 < text.size() && text.size() - used <= 3 &&
+        std::all_of(text.begin() + static_cast<std::ptrdiff_t>(used) + 1, text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      for (int e = std::stoi(text.substr(used + 1)); e > 0 && v <= max; --e) v *= 10;
+      used = text.size();
+    }
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-' || v < min || v > max) {
+    throw UsageError(flag + " " + text + ": expected a whole number from " + std::to_string(min) + " to " + std::to_string(max));
+  }
+  return v;
+}
+
+double parse_number(const std::string& flag, const std::string& text, double min, double max) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(v) || v < min || v > max) {
+    throw UsageError(flag + " " + text + ": expected a number from " + JsonReader::format_number(min) + " to " + JsonReader::format_number(max));
+  }
+  return v;
+}
+
+void parse_size(const std::string& v, uint32_t& width, uint32_t& height) {
+  size_t x = v.find('x');
+  if (x == std::string::npos) throw UsageError("--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  width = static_cast<uint32_t>(parse_uint("--size width", v.substr(0, x), 1, 16384));
+  height = static_cast<uint32_t>(parse_uint("--size height", v.substr(x + 1), 1, 16384));
+}
+
+std::vector<uint32_t> parse_powers_of_two(const std::string& flag, const std::string& list, uint32_t min, uint32_t max) {
+  std::vector<uint32_t> values;
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    const uint64_t v = parse_uint(flag, list.substr(start, comma - start), min, max);
+    if ((v & (v - 1)) != 0) throw UsageError(flag + ": " + std::to_string(v) + " is not a power of two");
+    values.push_back(static_cast<uint32_t>(v));
+    start = comma + 1;
+  }
+  return values;
+}
+
+std::vector<std::string> parse_names(const std::string& flag, const std::string& list) {
+  std::vector<std::string> names;
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    names.push_back(list.substr(start, comma - start));
+    if (names.back().empty()) throw UsageError(flag + " " + list + ": expected names separated by commas");
+    start = comma + 1;
+  }
+  return names;
+}
+
+void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
+  throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
+}
+
+vk::ContextOptions device_options(const std::string& device, bool validate) {
+  vk::ContextOptions options{device, validate, false};
+  const char* fault = std::getenv("CAUSTICA_FAULT");
+  if (fault == nullptr || *fault == '\0') return options;
+  const std::string name = fault;
+  if (name == "device_lost") options.injected_fault = VK_ERROR_DEVICE_LOST;
+  else if (name == "out_of_memory") options.injected_fault = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  else throw UsageError("CAUSTICA_FAULT=" + name + ": expected device_lost or out_of_memory");
+  return options;
+}
+
+void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double left = done > 0 ? elapsed / double(done) * double(total - done) : 0.0;
+  std::fprintf(stderr, "\r%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   ", label, static_cast<unsigned long long>(done),
+               static_cast<unsigned long long>(total), 100.0 * double(done) / double(total), elapsed, left);
+  if (done == total) std::fprintf(stderr, "\n");
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace caustica::cli

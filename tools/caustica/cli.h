@@ -1,0 +1,61 @@
+#pragma once
+// What the caustica command's subcommands share: argument reading, number parsing with messages
+// that name the flag, device options, progress lines and medians.
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "vk/context.h"
+
+namespace caustica::cli {
+
+inline constexpr const char* kDefaultGraph = "graphs/caustics_adaptive.json";
+inline constexpr const char* kDefaultScene = "scenes/bunny_plane.json";
+
+class Args {
+ public:
+  Args(int argc, char** argv, int first) {
+    for (int i = first; i < argc; ++i) items_.emplace_back(argv[i]);
+  }
+  bool done() const { return next_ >= items_.size(); }
+  std::string take() { return items_[next_++]; }
+  std::string value(const std::string& flag) {
+    if (done()) throw UsageError(flag + " needs a value");
+    return take();
+  }
+  bool wants_help() const {
+    for (const auto& a : items_) {
+      if (a == "--help" || a == "-h") return true;
+    }
+    return false;
+  }
+
+ private:
+  std::vector<std::string> items_;
+  size_t next_ = 0;
+};
+
+// Each throws UsageError naming the flag and the accepted range.
+uint64_t parse_uint(const std::string& flag, const std::string& text, uint64_t min, uint64_t max);
+double parse_number(const std::string& flag, const std::string& text, double min, double max);
+void parse_size(const std::string& v, uint32_t& width, uint32_t& height);
+// A comma-separated list of powers of two within [min, max], e.g. --grids 256,512,1024.
+std::vector<uint32_t> parse_powers_of_two(const std::string& flag, const std::string& list, uint32_t min, uint32_t max);
+// A comma-separated list of names, none empty.
+std::vector<std::string> parse_names(const std::string& flag, const std::string& list);
+[[noreturn]] void unknown_option(const std::string& arg, const std::vector<std::string>& known);
+
+// CAUSTICA_FAULT=device_lost|out_of_memory makes the device fail on purpose, so tests can check
+// that such failures end the run with exit code 3 and no output (README, "Testing error paths").
+vk::ContextOptions device_options(const std::string& device, bool validate);
+
+// One line on stderr, rewritten in place: "LABEL done/total (p%)  elapsed, left"; ends the line when done.
+void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start);
+
+double median(std::vector<double> v);
+
+int cmd_bench(Args& args);
+
+}  // namespace caustica::cli
