@@ -35,8 +35,11 @@ struct AdaptivePush {
   uint32_t batch_count;
   uint32_t light_size_log2;
   uint32_t splat_levels;
+  uint32_t coverage_seeded;
   uint32_t counter_slot[11];
 };
+
+constexpr uint32_t kCoverageBlockLog2 = 2;  // the coverage pyramid's finest texel: 4 x 4 light-view texels
 
 uint32_t log2_exact(uint32_t v) {
   uint32_t l = 0;
@@ -59,10 +62,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
     converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
     const uint32_t light_size = setup.resource("front").width;
-    light_size_log2_ = log2_exact(light_size);
-    if (hierarchical_ && (1u << light_size_log2_) != light_size) {
+    // The pyramid's finest level has one texel per kCoverageBlock^2 light-view texels: a quarter of
+    // the side costs lavapipe a sixteenth of the threads, and a cluster is still never finer than
+    // a block at the photon grids in use (a block is 4 texels of a 1024^2 view, 1/256 of its side).
+    light_size_log2_ = log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0;
+    uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
+    if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {
       throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): the light-view buffers are " +
-                       std::to_string(light_size) + " wide; the coverage pyramid needs a power of two");
+                       std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
+                       (hierarchical_ ? "" : " (or set coverage_seeding to false)"));
     }
     // Two lists of 4-byte entries. A start cluster can grow to 4^max_level clusters at the last level.
     capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
@@ -89,7 +97,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                setup.pass().name + " level control");
     uint64_t coverage_words = 1;
-    for (uint32_t l = 0; hierarchical_ && l <= light_size_log2_; ++l) coverage_words += uint64_t{1} << (2 * (light_size_log2_ - l));
+    for (uint32_t l = 0; uses_coverage_ && l <= light_size_log2_; ++l) coverage_words += uint64_t{1} << (2 * (light_size_log2_ - l));
     coverage_ = vk::make_buffer(vk, coverage_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " coverage");
     splat_levels_ = p["splat_levels"].get<uint32_t>();
     uint64_t pyramid_words = 0;
@@ -107,7 +115,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", defines));
-    if (hierarchical_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
+    if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
   }
@@ -127,7 +135,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
-                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_, {}};
+                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_,
+                      uses_coverage_ ? 1u : 0u, {}};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -141,7 +150,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
           .storage_buffer(12, pyramid_.get())
           .push(ctx.vk(), cmd, pipeline);
     };
-    if (hierarchical_) {
+    if (uses_coverage_) {
       // The coverage pyramid, finest level first; each level reads the one before.
       for (uint32_t level = 0; level <= light_size_log2_; ++level) {
         if (level > 0) memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
@@ -193,6 +202,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
  private:
   bool hierarchical_;
+  bool uses_coverage_ = false;
   vk::Pipeline photons_, args_, combine_, coverage_pipeline_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
@@ -211,6 +221,9 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
                       "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
                       "hybrid: max_level below converge_from, max_error from there"});
     params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
+    params.push_back({"coverage_seeding", ParamType::bool_, true, {}, {}, {},
+                      "keep a cluster whose four photons all miss when the light-view coverage pyramid shows a refractor under it, "
+                      "so refractors smaller than the 64 x 64 start grid's spacing are found; false: the paper's traversal"});
   }
   params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
   params.push_back({"splat_levels", ParamType::int_, 4, 1.0, 8.0, {},

@@ -1,4 +1,4 @@
-// Every bundled graph on every bundled scene, on lavapipe with validation and synchronization
+// Every bundled graph on every bundled scene (the stability suite's included), on lavapipe with validation and synchronization
 // validation: each must render without a validation message, without NaN or Inf in its output,
 // and with its first output written. Small frames and small photon grids keep it quick; the
 // shapes of the work (passes, barriers, aliasing, batches) are the same as at full size.
@@ -29,9 +29,12 @@ std::vector<std::filesystem::path> bundled(const char* folder) {
 TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
   vk::Context vk({"", true, false});
   shader::ShaderCompiler shaders(data_dir() / "shaders");
-  const auto graphs = bundled("graphs"), scenes = bundled("scenes");
+  const auto graphs = bundled("graphs");
+  auto scenes = bundled("scenes");
+  const auto stability = bundled("scenes/stability");
+  scenes.insert(scenes.end(), stability.begin(), stability.end());
   ASSERT_GE(graphs.size(), 9u);
-  ASSERT_GE(scenes.size(), 8u);
+  ASSERT_GE(scenes.size(), 14u);
   int renders = 0;
   for (const auto& scene_file : scenes) {
     auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file.string()));

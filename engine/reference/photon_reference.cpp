@@ -135,6 +135,7 @@ class PhotonTracer {
       return;
     }
     acc.totals.landed += power;
+    ++acc.totals.landed_photons;
     const uint64_t units = static_cast<uint64_t>(std::llround(power / unit_));
     const uint32_t size = options_.map_size;
     const uint32_t x = std::min(size - 1, static_cast<uint32_t>(uv.x * float(size)));
@@ -163,6 +164,7 @@ class PhotonTracer {
 
 void add_totals(PhotonTotals& to, const PhotonTotals& from) {
   to.photons += from.photons;
+  to.landed_photons += from.landed_photons;
   to.emitted += from.emitted;
   to.direct += from.direct;
   to.entering += from.entering;

@@ -29,6 +29,7 @@ struct PhotonOptions {
 // landed + off_map + reflected + escaped + trapped + absorbed, up to float rounding.
 struct PhotonTotals {
   uint64_t photons = 0;
+  uint64_t landed_photons = 0;  // how many photons make up `landed`: its sampling error is about 1 / sqrt of it
   double emitted = 0;    // everything the light sent into its view
   double direct = 0;     // met an opaque surface or nothing before any refractor: not a caustic
   double entering = 0;   // met a refractor first

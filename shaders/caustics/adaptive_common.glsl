@@ -19,8 +19,8 @@ layout(set = 0, binding = 10, std430) buffer ControlBlock {
   uint counts[16];
   uint args[16][3];
 };
-// Hierarchical only: a max pyramid of the refractor coverage of the light-view front surfaces,
-// finest level (light_size^2) first, each next level half the side.
+// Hierarchical, and adaptive with coverage_seeding: a max pyramid of the refractor coverage of the
+// light-view front surfaces, finest level (light_size^2) first, each next level half the side.
 layout(set = 0, binding = 11, std430) buffer CoverageBlock { uint coverage[]; };
 // The multi-resolution caustic map: splat_levels levels of flux per texel, the caustic map's size
 // first, each next level half the side; combine.comp sums them into the caustic map.
@@ -41,12 +41,26 @@ layout(push_constant) uniform Params {
   uint list_capacity;
   uint batch_first;     // first start cluster of this batch, row-major over 32 x 32
   uint batch_count;
-  uint light_size_log2;  // hierarchical: side of the coverage pyramid's finest level
+  uint light_size_log2;  // log2 of the side of the coverage pyramid's finest level
   uint splat_levels;
+  uint coverage_seeded;  // adaptive: the coverage pyramid exists and keeps clusters over small refractors
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
   // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
   uint counter_slot[11];
 } params;
+
+// Whether any light-view texel under a cluster's footprint at params.level shows a refractor: one
+// texel of the pyramid level whose texels are the footprint's size, or the finest level's texel
+// that holds it.
+bool covered(uvec2 cluster) {
+  uint clusters_log2 = 5u + params.level;  // 32 * 2^level clusters per side
+  uint k = params.light_size_log2 > clusters_log2 ? params.light_size_log2 - clusters_log2 : 0u;
+  uint offset = 0u;
+  for (uint l = 0u; l < k; ++l) offset += 1u << (2u * (params.light_size_log2 - l));
+  uint level_side = 1u << (params.light_size_log2 - k);
+  uvec2 texel = clusters_log2 >= params.light_size_log2 ? cluster >> (clusters_log2 - params.light_size_log2) : cluster;
+  return coverage[offset + texel.y * level_side + texel.x] != 0u;
+}
 
 uvec2 pyramid_size(uint level) { return max(uvec2(imageSize(caustic_map)) >> level, uvec2(1u)); }
 

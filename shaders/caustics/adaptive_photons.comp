@@ -2,7 +2,8 @@
 // One level of the caustic-map traversals. A cluster at level L is 2 x 2 photons of the grid of
 // side 64 * 2^L.
 // Adaptive (Wyman and Nichols 2009): the four photons are traced. All four missing the refractor:
-// dropped. At the last level: every photon is output. From converge_level on, four photons landing
+// dropped, unless coverage seeding is on and the coverage pyramid shows a refractor under the
+// cluster (then refined, so that refractors smaller than the start grid's spacing are found). At the last level: every photon is output. From converge_level on, four photons landing
 // in one caustic-map texel: output as one photon with the cluster's whole power. Otherwise each
 // photon becomes a cluster of the next level, appended to the other list.
 // HIERARCHICAL (Wyman 2008): nothing is traced above the last level; a cluster whose footprint the
@@ -72,19 +73,6 @@ void refine(uvec2 cluster) {
   }
 }
 
-#ifdef HIERARCHICAL
-// Whether any light-view texel under the cluster's footprint shows a refractor: one texel of the
-// pyramid level whose texels are the footprint's size, or the finest level's texel that holds it.
-bool covered(uvec2 cluster) {
-  uint clusters_log2 = 5u + params.level;  // 32 * 2^level clusters per side
-  uint k = params.light_size_log2 > clusters_log2 ? params.light_size_log2 - clusters_log2 : 0u;
-  uint offset = 0u;
-  for (uint l = 0u; l < k; ++l) offset += 1u << (2u * (params.light_size_log2 - l));
-  uint level_side = 1u << (params.light_size_log2 - k);
-  uvec2 texel = clusters_log2 >= params.light_size_log2 ? cluster >> (clusters_log2 - params.light_size_log2) : cluster;
-  return coverage[offset + texel.y * level_side + texel.x] != 0u;
-}
-#endif
 
 void main() {
   begin_group_totals();
@@ -131,7 +119,11 @@ void main() {
     }
     count_n(PROCESSED, 4u);
     count_n(PROCESSED_LEVEL, 4u);
-    if (!any_hit) {
+    if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
+      // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
+      // the photon spacing): look closer instead of losing it.
+      refine(cluster);
+    } else if (!any_hit) {
       count_n(MISS, 4u);
     } else if (params.level == params.max_level) {
       uint level = footprint_level(ph);

@@ -192,15 +192,13 @@ int cmd_bench_photons(Args& args) {
 
 namespace {
 
-std::string scene_path(const std::string& name) {
-  const bool is_path = name.find('/') != std::string::npos || std::filesystem::path(name).extension() == ".json";
-  return is_path ? name : (data_dir() / "scenes" / (name + ".json")).string();
+// A file (NAME.json) as given, or a bundled one by name ("bunny_plane", "stability/close_light").
+std::string bundled_path(const char* folder, const std::string& name) {
+  return std::filesystem::path(name).extension() == ".json" ? name : (data_dir() / folder / (name + ".json")).string();
 }
 
-std::string graph_path(const std::string& name) {
-  const bool is_path = name.find('/') != std::string::npos || std::filesystem::path(name).extension() == ".json";
-  return is_path ? name : (data_dir() / "graphs" / (name + ".json")).string();
-}
+std::string scene_path(const std::string& name) { return bundled_path("scenes", name); }
+std::string graph_path(const std::string& name) { return bundled_path("graphs", name); }
 
 bool is_one_of(const std::string& type, std::initializer_list<const char*> types) {
   return std::any_of(types.begin(), types.end(), [&](const char* t) { return type == t; });
@@ -387,10 +385,170 @@ int cmd_bench_accuracy(Args& args) {
   return 0;
 }
 
+namespace {
+
+struct StabilityCase {
+  const char* label;
+  const char* scene;
+  bool moving_light = false;  // also measure flicker along a light path
+};
+
+const StabilityCase kStabilityCases[] = {
+    {"ball lens", "sphere_plane"},
+    {"bunny with the light moving", "bunny_plane", true},
+    {"high index (n = 2.4)", "stability/high_index"},
+    {"grazing light", "stability/grazing_light"},
+    {"torus (four interfaces)", "torus"},
+    {"stacked refractors", "three_refractors"},
+    {"tiny refractor", "stability/tiny_refractor"},
+    {"refractor filling the view", "stability/filling_refractor"},
+    {"light close to the refractor", "stability/close_light"},
+    {"n = 1", "stability/index_one"},
+    {"no refractor", "no_refractor"},
+};
+
+std::shared_ptr<const scene::Scene> with_light_moved(const scene::Scene& scene, glm::vec3 offset) {
+  auto moved = std::make_shared<scene::Scene>(scene);
+  moved->lights.front().view.position += offset;
+  return moved;
+}
+
+}  // namespace
+
+// Where each caustic method breaks: every case of kStabilityCases x every method, against the
+// photon reference; docs/stability.md reports a run.
+int cmd_bench_stability(Args& args) {
+  uint32_t grid = 2048, caustic_size = 512, frames = 3, width = 320, height = 180;
+  uint64_t reference_photons = 20'000'000;
+  double blur = 1.5;
+  bool validate = false;
+  std::string out_dir, device;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--grid") grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
+    else if (a == "--caustic-size") caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--reference-photons") reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+    else if (a == "--out") out_dir = args.value(a);
+    else if (a == "--device") device = args.value(a);
+    else if (a == "--validate") validate = true;
+    else unknown_option(a, {"--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
+  }
+  struct Method {
+    const char* label;
+    const char* graph;
+    const char* extra;  // a --set beyond grid and caustic_size, or null
+  };
+  const Method methods[] = {{"regular", "caustics_regular", nullptr},
+                            {"hierarchical", "caustics_hierarchical", nullptr},
+                            {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
+                            {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
+                            {"adaptive hybrid", "caustics_adaptive", nullptr},
+                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"}};
+  if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+  vk::Context vk(device_options(device, validate));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  std::string csv = "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_flicker,reference_landed_photons\n";
+  std::string table = "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 | flicker (reference) |\n"
+                      "|---|---|---|---|---|---|---|---|---|---|\n";
+  const glm::vec3 shift(1e-4f, 0.0f, 0.0f);
+  constexpr int kPathSteps = 6;
+  const glm::vec3 step(0.02f, 0.0f, 0.0f);
+  for (const auto& c : kStabilityCases) {
+    const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
+    reference::PhotonOptions options;
+    options.photons = reference_photons;
+    options.map_size = caustic_size;
+    auto reference_map = [&](const scene::Scene& s) { return reference::trace_photon_reference(s, options).caustic_map; };
+    const auto traced = reference::trace_photon_reference(*scene, options);
+    const io::ImageData& reference = traced.caustic_map;
+    std::vector<io::ImageData> reference_path;
+    double reference_flicker = 0;
+    if (c.moving_light) {
+      for (int i = 0; i < kPathSteps; ++i) reference_path.push_back(reference_map(*with_light_moved(*scene, step * float(i))));
+      for (int i = 1; i < kPathSteps; ++i) reference_flicker += reference::compare_images(reference_path[i], reference_path[i - 1], blur).relative_l1 / (kPathSteps - 1);
+    }
+    for (const auto& m : methods) {
+      graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
+      std::vector<std::string> sets{"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)};
+      if (m.extra) sets.emplace_back(m.extra);
+      graph::apply_overrides(g, sets);
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      auto render = [&](std::shared_ptr<const scene::Scene> s) {
+        executor.set_scene(std::move(s));
+        executor.configure(g, width, height, {"caustics"});
+        return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
+      };
+      // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
+      // never exists: an empty map, which is the right answer.
+      auto caustic_map = [&] {
+        const int index = executor.plan().find_resource("caustics");
+        if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
+        io::ImageData empty;
+        empty.width = empty.height = caustic_size;
+        empty.rgba.assign(size_t{caustic_size} * caustic_size * 4, 0.0f);
+        return empty;
+      };
+      const Timings t = render(scene);
+      const io::ImageData map = caustic_map();
+      const io::ImageData frame = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
+      uint64_t nonfinite = 0;
+      for (const auto* image : {&map, &frame}) {
+        for (float v : image->rgba) nonfinite += std::isfinite(v) ? 0 : 1;
+      }
+      for (const auto& [name, value] : t.last.counters) nonfinite += std::isfinite(value) ? 0 : 1;
+      const auto accuracy = reference::compare_images(map, reference, blur);
+      render(with_light_moved(*scene, shift));
+      const auto shifted = reference::compare_images(caustic_map(), map, blur);
+      double flicker = 0;
+      if (c.moving_light) {
+        io::ImageData previous = map;
+        for (int i = 1; i < kPathSteps; ++i) {
+          render(with_light_moved(*scene, step * float(i)));
+          io::ImageData current = caustic_map();
+          flicker += reference::compare_images(current, previous, blur).relative_l1 / (kPathSteps - 1);
+          previous = std::move(current);
+        }
+      }
+      const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
+      char line[768];
+      std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu\n", c.label, m.label, accuracy.relative_l1,
+                    accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed, t.method_ms, shifted.relative_l1,
+                    shifted.energy_ratio, flicker, reference_flicker, static_cast<unsigned long long>(traced.totals.landed_photons));
+      csv += line;
+      char flicker_cell[64] = "-";
+      if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", flicker, reference_flicker);
+      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %.2f | %.5f | %s |\n", c.label, m.label, accuracy.relative_l1,
+                    accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed, t.method_ms, shifted.relative_l1,
+                    flicker_cell);
+      table += line;
+      std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1, accuracy.energy_ratio,
+                   static_cast<unsigned long long>(nonfinite));
+    }
+  }
+  char config[512];
+  std::snprintf(config, sizeof(config),
+                "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, median of %u frames after one warm-up; reference %llu photons "
+                "(Fresnel on); metrics after a Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
+                vk.device_name().c_str(), grid, caustic_size, width, height, frames, static_cast<unsigned long long>(reference_photons), blur, kPathSteps);
+  std::cout << config << "\n\n" << table;
+  if (!out_dir.empty()) {
+    const std::filesystem::path dir(out_dir);
+    io::write_text_atomically((dir / "stability.csv").string(), csv);
+    io::write_text_atomically((dir / "README.md").string(), "# caustica bench stability\n\n" + std::string(config) + "\n\n" + table);
+  }
+  if (vk.validation_messages() > 0) {
+    std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk.validation_messages());
+    return 3;
+  }
+  return 0;
+}
+
 int cmd_bench(Args& args) {
   const char* help =
       "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
       "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n"
+      "       caustica bench stability [--grid G] [--out DIR] ...\n"
       "       caustica bench accuracy --out DIR [--scenes A,B] [--graphs G,H,...] [--grids 256,512,...] [--frames N]\n"
       "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n\n"
       "accuracy: speed against accuracy. For every scene (bundled names or files; default sphere_plane,bunny_plane) x\n"
@@ -400,6 +558,13 @@ int cmd_bench(Args& args) {
       "estimate (dv, dv_dn): the refraction passes' time and error against the ray-traced reference. Writes\n"
       "DIR/results.csv, DIR/speed_accuracy.png (error against time, log-log, python3-matplotlib), DIR/README.md and\n"
       "each scene's reference map. Default graphs: the five caustic graphs, refraction_forward, refraction_deferred.\n\n"
+      "       caustica bench stability [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR] [--validate]\n\n"
+      "stability: where each caustic method breaks. Every case (ball lens; bunny with the light moving; n = 2.4; grazing\n"
+      "light; torus; stacked refractors; a refractor smaller than the start grid's spacing; one filling the light's view;\n"
+      "the light close to it; n = 1; no refractor) x every method (and the hybrid without coverage seeding) at one grid\n"
+      "(default 2048): error, energy ratio and shape error against the photon reference (default 2e7), NaN/Inf count,\n"
+      "photons, caustic-pass time, the change after moving the light by 1e-4, and the flicker along a light path against\n"
+      "the reference's own. DIR/stability.csv and DIR/README.md.\n\n"
       "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
       "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
       "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
@@ -410,12 +575,13 @@ int cmd_bench(Args& args) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("bench needs a benchmark name: refraction, photons or accuracy; see caustica bench --help");
+  if (args.done()) throw UsageError("bench needs a benchmark name: refraction, photons, accuracy or stability; see caustica bench --help");
   std::string what = args.take();
   if (what == "refraction") return cmd_bench_refraction(args);
   if (what == "photons") return cmd_bench_photons(args);
   if (what == "accuracy") return cmd_bench_accuracy(args);
-  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons", "accuracy"}));
+  if (what == "stability") return cmd_bench_stability(args);
+  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons", "accuracy", "stability"}));
 }
 
 }  // namespace caustica::cli
