@@ -78,9 +78,11 @@ TEST(Caustics, IndexOneMakesTheCausticFillTheShadowExactly) {
 }
 
 // Every adaptive criterion on the ball lens at 2048^2: the flux of the photons that meet the sphere
-// within 1.5% of the exact value (the 64 x 64 start drops clusters whose four photons all miss,
-// so a little of the silhouette is lost, never gained); splatted plus dropped equals it; the
-// flux that lands matches the regular map's within 1%; and fewer photons than the regular grid.
+// within 1.5% of the exact value, and at most 1% above it (a cluster stands for its whole area:
+// one that straddles the silhouette with all four photons on the sphere counts a little outside
+// it, which max-error's early convergence makes visible, 0.4% above when this was written);
+// splatted plus dropped equals it; the flux that lands matches the regular map's within 1%; and
+// fewer photons than the regular grid.
 TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
   Engine e;
   auto scene = load("sphere_plane");
@@ -94,7 +96,7 @@ TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
                 in, exact, splatted, regular.counters.at("caustic.flux"), processed, regular.counters.at("photons.processed"),
                 100.0 * processed / regular.counters.at("photons.processed"), frame.counters.at("photons.converged"));
     EXPECT_NEAR(in, exact, 0.015 * exact) << graph;
-    EXPECT_LE(in, exact * 1.001) << graph;
+    EXPECT_LE(in, exact * 1.01) << graph;
     EXPECT_NEAR(splatted + dropped, in, 1e-3 * in) << graph;
     EXPECT_NEAR(splatted, regular.counters.at("caustic.flux"), 0.01 * regular.counters.at("caustic.flux")) << graph;
     EXPECT_LT(processed, regular.counters.at("photons.processed")) << graph;

@@ -152,7 +152,7 @@ TEST(Cli, BundledGraphsValidate) {
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench "}) {
+  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
@@ -243,5 +243,41 @@ TEST(Cli, ReferenceAndBenchmarksRun) {
   CliRun refraction = run("bench refraction --sphere-detail 16 --size 64x36 --frames 2 --csv refraction.csv", dir);
   ASSERT_EQ(refraction.code, 0) << refraction.output;
   EXPECT_NE(read(dir / "refraction.csv").find("sphere, detail 16,224,"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// The photon reference, compare on it, and the speed-accuracy benchmark with its chart.
+TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
+  fs::path dir = scratch("accuracy");
+  const std::string sphere = "'" + (kSource / "scenes/sphere_plane.json").string() + "'";
+  CliRun ref = run("reference --scene " + sphere + " --photons 2e5 --map-size 64 --camera camera.exr --size 64x36 --out a.exr", dir);
+  ASSERT_EQ(ref.code, 0) << ref.output;
+  EXPECT_NE(ref.output.find("photons 200000 in"), std::string::npos) << ref.output;
+  EXPECT_TRUE(fs::exists(dir / "camera.exr"));
+  ASSERT_EQ(run("reference --scene " + sphere + " --photons 2e5 --map-size 64 --seed 7 --out b.exr", dir).code, 0);
+
+  CliRun same = run("compare a.exr a.exr --json", dir);
+  ASSERT_EQ(same.code, 0) << same.output;
+  const auto metrics = nlohmann::json::parse(same.output);
+  EXPECT_EQ(metrics["relative_l1"].get<double>(), 0.0);
+  EXPECT_EQ(metrics["energy_ratio"].get<double>(), 1.0);
+  // Two seeds: the same caustic up to photon noise, which --max-l1 0 refuses and --max-l1 1 accepts.
+  CliRun seeds = run("compare a.exr b.exr", dir);
+  ASSERT_EQ(seeds.code, 0) << seeds.output;
+  EXPECT_NE(seeds.output.find("energy_ratio"), std::string::npos);
+  EXPECT_EQ(run("compare a.exr b.exr --max-l1 0", dir).code, 1);
+  EXPECT_EQ(run("compare a.exr b.exr --max-l1 1", dir).code, 0);
+
+  CliRun bench = run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive,refraction_deferred --grids 64,128 --reference-photons 1e5 "
+                     "--caustic-size 64 --size 64x36 --frames 1 --out acc",
+                     dir);
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  const std::string csv = read(dir / "acc" / "results.csv");
+  EXPECT_EQ(csv.rfind("scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n", 0), 0u) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2);  // header, two grids, two distance estimates
+  EXPECT_NE(csv.find("sphere_plane,caustics,caustics_adaptive,128,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred dv_dn,0,"), std::string::npos) << csv;
+  EXPECT_GT(fs::file_size(dir / "acc" / "speed_accuracy.png"), 10000u);
+  EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive | 128^2 |"), std::string::npos);
   fs::remove_all(dir);
 }

@@ -375,7 +375,8 @@ int cmd_compare(Args& args) {
     else files.push_back(a);
   }
   if (files.size() != 2) throw UsageError("compare needs two images, A and B; see caustica compare --help");
-  const auto c = reference::compare_images(io::read_image(files[0]), io::read_image(files[1]), sigma);
+  const io::ImageData a = io::read_image(files[0]), b = io::read_image(files[1]);
+  const auto c = reference::compare_images(a, b, sigma);
   const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"shape_l1", c.shape_l1}, {"mean_error", c.mean_error},
                                   {"rms_error", c.rms_error},     {"psnr", c.psnr},                 {"max_error", c.max_error},
                                   {"nonfinite_a", c.nonfinite_a}, {"nonfinite_b", c.nonfinite_b},   {"blur_sigma", sigma}};
