@@ -62,9 +62,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
     converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
     const uint32_t light_size = setup.resource("front").width;
-    // The pyramid's finest level has one texel per kCoverageBlock^2 light-view texels: a quarter of
-    // the side costs lavapipe a sixteenth of the threads, and a cluster is still never finer than
-    // a block at the photon grids in use (a block is 4 texels of a 1024^2 view, 1/256 of its side).
+    // The pyramid's finest level has one texel per 4 x 4 light-view texels: a sixteenth of the
+    // threads on lavapipe. A cluster finer than a block looks up the block that holds it, which is
+    // conservative: it keeps a few more clusters along silhouettes, never drops one.
     light_size_log2_ = log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0;
     uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
     if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {

@@ -318,10 +318,8 @@ int cmd_bench_accuracy(Args& args) {
       reference::PhotonOptions options;
       options.photons = reference_photons;
       options.map_size = caustic_size;
-      const auto reference_start = std::chrono::steady_clock::now();
-      options.progress = [&](uint64_t done, uint64_t total) {
-        print_progress((scene->name + ": reference photons").c_str(), done, total, reference_start);
-      };
+      ProgressLine progress(scene->name + ": reference photons", reference_photons);
+      options.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
       photons = reference::trace_photon_reference(*scene, options);
       io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons.caustic_map);
     }

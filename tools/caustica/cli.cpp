@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <unistd.h>
 
 #include "core/suggest.h"
 #include "io/json_reader.h"
@@ -89,12 +90,18 @@ vk::ContextOptions device_options(const std::string& device, bool validate) {
   return options;
 }
 
-void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start) {
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double left = done > 0 ? elapsed / double(done) * double(total - done) : 0.0;
-  std::fprintf(stderr, "\r%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   ", label, static_cast<unsigned long long>(done),
-               static_cast<unsigned long long>(total), 100.0 * double(done) / double(total), elapsed, left);
-  if (done == total) std::fprintf(stderr, "\n");
+ProgressLine::ProgressLine(std::string label, uint64_t total)
+    : label_(std::move(label)), total_(std::max<uint64_t>(total, 1)), start_(std::chrono::steady_clock::now()), terminal_(::isatty(STDERR_FILENO) != 0) {}
+
+void ProgressLine::update(uint64_t done) {
+  const int tenths = static_cast<int>(10 * std::min(done, total_) / total_);
+  if (!terminal_ && tenths == printed_tenths_) return;
+  printed_tenths_ = tenths;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double left = done > 0 ? elapsed / double(done) * double(total_ - std::min(done, total_)) : 0.0;
+  std::fprintf(stderr, "%s%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   %s", terminal_ ? "\r" : "", label_.c_str(),
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), 100.0 * double(done) / double(total_), elapsed, left,
+               terminal_ && done < total_ ? "" : "\n");
 }
 
 double median(std::vector<double> v) {

@@ -51,8 +51,20 @@ std::vector<std::string> parse_names(const std::string& flag, const std::string&
 // that such failures end the run with exit code 3 and no output (README, "Testing error paths").
 vk::ContextOptions device_options(const std::string& device, bool validate);
 
-// One line on stderr, rewritten in place: "LABEL done/total (p%)  elapsed, left"; ends the line when done.
-void print_progress(const char* label, uint64_t done, uint64_t total, std::chrono::steady_clock::time_point start);
+// Progress of a long step on stderr, "LABEL done/total (p%)  elapsed, left": on a terminal one line
+// rewritten in place; into a file or a pipe one line per tenth, so logs stay readable.
+class ProgressLine {
+ public:
+  ProgressLine(std::string label, uint64_t total);
+  void update(uint64_t done);
+
+ private:
+  std::string label_;
+  uint64_t total_;
+  std::chrono::steady_clock::time_point start_;
+  bool terminal_;
+  int printed_tenths_ = -1;
+};
 
 double median(std::vector<double> v);
 

@@ -154,11 +154,12 @@ int run_render(const RenderOptions& o, bool trace) {
   graph::RunRecord run;
   run.device = vk.device_name();
   const bool show_progress = o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
+  ProgressLine progress("frame", o.frames);
   const auto start = std::chrono::steady_clock::now();
   for (uint32_t f = 0; f < o.frames; ++f) {
     run.frame_start_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     run.frames.push_back(executor.run_frame(f + 1 == o.frames));
-    if (show_progress) print_progress("frame", f + 1, o.frames, start);
+    if (show_progress) progress.update(f + 1);
   }
 
   if (!trace) {
@@ -326,7 +327,8 @@ int cmd_reference(Args& args) {
       photons.camera_height = height;
     }
     const bool show_progress = photons.photons >= 10'000'000 || ::isatty(STDERR_FILENO);
-    if (show_progress) photons.progress = [&](uint64_t done, uint64_t total) { print_progress("photons", done, total, start); };
+    ProgressLine progress("photons", photons.photons);
+    if (show_progress) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
     const auto result = reference::trace_photon_reference(scene, photons);
     io::write_image(out, result.caustic_map);
     if (!camera_out.empty()) io::write_image(camera_out, result.camera);
