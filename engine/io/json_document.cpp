@@ -4,9 +4,9 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <memory>
 
 namespace caustica {
 
@@ -33,12 +33,17 @@ std::string read_text_file(const std::string& path, size_t max_bytes) {
     throw InputError(path + ": file is " + std::to_string(info.st_size) + " bytes, more than the limit of " +
                      std::to_string(max_bytes));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read failed");
-  return buffer.str();
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  // Read to the end rather than trusting st_size: files under /proc report 0 and still hold text.
+  std::string text;
+  char chunk[65536];
+  while (size_t n = std::fread(chunk, 1, sizeof chunk, file.get())) {
+    text.append(chunk, n);
+    if (text.size() > max_bytes) throw InputError(path + ": file is more than the limit of " + std::to_string(max_bytes) + " bytes");
+  }
+  if (std::ferror(file.get())) throw InputError(path + ": cannot read: " + std::strerror(errno));
+  return text;
 }
 
 class JsonParser {
