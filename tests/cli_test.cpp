@@ -218,6 +218,38 @@ TEST(Cli, GraphPlanAndDot) {
   EXPECT_NE(dot.output.find("(culled)"), std::string::npos);
 }
 
+// graph set (and the viewer's Save) changes the parameter values and nothing else in the file.
+TEST(Cli, GraphSetWritesOnlyTheValues) {
+  fs::path dir = scratch("graph_set");
+  const std::string original = read(kSource / "graphs/caustics_adaptive.json");
+  std::ofstream(dir / "g.json") << original;
+  CliRun set = run("graph set g.json grid=4096 fresnel=false exposure=1.25 --out edited.json", dir);
+  ASSERT_EQ(set.code, 0) << set.output;
+  std::string expected = original;
+  auto replace_default = [&](const std::string& parameter, const std::string& from, const std::string& to) {
+    const size_t at = expected.find("\"" + parameter + "\": {");
+    ASSERT_NE(at, std::string::npos) << parameter;
+    const size_t value = expected.find("\"default\": " + from, at);
+    ASSERT_NE(value, std::string::npos) << parameter;
+    expected.replace(value, std::string("\"default\": ").size() + from.size(), "\"default\": " + to);
+  };
+  replace_default("grid", "\"2048\"", "\"4096\"");
+  replace_default("fresnel", "true", "false");
+  const size_t exposure = expected.find("\"exposure\": {");
+  const size_t exposure_default = expected.find("\"default\": ", exposure) + std::string("\"default\": ").size();
+  expected.replace(exposure_default, expected.find_first_of(",\n}", exposure_default) - exposure_default, "1.25");
+  EXPECT_EQ(read(dir / "edited.json"), expected);
+  EXPECT_EQ(read(dir / "g.json"), original) << "--out leaves the source alone";
+  EXPECT_EQ(run("validate edited.json", dir).code, 0);
+  // In place, and a refused value leaves the file as it was.
+  ASSERT_EQ(run("graph set g.json grid=512", dir).code, 0);
+  EXPECT_NE(read(dir / "g.json").find("\"default\": \"512\""), std::string::npos);
+  const std::string before = read(dir / "g.json");
+  EXPECT_EQ(run("graph set g.json exposure=-5", dir).code, 1);
+  EXPECT_EQ(read(dir / "g.json"), before);
+  fs::remove_all(dir);
+}
+
 TEST(Cli, CheckedInSchemaMatchesThePassRegistry) {
   CliRun schema = run("graph schema");
   ASSERT_EQ(schema.code, 0);

@@ -1,5 +1,7 @@
 #include "graph/graph_desc.h"
 
+#include <algorithm>
+
 #include <set>
 
 #include "core/suggest.h"
@@ -216,6 +218,41 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
     if (!problem.empty()) throw InputError("--set " + assignment + ": parameter '" + name + "' " + problem);
     target->value = value;
   }
+}
+
+std::string graph_text_with_values(const GraphDesc& graph) {
+  std::string text = read_text_file(graph.doc.path(), JsonDocument::kMaxBytes);
+  if (JsonDocument::parse(text, graph.doc.path()).root() != graph.doc.root()) {
+    throw InputError(graph.doc.path() + ": changed on disk since it was loaded; not overwritten");
+  }
+  // Byte offset of each line start, to turn a value's line and column into a position.
+  std::vector<size_t> line_starts{0};
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') line_starts.push_back(i + 1);
+  }
+  struct Replacement {
+    size_t begin, end;
+    std::string value;
+  };
+  std::vector<Replacement> replacements;
+  for (const auto& p : graph.parameters) {
+    const std::string pointer = json_pointer_append(p.pointer, "default");
+    const nlohmann::json* in_file = graph.doc.root().contains(nlohmann::json::json_pointer(pointer)) ? &graph.doc.root().at(nlohmann::json::json_pointer(pointer)) : nullptr;
+    if (!in_file || *in_file == p.value) continue;
+    const SourceLocation at = graph.doc.locate(pointer);
+    const size_t begin = line_starts.at(static_cast<size_t>(at.line - 1)) + static_cast<size_t>(at.column - 1);
+    size_t end = begin;
+    if (text[begin] == '"') {
+      for (end = begin + 1; end < text.size() && text[end] != '"'; ++end) end += text[end] == '\\' ? 1 : 0;
+      ++end;
+    } else {
+      while (end < text.size() && std::string_view(",}] \t\r\n").find(text[end]) == std::string_view::npos) ++end;
+    }
+    replacements.push_back({begin, end, p.value.dump()});
+  }
+  std::sort(replacements.begin(), replacements.end(), [](const auto& a, const auto& b) { return a.begin > b.begin; });
+  for (const auto& r : replacements) text.replace(r.begin, r.end - r.begin, r.value);
+  return text;
 }
 
 }  // namespace caustica::graph

@@ -64,4 +64,9 @@ GraphDesc load_graph(JsonDocument doc);
 // Throws InputError for an unknown name (with a suggestion) or a value of the wrong type or range.
 void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments);
 
+// The graph file's text with each parameter's "default" replaced by its current value (what --set
+// or the viewer changed), and nothing else touched: same keys, order, spacing and comments-free
+// layout. Throws InputError when the file changed on disk since it was loaded.
+std::string graph_text_with_values(const GraphDesc& graph);
+
 }  // namespace caustica::graph

@@ -62,7 +62,8 @@ std::string lower(std::string s) {
   return s;
 }
 
-VkInstance create_instance(bool validation, bool with_messenger_info, VkDebugUtilsMessengerCreateInfoEXT* messenger_info) {
+VkInstance create_instance(bool validation, bool with_messenger_info, VkDebugUtilsMessengerCreateInfoEXT* messenger_info,
+                           const std::vector<std::string>& more_extensions = {}) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "caustica";
   app.pEngineName = "caustica";
@@ -81,6 +82,7 @@ VkInstance create_instance(bool validation, bool with_messenger_info, VkDebugUti
     features.pNext = with_messenger_info ? messenger_info : nullptr;
   }
   extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const auto& e : more_extensions) extensions.push_back(e.c_str());
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &app;
   info.enabledLayerCount = static_cast<uint32_t>(layers.size());
@@ -131,7 +133,7 @@ Context::Context(const ContextOptions& options)
                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   messenger_info.pfnUserCallback = &Context::on_message;
   messenger_info.pUserData = this;
-  instance_ = create_instance(validation_, true, &messenger_info);
+  instance_ = create_instance(validation_, true, &messenger_info, options.instance_extensions);
   if (validation_) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
     check(create(instance_, &messenger_info, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
@@ -198,6 +200,10 @@ Context::Context(const ContextOptions& options)
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &features13;
   std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  if (options.presentation) {
+    if (!has_device_extension(physical_, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) throw DeviceError(device_name_ + " cannot present to a window (no VK_KHR_swapchain)");
+    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  }
   // Float atomic adds splat photon power; passes that need them check float_atomics().
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
   if (has_device_extension(physical_, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME)) {
@@ -238,6 +244,7 @@ Context::~Context() {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
     destroy(instance_, messenger_, nullptr);
   }
+  if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
   vkDestroyDevice(device_, nullptr);
   vkDestroyInstance(instance_, nullptr);
 }

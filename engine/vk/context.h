@@ -21,6 +21,10 @@ struct ContextOptions {
   // VK_ERROR_DEVICE_LOST replaces the result of every frame's fence wait, and
   // VK_ERROR_OUT_OF_DEVICE_MEMORY the result of every vkAllocateMemory. VK_SUCCESS injects nothing.
   VkResult injected_fault = VK_SUCCESS;
+  // For a window (caustica view): instance extensions the window system needs (GLFW names them)
+  // and VK_KHR_swapchain on the device.
+  std::vector<std::string> instance_extensions;
+  bool presentation = false;
 };
 
 struct DeviceInfo {
@@ -49,6 +53,8 @@ class Context {
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
   bool float_atomics() const { return float_atomics_; }
+  // Takes ownership of a window surface made on instance(); destroyed after every swapchain.
+  void adopt_surface(VkSurfaceKHR surface) { surface_ = surface; }
   // What a frame's fence wait returns instead of `waited` when a fault is injected (ContextOptions).
   VkResult frame_result(VkResult waited) const { return injected_fault_ == VK_ERROR_DEVICE_LOST ? injected_fault_ : waited; }
 
@@ -100,6 +106,7 @@ class Context {
   std::vector<Pending> pending_;
   uint64_t submission_ = 0;
   VkResult injected_fault_ = VK_SUCCESS;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
 
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT types,

@@ -57,5 +57,10 @@ using OwnedSetLayout = Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout
 using OwnedQueryPool = Owned<VkQueryPool, vkDestroyQueryPool>;
 using OwnedFence = Owned<VkFence, vkDestroyFence>;
 using OwnedCommandPool = Owned<VkCommandPool, vkDestroyCommandPool>;
+using OwnedSemaphore = Owned<VkSemaphore, vkDestroySemaphore>;
+using OwnedRenderPass = Owned<VkRenderPass, vkDestroyRenderPass>;
+using OwnedFramebuffer = Owned<VkFramebuffer, vkDestroyFramebuffer>;
+using OwnedDescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
+using OwnedSwapchain = Owned<VkSwapchainKHR, vkDestroySwapchainKHR>;
 
 }  // namespace caustica::vk

@@ -14,6 +14,24 @@ namespace caustica::cli {
 inline constexpr const char* kDefaultGraph = "graphs/caustics_adaptive.json";
 inline constexpr const char* kDefaultScene = "scenes/bunny_plane.json";
 
+// What render, trace and view are told.
+struct RenderOptions {
+  std::string graph;
+  std::string scene;
+  bool scene_given = false;
+  std::string out = "caustica.png";
+  std::string stats;
+  std::string trace;
+  uint32_t width = 1280;
+  uint32_t height = 720;
+  uint32_t frames = 1;
+  std::vector<std::string> sets;
+  std::vector<std::pair<std::string, std::string>> dumps;
+  std::string device;
+  bool validate = false;
+  uint64_t memory_limit_mib = 1536;
+};
+
 class Args {
  public:
   Args(int argc, char** argv, int first) {
@@ -69,5 +87,6 @@ class ProgressLine {
 double median(std::vector<double> v);
 
 int cmd_bench(Args& args);
+int cmd_view(Args& args);
 
 }  // namespace caustica::cli

@@ -45,6 +45,7 @@ commands:
   devices    list the Vulkan devices
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's table)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
+  view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
 
 'caustica <command> --help' describes each command.
@@ -65,22 +66,6 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
   --memory-limit MIB    the engine's device-memory limit for the graph (default 1536)
 )";
 
-struct RenderOptions {
-  std::string graph;
-  std::string scene;
-  bool scene_given = false;
-  std::string out = "caustica.png";
-  std::string stats;
-  std::string trace;
-  uint32_t width = 1280;
-  uint32_t height = 720;
-  uint32_t frames = 1;
-  std::vector<std::string> sets;
-  std::vector<std::pair<std::string, std::string>> dumps;
-  std::string device;
-  bool validate = false;
-  uint64_t memory_limit_mib = 1536;
-};
 
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
@@ -239,7 +224,10 @@ int cmd_graph(Args& args) {
   const char* help =
       "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
       "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
-      "       caustica graph schema      (the JSON Schema of graph files, as in graphs/schema.json)\n\n"
+      "       caustica graph schema      (the JSON Schema of graph files, as in graphs/schema.json)\n"
+      "       caustica graph set FILE NAME=VALUE... [--out NEW.json]\n\n"
+      "'set' writes parameter values into the graph file as their defaults (or into NEW.json): only those values\n"
+      "change, the rest of the file stays as it was written. The viewer's Save does the same.\n\n"
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
       "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
       "Memory sizes are the device-independent estimate (tightly packed texels). Expressions about the scene\n"
@@ -249,13 +237,31 @@ int cmd_graph(Args& args) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("graph needs 'plan', 'dot' or 'schema'; see caustica graph --help");
+  if (args.done()) throw UsageError("graph needs 'plan', 'dot', 'schema' or 'set'; see caustica graph --help");
   std::string what = args.take();
   if (what == "schema") {
     std::cout << graph::graph_schema_json(passes::builtin_registry()).dump(2) << "\n";
     return 0;
   }
-  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan' or 'dot'" + did_you_mean(what, {"plan", "dot", "schema"}));
+  if (what == "set") {
+    if (args.done()) throw UsageError("graph set needs a FILE and NAME=VALUE assignments");
+    const std::string file = args.take();
+    std::string out = file;
+    std::vector<std::string> sets;
+    while (!args.done()) {
+      std::string a = args.take();
+      if (a == "--out") out = args.value(a);
+      else if (a.rfind("--", 0) == 0) unknown_option(a, {"--out"});
+      else sets.push_back(a);
+    }
+    if (sets.empty()) throw UsageError("graph set needs at least one NAME=VALUE");
+    io::check_output_file(out);
+    graph::GraphDesc graph = graph::load_graph_file(file);
+    graph::apply_overrides(graph, sets);
+    io::write_text_atomically(out, graph::graph_text_with_values(graph));
+    return 0;
+  }
+  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema' or 'set'" + did_you_mean(what, {"plan", "dot", "schema", "set"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
   std::string file = args.take();
   if (file.rfind("--", 0) == 0) throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + file + " ...");
@@ -431,7 +437,8 @@ int main(int argc, char** argv) {
     if (command == "reference") return cmd_reference(args);
     if (command == "bench") return cmd_bench(args);
     if (command == "compare") return cmd_compare(args);
-    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare"}) +
+    if (command == "view") return cmd_view(args);
+    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
