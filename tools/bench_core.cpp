@@ -91,20 +91,10 @@ class HandChain {
     VkSampler sampler = VK_NULL_HANDLE;
     vk::check(vkCreateSampler(vk.device(), &sampler_info, nullptr, &sampler), "vkCreateSampler");
     sampler_ = vk::OwnedSampler(vk, sampler);
-    VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool_info.queueFamilyIndex = vk.queue_family();
-    VkCommandPool pool = VK_NULL_HANDLE;
-    vk::check(vkCreateCommandPool(vk.device(), &pool_info, nullptr, &pool), "vkCreateCommandPool");
-    pool_ = vk::OwnedCommandPool(vk, pool);
-    VkCommandBufferAllocateInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    cmd_info.commandPool = pool;
-    cmd_info.commandBufferCount = 1;
-    vk::check(vkAllocateCommandBuffers(vk.device(), &cmd_info, &cmd_), "vkAllocateCommandBuffers");
-    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VkFence fence = VK_NULL_HANDLE;
-    vk::check(vkCreateFence(vk.device(), &fence_info, nullptr, &fence), "vkCreateFence");
-    fence_ = vk::OwnedFence(vk, fence);
+    vk::FrameCommands commands = vk::make_frame_commands(vk);
+    pool_ = std::move(commands.pool);
+    cmd_ = commands.cmd;
+    fence_ = std::move(commands.fence);
   }
 
   // Returns the CPU milliseconds from command-buffer reset to the return of vkQueueSubmit2.

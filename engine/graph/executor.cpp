@@ -257,21 +257,10 @@ void Executor::realize(Plan plan) {
     (filter == VK_FILTER_LINEAR ? real.linear : real.nearest) = vk::OwnedSampler(vk_, sampler);
   }
 
-  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pool_info.queueFamilyIndex = vk_.queue_family();
-  VkCommandPool pool = VK_NULL_HANDLE;
-  vk::check(vkCreateCommandPool(device, &pool_info, nullptr, &pool), "vkCreateCommandPool");
-  real.pool = vk::OwnedCommandPool(vk_, pool);
-  VkCommandBufferAllocateInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cmd_info.commandPool = pool;
-  cmd_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cmd_info.commandBufferCount = 1;
-  vk::check(vkAllocateCommandBuffers(device, &cmd_info, &real.cmd), "vkAllocateCommandBuffers");
-  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence fence = VK_NULL_HANDLE;
-  vk::check(vkCreateFence(device, &fence_info, nullptr, &fence), "vkCreateFence");
-  real.fence = vk::OwnedFence(vk_, fence);
+  vk::FrameCommands commands = vk::make_frame_commands(vk_);
+  real.pool = std::move(commands.pool);
+  real.cmd = commands.cmd;
+  real.fence = std::move(commands.fence);
   // Two timestamps per pass plus two for the frame, each followed by a dummy (see DESIGN.md: on
   // lavapipe a timestamp after a render pass is only right when another timestamp follows it).
   real.query_count = 2 * (2 * static_cast<uint32_t>(p.passes.size()) + 2);

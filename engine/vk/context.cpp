@@ -269,6 +269,33 @@ void Context::wait_idle() {
   retire(submission_);
 }
 
+FrameCommands make_frame_commands(Context& vk) {
+  FrameCommands commands;
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = vk.queue_family();
+  VkCommandPool pool = VK_NULL_HANDLE;
+  check(vkCreateCommandPool(vk.device(), &pool_info, nullptr, &pool), "vkCreateCommandPool");
+  commands.pool = OwnedCommandPool(vk, pool);
+  VkCommandBufferAllocateInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cmd_info.commandPool = pool;
+  cmd_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cmd_info.commandBufferCount = 1;
+  check(vkAllocateCommandBuffers(vk.device(), &cmd_info, &commands.cmd), "vkAllocateCommandBuffers");
+  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence = VK_NULL_HANDLE;
+  check(vkCreateFence(vk.device(), &fence_info, nullptr, &fence), "vkCreateFence");
+  commands.fence = OwnedFence(vk, fence);
+  return commands;
+}
+
+OwnedSemaphore make_semaphore(Context& vk) {
+  VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+  VkSemaphore semaphore = VK_NULL_HANDLE;
+  check(vkCreateSemaphore(vk.device(), &info, nullptr, &semaphore), "vkCreateSemaphore");
+  return OwnedSemaphore(vk, semaphore);
+}
+
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;

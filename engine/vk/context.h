@@ -113,6 +113,16 @@ class Context {
                                                    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
 };
 
+// A resettable primary command buffer with its pool and an unsignalled fence: what one frame in
+// flight records into and waits on.
+struct FrameCommands {
+  OwnedCommandPool pool;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;  // freed with the pool
+  OwnedFence fence;
+};
+FrameCommands make_frame_commands(Context& vk);
+OwnedSemaphore make_semaphore(Context& vk);
+
 // Throws DeviceError naming the call and the VkResult.
 void check(VkResult result, const char* call);
 const char* result_name(VkResult result);

@@ -353,26 +353,10 @@ class Viewer {
     ImGui_ImplVulkan_DestroyFontUploadObjects();
     imgui_ready_ = true;
 
-    VkCommandPoolCreateInfo cmd_pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    cmd_pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    cmd_pool.queueFamilyIndex = vk_.queue_family();
-    VkCommandPool cp = VK_NULL_HANDLE;
-    vk::check(vkCreateCommandPool(vk_.device(), &cmd_pool, nullptr, &cp), "vkCreateCommandPool");
-    command_pool_ = vk::OwnedCommandPool(vk_, cp);
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = cp;
-    alloc.commandBufferCount = 1;
-    vk::check(vkAllocateCommandBuffers(vk_.device(), &alloc, &cmd_), "vkAllocateCommandBuffers");
-    VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-    VkSemaphore acquired = VK_NULL_HANDLE, rendered = VK_NULL_HANDLE;
-    vk::check(vkCreateSemaphore(vk_.device(), &sem, nullptr, &acquired), "vkCreateSemaphore");
-    vk::check(vkCreateSemaphore(vk_.device(), &sem, nullptr, &rendered), "vkCreateSemaphore");
-    acquired_ = vk::OwnedSemaphore(vk_, acquired);
-    rendered_ = vk::OwnedSemaphore(vk_, rendered);
-    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VkFence fence = VK_NULL_HANDLE;
-    vk::check(vkCreateFence(vk_.device(), &fence_info, nullptr, &fence), "vkCreateFence");
-    fence_ = vk::OwnedFence(vk_, fence);
+    commands_ = vk::make_frame_commands(vk_);
+    cmd_ = commands_.cmd;
+    acquired_ = vk::make_semaphore(vk_);
+    rendered_ = vk::make_semaphore(vk_);
   }
 
   void handle_input() {
@@ -598,7 +582,7 @@ class Viewer {
     submit.pCommandBuffers = &cmd_;
     submit.signalSemaphoreCount = 1;
     submit.pSignalSemaphores = &signal;
-    VkFence fence = fence_.get();
+    VkFence fence = commands_.fence.get();
     vk::check(vkQueueSubmit(vk_.queue(), 1, &submit, fence), "vkQueueSubmit");
     VkSwapchainKHR sc = swapchain_.swapchain.get();
     VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
@@ -668,10 +652,9 @@ class Viewer {
   scene::View home_camera_;
   glm::vec3 home_light_{0.0f};
   vk::OwnedDescriptorPool imgui_pool_;
-  vk::OwnedCommandPool command_pool_;
-  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  vk::FrameCommands commands_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // commands_.cmd
   vk::OwnedSemaphore acquired_, rendered_;
-  vk::OwnedFence fence_;
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
   std::string inspected_;  // empty: the graph's output
