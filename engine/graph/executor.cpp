@@ -181,9 +181,22 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
 }
 
 void Executor::realize(Plan plan) {
-  realized_.reset();  // its objects are destroyed once the GPU is done with them
+  // The previous plan stays whole until the new one is set up, so that a failure (a shader that no
+  // longer compiles, memory) leaves it running; its objects are destroyed once the GPU is done.
+  std::unique_ptr<const Plan> previous_plan = std::move(plan_);
+  std::unique_ptr<Realized> previous = std::move(realized_);
   plan_ = std::make_unique<const Plan>(std::move(plan));
   realized_ = std::make_unique<Realized>();
+  try {
+    realize_passes_and_resources();
+  } catch (...) {
+    realized_ = std::move(previous);
+    plan_ = std::move(previous_plan);
+    throw;
+  }
+}
+
+void Executor::realize_passes_and_resources() {
   Realized& real = *realized_;
   const Plan& p = *plan_;
   VkDevice device = vk_.device();

@@ -54,6 +54,9 @@ class Executor {
   io::ImageData read_image(const std::string& resource) const;
   const Plan& plan() const { return *plan_; }
   uint32_t compile_count() const { return compile_count_; }
+  // Makes the next configure() compile and set up every pass again even if nothing it is given
+  // changed: for shaders edited on disk. A configure() that throws keeps the previous plan running.
+  void invalidate() { configured_key_.clear(); }
 
  private:
   friend class PassSetup;
@@ -63,6 +66,7 @@ class Executor {
   struct Realized;
 
   void realize(Plan plan);
+  void realize_passes_and_resources();
   void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
 
   vk::Context& vk_;

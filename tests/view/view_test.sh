@@ -4,7 +4,8 @@
 #    --inspect shows the image that render --dump writes;
 # 2. an edit of the graph file is picked up while the viewer runs (within a second or two);
 # 3. a broken edit keeps the old graph running, shows the error with its location, and the viewer
-#    still exits 0 when closed (Ctrl-C).
+#    still exits 0 when closed (Ctrl-C);
+# 4. a broken shader keeps the last good pipelines, a mended one is picked up.
 set -euo pipefail
 bin=$1
 src=$2
@@ -18,7 +19,7 @@ cleanup() {
   rm -rf "$dir"
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; [ -f "$dir/log" ] && sed 's/^/  log: /' "$dir/log"; exit 1; }
+fail() { echo "FAIL: $*" >&2; [ -f "$dir/log" ] && sed "s/^/  log: /" "$dir/log" >&2; exit 1; }
 
 Xvfb ":$display" -screen 0 1280x720x24 -nolisten tcp > "$dir/xvfb.log" 2>&1 &
 xvfb_pid=$!
@@ -65,3 +66,27 @@ wait "$view_pid" || status=$?
 view_pid=""
 [ "$status" -eq 0 ] || fail "view exited $status after Ctrl-C (3: validation messages)"
 echo "ok: the viewer kept running and exited 0"
+
+# 4. Shaders: a broken shader keeps the last good pipelines, a fixed one is picked up. The viewer
+#    reads a copy of the data folder, so the edit touches no shared file.
+mkdir "$dir/data"
+cp -r "$src/shaders" "$src/graphs" "$src/scenes" "$dir/data/"
+export CAUSTICA_DATA_DIR="$dir/data"
+shader="$dir/data/shaders/common/color.glsl"
+cp "$shader" "$dir/color.glsl"
+: > "$dir/log"
+"$bin" view --graph "$dir/data/graphs/core_demo.json" --size 160x90 --validate > "$dir/log" 2>&1 &
+view_pid=$!
+wait_for "view: loaded" 120 > /dev/null
+echo "this is not glsl" >> "$shader"
+wait_for "view: kept the last good shaders: " 5 > /dev/null
+grep -q "color.glsl:[0-9]*:" "$dir/log" || fail "the shader error does not name the file and line"
+echo "ok: a broken shader keeps the last good pipelines and names the file and line"
+cp "$dir/color.glsl" "$shader"
+wait_for "view: reloaded shaders" 5 > /dev/null
+echo "ok: the mended shader is picked up"
+kill -INT "$view_pid"
+status=0
+wait "$view_pid" || status=$?
+view_pid=""
+[ "$status" -eq 0 ] || fail "view exited $status after the shader edits"

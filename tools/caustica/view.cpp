@@ -39,11 +39,12 @@ const char* kViewHelp = R"(usage: caustica view [--graph FILE] [--scene FILE] [-
 
 Opens a window that runs the graph on the scene (defaults as for render): the compiled passes in
 order with their GPU and CPU times over the last frames, the counters, transient memory with and
-without aliasing, the graph's parameters, editable within their ranges and saved back into the graph
+without aliasing, passes switched off and on where the graph stays valid, the graph's parameters,
+editable within their ranges and saved back into the graph
 file (only the values change), and any image of the graph shown in place of the output with an
 exposure (G-buffer normals, light-view buffers, the caustic map). Saving the graph or the
-scene file in an editor reloads it within a second; a file that fails to load or compile leaves the
-last good one running and shows the error on screen.
+scene file, or a shader, in an editor reloads it within a second; a file that fails to load or
+compile leaves the last good one running and shows the error on screen.
 
 keys and mouse:
   left drag   orbit the camera around its target       wheel      move the camera closer or farther
@@ -67,6 +68,17 @@ std::filesystem::file_time_type modified(const std::string& path) {
   std::error_code ec;
   const auto t = std::filesystem::last_write_time(path, ec);
   return ec ? std::filesystem::file_time_type{} : t;
+}
+
+// The newest modification under the shader folder: a saved shader or include changes it.
+std::filesystem::file_time_type newest_shader(const std::filesystem::path& folder) {
+  // file_time_type's epoch lies in the future on libstdc++: today's times are negative.
+  auto newest = std::filesystem::file_time_type::min();
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(folder, ec); !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    if (it->is_regular_file(ec)) newest = std::max(newest, it->last_write_time(ec));
+  }
+  return newest;
 }
 
 struct Window {
@@ -205,12 +217,16 @@ struct Session {
   std::optional<graph::GraphDesc> graph;  // as loaded, before edits
   std::shared_ptr<const scene::Scene> scene;
   std::map<std::string, std::string> edits;  // parameter -> JSON value
+  std::set<std::string> disabled;             // passes switched off in the panel
   std::string status;                         // the last reload, or the error that kept the old files
   bool status_is_error = false;
 };
 
 graph::GraphDesc edited(const Session& s) {
   graph::GraphDesc g = *s.graph;
+  for (auto& pass : g.passes) {
+    if (s.disabled.count(pass.name)) pass.enabled = "0";
+  }
   std::vector<std::string> sets;
   for (const auto& [name, value] : s.edits) sets.push_back(name + "=" + value);
   graph::apply_overrides(g, sets);
@@ -234,6 +250,7 @@ class Viewer {
     session_.graph_file = o.graph;
     session_.scene_file = o.scene;
     const std::string asked = inspected_;
+    shader_time_ = newest_shader(data_dir() / "shaders");
     reload(true);
     if (!session_.graph) throw InputError(session_.status);
     if (inspected_ != asked) throw InputError("--inspect " + asked + ": not an image of " + session_.graph_file + " that a running pass writes");
@@ -258,6 +275,7 @@ class Viewer {
       if (quit_ || g_close_requested) break;
       if (std::chrono::steady_clock::now() - last_check > std::chrono::milliseconds(250)) {
         reload(false);
+        reload_shaders();
         last_check = std::chrono::steady_clock::now();
       }
       draw_frame(frames_ != 0 && frame + 1 == frames_);
@@ -279,6 +297,24 @@ class Viewer {
     for (uint32_t i = 0; i < count; ++i) options.instance_extensions.emplace_back(names[i]);
     options.presentation = true;
     return options;
+  }
+
+  // Recompiles every pass when a shader changed; a shader that fails to compile leaves the last
+  // good pipelines running (the executor keeps its plan when set-up fails).
+  void reload_shaders() {
+    const auto newest = newest_shader(data_dir() / "shaders");
+    if (newest == shader_time_) return;
+    shader_time_ = newest;
+    try {
+      executor_.invalidate();
+      configure();
+      session_.status = "reloaded shaders";
+      session_.status_is_error = false;
+    } catch (const std::exception& e) {
+      session_.status = e.what();
+      session_.status_is_error = true;
+    }
+    std::fprintf(stderr, "view: %s%s\n", session_.status_is_error ? "kept the last good shaders: " : "", session_.status.c_str());
   }
 
   // Loads what changed on disk (everything when `first`); a failure keeps the last good version.
@@ -416,6 +452,7 @@ class Viewer {
       }
       for (const auto& culled : executor_.plan().culled) ImGui::TextDisabled("%s (culled)", culled.c_str());
     }
+    if (ImGui::CollapsingHeader("enable passes")) toggle_passes();
     if (ImGui::CollapsingHeader("counters")) {
       for (const auto& [name, value] : frame.counters) ImGui::Text("%-28s %.6g", name.c_str(), value);
     }
@@ -438,6 +475,28 @@ class Viewer {
       ImGui::Begin("help", &show_help_);
       ImGui::TextUnformatted(kViewHelp);
       ImGui::End();
+    }
+  }
+
+  // A pass switched off stays off only if the graph still compiles without it (its outputs have a
+  // fallback or nothing needs them); otherwise it comes back on with the compiler's message.
+  void toggle_passes() {
+    for (const auto& pass : session_.graph->passes) {
+      bool on = !session_.disabled.count(pass.name);
+      if (!ImGui::Checkbox(pass.name.c_str(), &on)) continue;
+      if (on) session_.disabled.erase(pass.name);
+      else session_.disabled.insert(pass.name);
+      try {
+        configure();
+        session_.status = pass.name + (on ? " enabled" : " disabled");
+        session_.status_is_error = false;
+      } catch (const std::exception& e) {
+        if (on) session_.disabled.insert(pass.name);
+        else session_.disabled.erase(pass.name);
+        configure();
+        session_.status = "cannot disable " + pass.name + ": " + e.what();
+        session_.status_is_error = true;
+      }
     }
   }
 
@@ -657,6 +716,7 @@ class Viewer {
   vk::OwnedSemaphore acquired_, rendered_;
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
+  std::filesystem::file_time_type shader_time_{};
   std::string inspected_;  // empty: the graph's output
   float exposure_stops_ = 0.0f;
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
