@@ -106,6 +106,22 @@ TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
 
 // Batching changes the order photons are processed in, nothing else: the same photons, the same
 // caustic map up to float rounding of the atomic sums.
+// A graph that compiles but whose set-up fails (a grid too large for its memory bound) throws and
+// leaves the running plan whole: the viewer keeps the last good graph or shader this way.
+TEST(Caustics, AFailedSetUpKeepsTheRunningPlan) {
+  Engine e;
+  auto scene = load("sphere_plane");
+  auto first = e.render("caustics_adaptive", scene, {"grid=1024"});
+  const auto compiled = e.executor.compile_count();
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
+  graph::apply_overrides(graph, {"grid=65536", "photon_memory_mib=1"});
+  EXPECT_THROW(e.executor.configure(graph, e.width, e.height, {"lit", "caustics"}), InputError);
+  EXPECT_EQ(e.executor.compile_count(), compiled);
+  auto again = e.executor.run_frame(true);
+  EXPECT_EQ(again.counters.at("photons.processed"), first.counters.at("photons.processed"));
+  EXPECT_NEAR(again.counters.at("caustic.flux"), first.counters.at("caustic.flux"), 1e-4 * first.counters.at("caustic.flux"));
+}
+
 TEST(Caustics, BatchedEqualsUnbatched) {
   Engine e;
   auto scene = load("sphere_plane");
