@@ -16,7 +16,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <glm/gtc/constants.hpp>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -236,7 +235,7 @@ graph::GraphDesc edited(const Session& s) {
 class Viewer {
  public:
   Viewer(const RenderOptions& o, uint32_t frames, std::string screenshot, std::string inspect)
-      : options_(o), frames_(frames), screenshot_(std::move(screenshot)), window_(o.width, o.height), vk_(context_options(o)),
+      : frames_(frames), screenshot_(std::move(screenshot)), window_(o.width, o.height), vk_(context_options(o)),
         shaders_(data_dir() / "shaders"), executor_(vk_, shaders_, passes::builtin_registry()) {
     inspected_ = std::move(inspect);
     VkSurfaceKHR surface = VK_NULL_HANDLE;
@@ -698,7 +697,6 @@ class Viewer {
     }
   }
 
-  RenderOptions options_;
   uint32_t frames_;
   std::string screenshot_;
   Window window_;
