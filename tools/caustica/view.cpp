@@ -441,12 +441,18 @@ class Viewer {
     ImGui::TextColored(session_.status_is_error ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", session_.status.c_str());
     ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms  (F1: help)", frame.gpu_ms, frame.cpu_ms);
     if (ImGui::CollapsingHeader("passes", ImGuiTreeNodeFlags_DefaultOpen)) {
-      for (const auto& p : frame.passes) {
-        auto& history = gpu_history_[p.name];
-        history.push_back(static_cast<float>(p.gpu_ms));
+      // Per pass, the last 120 frames: GPU time (blue bars), CPU recording time (orange bars).
+      auto bars = [](std::vector<float>& history, double ms, const std::string& id, ImU32 colour) {
+        history.push_back(static_cast<float>(ms));
         if (history.size() > 120) history.erase(history.begin());
-        ImGui::PlotHistogram(("##" + p.name).c_str(), history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, FLT_MAX, ImVec2(120, 16));
+        ImGui::PushStyleColor(ImGuiCol_PlotHistogram, colour);
+        ImGui::PlotHistogram(id.c_str(), history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, FLT_MAX, ImVec2(90, 16));
+        ImGui::PopStyleColor();
         ImGui::SameLine();
+      };
+      for (const auto& p : frame.passes) {
+        bars(gpu_history_[p.name], p.gpu_ms, "##gpu" + p.name, IM_COL32(90, 150, 240, 255));
+        bars(cpu_history_[p.name], p.cpu_ms, "##cpu" + p.name, IM_COL32(240, 160, 60, 255));
         ImGui::Text("%-18s GPU %7.2f  CPU %5.2f ms", p.name.c_str(), p.gpu_ms, p.cpu_ms);
       }
       for (const auto& culled : executor_.plan().culled) ImGui::TextDisabled("%s (culled)", culled.c_str());
@@ -713,7 +719,7 @@ class Viewer {
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // commands_.cmd
   vk::OwnedSemaphore acquired_, rendered_;
   vk::Buffer staging_;
-  std::map<std::string, std::vector<float>> gpu_history_;
+  std::map<std::string, std::vector<float>> gpu_history_, cpu_history_;
   std::filesystem::file_time_type shader_time_{};
   std::string inspected_;  // empty: the graph's output
   float exposure_stops_ = 0.0f;
