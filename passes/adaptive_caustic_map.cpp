@@ -110,7 +110,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                   sizeof(AdaptivePush)};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
@@ -118,6 +118,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
+    if (setup.bound("caustic_levels")) {
+      const auto& levels = setup.resource("caustic_levels");
+      if (levels.width != 2 * map.width || levels.height != map.height) {
+        throw InputError(setup.pass().name + ": output 'caustic_levels' ('" + levels.name + "', " + std::to_string(levels.width) + " x " +
+                         std::to_string(levels.height) + ") must be twice as wide as 'caustic_map' and as high: " +
+                         std::to_string(2 * map.width) + " x " + std::to_string(map.height));
+      }
+      levels_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/levels.comp"));
+    }
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -189,6 +198,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         else vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
       }
     }
+    if (levels_.pipeline) {
+      // The levels as splatted, before the combine below sums them in place.
+      memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, levels_.pipeline.get());
+      photon_descriptors(ctx).storage_buffer(12, pyramid_.get()).storage_image(13, ctx.view("caustic_levels")).push(ctx.vk(), cmd, levels_);
+      vkCmdPushConstants(cmd, levels_.layout.get(), levels_.stages, 0, sizeof(push), &push);
+      const VkExtent2D atlas = ctx.extent("caustic_levels");
+      vkCmdDispatch(cmd, (atlas.width + 7) / 8, (atlas.height + 7) / 8, 1);
+    }
     // Sum the multi-resolution map, coarsest level first; the step into level 0 writes the map.
     bind(combine_);
     for (uint32_t level = std::max(splat_levels_, 2u) - 1; level >= 1; --level) {
@@ -203,7 +221,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
  private:
   bool hierarchical_;
   bool uses_coverage_ = false;
-  vk::Pipeline photons_, args_, combine_, coverage_pipeline_;
+  vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
   uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;
@@ -238,6 +256,16 @@ const char* kTraversalCounters =
     "Counters photons.processed(.level<L>), photons.splatted, photons.dropped_miss, photons.dropped_tir, photons.converged, "
     "photons.batches, photons.peak_bytes, photons.overflow, caustic.flux, caustic.flux_entering, caustic.flux_dropped.";
 
+std::vector<graph::PortDecl> traversal_ports() {
+  using namespace graph;
+  auto ports = photon_ports();
+  ports.push_back({"caustic_levels", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, true, "",
+                   "optional, for inspection: the multi-resolution map's levels as splatted, side by side (level 0 at the left, "
+                   "each next level half as large to the right of the one before), as flux per level-0 texel; twice as wide "
+                   "as caustic_map and as high; written only when a pass reads it, it is a graph output or it is kept"});
+  return ports;
+}
+
 }  // namespace
 
 graph::PassTypeDecl adaptive_caustic_map_pass_type() {
@@ -248,7 +276,7 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
                                 "max-error or hybrid termination and batching within a memory bound. ") +
                         kTraversalCounters,
                     PassQueue::compute,
-                    photon_ports(),
+                    traversal_ports(),
                     traversal_params(true),
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
@@ -264,7 +292,7 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
                                 "refractors are traced (light-view buffers must be a power of two wide). ") +
                         kTraversalCounters,
                     PassQueue::compute,
-                    photon_ports(),
+                    traversal_ports(),
                     traversal_params(false),
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};

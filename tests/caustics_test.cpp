@@ -231,6 +231,53 @@ TEST(Caustics, MultiResolutionSplatsKeepTheFluxAndSmoothTheSpeckle) {
   EXPECT_LT(rough_multi, 0.9 * rough_single);
 }
 
+// caustic_levels (for the inspector) holds each level as splatted: weighted by the texels of level 0
+// each of its texels covers, the levels add up to the flux the photons splatted; with one level it
+// is the caustic map itself. Asked for by nobody, it is not written and takes no memory.
+TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
+  Engine e;
+  auto scene = load("bunny_plane");
+  auto levels_total = [](const io::ImageData& atlas, uint32_t side, uint32_t levels, double* outside) {
+    double total = 0;
+    *outside = 0;
+    for (uint32_t y = 0; y < atlas.height; ++y) {
+      for (uint32_t x = 0; x < atlas.width; ++x) {
+        uint32_t left = 0, level = 0;
+        while (level < levels && x >= left + (side >> level)) left += side >> level++;
+        const double v = atlas.rgba[(size_t{y} * atlas.width + x) * 4];
+        if (level < levels && y < (side >> level)) total += v * double(1u << (2 * level));
+        else *outside += std::abs(v);
+      }
+    }
+    return total;
+  };
+  for (uint32_t levels : {1u, 4u}) {
+    auto frame = e.SceneEngine::render("caustics_adaptive", scene, {"grid=1024", "caustic_size=256", "splat_levels=" + std::to_string(levels)},
+                                       {"caustics", "caustic_levels"});
+    const io::ImageData atlas = e.executor.read_image("caustic_levels"), map = e.executor.read_image("caustics");
+    ASSERT_EQ(atlas.width, 512u);
+    ASSERT_EQ(atlas.height, 256u);
+    double outside = 0;
+    const double total = levels_total(atlas, 256, levels, &outside), splatted = frame.counters.at("caustic.flux");
+    std::printf("%u levels: levels hold %.5f, photons splatted %.5f\n", levels, total, splatted);
+    EXPECT_GT(splatted, 0.0);
+    EXPECT_NEAR(total, splatted, 1e-3 * splatted);
+    EXPECT_EQ(outside, 0.0);
+    if (levels == 1) {
+      for (uint32_t y = 0; y < 256; ++y) {
+        for (uint32_t x = 0; x < 256; ++x) ASSERT_EQ(atlas.rgba[(size_t{y} * 512 + x) * 4], map.rgba[(size_t{y} * 256 + x) * 4]);
+      }
+    } else {
+      double ignored = 0;
+      const double coarse = total - levels_total(atlas, 256, 1, &ignored);
+      EXPECT_GT(coarse, 0.01 * total) << "no photon splatted into a coarser level";
+    }
+  }
+  e.SceneEngine::render("caustics_adaptive", scene, {"caustic_size=256"}, {"caustics"});
+  const auto& plan = e.executor.plan();
+  EXPECT_FALSE(plan.resources[static_cast<size_t>(plan.find_resource("caustic_levels"))].used());
+}
+
 // Every caustic method reports the same counters, under the names the trace and --stats show.
 TEST(Caustics, EveryMethodReportsEveryCounter) {
   Engine e;

@@ -122,6 +122,28 @@ TEST(Compiler, RetainedResourcesAreNotAliased) {
   EXPECT_NE(a.image_usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT, 0u);
 }
 
+TEST(Compiler, AnOptionalOutputNobodyReadsStaysUnbound) {
+  nlohmann::json g = {{"resources", {{"debug", image()}, {"x", image()}, {"out", image()}}},
+                      {"passes",
+                       {{{"name", "a"}, {"type", "node"}, {"outputs", {{"out0", "debug"}, {"out1", "x"}}}},
+                        {{"name", "b"}, {"type", "filter"}, {"inputs", {{"source", "x"}}}, {"outputs", {{"target", "out"}}}}}},
+                      {"outputs", {"out"}}};
+  auto pass_a = [](const Plan& plan) { return *std::find_if(plan.passes.begin(), plan.passes.end(), [](const auto& p) { return p.name == "a"; }); };
+  auto debug_bound = [&](const Plan& plan) {
+    return pass_a(plan).ports.count("out0") != 0 && plan.resources[static_cast<size_t>(plan.find_resource("debug"))].used();
+  };
+  EXPECT_FALSE(debug_bound(compile(g)));
+  EXPECT_EQ(pass_a(compile(g)).ports.count("out1"), 1u);
+  CompileOptions kept;
+  kept.retained = {"debug"};
+  EXPECT_TRUE(debug_bound(compile(g, kept)));
+  g["outputs"].push_back("debug");
+  EXPECT_TRUE(debug_bound(compile(g)));
+  g["outputs"] = {"out"};
+  g["passes"].push_back({{"name", "c"}, {"type", "report"}, {"inputs", {{"source", "debug"}}}});
+  EXPECT_TRUE(debug_bound(compile(g)));
+}
+
 TEST(Compiler, ReportsCycleWithItsPath) {
   nlohmann::json g = {{"resources", {{"x", image()}, {"y", image()}, {"out", image()}}},
                       {"passes",

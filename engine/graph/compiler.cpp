@@ -397,8 +397,23 @@ class Compiler {
                                           "' and '" + port_name + "'); use one read_write port instead");
         }
       }
+      // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
+      // unbound, so the pass skips the work and the resource takes no memory.
+      if (outputs && port->optional && !wanted(resource_name)) continue;
       node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
     }
+  }
+
+  // Whether an enabled pass reads `resource`, it is a graph output, or it is kept (--dump, the viewer).
+  bool wanted(const std::string& resource) const {
+    if (std::count(graph_.outputs.begin(), graph_.outputs.end(), resource) || options_.retained.count(resource)) return true;
+    for (size_t i = 0; i < graph_.passes.size(); ++i) {
+      if (!enabled_[i]) continue;
+      for (const auto& [port, read] : graph_.passes[i].inputs) {
+        if (read == resource) return true;
+      }
+    }
+    return false;
   }
 
   void check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const {

@@ -39,6 +39,21 @@ echo "ok: screenshot matches the headless render"
 "$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
 echo "ok: the inspector shows the image --dump writes"
 
+# The inspector panel shows its image fitted into the window: cut out of a shot of the whole
+# window (UI included), it is the headless render scaled down to the panel's size.
+"$bin" view --size 1100x500 --frames 2 --inspect ldr --window-shot "$dir/window.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
+where=$(sed -n 's/^view: window shot .*; inspector image ldr at \([0-9]*\),\([0-9]*\) \([0-9]*\)x\([0-9]*\)$/\3x\4+\1+\2/p' "$dir/log")
+[ -n "$where" ] || fail "view did not say where the inspector's image lies"
+"$bin" render --size 1100x500 --out "$dir/full.png" 2> /dev/null
+oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
+oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
+"$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
+# The same place in a shot without the inspector shows something else (the control must differ).
+"$bin" view --size 1100x500 --frames 2 --window-shot "$dir/no_panel.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
+oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
+if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
+echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
+
 # 2 and 3. Hot reload, then a broken edit.
 wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it took
   local start=$SECONDS

@@ -34,14 +34,15 @@ namespace caustica::cli {
 namespace {
 
 const char* kViewHelp = R"(usage: caustica view [--graph FILE] [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
-                     [--inspect IMAGE] [--validate] [--device NAME]
+                     [--window-shot F.png] [--inspect IMAGE] [--validate] [--device NAME]
 
 Opens a window that runs the graph on the scene (defaults as for render): the compiled passes in
 order with their GPU and CPU times over the last frames, the counters, transient memory with and
 without aliasing, passes switched off and on where the graph stays valid, the graph's parameters,
 editable within their ranges and saved back into the graph
-file (only the values change), and any image of the graph shown in place of the output with an
-exposure (G-buffer normals, light-view buffers, the caustic map). Saving the graph or the
+file (only the values change), and a resource inspector: any image of the graph (G-buffer normals,
+light-view buffers, the caustic map, the caustic map's levels side by side) in its own panel, or
+in place of the output, with an exposure. Saving the graph or the
 scene file, or a shader, in an editor reloads it within a second; a file that fails to load or
 compile leaves the last good one running and shows the error on screen.
 
@@ -54,8 +55,10 @@ keys and mouse:
 options:
   --size WxH            window size (default 1280x720)
   --frames N            quit after N frames (default: run until the window is closed)
-  --screenshot F.png    with --frames: write the last frame's image (what is shown under the UI) and quit
-  --inspect IMAGE       show one of the graph's images instead of its output (the 'inspect' panel)
+  --screenshot F.png    with --frames: write the last frame's image and quit: the graph's output, or
+                        with --inspect the inspected image at full size (.exr: its values as they are)
+  --window-shot F.png   with --frames: write the whole window as shown, panels included, and quit
+  --inspect IMAGE       open the resource inspector on one of the graph's images
   --validate            Khronos validation; any message makes the command exit 3
 )";
 
@@ -106,6 +109,7 @@ struct Swapchain {
   VkFormat format = VK_FORMAT_B8G8R8A8_UNORM;
   VkExtent2D extent{};
   std::vector<VkImage> images;
+  bool readable = false;  // the images can be copied out (--window-shot)
   std::vector<vk::OwnedImageView> views;
   std::vector<vk::OwnedFramebuffer> framebuffers;
   vk::OwnedRenderPass render_pass;
@@ -170,7 +174,10 @@ void build_swapchain(vk::Context& vk, VkSurfaceKHR surface, GLFWwindow* window, 
   info.imageColorSpace = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
   info.imageExtent = sc.extent;
   info.imageArrayLayers = 1;
-  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  // TRANSFER_SRC where offered: --window-shot copies the presented image out.
+  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                    (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  sc.readable = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -234,10 +241,11 @@ graph::GraphDesc edited(const Session& s) {
 
 class Viewer {
  public:
-  Viewer(const RenderOptions& o, uint32_t frames, std::string screenshot, std::string inspect)
-      : frames_(frames), screenshot_(std::move(screenshot)), window_(o.width, o.height), vk_(context_options(o)),
-        shaders_(data_dir() / "shaders"), executor_(vk_, shaders_, passes::builtin_registry()) {
+  Viewer(const RenderOptions& o, uint32_t frames, std::string screenshot, std::string window_shot, std::string inspect)
+      : frames_(frames), screenshot_(std::move(screenshot)), window_shot_(std::move(window_shot)), window_(o.width, o.height),
+        vk_(context_options(o)), shaders_(data_dir() / "shaders"), executor_(vk_, shaders_, passes::builtin_registry()) {
     inspected_ = std::move(inspect);
+    inspector_open_ = fit_exposure_ = !inspected_.empty();
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
     vk_.adopt_surface(surface);
@@ -246,6 +254,7 @@ class Viewer {
     vkGetPhysicalDeviceSurfaceSupportKHR(vk_.physical_device(), vk_.queue_family(), surface, &supported);
     if (!supported) throw DeviceError(vk_.device_name() + " cannot present to this window from its queue");
     build_swapchain(vk_, surface_, window_.handle, swapchain_);
+    if (!window_shot_.empty() && !swapchain_.readable) throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
     session_.graph_file = o.graph;
     session_.scene_file = o.scene;
     const std::string asked = inspected_;
@@ -434,7 +443,7 @@ class Viewer {
     }
   }
 
-  void draw_ui(const graph::FrameResult& frame) {
+  void draw_ui(const graph::FrameResult& frame, const io::ImageData& inspected) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(430, 560), ImGuiCond_FirstUseEver);
     ImGui::Begin(executor_.plan().graph_name.c_str());
@@ -473,8 +482,10 @@ class Viewer {
       ImGui::SameLine();
       if (ImGui::Button(save_as_[0] ? "save as" : "save")) save(save_as_[0] ? std::string(save_as_) : session_.graph_file);
     }
-    if (ImGui::CollapsingHeader("inspect")) inspect();
+    ImGui::Checkbox("resource inspector", &inspector_open_);
     ImGui::End();
+    panel_ = {};
+    if (inspector_open_) inspector(inspected);
     if (show_help_) {
       ImGui::SetNextWindowPos(ImVec2(460, 10), ImGuiCond_FirstUseEver);
       ImGui::Begin("help", &show_help_);
@@ -518,23 +529,69 @@ class Viewer {
     }
   }
 
-  // Any image of the graph in place of its output, with an exposure: G-buffer normals, light-view
-  // buffers, the caustic map.
-  void inspect() {
+  // Any image of the graph with an exposure (G-buffer normals, light-view buffers, the caustic map
+  // and its levels), fitted into the panel or in place of the output. The panel's image is copied
+  // into the window before the UI draws (ImGui 1.86's Vulkan backend samples only its font), so
+  // the panel has no background where the image lies and stays behind the other panels.
+  void inspector(const io::ImageData& image) {
     const auto& plan = executor_.plan();
-    if (ImGui::BeginCombo("image", inspected_.empty() ? "(the graph's output)" : inspected_.c_str())) {
-      if (ImGui::Selectable("(the graph's output)", inspected_.empty())) select_inspected("");
+    ImGui::SetNextWindowPos(ImVec2(std::max(static_cast<float>(swapchain_.extent.width) - 430.0f, 450.0f), 10.0f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(420, 360), ImGuiCond_FirstUseEver);
+    ImGui::Begin("inspector", &inspector_open_, ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoBringToFrontOnFocus);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->ChannelsSplit(2);  // 0: the background around the image, 1: the controls over it
+    draw->ChannelsSetCurrent(1);
+    if (ImGui::BeginCombo("image", inspected_.empty() ? "(choose one)" : inspected_.c_str())) {
       for (const auto& r : plan.resources) {
         if (r.kind == graph::ResourceKind::image && r.used() && ImGui::Selectable(r.name.c_str(), r.name == inspected_)) select_inspected(r.name);
       }
       ImGui::EndCombo();
     }
-    ImGui::SliderFloat("exposure (stops)", &exposure_stops_, -16.0f, 16.0f);
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+    ImGui::SliderFloat("exposure (stops)", &exposure_stops_, -32.0f, 32.0f);
+    ImGui::SameLine();
+    if (ImGui::Button("fit")) expose_to_fit(image);
+    ImGui::Checkbox("in the main view", &inspect_in_main_view_);
+    if (const int index = plan.find_resource(inspected_); index >= 0) {
+      const auto& r = plan.resources[static_cast<size_t>(index)];
+      ImGui::Text("%u x %u %s", r.width, r.height, graph::format_info(r.format).name);
+    }
+    const ImVec2 window_min = ImGui::GetWindowPos(), window_max(window_min.x + ImGui::GetWindowWidth(), window_min.y + ImGui::GetWindowHeight());
+    ImVec2 image_min = ImGui::GetCursorScreenPos(), image_max = image_min;
+    const ImVec2 room = ImGui::GetContentRegionAvail();
+    if (image.width > 0 && room.x >= 1.0f && room.y >= 1.0f) {
+      const float fit = std::min(room.x / static_cast<float>(image.width), room.y / static_cast<float>(image.height));
+      const ImVec2 size(std::max(1.0f, std::floor(static_cast<float>(image.width) * fit)), std::max(1.0f, std::floor(static_cast<float>(image.height) * fit)));
+      image_min = ImVec2(std::floor(image_min.x), std::floor(image_min.y));
+      image_max = ImVec2(image_min.x + size.x, image_min.y + size.y);
+      ImGui::Dummy(size);
+      panel_ = {{static_cast<int32_t>(image_min.x), static_cast<int32_t>(image_min.y)}, {static_cast<uint32_t>(size.x), static_cast<uint32_t>(size.y)}};
+    }
+    draw->ChannelsSetCurrent(0);
+    draw->PushClipRect(window_min, window_max, false);
+    const ImU32 background = ImGui::GetColorU32(ImGuiCol_WindowBg);
+    draw->AddRectFilled(ImVec2(window_min.x, window_min.y + ImGui::GetFrameHeight()), ImVec2(window_max.x, image_min.y), background);
+    draw->AddRectFilled(ImVec2(window_min.x, image_min.y), ImVec2(image_min.x, image_max.y), background);
+    draw->AddRectFilled(ImVec2(image_max.x, image_min.y), ImVec2(window_max.x, image_max.y), background);
+    draw->AddRectFilled(ImVec2(window_min.x, image_max.y), window_max, background);
+    draw->PopClipRect();
+    draw->ChannelsMerge();
+    ImGui::End();
   }
 
   void select_inspected(const std::string& name) {
     inspected_ = name;
     configure();
+    fit_exposure_ = true;  // once the first frame with it is read back
+  }
+
+  // The exposure that shows the image's brightest texel (any colour channel) at white.
+  void expose_to_fit(const io::ImageData& image) {
+    float brightest = 0.0f;
+    for (size_t i = 0; i < image.rgba.size(); ++i) {
+      if (i % 4 != 3 && std::isfinite(image.rgba[i])) brightest = std::max(brightest, image.rgba[i]);
+    }
+    exposure_stops_ = brightest > 0.0f && !image.display_encoded ? std::clamp(-std::log2(brightest), -32.0f, 32.0f) : 0.0f;
   }
 
   void edit_parameters() {
@@ -584,8 +641,10 @@ class Viewer {
     const graph::FrameResult frame = executor_.run_frame(true);
     const std::string output = executor_.plan().resources[executor_.plan().outputs.front()].name;
     const io::ImageData image = executor_.read_image(output);
-    const io::ImageData shown = inspected_.empty() ? io::ImageData{} : executor_.read_image(inspected_);
-    if (last && !screenshot_.empty()) io::write_image(screenshot_, inspected_.empty() ? image : shown);
+    const io::ImageData inspected = inspected_.empty() ? io::ImageData{} : executor_.read_image(inspected_);
+    if (fit_exposure_ && inspected.width > 0) expose_to_fit(inspected);
+    fit_exposure_ = false;
+    if (last && !screenshot_.empty()) io::write_image(screenshot_, inspected_.empty() ? image : inspected);
     if (screenshot_key_) {
       const std::string name = "caustica_view_" + std::to_string(screenshots_++) + ".png";
       io::write_image(name, image);
@@ -597,7 +656,7 @@ class Viewer {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    draw_ui(frame);
+    draw_ui(frame, inspected);
     ImGui::Render();
 
     uint32_t index = 0;
@@ -607,7 +666,11 @@ class Viewer {
       return;
     }
     if (acquired != VK_SUBOPTIMAL_KHR) vk::check(acquired, "vkAcquireNextImageKHR");
-    upload(inspected_.empty() ? image : shown, inspected_.empty() ? 1.0f : std::exp2(exposure_stops_));
+    const float exposure = std::exp2(exposure_stops_);
+    const bool main_inspected = inspect_in_main_view_ && !inspected_.empty();
+    const io::ImageData panel = panel_.extent.width > 0 && inspected.width > 0 ? fit(inspected, panel_.extent.width, panel_.extent.height) : io::ImageData{};
+    upload(main_inspected ? inspected : image, main_inspected ? exposure : 1.0f, panel, exposure);
+    const bool shoot = last && !window_shot_.empty();
 
     vk::check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -622,11 +685,18 @@ class Viewer {
     to_copy.image = swapchain_.images[index];
     to_copy.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &to_copy);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height), 1};
-    region.bufferRowLength = uploaded_width_;
-    vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    VkBufferImageCopy regions[2]{};
+    regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height), 1};
+    regions[0].bufferRowLength = uploaded_width_;
+    vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
+    if (panel.width > 0 && panel_region(panel, regions[1])) {
+      // Regions of one copy land in no set order: the panel goes over the main view in a second.
+      VkMemoryBarrier after_main{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      after_main.srcAccessMask = after_main.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+      vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after_main, 0, nullptr, 0, nullptr);
+      vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[1]);
+    }
     VkRenderPassBeginInfo pass{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
     pass.renderPass = swapchain_.render_pass.get();
     pass.framebuffer = swapchain_.framebuffers[index].get();
@@ -634,6 +704,7 @@ class Viewer {
     vkCmdBeginRenderPass(cmd_, &pass, VK_SUBPASS_CONTENTS_INLINE);
     ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd_);
     vkCmdEndRenderPass(cmd_);
+    if (shoot) record_window_copy(swapchain_.images[index]);
     vk::check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
 
     const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -659,6 +730,7 @@ class Viewer {
     // One frame in flight: the staging buffer and the semaphores are reused next frame.
     vk::check(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
     vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
+    if (shoot) write_window_shot();
     if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || size_changed()) rebuild();
     else vk::check(presented, "vkQueuePresentKHR");
   }
@@ -680,16 +752,23 @@ class Viewer {
     configure();
   }
 
-  // The frame as BGRA bytes in a host-visible buffer, for the copy into the swapchain image.
-  void upload(const io::ImageData& image, float scale) {
+  // The main view, then the inspector panel's image, as BGRA bytes in a host-visible buffer, for
+  // the copies into the swapchain image.
+  void upload(const io::ImageData& image, float scale, const io::ImageData& panel, float panel_scale) {
     uploaded_width_ = image.width;
     uploaded_height_ = image.height;
-    const VkDeviceSize bytes = VkDeviceSize{image.width} * image.height * 4;
+    const VkDeviceSize main_bytes = VkDeviceSize{image.width} * image.height * 4;
+    const VkDeviceSize bytes = main_bytes + VkDeviceSize{panel.width} * panel.height * 4;
     if (staging_.size < bytes) {
       staging_ = vk::make_buffer(vk_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
                                  "view staging", VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     }
     auto* out = static_cast<uint8_t*>(staging_.mapped);
+    encode_bgra(image, scale, out);
+    encode_bgra(panel, panel_scale, out + main_bytes);
+  }
+
+  static void encode_bgra(const io::ImageData& image, float scale, uint8_t* out) {
     for (size_t p = 0; p < size_t{image.width} * image.height; ++p) {
       const float* px = &image.rgba[p * 4];
       auto encode = [&](float v) {
@@ -703,8 +782,102 @@ class Viewer {
     }
   }
 
+  // `image` resampled to width x height: each target texel averages the source texels it covers
+  // (the nearest one when enlarging), so a fine caustic is not lost between sampled texels.
+  static io::ImageData fit(const io::ImageData& image, uint32_t width, uint32_t height) {
+    io::ImageData out;
+    out.width = width;
+    out.height = height;
+    out.display_encoded = image.display_encoded;
+    out.rgba.assign(size_t{width} * height * 4, 0.0f);
+    auto span = [](uint32_t i, uint32_t to, uint32_t from) {
+      const uint32_t first = static_cast<uint32_t>(uint64_t{i} * from / to);
+      return std::pair(first, std::max(first + 1, static_cast<uint32_t>(uint64_t{i + 1} * from / to)));
+    };
+    for (uint32_t y = 0; y < height; ++y) {
+      const auto [y0, y1] = span(y, height, image.height);
+      for (uint32_t x = 0; x < width; ++x) {
+        const auto [x0, x1] = span(x, width, image.width);
+        float* target = &out.rgba[(size_t{y} * width + x) * 4];
+        for (uint32_t sy = y0; sy < y1; ++sy) {
+          for (uint32_t sx = x0; sx < x1; ++sx) {
+            for (int c = 0; c < 4; ++c) target[c] += image.rgba[(size_t{sy} * image.width + sx) * 4 + c];
+          }
+        }
+        for (int c = 0; c < 4; ++c) target[c] /= static_cast<float>((y1 - y0) * (x1 - x0));
+      }
+    }
+    return out;
+  }
+
+  // The copy of the panel's image (after the main view in the staging buffer) to its place in the
+  // window, clipped to the window; false when nothing of it is inside.
+  bool panel_region(const io::ImageData& panel, VkBufferImageCopy& region) const {
+    const int32_t x0 = std::max(panel_.offset.x, 0), y0 = std::max(panel_.offset.y, 0);
+    const int32_t x1 = std::min(panel_.offset.x + static_cast<int32_t>(panel.width), static_cast<int32_t>(swapchain_.extent.width));
+    const int32_t y1 = std::min(panel_.offset.y + static_cast<int32_t>(panel.height), static_cast<int32_t>(swapchain_.extent.height));
+    if (x1 <= x0 || y1 <= y0) return false;
+    region = {};
+    region.bufferOffset = VkDeviceSize{uploaded_width_} * uploaded_height_ * 4 +
+                          (VkDeviceSize(y0 - panel_.offset.y) * panel.width + VkDeviceSize(x0 - panel_.offset.x)) * 4;
+    region.bufferRowLength = panel.width;
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageOffset = {x0, y0, 0};
+    region.imageExtent = {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0), 1};
+    return true;
+  }
+
+  // --window-shot: the presented image, panels included, copied out after the UI is drawn.
+  void record_window_copy(VkImage image) {
+    const VkDeviceSize bytes = VkDeviceSize{swapchain_.extent.width} * swapchain_.extent.height * 4;
+    if (window_readback_.size < bytes) {
+      window_readback_ = vk::make_buffer(vk_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "view window shot",
+                                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+    }
+    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {swapchain_.extent.width, swapchain_.extent.height, 1};
+    vkCmdCopyImageToBuffer(cmd_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, window_readback_.get(), 1, &region);
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    barrier.dstAccessMask = 0;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    barrier.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  }
+
+  void write_window_shot() {
+    io::ImageData shot;
+    shot.width = swapchain_.extent.width;
+    shot.height = swapchain_.extent.height;
+    shot.display_encoded = true;
+    shot.rgba.resize(size_t{shot.width} * shot.height * 4);
+    const auto* bgra = static_cast<const uint8_t*>(window_readback_.mapped);
+    for (size_t p = 0; p < size_t{shot.width} * shot.height; ++p) {
+      for (int c = 0; c < 3; ++c) shot.rgba[p * 4 + c] = static_cast<float>(bgra[p * 4 + 2 - c]) / 255.0f;
+      shot.rgba[p * 4 + 3] = 1.0f;
+    }
+    io::write_image(window_shot_, shot);
+    // Where the inspector's image lies in the shot, for tests and scripts that cut it out.
+    if (panel_.extent.width > 0) {
+      std::fprintf(stderr, "view: window shot %s; inspector image %s at %d,%d %ux%u\n", window_shot_.c_str(), inspected_.c_str(), panel_.offset.x,
+                   panel_.offset.y, panel_.extent.width, panel_.extent.height);
+    } else {
+      std::fprintf(stderr, "view: window shot %s\n", window_shot_.c_str());
+    }
+  }
+
   uint32_t frames_;
-  std::string screenshot_;
+  std::string screenshot_, window_shot_;
   Window window_;
   vk::Context vk_;
   shader::ShaderCompiler shaders_;
@@ -718,10 +891,12 @@ class Viewer {
   vk::FrameCommands commands_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // commands_.cmd
   vk::OwnedSemaphore acquired_, rendered_;
-  vk::Buffer staging_;
+  vk::Buffer staging_, window_readback_;
   std::map<std::string, std::vector<float>> gpu_history_, cpu_history_;
   std::filesystem::file_time_type shader_time_{};
-  std::string inspected_;  // empty: the graph's output
+  std::string inspected_;  // empty: nothing chosen
+  bool inspector_open_ = false, inspect_in_main_view_ = false, fit_exposure_ = false;
+  VkRect2D panel_{};  // where the inspector's image goes this frame, in window pixels; empty: nowhere
   float exposure_stops_ = 0.0f;
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
@@ -738,7 +913,7 @@ int cmd_view(Args& args) {
   }
   RenderOptions o;
   uint32_t frames = 0;
-  std::string screenshot, inspect;
+  std::string screenshot, window_shot, inspect;
   o.width = 1280;
   o.height = 720;
   while (!args.done()) {
@@ -748,16 +923,19 @@ int cmd_view(Args& args) {
     else if (a == "--size") parse_size(args.value(a), o.width, o.height);
     else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
     else if (a == "--screenshot") screenshot = args.value(a);
+    else if (a == "--window-shot") window_shot = args.value(a);
     else if (a == "--inspect") inspect = args.value(a);
     else if (a == "--validate") o.validate = true;
     else if (a == "--device") o.device = args.value(a);
-    else unknown_option(a, {"--graph", "--scene", "--size", "--frames", "--screenshot", "--inspect", "--validate", "--device"});
+    else unknown_option(a, {"--graph", "--scene", "--size", "--frames", "--screenshot", "--window-shot", "--inspect", "--validate", "--device"});
   }
   if (!screenshot.empty() && frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
+  if (!window_shot.empty() && frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
   if (!screenshot.empty()) io::check_image_output(screenshot);
+  if (!window_shot.empty()) io::check_image_output(window_shot);
   if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
   if (o.scene.empty()) o.scene = (data_dir() / kDefaultScene).string();
-  Viewer viewer(o, frames, screenshot, inspect);
+  Viewer viewer(o, frames, screenshot, window_shot, inspect);
   std::signal(SIGINT, request_close);
   std::signal(SIGTERM, request_close);
   return viewer.run();
