@@ -62,10 +62,11 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
     converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
     const uint32_t light_size = setup.resource("front").width;
-    // The pyramid's finest level has one texel per 4 x 4 light-view texels: a sixteenth of the
-    // threads on lavapipe. A cluster finer than a block looks up the block that holds it, which is
-    // conservative: it keeps a few more clusters along silhouettes, never drops one.
-    light_size_log2_ = log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0;
+    // The pyramid's finest level has one texel per 4 x 4 light-view texels (a sixteenth of the
+    // threads on lavapipe), or per photon of the effective grid when that is coarser. A cluster
+    // finer than a texel looks up the texel that holds it, which is conservative: it keeps a few
+    // more clusters along silhouettes, never drops one.
+    light_size_log2_ = std::min(log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0, log2_exact(grid));
     uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
     if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {
       throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): the light-view buffers are " +
@@ -118,6 +119,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
+    clear_ = make_caustic_clear_pipeline(setup);
     if (setup.bound("caustic_levels")) {
       const auto& levels = setup.resource("caustic_levels");
       if (levels.width != 2 * map.width || levels.height != map.height) {
@@ -137,7 +139,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
     ctx.set_counter(batches_slot_, batches);
-    // The multi-resolution map starts at zero, after the previous frame's combine read it.
+    // The caustic map (level 0) and the coarser levels start at zero, after the previous frame's
+    // combine read them.
+    record_caustic_clear(ctx, clear_);
     memory_barrier(cmd, kCompute, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, pyramid_.get(), 0, VK_WHOLE_SIZE, 0);
 
@@ -207,13 +211,16 @@ class AdaptiveCausticMapPass final : public graph::Pass {
       const VkExtent2D atlas = ctx.extent("caustic_levels");
       vkCmdDispatch(cmd, (atlas.width + 7) / 8, (atlas.height + 7) / 8, 1);
     }
-    // Sum the multi-resolution map, coarsest level first; the step into level 0 writes the map.
-    bind(combine_);
-    for (uint32_t level = std::max(splat_levels_, 2u) - 1; level >= 1; --level) {
+    // Add the coarser levels into the map, which holds level 0; atomic adds, so the levels need
+    // no order among themselves.
+    if (splat_levels_ > 1) {
       memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+      bind(combine_);
+    }
+    for (uint32_t level = 1; level < splat_levels_; ++level) {
       push.level = level;
       vkCmdPushConstants(cmd, combine_.layout.get(), combine_.stages, 0, sizeof(push), &push);
-      const uint32_t width = std::max(1u, map.width >> (level - 1)), height = std::max(1u, map.height >> (level - 1));
+      const uint32_t width = std::max(1u, map.width >> level), height = std::max(1u, map.height >> level);
       vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
     }
   }
@@ -221,7 +228,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
  private:
   bool hierarchical_;
   bool uses_coverage_ = false;
-  vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_;
+  vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_, clear_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
   uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;

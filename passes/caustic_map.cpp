@@ -35,8 +35,7 @@ class CausticMapPass final : public graph::Pass {
     setup.add_counter("photons.converged");
     setup.add_counter("photons.peak_bytes");
     batches_slot_ = setup.add_counter("photons.batches");
-    clear_ = vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0},
-                                       setup.shaders().compile("caustics/clear.comp"));
+    clear_ = make_caustic_clear_pipeline(setup);
     photons_ = vk::make_compute_pipeline(
         setup.vk(),
         {"regular_photons",
@@ -49,12 +48,7 @@ class CausticMapPass final : public graph::Pass {
 
   void execute(graph::PassContext& ctx) override {
     VkCommandBuffer cmd = ctx.cmd();
-    const VkExtent2D map = ctx.extent("caustic_map");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear_.pipeline.get());
-    vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear_);
-    vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    record_caustic_clear(ctx, clear_);
 
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);

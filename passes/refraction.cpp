@@ -38,6 +38,20 @@ std::vector<graph::PortDecl> photon_ports() {
            "flux per texel, in the light's image plane"}};
 }
 
+vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {
+  return vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0}, setup.shaders().compile("caustics/clear.comp"));
+}
+
+void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear) {
+  VkCommandBuffer cmd = ctx.cmd();
+  const VkExtent2D map = ctx.extent("caustic_map");
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear.pipeline.get());
+  vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear);
+  vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
   vk::DescriptorWriter writer = scene_descriptors(ctx);
   writer.sampled_image(3, ctx.view("front"), ctx.nearest_sampler())

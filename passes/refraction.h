@@ -23,6 +23,10 @@ std::vector<graph::PortDecl> photon_ports();
 // Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
 // caustic map, counters as uint and as float.
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
+// Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible
+// to the compute shaders that follow.
+vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup);
+void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear);
 
 // A full-screen copy of a sampled image into a colour attachment.
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);

@@ -35,7 +35,12 @@ uint footprint_level(Photon ph[4]) {
   return spread <= 1 ? 0u : min(params.splat_levels - 1u, uint(ceil(log2(float(spread)))));
 }
 
+// Level 0 is the caustic map itself; coarser levels wait in the pyramid for combine.comp.
 void splat_at(ivec2 texel, uint level, float power) {
+  if (level == 0u) {
+    imageAtomicAdd(caustic_map, texel, power);
+    return;
+  }
   uvec2 t = uvec2(texel) >> level;
   atomicAdd(pyramid[pyramid_offset(level) + t.y * pyramid_size(level).x + t.x], power);
 }

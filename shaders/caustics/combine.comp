@@ -1,29 +1,32 @@
 #version 460
-// One step of summing the multi-resolution caustic map, coarsest level first: every texel of level
-// params.level - 1 adds level params.level bilinearly interpolated at its centre, divided by 4 (a
-// texel covers four of the finer level's), which keeps the total flux. The step into level 0
-// writes the caustic map.
+// Adds one coarse level (params.level >= 1) of the multi-resolution caustic map into the caustic
+// map, which already holds level 0: each non-zero texel spreads its flux over the finest texels
+// under a tent twice its width (bilinear weights, 2^(L+1) texels a side, summing to one; at the
+// map's edge the weight of texels outside goes to the edge texel), so the total flux is kept.
+// Only texels that photons reached do any work, which is what keeps this cheap: the coarse
+// levels are mostly empty.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_atomic_float : require
 #include "caustics/adaptive_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
-  uint coarse = params.level, fine = coarse - 1u;
-  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 fine_size = ivec2(pyramid_size(fine)), size = ivec2(pyramid_size(coarse));
-  if (any(greaterThanEqual(p, fine_size))) return;
-  uint fine_offset = pyramid_offset(fine), offset = pyramid_offset(coarse);
-  float flux = pyramid[fine_offset + uint(p.y * fine_size.x + p.x)];
-  if (coarse < params.splat_levels) {
-    vec2 c = (vec2(p) + 0.5) * 0.5 - 0.5;
-    ivec2 i = ivec2(floor(c));
-    vec2 f = c - vec2(i);
-    ivec2 a = clamp(i, ivec2(0), size - 1), b = clamp(i + 1, ivec2(0), size - 1);
-    float v00 = pyramid[offset + uint(a.y * size.x + a.x)], v10 = pyramid[offset + uint(a.y * size.x + b.x)];
-    float v01 = pyramid[offset + uint(b.y * size.x + a.x)], v11 = pyramid[offset + uint(b.y * size.x + b.x)];
-    flux += 0.25 * mix(mix(v00, v10, f.x), mix(v01, v11, f.x), f.y);
+  uint level = params.level;
+  ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pyramid_size(level));
+  if (any(greaterThanEqual(t, size))) return;
+  float flux = pyramid[pyramid_offset(level) + uint(t.y * size.x + t.x)];
+  if (flux == 0.0) return;
+  int side = 1 << level;  // finest texels per texel of this level
+  ivec2 first = t * side - side / 2;
+  ivec2 map_size = imageSize(caustic_map);
+  float norm = 1.0 / float(side);
+  for (int y = 0; y < 2 * side; ++y) {
+    float wy = (1.0 - abs(float(y) + 0.5 - float(side)) * norm) * norm;
+    for (int x = 0; x < 2 * side; ++x) {
+      float wx = (1.0 - abs(float(x) + 0.5 - float(side)) * norm) * norm;
+      imageAtomicAdd(caustic_map, clamp(first + ivec2(x, y), ivec2(0), map_size - 1), flux * wx * wy);
+    }
   }
-  if (fine == 0u) imageStore(caustic_map, p, vec4(flux));
-  else pyramid[fine_offset + uint(p.y * fine_size.x + p.x)] = flux;
 }

@@ -1,7 +1,7 @@
 #version 460
 // The coverage pyramid of the hierarchical caustic map and of coverage seeding: level 0 marks the
-// blocks of light-view texels that show a refractor; each next level is the max of 2 x 2 texels of
-// the one before.
+// blocks of light-view texels where a photon of the effective grid sees a refractor; each next
+// level is the max of 2 x 2 texels of the one before.
 #extension GL_GOOGLE_include_directive : require
 #include "caustics/adaptive_common.glsl"
 
@@ -15,12 +15,22 @@ void main() {
   uint offset = 0u;
   for (uint l = 0u; l < level; ++l) offset += 1u << (2u * (params.light_size_log2 - l));
   if (level == 0u) {
-    // The finest level is coarser than the light view by kCoverageBlock (see the pass): each of its
-    // texels is the max over a block of light-view texels, read here in one thread.
-    int block = textureSize(front_tex, 0).x >> params.light_size_log2;
+    // Each texel of the finest level stands for a block of light-view texels (see the pass) and
+    // marks whether a photon of the effective grid inside it sees a refractor: the photons'
+    // own sample texels when the grid is coarser than the light view, every texel otherwise.
+    // That is what the regular map of the same grid sees, no more, and it saves reading the
+    // whole light view for small grids.
+    uint light_side = uint(textureSize(front_tex, 0).x);
+    uint grid_side = 64u << params.max_level;
+    uint block = light_side >> params.light_size_log2;
+    uint per_side = min(block, max(grid_side >> params.light_size_log2, 1u));
+    float samples_side = float(side * per_side);
     uint any_refractor = 0u;
-    for (int y = 0; y < block; ++y) {
-      for (int x = 0; x < block; ++x) any_refractor |= texelFetch(front_tex, ivec2(p) * block + ivec2(x, y), 0).y > 0.0 ? 1u : 0u;
+    for (uint y = 0u; y < per_side; ++y) {
+      for (uint x = 0u; x < per_side; ++x) {
+        vec2 uv = (vec2(p * per_side + uvec2(x, y)) + 0.5) / samples_side;
+        any_refractor |= texelFetch(front_tex, ivec2(uv * float(light_side)), 0).y > 0.0 ? 1u : 0u;
+      }
     }
     coverage[p.y * side + p.x] = any_refractor;
     return;

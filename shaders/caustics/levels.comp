@@ -19,7 +19,8 @@ void main() {
     uvec2 size = pyramid_size(level);
     if (uint(p.x) < left + size.x) {
       uvec2 t = uvec2(uint(p.x) - left, uint(p.y));
-      if (t.y < size.y) flux = pyramid[pyramid_offset(level) + t.y * size.x + t.x] / float(1u << (2u * level));
+      // Level 0 is the caustic map itself, which holds only level 0 until combine.comp runs.
+      if (t.y < size.y) flux = level == 0u ? imageLoad(caustic_map, ivec2(t)).r : pyramid[pyramid_offset(level) + t.y * size.x + t.x] / float(1u << (2u * level));
       break;
     }
     left += size.x;
