@@ -36,6 +36,7 @@ struct AdaptivePush {
   uint32_t light_size_log2;
   uint32_t splat_levels;
   uint32_t coverage_seeded;
+  uint32_t converge_within;
   uint32_t counter_slot[11];
 };
 
@@ -61,6 +62,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const std::string criterion = hierarchical_ ? "max_level" : p["criterion"].get<std::string>();
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
     converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
+    converge_within_ = !hierarchical_ && p["converge_test"].get<std::string>() == "within_texel";
     const uint32_t light_size = setup.resource("front").width;
     // The pyramid's finest level has one texel per 4 x 4 light-view texels (a sixteenth of the
     // threads on lavapipe), or per photon of the effective grid when that is coarser. A cluster
@@ -149,7 +151,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
                       p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_,
-                      uses_coverage_ ? 1u : 0u, {}};
+                      uses_coverage_ ? 1u : 0u, converge_within_ ? 1u : 0u, {}};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -227,7 +229,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
  private:
   bool hierarchical_;
-  bool uses_coverage_ = false;
+  bool uses_coverage_ = false, converge_within_ = false;
   vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_, clear_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
@@ -246,6 +248,10 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
                       "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
                       "hybrid: max_level below converge_from, max_error from there"});
     params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
+    params.push_back({"converge_test", ParamType::choice, "same_texel", {}, {}, {"same_texel", "within_texel"},
+                      "max_error and hybrid: same_texel (the paper) converges a cluster whose four photons land in one caustic-map "
+                      "texel, its power into that texel; within_texel one whose landing points lie less than a texel's width apart "
+                      "on both axes, its power shared bilinearly around their centroid"});
     params.push_back({"coverage_seeding", ParamType::bool_, true, {}, {}, {},
                       "keep a cluster whose four photons all miss when the light-view coverage pyramid shows a refractor under it, "
                       "so refractors smaller than the 64 x 64 start grid's spacing are found; false: the paper's traversal"});

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <glm/gtc/constants.hpp>
 
 #include "ball_lens.h"
@@ -24,8 +25,6 @@ struct Engine : test::SceneEngine {
 std::shared_ptr<scene::Scene> load(const std::string& name) { return test::load_bundled_scene(name); }
 
 using test::flux_into_ball;
-
-const char* kAdaptiveGraphs[] = {"caustics_adaptive_maxlevel", "caustics_adaptive_maxerror", "caustics_adaptive"};
 
 }  // namespace
 
@@ -88,11 +87,15 @@ TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
   auto scene = load("sphere_plane");
   const double exact = flux_into_ball(*scene);
   auto regular = e.render("caustics_regular", scene, {"fresnel=false", "grid=2048"});
-  for (const char* graph : kAdaptiveGraphs) {
-    auto frame = e.render(graph, scene, {"fresnel=false", "grid=2048"});
+  std::map<std::string, double> processed_by;
+  for (const std::string graph : {"caustics_adaptive_maxlevel", "caustics_adaptive_maxerror", "caustics_adaptive", "caustics_adaptive_maxerror:within"}) {
+    const bool within = graph.find(":within") != std::string::npos;
+    std::vector<std::string> sets{"fresnel=false", "grid=2048"};
+    if (within) sets.emplace_back("converge_test=within_texel");
+    auto frame = e.render(graph.substr(0, graph.find(':')), scene, sets);
     const double in = frame.counters.at("caustic.flux_entering"), splatted = frame.counters.at("caustic.flux"),
                  dropped = frame.counters.at("caustic.flux_dropped"), processed = frame.counters.at("photons.processed");
-    std::printf("%-28s entering %.4f (exact %.4f), splatted %.4f (regular %.4f), processed %.0f (regular %.0f, %.1f%%), converged %.0f\n", graph,
+    std::printf("%-34s entering %.4f (exact %.4f), splatted %.4f (regular %.4f), processed %.0f (regular %.0f, %.1f%%), converged %.0f\n", graph.c_str(),
                 in, exact, splatted, regular.counters.at("caustic.flux"), processed, regular.counters.at("photons.processed"),
                 100.0 * processed / regular.counters.at("photons.processed"), frame.counters.at("photons.converged"));
     EXPECT_NEAR(in, exact, 0.015 * exact) << graph;
@@ -101,7 +104,10 @@ TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
     EXPECT_NEAR(splatted, regular.counters.at("caustic.flux"), 0.01 * regular.counters.at("caustic.flux")) << graph;
     EXPECT_LT(processed, regular.counters.at("photons.processed")) << graph;
     EXPECT_EQ(frame.counters.at("photons.overflow"), 0.0) << graph;
+    processed_by[graph] = processed;
   }
+  // Converging within a texel's width also ends the clusters that straddle a texel edge.
+  EXPECT_LT(processed_by["caustics_adaptive_maxerror:within"], 0.8 * processed_by["caustics_adaptive_maxerror"]);
 }
 
 // Batching changes the order photons are processed in, nothing else: the same photons, the same
@@ -187,16 +193,18 @@ TEST(Caustics, BallLensCumulativeFluxMatchesTheExactLens) {
   const std::vector<double>& exact = lens.inside;
   const double exact_landed = lens.landed;
 
-  auto frame = e.render("caustics_adaptive", scene, {"fresnel=false", "grid=2048"});
-  const std::vector<double> engine = test::map_flux_inside(*scene, e.executor.read_image("caustics"), radii);
-  const double entering = flux_into_ball(*scene), landed = frame.counters.at("caustic.flux");
-  for (size_t k = 0; k < radii.size(); ++k) {
-    std::printf("r = %.2f R: exact %.4f, engine %.4f of the entering flux, %.4f of the landed flux\n", radii[k], exact[k],
-                engine[k] / entering, engine[k] / landed);
-    EXPECT_NEAR(engine[k] / entering, exact[k], 0.15) << "r = " << radii[k];
-    EXPECT_NEAR(engine[k] / landed, exact[k] / exact_landed, 0.06) << "r = " << radii[k];
+  for (const char* test : {"same_texel", "within_texel"}) {
+    auto frame = e.render("caustics_adaptive", scene, {"fresnel=false", "grid=2048", std::string("converge_test=") + test});
+    const std::vector<double> engine = test::map_flux_inside(*scene, e.executor.read_image("caustics"), radii);
+    const double entering = flux_into_ball(*scene), landed = frame.counters.at("caustic.flux");
+    for (size_t k = 0; k < radii.size(); ++k) {
+      std::printf("%s, r = %.2f R: exact %.4f, engine %.4f of the entering flux, %.4f of the landed flux\n", test, radii[k], exact[k],
+                  engine[k] / entering, engine[k] / landed);
+      EXPECT_NEAR(engine[k] / entering, exact[k], 0.15) << test << ", r = " << radii[k];
+      EXPECT_NEAR(engine[k] / landed, exact[k] / exact_landed, 0.06) << test << ", r = " << radii[k];
+    }
+    EXPECT_GT(frame.counters.at("photons.splatted"), 0.0);
   }
-  EXPECT_GT(frame.counters.at("photons.splatted"), 0.0);
 }
 
 // Multi-resolution splatting: photons whose cluster's landing points spread apart go to coarser

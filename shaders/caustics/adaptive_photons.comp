@@ -64,6 +64,19 @@ void output_photon(Photon ph, uint level) {
   }
 }
 
+// A converged cluster's power at the centroid of its landing points, shared bilinearly by the four
+// texels around it (kept inside the map, so no flux is lost at its edge).
+void splat_bilinear(vec2 position, float power) {
+  ivec2 size = imageSize(caustic_map);
+  vec2 c = position - 0.5;
+  ivec2 i = ivec2(floor(c));
+  vec2 f = c - vec2(i);
+  float w[4] = float[4]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+  for (uint k = 0u; k < 4u; ++k) {
+    if (w[k] > 0.0) imageAtomicAdd(caustic_map, clamp(i + ivec2(k & 1u, k >> 1), ivec2(0), size - 1), power * w[k]);
+  }
+}
+
 // Appends the four photons of `cluster` as clusters of the next level.
 void refine(uvec2 cluster) {
   uint at = atomicAdd(counts[params.level + 1u], 4u);
@@ -114,14 +127,23 @@ void main() {
 #else
     float texel = 2.0 * light.clip.z / float(side);
     Photon ph[4];
-    bool any_hit = false, all_same_texel = true, all_lost = true;
+    bool any_hit = false, all_same_texel = true, all_lost = true, all_landed = true;
+    vec2 low = vec2(1e30), high = vec2(-1e30), middle = vec2(0.0);
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
       ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
       any_hit = any_hit || ph[k].hit;
       all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
       all_lost = all_lost && ph[k].hit && !ph[k].landed;
+      all_landed = all_landed && ph[k].landed;
+      low = min(low, ph[k].landing);
+      high = max(high, ph[k].landing);
+      middle += 0.25 * ph[k].landing;
     }
+    // The paper's test: all four in one texel. Within a texel: their landing points closer than a
+    // texel's width on both axes, wherever the texel edges fall; a cluster that straddles an edge
+    // then converges too, instead of refining to the last level.
+    bool converged = params.converge_within != 0u ? all_landed && all(lessThan(high - low, vec2(1.0))) : all_same_texel;
     count_n(PROCESSED, 4u);
     count_n(PROCESSED_LEVEL, 4u);
     if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
@@ -142,9 +164,10 @@ void main() {
         add_sum(DROPPED, ph[k].power);
       }
       count(CONVERGED);
-    } else if (params.level >= params.converge_level && all_same_texel) {
+    } else if (params.level >= params.converge_level && converged) {
       float power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
-      splat_at(ph[0].texel, 0u, power);
+      if (params.converge_within != 0u) splat_bilinear(middle, power);
+      else splat_at(ph[0].texel, 0u, power);
       count(CONVERGED);
       count(SPLATTED);
       add_sum(FLUX, power);

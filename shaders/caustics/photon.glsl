@@ -15,6 +15,7 @@ struct Photon {
   bool tir;        // dropped: total internal reflection at the back surface
   bool landed;     // reached a receiver at `texel` of the caustic map
   ivec2 texel;
+  vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
 };
 
 // The photon through the centre of `uv` on the light's image plane, standing for a square of side
@@ -27,6 +28,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.landed = false;
   ph.entering = 0.0;
   ph.texel = ivec2(0);
+  ph.landing = vec2(0.0);
   vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
   float cos_axis = inversesqrt(1.0 + dot(plane, plane));
   vec3 eye = light.position_type.xyz;
@@ -51,7 +53,8 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   vec2 landing;
   if (!march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing)) return ph;
   ivec2 size = imageSize(caustic_map);
-  ph.texel = clamp(ivec2(landing * vec2(size)), ivec2(0), size - 1);
+  ph.landing = landing * vec2(size);
+  ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
   ph.landed = true;
   return ph;
 }

@@ -134,15 +134,19 @@ int cmd_bench_photons(Args& args) {
   struct Method {
     const char* name;
     const char* graph;
+    const char* set;  // a parameter override, or ""
   };
-  const Method methods[] = {{"regular", "caustics_regular"},
-                            {"hierarchical", "caustics_hierarchical"},
-                            {"adaptive_max_level", "caustics_adaptive_maxlevel"},
-                            {"adaptive_max_error", "caustics_adaptive_maxerror"},
-                            {"adaptive_hybrid", "caustics_adaptive"}};
+  const Method methods[] = {{"regular", "caustics_regular", ""},
+                            {"hierarchical", "caustics_hierarchical", ""},
+                            {"adaptive_max_level", "caustics_adaptive_maxlevel", ""},
+                            {"adaptive_max_error", "caustics_adaptive_maxerror", ""},
+                            {"adaptive_max_error_within", "caustics_adaptive_maxerror", "converge_test=within_texel"},
+                            {"adaptive_hybrid", "caustics_adaptive", ""}};
   std::string csv = "grid,method,processed,gpu_ms\n";
-  std::string table = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
-  std::string times = "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, hybrid |\n|---|---|---|---|---|---|\n";
+  const std::string header =
+      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error within a texel | adaptive, hybrid "
+      "|\n|---|---|---|---|---|---|---|\n";
+  std::string table = header, times = header;
   for (uint32_t grid : grids) {
     std::string row = "| " + std::to_string(grid) + "^2 |", time_row = row;
     for (const auto& m : methods) {
@@ -154,7 +158,9 @@ int cmd_bench_photons(Args& args) {
       graph::Executor executor(vk, shaders, passes::builtin_registry());
       executor.set_scene(scene);
       auto g = graph::load_graph_file((data_dir() / "graphs" / (std::string(m.graph) + ".json")).string());
-      graph::apply_overrides(g, {"grid=" + std::to_string(grid)});
+      std::vector<std::string> sets{"grid=" + std::to_string(grid)};
+      if (*m.set) sets.emplace_back(m.set);
+      graph::apply_overrides(g, sets);
       executor.configure(g, 640, 360);
       executor.run_frame(false);  // pipelines compile on first use
       std::vector<double> ms;
@@ -245,8 +251,14 @@ constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_
 // reference, and every refraction graph x distance estimate against the ray-traced reference.
 int cmd_bench_accuracy(Args& args) {
   std::vector<std::string> scenes{"sphere_plane", "bunny_plane"};
-  std::vector<std::string> graphs{"caustics_regular", "caustics_hierarchical", "caustics_adaptive_maxlevel", "caustics_adaptive_maxerror",
-                                  "caustics_adaptive", "refraction_forward", "refraction_deferred"};
+  std::vector<std::string> graphs{"caustics_regular",
+                                  "caustics_hierarchical",
+                                  "caustics_adaptive_maxlevel",
+                                  "caustics_adaptive_maxerror",
+                                  "caustics_adaptive_maxerror:converge_test=within_texel",
+                                  "caustics_adaptive",
+                                  "refraction_forward",
+                                  "refraction_deferred"};
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
   uint32_t frames = 3, regular_max = 4096, caustic_size = 512, width = 640, height = 360;
   uint64_t reference_photons = 100'000'000;
@@ -272,10 +284,23 @@ int cmd_bench_accuracy(Args& args) {
   // Everything is loaded and checked before the first long step.
   std::vector<std::shared_ptr<const scene::Scene>> loaded;
   for (const auto& name : scenes) loaded.push_back(std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(name))));
+  // A graph is NAME or NAME:PARAM=VALUE[:PARAM=VALUE...], its method label the name and overrides.
   std::vector<graph::GraphDesc> graph_descs;
-  for (const auto& name : graphs) {
+  std::vector<std::string> labels;
+  for (const auto& entry : graphs) {
+    std::vector<std::string> sets;
+    for (size_t at = entry.find(':'); at != std::string::npos;) {
+      const size_t next = entry.find(':', at + 1);
+      sets.push_back(entry.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1));
+      at = next;
+    }
+    const std::string name = entry.substr(0, entry.find(':'));
     graph_descs.push_back(graph::load_graph_file(graph_path(name)));
-    const auto& g = graph_descs.back();
+    auto& g = graph_descs.back();
+    graph::apply_overrides(g, sets);
+    std::string label = g.name;
+    for (const auto& set : sets) label += " " + set;
+    labels.push_back(label);
     if (passes_of_types(g, kCausticPassTypes).empty() && passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
       throw InputError(graph_path(name) + ": bench accuracy needs a graph with a caustic or a refraction pass");
     }
@@ -339,7 +364,7 @@ int cmd_bench_accuracy(Args& args) {
           executor.configure(g, width, height, {"caustics"});
           const Timings t = time_frames(executor, frames, caustic_passes);
           const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
-          add_row(scene->name, "caustics", desc.name, grid, processed, t, reference::compare_images(executor.read_image("caustics"), photons.caustic_map, blur));
+          add_row(scene->name, "caustics", labels[gi], grid, processed, t, reference::compare_images(executor.read_image("caustics"), photons.caustic_map, blur));
         }
       } else {
         for (const char* distance : {"dv", "dv_dn"}) {
@@ -350,7 +375,7 @@ int cmd_bench_accuracy(Args& args) {
           reference::ImageComparison c;
           c.relative_l1 = reference::refraction_relative_l1(executor.read_image("refracted"), refraction);
           c.energy_ratio = c.shape_l1 = c.psnr = std::nan("");
-          add_row(scene->name, "refraction", desc.name + " " + distance, 0, 0.0, t, c);
+          add_row(scene->name, "refraction", labels[gi] + " " + distance, 0, 0.0, t, c);
         }
       }
     }
@@ -555,7 +580,8 @@ int cmd_bench(Args& args) {
       "reference (--reference-photons, default 1e8) after a matched blur; and for every refraction graph x distance\n"
       "estimate (dv, dv_dn): the refraction passes' time and error against the ray-traced reference. Writes\n"
       "DIR/results.csv, DIR/speed_accuracy.png (error against time, log-log, python3-matplotlib), DIR/README.md and\n"
-      "each scene's reference map. Default graphs: the five caustic graphs, refraction_forward, refraction_deferred.\n\n"
+      "each scene's reference map. Default graphs: the five caustic graphs, the max-error one also with converge_test=within_texel,\n"
+      "refraction_forward, refraction_deferred. A graph is NAME or NAME:PARAM=VALUE[:PARAM=VALUE...].\n\n"
       "       caustica bench stability [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR] [--validate]\n\n"
       "stability: where each caustic method breaks. Every case (ball lens; bunny with the light moving; n = 2.4; grazing\n"
       "light; torus; stacked refractors; a refractor smaller than the start grid's spacing; one filling the light's view;\n"
