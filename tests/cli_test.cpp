@@ -269,7 +269,8 @@ TEST(Cli, ReferenceAndBenchmarksRun) {
   EXPECT_NE(photons.output.find("| 128^2 |"), std::string::npos) << photons.output;
   const std::string csv = read(dir / "photons" / "photons.csv");
   EXPECT_EQ(csv.rfind("grid,method,processed,gpu_ms\n", 0), 0u);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 5);  // header, two grids x five methods
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 6);  // header, two grids x six methods (max error twice)
+  EXPECT_NE(csv.find("128,adaptive_max_error_within,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("128,regular,16384,"), std::string::npos) << csv;
 
   CliRun refraction = run("bench refraction --sphere-detail 16 --size 64x36 --frames 2 --csv refraction.csv", dir);
@@ -300,16 +301,16 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_EQ(run("compare a.exr b.exr --max-l1 0", dir).code, 1);
   EXPECT_EQ(run("compare a.exr b.exr --max-l1 1", dir).code, 0);
 
-  CliRun bench = run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive,refraction_deferred --grids 64,128 --reference-photons 1e5 "
+  CliRun bench = run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive:converge_test=within_texel,refraction_deferred --grids 64,128 --reference-photons 1e5 "
                      "--caustic-size 64 --size 64x36 --frames 1 --out acc",
                      dir);
   ASSERT_EQ(bench.code, 0) << bench.output;
   const std::string csv = read(dir / "acc" / "results.csv");
   EXPECT_EQ(csv.rfind("scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n", 0), 0u) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2);  // header, two grids, two distance estimates
-  EXPECT_NE(csv.find("sphere_plane,caustics,caustics_adaptive,128,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("sphere_plane,caustics,caustics_adaptive converge_test=within_texel,128,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred dv_dn,0,"), std::string::npos) << csv;
   EXPECT_GT(fs::file_size(dir / "acc" / "speed_accuracy.png"), 10000u);
-  EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive | 128^2 |"), std::string::npos);
+  EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"), std::string::npos);
   fs::remove_all(dir);
 }
