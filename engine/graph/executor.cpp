@@ -467,6 +467,18 @@ FrameResult Executor::run_frame(bool read_back) {
   return result;
 }
 
+FrameImage Executor::frame_image(const std::string& name) const {
+  const int index = plan_->find_resource(plan_->resolve(name));
+  if (index < 0 || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image || plan_->resources[static_cast<size_t>(index)].transient ||
+      !plan_->resources[static_cast<size_t>(index)].used()) {
+    throw InputError("'" + name + "' is not an image output or a retained image of graph " + plan_->graph_path);
+  }
+  const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
+  // A frame that read back left every read-back image ready for a copy.
+  const VkImageLayout layout = realized_->read_back_done ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : res.final_state.layout;
+  return {realized_->images[static_cast<size_t>(index)].image.get(), layout, res.format, {res.width, res.height}};
+}
+
 io::ImageData Executor::read_image(const std::string& name) const {
   const int index = plan_->find_resource(plan_->resolve(name));
   const auto& real = *realized_;

@@ -23,6 +23,15 @@ struct PassTiming {
   double cpu_start_ms = 0;  // from the start of recording
 };
 
+// An output or retained image as the last frame left it, for commands recorded after the frame in
+// another submission (the viewer copies the output into its window this way).
+struct FrameImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  Format format = Format::rgba8;
+  VkExtent2D extent{};
+};
+
 struct FrameResult {
   std::vector<PassTiming> passes;
   double gpu_ms = 0;  // first to last timestamp of the frame, barriers included
@@ -52,6 +61,9 @@ class Executor {
   FrameResult run_frame(bool read_back);
 
   io::ImageData read_image(const std::string& resource) const;
+  // The image stays valid until the next configure() that compiles; the next run_frame() may
+  // overwrite it. Throws InputError for an image that is neither an output nor retained.
+  FrameImage frame_image(const std::string& resource) const;
   const Plan& plan() const { return *plan_; }
   uint32_t compile_count() const { return compile_count_; }
   // Makes the next configure() compile and set up every pass again even if nothing it is given

@@ -53,6 +53,13 @@ oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
 oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
 if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
 echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
+# Without a screenshot or the inspector the output reaches the window by a blit on the device, with
+# no read-back: right of the main panel the window shows the headless render exactly.
+grep -q "goes to the window by a blit on the device" "$dir/log" || fail "the device blit is not used: $(head -3 "$dir/log")"
+oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
+oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
+"$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
+echo "ok: the output blitted into the window is the headless render"
 
 # 2 and 3. Hot reload, then a broken edit.
 wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it took

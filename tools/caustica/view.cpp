@@ -255,6 +255,9 @@ class Viewer {
     vkGetPhysicalDeviceSurfaceSupportKHR(vk_.physical_device(), vk_.queue_family(), surface, &supported);
     if (!supported) throw DeviceError(vk_.device_name() + " cannot present to this window from its queue");
     build_swapchain(vk_, surface_, window_.handle, swapchain_);
+    blit_supported_ = can_blit_output();
+    std::fprintf(stderr, "view: an 8-bit output at the window's size goes to the window %s\n",
+                 blit_supported_ ? "by a blit on the device" : "through the host (this device cannot blit it)");
     if (!window_shot_.empty() && !swapchain_.readable) throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
     session_.graph_file = o.graph;
     session_.scene_file = o.scene;
@@ -639,10 +642,21 @@ class Viewer {
 
   void draw_frame(bool last) {
     handle_input();
-    const graph::FrameResult frame = executor_.run_frame(true);
-    const std::string output = executor_.plan().resources[executor_.plan().outputs.front()].name;
-    const io::ImageData image = executor_.read_image(output);
-    const io::ImageData inspected = inspected_.empty() ? io::ImageData{} : executor_.read_image(inspected_);
+    // The output goes into the window on the device (a blit) when it is already display-ready
+    // 8-bit at the window's size; otherwise, and for screenshots and the inspector, through a
+    // read-back to the host.
+    const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
+    const std::string output = out.name;
+    const bool main_inspected = inspect_in_main_view_ && !inspected_.empty();
+    const bool blit = blit_supported_ && !main_inspected && out.format == graph::Format::rgba8 && out.width == swapchain_.extent.width &&
+                      out.height == swapchain_.extent.height;
+    const bool inspecting = !inspected_.empty() && (inspector_open_ || inspect_in_main_view_);
+    const bool read_back = !blit || inspecting || screenshot_key_ || (last && !screenshot_.empty());
+    const graph::FrameResult frame = executor_.run_frame(read_back);
+    const uint32_t compiled = executor_.compile_count();
+    const graph::FrameImage output_image = executor_.frame_image(output);
+    const io::ImageData image = read_back ? executor_.read_image(output) : io::ImageData{};
+    const io::ImageData inspected = read_back && !inspected_.empty() ? executor_.read_image(inspected_) : io::ImageData{};
     if (fit_exposure_ && inspected.width > 0) expose_to_fit(inspected);
     fit_exposure_ = false;
     if (last && !screenshot_.empty()) io::write_image(screenshot_, inspected_.empty() ? image : inspected);
@@ -659,6 +673,8 @@ class Viewer {
     ImGui::NewFrame();
     draw_ui(frame, inspected);
     ImGui::Render();
+    // An edit in the panels recompiled the graph: the frame's images are gone, show the next one.
+    if (blit && executor_.compile_count() != compiled) return;
 
     uint32_t index = 0;
     VkResult acquired = vkAcquireNextImageKHR(vk_.device(), swapchain_.swapchain.get(), UINT64_MAX, acquired_.get(), VK_NULL_HANDLE, &index);
@@ -668,9 +684,8 @@ class Viewer {
     }
     if (acquired != VK_SUBOPTIMAL_KHR) vk::check(acquired, "vkAcquireNextImageKHR");
     const float exposure = std::exp2(exposure_stops_);
-    const bool main_inspected = inspect_in_main_view_ && !inspected_.empty();
     const io::ImageData panel = panel_.extent.width > 0 && inspected.width > 0 ? fit(inspected, panel_.extent.width, panel_.extent.height) : io::ImageData{};
-    upload(main_inspected ? inspected : image, main_inspected ? exposure : 1.0f, panel, exposure);
+    upload(blit ? io::ImageData{} : main_inspected ? inspected : image, main_inspected ? exposure : 1.0f, panel, exposure);
     const bool shoot = last && !window_shot_.empty();
 
     vk::check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
@@ -681,10 +696,14 @@ class Viewer {
     passes::image_barrier(cmd_, swapchain_.images[index], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferImageCopy regions[2]{};
-    regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height), 1};
-    regions[0].bufferRowLength = uploaded_width_;
-    vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
+    if (blit) {
+      record_output_blit(output_image, swapchain_.images[index]);
+    } else {
+      regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height), 1};
+      regions[0].bufferRowLength = uploaded_width_;
+      vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
+    }
     if (panel.width > 0 && panel_region(panel, regions[1])) {
       // Regions of one copy land in no set order: the panel goes over the main view in a second.
       passes::memory_barrier(cmd_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
@@ -821,6 +840,27 @@ class Viewer {
     return true;
   }
 
+  // The graph's output into the swapchain image on the device; the blit swaps RGBA into BGRA. The
+  // executor's frame finished before this submission (run_frame waits), so the barrier only has
+  // to make its writes visible and bring the image into TRANSFER_SRC if it is not there.
+  void record_output_blit(const graph::FrameImage& output, VkImage target) {
+    passes::image_barrier(cmd_, output.image, VK_IMAGE_ASPECT_COLOR_BIT, output.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                          VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkImageBlit region{};
+    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.srcOffsets[1] = region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+    vkCmdBlitImage(cmd_, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
+  }
+
+  // Whether the device blits the graph's 8-bit output into the window's format.
+  bool can_blit_output() const {
+    VkFormatProperties from{}, to{};
+    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), VK_FORMAT_R8G8B8A8_UNORM, &from);
+    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), swapchain_.format, &to);
+    return (from.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) && (to.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
+  }
+
   // --window-shot: the presented image, panels included, copied out after the UI is drawn.
   void record_window_copy(VkImage image) {
     const VkDeviceSize bytes = VkDeviceSize{swapchain_.extent.width} * swapchain_.extent.height * 4;
@@ -881,6 +921,7 @@ class Viewer {
   std::filesystem::file_time_type shader_time_{};
   std::string inspected_;  // empty: nothing chosen
   bool inspector_open_ = false, inspect_in_main_view_ = false, fit_exposure_ = false;
+  bool blit_supported_ = false;  // the output can go into the window on the device
   VkRect2D panel_{};  // where the inspector's image goes this frame, in window pixels; empty: nowhere
   float exposure_stops_ = 0.0f;
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
