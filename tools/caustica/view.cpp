@@ -541,7 +541,10 @@ class Viewer {
     const auto& plan = executor_.plan();
     ImGui::SetNextWindowPos(ImVec2(std::max(static_cast<float>(swapchain_.extent.width) - 430.0f, 450.0f), 10.0f), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(420, 360), ImGuiCond_FirstUseEver);
-    ImGui::Begin("inspector", &inspector_open_, ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoBringToFrontOnFocus);
+    if (!ImGui::Begin("inspector", &inspector_open_, ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoBringToFrontOnFocus)) {
+      ImGui::End();  // collapsed: no image to place
+      return;
+    }
     ImDrawList* draw = ImGui::GetWindowDrawList();
     draw->ChannelsSplit(2);  // 0: the background around the image, 1: the controls over it
     draw->ChannelsSetCurrent(1);
