@@ -11,6 +11,8 @@
 #include <set>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include "builtin_passes.h"
 #include "cli.h"
 #include "core/paths.h"
@@ -143,6 +145,7 @@ int cmd_bench_photons(Args& args) {
                             {"adaptive_max_error_within", "caustics_adaptive_maxerror", "converge_test=within_texel"},
                             {"adaptive_hybrid", "caustics_adaptive", ""}};
   std::string csv = "grid,method,processed,gpu_ms\n";
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const std::string header =
       "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error within a texel | adaptive, hybrid "
       "|\n|---|---|---|---|---|---|---|\n";
@@ -179,9 +182,11 @@ int cmd_bench_photons(Args& args) {
       time_row += cell;
       std::snprintf(cell, sizeof(cell), "%u,%s,%.0f,%.4f\n", grid, m.name, processed, median(ms));
       csv += cell;
-      std::fprintf(stderr, "\r%u^2 %s: %.0f photons, %.2f ms          ", grid, m.name, processed, median(ms));
+      // On a terminal each grid's line is rewritten in place; in a log every method gets its own.
+      std::fprintf(stderr, "%s%u^2 %s: %.0f photons, %.2f ms%s", terminal ? "\r" : "", grid, m.name, processed, median(ms),
+                   terminal ? "          " : "\n");
     }
-    std::fprintf(stderr, "\n");
+    if (terminal) std::fprintf(stderr, "\n");
     table += row + "\n";
     times += time_row + "\n";
   }

@@ -592,13 +592,14 @@ class Viewer {
     fit_exposure_ = true;  // once the first frame with it is read back
   }
 
-  // The exposure that shows the image's brightest texel (any colour channel) at white.
+  // The exposure that shows the image's brightest texel (any colour channel) at white (0 - x, so
+  // that a brightest texel of 1 shows 0 stops, not -0).
   void expose_to_fit(const io::ImageData& image) {
     float brightest = 0.0f;
     for (size_t i = 0; i < image.rgba.size(); ++i) {
       if (i % 4 != 3 && std::isfinite(image.rgba[i])) brightest = std::max(brightest, image.rgba[i]);
     }
-    exposure_stops_ = brightest > 0.0f && !image.display_encoded ? std::clamp(-std::log2(brightest), -32.0f, 32.0f) : 0.0f;
+    exposure_stops_ = brightest > 0.0f && !image.display_encoded ? std::clamp(0.0f - std::log2(brightest), -32.0f, 32.0f) : 0.0f;
   }
 
   void edit_parameters() {
