@@ -38,6 +38,7 @@ struct AdaptivePush {
   uint32_t coverage_seeded;
   uint32_t converge_within;
   uint32_t counter_slot[11];
+  ExactPathPush exact;
 };
 
 constexpr uint32_t kCoverageBlockLog2 = 2;  // the coverage pyramid's finest texel: 4 x 4 light-view texels
@@ -93,6 +94,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     batches_slot_ = setup.add_counter("photons.batches");
     const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
     for (int i = 0; i < 3; ++i) sum_slots_[i] = setup.add_counter(sums[i], Kind::sum);
+    exact_.setup(setup);
 
     vk::Context& vk = setup.vk();
     lists_ = vk::make_buffer(vk, uint64_t{capacity_} * 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " cluster lists");
@@ -109,15 +111,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     pyramid_ = vk::make_buffer(vk, pyramid_words * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                setup.pass().name + " multi-resolution caustic map");
     const vk::PipelineDesc layout{hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
-                                  {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                  exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}),
                                   sizeof(AdaptivePush)};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
-    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", defines));
+    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", exact_.defines(defines)));
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
@@ -151,19 +153,17 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
                       p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_,
-                      uses_coverage_ ? 1u : 0u, converge_within_ ? 1u : 0u, {}};
+                      uses_coverage_ ? 1u : 0u, converge_within_ ? 1u : 0u, {}, exact_.push(ctx)};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
 
     auto bind = [&](const vk::Pipeline& pipeline) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
-      photon_descriptors(ctx)
-          .storage_buffer(9, lists_.get())
-          .storage_buffer(10, control_.get())
-          .storage_buffer(11, coverage_.get())
-          .storage_buffer(12, pyramid_.get())
-          .push(ctx.vk(), cmd, pipeline);
+      vk::DescriptorWriter writer = photon_descriptors(ctx);
+      writer.storage_buffer(9, lists_.get()).storage_buffer(10, control_.get()).storage_buffer(11, coverage_.get()).storage_buffer(12, pyramid_.get());
+      exact_.bind(ctx, writer);
+      writer.push(ctx.vk(), cmd, pipeline);
     };
     if (uses_coverage_) {
       // The coverage pyramid, finest level first; each level reads the one before.
@@ -232,6 +232,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   bool uses_coverage_ = false, converge_within_ = false;
   vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_, clear_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
+  ExactPaths exact_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;
   uint32_t slots_[6] = {}, sum_slots_[3] = {}, peak_slot_ = 0, batches_slot_ = 0;
   std::vector<uint32_t> level_slots_;
@@ -240,7 +241,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
 std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
   using namespace graph;
-  auto params = refraction_params();
+  auto params = photon_path_params();
   params.push_back({"grid", ParamType::choice, "2048", {}, {}, {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
                     "effective photon grid per side: the traversal's last level"});
   if (adaptive) {
@@ -294,6 +295,8 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
+  decl.uses_ray_queries = photon_paths_use_ray_queries;
+  decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
 }
 
@@ -310,6 +313,8 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
+  decl.uses_ray_queries = photon_paths_use_ray_queries;
+  decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
 }
 

@@ -16,6 +16,7 @@ struct PhotonPush {
   uint32_t grid;
   uint32_t fresnel;
   uint32_t counter_slot[8];
+  ExactPathPush exact;
 };
 
 class CausticMapPass final : public graph::Pass {
@@ -35,15 +36,17 @@ class CausticMapPass final : public graph::Pass {
     setup.add_counter("photons.converged");
     setup.add_counter("photons.peak_bytes");
     batches_slot_ = setup.add_counter("photons.batches");
+    exact_.setup(setup);
     clear_ = make_caustic_clear_pipeline(setup);
     photons_ = vk::make_compute_pipeline(
         setup.vk(),
         {"regular_photons",
-         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
          sizeof(PhotonPush)},
-        setup.shaders().compile("caustics/regular_photons.comp"));
+        setup.shaders().compile("caustics/regular_photons.comp", exact_.defines()));
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -53,17 +56,20 @@ class CausticMapPass final : public graph::Pass {
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);
     PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
-                    p["fresnel"].get<bool>() ? 1u : 0u, {}};
+                    p["fresnel"].get<bool>() ? 1u : 0u, {}, exact_.push(ctx)};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
     ctx.set_counter(batches_slot_, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
-    photon_descriptors(ctx).push(ctx.vk(), cmd, photons_);
+    vk::DescriptorWriter writer = photon_descriptors(ctx);
+    exact_.bind(ctx, writer);
+    writer.push(ctx.vk(), cmd, photons_);
     vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
     vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
   }
 
  private:
   vk::Pipeline clear_, photons_;
+  ExactPaths exact_;
   uint32_t slots_[8] = {};
   uint32_t batches_slot_ = 0;
 };
@@ -72,7 +78,7 @@ class CausticMapPass final : public graph::Pass {
 
 graph::PassTypeDecl caustic_map_pass_type() {
   using namespace graph;
-  auto params = refraction_params();
+  auto params = photon_path_params();
   params.push_back({"grid", ParamType::int_, 512, 16.0, 16384.0, {}, "photons per side of the grid over the light's image plane"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
   params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
@@ -87,6 +93,8 @@ graph::PassTypeDecl caustic_map_pass_type() {
       false,
       [] { return std::make_unique<CausticMapPass>(); }};
   decl.needs_scene = true;
+  decl.uses_ray_queries = photon_paths_use_ray_queries;
+  decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
 }
 

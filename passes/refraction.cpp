@@ -1,7 +1,12 @@
 #include "refraction.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <iterator>
+#include <utility>
+
+#include "core/error.h"
 
 namespace caustica::passes {
 
@@ -15,8 +20,83 @@ std::vector<graph::ParamDecl> refraction_params() {
 
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter) {
   const auto& p = ctx.params();
-  return {p["distance"].get<std::string>() == "dv" ? 0u : 1u, p["search_steps"].get<uint32_t>(), p["search_distance"].get<float>(),
-          tir_counter};
+  // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
+  const std::string distance = p["distance"].get<std::string>();
+  const uint32_t mode = distance == "dv" ? 0u : distance == "dv_dn" ? 1u : distance == "ray_query" ? 2u : distance == "hybrid" ? 3u : 4u;
+  return {mode, p["search_steps"].get<uint32_t>(), p["search_distance"].get<float>(), tir_counter};
+}
+
+std::vector<graph::ParamDecl> photon_path_params() {
+  using graph::ParamType;
+  auto params = refraction_params();
+  params[0].choices = {"dv", "dv_dn", "search", "ray_query", "hybrid"};
+  params[0].description =
+      "where a photon leaves the refractor: d_V or the d_V/d_N blend (estimates), search (image-space search along the refracted "
+      "ray against the back-surface buffer, from the blend; every device), ray_query (every photon traced exactly through the "
+      "scene's acceleration structures; needs VK_KHR_ray_query), or hybrid (the search, re-traced exactly where it cannot be "
+      "trusted: total internal reflection at the exit, no back surface there, an exit point off the back surface by more than "
+      "hybrid_tolerance, or another refractor in the texel)";
+  params.push_back({"max_interfaces", ParamType::int_, 16, 1.0, 64.0, {}, "exact paths: refractor interfaces a photon may cross before it counts as trapped"});
+  params.push_back({"seed", ParamType::int_, 1, 0.0, 1e9, {}, "exact paths: seed of the Fresnel choices (reflect or transmit), deterministic per photon"});
+  params.push_back({"hybrid_tolerance", ParamType::float_, 0.05, 0.0, 10.0, {},
+                    "hybrid: how far the estimated exit point may lie off the back surface, as a fraction of the distance travelled inside"});
+  return params;
+}
+
+bool photon_paths_use_ray_queries(const nlohmann::json& params) {
+  const std::string distance = params.value("distance", std::string());
+  return distance == "ray_query" || distance == "hybrid";
+}
+
+const char* const kPhotonRayQueryAlternative =
+    "set its 'distance' to dv_dn (image space) or use graphs/caustics_adaptive.json, which runs on every device";
+
+void ExactPaths::setup(graph::PassSetup& setup) {
+  traced_ = photon_paths_use_ray_queries(setup.pass().params);
+  using Kind = graph::PassSetup::CounterKind;
+  // The order of caustics/photon.glsl's EXACT_* and RETRACE_* constants.
+  const std::pair<const char*, Kind> counters[] = {
+      {"photons.exact", Kind::count},          {"photons.escaped", Kind::count},
+      {"photons.trapped", Kind::count},        {"photons.off_map", Kind::count},
+      {"photons.reflected_outside", Kind::count}, {"photons.retraced.tir", Kind::count},
+      {"photons.retraced.empty_back", Kind::count}, {"photons.retraced.off_surface", Kind::count},
+      {"photons.retraced.multiple_refractors", Kind::count}, {"caustic.flux_escaped", Kind::sum},
+      {"caustic.flux_trapped", Kind::sum},     {"caustic.flux_off_map", Kind::sum},
+      {"caustic.flux_absorbed", Kind::sum}};
+  for (size_t i = 0; i < std::size(counters); ++i) {
+    const uint32_t slot = setup.add_counter(counters[i].first, counters[i].second);
+    if (i == 0) first_counter_ = slot;
+    if (slot != first_counter_ + i) throw DeviceError("pass '" + setup.pass().name + "': the exact-path counters are not consecutive");
+  }
+}
+
+shader::Defines ExactPaths::defines(shader::Defines defines) const {
+  if (traced_) defines["CAUSTICA_RAY_QUERY"] = "1";
+  return defines;
+}
+
+std::vector<VkDescriptorType> ExactPaths::bindings(std::vector<VkDescriptorType> bindings) const {
+  if (!traced_) return bindings;
+  // Bindings below 14 that a pass does not use are declared as storage buffers and left unwritten.
+  bindings.resize(14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  bindings.push_back(VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR);
+  bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  return bindings;
+}
+
+ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
+  const auto& p = ctx.params();
+  // As the photon reference: 1e-4 of the largest object's diagonal, at least 1e-4.
+  float extent = 1.0f;
+  for (const auto& o : ctx.scene().scene().objects) extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
+  return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, 1e-4f * extent, p["hybrid_tolerance"].get<float>()};
+}
+
+void ExactPaths::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+  if (!traced_) return;
+  const auto* acceleration = ctx.scene().built_acceleration();
+  assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
+  writer.acceleration_structure(14, acceleration->tlas()).storage_buffer(15, acceleration->triangles());
 }
 
 std::vector<graph::PortDecl> refraction_inputs() {

@@ -14,6 +14,43 @@ struct RefractionPush {
 
 std::vector<graph::ParamDecl> refraction_params();
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter);
+
+// The photon passes' ladder of ways to find where a photon leaves a refractor (their `distance`):
+// dv and dv_dn estimate in image space; ray_query traces every photon exactly; hybrid estimates and
+// re-traces exactly only the photons whose estimate cannot be trusted. Adds max_interfaces, seed
+// and hybrid_tolerance to refraction_params().
+std::vector<graph::ParamDecl> photon_path_params();
+// Whether photons with these parameters trace with ray queries (PassTypeDecl::uses_ray_queries).
+bool photon_paths_use_ray_queries(const nlohmann::json& params);
+extern const char* const kPhotonRayQueryAlternative;
+
+// Mirrors the exact-path fields at the end of the photon shaders' push constants.
+struct ExactPathPush {
+  uint32_t max_interfaces;
+  uint32_t seed;
+  uint32_t counters;  // first of the consecutive exact-path counter slots
+  float epsilon;      // ray offset off a surface, scaled to the scene
+  float hybrid_tolerance;
+};
+
+// What a photon pass needs for exact paths: the counters (always, so that every method reports the
+// same names), and where it traces with ray queries, the shader variant and the bindings 14
+// (the scene's top-level acceleration structure) and 15 (its triangles).
+class ExactPaths {
+ public:
+  void setup(graph::PassSetup& setup);
+  bool traced() const { return traced_; }
+  // CAUSTICA_RAY_QUERY when traced.
+  shader::Defines defines(shader::Defines defines = {}) const;
+  // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
+  std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
+  ExactPathPush push(const graph::PassContext& ctx) const;
+  void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
+
+ private:
+  bool traced_ = false;
+  uint32_t first_counter_ = 0;
+};
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
 

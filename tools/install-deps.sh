@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
 # Installs everything caustica needs to build, render and test on Debian 12 (bookworm).
 # Idempotent: packages already present are left alone. Runs as root or through sudo.
+#
+# Mesa's lavapipe comes from bookworm-backports (25.0.x): bookworm's own 22.3 has no ray tracing,
+# and 25 has VK_KHR_acceleration_structure and VK_KHR_ray_query, which the exact-path graphs
+# (caustics_raytraced.json, refraction_raytraced.json, the hybrids) need. Every other graph runs on
+# either version. CAUSTICA_NO_BACKPORTS=1 keeps bookworm's Mesa.
 set -euo pipefail
 
 packages=(
@@ -16,20 +21,45 @@ packages=(
   python3 python3-matplotlib
 )
 
+sudo_cmd=()
+[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+apt_install() {
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "$@"
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
+# Mesa 25 or later: the ray-query lavapipe.
+mesa_version="$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)"
+want_backports=0
+if [ "${CAUSTICA_NO_BACKPORTS:-0}" != 1 ] &&
+   ! dpkg --compare-versions "${mesa_version:-0}" ge 25; then
+  want_backports=1
+fi
+
+if [ ${#missing[@]} -eq 0 ] && [ "$want_backports" -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present (mesa-vulkan-drivers $mesa_version)"
   "$(dirname "$0")/fetch-models.sh"
   exit 0
 fi
 
-sudo_cmd=()
-[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-echo "install-deps: installing ${missing[*]}"
+if [ "$want_backports" -eq 1 ] &&
+   ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+  echo "install-deps: adding the bookworm-backports suite (for Mesa 25's ray-query lavapipe)"
+  echo 'deb http://deb.debian.org/debian bookworm-backports main' |
+    "${sudo_cmd[@]}" tee /etc/apt/sources.list.d/caustica-backports.list > /dev/null
+fi
+
 "${sudo_cmd[@]}" apt-get update -qq
-DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  apt_install "${missing[@]}"
+fi
+if [ "$want_backports" -eq 1 ]; then
+  echo "install-deps: installing mesa-vulkan-drivers from bookworm-backports"
+  apt_install -t bookworm-backports mesa-vulkan-drivers
+fi
 "$(dirname "$0")/fetch-models.sh"

@@ -653,6 +653,15 @@ class Compiler {
       pass.decl = node.decl;
       pass.params = node.params;
       for (const auto& b : node.bindings) pass.ports[b.port->name] = b.resource;
+      if (pass.decl->uses_ray_queries && pass.decl->uses_ray_queries(pass.params)) {
+        if (!options_.ray_queries) {
+          throw graph_.error(pass.pointer, "pass '" + pass.name + "' (" + pass.type +
+                                               ") traces exact paths with ray queries (VK_KHR_ray_query, VK_KHR_acceleration_structure), "
+                                               "and this device lacks " + options_.ray_queries_missing + "; " +
+                                               pass.decl->ray_query_alternative);
+        }
+        plan_.ray_query_passes.push_back(pass.name);
+      }
       plan_.passes.push_back(std::move(pass));
     }
   }

@@ -32,6 +32,11 @@ struct CompileOptions {
   // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects"): a
   // pass's "enabled" can depend on it. Empty when there is no scene.
   std::map<std::string, double> scene_values;
+  // Whether the device has ray queries, and if not what it lacks (for the message): a pass whose
+  // type says it uses them (PassTypeDecl::uses_ray_queries) is then refused. Device-less tools
+  // that cannot ask a device leave it true.
+  bool ray_queries = true;
+  std::string ray_queries_missing;
 };
 
 // The scene values `caustica validate` and `graph plan` assume without a scene file.

@@ -135,6 +135,8 @@ CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const 
   const auto& limits = vk_.properties().limits;
   options.limits.max_image_dimension_2d = limits.maxImageDimension2D;
   options.limits.max_storage_buffer_range = limits.maxStorageBufferRange;
+  options.ray_queries = vk_.ray_queries().available;
+  options.ray_queries_missing = vk_.ray_queries().missing + " (" + vk_.device_name() + ")";
   VkDevice device = vk_.device();
   options.memory_requirements = [device](const PlannedResource& r) {
     VkMemoryRequirements2 requirements{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
@@ -163,7 +165,10 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
   for (const auto& r : retained) key += "\nretain " + r;
   const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
   for (const auto& [name, value] : scene_values) key += "\n" + name + "=" + std::to_string(value);
-  if (plan_ && key == configured_key_) return false;
+  if (plan_ && key == configured_key_) {
+    if (!plan_->ray_query_passes.empty()) scene_->acceleration();  // set_scene() may have replaced the scene
+    return false;
+  }
   CompileOptions options = compile_options(width, height);
   options.retained = retained;
   options.memory_limit_bytes = memory_limit_bytes;
@@ -174,6 +179,7 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
       throw graph.error(pass.pointer, "pass '" + pass.name + "' (" + pass.decl->type + ") draws a scene, and none was given (--scene)");
     }
   }
+  if (!plan.ray_query_passes.empty()) scene_->acceleration();
   realize(std::move(plan));
   configured_key_ = key;
   ++compile_count_;

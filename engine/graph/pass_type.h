@@ -68,6 +68,13 @@ struct PassTypeDecl {
   bool side_effects = false;  // kept even when it reaches no output
   std::function<std::unique_ptr<Pass>()> create;
   bool needs_scene = false;  // draws or reads the scene: running it without one is an input error
+  // Whether the pass, with these resolved parameters, traces exact paths with ray queries
+  // (VK_KHR_ray_query over the scene's acceleration structures). A plan with such a pass compiles
+  // only for a device that has them (CompileOptions::ray_queries). Unset: never.
+  std::function<bool(const nlohmann::json& params)> uses_ray_queries;
+  // What to suggest instead on a device without ray queries: the parameter value and the bundled
+  // graph that stay in image space.
+  std::string ray_query_alternative;
 
   const PortDecl* find_port(std::string_view name) const;
   const ParamDecl* find_param(std::string_view name) const;

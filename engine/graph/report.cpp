@@ -48,7 +48,9 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
   out["frame"] = {{"gpu_ms", median(gpu)}, {"cpu_ms", median(cpu)}};
   out["memory"] = {{"transient_bytes_aliased", plan.transient_bytes_aliased},
                    {"transient_bytes_unaliased", plan.transient_bytes_unaliased},
-                   {"persistent_bytes", plan.persistent_bytes}};
+                   {"persistent_bytes", plan.persistent_bytes},
+                   {"acceleration_bytes", run.acceleration_bytes}};
+  if (run.acceleration_bytes > 0) out["acceleration"] = {{"bytes", run.acceleration_bytes}, {"build_ms", run.acceleration_build_ms}};
   out["counters"] = json::object();
   if (!run.frames.empty()) {
     for (const auto& [name, value] : run.frames.back().counters) out["counters"][name] = counter_value(value);

@@ -12,6 +12,9 @@ struct RunRecord {
   std::string device;
   std::vector<FrameResult> frames;
   std::vector<double> frame_start_ms;  // CPU time of each frame's start, from the first
+  // The scene's acceleration structures, when a pass traces with ray queries (else all 0).
+  uint64_t acceleration_bytes = 0;
+  double acceleration_build_ms = 0;  // triangle sort on the host plus the build, waited for
 };
 
 // Medians over the frames after the first (pipelines JIT-compile on first use), or the one frame.

@@ -6,11 +6,12 @@
 
 namespace caustica::scene {
 
-GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {
+GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk), scene_(std::move(scene)) {
   std::vector<gpu::Vertex> vertices;
   std::vector<uint32_t> indices;
   std::vector<gpu::ObjectData> objects;
   ranges_.resize(scene_->objects.size());
+  vertex_base_.resize(scene_->objects.size());
   for (int refractors = 0; refractors < 2; ++refractors) {
     DrawRange& group = refractors ? refractors_ : opaque_;
     group.first_index = static_cast<uint32_t>(indices.size());
@@ -18,6 +19,7 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : scene_
       const Object& object = scene_->objects[o];
       if (object.material.refractor != (refractors == 1)) continue;
       const auto base = static_cast<uint32_t>(vertices.size());
+      vertex_base_[o] = base;
       for (size_t v = 0; v < object.mesh.positions.size(); ++v) {
         const float dn = object.mesh.normal_distance.empty() ? 0.0f : object.mesh.normal_distance[v];
         vertices.push_back({glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o))});
@@ -40,6 +42,11 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : scene_
                                     "scene objects");
   frame_ = vk::make_buffer(vk, sizeof(gpu::FrameData), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "scene frame data");
+}
+
+const AccelerationStructures& GpuScene::acceleration() {
+  if (!acceleration_) acceleration_ = std::make_unique<AccelerationStructures>(vk_, *scene_, vertex_base_);
+  return *acceleration_;
 }
 
 std::vector<uint32_t> GpuScene::refractors_back_to_front(glm::vec3 eye) const {

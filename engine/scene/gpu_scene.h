@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/scene_types.h"  // shaders/ is on the include path: the layouts GLSL sees
+#include "scene/acceleration.h"
 #include "scene/scene.h"
 #include "vk/buffer.h"
 
@@ -32,12 +33,20 @@ class GpuScene {
   // Indices into scene().objects of the refractors, farthest from `eye` first (by bounding-box centre).
   std::vector<uint32_t> refractors_back_to_front(glm::vec3 eye) const;
 
+  // The scene's acceleration structures, built on first request (the executor asks when a plan has a
+  // pass that traces with ray queries), so that a graph without one never pays for them.
+  const AccelerationStructures& acceleration();
+  const AccelerationStructures* built_acceleration() const { return acceleration_.get(); }
+
   // Writes camera and light data for an output of this size; call before recording a frame.
   void update_frame(uint32_t width, uint32_t height);
   const gpu::FrameData& frame_data() const { return frame_data_; }
 
  private:
+  vk::Context& vk_;
   std::shared_ptr<const Scene> scene_;
+  std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
+  std::unique_ptr<AccelerationStructures> acceleration_;
   vk::Buffer vertices_, indices_, objects_, frame_;
   DrawRange opaque_, refractors_;
   std::vector<DrawRange> ranges_;

@@ -16,7 +16,7 @@ Buffer make_buffer(Context& vk, VkDeviceSize size, VkBufferUsageFlags usage, VkM
   out.buffer = OwnedBuffer(vk, handle);
   VkMemoryRequirements requirements;
   vkGetBufferMemoryRequirements(vk.device(), handle, &requirements);
-  out.memory = vk.allocate(requirements, required, name.c_str(), preferred);
+  out.memory = vk.allocate(requirements, required, name.c_str(), preferred, (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0);
   check(vkBindBufferMemory(vk.device(), handle, out.memory.get(), 0), "vkBindBufferMemory");
   vk.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(handle), name);
   if (required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
@@ -35,6 +35,16 @@ Buffer make_static_buffer(Context& vk, const void* data, VkDeviceSize bytes, VkB
     vkCmdCopyBuffer(cmd, staging.get(), out.get(), 1, &copy);
   });
   return out;
+}
+
+}  // namespace caustica::vk
+
+namespace caustica::vk {
+
+VkDeviceAddress device_address(const Context& vk, VkBuffer buffer) {
+  VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  info.buffer = buffer;
+  return vkGetBufferDeviceAddress(vk.device(), &info);
 }
 
 }  // namespace caustica::vk

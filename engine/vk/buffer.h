@@ -20,4 +20,8 @@ Buffer make_buffer(Context& vk, VkDeviceSize size, VkBufferUsageFlags usage, VkM
 // A device-local buffer filled with `bytes` through a staging buffer; waits for the copy.
 Buffer make_static_buffer(Context& vk, const void* data, VkDeviceSize bytes, VkBufferUsageFlags usage, const std::string& name);
 
+// The buffer's address; it needs VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT (make_buffer then
+// allocates its memory with the device-address flag).
+VkDeviceAddress device_address(const Context& vk, VkBuffer buffer);
+
 }  // namespace caustica::vk

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "core/error.h"
@@ -95,7 +96,73 @@ VkInstance create_instance(bool validation, bool with_messenger_info, VkDebugUti
   return instance;
 }
 
+// The device Context uses: the one whose name contains `device_name`, else lavapipe, else the first
+// Vulkan 1.3 device with push descriptors.
+VkPhysicalDevice pick_physical_device(VkInstance instance, const std::string& device_name) {
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  std::string available;
+  VkPhysicalDevice picked = VK_NULL_HANDLE, fallback = VK_NULL_HANDLE;
+  for (auto d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    available += std::string(available.empty() ? "" : ", ") + "'" + p.deviceName + "'";
+    if (p.apiVersion < VK_API_VERSION_1_3 || !has_device_extension(d, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) continue;
+    if (!device_name.empty()) {
+      if (lower(p.deviceName).find(lower(device_name)) != std::string::npos && !picked) picked = d;
+    } else if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !picked) {
+      picked = d;  // lavapipe: the target device
+    } else if (!fallback) {
+      fallback = d;
+    }
+  }
+  if (!picked && device_name.empty()) picked = fallback;
+  if (picked) return picked;
+  const std::string devices_text = available.empty() ? "none" : available;
+  if (!device_name.empty()) throw InputError("no Vulkan 1.3 device matches --device '" + device_name + "'; devices: " + devices_text);
+  throw DeviceError("no Vulkan 1.3 device with VK_KHR_push_descriptor (devices: " + devices_text + "; Debian: mesa-vulkan-drivers)");
+}
+
+const char* const kRayQueryExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                                           VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+
+RayQuerySupport ray_query_support(VkPhysicalDevice device, bool disable) {
+  const char* env = std::getenv("CAUSTICA_NO_RAY_QUERY");
+  if (disable || (env && *env && std::strcmp(env, "0") != 0)) return {false, "ray queries (switched off by CAUSTICA_NO_RAY_QUERY)"};
+  std::string missing;
+  for (const char* name : kRayQueryExtensions) {
+    if (!has_device_extension(device, name)) missing += std::string(missing.empty() ? "" : " and ") + name;
+  }
+  if (!missing.empty()) return {false, missing};
+  VkPhysicalDeviceRayQueryFeaturesKHR ray_query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  acceleration.pNext = &ray_query;
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  features12.pNext = &acceleration;
+  VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  query.pNext = &features12;
+  vkGetPhysicalDeviceFeatures2(device, &query);
+  if (!ray_query.rayQuery) missing = "the rayQuery feature";
+  else if (!acceleration.accelerationStructure) missing = "the accelerationStructure feature";
+  else if (!features12.bufferDeviceAddress) missing = "the bufferDeviceAddress feature";
+  return {missing.empty(), missing};
+}
+
 }  // namespace
+
+RayQuerySupport probe_ray_queries(const std::string& device_name, bool disable) {
+  VkInstance instance = create_instance(false, false, nullptr);
+  try {
+    const RayQuerySupport support = ray_query_support(pick_physical_device(instance, device_name), disable);
+    vkDestroyInstance(instance, nullptr);
+    return support;
+  } catch (...) {
+    vkDestroyInstance(instance, nullptr);
+    throw;
+  }
+}
 
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
                                                    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
@@ -139,32 +206,11 @@ Context::Context(const ContextOptions& options)
     check(create(instance_, &messenger_info, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
   }
 
-  uint32_t count = 0;
-  vkEnumeratePhysicalDevices(instance_, &count, nullptr);
-  std::vector<VkPhysicalDevice> devices(count);
-  vkEnumeratePhysicalDevices(instance_, &count, devices.data());
-  std::string available;
-  VkPhysicalDevice fallback = VK_NULL_HANDLE;
-  for (auto d : devices) {
-    VkPhysicalDeviceProperties p;
-    vkGetPhysicalDeviceProperties(d, &p);
-    available += std::string(available.empty() ? "" : ", ") + "'" + p.deviceName + "'";
-    if (p.apiVersion < VK_API_VERSION_1_3 || !has_device_extension(d, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) continue;
-    if (!options.device_name.empty()) {
-      if (lower(p.deviceName).find(lower(options.device_name)) != std::string::npos && !physical_) physical_ = d;
-    } else if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !physical_) {
-      physical_ = d;  // lavapipe: the target device
-    } else if (!fallback) {
-      fallback = d;
-    }
-  }
-  if (!physical_ && options.device_name.empty()) physical_ = fallback;
-  if (!physical_) {
-    std::string why = options.device_name.empty() ? "no Vulkan 1.3 device with VK_KHR_push_descriptor"
-                                                  : "no Vulkan 1.3 device matches --device '" + options.device_name + "'";
+  try {
+    physical_ = pick_physical_device(instance_, options.device_name);
+  } catch (...) {
     vkDestroyInstance(instance_, nullptr);  // the destructor does not run for a failed constructor
-    if (!options.device_name.empty()) throw InputError(why + "; devices: " + (available.empty() ? "none" : available));
-    throw DeviceError(why + " (devices: " + (available.empty() ? "none" : available) + "; Debian: mesa-vulkan-drivers)");
+    throw;
   }
   vkGetPhysicalDeviceProperties(physical_, &properties_);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
@@ -220,6 +266,21 @@ Context::Context(const ContextOptions& options)
       extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
     }
   }
+  // Ray queries: chained in front of whatever else is enabled.
+  ray_queries_ = ray_query_support(physical_, options.disable_ray_queries);
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceRayQueryFeaturesKHR ray_query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  if (ray_queries_.available) {
+    features12.bufferDeviceAddress = VK_TRUE;
+    acceleration.accelerationStructure = VK_TRUE;
+    ray_query.rayQuery = VK_TRUE;
+    features12.pNext = &acceleration;
+    acceleration.pNext = &ray_query;
+    ray_query.pNext = features.pNext;
+    features.pNext = &features12;
+    for (const char* name : kRayQueryExtensions) extensions.push_back(name);
+  }
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &features;
   info.queueCreateInfoCount = 1;
@@ -236,6 +297,14 @@ Context::Context(const ContextOptions& options)
   begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
   end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
   set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+  if (ray_queries_.available) {
+    const auto load = [&](const char* name) { return vkGetDeviceProcAddr(device_, name); };
+    rt.create = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(load("vkCreateAccelerationStructureKHR"));
+    rt.destroy = reinterpret_cast<PFN_vkDestroyAccelerationStructureKHR>(load("vkDestroyAccelerationStructureKHR"));
+    rt.build_sizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(load("vkGetAccelerationStructureBuildSizesKHR"));
+    rt.cmd_build = reinterpret_cast<PFN_vkCmdBuildAccelerationStructuresKHR>(load("vkCmdBuildAccelerationStructuresKHR"));
+    rt.address = reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(load("vkGetAccelerationStructureDeviceAddressKHR"));
+  }
 }
 
 Context::~Context() {
@@ -335,8 +404,11 @@ uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required
 }
 
 OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what,
-                              VkMemoryPropertyFlags preferred) {
+                              VkMemoryPropertyFlags preferred, bool device_address) {
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  if (device_address) info.pNext = &flags;
   info.allocationSize = requirements.size;
   info.memoryTypeIndex = memory_type(requirements.memoryTypeBits, required, preferred);
   VkDeviceMemory memory = VK_NULL_HANDLE;

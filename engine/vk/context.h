@@ -25,7 +25,21 @@ struct ContextOptions {
   // and VK_KHR_swapchain on the device.
   std::vector<std::string> instance_extensions;
   bool presentation = false;
+  // Leaves ray queries off on a device that has them, as on a device without them: for tests of
+  // the refusal path, and to compare. CAUSTICA_NO_RAY_QUERY=1 in the environment does the same.
+  bool disable_ray_queries = false;
 };
+
+// Whether a device can trace exact paths: VK_KHR_acceleration_structure and VK_KHR_ray_query with
+// their features and buffer device address. `missing` names what it lacks ("" when it has all).
+struct RayQuerySupport {
+  bool available = false;
+  std::string missing;
+};
+
+// The device that Context would pick for `device_name`, probed without creating it: for checking a
+// graph that needs ray queries without a device (caustica validate). Throws as Context does.
+RayQuerySupport probe_ray_queries(const std::string& device_name, bool disable = false);
 
 struct DeviceInfo {
   std::string name;
@@ -53,6 +67,16 @@ class Context {
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
   bool float_atomics() const { return float_atomics_; }
+  // VK_KHR_acceleration_structure + VK_KHR_ray_query, enabled (see RayQuerySupport).
+  const RayQuerySupport& ray_queries() const { return ray_queries_; }
+  // Set when ray_queries().available: the extension entry points the loader does not export.
+  struct RayTracingFunctions {
+    PFN_vkCreateAccelerationStructureKHR create = nullptr;
+    PFN_vkDestroyAccelerationStructureKHR destroy = nullptr;
+    PFN_vkGetAccelerationStructureBuildSizesKHR build_sizes = nullptr;
+    PFN_vkCmdBuildAccelerationStructuresKHR cmd_build = nullptr;
+    PFN_vkGetAccelerationStructureDeviceAddressKHR address = nullptr;
+  } rt;
   // Takes ownership of a window surface made on instance(); destroyed after every swapchain.
   void adopt_surface(VkSurfaceKHR surface) { surface_ = surface; }
   // What a frame's fence wait returns instead of `waited` when a fault is injected (ContextOptions).
@@ -60,8 +84,9 @@ class Context {
 
   // Memory type index with all of `required` among `type_bits`, preferring `preferred` too.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0) const;
+  // `device_address` allocates with VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT (acceleration structure inputs).
   OwnedMemory allocate(VkMemoryRequirements requirements, VkMemoryPropertyFlags required, const char* what,
-                       VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+                       VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, bool device_address = false);
 
   // Names an object for validation messages and capture tools.
   void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
@@ -90,6 +115,7 @@ class Context {
   uint32_t queue_family_ = 0;
   uint32_t timestamp_valid_bits_ = 0;
   bool float_atomics_ = false;
+  RayQuerySupport ray_queries_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_properties_{};
   std::string device_name_;

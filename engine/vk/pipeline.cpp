@@ -140,15 +140,34 @@ DescriptorWriter& DescriptorWriter::uniform_buffer(uint32_t binding, VkBuffer bu
   return *this;
 }
 
+DescriptorWriter& DescriptorWriter::acceleration_structure(uint32_t binding, VkAccelerationStructureKHR structure) {
+  Item item{binding, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, {}, {}};
+  item.structure = structure;
+  items_.push_back(item);
+  return *this;
+}
+
 void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) {
   std::vector<VkWriteDescriptorSet> writes;
+  // Acceleration structures are written through a chained struct; reserved so pointers stay put.
+  std::vector<VkWriteDescriptorSetAccelerationStructureKHR> structures;
+  structures.reserve(items_.size());
   for (const auto& item : items_) {
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstBinding = item.binding;
     w.descriptorCount = 1;
     w.descriptorType = item.type;
-    if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || item.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) w.pBufferInfo = &item.buffer;
-    else w.pImageInfo = &item.image;
+    if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || item.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) {
+      w.pBufferInfo = &item.buffer;
+    } else if (item.type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR) {
+      auto& write = structures.emplace_back();
+      write = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+      write.accelerationStructureCount = 1;
+      write.pAccelerationStructures = &item.structure;
+      w.pNext = &write;
+    } else {
+      w.pImageInfo = &item.image;
+    }
     writes.push_back(w);
   }
   vk.push_descriptor_set(cmd, pipeline.bind_point, pipeline.layout.get(), 0, static_cast<uint32_t>(writes.size()), writes.data());

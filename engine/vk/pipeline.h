@@ -45,6 +45,7 @@ class DescriptorWriter {
   DescriptorWriter& storage_image(uint32_t binding, VkImageView view);
   DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer);
+  DescriptorWriter& acceleration_structure(uint32_t binding, VkAccelerationStructureKHR structure);
   void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline);
 
  private:
@@ -53,6 +54,7 @@ class DescriptorWriter {
     VkDescriptorType type;
     VkDescriptorImageInfo image;
     VkDescriptorBufferInfo buffer;
+    VkAccelerationStructureKHR structure = VK_NULL_HANDLE;
   };
   std::vector<Item> items_;
 };

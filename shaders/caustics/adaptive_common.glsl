@@ -48,6 +48,12 @@ layout(push_constant) uniform Params {
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
   // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
   uint counter_slot[11];
+  // Exact paths (caustics/photon.glsl; passes/refraction.h ExactPathPush).
+  uint exact_max_interfaces;
+  uint exact_seed;
+  uint exact_counters;
+  float exact_epsilon;
+  float hybrid_tolerance;
 } params;
 
 // Whether any light-view texel under a cluster's footprint at params.level shows a refractor: one

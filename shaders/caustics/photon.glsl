@@ -3,10 +3,74 @@
 // One photon from a spot light through the light-view refractor buffers to the receivers, shared by
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
 // back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search_steps,
-// search_distance, light and fresnel (see refraction.glsl).
+// search_distance, light and fresnel (see refraction.glsl), and the exact-path fields
+// exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_tolerance.
+//
+// With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query or
+// hybrid), photons can also be traced exactly through the scene's acceleration structures: every
+// interface, Fresnel reflection or transmission chosen by a deterministic random number, total
+// internal reflection followed, absorption, up to exact_max_interfaces refractor interfaces.
 #extension GL_EXT_shader_atomic_float : require
 #define REFRACTION_NO_CAMERA
 #include "refraction/refraction.glsl"
+
+// Exact-path counters, at consecutive slots from params.exact_counters (passes/refraction.cpp,
+// add_exact_path_counters, names them in this order).
+const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_MAP = 3u, EXACT_REFLECTED_OUTSIDE = 4u;
+const uint RETRACE_TIR = 5u, RETRACE_EMPTY_BACK = 6u, RETRACE_OFF_SURFACE = 7u, RETRACE_MULTIPLE = 8u;
+const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP = 11u, EXACT_FLUX_ABSORBED = 12u;
+void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
+void exact_sum(uint k, float v) { atomicAdd(sums[params.exact_counters + k], v); }
+
+#ifdef CAUSTICA_RAY_QUERY
+#extension GL_EXT_ray_query : require
+SCENE_VERTICES
+layout(set = 0, binding = 14) uniform accelerationStructureEXT scene_tlas;
+layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
+
+struct SurfaceHit {
+  bool hit;
+  float t;
+  vec3 normal;  // interpolated, unit
+  uint object;
+};
+
+SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, t_min, direction, 1e30);
+  while (rayQueryProceedEXT(query)) {
+  }
+  SurfaceHit h;
+  h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
+  h.t = 0.0;
+  h.normal = vec3(0.0, 1.0, 0.0);
+  h.object = 0u;
+  if (!h.hit) return h;
+  h.t = rayQueryGetIntersectionTEXT(query, true);
+  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) + rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
+  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
+  Vertex v0 = vertices[triangle_vertices[3u * triangle]];
+  Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
+  Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
+  vec3 n = (1.0 - b.x - b.y) * v0.normal_object.xyz + b.x * v1.normal_object.xyz + b.y * v2.normal_object.xyz;
+  vec3 geometric = cross(v1.position_dn.xyz - v0.position_dn.xyz, v2.position_dn.xyz - v0.position_dn.xyz);
+  h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
+  h.object = uint(v0.normal_object.w + 0.5);
+  return h;
+}
+
+// A hash-based generator: the same photon (by its position on the light's image plane) and seed
+// draw the same numbers on every device and in every run.
+uint pcg_hash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+float next_uniform(inout uint state) {
+  state = pcg_hash(state);
+  return float(state >> 8) * (1.0 / 16777216.0);
+}
+#endif
 
 struct Photon {
   float power;     // after Fresnel and absorption; the power it left the light with when it missed
@@ -16,7 +80,83 @@ struct Photon {
   bool landed;     // reached a receiver at `texel` of the caustic map
   ivec2 texel;
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
+  bool exact;      // traced with ray queries: absorption and every loss are already counted
 };
+
+// Lands a photon at world point p seen from the light: in the caustic map, or off it.
+void land_at(inout Photon ph, LightData light, vec3 p) {
+  vec2 uv;
+  float depth;
+  if (!project_with(light.view_proj, p, uv, depth) || any(greaterThanEqual(uv, vec2(1.0)))) {
+    exact_count(EXACT_OFF_MAP);
+    exact_sum(EXACT_FLUX_OFF_MAP, ph.power);
+    return;
+  }
+  ivec2 size = imageSize(caustic_map);
+  ph.landing = uv * vec2(size);
+  ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
+  ph.landed = true;
+}
+
+#ifdef CAUSTICA_RAY_QUERY
+// The photon's whole path from the light, exact. Sets hit, entering, power, landed, texel, landing;
+// what does not land is counted by where it went (escaped, trapped, off the map, absorbed).
+void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 direction, vec2 uv) {
+  ph.exact = true;
+  uint rng = pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed)));
+  vec3 origin = eye;
+  int inside = -1;  // the refractor the photon travels in
+  uint interfaces = 0u;
+  for (;;) {
+    SurfaceHit h = trace_surface(origin, direction, interfaces == 0u ? 0.0 : params.exact_epsilon);
+    if (!h.hit) {
+      if (ph.hit) {
+        exact_count(EXACT_ESCAPED);
+        exact_sum(EXACT_FLUX_ESCAPED, ph.power);
+      }
+      return;
+    }
+    if (inside >= 0) {
+      // One channel: the mean of the three absorption coefficients, as every caustic method.
+      float kept = ph.power * exp(-dot(objects[inside].absorption_ior.rgb, vec3(1.0 / 3.0)) * h.t);
+      exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
+      ph.power = kept;
+    }
+    vec3 p = origin + direction * h.t;
+    ObjectData object = objects[h.object];
+    if (object.albedo_refractor.a < 0.5) {
+      if (ph.hit) land_at(ph, light, p);  // else direct light, not a caustic
+      return;
+    }
+    if (!ph.hit) {
+      ph.hit = true;
+      ph.entering = ph.power;
+      exact_count(EXACT_TRACED);
+    }
+    if (interfaces == params.exact_max_interfaces) {
+      exact_count(EXACT_TRAPPED);
+      exact_sum(EXACT_FLUX_TRAPPED, ph.power);
+      return;
+    }
+    ++interfaces;
+    vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
+    bool entering = inside < 0;
+    float ior = object.absorption_ior.a;
+    vec3 transmitted = refract(direction, n, entering ? 1.0 / ior : ior);
+    bool total_internal = dot(transmitted, transmitted) == 0.0;
+    float reflectance = total_internal ? 1.0 : 0.0;
+    if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, n), entering ? 1.0 : ior, entering ? ior : 1.0);
+    origin = p;
+    if (reflectance > 0.0 && next_uniform(rng) < reflectance) {
+      if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
+      direction = reflect(direction, n);
+    } else {
+      direction = normalize(transmitted);
+      inside = entering ? int(h.object) : -1;
+    }
+  }
+}
+#endif
 
 // The photon through the centre of `uv` on the light's image plane, standing for a square of side
 // `texel` (in units of the image plane at distance 1): its power is the light's intensity times
@@ -29,6 +169,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.entering = 0.0;
   ph.texel = ivec2(0);
   ph.landing = vec2(0.0);
+  ph.exact = false;
   vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
   float cos_axis = inversesqrt(1.0 + dot(plane, plane));
   vec3 eye = light.position_type.xyz;
@@ -36,13 +177,38 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   // The spot's cone, with the soft edge of scene/lighting.frag.
   float cone = smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));
   ph.power = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
+  if (ph.power <= 0.0) return ph;
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_RAY_QUERY) {
+    trace_photon_exact(ph, light, eye, direction, uv);
+    return ph;
+  }
+#endif
   vec4 front = texture(front_tex, uv);
-  if (front.y <= 0.0 || ph.power <= 0.0) return ph;
+  if (front.y <= 0.0) return ph;
   ph.hit = true;
   ph.entering = ph.power;
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   TwoInterfaces path = refract_two_interfaces(light.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_HYBRID) {
+    // Re-traced exactly, from the light, only where the estimate cannot be trusted; one counter
+    // per reason (the first that applies).
+    uint reason = path.tir ? RETRACE_TIR
+                : !path.back_found ? RETRACE_EMPTY_BACK
+                : path.back_object != front.w || (texture(back_tex, uv).y > 0.0 && texture(back_tex, uv).w != front.w) ? RETRACE_MULTIPLE
+                : path.back_offset > params.hybrid_tolerance * max(path.distance, 1e-6) ? RETRACE_OFF_SURFACE
+                : 0u;
+    if (reason != 0u) {
+      exact_count(reason);
+      ph.hit = false;
+      ph.entering = 0.0;
+      trace_photon_exact(ph, light, eye, direction, uv);
+      return ph;
+    }
+  }
+#endif
   if (path.tir) {
     ph.tir = true;
     return ph;

@@ -22,6 +22,12 @@ layout(push_constant) uniform Params {
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, processed.level0 (counts),
   // then flux, flux_entering, flux_dropped (sums).
   uint counter_slot[8];
+  // Exact paths (caustics/photon.glsl; passes/refraction.h ExactPathPush).
+  uint exact_max_interfaces;
+  uint exact_seed;
+  uint exact_counters;
+  float exact_epsilon;
+  float hybrid_tolerance;
 } params;
 
 #include "caustics/photon.glsl"

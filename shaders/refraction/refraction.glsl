@@ -12,6 +12,17 @@
 
 const uint DISTANCE_DV = 0u;     // d_V: front-to-back distance along the view ray at this pixel
 const uint DISTANCE_DV_DN = 1u;  // Wyman's blend of d_V and the per-vertex d_N by refraction angle
+// Photons only (caustics/photon.glsl): exact paths with ray queries, everywhere or where the d_V/d_N
+// estimate cannot be trusted. Both estimate with the blend where they estimate at all.
+const uint DISTANCE_RAY_QUERY = 2u;
+const uint DISTANCE_HYBRID = 3u;
+// Image-space search along the refracted ray against the back-surface buffer (Umenhoffer et al.
+// 2007; Davis and Wyman 2007): linear steps so that no crossing is missed, then bisection. The
+// hybrid starts from it too.
+const uint DISTANCE_SEARCH = 4u;
+const int EXIT_SEARCH_STEPS = 16;
+const int EXIT_BISECTIONS = 8;
+
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
   cos_i = clamp(cos_i, 0.0, 1.0);
@@ -60,6 +71,35 @@ bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
   return false;
 }
 
+// Whether q lies behind the refractor's back surface as `view_proj` sees it, or outside it.
+bool behind_back_surface(mat4 view_proj, vec3 eye, vec3 q) {
+  vec2 uv;
+  float depth;
+  if (!project_with(view_proj, q, uv, depth)) return true;
+  vec4 back = texture(back_tex, uv);
+  return back.y <= 0.0 || distance(q, eye) >= back.y;
+}
+
+// The distance along t1 from p1 to where the ray crosses the back surface, within d_max; the
+// estimate `d` when no crossing is found.
+float search_exit(mat4 view_proj, vec3 eye, vec3 p1, vec3 t1, float d, float d_max) {
+  float before = 0.0;
+  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
+    float t = d_max * float(i) / float(EXIT_SEARCH_STEPS);
+    if (behind_back_surface(view_proj, eye, p1 + t1 * t)) {
+      float lo = before, hi = t;
+      for (int b = 0; b < EXIT_BISECTIONS; ++b) {
+        float mid = 0.5 * (lo + hi);
+        if (behind_back_surface(view_proj, eye, p1 + t1 * mid)) hi = mid;
+        else lo = mid;
+      }
+      return 0.5 * (lo + hi);
+    }
+    before = t;
+  }
+  return d;
+}
+
 // The path through two interfaces from a front surface point p1 (outward normal n1) seen from
 // `eye` through `view_proj`, whose refractor buffers are back_tex (and the front's distance).
 struct TwoInterfaces {
@@ -69,6 +109,11 @@ struct TwoInterfaces {
   float reflectance_in;
   float transmit_out;   // 1 - Fresnel reflectance at the exit; 1 when no back surface was found
   bool tir;             // the exit met total internal reflection; exit_direction is then the reflection
+  // What the hybrid tracer asks before trusting the estimate: whether the estimated exit point lands
+  // on a back surface in the image, how far from it (along the view ray), and whose it is.
+  bool back_found;
+  float back_offset;
+  float back_object;
 };
 
 TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior, vec2 pixel_uv) {
@@ -83,17 +128,21 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1,
   vec4 back_here = texture(back_tex, pixel_uv);
   float dv = back_here.y > 0.0 ? max(back_here.y - front_distance, 0.0) : dn;
   float d = dv;
-  if (params.distance_mode == DISTANCE_DV_DN && dn > 0.0) {
+  if (params.distance_mode != DISTANCE_DV && dn > 0.0) {
     float theta_i = acos(clamp(cos_i, 0.0, 1.0));
     float theta_t = acos(clamp(-dot(t1, n1), 0.0, 1.0));
     float w = theta_i > 1e-4 ? theta_t / theta_i : 1.0;
     d = w * dv + (1.0 - w) * dn;
   }
+  if (params.distance_mode >= DISTANCE_HYBRID) d = search_exit(view_proj, eye, p1, t1, d, 2.0 * max(max(dv, dn), d) + 1e-4);
   r.distance = d;
   r.exit_point = p1 + t1 * d;
   r.exit_direction = t1;
   r.transmit_out = 1.0;
   r.tir = false;
+  r.back_found = false;
+  r.back_offset = 0.0;
+  r.back_object = -1.0;
 
   // Second interface: the back normal where the exit point lands in the image.
   vec2 uv2;
@@ -101,6 +150,9 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1,
   if (project_with(view_proj, r.exit_point, uv2, depth2)) {
     vec4 back = texture(back_tex, uv2);
     if (back.y > 0.0) {
+      r.back_found = true;
+      r.back_offset = abs(distance(r.exit_point, eye) - back.y);
+      r.back_object = back.w;
       vec3 n2 = unpack_normal(back.x);  // outward
       vec3 inward = dot(t1, n2) > 0.0 ? -n2 : n2;
       vec3 t2 = refract(t1, inward, ior);

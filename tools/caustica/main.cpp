@@ -138,6 +138,10 @@ int run_render(const RenderOptions& o, bool trace) {
 
   graph::RunRecord run;
   run.device = vk.device_name();
+  if (const auto* acceleration = executor.scene() ? executor.scene()->built_acceleration() : nullptr) {
+    run.acceleration_bytes = acceleration->bytes();
+    run.acceleration_build_ms = acceleration->sort_ms() + acceleration->build_ms();
+  }
   const bool show_progress = o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
   ProgressLine progress("frame", o.frames);
   const auto start = std::chrono::steady_clock::now();
@@ -196,6 +200,8 @@ int cmd_validate(Args& args) {
                  "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
                  "objects); a scene (a file with \"camera\" or \"objects\") is loaded\n"
                  "with its meshes. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
+                 "A graph with a pass that traces exact paths (ray queries) is also checked against the device it\n"
+                 "would run on (lavapipe by default; CAUSTICA_NO_RAY_QUERY=1 masks ray queries).\n"
                  "Exit 0 when every file is valid, 1 otherwise.\n";
     return args.wants_help() ? 0 : 2;
   }
@@ -209,7 +215,22 @@ int cmd_validate(Args& args) {
       } else {
         graph::CompileOptions options;
         options.scene_values = graph::typical_scene_values();
-        graph::compile_graph(graph::load_graph(std::move(doc)), passes::builtin_registry(), options);
+        const graph::GraphDesc graph = graph::load_graph(std::move(doc));
+        const graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
+        // A graph that traces with ray queries is valid only where the device it would run on has them.
+        if (!plan.ray_query_passes.empty()) {
+          vk::RayQuerySupport support;
+          try {
+            support = vk::probe_ray_queries("");
+          } catch (const DeviceError& e) {
+            support = {false, std::string("a Vulkan device (") + e.what() + ")"};
+          }
+          if (!support.available) {
+            options.ray_queries = false;
+            options.ray_queries_missing = support.missing;
+            graph::compile_graph(graph, passes::builtin_registry(), options);
+          }
+        }
       }
       std::cout << file << ": ok\n";
     } catch (const InputError& e) {
