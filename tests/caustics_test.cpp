@@ -283,7 +283,9 @@ TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
   }
   e.SceneEngine::render("caustics_adaptive", scene, {"caustic_size=256"}, {"caustics"});
   const auto& plan = e.executor.plan();
-  EXPECT_FALSE(plan.resources[static_cast<size_t>(plan.find_resource("caustic_levels"))].used());
+  const int levels_index = plan.find_resource("caustic_levels");
+  ASSERT_GE(levels_index, 0);
+  EXPECT_FALSE(plan.resources[static_cast<size_t>(levels_index)].used());
 }
 
 // Every caustic method reports the same counters, under the names the trace and --stats show.

@@ -314,3 +314,36 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"), std::string::npos);
   fs::remove_all(dir);
 }
+
+// A device without ray queries (masked with CAUSTICA_NO_RAY_QUERY) still runs every image-space
+// graph, and refuses a graph that traces exact paths, in validate and before rendering: exit 1, the
+// pass, the missing extension and the graph to use instead named, nothing written.
+TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
+  fs::path dir = scratch("no_ray_query");
+  const std::string raytraced = "'" + (kSource / "graphs/caustics_raytraced.json").string() + "'";
+  const std::string sphere = " --scene '" + (kSource / "scenes/sphere_plane.json").string() + "'";
+  ::setenv("CAUSTICA_NO_RAY_QUERY", "1", 1);
+  const CliRun validate = run("validate " + raytraced, dir);
+  const CliRun render = run("render --graph " + raytraced + sphere + " --size 64x36 --out x.png", dir);
+  const CliRun image_space = run("render --graph '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere + " --size 64x36 --out y.png", dir);
+  const CliRun search = run("render --graph " + raytraced + sphere + " --set distance=search --size 64x36 --out z.png", dir);
+  ::unsetenv("CAUSTICA_NO_RAY_QUERY");
+  for (const CliRun* r : {&validate, &render}) {
+    EXPECT_EQ(r->code, 1) << r->output;
+    EXPECT_NE(r->output.find("caustics_raytraced.json:"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find("pass 'caustics' (caustic_map)"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find("VK_KHR_ray_query"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find("graphs/caustics_adaptive.json"), std::string::npos) << r->output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+  EXPECT_EQ(image_space.code, 0) << image_space.output;
+  EXPECT_EQ(search.code, 0) << search.output;  // the image-space search needs no ray queries
+  // With ray queries (lavapipe 25), the same graph validates and renders.
+  EXPECT_EQ(run("validate " + raytraced, dir).code, 0);
+  const CliRun traced = run("render --graph " + raytraced + sphere + " --set grid=128 --size 64x36 --out x.png --stats s.json", dir);
+  ASSERT_EQ(traced.code, 0) << traced.output;
+  const auto stats = nlohmann::json::parse(read(dir / "s.json"));
+  EXPECT_GT(stats["memory"]["acceleration_bytes"].get<double>(), 0.0);
+  EXPECT_GT(stats["counters"]["photons.exact"].get<double>(), 0.0);
+  fs::remove_all(dir);
+}

@@ -27,7 +27,8 @@ double map_sum(const io::ImageData& map) {
 // Where the entering flux went must add up to it: nothing is created or lost in the bookkeeping.
 void expect_flux_accounted(const reference::PhotonTotals& t) {
   EXPECT_NEAR(t.direct + t.entering, t.emitted, 1e-9 * t.emitted);
-  EXPECT_NEAR(t.landed + t.off_map + t.reflected + t.escaped + t.trapped + t.absorbed, t.entering, 1e-9 * t.entering);
+  EXPECT_NEAR(t.landed + t.off_map + t.escaped + t.trapped + t.absorbed, t.entering, 1e-9 * t.entering);
+  EXPECT_LE(t.reflected, t.entering);  // a part of the entering flux, followed like the rest
 }
 
 }  // namespace
@@ -64,8 +65,8 @@ TEST(PhotonReference, BallLensMatchesTheExactLens) {
 
 // A glass slab (n = 1.5) under a narrow light at normal incidence: each face reflects
 // R = ((n - 1) / (n + 1))^2 = 0.04, and following every internal reflection the slab transmits
-// (1 - R) / (1 + R) = 0.9231 of the entering flux. The rest leaves upwards: reflected off the top,
-// or escaped after bouncing inside.
+// (1 - R) / (1 + R) = 0.9231 of the entering flux. The rest escapes upwards: reflected off the top
+// (R of it, followed and counted as `reflected` too), or after bouncing inside.
 TEST(PhotonReference, SlabTransmitsTheFresnelFraction) {
   const scene::Scene scene = from_text(R"({
     "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},

@@ -26,7 +26,9 @@ struct PhotonOptions {
 };
 
 // Flux (the light's units) by what became of it. emitted = direct + entering; entering =
-// landed + off_map + reflected + escaped + trapped + absorbed, up to float rounding.
+// landed + off_map + escaped + trapped + absorbed, up to float rounding. Photons that reflect off a
+// refractor's outside are followed like every other path (they land, escape, ...); `reflected` is
+// how much of the entering flux did so at the first refractor it met.
 struct PhotonTotals {
   uint64_t photons = 0;
   uint64_t landed_photons = 0;  // how many photons make up `landed`: its sampling error is about 1 / sqrt of it
@@ -35,7 +37,7 @@ struct PhotonTotals {
   double entering = 0;   // met a refractor first
   double landed = 0;     // reached an opaque receiver inside the light's view: in the map
   double off_map = 0;    // reached a receiver outside the light's view
-  double reflected = 0;  // reflected off a refractor's outside (Fresnel): not a caustic
+  double reflected = 0;  // reflected off a refractor's outside at its first meeting (Fresnel), then followed
   double escaped = 0;    // left the scene after refracting
   double trapped = 0;    // still bouncing inside after the interface limit
   double absorbed = 0;   // by the refractors' absorption

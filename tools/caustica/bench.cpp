@@ -250,6 +250,15 @@ constexpr std::initializer_list<const char*> kCausticPassTypes = {"caustic_map",
 constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_buffers", "deferred_refraction", "forward_refraction",
                                                                       "refraction_layers"};
 
+// Whether the graph runs on this device: a graph that traces with ray queries needs them. The
+// benchmarks skip, and say so, what a device cannot run rather than fail the whole run.
+bool runs_on(const vk::Context& vk, const graph::GraphDesc& g) {
+  if (vk.ray_queries().available) return true;
+  graph::CompileOptions options;
+  options.scene_values = graph::typical_scene_values();
+  return graph::compile_graph(g, passes::builtin_registry(), options).ray_query_passes.empty();
+}
+
 }  // namespace
 
 // Speed against accuracy: every scene x caustic graph x effective photon grid against the photon
@@ -262,6 +271,9 @@ int cmd_bench_accuracy(Args& args) {
                                   "caustics_adaptive_maxerror",
                                   "caustics_adaptive_maxerror:converge_test=within_texel",
                                   "caustics_adaptive",
+                                  "caustics_adaptive_hybrid:distance=search",
+                                  "caustics_adaptive_hybrid",
+                                  "caustics_raytraced",
                                   "refraction_forward",
                                   "refraction_deferred"};
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
@@ -366,6 +378,11 @@ int cmd_bench_accuracy(Args& args) {
           if (grid > regular_max && !passes_of_types(desc, {"caustic_map"}).empty()) continue;
           graph::GraphDesc g = desc;
           graph::apply_overrides(g, {"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)});
+          if (!runs_on(vk, g)) {
+            std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", labels[gi].c_str(), vk.device_name().c_str(),
+                         vk.ray_queries().missing.c_str());
+            break;
+          }
           executor.configure(g, width, height, {"caustics"});
           const Timings t = time_frames(executor, frames, caustic_passes);
           const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
@@ -472,7 +489,10 @@ int cmd_bench_stability(Args& args) {
                             {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
                             {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
                             {"adaptive hybrid", "caustics_adaptive", nullptr},
-                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"}};
+                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"},
+                            {"adaptive hybrid, exit search", "caustics_adaptive_hybrid", "distance=search"},
+                            {"adaptive hybrid, search + exact re-trace", "caustics_adaptive_hybrid", nullptr},
+                            {"ray query (exact)", "caustics_raytraced", nullptr}};
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
   vk::Context vk(device_options(device, validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
@@ -501,6 +521,10 @@ int cmd_bench_stability(Args& args) {
       std::vector<std::string> sets{"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)};
       if (m.extra) sets.emplace_back(m.extra);
       graph::apply_overrides(g, sets);
+      if (!runs_on(vk, g)) {
+        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(), vk.ray_queries().missing.c_str());
+        continue;
+      }
       graph::Executor executor(vk, shaders, passes::builtin_registry());
       auto render = [&](std::shared_ptr<const scene::Scene> s) {
         executor.set_scene(std::move(s));

@@ -364,8 +364,9 @@ int cmd_reference(Args& args) {
     std::printf("photons %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(t.photons), seconds,
                 double(t.photons) / seconds * 1e-6, static_cast<unsigned long long>(photons.seed));
     std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
-    std::printf("of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, reflected off the outside %.6g, escaped %.6g, trapped %.6g, absorbed %.6g\n",
-                t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.reflected, t.escaped, t.trapped, t.absorbed);
+    std::printf("of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
+                "reflected off the outside first %.6g (followed)\n",
+                t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
     std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), out.c_str(), camera_out.empty() ? "" : ", ", camera_out.c_str());
     return 0;
   }
