@@ -489,10 +489,7 @@ int cmd_bench_stability(Args& args) {
                             {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
                             {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
                             {"adaptive hybrid", "caustics_adaptive", nullptr},
-                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"},
-                            {"adaptive hybrid with exit search", "caustics_adaptive_hybrid", "distance=search"},
-                            {"adaptive hybrid with search and exact re-trace", "caustics_adaptive_hybrid", nullptr},
-                            {"ray query (exact)", "caustics_raytraced", nullptr}};
+                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"}};
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
   vk::Context vk(device_options(device, validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
