@@ -86,10 +86,8 @@ std::vector<VkDescriptorType> ExactPaths::bindings(std::vector<VkDescriptorType>
 
 ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
   const auto& p = ctx.params();
-  // As the photon reference: 1e-4 of the largest object's diagonal, at least 1e-4.
-  float extent = 1.0f;
-  for (const auto& o : ctx.scene().scene().objects) extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
-  return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, 1e-4f * extent, p["hybrid_tolerance"].get<float>()};
+  return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, ctx.scene().scene().ray_epsilon(),
+          p["hybrid_tolerance"].get<float>()};
 }
 
 void ExactPaths::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {

@@ -41,9 +41,7 @@ void draw_range(VkCommandBuffer cmd, const scene::GpuScene& scene, scene::DrawRa
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access);
 
-// A global memory barrier inside one pass.
-void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
-                    VkAccessFlags2 dst_access);
+using vk::memory_barrier;
 
 // Parameters every pass that shows a choice of view declares.
 std::vector<graph::ParamDecl> view_params();

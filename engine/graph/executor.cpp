@@ -413,15 +413,8 @@ FrameResult Executor::run_frame(bool read_back) {
     }
     vk_.end_label(cmd);
   }
-  VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  to_host.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-  to_host.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-  to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-  to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-  VkDependencyInfo host_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  host_dep.memoryBarrierCount = 1;
-  host_dep.pMemoryBarriers = &to_host;
-  vkCmdPipelineBarrier2(cmd, &host_dep);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                     VK_ACCESS_2_HOST_READ_BIT);
   vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
 
   VkCommandBufferSubmitInfo cmd_submit{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};

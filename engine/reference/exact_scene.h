@@ -36,13 +36,9 @@ inline float spot_cone(const scene::Light& light, glm::vec3 direction) {
 class ExactScene {
  public:
   explicit ExactScene(const scene::Scene& scene) : scene_(scene) {
-    float extent = 0;
-    for (const auto& o : scene.objects) {
-      rays_.add_mesh(o.mesh.positions, o.mesh.indices);
-      extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
-    }
+    for (const auto& o : scene.objects) rays_.add_mesh(o.mesh.positions, o.mesh.indices);
     rays_.commit();
-    epsilon_ = 1e-4f * std::max(extent, 1.0f);
+    epsilon_ = scene.ray_epsilon();
   }
 
   const scene::Scene& scene() const { return scene_; }

@@ -170,15 +170,8 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
     std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_pointers;
     for (const auto& range : blas_ranges) range_pointers.push_back(&range);
     vk.rt.cmd_build(cmd, static_cast<uint32_t>(blas_builds.size()), blas_builds.data(), range_pointers.data());
-    VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    barrier.srcStageMask = VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
-    barrier.srcAccessMask = VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
-    barrier.dstStageMask = VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
-    barrier.dstAccessMask = VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.memoryBarrierCount = 1;
-    dependency.pMemoryBarriers = &barrier;
-    vkCmdPipelineBarrier2(cmd, &dependency);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+                       VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
     const VkAccelerationStructureBuildRangeInfoKHR tlas_range{static_cast<uint32_t>(instances.size()), 0, 0, 0};
     const VkAccelerationStructureBuildRangeInfoKHR* tlas_range_pointer = &tlas_range;
     vk.rt.cmd_build(cmd, 1, &tlas_build, &tlas_range_pointer);

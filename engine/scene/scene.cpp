@@ -39,6 +39,12 @@ std::map<std::string, double> Scene::expression_values() const {
           {"scene.objects", static_cast<double>(objects.size())}};
 }
 
+float Scene::ray_epsilon() const {
+  float extent = 1.0f;
+  for (const auto& o : objects) extent = std::max(extent, glm::length(o.bounds_max - o.bounds_min));
+  return 1e-4f * extent;
+}
+
 size_t Scene::triangle_count() const {
   size_t n = 0;
   for (const auto& o : objects) n += o.mesh.indices.size() / 3;

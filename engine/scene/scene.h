@@ -68,6 +68,9 @@ struct Scene {
 
   size_t refractor_count() const;
   size_t triangle_count() const;
+  // How far a ray starts off the surface it leaves: 1e-4 of the largest object's diagonal, at least
+  // 1e-4. The exact tracers (Embree and ray queries) share it.
+  float ray_epsilon() const;
   // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects.
   std::map<std::string, double> expression_values() const;
 };

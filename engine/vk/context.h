@@ -149,6 +149,10 @@ struct FrameCommands {
 FrameCommands make_frame_commands(Context& vk);
 OwnedSemaphore make_semaphore(Context& vk);
 
+// A global memory barrier (synchronization2).
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
+                    VkAccessFlags2 dst_access);
+
 // Throws DeviceError naming the call and the VkResult.
 void check(VkResult result, const char* call);
 const char* result_name(VkResult result);

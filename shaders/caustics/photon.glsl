@@ -195,9 +195,10 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   if (params.distance_mode == DISTANCE_HYBRID) {
     // Re-traced exactly, from the light, only where the estimate cannot be trusted; one counter
     // per reason (the first that applies).
+    vec4 back_here = texture(back_tex, uv);
     uint reason = path.tir ? RETRACE_TIR
                 : !path.back_found ? RETRACE_EMPTY_BACK
-                : path.back_object != front.w || (texture(back_tex, uv).y > 0.0 && texture(back_tex, uv).w != front.w) ? RETRACE_MULTIPLE
+                : path.back_object != front.w || (back_here.y > 0.0 && back_here.w != front.w) ? RETRACE_MULTIPLE
                 : path.back_offset > params.hybrid_tolerance * max(path.distance, 1e-6) ? RETRACE_OFF_SURFACE
                 : 0u;
     if (reason != 0u) {
