@@ -295,7 +295,7 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
-  decl.uses_ray_queries = photon_paths_use_ray_queries;
+  decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
 }
@@ -313,7 +313,7 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
                     false,
                     [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
-  decl.uses_ray_queries = photon_paths_use_ray_queries;
+  decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
 }

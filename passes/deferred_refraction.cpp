@@ -8,8 +8,19 @@ namespace {
 class DeferredRefractionPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
-    shading_.setup(setup, graph::format_info(setup.resource("color").format).vk);
+    const std::string& name = setup.pass().name;
+    tir_counter_ = setup.add_counter(name + ".tir_pixels");
+    // The order of refraction.glsl's CAMERA_* and EXIT_* constants.
+    using Kind = graph::PassSetup::CounterKind;
+    exact_counters_ = add_consecutive_counters(setup, {{name + ".exact_pixels", Kind::count},
+                                                       {name + ".retraced.tir", Kind::count},
+                                                       {name + ".retraced.empty_back", Kind::count},
+                                                       {name + ".retraced.off_surface", Kind::count},
+                                                       {name + ".retraced.multiple_refractors", Kind::count},
+                                                       {name + ".retraced.off_screen", Kind::count},
+                                                       {name + ".trapped_pixels", Kind::count}});
+    exact_.setup(setup);
+    shading_.setup(setup, graph::format_info(setup.resource("color").format).vk, &exact_);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -17,13 +28,14 @@ class DeferredRefractionPass final : public graph::Pass {
     const auto& scene = ctx.scene();
     const VkRect2D rect = screen_rect(scene.scene(), camera_view(ctx, extent).view_proj,
                                       scene.refractors_back_to_front(scene.scene().camera.position), extent);
-    shading_.record(ctx, refraction_push(ctx, tir_counter_), ctx.view("background"), ctx.view("front"), ctx.view("back"), ctx.view("color"),
-                    extent, rect);
+    shading_.record(ctx, refraction_push(ctx, tir_counter_, exact_counters_), ctx.view("background"), ctx.view("front"), ctx.view("back"),
+                    ctx.view("color"), extent, rect);
   }
 
  private:
+  RayQueryScene exact_;
   DeferredRefractionShading shading_;
-  uint32_t tir_counter_ = 0;
+  uint32_t tir_counter_ = 0, exact_counters_ = 0;
 };
 
 }  // namespace
@@ -31,21 +43,44 @@ class DeferredRefractionPass final : public graph::Pass {
 graph::PassTypeDecl deferred_refraction_pass_type() {
   using namespace graph;
   auto ports = refraction_inputs();
-  ports.push_back({"front", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+  ports.push_back({"front",
+                   PortAccess::read,
+                   ResourceKind::image,
+                   PortUsage::sampled,
+                   {Format::rgba32f},
+                   false,
+                   "frame",
                    "refractor front surfaces (refractor_buffers)"});
-  ports.push_back({"back", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+  ports.push_back({"back",
+                   PortAccess::read,
+                   ResourceKind::image,
+                   PortUsage::sampled,
+                   {Format::rgba32f},
+                   false,
+                   "frame",
                    "refractor back surfaces (refractor_buffers)"});
-  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
-                   "frame", "the background with the refractors composited"});
+  ports.push_back({"color",
+                   PortAccess::write,
+                   ResourceKind::image,
+                   PortUsage::color_attachment,
+                   {Format::rgba16f, Format::rgba32f},
+                   false,
+                   "frame",
+                   "the background with the refractors composited"});
   PassTypeDecl decl{"deferred_refraction",
-                    "Full-screen image-space refraction through two interfaces (Wyman 2005) from G-buffer-like refractor surfaces: every "
-                    "pixel shaded once. Counter <pass>.tir_pixels: pixels that met total internal reflection at the back surface.",
+                    "Full-screen refraction from G-buffer-like refractor surfaces, every pixel shaded once: in image space through two "
+                    "interfaces (Wyman 2005; distance dv, dv_dn, search), or exact with ray queries (ray_query: every interface of every "
+                    "refractor; hybrid: the search, traced exactly where it cannot be trusted). Counters <pass>.tir_pixels (total internal "
+                    "reflection at the back surface), <pass>.exact_pixels (traced exactly), <pass>.retraced.<reason> (hybrid), "
+                    "<pass>.trapped_pixels (still inside after max_interfaces).",
                     PassQueue::graphics,
                     ports,
-                    refraction_params(),
+                    exact_path_params("a camera ray"),
                     false,
                     [] { return std::make_unique<DeferredRefractionPass>(); }};
   decl.needs_scene = true;
+  decl.uses_ray_queries = traces_exact_paths;
+  decl.ray_query_alternative = kCameraRayQueryAlternative;
   return decl;
 }
 

@@ -12,70 +12,102 @@ namespace caustica::passes {
 
 std::vector<graph::ParamDecl> refraction_params() {
   using graph::ParamType;
-  return {{"distance", ParamType::choice, "dv_dn", {}, {}, {"dv", "dv_dn"},
-           "distance to the back surface: d_V (along the view ray) or Wyman's d_V/d_N blend by refraction angle"},
+  return {{"distance",
+           ParamType::choice,
+           "dv_dn",
+           {},
+           {},
+           {"dv", "dv_dn", "search"},
+           "distance to the back surface: d_V (along the view ray), Wyman's d_V/d_N blend by refraction angle, or search (an "
+           "image-space search along the refracted ray against the back-surface buffer, from the blend)"},
           {"search_steps", ParamType::int_, 48, 4.0, 512.0, {}, "linear steps of the background search along the exit ray"},
           {"search_distance", ParamType::float_, 8.0, 0.01, 1000.0, {}, "how far the background search goes, in scene units"}};
 }
 
-RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter) {
-  const auto& p = ctx.params();
-  // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
-  const std::string distance = p["distance"].get<std::string>();
-  const uint32_t mode = distance == "dv" ? 0u : distance == "dv_dn" ? 1u : distance == "ray_query" ? 2u : distance == "hybrid" ? 3u : 4u;
-  return {mode, p["search_steps"].get<uint32_t>(), p["search_distance"].get<float>(), tir_counter};
-}
-
-std::vector<graph::ParamDecl> photon_path_params() {
+std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
   using graph::ParamType;
   auto params = refraction_params();
   params[0].choices = {"dv", "dv_dn", "search", "ray_query", "hybrid"};
   params[0].description =
-      "where a photon leaves the refractor: d_V or the d_V/d_N blend (estimates), search (image-space search along the refracted "
-      "ray against the back-surface buffer, from the blend; every device), ray_query (every photon traced exactly through the "
-      "scene's acceleration structures; needs VK_KHR_ray_query), or hybrid (the search, re-traced exactly where it cannot be "
-      "trusted: total internal reflection at the exit, no back surface there, an exit point off the back surface by more than "
-      "hybrid_tolerance, or another refractor in the texel)";
-  params.push_back({"max_interfaces", ParamType::int_, 16, 1.0, 64.0, {}, "exact paths: refractor interfaces a photon may cross before it counts as trapped"});
-  params.push_back({"seed", ParamType::int_, 1, 0.0, 1e9, {}, "exact paths: seed of the Fresnel choices (reflect or transmit), deterministic per photon"});
-  params.push_back({"hybrid_tolerance", ParamType::float_, 0.05, 0.0, 10.0, {},
-                    "hybrid: how far the estimated exit point may lie off the back surface, as a fraction of the distance travelled inside"});
+      "where " + what +
+      " leaves the refractor: d_V or the d_V/d_N blend (estimates), search (image-space search along the "
+      "refracted ray against the back-surface buffer, from the blend; every device), ray_query (traced exactly through the scene's "
+      "acceleration structures; needs VK_KHR_ray_query), or hybrid (the search, traced exactly where it cannot be trusted: total "
+      "internal reflection at the exit, no back surface there, an exit point off the back surface by more than hybrid_tolerance, or "
+      "another refractor in the way)";
+  params.push_back({"max_interfaces",
+                    ParamType::int_,
+                    32,
+                    1.0,
+                    64.0,
+                    {},
+                    "exact paths: refractor interfaces a ray may cross before it counts as trapped"});
+  params.push_back(
+      {"hybrid_tolerance",
+       ParamType::float_,
+       0.05,
+       0.0,
+       10.0,
+       {},
+       "hybrid: how far the estimated exit point may lie off the back surface, as a fraction of the distance travelled inside"});
   return params;
 }
 
-bool photon_paths_use_ray_queries(const nlohmann::json& params) {
+std::vector<graph::ParamDecl> photon_path_params() {
+  auto params = exact_path_params("a photon");
+  params.push_back({"seed",
+                    graph::ParamType::int_,
+                    1,
+                    0.0,
+                    1e9,
+                    {},
+                    "exact paths: seed of the Fresnel choices (reflect or transmit), deterministic per photon"});
+  return params;
+}
+
+RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters) {
+  const auto& p = ctx.params();
+  // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
+  const std::string distance = p["distance"].get<std::string>();
+  const uint32_t mode = distance == "dv" ? 0u : distance == "dv_dn" ? 1u : distance == "ray_query" ? 2u : distance == "hybrid" ? 3u : 4u;
+  return {mode,
+          p["search_steps"].get<uint32_t>(),
+          p["search_distance"].get<float>(),
+          tir_counter,
+          p.value("max_interfaces", 1u),
+          ctx.scene().scene().ray_epsilon(),
+          p.value("hybrid_tolerance", 0.0f),
+          exact_counters};
+}
+
+bool traces_exact_paths(const nlohmann::json& params) {
   const std::string distance = params.value("distance", std::string());
   return distance == "ray_query" || distance == "hybrid";
 }
 
 const char* const kPhotonRayQueryAlternative =
-    "set its 'distance' to dv_dn (image space) or use graphs/caustics_adaptive.json, which runs on every device";
+    "set its 'distance' to search or dv_dn (image space) or use graphs/caustics_adaptive.json, which runs on every device";
+const char* const kCameraRayQueryAlternative =
+    "set its 'distance' to search or dv_dn (image space) or use graphs/refraction_deferred.json, which runs on every device";
 
-void ExactPaths::setup(graph::PassSetup& setup) {
-  traced_ = photon_paths_use_ray_queries(setup.pass().params);
-  using Kind = graph::PassSetup::CounterKind;
-  // The order of caustics/photon.glsl's EXACT_* and RETRACE_* constants.
-  const std::pair<const char*, Kind> counters[] = {
-      {"photons.exact", Kind::count},          {"photons.escaped", Kind::count},
-      {"photons.trapped", Kind::count},        {"photons.off_map", Kind::count},
-      {"photons.reflected_outside", Kind::count}, {"photons.retraced.tir", Kind::count},
-      {"photons.retraced.empty_back", Kind::count}, {"photons.retraced.off_surface", Kind::count},
-      {"photons.retraced.multiple_refractors", Kind::count}, {"caustic.flux_escaped", Kind::sum},
-      {"caustic.flux_trapped", Kind::sum},     {"caustic.flux_off_map", Kind::sum},
-      {"caustic.flux_absorbed", Kind::sum}};
-  for (size_t i = 0; i < std::size(counters); ++i) {
-    const uint32_t slot = setup.add_counter(counters[i].first, counters[i].second);
-    if (i == 0) first_counter_ = slot;
-    if (slot != first_counter_ + i) throw DeviceError("pass '" + setup.pass().name + "': the exact-path counters are not consecutive");
+uint32_t add_consecutive_counters(graph::PassSetup& setup,
+                                  const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names) {
+  uint32_t first = 0;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const uint32_t slot = setup.add_counter(names[i].first, names[i].second);
+    if (i == 0) first = slot;
+    if (slot != first + i)
+      throw DeviceError("pass '" + setup.pass().name + "': its counters '" + names[0].first + "'... are not consecutive");
   }
+  return first;
 }
 
-shader::Defines ExactPaths::defines(shader::Defines defines) const {
+shader::Defines RayQueryScene::defines(shader::Defines defines) const {
   if (traced_) defines["CAUSTICA_RAY_QUERY"] = "1";
   return defines;
 }
 
-std::vector<VkDescriptorType> ExactPaths::bindings(std::vector<VkDescriptorType> bindings) const {
+std::vector<VkDescriptorType> RayQueryScene::bindings(std::vector<VkDescriptorType> bindings) const {
   if (!traced_) return bindings;
   // Bindings below 14 that a pass does not use are declared as storage buffers and left unwritten.
   bindings.resize(14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
@@ -84,17 +116,36 @@ std::vector<VkDescriptorType> ExactPaths::bindings(std::vector<VkDescriptorType>
   return bindings;
 }
 
-ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
-  const auto& p = ctx.params();
-  return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, ctx.scene().scene().ray_epsilon(),
-          p["hybrid_tolerance"].get<float>()};
-}
-
-void ExactPaths::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
   if (!traced_) return;
   const auto* acceleration = ctx.scene().built_acceleration();
   assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
   writer.acceleration_structure(14, acceleration->tlas()).storage_buffer(15, acceleration->triangles());
+}
+
+void ExactPaths::setup(graph::PassSetup& setup) {
+  RayQueryScene::setup(setup);
+  using Kind = graph::PassSetup::CounterKind;
+  // The order of caustics/photon.glsl's EXACT_* constants (the retraced ones in refraction.glsl's EXIT_* order).
+  first_counter_ = add_consecutive_counters(setup, {{"photons.exact", Kind::count},
+                                                    {"photons.escaped", Kind::count},
+                                                    {"photons.trapped", Kind::count},
+                                                    {"photons.off_map", Kind::count},
+                                                    {"photons.reflected_outside", Kind::count},
+                                                    {"photons.retraced.tir", Kind::count},
+                                                    {"photons.retraced.empty_back", Kind::count},
+                                                    {"photons.retraced.off_surface", Kind::count},
+                                                    {"photons.retraced.multiple_refractors", Kind::count},
+                                                    {"caustic.flux_escaped", Kind::sum},
+                                                    {"caustic.flux_trapped", Kind::sum},
+                                                    {"caustic.flux_off_map", Kind::sum},
+                                                    {"caustic.flux_absorbed", Kind::sum}});
+}
+
+ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
+  const auto& p = ctx.params();
+  return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, ctx.scene().scene().ray_epsilon(),
+          p["hybrid_tolerance"].get<float>()};
 }
 
 std::vector<graph::PortDecl> refraction_inputs() {
@@ -110,14 +161,27 @@ std::vector<graph::PortDecl> photon_ports() {
   };
   return {surfaces("front", "refractor front surfaces from the light (refractor_buffers, view = light)"),
           surfaces("back", "refractor back surfaces from the light"),
-          {"receiver_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "light",
+          {"receiver_depth",
+           PortAccess::read,
+           ResourceKind::image,
+           PortUsage::sampled,
+           {Format::d32f},
+           false,
+           "light",
            "opaque geometry's depth from the light (shadow_map without refractors)"},
-          {"caustic_map", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "",
+          {"caustic_map",
+           PortAccess::write,
+           ResourceKind::image,
+           PortUsage::storage,
+           {Format::r32f},
+           false,
+           "",
            "flux per texel, in the light's image plane"}};
 }
 
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {
-  return vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0}, setup.shaders().compile("caustics/clear.comp"));
+  return vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0},
+                                   setup.shaders().compile("caustics/clear.comp"));
 }
 
 void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear) {
@@ -143,7 +207,8 @@ vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
 
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color) {
   return vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
-                                      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"), {color});
+                                      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
+                                      {color});
 }
 
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent) {
@@ -156,14 +221,15 @@ void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImag
 }
 
 void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
-                                 VkImageView back) {
-  scene_descriptors(ctx)
-      .sampled_image(3, background, ctx.linear_sampler())
+                                 VkImageView back, const RayQueryScene* exact) {
+  vk::DescriptorWriter writer = scene_descriptors(ctx);
+  writer.sampled_image(3, background, ctx.linear_sampler())
       .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
       .sampled_image(5, front, ctx.nearest_sampler())
       .sampled_image(6, back, ctx.nearest_sampler())
-      .storage_buffer(7, ctx.counter_buffer())
-      .push(ctx.vk(), ctx.cmd(), pipeline);
+      .storage_buffer(7, ctx.counter_buffer());
+  if (exact) exact->bind(ctx, writer);
+  writer.push(ctx.vk(), ctx.cmd(), pipeline);
 }
 
 VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent) {
@@ -188,15 +254,16 @@ VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, cons
   return {{x0, y0}, {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0)}};
 }
 
-void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color) {
+void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color, const RayQueryScene* exact) {
+  exact_ = exact;
+  std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
   refract_ = vk::make_fullscreen_pipeline(
-      setup.vk(),
-      {"deferred_refraction",
-       {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-       sizeof(RefractionPush)},
-      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("refraction/deferred_refraction.frag"), {color});
+      setup.vk(), {"deferred_refraction", exact ? exact->bindings(bindings) : bindings, sizeof(RefractionPush)},
+      setup.shaders().compile("common/fullscreen.vert"),
+      setup.shaders().compile("refraction/deferred_refraction.frag", exact ? exact->defines() : shader::Defines{}), {color});
   copy_ = make_copy_pipeline(setup, color);
 }
 
@@ -225,7 +292,7 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
   }
   if (rect.extent.width > 0 && rect.extent.height > 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-    push_refraction_descriptors(ctx, refract_, background, front, back);
+    push_refraction_descriptors(ctx, refract_, background, front, back, exact_);
     vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
     vkCmdSetScissor(cmd, 0, 1, &rect);
     vkCmdDraw(cmd, 3, 1, 0, 0);

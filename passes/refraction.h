@@ -6,23 +6,51 @@
 namespace caustica::passes {
 
 struct RefractionPush {
-  uint32_t distance_mode;  // 0: d_V, 1: d_V/d_N blend
+  uint32_t distance_mode;  // the order of refraction.glsl's DISTANCE_* constants
   uint32_t search_steps;
   float search_distance;
   uint32_t tir_counter;
+  // Exact camera paths (deferred_refraction with distance ray_query or hybrid).
+  uint32_t exact_max_interfaces;
+  float exact_epsilon;
+  float hybrid_tolerance;
+  uint32_t exact_counters;  // first of the consecutive camera exact-path counter slots
 };
 
+// The image-space passes' `distance` (dv, dv_dn, search) and the background search's parameters.
 std::vector<graph::ParamDecl> refraction_params();
-RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter);
-
-// The photon passes' ladder of ways to find where a photon leaves a refractor (their `distance`):
-// dv and dv_dn estimate in image space; ray_query traces every photon exactly; hybrid estimates and
-// re-traces exactly only the photons whose estimate cannot be trusted. Adds max_interfaces, seed
-// and hybrid_tolerance to refraction_params().
+// The ladder of ways to find where a ray leaves a refractor, for the passes that also trace exact
+// paths: refraction_params() with ray_query and hybrid, max_interfaces and hybrid_tolerance.
+// `what` names the rays ("a photon", "a camera ray") in the description.
+std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
+// The photon passes': exact_path_params() and the seed of their Fresnel choices.
 std::vector<graph::ParamDecl> photon_path_params();
-// Whether photons with these parameters trace with ray queries (PassTypeDecl::uses_ray_queries).
-bool photon_paths_use_ray_queries(const nlohmann::json& params);
+RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters = 0);
+// Whether a pass with these parameters traces with ray queries (PassTypeDecl::uses_ray_queries).
+bool traces_exact_paths(const nlohmann::json& params);
 extern const char* const kPhotonRayQueryAlternative;
+extern const char* const kCameraRayQueryAlternative;
+
+// Registers `names` as consecutive counters of the pass and returns the first slot (the shaders
+// address them from one base).
+uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names);
+
+// What a pass that traces exact paths needs where its parameters ask for them: the shader variant
+// (CAUSTICA_RAY_QUERY) and bindings 14 (the scene's top-level acceleration structure) and 15 (its
+// triangles), as shaders/scene/ray_query.glsl declares them.
+class RayQueryScene {
+ public:
+  void setup(const graph::PassSetup& setup) { traced_ = traces_exact_paths(setup.pass().params); }
+  bool traced() const { return traced_; }
+  // CAUSTICA_RAY_QUERY when traced.
+  shader::Defines defines(shader::Defines defines = {}) const;
+  // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
+  std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
+  void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
+
+ private:
+  bool traced_ = false;
+};
 
 // Mirrors the exact-path fields at the end of the photon shaders' push constants.
 struct ExactPathPush {
@@ -33,24 +61,17 @@ struct ExactPathPush {
   float hybrid_tolerance;
 };
 
-// What a photon pass needs for exact paths: the counters (always, so that every method reports the
-// same names), and where it traces with ray queries, the shader variant and the bindings 14
-// (the scene's top-level acceleration structure) and 15 (its triangles).
-class ExactPaths {
+// A photon pass's exact paths: the ray-query scene where traced, and the counters always, so that
+// every method reports the same names.
+class ExactPaths : public RayQueryScene {
  public:
   void setup(graph::PassSetup& setup);
-  bool traced() const { return traced_; }
-  // CAUSTICA_RAY_QUERY when traced.
-  shader::Defines defines(shader::Defines defines = {}) const;
-  // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
-  std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
   ExactPathPush push(const graph::PassContext& ctx) const;
-  void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
 
  private:
-  bool traced_ = false;
   uint32_t first_counter_ = 0;
 };
+
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
 
@@ -69,9 +90,10 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent);
-// Scene bindings plus the refraction shader's: background, depth, front, back, counters.
+// Scene bindings plus the refraction shader's: background, depth, front, back, counters, and the
+// ray-query scene where `exact` traces.
 void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
-                                 VkImageView back);
+                                 VkImageView back, const RayQueryScene* exact = nullptr);
 
 // The screen rectangle, one pixel wider on each side, that covers the bounding boxes of `objects`
 // seen by `view_proj`; the whole extent when any box reaches behind the eye.
@@ -79,16 +101,18 @@ VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, cons
 
 // Deferred refraction shading over a target: the refraction shader inside the refractors' screen
 // rectangle, a plain copy of the background outside it, so that pixels that cannot show a
-// refractor cost a copy and not a refraction lookup.
+// refractor cost a copy and not a refraction lookup. With `exact` (which must outlive it) the
+// shader traces exact camera paths where that pass's parameters ask for them.
 class DeferredRefractionShading {
  public:
-  void setup(graph::PassSetup& setup, VkFormat color);
+  void setup(graph::PassSetup& setup, VkFormat color, const RayQueryScene* exact = nullptr);
   void record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front, VkImageView back,
               VkImageView target, VkExtent2D extent, VkRect2D rect) const;
   const vk::Pipeline& copy() const { return copy_; }
 
  private:
   vk::Pipeline refract_, copy_;
+  const RayQueryScene* exact_ = nullptr;
 };
 
 }  // namespace caustica::passes

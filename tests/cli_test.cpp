@@ -70,11 +70,15 @@ int check_bad_inputs(const fs::path& folder) {
 
 }  // namespace
 
-TEST(Cli, EveryBadGraphGivesItsMessageAndExitCode1) { EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_graphs"), 30); }
+TEST(Cli, EveryBadGraphGivesItsMessageAndExitCode1) {
+  EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_graphs"), 30);
+}
 
 // Scenes and the meshes they name: malformed JSON, wrong values, missing and broken mesh files,
 // and the broken glTF files of Debian's assimp-testmodels.
-TEST(Cli, EveryBadSceneGivesItsMessageAndExitCode1) { EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_scenes"), 30); }
+TEST(Cli, EveryBadSceneGivesItsMessageAndExitCode1) {
+  EXPECT_GE(check_bad_inputs(kSource / "tests/data/bad_scenes"), 30);
+}
 
 // Bad command lines from tests/data/bad_commands.txt: flags, parameters, missing files, files that
 // are not files (a folder, /dev/zero, a named pipe) and files of the wrong type.
@@ -172,7 +176,9 @@ TEST(Cli, DefaultRenderWritesCausticaPng) {
 
 TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   fs::path dir = scratch("render");
-  CliRun r = run("render " + kCoreDemo + "--validate --size 160x90 --frames 3 --set blur_radius=1 --stats stats.json --dump hdr=hdr.exr --out frame.exr", dir);
+  CliRun r = run("render " + kCoreDemo +
+                     "--validate --size 160x90 --frames 3 --set blur_radius=1 --stats stats.json --dump hdr=hdr.exr --out frame.exr",
+                 dir);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("validation"), std::string::npos) << r.output;
   auto stats = nlohmann::json::parse(read(dir / "stats.json"));
@@ -193,7 +199,8 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   double gpu_sum = 0, gpu_frame = 0;
   for (const auto& ev : trace["traceEvents"]) {
     if (ev["ph"] != "X" || ev["tid"] != 1 || ev["args"]["frame"] != 3) continue;
-    if (ev["name"] == "frame 3") gpu_frame = ev["dur"].get<double>();
+    if (ev["name"] == "frame 3")
+      gpu_frame = ev["dur"].get<double>();
     else {
       gpu_passes.insert(ev["name"].get<std::string>());
       gpu_sum += ev["dur"].get<double>();
@@ -301,17 +308,23 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_EQ(run("compare a.exr b.exr --max-l1 0", dir).code, 1);
   EXPECT_EQ(run("compare a.exr b.exr --max-l1 1", dir).code, 0);
 
-  CliRun bench = run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive:converge_test=within_texel,refraction_deferred --grids 64,128 --reference-photons 1e5 "
-                     "--caustic-size 64 --size 64x36 --frames 1 --out acc",
-                     dir);
+  CliRun bench =
+      run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive:converge_test=within_texel,refraction_deferred --grids 64,128 "
+          "--reference-photons 1e5 "
+          "--caustic-size 64 --size 64x36 --frames 1 --out acc",
+          dir);
   ASSERT_EQ(bench.code, 0) << bench.output;
   const std::string csv = read(dir / "acc" / "results.csv");
-  EXPECT_EQ(csv.rfind("scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n", 0), 0u) << csv;
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2);  // header, two grids, two distance estimates
+  EXPECT_EQ(csv.rfind("scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n", 0),
+            0u)
+      << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 3);  // header, two grids, three image-space distances
   EXPECT_NE(csv.find("sphere_plane,caustics,caustics_adaptive converge_test=within_texel,128,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred dv_dn,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred search,0,"), std::string::npos) << csv;
   EXPECT_GT(fs::file_size(dir / "acc" / "speed_accuracy.png"), 10000u);
-  EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"), std::string::npos);
+  EXPECT_NE(read(dir / "acc" / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"),
+            std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -325,9 +338,19 @@ TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
   ::setenv("CAUSTICA_NO_RAY_QUERY", "1", 1);
   const CliRun validate = run("validate " + raytraced, dir);
   const CliRun render = run("render --graph " + raytraced + sphere + " --size 64x36 --out x.png", dir);
-  const CliRun image_space = run("render --graph '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere + " --size 64x36 --out y.png", dir);
+  const CliRun image_space =
+      run("render --graph '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere + " --size 64x36 --out y.png", dir);
   const CliRun search = run("render --graph " + raytraced + sphere + " --set distance=search --size 64x36 --out z.png", dir);
+  // Camera refraction the same: the hybrid graph names its deferred pass and the image-space graph.
+  const std::string hybrid = "'" + (kSource / "graphs/refraction_hybrid.json").string() + "'";
+  const CliRun camera = run("render --graph " + hybrid + sphere + " --size 64x36 --out c.png", dir);
+  const CliRun camera_search = run("render --graph " + hybrid + sphere + " --set distance=search --size 64x36 --out d.png", dir);
   ::unsetenv("CAUSTICA_NO_RAY_QUERY");
+  EXPECT_EQ(camera.code, 1) << camera.output;
+  EXPECT_NE(camera.output.find("pass 'refraction' (deferred_refraction)"), std::string::npos) << camera.output;
+  EXPECT_NE(camera.output.find("graphs/refraction_deferred.json"), std::string::npos) << camera.output;
+  EXPECT_FALSE(fs::exists(dir / "c.png"));
+  EXPECT_EQ(camera_search.code, 0) << camera_search.output;
   for (const CliRun* r : {&validate, &render}) {
     EXPECT_EQ(r->code, 1) << r->output;
     EXPECT_NE(r->output.find("caustics_raytraced.json:"), std::string::npos) << r->output;

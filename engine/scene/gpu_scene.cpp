@@ -32,12 +32,13 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
   }
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
-    objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior)});
+    objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(object.bounds_min, 0.0f),
+                       glm::vec4(object.bounds_max, 0.0f)});
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");
-  indices_ = vk::make_static_buffer(vk, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
-                                    "scene indices");
+  indices_ =
+      vk::make_static_buffer(vk, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "scene indices");
   objects_ = vk::make_static_buffer(vk, objects.data(), objects.size() * sizeof(gpu::ObjectData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "scene objects");
   frame_ = vk::make_buffer(vk, sizeof(gpu::FrameData), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -70,7 +71,8 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   f.inv_view_proj = glm::inverse(f.view_proj);
   f.camera_position = glm::vec4(s.camera.position, aspect);
   f.sky_ambient = glm::vec4(s.sky, s.ambient);
-  f.sizes = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
+  f.sizes =
+      glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
   f.light_count = static_cast<uint32_t>(std::min<size_t>(s.lights.size(), CAUSTICA_MAX_LIGHTS));
   for (uint32_t i = 0; i < f.light_count; ++i) {
     const Light& light = s.lights[i];
@@ -79,7 +81,8 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
     l.inv_view_proj = glm::inverse(l.view_proj);
     l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : 1.0f);
     // A square frustum's inscribed cone: the half angle is half the field of view.
-    l.direction_cos = glm::vec4(glm::normalize(light.view.target - light.view.position), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
+    l.direction_cos =
+        glm::vec4(glm::normalize(light.view.target - light.view.position), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
     l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
     l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
   }

@@ -17,47 +17,13 @@
 // Exact-path counters, at consecutive slots from params.exact_counters (passes/refraction.cpp,
 // add_exact_path_counters, names them in this order).
 const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_MAP = 3u, EXACT_REFLECTED_OUTSIDE = 4u;
-const uint RETRACE_TIR = 5u, RETRACE_EMPTY_BACK = 6u, RETRACE_OFF_SURFACE = 7u, RETRACE_MULTIPLE = 8u;
+const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order
 const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP = 11u, EXACT_FLUX_ABSORBED = 12u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 void exact_sum(uint k, float v) { atomicAdd(sums[params.exact_counters + k], v); }
 
 #ifdef CAUSTICA_RAY_QUERY
-#extension GL_EXT_ray_query : require
-SCENE_VERTICES
-layout(set = 0, binding = 14) uniform accelerationStructureEXT scene_tlas;
-layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
-
-struct SurfaceHit {
-  bool hit;
-  float t;
-  vec3 normal;  // interpolated, unit
-  uint object;
-};
-
-SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
-  rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, t_min, direction, 1e30);
-  while (rayQueryProceedEXT(query)) {
-  }
-  SurfaceHit h;
-  h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
-  h.t = 0.0;
-  h.normal = vec3(0.0, 1.0, 0.0);
-  h.object = 0u;
-  if (!h.hit) return h;
-  h.t = rayQueryGetIntersectionTEXT(query, true);
-  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) + rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
-  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
-  Vertex v0 = vertices[triangle_vertices[3u * triangle]];
-  Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
-  Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
-  vec3 n = (1.0 - b.x - b.y) * v0.normal_object.xyz + b.x * v1.normal_object.xyz + b.y * v2.normal_object.xyz;
-  vec3 geometric = cross(v1.position_dn.xyz - v0.position_dn.xyz, v2.position_dn.xyz - v0.position_dn.xyz);
-  h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
-  h.object = uint(v0.normal_object.w + 0.5);
-  return h;
-}
+#include "scene/ray_query.glsl"
 
 // A hash-based generator: the same photon (by its position on the light's image plane) and seed
 // draw the same numbers on every device and in every run.
@@ -174,8 +140,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   float cos_axis = inversesqrt(1.0 + dot(plane, plane));
   vec3 eye = light.position_type.xyz;
   vec3 direction = normalize(world_from_depth(light.inv_view_proj, uv, 0.5) - eye);
-  // The spot's cone, with the soft edge of scene/lighting.frag.
-  float cone = smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));
+  float cone = spot_cone(light, direction);
   ph.power = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
   if (ph.power <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
@@ -191,18 +156,19 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   TwoInterfaces path = refract_two_interfaces(light.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  vec2 landing;
+  bool lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing);
 #ifdef CAUSTICA_RAY_QUERY
   if (params.distance_mode == DISTANCE_HYBRID) {
     // Re-traced exactly, from the light, only where the estimate cannot be trusted; one counter
     // per reason (the first that applies).
-    vec4 back_here = texture(back_tex, uv);
-    uint reason = path.tir ? RETRACE_TIR
-                : !path.back_found ? RETRACE_EMPTY_BACK
-                : path.back_object != front.w || (back_here.y > 0.0 && back_here.w != front.w) ? RETRACE_MULTIPLE
-                : path.back_offset > params.hybrid_tolerance * max(path.distance, 1e-6) ? RETRACE_OFF_SURFACE
-                : 0u;
-    if (reason != 0u) {
-      exact_count(reason);
+    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+    if (reason == EXIT_TRUSTED && lands &&
+        crosses_other_refractor(path.exit_point, world_from_depth(light.inv_view_proj, landing, texture(receiver_depth, landing).r), uint(front.w))) {
+      reason = EXIT_MULTIPLE;
+    }
+    if (reason != EXIT_TRUSTED) {
+      exact_count(RETRACED_FIRST + reason - EXIT_TIR);
       ph.hit = false;
       ph.entering = 0.0;
       trace_photon_exact(ph, light, eye, direction, uv);
@@ -217,8 +183,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
   // The caustic map holds one channel: the mean of the three absorption coefficients.
   ph.power *= exp(-dot(object.absorption_ior.rgb, vec3(1.0 / 3.0)) * path.distance);
-  vec2 landing;
-  if (!march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing)) return ph;
+  if (!lands) return ph;
   ivec2 size = imageSize(caustic_map);
   ph.landing = landing * vec2(size);
   ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);

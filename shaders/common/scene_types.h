@@ -21,6 +21,8 @@ struct Vertex {
 struct ObjectData {
   vec4 albedo_refractor;  // rgb albedo, a: 1 for refractors
   vec4 absorption_ior;    // rgb absorption per unit length, a: index of refraction
+  vec4 bounds_min;        // xyz: world-space bounding box
+  vec4 bounds_max;
 };
 
 struct LightData {

@@ -1,6 +1,8 @@
 #version 460
 // Deferred refraction: one full-screen pass over the refractor buffers; each pixel is shaded once,
-// for the nearest refractor surface only.
+// for the nearest refractor surface only. Compiled with CAUSTICA_RAY_QUERY when the pass's
+// `distance` is ray_query (every pixel traced exactly) or hybrid (the image-space search, traced
+// exactly where it cannot be trusted).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -11,16 +13,42 @@ layout(set = 0, binding = 5) uniform sampler2D front_tex;
 layout(set = 0, binding = 6) uniform sampler2D back_tex;
 layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 
+// passes/refraction.h, RefractionPush.
 layout(push_constant) uniform Params {
   uint distance_mode;
   uint search_steps;
   float search_distance;
   uint tir_counter;
+  uint exact_max_interfaces;
+  float exact_epsilon;
+  float hybrid_tolerance;
+  uint exact_counters;
 } params;
 
 #include "refraction/refraction.glsl"
 
 layout(location = 0) out vec4 out_color;
+
+#ifdef CAUSTICA_RAY_QUERY
+// The hybrid's image-space answer, or the reason it is not trusted: untrusted_exit's, or, for the
+// exit ray, CAMERA_OFF_SCREEN when it leaves the image (the search cannot say what it meets) and
+// EXIT_MULTIPLE when it may cross another refractor on the way to the background. An untrusted
+// pixel is traced whole: tracing only its exit ray from the estimated exit point, which need not
+// lie on the surface, was measured to be far worse (docs/exact_paths.md).
+uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
+  ObjectData object = objects[uint(front.w)];
+  vec3 eye = frame.camera_position.xyz;
+  TwoInterfaces path = refract_two_interfaces(frame.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+  if (reason != EXIT_TRUSTED) return reason;
+  vec2 behind_uv;
+  if (!march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv)) return CAMERA_OFF_SCREEN;
+  vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
+  if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
+  radiance = through_refractor(path, object, texture(background_tex, behind_uv).rgb);
+  return EXIT_TRUSTED;
+}
+#endif
 
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
@@ -41,5 +69,19 @@ void main() {
     out_color = vec4(background, 1.0);
     return;
   }
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID) {
+    vec3 radiance;
+    uint reason = EXIT_TRUSTED;
+    if (params.distance_mode == DISTANCE_HYBRID) reason = hybrid_radiance(p1, front, uv, radiance);
+    if (params.distance_mode == DISTANCE_RAY_QUERY || reason != EXIT_TRUSTED) {
+      camera_count(CAMERA_EXACT);
+      if (reason != EXIT_TRUSTED) camera_count(reason);
+      radiance = trace_camera_exact(eye, ray);
+    }
+    out_color = vec4(radiance, 1.0);
+    return;
+  }
+#endif
   out_color = vec4(refracted_radiance(p1, unpack_normal(front.x), front.y, front.z, uint(front.w), uv), 1.0);
 }

@@ -17,6 +17,10 @@ layout(push_constant) uniform Params {
   uint search_steps;
   float search_distance;
   uint tir_counter;
+  uint exact_max_interfaces;  // the rest of passes/refraction.h's RefractionPush, unused here
+  float exact_epsilon;
+  float hybrid_tolerance;
+  uint exact_counters;
 } params;
 
 #include "refraction/refraction.glsl"

@@ -12,8 +12,8 @@
 
 const uint DISTANCE_DV = 0u;     // d_V: front-to-back distance along the view ray at this pixel
 const uint DISTANCE_DV_DN = 1u;  // Wyman's blend of d_V and the per-vertex d_N by refraction angle
-// Photons only (caustics/photon.glsl): exact paths with ray queries, everywhere or where the d_V/d_N
-// estimate cannot be trusted. Both estimate with the blend where they estimate at all.
+// Exact paths with ray queries (photons in caustics/photon.glsl, camera rays in the deferred pass):
+// everywhere, or where the image-space search cannot be trusted (untrusted_exit).
 const uint DISTANCE_RAY_QUERY = 2u;
 const uint DISTANCE_HYBRID = 3u;
 // Image-space search along the refracted ray against the back-surface buffer (Umenhoffer et al.
@@ -170,12 +170,47 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1,
   return r;
 }
 
+// Why the hybrid does not trust an image-space exit (the first that applies), or EXIT_TRUSTED: total
+// internal reflection at the estimated exit, no back surface where the exit lands, another
+// refractor at the exit or in the texel, the exit point off the back surface by more than
+// `tolerance` times the distance travelled inside. The hybrid counters follow this order.
+const uint EXIT_TRUSTED = 0u, EXIT_TIR = 1u, EXIT_EMPTY_BACK = 2u, EXIT_OFF_SURFACE = 3u, EXIT_MULTIPLE = 4u;
+uint untrusted_exit(TwoInterfaces path, float front_object, vec4 back_here, float tolerance) {
+  if (path.tir) return EXIT_TIR;
+  if (!path.back_found) return EXIT_EMPTY_BACK;
+  if (path.back_object != front_object || (back_here.y > 0.0 && back_here.w != front_object)) return EXIT_MULTIPLE;
+  if (path.back_offset > tolerance * max(path.distance, 1e-6)) return EXIT_OFF_SURFACE;
+  return EXIT_TRUSTED;
+}
+
+// Whether the segment from a to b passes through the bounding box of a refractor other than
+// `own`: an image-space path (one refractor layer) cannot see a refractor that its exit ray
+// crosses, hidden behind another in the image; the hybrids trace those paths exactly.
+bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
+  vec3 d = b - a;
+  vec3 inv = 1.0 / d;  // IEEE infinities for an axis the segment does not move along
+  for (uint i = 0u; i < uint(objects.length()); ++i) {
+    if (i == own || objects[i].albedo_refractor.a < 0.5) continue;
+    vec3 t0 = (objects[i].bounds_min.xyz - a) * inv, t1 = (objects[i].bounds_max.xyz - a) * inv;
+    vec3 lo = min(t0, t1), hi = max(t0, t1);
+    if (max(max(lo.x, lo.y), max(lo.z, 0.0)) <= min(min(hi.x, hi.y), min(hi.z, 1.0))) return true;
+  }
+  return false;
+}
+
 #ifndef REFRACTION_NO_CAMERA
 // The background seen along an exit ray from the camera: the lit image where the ray meets the
 // background's depth, the sky where it leaves the screen.
 vec3 background_along(vec3 origin, vec3 direction) {
   vec2 uv;
   return march_depth(depth_tex, frame.view_proj, origin, direction, uv) ? texture(background_tex, uv).rgb : frame.sky_ambient.rgb;
+}
+
+// Radiance through a refractor along `path`: the entry's Fresnel reflection sees the sky, the rest
+// is absorbed inside and weighted by the exit's transmittance before it sees `behind`.
+vec3 through_refractor(TwoInterfaces path, ObjectData object, vec3 behind) {
+  vec3 absorbed = exp(-object.absorption_ior.rgb * path.distance);
+  return path.reflectance_in * frame.sky_ambient.rgb + (1.0 - path.reflectance_in) * path.transmit_out * absorbed * behind;
 }
 
 // Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
@@ -186,10 +221,87 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
   // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
   // reflected direction with all its energy (no black pixels, no NaN).
   if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
-  vec3 absorbed = exp(-object.absorption_ior.rgb * path.distance);
-  vec3 behind = background_along(path.exit_point, path.exit_direction);
-  return path.reflectance_in * frame.sky_ambient.rgb + (1.0 - path.reflectance_in) * path.transmit_out * absorbed * behind;
+  return through_refractor(path, object, background_along(path.exit_point, path.exit_direction));
 }
+
+#ifdef CAUSTICA_RAY_QUERY
+// Exact camera paths (distance ray_query, and hybrid where the image-space exit is not trusted).
+// Needs params.exact_max_interfaces, exact_epsilon and exact_counters: consecutive counter slots
+// for the pixels traced exactly, the hybrid's reasons (EXIT_TIR .. EXIT_MULTIPLE, then
+// CAMERA_OFF_SCREEN) and the rays trapped inside after exact_max_interfaces interfaces.
+#include "scene/ray_query.glsl"
+const uint CAMERA_EXACT = 0u, CAMERA_OFF_SCREEN = 5u, CAMERA_TRAPPED = 6u;
+void camera_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
+
+// Direct light at an opaque point an exact path reached: the lit background where the camera sees
+// that very point (it carries the frame's shadow map and caustics); elsewhere (off screen, or
+// hidden behind opaque geometry) scene/lighting.frag's model with an exact shadow ray for the first
+// spot light, as the ray-traced reference does, and no caustic.
+vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
+  vec3 eye = frame.camera_position.xyz;
+  vec2 uv;
+  float depth;
+  if (project_to_screen(p, uv, depth)) {
+    vec3 seen = world_from_depth(frame.inv_view_proj, uv, texture(depth_tex, uv).r);
+    if (distance(seen, p) <= 0.01 * distance(p, eye) + 4.0 * params.exact_epsilon) return texture(background_tex, uv).rgb;
+  }
+  vec3 irradiance = vec3(0.0);
+  for (uint i = 0u; i < frame.light_count; ++i) {
+    LightData light = frame.lights[i];
+    vec3 to_light = light.position_type.xyz - p;
+    float d2 = max(dot(to_light, to_light), 1e-8);
+    vec3 l = to_light * inversesqrt(d2);
+    float cone = spot_cone(light, -l);
+    if (i == 0u && light.position_type.w == 0.0 && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, sqrt(d2) - params.exact_epsilon)) cone = 0.0;
+    irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
+  }
+  return albedo * (frame.sky_ambient.a * frame.sky_ambient.rgb + irradiance * (1.0 / 3.14159265358979));
+}
+
+// Radiance along a camera ray traced through every interface, as the ray-traced reference does:
+// at a refractor's entry the Fresnel reflection sees the sky and the rest refracts in; inside,
+// absorption and total internal reflection; at the exit the Fresnel transmittance. A ray still
+// inside after exact_max_interfaces interfaces (or lost in an open mesh) brings nothing more.
+vec3 trace_camera_exact(vec3 origin, vec3 direction) {
+  vec3 throughput = vec3(1.0), radiance = vec3(0.0);
+  int inside = -1;
+  uint interfaces = 0u;
+  float t_min = 0.0;
+  for (;;) {
+    SurfaceHit h = trace_surface(origin, direction, t_min);
+    t_min = params.exact_epsilon;
+    if (!h.hit) return inside < 0 ? radiance + throughput * frame.sky_ambient.rgb : radiance;
+    if (inside >= 0) throughput *= exp(-objects[inside].absorption_ior.rgb * h.t);
+    vec3 p = origin + direction * h.t;
+    vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
+    ObjectData object = objects[h.object];
+    if (object.albedo_refractor.a < 0.5) return radiance + throughput * shade_exit_hit(p, n, object.albedo_refractor.rgb);
+    if (interfaces == params.exact_max_interfaces) {
+      camera_count(CAMERA_TRAPPED);
+      return radiance;
+    }
+    ++interfaces;
+    float ior = object.absorption_ior.a;
+    origin = p;
+    if (inside < 0) {
+      float reflectance = fresnel_dielectric(-dot(direction, n), 1.0, ior);
+      radiance += throughput * reflectance * frame.sky_ambient.rgb;
+      throughput *= 1.0 - reflectance;
+      direction = normalize(refract(direction, n, 1.0 / ior));
+      inside = int(h.object);
+    } else {
+      vec3 out_direction = refract(direction, n, ior);
+      if (dot(out_direction, out_direction) == 0.0) {
+        direction = reflect(direction, n);
+      } else {
+        throughput *= 1.0 - fresnel_dielectric(-dot(direction, n), ior, 1.0);
+        direction = normalize(out_direction);
+        inside = -1;
+      }
+    }
+  }
+}
+#endif
 #endif
 
 #endif

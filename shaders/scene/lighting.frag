@@ -81,11 +81,8 @@ void main() {
     vec3 to_light = light.position_type.xyz - p;
     float d2 = max(dot(to_light, to_light), 1e-8);
     vec3 l = to_light * inversesqrt(d2);
-    float cone = 1.0;
+    float cone = spot_cone(light, -l);
     if (light.position_type.w == 0.0) {
-      // The cone edge is softened over a small band so that it does not alias.
-      float c = dot(-l, light.direction_cos.xyz);
-      cone = smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), c);
       if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p);
       if (i == 0 && params.has_caustics != 0) irradiance += caustic_irradiance(light, p, n);
     }

@@ -28,4 +28,11 @@ vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
   return p.xyz / p.w;
 }
 
+// A spot light's cone seen along `direction` (unit, from the light), its edge softened over a small
+// band so that it does not alias; 1 for a point light.
+float spot_cone(LightData light, vec3 direction) {
+  if (light.position_type.w != 0.0) return 1.0;
+  return smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));
+}
+
 #endif

@@ -35,13 +35,20 @@ int cmd_bench_refraction(Args& args) {
   std::string device, csv;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--scene") scenes.push_back(args.value(a));
-    else if (a == "--size") parse_size(args.value(a), width, height);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
-    else if (a == "--sphere-detail") sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
-    else if (a == "--device") device = args.value(a);
-    else if (a == "--csv") csv = args.value(a);
-    else unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
+    if (a == "--scene")
+      scenes.push_back(args.value(a));
+    else if (a == "--size")
+      parse_size(args.value(a), width, height);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
+    else if (a == "--sphere-detail")
+      sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--csv")
+      csv = args.value(a);
+    else
+      unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
   }
   if (!csv.empty()) io::check_output_file(csv);
   struct Case {
@@ -71,7 +78,9 @@ int cmd_bench_refraction(Args& args) {
   vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
-  std::string table = "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | deferred frame |\n|---|---|---|---|---|---|---|\n";
+  std::string table =
+      "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | "
+      "deferred frame |\n|---|---|---|---|---|---|---|\n";
   std::string rows_csv = "scene,refractor_triangles,forward_refraction_ms,deferred_refraction_ms,forward_frame_ms,deferred_frame_ms\n";
   for (const auto& c : cases) {
     std::unique_ptr<graph::Executor> executors[2];
@@ -99,8 +108,8 @@ int cmd_bench_refraction(Args& args) {
     for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
     const double fw = median(refraction[0]), df = median(refraction[1]);
     char row[512];
-    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df, df / fw,
-                  median(frame[0]), median(frame[1]));
+    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df,
+                  df / fw, median(frame[0]), median(frame[1]));
     table += row;
     std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
     rows_csv += row;
@@ -119,11 +128,16 @@ int cmd_bench_photons(Args& args) {
   uint32_t frames = 3, regular_max = 16384;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--scene") scene_file = args.value(a);
-    else if (a == "--out") out_dir = args.value(a);
-    else if (a == "--device") device = args.value(a);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    if (a == "--scene")
+      scene_file = args.value(a);
+    else if (a == "--out")
+      out_dir = args.value(a);
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max")
+      regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
     else if (a == "--grids") {
       grids = parse_powers_of_two(a, args.value(a), 64, 65536);
     } else {
@@ -147,7 +161,8 @@ int cmd_bench_photons(Args& args) {
   std::string csv = "grid,method,processed,gpu_ms\n";
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const std::string header =
-      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error within a texel | adaptive, hybrid "
+      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error within a texel | adaptive, "
+      "hybrid "
       "|\n|---|---|---|---|---|---|---|\n";
   std::string table = header, times = header;
   for (uint32_t grid : grids) {
@@ -208,8 +223,12 @@ std::string bundled_path(const char* folder, const std::string& name) {
   return std::filesystem::path(name).extension() == ".json" ? name : (data_dir() / folder / (name + ".json")).string();
 }
 
-std::string scene_path(const std::string& name) { return bundled_path("scenes", name); }
-std::string graph_path(const std::string& name) { return bundled_path("graphs", name); }
+std::string scene_path(const std::string& name) {
+  return bundled_path("scenes", name);
+}
+std::string graph_path(const std::string& name) {
+  return bundled_path("graphs", name);
+}
 
 bool is_one_of(const std::string& type, std::initializer_list<const char*> types) {
   return std::any_of(types.begin(), types.end(), [&](const char* t) { return type == t; });
@@ -248,7 +267,7 @@ Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<s
 
 constexpr std::initializer_list<const char*> kCausticPassTypes = {"caustic_map", "hierarchical_caustic_map", "adaptive_caustic_map"};
 constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_buffers", "deferred_refraction", "forward_refraction",
-                                                                      "refraction_layers"};
+                                                                     "refraction_layers"};
 
 // Whether the graph runs on this device: a graph that traces with ray queries needs them. The
 // benchmarks skip, and say so, what a device cannot run rather than fail the whole run.
@@ -275,7 +294,9 @@ int cmd_bench_accuracy(Args& args) {
                                   "caustics_adaptive_hybrid",
                                   "caustics_raytraced",
                                   "refraction_forward",
-                                  "refraction_deferred"};
+                                  "refraction_deferred",
+                                  "refraction_raytraced",
+                                  "refraction_hybrid"};
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
   uint32_t frames = 3, regular_max = 4096, caustic_size = 512, width = 640, height = 360;
   uint64_t reference_photons = 100'000'000;
@@ -283,19 +304,31 @@ int cmd_bench_accuracy(Args& args) {
   std::string out_dir, device;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--scenes") scenes = parse_names(a, args.value(a));
-    else if (a == "--graphs") graphs = parse_names(a, args.value(a));
-    else if (a == "--grids") grids = parse_powers_of_two(a, args.value(a), 64, 65536);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--regular-max") regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (a == "--caustic-size") caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
-    else if (a == "--size") parse_size(args.value(a), width, height);
-    else if (a == "--reference-photons") reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
-    else if (a == "--blur") blur = parse_number(a, args.value(a), 0, 64);
-    else if (a == "--out") out_dir = args.value(a);
-    else if (a == "--device") device = args.value(a);
-    else unknown_option(a, {"--scenes", "--graphs", "--grids", "--frames", "--regular-max", "--caustic-size", "--size", "--reference-photons", "--blur",
-                            "--out", "--device"});
+    if (a == "--scenes")
+      scenes = parse_names(a, args.value(a));
+    else if (a == "--graphs")
+      graphs = parse_names(a, args.value(a));
+    else if (a == "--grids")
+      grids = parse_powers_of_two(a, args.value(a), 64, 65536);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max")
+      regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    else if (a == "--caustic-size")
+      caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+    else if (a == "--size")
+      parse_size(args.value(a), width, height);
+    else if (a == "--reference-photons")
+      reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+    else if (a == "--blur")
+      blur = parse_number(a, args.value(a), 0, 64);
+    else if (a == "--out")
+      out_dir = args.value(a);
+    else if (a == "--device")
+      device = args.value(a);
+    else
+      unknown_option(a, {"--scenes", "--graphs", "--grids", "--frames", "--regular-max", "--caustic-size", "--size", "--reference-photons",
+                         "--blur", "--out", "--device"});
   }
   if (out_dir.empty()) throw UsageError("bench accuracy needs --out DIR");
   // Everything is loaded and checked before the first long step.
@@ -318,7 +351,8 @@ int cmd_bench_accuracy(Args& args) {
     std::string label = g.name;
     for (const auto& set : sets) label += " " + set;
     labels.push_back(label);
-    if (passes_of_types(g, kCausticPassTypes).empty() && passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
+    if (passes_of_types(g, kCausticPassTypes).empty() &&
+        passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
       throw InputError(graph_path(name) + ": bench accuracy needs a graph with a caustic or a refraction pass");
     }
   }
@@ -330,13 +364,16 @@ int cmd_bench_accuracy(Args& args) {
   vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   std::string csv = "scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n";
-  std::string table = "| scene | method | grid | photons processed | method GPU ms | frame GPU ms | relative L1 | energy ratio | shape L1 |\n|---|---|---|---|---|---|---|---|---|\n";
+  std::string table =
+      "| scene | method | grid | photons processed | method GPU ms | frame GPU ms | relative L1 | energy ratio | shape L1 "
+      "|\n|---|---|---|---|---|---|---|---|---|\n";
   const auto start = std::chrono::steady_clock::now();
-  auto add_row = [&](const std::string& scene, const char* kind, const std::string& method, uint32_t grid, double processed, const Timings& t,
-                     const reference::ImageComparison& c) {
+  auto add_row = [&](const std::string& scene, const char* kind, const std::string& method, uint32_t grid, double processed,
+                     const Timings& t, const reference::ImageComparison& c) {
     char line[512];
-    std::snprintf(line, sizeof(line), "%s,%s,%s,%u,%.0f,%.4f,%.4f,%.6f,%.6f,%.6f,%.3f,%llu\n", scene.c_str(), kind, method.c_str(), grid, processed,
-                  t.method_ms, t.frame_ms, c.relative_l1, c.energy_ratio, c.shape_l1, c.psnr, static_cast<unsigned long long>(c.nonfinite_a));
+    std::snprintf(line, sizeof(line), "%s,%s,%s,%u,%.0f,%.4f,%.4f,%.6f,%.6f,%.6f,%.3f,%llu\n", scene.c_str(), kind, method.c_str(), grid,
+                  processed, t.method_ms, t.frame_ms, c.relative_l1, c.energy_ratio, c.shape_l1, c.psnr,
+                  static_cast<unsigned long long>(c.nonfinite_a));
     csv += line;
     std::snprintf(line, sizeof(line), "| %s | %s | %s | %.0f | %.2f | %.2f | %.4f | %s | %s |\n", scene.c_str(), method.c_str(),
                   grid ? (std::to_string(grid) + "^2").c_str() : "-", processed, t.method_ms, t.frame_ms, c.relative_l1,
@@ -386,12 +423,23 @@ int cmd_bench_accuracy(Args& args) {
           executor.configure(g, width, height, {"caustics"});
           const Timings t = time_frames(executor, frames, caustic_passes);
           const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
-          add_row(scene->name, "caustics", labels[gi], grid, processed, t, reference::compare_images(executor.read_image("caustics"), photons.caustic_map, blur));
+          add_row(scene->name, "caustics", labels[gi], grid, processed, t,
+                  reference::compare_images(executor.read_image("caustics"), photons.caustic_map, blur));
         }
       } else {
-        for (const char* distance : {"dv", "dv_dn"}) {
+        // An image-space graph runs every image-space rung; one that traces exact paths by default
+        // (refraction_raytraced, refraction_hybrid) runs as it is.
+        const graph::GraphParameter* distance_param = desc.find_parameter("distance");
+        const std::string own = distance_param ? distance_param->value.get<std::string>() : "dv_dn";
+        const bool exact = own == "ray_query" || own == "hybrid";
+        if (!runs_on(vk, desc)) {
+          std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", labels[gi].c_str(), vk.device_name().c_str(),
+                       vk.ray_queries().missing.c_str());
+          continue;
+        }
+        for (const std::string& distance : exact ? std::vector<std::string>{own} : std::vector<std::string>{"dv", "dv_dn", "search"}) {
           graph::GraphDesc g = desc;
-          graph::apply_overrides(g, {std::string("distance=") + distance});
+          graph::apply_overrides(g, {"distance=" + distance});
           executor.configure(g, width, height, {"refracted"});
           const Timings t = time_frames(executor, frames, passes_of_types(desc, kRefractionPassTypes));
           reference::ImageComparison c;
@@ -419,7 +467,8 @@ int cmd_bench_accuracy(Args& args) {
   const std::filesystem::path partial = dir / ".speed_accuracy.partial.png";
   // Debian's interpreter, where python3-matplotlib installs, even when another python3 comes first on PATH.
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string command = python + " '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
+  const std::string command =
+      python + " '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
   if (std::system(command.c_str()) != 0) {
     std::filesystem::remove(partial);
     throw std::runtime_error("drawing the chart failed: " + command + " (Debian: python3-matplotlib)");
@@ -470,14 +519,22 @@ int cmd_bench_stability(Args& args) {
   std::string out_dir, device;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--grid") grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
-    else if (a == "--caustic-size") caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--reference-photons") reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
-    else if (a == "--out") out_dir = args.value(a);
-    else if (a == "--device") device = args.value(a);
-    else if (a == "--validate") validate = true;
-    else unknown_option(a, {"--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
+    if (a == "--grid")
+      grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
+    else if (a == "--caustic-size")
+      caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--reference-photons")
+      reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+    else if (a == "--out")
+      out_dir = args.value(a);
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--validate")
+      validate = true;
+    else
+      unknown_option(a, {"--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
   }
   struct Method {
     const char* label;
@@ -493,9 +550,12 @@ int cmd_bench_stability(Args& args) {
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
   vk::Context vk(device_options(device, validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
-  std::string csv = "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_flicker,reference_landed_photons\n";
-  std::string table = "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 | flicker (reference) |\n"
-                      "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::string csv =
+      "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_"
+      "flicker,reference_landed_photons\n";
+  std::string table =
+      "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 | flicker (reference) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
   const glm::vec3 shift(1e-4f, 0.0f, 0.0f);
   constexpr int kPathSteps = 6;
   const glm::vec3 step(0.02f, 0.0f, 0.0f);
@@ -511,7 +571,8 @@ int cmd_bench_stability(Args& args) {
     double reference_flicker = 0;
     if (c.moving_light) {
       for (int i = 0; i < kPathSteps; ++i) reference_path.push_back(reference_map(*with_light_moved(*scene, step * float(i))));
-      for (int i = 1; i < kPathSteps; ++i) reference_flicker += reference::compare_images(reference_path[i], reference_path[i - 1], blur).relative_l1 / (kPathSteps - 1);
+      for (int i = 1; i < kPathSteps; ++i)
+        reference_flicker += reference::compare_images(reference_path[i], reference_path[i - 1], blur).relative_l1 / (kPathSteps - 1);
     }
     for (const auto& m : methods) {
       graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
@@ -519,7 +580,8 @@ int cmd_bench_stability(Args& args) {
       if (m.extra) sets.emplace_back(m.extra);
       graph::apply_overrides(g, sets);
       if (!runs_on(vk, g)) {
-        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(), vk.ray_queries().missing.c_str());
+        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(),
+                     vk.ray_queries().missing.c_str());
         continue;
       }
       graph::Executor executor(vk, shaders, passes::builtin_registry());
@@ -561,25 +623,28 @@ int cmd_bench_stability(Args& args) {
       }
       const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
       char line[768];
-      std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu\n", c.label, m.label, accuracy.relative_l1,
-                    accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed, t.method_ms, shifted.relative_l1,
-                    shifted.energy_ratio, flicker, reference_flicker, static_cast<unsigned long long>(traced.totals.landed_photons));
+      std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu\n", c.label, m.label,
+                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
+                    t.method_ms, shifted.relative_l1, shifted.energy_ratio, flicker, reference_flicker,
+                    static_cast<unsigned long long>(traced.totals.landed_photons));
       csv += line;
       char flicker_cell[64] = "-";
       if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", flicker, reference_flicker);
-      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %.2f | %.5f | %s |\n", c.label, m.label, accuracy.relative_l1,
-                    accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed, t.method_ms, shifted.relative_l1,
-                    flicker_cell);
+      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %.2f | %.5f | %s |\n", c.label, m.label,
+                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
+                    t.method_ms, shifted.relative_l1, flicker_cell);
       table += line;
-      std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1, accuracy.energy_ratio,
-                   static_cast<unsigned long long>(nonfinite));
+      std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1,
+                   accuracy.energy_ratio, static_cast<unsigned long long>(nonfinite));
     }
   }
   char config[512];
-  std::snprintf(config, sizeof(config),
-                "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, median of %u frames after one warm-up; reference %llu photons "
-                "(Fresnel on); metrics after a Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
-                vk.device_name().c_str(), grid, caustic_size, width, height, frames, static_cast<unsigned long long>(reference_photons), blur, kPathSteps);
+  std::snprintf(
+      config, sizeof(config),
+      "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, median of %u frames after one warm-up; reference %llu photons "
+      "(Fresnel on); metrics after a Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
+      vk.device_name().c_str(), grid, caustic_size, width, height, frames, static_cast<unsigned long long>(reference_photons), blur,
+      kPathSteps);
   std::cout << config << "\n\n" << table;
   if (!out_dir.empty()) {
     const std::filesystem::path dir(out_dir);
@@ -604,10 +669,13 @@ int cmd_bench(Args& args) {
       "caustic graph x effective photon grid (default 256..4096; the regular map only up to --regular-max, 4096): the\n"
       "median GPU time of the caustic pass and of the frame, and the error of the caustic map against the photon\n"
       "reference (--reference-photons, default 1e8) after a matched blur; and for every refraction graph x distance\n"
-      "estimate (dv, dv_dn): the refraction passes' time and error against the ray-traced reference. Writes\n"
-      "DIR/results.csv, DIR/speed_accuracy.png (error against time, log-log, python3-matplotlib), DIR/README.md and\n"
-      "each scene's reference map. Default graphs: the five caustic graphs, the max-error one also with converge_test=within_texel,\n"
-      "refraction_forward, refraction_deferred. A graph is NAME or NAME:PARAM=VALUE[:PARAM=VALUE...].\n\n"
+      "(dv, dv_dn, search; a graph that traces exact paths by default, with its own): the refraction passes' time and\n"
+      "error against the ray-traced reference. Writes DIR/results.csv, DIR/speed_accuracy.png (error against time,\n"
+      "log-log, python3-matplotlib), DIR/README.md and each scene's reference map. Default graphs: the five caustic\n"
+      "graphs, the max-error one also with converge_test=within_texel, the adaptive hybrid with distance=search and as\n"
+      "it is, caustics_raytraced, refraction_forward, refraction_deferred, refraction_raytraced, refraction_hybrid (graphs\n"
+      "that need ray queries are skipped, with a note, on a device without them). A graph is NAME or\n"
+      "NAME:PARAM=VALUE[:PARAM=VALUE...].\n\n"
       "       caustica bench stability [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR] [--validate]\n\n"
       "stability: where each caustic method breaks. Every case (ball lens; bunny with the light moving; n = 2.4; grazing\n"
       "light; torus; stacked refractors; a refractor smaller than the start grid's spacing; one filling the light's view;\n"

@@ -1,0 +1,54 @@
+#ifndef CAUSTICA_RAY_QUERY_GLSL
+#define CAUSTICA_RAY_QUERY_GLSL
+// The scene's exact geometry through ray queries (GL_EXT_ray_query), for the passes that trace exact
+// paths (passes/refraction.h, RayQueryScene): binding 14 is the top-level acceleration structure,
+// 15 the vertex indices of every triangle, whose instance custom index is the object's first
+// triangle (engine/scene/acceleration.cpp). Needs SCENE_OBJECTS-style bindings 0 to 2 in the
+// including shader.
+#extension GL_EXT_ray_query : require
+#include "scene/scene.glsl"
+SCENE_VERTICES
+layout(set = 0, binding = 14) uniform accelerationStructureEXT scene_tlas;
+layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
+
+struct SurfaceHit {
+  bool hit;
+  float t;
+  vec3 normal;  // interpolated, unit
+  uint object;
+};
+
+SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, t_min, direction, 1e30);
+  while (rayQueryProceedEXT(query)) {
+  }
+  SurfaceHit h;
+  h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
+  h.t = 0.0;
+  h.normal = vec3(0.0, 1.0, 0.0);
+  h.object = 0u;
+  if (!h.hit) return h;
+  h.t = rayQueryGetIntersectionTEXT(query, true);
+  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) + rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
+  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
+  Vertex v0 = vertices[triangle_vertices[3u * triangle]];
+  Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
+  Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
+  vec3 n = (1.0 - b.x - b.y) * v0.normal_object.xyz + b.x * v1.normal_object.xyz + b.y * v2.normal_object.xyz;
+  vec3 geometric = cross(v1.position_dn.xyz - v0.position_dn.xyz, v2.position_dn.xyz - v0.position_dn.xyz);
+  h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
+  h.object = uint(v0.normal_object.w + 0.5);
+  return h;
+}
+
+// Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).
+bool occluded(vec3 origin, vec3 direction, float t_max) {
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, origin, 0.0, direction, t_max);
+  while (rayQueryProceedEXT(query)) {
+  }
+  return rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT;
+}
+
+#endif
