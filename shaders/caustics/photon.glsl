@@ -12,6 +12,7 @@
 // internal reflection followed, absorption, up to exact_max_interfaces refractor interfaces.
 #extension GL_EXT_shader_atomic_float : require
 #define REFRACTION_NO_CAMERA
+#define REFRACTION_FRONT_TEX
 #include "refraction/refraction.glsl"
 
 // Exact-path counters, at consecutive slots from params.exact_counters (passes/refraction.cpp,

@@ -25,6 +25,7 @@ layout(push_constant) uniform Params {
   uint exact_counters;
 } params;
 
+#define REFRACTION_FRONT_TEX
 #include "refraction/refraction.glsl"
 
 layout(location = 0) out vec4 out_color;

@@ -100,6 +100,51 @@ float search_exit(mat4 view_proj, vec3 eye, vec3 p1, vec3 t1, float d, float d_m
   return d;
 }
 
+#ifdef REFRACTION_FRONT_TEX
+// Total internal reflection followed inside by the search (Davis and Wyman 2007), where the
+// including shader has the refractor's front surfaces too (front_tex): at most this many bounces.
+const int SEARCH_TIR_BOUNCES = 3;
+
+// Whether q lies between the refractor's front and back surfaces as `view_proj` sees them.
+bool inside_refractor(mat4 view_proj, vec3 eye, vec3 q) {
+  vec2 uv;
+  float depth;
+  if (!project_with(view_proj, q, uv, depth)) return false;
+  vec4 front = texture(front_tex, uv), back = texture(back_tex, uv);
+  float d = distance(q, eye);
+  return front.y > 0.0 && back.y > 0.0 && d > front.y && d < back.y;
+}
+
+// From p inside the refractor along `direction`: the distance to where the ray leaves it (linear
+// steps, then bisection) and the outward normal of the surface it leaves through, the front or
+// the back one; false when it does not leave within d_max.
+bool leave_refractor(mat4 view_proj, vec3 eye, vec3 p, vec3 direction, float d_max, out float t_exit, out vec3 normal) {
+  float before = 0.0;
+  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
+    float t = d_max * float(i) / float(EXIT_SEARCH_STEPS);
+    if (!inside_refractor(view_proj, eye, p + direction * t)) {
+      float lo = before, hi = t;
+      for (int b = 0; b < EXIT_BISECTIONS; ++b) {
+        float mid = 0.5 * (lo + hi);
+        if (inside_refractor(view_proj, eye, p + direction * mid)) lo = mid;
+        else hi = mid;
+      }
+      t_exit = 0.5 * (lo + hi);
+      vec2 uv;
+      float depth;
+      if (!project_with(view_proj, p + direction * hi, uv, depth)) return false;
+      vec4 front = texture(front_tex, uv), back = texture(back_tex, uv);
+      if (front.y <= 0.0 || back.y <= 0.0) return false;
+      float d = distance(p + direction * hi, eye);
+      normal = unpack_normal(abs(d - front.y) < abs(d - back.y) ? front.x : back.x);
+      return true;
+    }
+    before = t;
+  }
+  return false;
+}
+#endif
+
 // The path through two interfaces from a front surface point p1 (outward normal n1) seen from
 // `eye` through `view_proj`, whose refractor buffers are back_tex (and the front's distance).
 struct TwoInterfaces {
@@ -166,6 +211,28 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1,
       }
     }
   }
+#ifdef REFRACTION_FRONT_TEX
+  // The search follows total internal reflection inside; the hybrid traces such paths exactly.
+  if (params.distance_mode == DISTANCE_SEARCH && r.tir) {
+    float d_max = 2.0 * max(max(dv, dn), d) + 1e-4;
+    for (int bounce = 0; bounce < SEARCH_TIR_BOUNCES && r.tir; ++bounce) {
+      float t;
+      vec3 n_out;
+      if (!leave_refractor(view_proj, eye, r.exit_point, r.exit_direction, d_max, t, n_out)) break;
+      r.exit_point += r.exit_direction * t;
+      r.distance += t;
+      vec3 inward = dot(r.exit_direction, n_out) > 0.0 ? -n_out : n_out;
+      vec3 out_direction = refract(r.exit_direction, inward, ior);
+      if (dot(out_direction, out_direction) == 0.0) {
+        r.exit_direction = reflect(r.exit_direction, inward);
+      } else {
+        r.tir = false;
+        r.transmit_out = 1.0 - fresnel_dielectric(-dot(r.exit_direction, inward), ior, 1.0);
+        r.exit_direction = normalize(out_direction);
+      }
+    }
+  }
+#endif
   r.exit_direction = normalize(r.exit_direction);
   return r;
 }
