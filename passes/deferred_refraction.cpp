@@ -43,22 +43,11 @@ class DeferredRefractionPass final : public graph::Pass {
 graph::PassTypeDecl deferred_refraction_pass_type() {
   using namespace graph;
   auto ports = refraction_inputs();
-  ports.push_back({"front",
-                   PortAccess::read,
-                   ResourceKind::image,
-                   PortUsage::sampled,
-                   {Format::rgba32f},
-                   false,
-                   "frame",
-                   "refractor front surfaces (refractor_buffers)"});
-  ports.push_back({"back",
-                   PortAccess::read,
-                   ResourceKind::image,
-                   PortUsage::sampled,
-                   {Format::rgba32f},
-                   false,
-                   "frame",
-                   "refractor back surfaces (refractor_buffers)"});
+  auto surfaces = [](const char* name, const char* what) {
+    return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame", what};
+  };
+  ports.push_back(surfaces("front", "refractor front surfaces (refractor_buffers)"));
+  ports.push_back(surfaces("back", "refractor back surfaces (refractor_buffers)"));
   ports.push_back({"color",
                    PortAccess::write,
                    ResourceKind::image,
