@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -147,12 +148,48 @@ TEST(Cli, BundledScenesValidate) {
   EXPECT_GE(scenes, 8);
 }
 
+// An installed copy runs from anywhere with its own data: `cmake --install` into a prefix, the
+// prefix moved to another folder, the binary run from a third one.
+TEST(Cli, AnInstalledCopyRunsWhereverItIsMoved) {
+  fs::path dir = scratch("install");
+  const std::string install = "cmake --install '" CAUSTICA_BUILD_DIR "' --prefix '" + (dir / "first").string() + "' > /dev/null 2>&1";
+  ASSERT_EQ(std::system(install.c_str()), 0) << install;
+  fs::rename(dir / "first", dir / "moved");
+  fs::create_directories(dir / "elsewhere");
+  const fs::path bin = dir / "moved" / "bin" / "caustica";
+  auto installed = [&](const std::string& args) {
+    const std::string command = "cd '" + (dir / "elsewhere").string() + "' && '" + bin.string() + "' " + args + " 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    std::string output;
+    std::array<char, 4096> buffer;
+    while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    return CliRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  };
+  const CliRun help = installed("--help");
+  EXPECT_NE(help.output.find("data folder (graphs, shaders, scenes): " + (dir / "moved" / "share" / "caustica").string()), std::string::npos)
+      << help.output;
+  const CliRun render = installed("render --size 32x18 --out x.png");
+  EXPECT_EQ(render.code, 0) << render.output;
+  EXPECT_TRUE(fs::exists(dir / "elsewhere" / "x.png"));
+  fs::remove_all(dir);
+}
+
+// As a user types it, `validate graphs/*.json`: every graph ok, the schema beside them skipped.
 TEST(Cli, BundledGraphsValidate) {
+  std::string files;
+  int graphs = 0;
   for (const auto& entry : fs::directory_iterator(kSource / "graphs")) {
-    if (entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
-    CliRun r = run("validate '" + entry.path().string() + "'");
-    EXPECT_EQ(r.code, 0) << r.output;
+    if (entry.path().extension() != ".json") continue;
+    files += " '" + entry.path().string() + "'";
+    graphs += entry.path().filename() == "schema.json" ? 0 : 1;
   }
+  CliRun r = run("validate" + files);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("schema.json: skipped (a JSON Schema"), std::string::npos) << r.output;
+  size_t ok = 0;
+  for (size_t at = r.output.find(".json: ok"); at != std::string::npos; at = r.output.find(".json: ok", at + 1)) ++ok;
+  EXPECT_EQ(ok, static_cast<size_t>(graphs)) << r.output;
 }
 
 TEST(Cli, EveryCommandHasHelp) {
@@ -160,6 +197,12 @@ TEST(Cli, EveryCommandHasHelp) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
+  }
+  // The top-level help names every subcommand of bench and graph.
+  const CliRun top = run("--help");
+  for (const char* sub : {"'bench refraction'", "'bench photons'", "'bench accuracy'", "'bench stability'", "'graph plan", "'graph dot",
+                          "'graph schema'", "'graph set"}) {
+    EXPECT_NE(top.output.find(sub), std::string::npos) << sub << " in\n" << top.output;
   }
 }
 
@@ -223,6 +266,16 @@ TEST(Cli, GraphPlanAndDot) {
   ASSERT_EQ(dot.code, 0);
   EXPECT_EQ(dot.output.rfind("digraph", 0), 0u);
   EXPECT_NE(dot.output.find("(culled)"), std::string::npos);
+  // Line breaks in labels are Graphviz's \n escape, not a backslash that Graphviz prints.
+  EXPECT_NE(dot.output.find("unused_preview\\n(culled)"), std::string::npos) << dot.output;
+  EXPECT_EQ(dot.output.find("\\\\n"), std::string::npos) << dot.output;
+  // Piped into Graphviz as the README does (tools/install-deps.sh installs it): the culled pass's
+  // label is two lines of text, with no backslash left in it.
+  CliRun svg = run("graph dot '" + (kSource / "graphs/core_demo.json").string() + "' | dot -Tsvg");
+  EXPECT_EQ(svg.code, 0) << svg.output;
+  EXPECT_NE(svg.output.find(">unused_preview</text>"), std::string::npos) << svg.output;
+  EXPECT_NE(svg.output.find(">(culled)</text>"), std::string::npos) << svg.output;
+  EXPECT_EQ(svg.output.find("\\n"), std::string::npos) << svg.output;
 }
 
 // graph set (and the viewer's Save) changes the parameter values and nothing else in the file.
@@ -267,7 +320,7 @@ TEST(Cli, CheckedInSchemaMatchesThePassRegistry) {
 TEST(Cli, ReferenceAndBenchmarksRun) {
   fs::path dir = scratch("bench");
   const std::string sphere = "'" + (kSource / "scenes/sphere_plane.json").string() + "'";
-  CliRun ref = run("reference --scene " + sphere + " --size 64x36 --out ref.exr", dir);
+  CliRun ref = run("reference --scene " + sphere + " --size 64X36 --out ref.exr", dir);
   ASSERT_EQ(ref.code, 0) << ref.output;
   EXPECT_GT(fs::file_size(dir / "ref.exr"), 1000u);
 
@@ -283,6 +336,14 @@ TEST(Cli, ReferenceAndBenchmarksRun) {
   CliRun refraction = run("bench refraction --sphere-detail 16 --size 64x36 --frames 2 --csv refraction.csv", dir);
   ASSERT_EQ(refraction.code, 0) << refraction.output;
   EXPECT_NE(read(dir / "refraction.csv").find("sphere, detail 16,224,"), std::string::npos);
+  // No scene given: the bundled ball lens and bunny; one timed frame is enough to ask for. Piped, the
+  // progress comes as whole lines, never carriage returns that run together.
+  CliRun bundled = run("bench refraction --size 64x36 --frames 1 --csv bundled.csv", dir);
+  ASSERT_EQ(bundled.code, 0) << bundled.output;
+  const std::string rows = read(dir / "bundled.csv");
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 3) << rows;  // header, ball lens, bunny
+  EXPECT_EQ(bundled.output.find('\r'), std::string::npos) << bundled.output;
+  EXPECT_NE(bundled.output.find(": frames 3/3"), std::string::npos) << bundled.output;
   fs::remove_all(dir);
 }
 

@@ -18,7 +18,7 @@ packages=(
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
   clang libclang-rt-14-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib graphviz
 )
 
 sudo_cmd=()

@@ -155,6 +155,10 @@ std::string plan_to_dot(const Plan& plan) {
   auto quote = [](const std::string& s) {
     std::string out = "\"";
     for (char c : s) {
+      if (c == '\n') {  // a line break inside a Graphviz label
+        out += "\\n";
+        continue;
+      }
       if (c == '"' || c == '\\') out += '\\';
       out += c;
     }
@@ -164,19 +168,19 @@ std::string plan_to_dot(const Plan& plan) {
   for (size_t i = 0; i < plan.passes.size(); ++i) {
     const auto& p = plan.passes[i];
     out += "  " + quote("pass:" + p.name) + " [shape=box, style=filled, fillcolor=\"#cfe2ff\", label=" +
-           quote(std::to_string(i) + ": " + p.name + "\\n(" + p.type + ")") + "];\n";
+           quote(std::to_string(i) + ": " + p.name + "\n(" + p.type + ")") + "];\n";
   }
   for (const auto& name : plan.culled) {
     out += "  " + quote("pass:" + name) + " [shape=box, style=\"filled,dashed\", fillcolor=\"#eeeeee\", fontcolor=\"#888888\", label=" +
-           quote(name + "\\n(culled)") + "];\n";
+           quote(name + "\n(culled)") + "];\n";
   }
   for (const auto& r : plan.resources) {
     if (!r.used()) continue;
-    std::string label = r.name + "\\n";
+    std::string label = r.name + "\n";
     label += r.kind == ResourceKind::image
                  ? std::to_string(r.width) + "x" + std::to_string(r.height) + " " + format_info(r.format).name
                  : std::to_string(r.buffer_size) + " B";
-    if (!r.transient) label += r.output ? "\\noutput" : "\\nretained";
+    if (!r.transient) label += r.output ? "\noutput" : "\nretained";
     out += "  " + quote("res:" + r.name) + " [shape=ellipse, style=filled, fillcolor=" + (r.output ? "\"#ffe5b4\"" : "\"#ffffff\"") +
            ", label=" + quote(label) + "];\n";
   }

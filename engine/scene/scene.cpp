@@ -192,7 +192,7 @@ Scene load_scene(const JsonDocument& doc) {
     const std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "a light type") : "spot";
     if (type == "spot") light.type = LightType::spot;
     else if (type == "point") light.type = LightType::point;
-    else throw doc.error(pointer + "/type", "unknown light type '" + type + "'" + did_you_mean(type, types));
+    else throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point)" + did_you_mean(type, types));
     if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
     if (value.contains("intensity")) light.intensity = static_cast<float>(read.number(value["intensity"], pointer + "/intensity", "\"intensity\"", 0.0, 1e9));
     if (value.contains("color")) light.color = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1e4);

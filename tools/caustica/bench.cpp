@@ -26,6 +26,22 @@
 
 namespace caustica::cli {
 
+namespace {
+
+// A file (NAME.json) as given, or a bundled one by name ("bunny_plane", "stability/close_light").
+std::string bundled_path(const char* folder, const std::string& name) {
+  return std::filesystem::path(name).extension() == ".json" ? name : (data_dir() / folder / (name + ".json")).string();
+}
+
+std::string scene_path(const std::string& name) {
+  return bundled_path("scenes", name);
+}
+std::string graph_path(const std::string& name) {
+  return bundled_path("graphs", name);
+}
+
+}  // namespace
+
 // Deferred against forward refraction: the same scene through both graphs, frames interleaved so
 // that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
 int cmd_bench_refraction(Args& args) {
@@ -40,7 +56,7 @@ int cmd_bench_refraction(Args& args) {
     else if (a == "--size")
       parse_size(args.value(a), width, height);
     else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 2, 1000));
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000));
     else if (a == "--sphere-detail")
       sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
     else if (a == "--device")
@@ -73,7 +89,12 @@ int cmd_bench_refraction(Args& args) {
     }
     cases.push_back({"sphere, detail " + std::to_string(detail), std::make_shared<const scene::Scene>(std::move(s))});
   }
-  if (cases.empty()) throw UsageError("bench refraction needs --scene FILE or --sphere-detail N (repeatable)");
+  if (cases.empty()) {  // the bundled ball lens and bunny
+    for (const char* name : {"sphere_plane", "bunny_plane"}) {
+      auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(name)));
+      cases.push_back({s->name, s});
+    }
+  }
 
   vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
@@ -90,6 +111,7 @@ int cmd_bench_refraction(Args& args) {
       executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
     }
     std::vector<double> refraction[2], frame[2];
+    ProgressLine progress(c.label + ": frames", frames + 2);
     for (uint32_t f = 0; f < frames + 2; ++f) {
       for (int g = 0; g < 2; ++g) {
         auto result = executors[g]->run_frame(false);
@@ -101,9 +123,8 @@ int cmd_bench_refraction(Args& args) {
         refraction[g].push_back(ms);
         frame[g].push_back(result.gpu_ms);
       }
-      std::fprintf(stderr, "\r%s: frame %u/%u   ", c.label.c_str(), f + 1, frames + 2);
+      progress.update(f + 1);
     }
-    std::fprintf(stderr, "\n");
     size_t triangles = 0;
     for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
     const double fw = median(refraction[0]), df = median(refraction[1]);
@@ -217,18 +238,6 @@ int cmd_bench_photons(Args& args) {
 }
 
 namespace {
-
-// A file (NAME.json) as given, or a bundled one by name ("bunny_plane", "stability/close_light").
-std::string bundled_path(const char* folder, const std::string& name) {
-  return std::filesystem::path(name).extension() == ".json" ? name : (data_dir() / folder / (name + ".json")).string();
-}
-
-std::string scene_path(const std::string& name) {
-  return bundled_path("scenes", name);
-}
-std::string graph_path(const std::string& name) {
-  return bundled_path("graphs", name);
-}
 
 bool is_one_of(const std::string& type, std::initializer_list<const char*> types) {
   return std::any_of(types.begin(), types.end(), [&](const char* t) { return type == t; });
@@ -686,9 +695,10 @@ int cmd_bench(Args& args) {
       "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
       "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
       "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
-      "Deferred against forward refraction on the same scenes, one run, frames interleaved: median GPU time of the\n"
-      "refraction passes (refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders\n"
-      "the ball-lens scene with its sphere tessellated into N slices (triangle count alone varies).\n";
+      "refraction: deferred against forward refraction on the same scenes (default: the bundled ball lens and bunny),\n"
+      "one run, frames interleaved, after two warm-up frames: median GPU time of the refraction passes\n"
+      "(refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders the ball-lens scene\n"
+      "with its sphere tessellated into N slices (triangle count alone varies).\n";
   if (args.wants_help()) {
     std::cout << help;
     return 0;

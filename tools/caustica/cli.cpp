@@ -46,10 +46,20 @@ double parse_number(const std::string& flag, const std::string& text, double min
 }
 
 void parse_size(const std::string& v, uint32_t& width, uint32_t& height) {
-  size_t x = v.find('x');
-  if (x == std::string::npos) throw UsageError("--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720");
-  width = static_cast<uint32_t>(parse_uint("--size width", v.substr(0, x), 1, 16384));
-  height = static_cast<uint32_t>(parse_uint("--size height", v.substr(x + 1), 1, 16384));
+  const size_t x = v.find_first_of("xX");
+  const std::string usage = "--size " + v + ": expected WIDTHxHEIGHT, e.g. 1280x720";
+  if (x == std::string::npos) throw UsageError(usage);
+  if (x == 0) throw UsageError(usage + " (the width is missing)");
+  if (x + 1 == v.size()) throw UsageError(usage + " (the height is missing)");
+  const auto part = [&](const char* name, const std::string& text) {
+    try {
+      return static_cast<uint32_t>(parse_uint("--size", text, 1, 16384));
+    } catch (const UsageError&) {
+      throw UsageError(usage + " (the " + name + " '" + text + "' is not a whole number from 1 to 16384)");
+    }
+  };
+  width = part("width", v.substr(0, x));
+  height = part("height", v.substr(x + 1));
 }
 
 std::vector<uint32_t> parse_powers_of_two(const std::string& flag, const std::string& list, uint32_t min, uint32_t max) {

@@ -41,9 +41,11 @@ commands:
   render     render frames headless to PNG or EXR, with stats and resource dumps
   trace      render frames and write a Chrome trace-event file (Perfetto, chrome://tracing)
   validate   check graph and scene files; exit 0 when all are valid, 1 with messages otherwise
-  graph      print the compiled plan of a graph: 'graph plan FILE' (JSON) or 'graph dot FILE'
+  graph      compiled plans and graph files: 'graph plan FILE' (JSON), 'graph dot FILE' (Graphviz),
+             'graph schema' (the JSON Schema of graph files), 'graph set FILE NAME=VALUE...' (new defaults)
   devices    list the Vulkan devices
-  bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's table)
+  bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's
+             table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
@@ -59,7 +61,8 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
   --frames N            frames to run (default 1; timings are medians over frames 2..N)
   --set NAME=VALUE      override a graph parameter (repeatable)
   --stats FILE.json     per-pass GPU/CPU times, frame times, memory and counters
-  --dump RES=FILE.exr   write an image resource as it stood at the end of the last frame (repeatable)
+  --dump RES=FILE.exr   write an image resource as it stood at the end of the last frame (repeatable;
+                        .exr keeps float values, .png only for 8-bit resources)
   --device NAME         Vulkan device whose name contains NAME (default: lavapipe)
   --validate            enable Khronos validation (with synchronization validation); any
                         message makes the command exit 3
@@ -134,6 +137,11 @@ int run_render(const RenderOptions& o, bool trace) {
     const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(executor.plan().resolve(resource)))];
     if (r.kind != graph::ResourceKind::image) throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
     if (!r.used()) throw InputError("--dump " + resource + ": '" + resource + "' is not used by any pass that runs");
+    const bool eight_bit = r.format == graph::Format::rgba8 || r.format == graph::Format::rgba8_srgb;
+    if (!eight_bit && std::filesystem::path(file).extension() != ".exr") {
+      throw InputError("--dump " + resource + "=" + file + ": '" + resource + "' holds " + graph::format_info(r.format).name +
+                       " values, which an 8-bit PNG would clip and round; write it to a .exr file");
+    }
   }
 
   graph::RunRecord run;
@@ -199,7 +207,8 @@ int cmd_validate(Args& args) {
     std::cout << "usage: caustica validate FILE...\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
                  "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
                  "objects); a scene (a file with \"camera\" or \"objects\") is loaded\n"
-                 "with its meshes. Prints 'FILE: ok' or the problems with file, line and JSON pointer.\n"
+                 "with its meshes; a JSON Schema (graphs/schema.json) is skipped. Prints 'FILE: ok' or the problems\n"
+                 "with file, line and JSON pointer.\n"
                  "A graph with a pass that traces exact paths (ray queries) is also checked against the device it\n"
                  "would run on (lavapipe by default; CAUSTICA_NO_RAY_QUERY=1 masks ray queries).\n"
                  "Exit 0 when every file is valid, 1 otherwise.\n";
@@ -210,7 +219,14 @@ int cmd_validate(Args& args) {
     std::string file = args.take();
     try {
       JsonDocument doc = JsonDocument::load(file);
-      if (doc.root().is_object() && (doc.root().contains("camera") || doc.root().contains("objects"))) {
+      const auto& root = doc.root();
+      // graphs/schema.json sits beside the graphs, so that `validate graphs/*.json` meets it.
+      if (root.is_object() && root.contains("$schema") && root["$schema"].is_string() &&
+          root["$schema"].get<std::string>().find("json-schema.org") != std::string::npos) {
+        std::cout << file << ": skipped (a JSON Schema, not a graph or a scene)\n";
+        continue;
+      }
+      if (root.is_object() && (root.contains("camera") || root.contains("objects"))) {
         scene::load_scene(doc);
       } else {
         graph::CompileOptions options;
@@ -448,7 +464,7 @@ int main(int argc, char** argv) {
     std::string command = argv[1];
     Args args(argc, argv, 2);
     if (command == "--help" || command == "-h" || command == "help") {
-      std::cout << kMainHelp;
+      std::cout << kMainHelp << "data folder (graphs, shaders, scenes): " << data_dir().string() << " (CAUSTICA_DATA_DIR overrides)\n";
       return 0;
     }
     if (command == "render") return cmd_render(args);
