@@ -28,7 +28,22 @@ float linear_depth(LightData light, float depth) {
   return n * f / (f - depth * (f - n));
 }
 
-float shadow_factor(LightData light, vec3 p) {
+// Where a receiver at p with normal n looks itself up in a light-view depth map of `size` texels:
+// moved off the surface along its normal by two of that map's texels at p's distance, scaled by
+// the sine of the light's angle to the normal. At grazing light one texel of the map spans a long
+// stretch of the surface whose depth changes across it, and without the offset the surface
+// shadows itself in stripes (shadow acne); a constant bias alone would have to grow large enough
+// to detach every shadow from its caster.
+vec3 normal_offset(LightData light, vec3 p, vec3 n, float size) {
+  vec3 to_light = light.position_type.xyz - p;
+  float d = max(length(to_light), 1e-6);
+  float cos_theta = clamp(dot(n, to_light / d), 0.0, 1.0);
+  float texel = 2.0 * light.clip.z * d / size;
+  return p + n * (2.0 * texel * sqrt(1.0 - cos_theta * cos_theta));
+}
+
+float shadow_factor(LightData light, vec3 p, vec3 n) {
+  p = normal_offset(light, p, n, float(textureSize(shadow_tex, 0).x));
   vec4 clip = light.view_proj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 ndc = clip.xyz / clip.w;
@@ -48,7 +63,7 @@ float shadow_factor(LightData light, vec3 p) {
 // covers at this point, dw r^2 / cos(theta); only on the surface the light sees first (the
 // receiver depth test, like a shadow map).
 vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
-  vec4 clip = light.view_proj * vec4(p, 1.0);
+  vec4 clip = light.view_proj * vec4(normal_offset(light, p, n, float(textureSize(caustic_depth_tex, 0).x)), 1.0);
   if (clip.w <= 0.0) return vec3(0.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
@@ -83,7 +98,7 @@ void main() {
     vec3 l = to_light * inversesqrt(d2);
     float cone = spot_cone(light, -l);
     if (light.position_type.w == 0.0) {
-      if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p);
+      if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p, n);
       if (i == 0 && params.has_caustics != 0) irradiance += caustic_irradiance(light, p, n);
     }
     irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
