@@ -23,8 +23,9 @@ struct CliRun {
   std::string output;  // stdout and stderr together
 };
 
-CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) {
-  std::string command = "cd '" + cwd.string() + "' && '" CAUSTICA_BIN "' " + args + " 2>&1";
+// Runs `binary args` in `cwd`, its standard error with its output.
+CliRun run_binary(const fs::path& binary, const std::string& args, const fs::path& cwd) {
+  std::string command = "cd '" + cwd.string() + "' && '" + binary.string() + "' " + args + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "r");
   std::string output;
   std::array<char, 4096> buffer;
@@ -32,6 +33,8 @@ CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_pat
   int status = ::pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
+
+CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) { return run_binary(CAUSTICA_BIN, args, cwd); }
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);
@@ -157,15 +160,7 @@ TEST(Cli, AnInstalledCopyRunsWhereverItIsMoved) {
   fs::rename(dir / "first", dir / "moved");
   fs::create_directories(dir / "elsewhere");
   const fs::path bin = dir / "moved" / "bin" / "caustica";
-  auto installed = [&](const std::string& args) {
-    const std::string command = "cd '" + (dir / "elsewhere").string() + "' && '" + bin.string() + "' " + args + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    std::string output;
-    std::array<char, 4096> buffer;
-    while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    return CliRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-  };
+  auto installed = [&](const std::string& args) { return run_binary(bin, args, dir / "elsewhere"); };
   const CliRun help = installed("--help");
   EXPECT_NE(help.output.find("data folder (graphs, shaders, scenes): " + (dir / "moved" / "share" / "caustica").string()), std::string::npos)
       << help.output;

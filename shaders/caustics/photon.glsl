@@ -157,14 +157,18 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   TwoInterfaces path = refract_two_interfaces(light.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
+  // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
+  uint reason = EXIT_TRUSTED;
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+#endif
   vec2 landing;
-  bool lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing);
+  bool lands = reason == EXIT_TRUSTED && !path.tir &&
+               march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing);
 #ifdef CAUSTICA_RAY_QUERY
   if (params.distance_mode == DISTANCE_HYBRID) {
-    // Re-traced exactly, from the light, only where the estimate cannot be trusted; one counter
-    // per reason (the first that applies).
-    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
-    if (reason == EXIT_TRUSTED && lands &&
+    if (lands &&
         crosses_other_refractor(path.exit_point, world_from_depth(light.inv_view_proj, landing, texture(receiver_depth, landing).r), uint(front.w))) {
       reason = EXIT_MULTIPLE;
     }
