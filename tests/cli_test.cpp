@@ -34,7 +34,9 @@ CliRun run_binary(const fs::path& binary, const std::string& args, const fs::pat
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
-CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) { return run_binary(CAUSTICA_BIN, args, cwd); }
+CliRun run(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) {
+  return run_binary(CAUSTICA_BIN, args, cwd);
+}
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);
@@ -162,7 +164,8 @@ TEST(Cli, AnInstalledCopyRunsWhereverItIsMoved) {
   const fs::path bin = dir / "moved" / "bin" / "caustica";
   auto installed = [&](const std::string& args) { return run_binary(bin, args, dir / "elsewhere"); };
   const CliRun help = installed("--help");
-  EXPECT_NE(help.output.find("data folder (graphs, shaders, scenes): " + (dir / "moved" / "share" / "caustica").string()), std::string::npos)
+  EXPECT_NE(help.output.find("data folder (graphs, shaders, scenes): " + (dir / "moved" / "share" / "caustica").string()),
+            std::string::npos)
       << help.output;
   const CliRun render = installed("render --size 32x18 --out x.png");
   EXPECT_EQ(render.code, 0) << render.output;
