@@ -427,5 +427,18 @@ TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
   const auto stats = nlohmann::json::parse(read(dir / "s.json"));
   EXPECT_GT(stats["memory"]["acceleration_bytes"].get<double>(), 0.0);
   EXPECT_GT(stats["counters"]["photons.exact"].get<double>(), 0.0);
+  // The plan, compiled without a device, reports the same scene's acceleration memory: its inputs
+  // exactly (a part of what the device holds) and the structures as an estimate of the driver's size.
+  const CliRun plan = run("graph plan " + raytraced + sphere, dir);
+  ASSERT_EQ(plan.code, 0) << plan.output;
+  const auto acceleration = nlohmann::json::parse(plan.output)["memory"]["acceleration"];
+  const double held = stats["memory"]["acceleration_bytes"].get<double>();
+  EXPECT_EQ(acceleration["triangles"].get<double>(), 4018.0);  // ball 3968, floor 2, four checker boxes 12 each
+  EXPECT_LT(acceleration["input_bytes"].get<double>(), held);
+  EXPECT_GT(acceleration["bytes_estimate"].get<double>(), 0.5 * held);
+  EXPECT_LT(acceleration["bytes_estimate"].get<double>(), 2.0 * held);
+  const CliRun image_space_plan = run("graph plan '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere, dir);
+  ASSERT_EQ(image_space_plan.code, 0) << image_space_plan.output;
+  EXPECT_FALSE(nlohmann::json::parse(image_space_plan.output)["memory"].contains("acceleration"));
   fs::remove_all(dir);
 }

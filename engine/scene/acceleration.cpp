@@ -37,9 +37,27 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize alignment) { return (v + alignment - 1) / alignment * alignment; }
+VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize alignment) {
+  return (v + alignment - 1) / alignment * alignment;
+}
 
 }  // namespace
+
+AccelerationEstimate estimate_acceleration(const Scene& scene) {
+  constexpr uint64_t kBytesPerTriangle = 104, kBytesPerInstance = 176;
+  AccelerationEstimate estimate;
+  uint64_t vertices = 0;
+  for (const auto& object : scene.objects) {
+    vertices += object.mesh.positions.size();
+    const uint64_t triangles = object.mesh.indices.size() / 3;
+    estimate.triangles += triangles;
+    estimate.instances += triangles > 0 ? 1 : 0;
+  }
+  estimate.input_bytes = vertices * sizeof(glm::vec3) + estimate.triangles * 3 * sizeof(uint32_t) +
+                         estimate.instances * sizeof(VkAccelerationStructureInstanceKHR);
+  estimate.structure_bytes = estimate.triangles * kBytesPerTriangle + estimate.instances * kBytesPerInstance;
+  return estimate;
+}
 
 AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& scene, const std::vector<uint32_t>& vertex_base) {
   if (!vk.ray_queries().available) {
@@ -67,8 +85,8 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
   if (geometries.empty()) throw InputError(scene.path + ": no triangles to build acceleration structures from");
 
   positions_ = vk::make_static_buffer(vk, positions.data(), positions.size() * sizeof(glm::vec3), kBuildInput, "acceleration positions");
-  triangles_ = vk::make_static_buffer(vk, triangles.data(), triangles.size() * sizeof(uint32_t), kBuildInput | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                      "acceleration triangles");
+  triangles_ = vk::make_static_buffer(vk, triangles.data(), triangles.size() * sizeof(uint32_t),
+                                      kBuildInput | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "acceleration triangles");
   const VkDeviceAddress positions_address = vk::device_address(vk, positions_.get());
   const VkDeviceAddress triangles_address = vk::device_address(vk, triangles_.get());
 
@@ -82,8 +100,9 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
   auto create_level = [&](Level& level, VkAccelerationStructureBuildGeometryInfoKHR& build, uint32_t primitives, const std::string& name) {
     VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
     vk.rt.build_sizes(vk.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &build, &primitives, &sizes);
-    level.storage = vk::make_buffer(vk, sizes.accelerationStructureSize,
-                                    VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, 0, name);
+    level.storage =
+        vk::make_buffer(vk, sizes.accelerationStructureSize,
+                        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, 0, name);
     VkAccelerationStructureCreateInfoKHR create{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
     create.buffer = level.storage.get();
     create.size = sizes.accelerationStructureSize;
@@ -142,7 +161,8 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
     instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
     instance.accelerationStructureReference = vk.rt.address(vk.device(), &address);
   }
-  if (triangles.size() / 3 >= (1u << 24)) throw InputError(scene.path + ": more than 2^24 triangles; an instance's custom index cannot reach them");
+  if (triangles.size() / 3 >= (1u << 24))
+    throw InputError(scene.path + ": more than 2^24 triangles; an instance's custom index cannot reach them");
   instances_ = vk::make_static_buffer(vk, instances.data(), instances.size() * sizeof(VkAccelerationStructureInstanceKHR), kBuildInput,
                                       "acceleration instances");
   VkAccelerationStructureGeometryKHR tlas_geometry{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
@@ -159,8 +179,9 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
   scratch_bytes += create_level(tlas_, tlas_build, static_cast<uint32_t>(instances.size()), "tlas");
   bytes_ += positions_.size + triangles_.size + instances_.size;
 
-  vk::Buffer scratch = vk::make_buffer(vk, scratch_bytes + scratch_alignment,
-                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, 0, "acceleration scratch");
+  vk::Buffer scratch =
+      vk::make_buffer(vk, scratch_bytes + scratch_alignment, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                      0, "acceleration scratch");
   const VkDeviceAddress scratch_address = align_up(vk::device_address(vk, scratch.get()), scratch_alignment);
   for (size_t g = 0; g < blas_builds.size(); ++g) blas_builds[g].scratchData.deviceAddress = scratch_address + scratch_offsets[g];
   tlas_build.scratchData.deviceAddress = scratch_address + tlas_scratch_offset;

@@ -31,6 +31,17 @@ class OwnedAccelerationStructure {
   VkAccelerationStructureKHR handle_ = VK_NULL_HANDLE;
 };
 
+// What AccelerationStructures would hold for a scene, known without a device: the build inputs
+// exactly, the structures at lavapipe 25's measured layout (104 bytes per triangle, 176 per
+// instance). Other drivers size their structures differently; `--stats` reports the driver's own.
+struct AccelerationEstimate {
+  uint64_t triangles = 0, instances = 0;
+  uint64_t input_bytes = 0;      // positions, sorted triangle list, instances
+  uint64_t structure_bytes = 0;  // bottom and top levels
+  uint64_t total() const { return input_bytes + structure_bytes; }
+};
+AccelerationEstimate estimate_acceleration(const Scene& scene);
+
 class AccelerationStructures {
  public:
   // `vertex_base[o]`: where object o's vertices start in the GpuScene's vertex buffer. Throws

@@ -5,10 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
+#include "scene/acceleration.h"
 #include "scene/scene.h"
 
 using namespace caustica;
@@ -69,25 +71,31 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
   --memory-limit MIB    the engine's device-memory limit for the graph (default 1536)
 )";
 
-
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
-  const std::vector<std::string> known = {"--graph", "--scene", "--out", "--size", "--frames", "--set", "--stats", "--dump", "--device", "--validate",
-                                          "--memory-limit"};
+  const std::vector<std::string> known = {"--graph", "--scene", "--out",    "--size",     "--frames",      "--set",
+                                          "--stats", "--dump",  "--device", "--validate", "--memory-limit"};
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--graph") o.graph = args.value(a);
+    if (a == "--graph")
+      o.graph = args.value(a);
     else if (a == "--scene") {
       o.scene = args.value(a);
       o.scene_given = true;
-    }
-    else if (a == "--out") (trace ? o.trace : o.out) = args.value(a);
-    else if (a == "--stats") o.stats = args.value(a);
-    else if (a == "--set") o.sets.push_back(args.value(a));
-    else if (a == "--device") o.device = args.value(a);
-    else if (a == "--validate") o.validate = true;
-    else if (a == "--frames") o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100000));
-    else if (a == "--memory-limit") o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
+    } else if (a == "--out")
+      (trace ? o.trace : o.out) = args.value(a);
+    else if (a == "--stats")
+      o.stats = args.value(a);
+    else if (a == "--set")
+      o.sets.push_back(args.value(a));
+    else if (a == "--device")
+      o.device = args.value(a);
+    else if (a == "--validate")
+      o.validate = true;
+    else if (a == "--frames")
+      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100000));
+    else if (a == "--memory-limit")
+      o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
     else if (a == "--size") {
       parse_size(args.value(a), o.width, o.height);
     } else if (a == "--dump") {
@@ -112,7 +120,9 @@ RenderOptions parse_render(Args& args, bool trace) {
 }
 
 // Writes JSON through a temporary file so a failed run never leaves half a file.
-void write_json(const std::string& path, const nlohmann::json& value) { io::write_text_atomically(path, value.dump(2) + "\n"); }
+void write_json(const std::string& path, const nlohmann::json& value) {
+  io::write_text_atomically(path, value.dump(2) + "\n");
+}
 
 int run_render(const RenderOptions& o, bool trace) {
   graph::GraphDesc graph = graph::load_graph_file(o.graph);
@@ -135,7 +145,8 @@ int run_render(const RenderOptions& o, bool trace) {
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& [resource, file] : o.dumps) {
     const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(executor.plan().resolve(resource)))];
-    if (r.kind != graph::ResourceKind::image) throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
+    if (r.kind != graph::ResourceKind::image)
+      throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
     if (!r.used()) throw InputError("--dump " + resource + ": '" + resource + "' is not used by any pass that runs");
     const bool eight_bit = r.format == graph::Format::rgba8 || r.format == graph::Format::rgba8_srgb;
     if (!eight_bit && std::filesystem::path(file).extension() != ".exr") {
@@ -172,7 +183,8 @@ int run_render(const RenderOptions& o, bool trace) {
                o.width, o.height, o.frames, o.frames == 1 ? "" : "s", run.device.c_str(), frame.gpu_ms, frame.cpu_ms,
                trace ? o.trace.c_str() : o.out.c_str());
   if (vk.validation_messages() > 0) {
-    std::fprintf(stderr, "caustica: %u validation message%s (see above)\n", vk.validation_messages(), vk.validation_messages() == 1 ? "" : "s");
+    std::fprintf(stderr, "caustica: %u validation message%s (see above)\n", vk.validation_messages(),
+                 vk.validation_messages() == 1 ? "" : "s");
     return 3;
   }
   return 0;
@@ -267,7 +279,10 @@ int cmd_graph(Args& args) {
       "change, the rest of the file stays as it was written. The viewer's Save does the same.\n\n"
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
       "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
-      "Memory sizes are the device-independent estimate (tightly packed texels). Expressions about the scene\n"
+      "Memory sizes are the device-independent estimate (tightly packed texels). A graph that traces with ray\n"
+      "queries adds memory.acceleration: the scene's (--scene S, default scenes/bunny_plane.json) build inputs\n"
+      "exactly and its acceleration structures at lavapipe 25's layout; render --stats reports the driver's own.\n"
+      "Expressions about the scene\n"
       "(scene.refractors, scene.lights, scene.objects) see --scene S, or one refractor, one light and two\n"
       "objects without it.\n";
   if (args.wants_help()) {
@@ -287,9 +302,12 @@ int cmd_graph(Args& args) {
     std::vector<std::string> sets;
     while (!args.done()) {
       std::string a = args.take();
-      if (a == "--out") out = args.value(a);
-      else if (a.rfind("--", 0) == 0) unknown_option(a, {"--out"});
-      else sets.push_back(a);
+      if (a == "--out")
+        out = args.value(a);
+      else if (a.rfind("--", 0) == 0)
+        unknown_option(a, {"--out"});
+      else
+        sets.push_back(a);
     }
     if (sets.empty()) throw UsageError("graph set needs at least one NAME=VALUE");
     io::check_output_file(out);
@@ -298,10 +316,13 @@ int cmd_graph(Args& args) {
     io::write_text_atomically(out, graph::graph_text_with_values(graph));
     return 0;
   }
-  if (what != "plan" && what != "dot") throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema' or 'set'" + did_you_mean(what, {"plan", "dot", "schema", "set"}));
+  if (what != "plan" && what != "dot")
+    throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema' or 'set'" +
+                     did_you_mean(what, {"plan", "dot", "schema", "set"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
   std::string file = args.take();
-  if (file.rfind("--", 0) == 0) throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + file + " ...");
+  if (file.rfind("--", 0) == 0)
+    throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + file + " ...");
   RenderOptions o = parse_render(args, false);
   graph::GraphDesc graph = graph::load_graph_file(file);
   graph::apply_overrides(graph, o.sets);
@@ -310,10 +331,28 @@ int cmd_graph(Args& args) {
   options.output_height = o.height;
   options.memory_limit_bytes = o.memory_limit_mib << 20;
   options.scene_values = graph::typical_scene_values();
-  if (o.scene_given) options.scene_values = scene::load_scene_file(o.scene).expression_values();
+  std::optional<scene::Scene> scene;
+  if (o.scene_given) {
+    scene = scene::load_scene_file(o.scene);
+    options.scene_values = scene->expression_values();
+  }
   graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
-  if (what == "plan") std::cout << graph::plan_to_json(plan).dump(2) << "\n";
-  else std::cout << graph::plan_to_dot(plan);
+  if (what == "dot") {
+    std::cout << graph::plan_to_dot(plan);
+    return 0;
+  }
+  nlohmann::json out = graph::plan_to_json(plan);
+  if (!plan.ray_query_passes.empty()) {
+    if (!scene) scene = scene::load_scene_file(o.scene);
+    const scene::AccelerationEstimate estimate = scene::estimate_acceleration(*scene);
+    out["memory"]["acceleration"] = {{"scene", o.scene},
+                                     {"triangles", estimate.triangles},
+                                     {"instances", estimate.instances},
+                                     {"input_bytes", estimate.input_bytes},
+                                     {"structure_bytes_estimate", estimate.structure_bytes},
+                                     {"bytes_estimate", estimate.total()}};
+  }
+  std::cout << out.dump(2) << "\n";
   return 0;
 }
 
@@ -348,15 +387,24 @@ int cmd_reference(Args& args) {
   photons.photons = 0;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--scene") scene_file = args.value(a);
-    else if (a == "--out") out = args.value(a);
-    else if (a == "--size") parse_size(args.value(a), width, height);
-    else if (a == "--photons") photons.photons = parse_uint(a, args.value(a), 1, 100'000'000'000ull);
-    else if (a == "--seed") photons.seed = parse_uint(a, args.value(a), 0, ~0ull);
-    else if (a == "--map-size") photons.map_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 8192));
-    else if (a == "--camera") camera_out = args.value(a);
-    else if (a == "--no-fresnel") photons.fresnel = false;
-    else unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel"});
+    if (a == "--scene")
+      scene_file = args.value(a);
+    else if (a == "--out")
+      out = args.value(a);
+    else if (a == "--size")
+      parse_size(args.value(a), width, height);
+    else if (a == "--photons")
+      photons.photons = parse_uint(a, args.value(a), 1, 100'000'000'000ull);
+    else if (a == "--seed")
+      photons.seed = parse_uint(a, args.value(a), 0, ~0ull);
+    else if (a == "--map-size")
+      photons.map_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 8192));
+    else if (a == "--camera")
+      camera_out = args.value(a);
+    else if (a == "--no-fresnel")
+      photons.fresnel = false;
+    else
+      unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
   if (photons.photons == 0 && (!camera_out.empty() || !photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
@@ -380,9 +428,10 @@ int cmd_reference(Args& args) {
     std::printf("photons %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(t.photons), seconds,
                 double(t.photons) / seconds * 1e-6, static_cast<unsigned long long>(photons.seed));
     std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
-    std::printf("of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
-                "reflected off the outside first %.6g (followed)\n",
-                t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
+    std::printf(
+        "of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
+        "reflected off the outside first %.6g (followed)\n",
+        t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
     std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), out.c_str(), camera_out.empty() ? "" : ", ", camera_out.c_str());
     return 0;
   }
@@ -414,28 +463,37 @@ int cmd_compare(Args& args) {
   bool json = false;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--blur") sigma = parse_number(a, args.value(a), 0, 64);
-    else if (a == "--max-l1") max_l1 = parse_number(a, args.value(a), 0, 1e30);
-    else if (a == "--json") json = true;
-    else if (a.rfind("--", 0) == 0) unknown_option(a, {"--blur", "--json", "--max-l1"});
-    else files.push_back(a);
+    if (a == "--blur")
+      sigma = parse_number(a, args.value(a), 0, 64);
+    else if (a == "--max-l1")
+      max_l1 = parse_number(a, args.value(a), 0, 1e30);
+    else if (a == "--json")
+      json = true;
+    else if (a.rfind("--", 0) == 0)
+      unknown_option(a, {"--blur", "--json", "--max-l1"});
+    else
+      files.push_back(a);
   }
   if (files.size() != 2) throw UsageError("compare needs two images, A and B; see caustica compare --help");
   const io::ImageData a = io::read_image(files[0]), b = io::read_image(files[1]);
   const auto c = reference::compare_images(a, b, sigma);
-  const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"shape_l1", c.shape_l1}, {"mean_error", c.mean_error},
-                                  {"rms_error", c.rms_error},     {"psnr", c.psnr},                 {"max_error", c.max_error},
-                                  {"nonfinite_a", c.nonfinite_a}, {"nonfinite_b", c.nonfinite_b},   {"blur_sigma", sigma}};
+  const nlohmann::json metrics = {{"relative_l1", c.relative_l1}, {"energy_ratio", c.energy_ratio}, {"shape_l1", c.shape_l1},
+                                  {"mean_error", c.mean_error},   {"rms_error", c.rms_error},       {"psnr", c.psnr},
+                                  {"max_error", c.max_error},     {"nonfinite_a", c.nonfinite_a},   {"nonfinite_b", c.nonfinite_b},
+                                  {"blur_sigma", sigma}};
   if (json) {
     std::cout << metrics.dump(2) << "\n";
   } else {
-    std::printf("relative_l1   %.6g   (blur sigma %.3g px)\nenergy_ratio  %.6g\nshape_l1      %.6g\nmean_error    %.6g\nrms_error     %.6g\npsnr          %.4g dB\n"
-                "max_error     %.6g\nnonfinite     %llu in A, %llu in B\n",
-                c.relative_l1, sigma, c.energy_ratio, c.shape_l1, c.mean_error, c.rms_error, c.psnr, c.max_error,
-                static_cast<unsigned long long>(c.nonfinite_a), static_cast<unsigned long long>(c.nonfinite_b));
+    std::printf(
+        "relative_l1   %.6g   (blur sigma %.3g px)\nenergy_ratio  %.6g\nshape_l1      %.6g\nmean_error    %.6g\nrms_error     %.6g\npsnr   "
+        "       %.4g dB\n"
+        "max_error     %.6g\nnonfinite     %llu in A, %llu in B\n",
+        c.relative_l1, sigma, c.energy_ratio, c.shape_l1, c.mean_error, c.rms_error, c.psnr, c.max_error,
+        static_cast<unsigned long long>(c.nonfinite_a), static_cast<unsigned long long>(c.nonfinite_b));
   }
   if (max_l1 >= 0 && !(c.relative_l1 <= max_l1)) {
-    std::fprintf(stderr, "caustica: %s: relative L1 %.6g against %s is above --max-l1 %.6g\n", files[0].c_str(), c.relative_l1, files[1].c_str(), max_l1);
+    std::fprintf(stderr, "caustica: %s: relative L1 %.6g against %s is above --max-l1 %.6g\n", files[0].c_str(), c.relative_l1,
+                 files[1].c_str(), max_l1);
     return 1;
   }
   return 0;
@@ -476,7 +534,8 @@ int main(int argc, char** argv) {
     if (command == "bench") return cmd_bench(args);
     if (command == "compare") return cmd_compare(args);
     if (command == "view") return cmd_view(args);
-    throw UsageError("unknown command '" + command + "'" + did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view"}) +
+    throw UsageError("unknown command '" + command + "'" +
+                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";

@@ -5,15 +5,15 @@
 // drawn over it in a render pass (ImGui 1.86's Vulkan backend needs one, not dynamic rendering).
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -27,6 +27,8 @@
 #include "core/paths.h"
 #include "graph/executor.h"
 #include "io/image_io.h"
+#include "scene/acceleration.h"
+#include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "scene_draw.h"
 #include "vk/buffer.h"
@@ -65,7 +67,9 @@ options:
 
 // Ctrl-C or a termination request closes the window as its close button does.
 std::atomic<bool> g_close_requested{false};
-void request_close(int) { g_close_requested = true; }
+void request_close(int) {
+  g_close_requested = true;
+}
 
 std::filesystem::file_time_type modified(const std::string& path) {
   std::error_code ec;
@@ -78,7 +82,8 @@ std::filesystem::file_time_type newest_shader(const std::filesystem::path& folde
   // file_time_type's epoch lies in the future on libstdc++: today's times are negative.
   auto newest = std::filesystem::file_time_type::min();
   std::error_code ec;
-  for (auto it = std::filesystem::recursive_directory_iterator(folder, ec); !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+  for (auto it = std::filesystem::recursive_directory_iterator(folder, ec); !ec && it != std::filesystem::recursive_directory_iterator();
+       it.increment(ec)) {
     if (it->is_regular_file(ec)) newest = std::max(newest, it->last_write_time(ec));
   }
   return newest;
@@ -176,8 +181,8 @@ void build_swapchain(vk::Context& vk, VkSurfaceKHR surface, GLFWwindow* window, 
   info.imageExtent = sc.extent;
   info.imageArrayLayers = 1;
   // TRANSFER_SRC where offered: --window-shot copies the presented image out.
-  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                    (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  info.imageUsage =
+      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   sc.readable = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
@@ -224,8 +229,8 @@ struct Session {
   std::optional<graph::GraphDesc> graph;  // as loaded, before edits
   std::shared_ptr<const scene::Scene> scene;
   std::map<std::string, std::string> edits;  // parameter -> JSON value
-  std::set<std::string> disabled;             // passes switched off in the panel
-  std::string status;                         // the last reload, or the error that kept the old files
+  std::set<std::string> disabled;            // passes switched off in the panel
+  std::string status;                        // the last reload, or the error that kept the old files
   bool status_is_error = false;
 };
 
@@ -243,8 +248,13 @@ graph::GraphDesc edited(const Session& s) {
 class Viewer {
  public:
   Viewer(const RenderOptions& o, uint32_t frames, std::string screenshot, std::string window_shot, std::string inspect)
-      : frames_(frames), screenshot_(std::move(screenshot)), window_shot_(std::move(window_shot)), window_(o.width, o.height),
-        vk_(context_options(o)), shaders_(data_dir() / "shaders"), executor_(vk_, shaders_, passes::builtin_registry()) {
+      : frames_(frames),
+        screenshot_(std::move(screenshot)),
+        window_shot_(std::move(window_shot)),
+        window_(o.width, o.height),
+        vk_(context_options(o)),
+        shaders_(data_dir() / "shaders"),
+        executor_(vk_, shaders_, passes::builtin_registry()) {
     inspected_ = std::move(inspect);
     inspector_open_ = fit_exposure_ = !inspected_.empty();
     VkSurfaceKHR surface = VK_NULL_HANDLE;
@@ -258,14 +268,16 @@ class Viewer {
     blit_supported_ = can_blit_output();
     std::fprintf(stderr, "view: an 8-bit output at the window's size goes to the window %s\n",
                  blit_supported_ ? "by a blit on the device" : "through the host (this device cannot blit it)");
-    if (!window_shot_.empty() && !swapchain_.readable) throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
+    if (!window_shot_.empty() && !swapchain_.readable)
+      throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
     session_.graph_file = o.graph;
     session_.scene_file = o.scene;
     const std::string asked = inspected_;
     shader_time_ = newest_shader(data_dir() / "shaders");
     reload(true);
     if (!session_.graph) throw InputError(session_.status);
-    if (inspected_ != asked) throw InputError("--inspect " + asked + ": not an image of " + session_.graph_file + " that a running pass writes");
+    if (inspected_ != asked)
+      throw InputError("--inspect " + asked + ": not an image of " + session_.graph_file + " that a running pass writes");
     home_camera_ = session_.scene->camera;
     home_light_ = session_.scene->lights.empty() ? glm::vec3(0.0f) : session_.scene->lights.front().view.position;
     init_imgui();
@@ -420,7 +432,8 @@ class Viewer {
       const float distance = glm::length(offset) * std::pow(0.9f, io.MouseWheel);
       float yaw = std::atan2(offset.x, offset.z) - io.MouseDelta.x * 0.01f;
       float pitch = std::clamp(std::asin(offset.y / glm::length(offset)) + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
-      moved.camera.position = moved.camera.target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+      moved.camera.position =
+          moved.camera.target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
       changed = true;
     }
     if (!io.WantCaptureKeyboard && !moved.lights.empty()) {
@@ -479,6 +492,9 @@ class Viewer {
       ImGui::Text("transient: %.1f MiB aliased, %.1f MiB unaliased", double(plan.transient_bytes_aliased) / 1048576.0,
                   double(plan.transient_bytes_unaliased) / 1048576.0);
       ImGui::Text("persistent: %.1f MiB", double(plan.persistent_bytes) / 1048576.0);
+      if (const auto* acceleration = executor_.scene() ? executor_.scene()->built_acceleration() : nullptr) {
+        ImGui::Text("acceleration structures: %.1f MiB", double(acceleration->bytes()) / 1048576.0);
+      }
     }
     if (ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
       edit_parameters();
@@ -504,15 +520,19 @@ class Viewer {
     for (const auto& pass : session_.graph->passes) {
       bool on = !session_.disabled.count(pass.name);
       if (!ImGui::Checkbox(pass.name.c_str(), &on)) continue;
-      if (on) session_.disabled.erase(pass.name);
-      else session_.disabled.insert(pass.name);
+      if (on)
+        session_.disabled.erase(pass.name);
+      else
+        session_.disabled.insert(pass.name);
       try {
         configure();
         session_.status = pass.name + (on ? " enabled" : " disabled");
         session_.status_is_error = false;
       } catch (const std::exception& e) {
-        if (on) session_.disabled.insert(pass.name);
-        else session_.disabled.erase(pass.name);
+        if (on)
+          session_.disabled.insert(pass.name);
+        else
+          session_.disabled.erase(pass.name);
         configure();
         session_.status = "cannot disable " + pass.name + ": " + e.what();
         session_.status_is_error = true;
@@ -550,7 +570,8 @@ class Viewer {
     draw->ChannelsSetCurrent(1);
     if (ImGui::BeginCombo("image", inspected_.empty() ? "(choose one)" : inspected_.c_str())) {
       for (const auto& r : plan.resources) {
-        if (r.kind == graph::ResourceKind::image && r.used() && ImGui::Selectable(r.name.c_str(), r.name == inspected_)) select_inspected(r.name);
+        if (r.kind == graph::ResourceKind::image && r.used() && ImGui::Selectable(r.name.c_str(), r.name == inspected_))
+          select_inspected(r.name);
       }
       ImGui::EndCombo();
     }
@@ -563,16 +584,19 @@ class Viewer {
       const auto& r = plan.resources[static_cast<size_t>(index)];
       ImGui::Text("%u x %u %s", r.width, r.height, graph::format_info(r.format).name);
     }
-    const ImVec2 window_min = ImGui::GetWindowPos(), window_max(window_min.x + ImGui::GetWindowWidth(), window_min.y + ImGui::GetWindowHeight());
+    const ImVec2 window_min = ImGui::GetWindowPos(),
+                 window_max(window_min.x + ImGui::GetWindowWidth(), window_min.y + ImGui::GetWindowHeight());
     ImVec2 image_min = ImGui::GetCursorScreenPos(), image_max = image_min;
     const ImVec2 room = ImGui::GetContentRegionAvail();
     if (image.width > 0 && room.x >= 1.0f && room.y >= 1.0f) {
       const float fit = std::min(room.x / static_cast<float>(image.width), room.y / static_cast<float>(image.height));
-      const ImVec2 size(std::max(1.0f, std::floor(static_cast<float>(image.width) * fit)), std::max(1.0f, std::floor(static_cast<float>(image.height) * fit)));
+      const ImVec2 size(std::max(1.0f, std::floor(static_cast<float>(image.width) * fit)),
+                        std::max(1.0f, std::floor(static_cast<float>(image.height) * fit)));
       image_min = ImVec2(std::floor(image_min.x), std::floor(image_min.y));
       image_max = ImVec2(image_min.x + size.x, image_min.y + size.y);
       ImGui::Dummy(size);
-      panel_ = {{static_cast<int32_t>(image_min.x), static_cast<int32_t>(image_min.y)}, {static_cast<uint32_t>(size.x), static_cast<uint32_t>(size.y)}};
+      panel_ = {{static_cast<int32_t>(image_min.x), static_cast<int32_t>(image_min.y)},
+                {static_cast<uint32_t>(size.x), static_cast<uint32_t>(size.y)}};
     }
     draw->ChannelsSetCurrent(0);
     draw->PushClipRect(window_min, window_max, false);
@@ -681,14 +705,16 @@ class Viewer {
     if (blit && executor_.compile_count() != compiled) return;
 
     uint32_t index = 0;
-    VkResult acquired = vkAcquireNextImageKHR(vk_.device(), swapchain_.swapchain.get(), UINT64_MAX, acquired_.get(), VK_NULL_HANDLE, &index);
+    VkResult acquired =
+        vkAcquireNextImageKHR(vk_.device(), swapchain_.swapchain.get(), UINT64_MAX, acquired_.get(), VK_NULL_HANDLE, &index);
     if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
       rebuild();
       return;
     }
     if (acquired != VK_SUBOPTIMAL_KHR) vk::check(acquired, "vkAcquireNextImageKHR");
     const float exposure = std::exp2(exposure_stops_);
-    const io::ImageData panel = panel_.extent.width > 0 && inspected.width > 0 ? fit(inspected, panel_.extent.width, panel_.extent.height) : io::ImageData{};
+    const io::ImageData panel =
+        panel_.extent.width > 0 && inspected.width > 0 ? fit(inspected, panel_.extent.width, panel_.extent.height) : io::ImageData{};
     upload(blit ? io::ImageData{} : main_inspected ? inspected : image, main_inspected ? exposure : 1.0f, panel, exposure);
     const bool shoot = last && !window_shot_.empty();
 
@@ -697,14 +723,16 @@ class Viewer {
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     vk::check(vkBeginCommandBuffer(cmd_, &begin), "vkBeginCommandBuffer");
     // The wait on the acquire semaphore is at the transfer stage, so the transition waits for it too.
-    passes::image_barrier(cmd_, swapchain_.images[index], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                          VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    passes::image_barrier(cmd_, swapchain_.images[index], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE,
+                          VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferImageCopy regions[2]{};
     if (blit) {
       record_output_blit(output_image, swapchain_.images[index]);
     } else {
       regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height), 1};
+      regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height),
+                                1};
       regions[0].bufferRowLength = uploaded_width_;
       vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
     }
@@ -748,8 +776,10 @@ class Viewer {
     vk::check(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
     vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
     if (shoot) write_window_shot();
-    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || size_changed()) rebuild();
-    else vk::check(presented, "vkQueuePresentKHR");
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || size_changed())
+      rebuild();
+    else
+      vk::check(presented, "vkQueuePresentKHR");
   }
 
   bool size_changed() const {
@@ -777,8 +807,9 @@ class Viewer {
     const VkDeviceSize main_bytes = VkDeviceSize{image.width} * image.height * 4;
     const VkDeviceSize bytes = main_bytes + VkDeviceSize{panel.width} * panel.height * 4;
     if (staging_.size < bytes) {
-      staging_ = vk::make_buffer(vk_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                 "view staging", VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+      staging_ = vk::make_buffer(vk_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "view staging",
+                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     }
     auto* out = static_cast<uint8_t*>(staging_.mapped);
     encode_bgra(image, scale, out);
@@ -853,8 +884,10 @@ class Viewer {
                           VK_ACCESS_2_TRANSFER_READ_BIT);
     VkImageBlit region{};
     region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.srcOffsets[1] = region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
-    vkCmdBlitImage(cmd_, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
+    region.srcOffsets[1] =
+        region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+    vkCmdBlitImage(cmd_, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
+                   VK_FILTER_NEAREST);
   }
 
   // Whether the device blits the graph's 8-bit output into the window's format.
@@ -874,8 +907,8 @@ class Viewer {
                                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     }
     passes::image_barrier(cmd_, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                          VK_ACCESS_2_TRANSFER_READ_BIT);
+                          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {swapchain_.extent.width, swapchain_.extent.height, 1};
@@ -898,8 +931,8 @@ class Viewer {
     io::write_image(window_shot_, shot);
     // Where the inspector's image lies in the shot, for tests and scripts that cut it out.
     if (panel_.extent.width > 0) {
-      std::fprintf(stderr, "view: window shot %s; inspector image %s at %d,%d %ux%u\n", window_shot_.c_str(), inspected_.c_str(), panel_.offset.x,
-                   panel_.offset.y, panel_.extent.width, panel_.extent.height);
+      std::fprintf(stderr, "view: window shot %s; inspector image %s at %d,%d %ux%u\n", window_shot_.c_str(), inspected_.c_str(),
+                   panel_.offset.x, panel_.offset.y, panel_.extent.width, panel_.extent.height);
     } else {
       std::fprintf(stderr, "view: window shot %s\n", window_shot_.c_str());
     }
@@ -926,7 +959,7 @@ class Viewer {
   std::string inspected_;  // empty: nothing chosen
   bool inspector_open_ = false, inspect_in_main_view_ = false, fit_exposure_ = false;
   bool blit_supported_ = false;  // the output can go into the window on the device
-  VkRect2D panel_{};  // where the inspector's image goes this frame, in window pixels; empty: nowhere
+  VkRect2D panel_{};             // where the inspector's image goes this frame, in window pixels; empty: nowhere
   float exposure_stops_ = 0.0f;
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
@@ -948,16 +981,27 @@ int cmd_view(Args& args) {
   o.height = 720;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--graph") o.graph = args.value(a);
-    else if (a == "--scene") o.scene = args.value(a);
-    else if (a == "--size") parse_size(args.value(a), o.width, o.height);
-    else if (a == "--frames") frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
-    else if (a == "--screenshot") screenshot = args.value(a);
-    else if (a == "--window-shot") window_shot = args.value(a);
-    else if (a == "--inspect") inspect = args.value(a);
-    else if (a == "--validate") o.validate = true;
-    else if (a == "--device") o.device = args.value(a);
-    else unknown_option(a, {"--graph", "--scene", "--size", "--frames", "--screenshot", "--window-shot", "--inspect", "--validate", "--device"});
+    if (a == "--graph")
+      o.graph = args.value(a);
+    else if (a == "--scene")
+      o.scene = args.value(a);
+    else if (a == "--size")
+      parse_size(args.value(a), o.width, o.height);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
+    else if (a == "--screenshot")
+      screenshot = args.value(a);
+    else if (a == "--window-shot")
+      window_shot = args.value(a);
+    else if (a == "--inspect")
+      inspect = args.value(a);
+    else if (a == "--validate")
+      o.validate = true;
+    else if (a == "--device")
+      o.device = args.value(a);
+    else
+      unknown_option(a,
+                     {"--graph", "--scene", "--size", "--frames", "--screenshot", "--window-shot", "--inspect", "--validate", "--device"});
   }
   if (!screenshot.empty() && frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
   if (!window_shot.empty() && frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
