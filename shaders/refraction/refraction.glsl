@@ -17,11 +17,8 @@ const uint DISTANCE_DV_DN = 1u;  // Wyman's blend of d_V and the per-vertex d_N 
 const uint DISTANCE_RAY_QUERY = 2u;
 const uint DISTANCE_HYBRID = 3u;
 // Image-space search along the refracted ray against the back-surface buffer (Umenhoffer et al.
-// 2007; Davis and Wyman 2007): linear steps so that no crossing is missed, then bisection. The
-// hybrid starts from it too.
+// 2007; Davis and Wyman 2007): see find_crossing. The hybrid starts from it too.
 const uint DISTANCE_SEARCH = 4u;
-const int EXIT_SEARCH_STEPS = 16;
-const int EXIT_BISECTIONS = 8;
 
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
@@ -71,33 +68,83 @@ bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
   return false;
 }
 
-// Whether q lies behind the refractor's back surface as `view_proj` sees it, or outside it.
-bool behind_back_surface(mat4 view_proj, vec3 eye, vec3 q) {
+// The searches below march a signed gap along a ray: negative before the crossing they look for,
+// positive after it (or no value at all: off the image, no surface there). Linear steps so that no
+// crossing is missed, then false position (the Illinois variant, which keeps the bracket and
+// converges superlinearly on smooth surfaces; bisection where an end has no value).
+const int EXIT_SEARCH_STEPS = 8;
+const int EXIT_REFINEMENTS = 4;
+const uint GAP_BEHIND_BACK = 0u;      // behind the refractor's back surface (distance beyond it)
+const uint GAP_OUTSIDE_REFRACTOR = 1u;  // outside the refractor (REFRACTION_FRONT_TEX only)
+
+float exit_gap(uint kind, mat4 view_proj, vec3 eye, vec3 q, out bool valid) {
   vec2 uv;
   float depth;
-  if (!project_with(view_proj, q, uv, depth)) return true;
+  valid = false;
+  if (!project_with(view_proj, q, uv, depth)) return 1.0;
   vec4 back = texture(back_tex, uv);
-  return back.y <= 0.0 || distance(q, eye) >= back.y;
+  if (back.y <= 0.0) return 1.0;
+  float d = distance(q, eye);
+#ifdef REFRACTION_FRONT_TEX
+  if (kind == GAP_OUTSIDE_REFRACTOR) {
+    vec4 front = texture(front_tex, uv);
+    if (front.y <= 0.0) return 1.0;
+    valid = true;
+    return max(front.y - d, d - back.y);
+  }
+#endif
+  valid = true;
+  return d - back.y;
+}
+
+// The crossing's distance along `direction` from `origin` within d_max (false when there is none):
+// linear steps, then refinement.
+bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direction, float d_max, out float t_cross) {
+  float lo = 0.0, gap_lo = 0.0;
+  bool lo_valid = false;
+  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
+    float hi = d_max * float(i) / float(EXIT_SEARCH_STEPS);
+    bool hi_valid;
+    float gap_hi = exit_gap(kind, view_proj, eye, origin + direction * hi, hi_valid);
+    if (hi_valid && gap_hi < 0.0) {
+      lo = hi;
+      gap_lo = gap_hi;
+      lo_valid = true;
+      continue;
+    }
+    int kept = 0;  // which end stayed last time: -1 lo, +1 hi (Illinois halves a twice-kept end's gap)
+    for (int r = 0; r < EXIT_REFINEMENTS; ++r) {
+      bool interpolate = lo_valid && hi_valid && gap_hi > gap_lo;
+      float t = interpolate ? lo - gap_lo * (hi - lo) / (gap_hi - gap_lo) : 0.5 * (lo + hi);
+      t = clamp(t, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+      bool valid;
+      float gap = exit_gap(kind, view_proj, eye, origin + direction * t, valid);
+      if (valid && gap < 0.0) {
+        lo = t;
+        gap_lo = gap;
+        lo_valid = true;
+        if (kept == 1) gap_hi *= 0.5;
+        kept = 1;
+      } else {
+        hi = t;
+        gap_hi = gap;
+        hi_valid = valid;
+        if (kept == -1) gap_lo *= 0.5;
+        kept = -1;
+      }
+    }
+    bool interpolate = lo_valid && hi_valid && gap_hi > gap_lo;
+    t_cross = interpolate ? lo - gap_lo * (hi - lo) / (gap_hi - gap_lo) : 0.5 * (lo + hi);
+    return true;
+  }
+  return false;
 }
 
 // The distance along t1 from p1 to where the ray crosses the back surface, within d_max; the
 // estimate `d` when no crossing is found.
 float search_exit(mat4 view_proj, vec3 eye, vec3 p1, vec3 t1, float d, float d_max) {
-  float before = 0.0;
-  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
-    float t = d_max * float(i) / float(EXIT_SEARCH_STEPS);
-    if (behind_back_surface(view_proj, eye, p1 + t1 * t)) {
-      float lo = before, hi = t;
-      for (int b = 0; b < EXIT_BISECTIONS; ++b) {
-        float mid = 0.5 * (lo + hi);
-        if (behind_back_surface(view_proj, eye, p1 + t1 * mid)) hi = mid;
-        else lo = mid;
-      }
-      return 0.5 * (lo + hi);
-    }
-    before = t;
-  }
-  return d;
+  float t;
+  return find_crossing(GAP_BEHIND_BACK, view_proj, eye, p1, t1, d_max, t) ? t : d;
 }
 
 #ifdef REFRACTION_FRONT_TEX
@@ -105,43 +152,20 @@ float search_exit(mat4 view_proj, vec3 eye, vec3 p1, vec3 t1, float d, float d_m
 // including shader has the refractor's front surfaces too (front_tex): at most this many bounces.
 const int SEARCH_TIR_BOUNCES = 3;
 
-// Whether q lies between the refractor's front and back surfaces as `view_proj` sees them.
-bool inside_refractor(mat4 view_proj, vec3 eye, vec3 q) {
+// From p inside the refractor along `direction`: the distance to where the ray leaves it and the
+// outward normal of the surface it leaves through, the front or the back one; false when it does
+// not leave within d_max.
+bool leave_refractor(mat4 view_proj, vec3 eye, vec3 p, vec3 direction, float d_max, out float t_exit, out vec3 normal) {
+  if (!find_crossing(GAP_OUTSIDE_REFRACTOR, view_proj, eye, p, direction, d_max, t_exit)) return false;
   vec2 uv;
   float depth;
+  vec3 q = p + direction * t_exit;
   if (!project_with(view_proj, q, uv, depth)) return false;
   vec4 front = texture(front_tex, uv), back = texture(back_tex, uv);
+  if (front.y <= 0.0 || back.y <= 0.0) return false;
   float d = distance(q, eye);
-  return front.y > 0.0 && back.y > 0.0 && d > front.y && d < back.y;
-}
-
-// From p inside the refractor along `direction`: the distance to where the ray leaves it (linear
-// steps, then bisection) and the outward normal of the surface it leaves through, the front or
-// the back one; false when it does not leave within d_max.
-bool leave_refractor(mat4 view_proj, vec3 eye, vec3 p, vec3 direction, float d_max, out float t_exit, out vec3 normal) {
-  float before = 0.0;
-  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
-    float t = d_max * float(i) / float(EXIT_SEARCH_STEPS);
-    if (!inside_refractor(view_proj, eye, p + direction * t)) {
-      float lo = before, hi = t;
-      for (int b = 0; b < EXIT_BISECTIONS; ++b) {
-        float mid = 0.5 * (lo + hi);
-        if (inside_refractor(view_proj, eye, p + direction * mid)) lo = mid;
-        else hi = mid;
-      }
-      t_exit = 0.5 * (lo + hi);
-      vec2 uv;
-      float depth;
-      if (!project_with(view_proj, p + direction * hi, uv, depth)) return false;
-      vec4 front = texture(front_tex, uv), back = texture(back_tex, uv);
-      if (front.y <= 0.0 || back.y <= 0.0) return false;
-      float d = distance(p + direction * hi, eye);
-      normal = unpack_normal(abs(d - front.y) < abs(d - back.y) ? front.x : back.x);
-      return true;
-    }
-    before = t;
-  }
-  return false;
+  normal = unpack_normal(abs(d - front.y) < abs(d - back.y) ? front.x : back.x);
+  return true;
 }
 #endif
 
