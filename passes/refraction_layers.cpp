@@ -56,15 +56,10 @@ class RefractionLayersPass final : public graph::Pass {
         to_attachment(cmd, ctx.image("front"));
         to_attachment(cmd, ctx.image("back"));
         for (const char* depth : {"front_depth", "back_depth"}) {
-          image_barrier(cmd, ctx.image(depth), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+          if (ctx.bound(depth)) wait_for_depth_writes(cmd, ctx.image(depth));
         }
       }
-      surfaces_.record(ctx, view, scene.object(order[i]),
-                       {extent, ctx.view("front"), ctx.view("back"), ctx.view("front_depth"), ctx.view("back_depth")});
+      surfaces_.record(ctx, view, scene.object(order[i]), RefractorSurfaces::targets(ctx));
       to_sampled(cmd, ctx.image("front"));
       to_sampled(cmd, ctx.image("back"));
 
@@ -101,14 +96,21 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   auto scratch = [](const char* name, Format format, PortUsage usage, const char* what) {
     return PortDecl{name, PortAccess::write, ResourceKind::image, usage, {format}, false, "frame", what};
   };
-  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f}, false, "frame",
+  ports.push_back({"color",
+                   PortAccess::write,
+                   ResourceKind::image,
+                   PortUsage::color_attachment,
+                   {Format::rgba16f},
+                   false,
+                   "frame",
                    "the background with every refractor composited, back to front"});
   ports.push_back(scratch("scratch", Format::rgba16f, PortUsage::color_attachment, "ping-pong partner of color (same format)"));
   ports.push_back(scratch("front", Format::rgba32f, PortUsage::color_attachment, "one refractor's front surface, reused per layer"));
   ports.push_back(scratch("back", Format::rgba32f, PortUsage::color_attachment, "one refractor's back surface, reused per layer"));
-  for (auto& port : ports) port.also_sampled = port.name == "scratch" || port.name == "front" || port.name == "back" || port.name == "color";
+  for (auto& port : ports)
+    port.also_sampled = port.name == "scratch" || port.name == "front" || port.name == "back" || port.name == "color";
   ports.push_back(scratch("front_depth", Format::d32f, PortUsage::depth_attachment, "depth for the front-surface draw"));
-  ports.push_back(scratch("back_depth", Format::d32f, PortUsage::depth_attachment, "depth for the back-surface draw"));
+  ports.push_back(RefractorSurfaces::back_depth_port("frame"));
   PassTypeDecl decl{"refraction_layers",
                     "Multi-layer deferred refraction: one layer per refractor, sorted back to front from the camera each frame; each "
                     "layer refracts the result of the layers behind it. Counters <pass>.layers and <pass>.tir_pixels.",

@@ -17,13 +17,30 @@ void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front,
   }
 }
 
+RefractorSurfaces::Targets RefractorSurfaces::targets(graph::PassContext& ctx) {
+  return {ctx.extent("front"),     ctx.view("front"),        ctx.view("back"),
+          ctx.view("front_depth"), ctx.image("front_depth"), ctx.bound("back_depth") ? ctx.view("back_depth") : VK_NULL_HANDLE};
+}
+
+graph::PortDecl RefractorSurfaces::back_depth_port(const char* extent_group) {
+  using namespace graph;
+  return PortDecl{
+      "back_depth",        PortAccess::write,
+      ResourceKind::image, PortUsage::depth_attachment,
+      {Format::d32f},      true,
+      extent_group,        "depth for the back-surface draw; without it the front's depth image is cleared and reused (one image less)"};
+}
+
 void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, scene::DrawRange range, const Targets& targets,
                                bool back_only) {
   VkCommandBuffer cmd = ctx.cmd();
   const DrawPush push{view.view_proj, glm::vec4(view.eye, 1.0f)};
   for (int back = 0; back < 2; ++back) {
     const scene::DrawRange drawn = back || !back_only ? range : scene::DrawRange{};  // back_only: the front is only cleared
-    begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}}, Attachment{back ? targets.back_depth : targets.front_depth});
+    const bool shared_depth = back && targets.back_depth == VK_NULL_HANDLE;
+    if (shared_depth) wait_for_depth_writes(cmd, targets.front_depth_image);
+    begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}},
+                    Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_[back].pipeline.get());
     scene_descriptors(ctx).push(ctx.vk(), cmd, pipelines_[back]);
     vkCmdPushConstants(cmd, pipelines_[back].layout.get(), pipelines_[back].stages, 0, sizeof(push), &push);
@@ -40,8 +57,7 @@ class RefractorBuffersPass final : public graph::Pass {
 
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("front");
-    surfaces_.record(ctx, chosen_view(ctx, extent), ctx.scene().refractors(),
-                     {extent, ctx.view("front"), ctx.view("back"), ctx.view("front_depth"), ctx.view("back_depth")},
+    surfaces_.record(ctx, chosen_view(ctx, extent), ctx.scene().refractors(), RefractorSurfaces::targets(ctx),
                      ctx.params()["faces"].get<std::string>() == "back");
   }
 
@@ -57,22 +73,28 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
     return PortDecl{name, PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba32f}, false, "view", what};
   };
   auto depth = [](const char* name) {
-    return PortDecl{name, PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "view",
-                    "depth for the surface draw"};
+    return PortDecl{name,   PortAccess::write,           ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false,
+                    "view", "depth for the surface draw"};
   };
-  PassTypeDecl decl{"refractor_buffers",
-                    "Nearest front and nearest back surfaces of all refractors from the camera or a light: packed outward normal, "
-                    "distance from the eye, d_N and object index per texel (distance 0: no refractor).",
-                    PassQueue::graphics,
-                    {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), depth("back_depth")},
-                    [] {
-                      auto params = view_params();
-                      params.push_back({"faces", ParamType::choice, "both", {}, {}, {"both", "back"},
-                                        "draw both surfaces, or only the back ones (the front is then cleared: forward refraction)"});
-                      return params;
-                    }(),
-                    false,
-                    [] { return std::make_unique<RefractorBuffersPass>(); }};
+  PassTypeDecl decl{
+      "refractor_buffers",
+      "Nearest front and nearest back surfaces of all refractors from the camera or a light: packed outward normal, "
+      "distance from the eye, d_N and object index per texel (distance 0: no refractor).",
+      PassQueue::graphics,
+      {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), RefractorSurfaces::back_depth_port("view")},
+      [] {
+        auto params = view_params();
+        params.push_back({"faces",
+                          ParamType::choice,
+                          "both",
+                          {},
+                          {},
+                          {"both", "back"},
+                          "draw both surfaces, or only the back ones (the front is then cleared: forward refraction)"});
+        return params;
+      }(),
+      false,
+      [] { return std::make_unique<RefractorBuffersPass>(); }};
   decl.needs_scene = true;
   return decl;
 }

@@ -9,8 +9,14 @@ class RefractorSurfaces {
  public:
   struct Targets {
     VkExtent2D extent;
-    VkImageView front, back, front_depth, back_depth;
+    VkImageView front, back, front_depth;
+    VkImage front_depth_image;
+    VkImageView back_depth;  // VK_NULL_HANDLE: the back draw clears and reuses front_depth
   };
+  // The pass's ports front, back, front_depth and (optional) back_depth.
+  static Targets targets(graph::PassContext& ctx);
+  // The optional back_depth port: without it the two draws share one depth image.
+  static graph::PortDecl back_depth_port(const char* extent_group);
   // `front` and `front_depth` name ports whose formats the pipelines are built for.
   void setup(graph::PassSetup& setup, const std::string& front, const std::string& front_depth);
   // Clears the targets and draws `range` into them from `view`.

@@ -37,9 +37,13 @@ struct Attachment {
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<Attachment>& colors, std::optional<Attachment> depth);
 void draw_range(VkCommandBuffer cmd, const scene::GpuScene& scene, scene::DrawRange range);
 
+// Inside one pass, before a depth image is cleared and drawn again: the earlier draw's depth
+// writes finish first.
+void wait_for_depth_writes(VkCommandBuffer cmd, VkImage depth);
 // A layout transition of a whole single-level colour or depth image inside one pass.
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
-                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access);
+                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
+                   VkAccessFlags2 dst_access);
 
 using vk::memory_barrier;
 

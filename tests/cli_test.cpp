@@ -276,6 +276,37 @@ TEST(Cli, GraphPlanAndDot) {
   EXPECT_EQ(svg.output.find("\\n"), std::string::npos) << svg.output;
 }
 
+// Every bundled graph's placement comes within a tenth of the bound its lifetimes set (the most
+// transient bytes alive at once over the plan's order, which the compiler chose for the least such
+// peak: compiler_test), and the aliasing halves the default graph's transient memory or comes
+// within 1% of its bound where the bound itself is above half.
+TEST(Cli, BundledGraphsAliasCloseToTheirLifetimeBound) {
+  for (const auto& entry : fs::directory_iterator(kSource / "graphs")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
+    const CliRun plan = run("graph plan '" + entry.path().string() + "' --size 1280x720");
+    ASSERT_EQ(plan.code, 0) << entry.path() << plan.output;
+    const auto j = nlohmann::json::parse(plan.output);
+    uint64_t bound = 0;
+    for (size_t at = 0; at < j["order"].size(); ++at) {
+      uint64_t live = 0;
+      for (const auto& r : j["resources"]) {
+        if (r["used"] && r["transient"] && r["lifetime"][0] <= at && at <= r["lifetime"][1]) live += r["bytes"].get<uint64_t>();
+      }
+      bound = std::max(bound, live);
+    }
+    const auto aliased = j["memory"]["transient_bytes_aliased"].get<double>();
+    const auto unaliased = j["memory"]["transient_bytes_unaliased"].get<double>();
+    EXPECT_EQ(j["memory"]["transient_bytes_lifetime_bound"].get<uint64_t>(), bound) << entry.path();
+    EXPECT_GE(aliased, static_cast<double>(bound)) << entry.path();
+    EXPECT_LE(aliased, 1.1 * static_cast<double>(bound)) << entry.path();
+    std::printf("%-36s aliased/unaliased %.3f, lifetime bound %.3f\n", entry.path().filename().c_str(), aliased / unaliased,
+                static_cast<double>(bound) / unaliased);
+    if (entry.path().filename() == "caustics_adaptive.json") {
+      EXPECT_TRUE(aliased <= 0.5 * unaliased || aliased <= 1.01 * static_cast<double>(bound)) << aliased / unaliased;
+    }
+  }
+}
+
 // graph set (and the viewer's Save) changes the parameter values and nothing else in the file.
 TEST(Cli, GraphSetWritesOnlyTheValues) {
   fs::path dir = scratch("graph_set");

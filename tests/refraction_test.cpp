@@ -18,7 +18,6 @@ constexpr uint32_t kWidth = 320, kHeight = 180;
 
 // SceneEngine renders at kWidth x kHeight (320 x 180).
 struct Engine : test::SceneEngine {
-
   struct Result {
     io::ImageData refracted;  // linear HDR, before tonemapping
     io::ImageData lit;
@@ -34,9 +33,13 @@ struct Engine : test::SceneEngine {
   }
 };
 
-std::shared_ptr<const scene::Scene> load(const std::string& name) { return test::load_bundled_scene(name); }
+std::shared_ptr<const scene::Scene> load(const std::string& name) {
+  return test::load_bundled_scene(name);
+}
 
-float luminance(const float* p) { return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]; }
+float luminance(const float* p) {
+  return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+}
 
 size_t non_finite(const io::ImageData& image) {
   size_t n = 0;
@@ -45,8 +48,8 @@ size_t non_finite(const io::ImageData& image) {
 }
 
 struct Difference {
-  double mean_relative;   // mean |a - b| / mean |b|, luminance
-  double fraction_over;   // pixels whose luminance differs by more than 5% of b (and 0.01 absolute)
+  double mean_relative;  // mean |a - b| / mean |b|, luminance
+  double fraction_over;  // pixels whose luminance differs by more than 5% of b (and 0.01 absolute)
 };
 
 Difference compare(const io::ImageData& a, const io::ImageData& b) {
@@ -61,7 +64,8 @@ Difference compare(const io::ImageData& a, const io::ImageData& b) {
   return {diff / std::max(total, 1e-12), static_cast<double>(over) / static_cast<double>(pixels)};
 }
 
-const char* kScenes[] = {"sphere_plane", "bunny_plane", "two_refractors", "three_refractors", "torus", "armadillo", "dragon", "no_refractor"};
+const char* kScenes[] = {"sphere_plane", "bunny_plane", "two_refractors", "three_refractors",
+                         "torus",        "armadillo",   "dragon",         "no_refractor"};
 
 }  // namespace
 
@@ -101,8 +105,8 @@ TEST(Refraction, CloseToTheRayTracedReference) {
     double limit;
   };
   double sphere_dv = 0, sphere_dvdn = 0;
-  for (auto [name, distance, limit] : {Case{"sphere_plane", "dv", 0.22}, Case{"sphere_plane", "dv_dn", 0.17}, Case{"bunny_plane", "dv", 0.57},
-                                       Case{"bunny_plane", "dv_dn", 0.52}}) {
+  for (auto [name, distance, limit] : {Case{"sphere_plane", "dv", 0.22}, Case{"sphere_plane", "dv_dn", 0.17},
+                                       Case{"bunny_plane", "dv", 0.57}, Case{"bunny_plane", "dv_dn", 0.52}}) {
     auto scene = load(name);
     auto engine = e.render("refraction_deferred", scene, {std::string("distance=") + distance});
     auto reference = reference::render_refraction_reference(*scene, kWidth, kHeight);
@@ -129,6 +133,32 @@ TEST(Refraction, MultilayerIgnoresTheOrderOfObjectsInTheFile) {
   Difference d = compare(a.refracted, b.refracted);
   EXPECT_EQ(d.fraction_over, 0.0);
   EXPECT_LT(d.mean_relative, 1e-6);
+}
+
+// The bundled graphs leave back_depth unbound, so the back-surface draw clears and reuses the
+// front's depth image: the same surfaces as with a depth image of its own, bit for bit.
+TEST(Refraction, OneSharedDepthDrawsTheSameSurfacesAsTwo) {
+  Engine e;
+  for (const auto& [graph_name, pass] :
+       {std::pair{"refraction_multilayer", "refraction"}, std::pair{"refraction_deferred", "refractors"}}) {
+    std::ifstream in(data_dir() / "graphs" / (std::string(graph_name) + ".json"));
+    nlohmann::json graph_json = nlohmann::json::parse(in);
+    int bound = 0;
+    for (auto& p : graph_json["passes"]) {
+      if (p["name"] != pass) continue;
+      ASSERT_FALSE(p["outputs"].contains("back_depth")) << graph_name;
+      p["outputs"]["back_depth"] = "own_back_depth";
+      ++bound;
+    }
+    ASSERT_EQ(bound, 1) << graph_name;
+    graph_json["resources"]["own_back_depth"] = {{"type", "image"}, {"format", "d32f"}};
+    const auto two_depths = graph::load_graph(JsonDocument::parse(graph_json.dump(), "two_depths.json"));
+    auto shared = e.render(graph_name, load("two_refractors"));
+    e.SceneEngine::render(two_depths, load("two_refractors"), {"refracted", "lit"});
+    const io::ImageData separate = e.executor.read_image("refracted");
+    ASSERT_EQ(shared.refracted.rgba.size(), separate.rgba.size());
+    EXPECT_EQ(shared.refracted.rgba, separate.rgba) << graph_name;
+  }
 }
 
 TEST(Refraction, AHiddenRefractorShowsThroughTheNearOne) {

@@ -25,6 +25,11 @@ struct SceneEngine {
                             const std::set<std::string>& retained) {
     auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
     graph::apply_overrides(graph, sets);
+    return render(graph, std::move(scene), retained);
+  }
+
+  graph::FrameResult render(const graph::GraphDesc& graph, std::shared_ptr<const scene::Scene> scene,
+                            const std::set<std::string>& retained) {
     executor.set_scene(std::move(scene));
     executor.configure(graph, width, height, retained);
     return executor.run_frame(true);

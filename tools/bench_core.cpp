@@ -36,7 +36,10 @@ graph::GraphDesc chain(int passes) {
     list.push_back({{"name", "p" + std::to_string(i)}, {"type", "box_blur"}, {"inputs", {{"source", in}}}, {"outputs", {{"target", out}}}});
   }
   resources["out"] = {{"type", "image"}, {"format", "rgba8"}};
-  list.push_back({{"name", "tonemap"}, {"type", "tonemap"}, {"inputs", {{"source", "r" + std::to_string(passes - 2)}}}, {"outputs", {{"target", "out"}}}});
+  list.push_back({{"name", "tonemap"},
+                  {"type", "tonemap"},
+                  {"inputs", {{"source", "r" + std::to_string(passes - 2)}}},
+                  {"outputs", {{"target", "out"}}}});
   nlohmann::json g = {{"name", "chain"}, {"resources", resources}, {"passes", list}, {"outputs", {"out"}}};
   return graph::load_graph(JsonDocument::parse(g.dump(), "chain" + std::to_string(passes) + ".json"));
 }
@@ -67,15 +70,17 @@ class HandChain {
  public:
   HandChain(vk::Context& vk, shader::ShaderCompiler& shaders, int passes, uint32_t width, uint32_t height)
       : vk_(vk), width_(width), height_(height) {
-    for (int i = 0; i < passes - 1; ++i) add_image(VK_FORMAT_R16G16B16A16_SFLOAT,
-                                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
+    for (int i = 0; i < passes - 1; ++i)
+      add_image(VK_FORMAT_R16G16B16A16_SFLOAT,
+                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
     add_image(VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT);
     pattern_ = vk::make_fullscreen_pipeline(vk, {"pattern", {}, 28}, shaders.compile("common/fullscreen.vert"),
                                             shaders.compile("core/pattern.frag"), {VK_FORMAT_R16G16B16A16_SFLOAT});
     blur_ = vk::make_compute_pipeline(vk, {"box_blur", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 20},
                                       shaders.compile("core/box_blur.comp", {{"OUT_FORMAT", "rgba16f"}}));
     tonemap_ = vk::make_compute_pipeline(
-        vk, {"tonemap", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, 16},
+        vk,
+        {"tonemap", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, 16},
         shaders.compile("core/tonemap.comp"));
     VkBufferCreateInfo buffer_info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     buffer_info.size = 1024;
@@ -107,7 +112,8 @@ class HandChain {
     vk::check(vkBeginCommandBuffer(cmd_, &begin), "vkBeginCommandBuffer");
     vkCmdFillBuffer(cmd_, counters_.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(VK_NULL_HANDLE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_UNDEFINED);
 
     barrier(images_[0].get(), VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
             VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
@@ -150,7 +156,11 @@ class HandChain {
       writer.push(vk_, cmd_, pipeline);
       const int32_t size[2] = {static_cast<int32_t>(width_), static_cast<int32_t>(height_)};
       if (last) {
-        const struct { int32_t size[2]; float exposure; uint32_t counter; } params{{size[0], size[1]}, 1.0f, 0};
+        const struct {
+          int32_t size[2];
+          float exposure;
+          uint32_t counter;
+        } params{{size[0], size[1]}, 1.0f, 0};
         vkCmdPushConstants(cmd_, pipeline.layout.get(), pipeline.stages, 0, sizeof(params), &params);
       } else {
         const int32_t params[5] = {size[0], size[1], 1, 0, 2};  // the chain's blurs: axis x, radius 2
@@ -202,8 +212,10 @@ class HandChain {
   // One barrier on an image, or a global memory barrier when image is null.
   void barrier(VkImage image, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage,
                VkAccessFlags2 dst_access, VkImageLayout old_layout, VkImageLayout new_layout) {
-    if (image == VK_NULL_HANDLE) passes::memory_barrier(cmd_, src_stage, src_access, dst_stage, dst_access);
-    else passes::image_barrier(cmd_, image, VK_IMAGE_ASPECT_COLOR_BIT, old_layout, new_layout, src_stage, src_access, dst_stage, dst_access);
+    if (image == VK_NULL_HANDLE)
+      passes::memory_barrier(cmd_, src_stage, src_access, dst_stage, dst_access);
+    else
+      passes::image_barrier(cmd_, image, VK_IMAGE_ASPECT_COLOR_BIT, old_layout, new_layout, src_stage, src_access, dst_stage, dst_access);
   }
 
   vk::Context& vk_;
@@ -225,7 +237,9 @@ void bench_overhead(bool validate) {
   // recording cost; at 1280x720 the executor's extra cost is set against a real frame's wall time.
   vk::Context vk({"", validate, false});
   shader::ShaderCompiler shaders(data_dir() / "shaders");
-  std::printf("| chain | size | executor: record+submit | by hand: record+submit | extra per frame | frame wall time (executor) | extra / wall |\n");
+  std::printf(
+      "| chain | size | executor: record+submit | by hand: record+submit | extra per frame | frame wall time (executor) | extra / wall "
+      "|\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (auto [passes, width, height] : {std::tuple{4, 1280u, 720u}, std::tuple{10, 1280u, 720u}, std::tuple{100, 8u, 8u}}) {
     graph::Executor executor(vk, shaders, passes::builtin_registry());
@@ -253,16 +267,22 @@ void bench_overhead(bool validate) {
 }
 
 void bench_memory() {
-  std::printf("| graph | transient, unaliased | transient, aliased | saved |\n|---|---|---|---|\n");
+  std::printf(
+      "| graph | transient, unaliased | transient, aliased | aliased / unaliased | lifetime bound | aliased / bound |\n"
+      "|---|---|---|---|---|---|\n");
   for (const auto& entry : std::filesystem::directory_iterator(data_dir() / "graphs")) {
     if (entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
     graph::GraphDesc g = graph::load_graph_file(entry.path().string());
     graph::CompileOptions options;
     options.output_width = 1280;
     options.output_height = 720;
+    options.scene_values = graph::typical_scene_values();
     graph::Plan plan = graph::compile_graph(g, passes::builtin_registry(), options);
-    double a = static_cast<double>(plan.transient_bytes_aliased) / 1048576.0, u = static_cast<double>(plan.transient_bytes_unaliased) / 1048576.0;
-    std::printf("| %s (1280x720) | %.1f MiB | %.1f MiB | %.0f%% |\n", entry.path().filename().c_str(), u, a, u > 0 ? 100.0 * (u - a) / u : 0.0);
+    const double mib = 1048576.0, a = static_cast<double>(plan.transient_bytes_aliased) / mib,
+                 u = static_cast<double>(plan.transient_bytes_unaliased) / mib,
+                 bound = static_cast<double>(plan.transient_bytes_lifetime_bound) / mib;
+    std::printf("| %s | %.1f MiB | %.1f MiB | %.3f | %.1f MiB (%.3f) | %.3f |\n", entry.path().filename().c_str(), u, a,
+                u > 0 ? a / u : 0.0, bound, u > 0 ? bound / u : 0.0, bound > 0 ? a / bound : 0.0);
   }
 }
 
@@ -270,9 +290,12 @@ void bench_memory() {
 
 int main(int argc, char** argv) {
   std::string what = argc > 1 ? argv[1] : "";
-  if (what == "compile") bench_compile();
-  else if (what == "overhead") bench_overhead(argc > 2 && std::string(argv[2]) == "--validate");
-  else if (what == "memory") bench_memory();
+  if (what == "compile")
+    bench_compile();
+  else if (what == "overhead")
+    bench_overhead(argc > 2 && std::string(argv[2]) == "--validate");
+  else if (what == "memory")
+    bench_memory();
   else {
     std::fprintf(stderr, "usage: bench_core compile | overhead [--validate] | memory\n");
     return 2;

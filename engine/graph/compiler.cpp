@@ -50,8 +50,7 @@ PortAccessInfo port_access(const PortDecl& port, PassQueue queue) {
   const bool writes = port.access != PortAccess::read;
   const bool image = port.kind == ResourceKind::image;
   switch (port.usage) {
-    case PortUsage::sampled:
-      return {shader, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    case PortUsage::sampled: return {shader, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     case PortUsage::storage:
       return {shader, reads ? VK_ACCESS_2_SHADER_STORAGE_READ_BIT : 0, writes ? VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT : 0,
               image ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED};
@@ -68,8 +67,7 @@ PortAccessInfo port_access(const PortDecl& port, PassQueue queue) {
     case PortUsage::transfer_dst:
       return {VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, 0, VK_ACCESS_2_TRANSFER_WRITE_BIT,
               image ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED};
-    case PortUsage::uniform:
-      return {shader, VK_ACCESS_2_UNIFORM_READ_BIT, 0, VK_IMAGE_LAYOUT_UNDEFINED};
+    case PortUsage::uniform: return {shader, VK_ACCESS_2_UNIFORM_READ_BIT, 0, VK_IMAGE_LAYOUT_UNDEFINED};
     case PortUsage::indirect:
       return {VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, 0, VK_IMAGE_LAYOUT_UNDEFINED};
   }
@@ -150,7 +148,7 @@ class Compiler {
   std::vector<Node> nodes_;
   std::vector<std::vector<uint32_t>> writers_;  // per resource, node indices
   std::vector<std::vector<uint32_t>> readers_;
-  std::vector<bool> enabled_;                  // per pass of the file
+  std::vector<bool> enabled_;                    // per pass of the file
   std::map<std::string, std::string> redirect_;  // resource no enabled pass writes -> its fallback
 
   // ---- enabled passes and fallbacks -----------------------------------------------------------
@@ -186,7 +184,8 @@ class Compiler {
         if (d->fallback.empty() || written.count(target)) break;
         const ResourceDesc* next = graph_.find_resource(d->fallback);
         if (!next) {
-          throw graph_.error(d->pointer + "/fallback", "fallback '" + d->fallback + "' of '" + d->name + "' is not a resource of this graph" +
+          throw graph_.error(d->pointer + "/fallback", "fallback '" + d->fallback + "' of '" + d->name +
+                                                           "' is not a resource of this graph" +
                                                            did_you_mean(d->fallback, resource_names_of_file()));
         }
         if (next->kind != d->kind || (d->kind == ResourceKind::image && next->format != d->format)) {
@@ -244,20 +243,21 @@ class Compiler {
     } catch (const std::invalid_argument& e) {
       throw graph_.error(pointer, e.what());
     }
-    if (!std::isfinite(v)) throw graph_.error(pointer, "\"" + text + "\" evaluates to " + JsonReader::format_number(v) + ", not a finite number");
+    if (!std::isfinite(v))
+      throw graph_.error(pointer, "\"" + text + "\" evaluates to " + JsonReader::format_number(v) + ", not a finite number");
     return v;
   }
 
   uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const {
     double v = std::floor(evaluate(text, pointer));
     if (v < 1) {
-      throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " +
-                                      JsonReader::format_number(v) + "; it must be at least 1");
+      throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " + JsonReader::format_number(v) +
+                                      "; it must be at least 1");
     }
     if (v > options_.limits.max_image_dimension_2d) {
-      throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " +
-                                      JsonReader::format_number(v) + ", above the device limit of " +
-                                      std::to_string(options_.limits.max_image_dimension_2d) + " (maxImageDimension2D)");
+      throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " + JsonReader::format_number(v) +
+                                      ", above the device limit of " + std::to_string(options_.limits.max_image_dimension_2d) +
+                                      " (maxImageDimension2D)");
     }
     return static_cast<uint32_t>(v);
   }
@@ -275,9 +275,9 @@ class Compiler {
         double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips"));
         uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
         if (mips < 1 || mips > max_mips) {
-          throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) +
-                                                         " mip levels; a " + std::to_string(r.width) + "x" + std::to_string(r.height) +
-                                                         " image has 1 to " + std::to_string(max_mips));
+          throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) + " mip levels; a " +
+                                                         std::to_string(r.width) + "x" + std::to_string(r.height) + " image has 1 to " +
+                                                         std::to_string(max_mips));
         }
         r.mips = static_cast<uint32_t>(mips);
       } else {
@@ -287,8 +287,9 @@ class Compiler {
                                                          JsonReader::format_number(bytes) + " bytes; it must be at least 4");
         }
         if (bytes > static_cast<double>(options_.limits.max_buffer_size)) {
-          throw graph_.error(desc.pointer + "/size", "buffer '" + desc.name + "' would be " + JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
-                                                         ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
+          throw graph_.error(desc.pointer + "/size",
+                             "buffer '" + desc.name + "' would be " + JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
+                                 ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
         }
         r.buffer_size = static_cast<uint64_t>(bytes);
       }
@@ -371,8 +372,8 @@ class Compiler {
       bool port_writes = port->access != PortAccess::read;
       if (port_writes != outputs) {
         throw graph_.error(pointer, std::string("port '") + port_name + "' of pass type '" + decl.type + "' is an " +
-                                        (port_writes ? "output" : "input") + "; list it under \"" +
-                                        (port_writes ? "outputs" : "inputs") + "\"");
+                                        (port_writes ? "output" : "input") + "; list it under \"" + (port_writes ? "outputs" : "inputs") +
+                                        "\"");
       }
       const std::string source = outputs ? resource_name : redirected(resource_name);
       if (source.empty()) {  // "fallback": null and nothing writes it
@@ -393,8 +394,8 @@ class Compiler {
       if (r.kind == ResourceKind::image) check_format(*port, r, pass, pointer);
       for (const auto& other : node.bindings) {
         if (other.resource == static_cast<uint32_t>(index)) {
-          throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name +
-                                          "' and '" + port_name + "'); use one read_write port instead");
+          throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name + "' and '" +
+                                          port_name + "'); use one read_write port instead");
         }
       }
       // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
@@ -421,8 +422,8 @@ class Compiler {
     if (!port.formats.empty() && std::find(port.formats.begin(), port.formats.end(), r.format) == port.formats.end()) {
       std::string accepted;
       for (Format f : port.formats) accepted += std::string(accepted.empty() ? "" : ", ") + format_info(f).name;
-      throw graph_.error(pointer, "format mismatch: port '" + port.name + "' of pass '" + pass.name + "' accepts " + accepted +
-                                      ", but '" + r.name + "' is " + info.name);
+      throw graph_.error(pointer, "format mismatch: port '" + port.name + "' of pass '" + pass.name + "' accepts " + accepted + ", but '" +
+                                      r.name + "' is " + info.name);
     }
     if (port.usage == PortUsage::storage && std::string_view(info.glsl_qualifier).empty()) {
       throw graph_.error(pointer, "'" + r.name + "' (" + info.name + ") cannot be a storage image (port '" + port.name + "')");
@@ -491,8 +492,8 @@ class Compiler {
       if (!nodes_[i].decl) continue;
       for (const auto& b : nodes_[i].bindings) {
         if (b.port->access != PortAccess::read || !writers_[b.resource].empty()) continue;
-        std::string why = "input '" + b.port->name + "' of pass '" + nodes_[i].desc->name + "' reads '" +
-                          plan_.resources[b.resource].name + "', which no pass writes";
+        std::string why = "input '" + b.port->name + "' of pass '" + nodes_[i].desc->name + "' reads '" + plan_.resources[b.resource].name +
+                          "', which no pass writes";
         for (const auto& other : nodes_) {
           if (other.decl) continue;
           for (const auto& [port, resource] : other.desc->outputs) {
@@ -587,15 +588,109 @@ class Compiler {
           for (const auto& binding : nodes_[w[b]].bindings) {
             if (binding.resource == r) pointer = binding.pointer;
           }
-          throw graph_.error(pointer, "'" + plan_.resources[r].name + "' is written by passes '" + nodes_[w[a]].desc->name +
-                                          "' and '" + second.name + "' with no order between them; add \"after\": [\"" +
-                                          nodes_[w[a]].desc->name + "\"] to pass '" + second.name + "'");
+          throw graph_.error(pointer, "'" + plan_.resources[r].name + "' is written by passes '" + nodes_[w[a]].desc->name + "' and '" +
+                                          second.name + "' with no order between them; add \"after\": [\"" + nodes_[w[a]].desc->name +
+                                          "\"] to pass '" + second.name + "'");
         }
       }
     }
   }
 
   std::vector<uint32_t> order_;  // node indices in execution order
+
+  // The execution order: of the orders the edges allow, one with the least peak of live transient
+  // memory (the lifetimes, and so what aliasing can share, follow from the order), found by a
+  // search over the sets of passes already run; among the best, file order. Sizes are the
+  // device-independent estimate, so that every device gets the same order. Graphs with more
+  // passes than the search takes keep file order.
+  std::vector<uint32_t> least_memory_order(const std::vector<bool>& live) const {
+    constexpr size_t kMaxSearchedPasses = 16;
+    std::vector<uint32_t> nodes;
+    std::vector<int> index(nodes_.size(), -1);
+    for (uint32_t i = 0; i < nodes_.size(); ++i) {
+      if (!live[i]) continue;
+      index[i] = static_cast<int>(nodes.size());
+      nodes.push_back(i);
+    }
+    if (nodes.size() > kMaxSearchedPasses) {
+      // Kahn's algorithm, the ready pass that comes first in the file: the plan is stable under
+      // unrelated edits.
+      std::vector<uint32_t> pending(nodes_.size(), 0), order;
+      for (uint32_t i : nodes) {
+        for (uint32_t s : nodes_[i].successors) pending[s] += live[s] ? 1 : 0;
+      }
+      std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> ready;
+      for (uint32_t i : nodes) {
+        if (pending[i] == 0) ready.push(i);
+      }
+      while (!ready.empty()) {
+        uint32_t n = ready.top();
+        ready.pop();
+        order.push_back(n);
+        for (uint32_t s : nodes_[n].successors) {
+          if (live[s] && --pending[s] == 0) ready.push(s);
+        }
+      }
+      return order;
+    }
+    std::vector<uint32_t> before(nodes.size(), 0);  // bit j: nodes[j] must run first
+    for (uint32_t k = 0; k < nodes.size(); ++k) {
+      for (uint32_t p : nodes_[nodes[k]].predecessors) {
+        if (live[p]) before[k] |= 1u << index[p];
+      }
+    }
+    struct Use {
+      uint32_t passes;  // bit k: nodes[k] binds the resource
+      uint64_t bytes;
+    };
+    std::vector<Use> uses;
+    for (uint32_t r = 0; r < plan_.resources.size(); ++r) {
+      if (!plan_.resources[r].transient) continue;
+      uint32_t passes = 0;
+      for (uint32_t k = 0; k < nodes.size(); ++k) {
+        for (const auto& b : nodes_[nodes[k]].bindings) passes |= b.resource == r ? 1u << k : 0u;
+      }
+      if (passes != 0) uses.push_back({passes, estimate_memory_requirements(plan_.resources[r]).size});
+    }
+    // Bytes live while nodes[k] runs after the passes in `done`: what it binds, and what was used
+    // before and is still to be used after.
+    auto live_bytes = [&](uint32_t done, uint32_t k) {
+      const uint32_t after = done | 1u << k;
+      uint64_t bytes = 0;
+      for (const Use& u : uses) {
+        if ((u.passes >> k & 1u) != 0 || ((u.passes & done) != 0 && (u.passes & ~after) != 0)) bytes += u.bytes;
+      }
+      return bytes;
+    };
+    const uint32_t all = (1u << nodes.size()) - 1u;
+    constexpr uint64_t kUnknown = ~uint64_t{0};
+    std::vector<uint64_t> least_peak_after(size_t{1} << nodes.size(), kUnknown);  // of the passes still to run
+    auto peak_from = [&](auto& self, uint32_t done) -> uint64_t {
+      if (done == all) return 0;
+      uint64_t& memo = least_peak_after[done];
+      if (memo != kUnknown) return memo;
+      uint64_t best = kUnknown;
+      for (uint32_t k = 0; k < nodes.size(); ++k) {
+        if ((done >> k & 1u) == 0 && (before[k] & ~done) == 0)
+          best = std::min(best, std::max(live_bytes(done, k), self(self, done | 1u << k)));
+      }
+      return memo = best;
+    };
+    // Kahn's rule (the ready pass first in the file) among the passes that keep the least peak.
+    const uint64_t least_peak = peak_from(peak_from, 0);
+    std::vector<uint32_t> order;
+    for (uint32_t done = 0; done != all;) {
+      for (uint32_t k = 0; k < nodes.size(); ++k) {
+        if ((done >> k & 1u) == 0 && (before[k] & ~done) == 0 &&
+            std::max(live_bytes(done, k), peak_from(peak_from, done | 1u << k)) <= least_peak) {
+          order.push_back(nodes[k]);
+          done |= 1u << k;
+          break;
+        }
+      }
+    }
+    return order;
+  }
 
   void cull_and_order() {
     std::vector<bool> live(nodes_.size(), false);
@@ -616,31 +711,15 @@ class Compiler {
     for (size_t i = 0; i < graph_.outputs.size(); ++i) {
       uint32_t r = plan_.outputs[i];
       bool written = std::any_of(writers_[r].begin(), writers_[r].end(), [&](uint32_t w) { return nodes_[w].decl != nullptr; });
-      if (!written) throw graph_.error("/outputs/" + std::to_string(i), "output '" + plan_.resources[r].name + "' is not written by any enabled pass");
+      if (!written)
+        throw graph_.error("/outputs/" + std::to_string(i), "output '" + plan_.resources[r].name + "' is not written by any enabled pass");
     }
     while (!stack.empty()) {
       uint32_t n = stack.back();
       stack.pop_back();
       for (uint32_t p : nodes_[n].predecessors) keep(p);
     }
-    // Kahn's algorithm, ties broken by file order so that the plan is stable under unrelated edits.
-    std::vector<uint32_t> pending(nodes_.size(), 0);
-    for (uint32_t i = 0; i < nodes_.size(); ++i) {
-      if (!live[i]) continue;
-      for (uint32_t s : nodes_[i].successors) pending[s] += live[s] ? 1 : 0;
-    }
-    std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> ready;
-    for (uint32_t i = 0; i < nodes_.size(); ++i) {
-      if (live[i] && pending[i] == 0) ready.push(i);
-    }
-    while (!ready.empty()) {
-      uint32_t n = ready.top();
-      ready.pop();
-      order_.push_back(n);
-      for (uint32_t s : nodes_[n].successors) {
-        if (live[s] && --pending[s] == 0) ready.push(s);
-      }
-    }
+    order_ = least_memory_order(live);
     for (uint32_t i = 0; i < nodes_.size(); ++i) {
       if (nodes_[i].decl && !live[i]) plan_.culled.push_back(nodes_[i].desc->name);
     }
@@ -657,8 +736,8 @@ class Compiler {
         if (!options_.ray_queries) {
           throw graph_.error(pass.pointer, "pass '" + pass.name + "' (" + pass.type +
                                                ") traces exact paths with ray queries (VK_KHR_ray_query, VK_KHR_acceleration_structure), "
-                                               "and this device lacks " + options_.ray_queries_missing + "; " +
-                                               pass.decl->ray_query_alternative);
+                                               "and this device lacks " +
+                                               options_.ray_queries_missing + "; " + pass.decl->ray_query_alternative);
         }
         plan_.ray_query_passes.push_back(pass.name);
       }
@@ -676,15 +755,18 @@ class Compiler {
         if (b.port->also_sampled) add_usage(r, PortUsage::sampled);
         if (r.kind == ResourceKind::buffer && b.port->usage == PortUsage::storage &&
             r.buffer_size > options_.limits.max_storage_buffer_range) {
-          throw graph_.error(b.pointer, "buffer '" + r.name + "' is " + mib(r.buffer_size) + ", above this device's maxStorageBufferRange (" +
+          throw graph_.error(b.pointer, "buffer '" + r.name + "' is " + mib(r.buffer_size) +
+                                            ", above this device's maxStorageBufferRange (" +
                                             mib(options_.limits.max_storage_buffer_range) + ") for storage port '" + b.port->name + "'");
         }
       }
     }
     for (auto& r : plan_.resources) {
       if (r.transient) continue;  // read back after the frame
-      if (r.kind == ResourceKind::image) r.image_usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-      else r.buffer_usage |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+      if (r.kind == ResourceKind::image)
+        r.image_usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+      else
+        r.buffer_usage |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     }
   }
 
@@ -699,10 +781,10 @@ class Compiler {
           const auto& ra = plan_.resources[bindings[a].resource];
           const auto& rb = plan_.resources[bindings[b].resource];
           if (ra.width == rb.width && ra.height == rb.height) continue;
-          throw graph_.error(bindings[b].pointer, "extent mismatch in pass '" + nodes_[n].desc->name + "': '" + rb.name + "' (port '" + pb.name +
-                                                      "') is " + std::to_string(rb.width) + "x" + std::to_string(rb.height) + " but '" +
-                                                      ra.name + "' (port '" + pa.name + "') is " + std::to_string(ra.width) + "x" +
-                                                      std::to_string(ra.height));
+          throw graph_.error(bindings[b].pointer, "extent mismatch in pass '" + nodes_[n].desc->name + "': '" + rb.name + "' (port '" +
+                                                      pb.name + "') is " + std::to_string(rb.width) + "x" + std::to_string(rb.height) +
+                                                      " but '" + ra.name + "' (port '" + pa.name + "') is " + std::to_string(ra.width) +
+                                                      "x" + std::to_string(ra.height));
         }
       }
     }
@@ -710,27 +792,12 @@ class Compiler {
 
   // ---- memory --------------------------------------------------------------------------------
 
-  void place_memory() {
-    std::vector<uint32_t> transient;
-    for (uint32_t i = 0; i < plan_.resources.size(); ++i) {
-      PlannedResource& r = plan_.resources[i];
-      if (!r.used()) continue;
-      r.memory = options_.memory_requirements(r);
-      assert(r.memory.alignment > 0 && (r.memory.alignment & (r.memory.alignment - 1)) == 0);
-      r.memory.size = (r.memory.size + r.memory.alignment - 1) & ~(r.memory.alignment - 1);
-      if (r.transient) {
-        transient.push_back(i);
-        plan_.transient_bytes_unaliased += r.memory.size;
-      } else {
-        plan_.persistent_bytes += r.memory.size;
-      }
-    }
-    // Largest first: big resources claim offset 0 and smaller ones fill the gaps between lifetimes.
-    std::stable_sort(transient.begin(), transient.end(), [&](uint32_t a, uint32_t b) {
-      return plan_.resources[a].memory.size > plan_.resources[b].memory.size;
-    });
+  // Places the transient resources in `order`, each at the first gap between its live neighbours
+  // that fits (or the tightest such gap); returns the blocks' total size.
+  uint64_t place_in_order(const std::vector<uint32_t>& order, bool tightest) {
+    plan_.blocks.clear();
     std::vector<uint32_t> placed;
-    for (uint32_t index : transient) {
+    for (uint32_t index : order) {
       PlannedResource& r = plan_.resources[index];
       uint32_t block = kNoBlock;
       // One block per memory type and alignment: with equal alignments and sizes rounded to them,
@@ -750,16 +817,81 @@ class Compiler {
         if (o.first_use <= r.last_use && r.first_use <= o.last_use) busy.emplace_back(o.offset, o.offset + o.memory.size);
       }
       std::sort(busy.begin(), busy.end());
-      uint64_t offset = 0;
+      auto align = [&](uint64_t v) { return (v + r.memory.alignment - 1) / r.memory.alignment * r.memory.alignment; };
+      constexpr uint64_t kNoOffset = ~uint64_t{0};
+      uint64_t offset = kNoOffset, free_from = 0, best_gap = ~uint64_t{0};
       for (const auto& [begin, end] : busy) {
-        if (offset + r.memory.size <= begin) break;
-        offset = std::max(offset, (end + r.memory.alignment - 1) / r.memory.alignment * r.memory.alignment);
+        if (begin >= free_from + r.memory.size && (!tightest || begin - free_from < best_gap)) {
+          best_gap = begin - free_from;
+          offset = free_from;
+          if (!tightest) break;
+        }
+        free_from = std::max(free_from, align(end));
       }
+      if (offset == kNoOffset) offset = free_from;
       r.block = block;
       r.offset = offset;
       plan_.blocks[block].size = std::max(plan_.blocks[block].size, offset + r.memory.size);
       placed.push_back(index);
     }
+    uint64_t total = 0;
+    for (const auto& b : plan_.blocks) total += b.size;
+    return total;
+  }
+
+  void place_memory() {
+    std::vector<uint32_t> transient;
+    for (uint32_t i = 0; i < plan_.resources.size(); ++i) {
+      PlannedResource& r = plan_.resources[i];
+      if (!r.used()) continue;
+      r.memory = options_.memory_requirements(r);
+      assert(r.memory.alignment > 0 && (r.memory.alignment & (r.memory.alignment - 1)) == 0);
+      r.memory.size = (r.memory.size + r.memory.alignment - 1) & ~(r.memory.alignment - 1);
+      if (r.transient) {
+        transient.push_back(i);
+        plan_.transient_bytes_unaliased += r.memory.size;
+      } else {
+        plan_.persistent_bytes += r.memory.size;
+      }
+    }
+    for (uint32_t at = 0; at < order_.size(); ++at) {
+      uint64_t live = 0;
+      for (uint32_t index : transient) {
+        const PlannedResource& r = plan_.resources[index];
+        live += r.first_use <= at && at <= r.last_use ? r.memory.size : 0;
+      }
+      plan_.transient_bytes_lifetime_bound = std::max(plan_.transient_bytes_lifetime_bound, live);
+    }
+    // Greedy placement is not optimal, so a few orders and both gap rules are tried and the least
+    // memory kept: largest first (big resources claim offset 0 and smaller ones fill the gaps
+    // between lifetimes), longest-lived first, earliest first; the first gap that fits or the
+    // tightest one.
+    auto by = [&](auto key) {
+      std::vector<uint32_t> order = transient;
+      std::stable_sort(order.begin(), order.end(),
+                       [&](uint32_t x, uint32_t y) { return key(plan_.resources[x]) > key(plan_.resources[y]); });
+      return order;
+    };
+    const std::vector<std::vector<uint32_t>> orders{
+        by([](const PlannedResource& r) { return r.memory.size; }),
+        by([](const PlannedResource& r) { return std::make_pair(r.last_use - r.first_use, r.memory.size); }),
+        by([](const PlannedResource& r) { return std::make_pair(r.memory.size * (r.last_use - r.first_use + 1), r.memory.size); }),
+        by([](const PlannedResource& r) { return std::make_pair(-static_cast<int64_t>(r.first_use), r.memory.size); }),
+    };
+    uint64_t least = ~uint64_t{0};
+    size_t best_order = 0;
+    bool best_tightest = false;
+    for (size_t o = 0; o < orders.size(); ++o) {
+      for (bool tightest : {false, true}) {
+        const uint64_t bytes = place_in_order(orders[o], tightest);
+        if (bytes < least) {
+          least = bytes;
+          best_order = o;
+          best_tightest = tightest;
+        }
+      }
+    }
+    place_in_order(orders[best_order], best_tightest);
     for (const auto& b : plan_.blocks) plan_.transient_bytes_aliased += b.size;
 
     uint64_t total = plan_.transient_bytes_aliased + plan_.persistent_bytes;
@@ -787,7 +919,7 @@ class Compiler {
     VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
     VkPipelineStageFlags2 write_stages = 0;  // last write (or layout transition), not yet waited on by all
     VkAccessFlags2 write_access = 0;
-    VkPipelineStageFlags2 read_stages = 0;  // reads since the last write (for write-after-read)
+    VkPipelineStageFlags2 read_stages = 0;     // reads since the last write (for write-after-read)
     VkPipelineStageFlags2 visible_stages = 0;  // stages that already waited on the last write
     VkAccessFlags2 visible_access = 0;
   };
@@ -871,7 +1003,9 @@ class Compiler {
 
 }  // namespace
 
-std::map<std::string, double> typical_scene_values() { return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}}; }
+std::map<std::string, double> typical_scene_values() {
+  return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}};
+}
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {
   return Compiler(graph, registry, options).run();

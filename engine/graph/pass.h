@@ -38,6 +38,7 @@ class PassContext {
   VkCommandBuffer cmd() const { return cmd_; }
   vk::Context& vk() const;
   const nlohmann::json& params() const { return pass_.params; }
+  bool bound(const std::string& port) const { return pass_.ports.count(port) != 0; }
   const PlannedResource& resource(const std::string& port) const;
   VkImage image(const std::string& port) const;
   VkImageView view(const std::string& port) const;

@@ -144,6 +144,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
   json memory;
   memory["transient_bytes_aliased"] = plan.transient_bytes_aliased;
   memory["transient_bytes_unaliased"] = plan.transient_bytes_unaliased;
+  memory["transient_bytes_lifetime_bound"] = plan.transient_bytes_lifetime_bound;
   memory["persistent_bytes"] = plan.persistent_bytes;
   memory["blocks"] = json::array();
   for (const auto& b : plan.blocks) memory["blocks"].push_back({{"bytes", b.size}, {"memory_type_bits", b.type_bits}});
@@ -167,19 +168,20 @@ std::string plan_to_dot(const Plan& plan) {
   std::string out = "digraph " + quote(plan.graph_name) + " {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
   for (size_t i = 0; i < plan.passes.size(); ++i) {
     const auto& p = plan.passes[i];
-    out += "  " + quote("pass:" + p.name) + " [shape=box, style=filled, fillcolor=\"#cfe2ff\", label=" +
-           quote(std::to_string(i) + ": " + p.name + "\n(" + p.type + ")") + "];\n";
+    out += "  " + quote("pass:" + p.name) +
+           " [shape=box, style=filled, fillcolor=\"#cfe2ff\", label=" + quote(std::to_string(i) + ": " + p.name + "\n(" + p.type + ")") +
+           "];\n";
   }
   for (const auto& name : plan.culled) {
-    out += "  " + quote("pass:" + name) + " [shape=box, style=\"filled,dashed\", fillcolor=\"#eeeeee\", fontcolor=\"#888888\", label=" +
-           quote(name + "\n(culled)") + "];\n";
+    out += "  " + quote("pass:" + name) +
+           " [shape=box, style=\"filled,dashed\", fillcolor=\"#eeeeee\", fontcolor=\"#888888\", label=" + quote(name + "\n(culled)") +
+           "];\n";
   }
   for (const auto& r : plan.resources) {
     if (!r.used()) continue;
     std::string label = r.name + "\n";
-    label += r.kind == ResourceKind::image
-                 ? std::to_string(r.width) + "x" + std::to_string(r.height) + " " + format_info(r.format).name
-                 : std::to_string(r.buffer_size) + " B";
+    label += r.kind == ResourceKind::image ? std::to_string(r.width) + "x" + std::to_string(r.height) + " " + format_info(r.format).name
+                                           : std::to_string(r.buffer_size) + " B";
     if (!r.transient) label += r.output ? "\noutput" : "\nretained";
     out += "  " + quote("res:" + r.name) + " [shape=ellipse, style=filled, fillcolor=" + (r.output ? "\"#ffe5b4\"" : "\"#ffffff\"") +
            ", label=" + quote(label) + "];\n";

@@ -69,7 +69,7 @@ struct PlannedPass {
   std::string type;
   std::string pointer;
   const PassTypeDecl* decl = nullptr;
-  nlohmann::json params;                 // every declared parameter, resolved
+  nlohmann::json params;                  // every declared parameter, resolved
   std::map<std::string, uint32_t> ports;  // bound port -> resource index
   std::vector<PlannedBarrier> barriers;   // recorded before the pass
 };
@@ -85,9 +85,9 @@ struct Plan {
   std::string graph_path;
   uint32_t output_width = 0;
   uint32_t output_height = 0;
-  std::vector<PlannedPass> passes;  // execution order
-  std::vector<std::string> culled;  // enabled passes that reach no output and have no side effect
-  std::vector<std::string> disabled;  // passes whose "enabled" is 0 for this scene and these parameters
+  std::vector<PlannedPass> passes;               // execution order
+  std::vector<std::string> culled;               // enabled passes that reach no output and have no side effect
+  std::vector<std::string> disabled;             // passes whose "enabled" is 0 for this scene and these parameters
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
   std::vector<std::string> ray_query_passes;     // passes that trace with ray queries: the scene's acceleration structures are built
   std::vector<PlannedResource> resources;
@@ -95,6 +95,8 @@ struct Plan {
   std::vector<uint32_t> outputs;  // resource indices, in the graph's order
   uint64_t transient_bytes_aliased = 0;
   uint64_t transient_bytes_unaliased = 0;
+  // The most transient bytes alive at once over the order: no placement can use less.
+  uint64_t transient_bytes_lifetime_bound = 0;
   uint64_t persistent_bytes = 0;
 
   int find_resource(std::string_view name) const;

@@ -489,8 +489,8 @@ class Viewer {
     }
     if (ImGui::CollapsingHeader("memory")) {
       const auto& plan = executor_.plan();
-      ImGui::Text("transient: %.1f MiB aliased, %.1f MiB unaliased", double(plan.transient_bytes_aliased) / 1048576.0,
-                  double(plan.transient_bytes_unaliased) / 1048576.0);
+      ImGui::Text("transient: %.1f MiB aliased (lifetime bound %.1f), %.1f MiB unaliased", double(plan.transient_bytes_aliased) / 1048576.0,
+                  double(plan.transient_bytes_lifetime_bound) / 1048576.0, double(plan.transient_bytes_unaliased) / 1048576.0);
       ImGui::Text("persistent: %.1f MiB", double(plan.persistent_bytes) / 1048576.0);
       if (const auto* acceleration = executor_.scene() ? executor_.scene()->built_acceleration() : nullptr) {
         ImGui::Text("acceleration structures: %.1f MiB", double(acceleration->bytes()) / 1048576.0);
