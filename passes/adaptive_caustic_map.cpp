@@ -36,7 +36,7 @@ struct AdaptivePush {
   uint32_t light_size_log2;
   uint32_t splat_levels;
   uint32_t coverage_seeded;
-  uint32_t converge_within;
+  float converge_spread;
   uint32_t counter_slot[11];
   ExactPathPush exact;
 };
@@ -55,21 +55,25 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
   void setup(graph::PassSetup& setup) override {
     if (!setup.vk().float_atomics()) {
-      throw DeviceError(setup.vk().device_name() + " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
+      throw DeviceError(setup.vk().device_name() +
+                        " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
     }
     const auto& p = setup.pass().params;
     const uint32_t grid = static_cast<uint32_t>(std::stoul(p["grid"].get<std::string>()));
     max_level_ = log2_exact(grid / 64);
     const std::string criterion = hierarchical_ ? "max_level" : p["criterion"].get<std::string>();
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
-    converge_level_ = criterion == "max_level" ? max_level_ + 1 : criterion == "max_error" ? 0 : log2_exact(std::max(64u, converge_from) / 64);
-    converge_within_ = !hierarchical_ && p["converge_test"].get<std::string>() == "within_texel";
+    converge_level_ = criterion == "max_level"   ? max_level_ + 1
+                      : criterion == "max_error" ? 0
+                                                 : log2_exact(std::max(64u, converge_from) / 64);
+    converge_spread_ = !hierarchical_ && p["converge_test"].get<std::string>() == "within_texel" ? p["converge_spread"].get<float>() : 0.0f;
     const uint32_t light_size = setup.resource("front").width;
     // The pyramid's finest level has one texel per 4 x 4 light-view texels (a sixteenth of the
     // threads on lavapipe), or per photon of the effective grid when that is coarser. A cluster
     // finer than a texel looks up the texel that holds it, which is conservative: it keeps a few
     // more clusters along silhouettes, never drops one.
-    light_size_log2_ = std::min(log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0, log2_exact(grid));
+    light_size_log2_ =
+        std::min(log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0, log2_exact(grid));
     uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
     if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {
       throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): the light-view buffers are " +
@@ -80,14 +84,14 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
     const uint64_t per_start = uint64_t{1} << (2 * max_level_);
     if (per_start > capacity_) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): grid " + std::to_string(grid) + " needs memory_mib of at least " +
-                       std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): grid " + std::to_string(grid) +
+                       " needs memory_mib of at least " + std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
     }
     starts_per_batch_ = static_cast<uint32_t>(std::min<uint64_t>(kStartClusters, capacity_ / per_start));
 
     using Kind = graph::PassSetup::CounterKind;
-    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir", "photons.converged",
-                            "photons.overflow"};
+    const char* counts[] = {"photons.processed",   "photons.splatted",  "photons.dropped_miss",
+                            "photons.dropped_tir", "photons.converged", "photons.overflow"};
     for (int i = 0; i < 6; ++i) slots_[i] = setup.add_counter(counts[i]);
     for (uint32_t l = 0; l <= max_level_; ++l) level_slots_.push_back(setup.add_counter("photons.processed.level" + std::to_string(l)));
     peak_slot_ = setup.add_counter("photons.peak_bytes");
@@ -97,26 +101,29 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     exact_.setup(setup);
 
     vk::Context& vk = setup.vk();
-    lists_ = vk::make_buffer(vk, uint64_t{capacity_} * 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " cluster lists");
+    lists_ = vk::make_buffer(vk, uint64_t{capacity_} * 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
+                             setup.pass().name + " cluster lists");
     control_ = vk::make_buffer(vk, (kMaxLevels + kMaxLevels * 3) * sizeof(uint32_t),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
-                               setup.pass().name + " level control");
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               0, setup.pass().name + " level control");
     uint64_t coverage_words = 1;
     for (uint32_t l = 0; uses_coverage_ && l <= light_size_log2_; ++l) coverage_words += uint64_t{1} << (2 * (light_size_log2_ - l));
-    coverage_ = vk::make_buffer(vk, coverage_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " coverage");
+    coverage_ =
+        vk::make_buffer(vk, coverage_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " coverage");
     splat_levels_ = p["splat_levels"].get<uint32_t>();
     uint64_t pyramid_words = 0;
     const auto& map = setup.resource("caustic_map");
     for (uint32_t l = 0; l < splat_levels_; ++l) pyramid_words += uint64_t{std::max(1u, map.width >> l)} * std::max(1u, map.height >> l);
     pyramid_ = vk::make_buffer(vk, pyramid_words * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                setup.pass().name + " multi-resolution caustic map");
-    const vk::PipelineDesc layout{hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
-                                  exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                   VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}),
-                                  sizeof(AdaptivePush)};
+    const vk::PipelineDesc layout{
+        hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
+        exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}),
+        sizeof(AdaptivePush)};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", exact_.defines(defines)));
@@ -151,9 +158,23 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
-    AdaptivePush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(),
-                      p["fresnel"].get<bool>() ? 1u : 0u, 0, max_level_, converge_level_, capacity_, 0, 0, light_size_log2_, splat_levels_,
-                      uses_coverage_ ? 1u : 0u, converge_within_ ? 1u : 0u, {}, exact_.push(ctx)};
+    AdaptivePush push{shared.distance_mode,
+                      shared.search_steps,
+                      shared.search_distance,
+                      p["light"].get<uint32_t>(),
+                      p["fresnel"].get<bool>() ? 1u : 0u,
+                      0,
+                      max_level_,
+                      converge_level_,
+                      capacity_,
+                      0,
+                      0,
+                      light_size_log2_,
+                      splat_levels_,
+                      uses_coverage_ ? 1u : 0u,
+                      converge_spread_,
+                      {},
+                      exact_.push(ctx)};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -161,7 +182,10 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     auto bind = [&](const vk::Pipeline& pipeline) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
       vk::DescriptorWriter writer = photon_descriptors(ctx);
-      writer.storage_buffer(9, lists_.get()).storage_buffer(10, control_.get()).storage_buffer(11, coverage_.get()).storage_buffer(12, pyramid_.get());
+      writer.storage_buffer(9, lists_.get())
+          .storage_buffer(10, control_.get())
+          .storage_buffer(11, coverage_.get())
+          .storage_buffer(12, pyramid_.get());
       exact_.bind(ctx, writer);
       writer.push(ctx.vk(), cmd, pipeline);
     };
@@ -200,8 +224,10 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         }
         bind(photons_);
         vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
-        if (level == 0) vkCmdDispatch(cmd, (push.batch_count + kGroup - 1) / kGroup, 1, 1);
-        else vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
+        if (level == 0)
+          vkCmdDispatch(cmd, (push.batch_count + kGroup - 1) / kGroup, 1, 1);
+        else
+          vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
       }
     }
     if (levels_.pipeline) {
@@ -229,7 +255,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
 
  private:
   bool hierarchical_;
-  bool uses_coverage_ = false, converge_within_ = false;
+  bool uses_coverage_ = false;
+  float converge_spread_ = 0.0f;
   vk::Pipeline photons_, args_, combine_, coverage_pipeline_, levels_, clear_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   ExactPaths exact_;
@@ -238,27 +265,60 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   std::vector<uint32_t> level_slots_;
 };
 
-
 std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
   using namespace graph;
   auto params = photon_path_params();
-  params.push_back({"grid", ParamType::choice, "2048", {}, {}, {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
+  params.push_back({"grid",
+                    ParamType::choice,
+                    "2048",
+                    {},
+                    {},
+                    {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
                     "effective photon grid per side: the traversal's last level"});
   if (adaptive) {
-    params.push_back({"criterion", ParamType::choice, "hybrid", {}, {}, {"max_level", "max_error", "hybrid"},
+    params.push_back({"criterion",
+                      ParamType::choice,
+                      "hybrid",
+                      {},
+                      {},
+                      {"max_level", "max_error", "hybrid"},
                       "max_level: refine to the last level; max_error: output a cluster whose photons land in one caustic-map texel; "
                       "hybrid: max_level below converge_from, max_error from there"});
-    params.push_back({"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
-    params.push_back({"converge_test", ParamType::choice, "same_texel", {}, {}, {"same_texel", "within_texel"},
+    params.push_back(
+        {"converge_from", ParamType::int_, 512, 64.0, 65536.0, {}, "hybrid: the photon grid from which clusters may converge"});
+    params.push_back({"converge_test",
+                      ParamType::choice,
+                      "within_texel",
+                      {},
+                      {},
+                      {"same_texel", "within_texel"},
                       "max_error and hybrid: same_texel (the paper) converges a cluster whose four photons land in one caustic-map "
-                      "texel, its power into that texel; within_texel one whose landing points lie less than a texel's width apart "
-                      "on both axes, its power shared bilinearly around their centroid"});
-    params.push_back({"coverage_seeding", ParamType::bool_, true, {}, {}, {},
+                      "texel; within_texel one whose landing points lie less than converge_spread texels apart on both axes. Either "
+                      "way its power is spread over its footprint: a box around their centroid twice their spread wide (at least a "
+                      "texel)"});
+    params.push_back({"converge_spread",
+                      ParamType::float_,
+                      1.5,
+                      0.25,
+                      4.0,
+                      {},
+                      "within_texel: how far apart (caustic-map texels, on both axes) a cluster's landing points may lie to converge"});
+    params.push_back({"coverage_seeding",
+                      ParamType::bool_,
+                      true,
+                      {},
+                      {},
+                      {},
                       "keep a cluster whose four photons all miss when the light-view coverage pyramid shows a refractor under it, "
                       "so refractors smaller than the 64 x 64 start grid's spacing are found; false: the paper's traversal"});
   }
   params.push_back({"memory_mib", ParamType::int_, 64, 1.0, 120.0, {}, "bound on the cluster lists; batches keep the traversal within it"});
-  params.push_back({"splat_levels", ParamType::int_, 4, 1.0, 8.0, {},
+  params.push_back({"splat_levels",
+                    ParamType::int_,
+                    4,
+                    1.0,
+                    8.0,
+                    {},
                     "levels of the multi-resolution caustic map: a photon whose cluster's landing points spread n texels splats "
                     "into the level with texels n wide; 1: everything into the finest"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
@@ -273,7 +333,13 @@ const char* kTraversalCounters =
 std::vector<graph::PortDecl> traversal_ports() {
   using namespace graph;
   auto ports = photon_ports();
-  ports.push_back({"caustic_levels", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, true, "",
+  ports.push_back({"caustic_levels",
+                   PortAccess::write,
+                   ResourceKind::image,
+                   PortUsage::storage,
+                   {Format::r32f},
+                   true,
+                   "",
                    "optional, for inspection: the multi-resolution map's levels as splatted, side by side (level 0 at the left, "
                    "each next level half as large to the right of the one before), as flux per level-0 texel; twice as wide "
                    "as caustic_map and as high; written only when a pass reads it, it is a graph output or it is kept"});
@@ -284,16 +350,17 @@ std::vector<graph::PortDecl> traversal_ports() {
 
 graph::PassTypeDecl adaptive_caustic_map_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{"adaptive_caustic_map",
-                    std::string("Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the "
-                                "effective grid on the device (atomic append, indirect dispatch, no read-back), with the max-level, "
-                                "max-error or hybrid termination and batching within a memory bound. ") +
-                        kTraversalCounters,
-                    PassQueue::compute,
-                    traversal_ports(),
-                    traversal_params(true),
-                    false,
-                    [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
+  PassTypeDecl decl{
+      "adaptive_caustic_map",
+      std::string("Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the "
+                  "effective grid on the device (atomic append, indirect dispatch, no read-back), with the max-level, "
+                  "max-error or hybrid termination and batching within a memory bound. ") +
+          kTraversalCounters,
+      PassQueue::compute,
+      traversal_ports(),
+      traversal_params(true),
+      false,
+      [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
@@ -302,16 +369,17 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
 
 graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{"hierarchical_caustic_map",
-                    std::string("Hierarchical caustic map (Wyman 2008): a max pyramid of the light-view refractor coverage is traversed top "
-                                "down by 2 x 2 clusters, skipping regions without refractor; only the effective grid's photons under "
-                                "refractors are traced (light-view buffers must be a power of two wide). ") +
-                        kTraversalCounters,
-                    PassQueue::compute,
-                    traversal_ports(),
-                    traversal_params(false),
-                    false,
-                    [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
+  PassTypeDecl decl{
+      "hierarchical_caustic_map",
+      std::string("Hierarchical caustic map (Wyman 2008): a max pyramid of the light-view refractor coverage is traversed top "
+                  "down by 2 x 2 clusters, skipping regions without refractor; only the effective grid's photons under "
+                  "refractors are traced (light-view buffers must be a power of two wide). ") +
+          kTraversalCounters,
+      PassQueue::compute,
+      traversal_ports(),
+      traversal_params(false),
+      false,
+      [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;

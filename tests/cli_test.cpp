@@ -359,7 +359,7 @@ TEST(Cli, ReferenceAndBenchmarksRun) {
   const std::string csv = read(dir / "photons" / "photons.csv");
   EXPECT_EQ(csv.rfind("grid,method,processed,gpu_ms\n", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 6);  // header, two grids x six methods (max error twice)
-  EXPECT_NE(csv.find("128,adaptive_max_error_within,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("128,adaptive_max_error_same_texel,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("128,regular,16384,"), std::string::npos) << csv;
 
   CliRun refraction = run("bench refraction --sphere-detail 16 --size 64x36 --frames 2 --csv refraction.csv", dir);

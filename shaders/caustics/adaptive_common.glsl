@@ -44,7 +44,7 @@ layout(push_constant) uniform Params {
   uint light_size_log2;  // log2 of the side of the coverage pyramid's finest level
   uint splat_levels;
   uint coverage_seeded;  // adaptive: the coverage pyramid exists and keeps clusters over small refractors
-  uint converge_within;  // convergence test: 0 all four in one texel (the paper), 1 within a texel's width
+  float converge_spread;  // convergence test: 0 all four in one texel (the paper), else landing points closer than this (texels)
   // Counter slots: processed, splatted, dropped_miss, dropped_tir, converged, overflow,
   // processed at this level, peak bytes (counts); flux, flux_entering, flux_dropped (sums).
   uint counter_slot[11];

@@ -177,13 +177,14 @@ int cmd_bench_photons(Args& args) {
                             {"hierarchical", "caustics_hierarchical", ""},
                             {"adaptive_max_level", "caustics_adaptive_maxlevel", ""},
                             {"adaptive_max_error", "caustics_adaptive_maxerror", ""},
-                            {"adaptive_max_error_within", "caustics_adaptive_maxerror", "converge_test=within_texel"},
+                            {"adaptive_max_error_same_texel", "caustics_adaptive_maxerror", "converge_test=same_texel"},
                             {"adaptive_hybrid", "caustics_adaptive", ""}};
   std::string csv = "grid,method,processed,gpu_ms\n";
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const std::string header =
-      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error within a texel | adaptive, "
-      "hybrid "
+      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error with the paper's "
+      "same-texel "
+      "test | adaptive, hybrid "
       "|\n|---|---|---|---|---|---|---|\n";
   std::string table = header, times = header;
   for (uint32_t grid : grids) {
@@ -297,7 +298,7 @@ int cmd_bench_accuracy(Args& args) {
                                   "caustics_hierarchical",
                                   "caustics_adaptive_maxlevel",
                                   "caustics_adaptive_maxerror",
-                                  "caustics_adaptive_maxerror:converge_test=within_texel",
+                                  "caustics_adaptive_maxerror:converge_test=same_texel",
                                   "caustics_adaptive",
                                   "caustics_adaptive_hybrid:distance=search",
                                   "caustics_adaptive_hybrid",
@@ -688,7 +689,7 @@ int cmd_bench(Args& args) {
       "(dv, dv_dn, search; a graph that traces exact paths by default, with its own): the refraction passes' time and\n"
       "error against the ray-traced reference. Writes DIR/results.csv, DIR/speed_accuracy.png (error against time,\n"
       "log-log, python3-matplotlib), DIR/README.md and each scene's reference map. Default graphs: the five caustic\n"
-      "graphs, the max-error one also with converge_test=within_texel, the adaptive hybrid with distance=search and as\n"
+      "graphs, the max-error one also with converge_test=same_texel (the paper's test), the adaptive hybrid with distance=search and as\n"
       "it is, caustics_raytraced, refraction_forward, refraction_deferred, refraction_raytraced, refraction_hybrid (graphs\n"
       "that need ray queries are skipped, with a note, on a device without them). A graph is NAME or\n"
       "NAME:PARAM=VALUE[:PARAM=VALUE...].\n\n"
