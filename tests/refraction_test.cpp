@@ -3,6 +3,7 @@
 // multi-layer order, and scenes without refractors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -159,6 +160,20 @@ TEST(Refraction, OneSharedDepthDrawsTheSameSurfacesAsTwo) {
     ASSERT_EQ(shared.refracted.rgba.size(), separate.rgba.size());
     EXPECT_EQ(shared.refracted.rgba, separate.rgba) << graph_name;
   }
+}
+
+// The default picture has no pure black: the sky's ambient fill lights what the spot light does
+// not reach (the bunny's shadow, the dark tiles). Its darkest 1% of lit pixels stays above 0.02
+// (about 0.033 for a dark tile in full shadow); bunny_plane, with the default 0.03 ambient, is at 0.0065.
+TEST(Refraction, TheDefaultSceneHasNoBlackShadows) {
+  Engine e;
+  auto frame = e.render("caustics_adaptive", load("glass_bunny"));
+  std::vector<float> lum;
+  for (size_t i = 0; i < frame.lit.rgba.size() / 4; ++i) lum.push_back(luminance(&frame.lit.rgba[i * 4]));
+  std::nth_element(lum.begin(), lum.begin() + static_cast<std::ptrdiff_t>(lum.size() / 100), lum.end());
+  const float darkest = lum[lum.size() / 100];
+  std::printf("glass_bunny: 1st percentile of lit luminance %.4f\n", static_cast<double>(darkest));
+  EXPECT_GT(darkest, 0.02f);
 }
 
 TEST(Refraction, AHiddenRefractorShowsThroughTheNearOne) {

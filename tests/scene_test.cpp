@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <set>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "core/error.h"
 #include "scene/bvh_order.h"
@@ -89,7 +89,8 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
                                   "KHR_materials_ior": {"ior": 1.33},
                                   "KHR_materials_volume": {"attenuationColor": [0.5, 1, 1], "attenuationDistance": 2}}}],
     "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"],
-    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + buffer + R"("}],
+    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" +
+                           buffer + R"("}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
                   {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
@@ -105,7 +106,7 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   ASSERT_EQ(mesh.positions.size(), 3u);
   EXPECT_FLOAT_EQ(mesh.positions[1].x, 1.0f);
   EXPECT_FLOAT_EQ(mesh.positions[1].z, 5.0f);  // the node's translation is applied
-  ASSERT_EQ(mesh.normals.size(), 3u);           // computed, since the file has none
+  ASSERT_EQ(mesh.normals.size(), 3u);          // computed, since the file has none
   EXPECT_NEAR(mesh.normals[0].z, 1.0f, 1e-6f);
 }
 
@@ -116,7 +117,7 @@ TEST(SceneFiles, BundledScenesLoadWithTheirRefractors) {
   };
   for (auto [file, refractors] : {Expect{"sphere_plane.json", 1}, Expect{"bunny_plane.json", 1}, Expect{"two_refractors.json", 2},
                                   Expect{"three_refractors.json", 3}, Expect{"torus.json", 1}, Expect{"armadillo.json", 1},
-                                  Expect{"dragon.json", 1}, Expect{"no_refractor.json", 0}}) {
+                                  Expect{"dragon.json", 1}, Expect{"no_refractor.json", 0}, Expect{"glass_bunny.json", 1}}) {
     Scene s = load_scene_file((kSource / "scenes" / file).string());
     EXPECT_EQ(s.refractor_count(), refractors) << file;
     for (const auto& o : s.objects) {
@@ -152,7 +153,8 @@ TEST(BvhOrder, IsAPermutationSplitAtTheMedianOfTheLongestAxis) {
   const size_t triangles = sphere.indices.size() / 3;
   for (size_t i = 0; i < triangles; ++i) {
     const size_t t = i % 2 == 0 ? i / 2 : triangles - 1 - i / 2;
-    shuffled.insert(shuffled.end(), sphere.indices.begin() + static_cast<std::ptrdiff_t>(3 * t), sphere.indices.begin() + static_cast<std::ptrdiff_t>(3 * t + 3));
+    shuffled.insert(shuffled.end(), sphere.indices.begin() + static_cast<std::ptrdiff_t>(3 * t),
+                    sphere.indices.begin() + static_cast<std::ptrdiff_t>(3 * t + 3));
   }
   const std::vector<uint32_t> ordered = bvh_triangle_order(sphere.positions, shuffled);
   ASSERT_EQ(ordered.size(), shuffled.size());

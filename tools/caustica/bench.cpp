@@ -144,7 +144,7 @@ int cmd_bench_refraction(Args& args) {
 // The paper's table: photons processed per method and effective grid on one scene, with the GPU
 // time of the caustic pass, one run.
 int cmd_bench_photons(Args& args) {
-  std::string scene_file = (data_dir() / kDefaultScene).string(), out_dir, device;
+  std::string scene_file = (data_dir() / kBenchScene).string(), out_dir, device;
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
   uint32_t frames = 3, regular_max = 16384;
   while (!args.done()) {

@@ -57,7 +57,7 @@ exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
 )";
 
 const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/caustics_adaptive.json in the data folder)
-  --scene FILE          scene for graphs that draw one (default: scenes/bunny_plane.json); a graph
+  --scene FILE          scene for graphs that draw one (default: scenes/glass_bunny.json); a graph
                         without scene passes ignores it
   --size WxH            output size (default 1280x720)
   --frames N            frames to run (default 1; timings are medians over frames 2..N)
@@ -280,7 +280,7 @@ int cmd_graph(Args& args) {
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
       "lifetimes, memory offsets, barriers, memory.transient_bytes_aliased/unaliased), 'dot' as Graphviz.\n"
       "Memory sizes are the device-independent estimate (tightly packed texels). A graph that traces with ray\n"
-      "queries adds memory.acceleration: the scene's (--scene S, default scenes/bunny_plane.json) build inputs\n"
+      "queries adds memory.acceleration: the scene's (--scene S, default scenes/glass_bunny.json) build inputs\n"
       "exactly and its acceleration structures at lavapipe 25's layout; render --stats reports the driver's own.\n"
       "Expressions about the scene\n"
       "(scene.refractors, scene.lights, scene.objects) see --scene S, or one refractor, one light and two\n"
@@ -371,7 +371,7 @@ int cmd_reference(Args& args) {
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
                  "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
                  "options:\n"
-                 "  --scene FILE          the scene (default: scenes/bunny_plane.json)\n"
+                 "  --scene FILE          the scene (default: scenes/glass_bunny.json)\n"
                  "  --out FILE            the image (required)\n"
                  "  --size WxH            camera image size (default 1280x720)\n"
                  "  --photons N           photons to trace, e.g. 1e8\n"
