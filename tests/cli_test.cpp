@@ -385,6 +385,10 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_NE(ref.output.find("photons 200000 in"), std::string::npos) << ref.output;
   EXPECT_TRUE(fs::exists(dir / "camera.exr"));
   ASSERT_EQ(run("reference --scene " + sphere + " --photons 2e5 --map-size 64 --seed 7 --out b.exr", dir).code, 0);
+  // The reference picture lit with that map (caustics_test checks its projection against the engine's).
+  const CliRun picture = run("reference --scene " + sphere + " --caustics a.exr --exposure 1.5 --size 64x36 --out picture.png", dir);
+  EXPECT_EQ(picture.code, 0) << picture.output;
+  EXPECT_TRUE(fs::exists(dir / "picture.png"));
 
   CliRun same = run("compare a.exr a.exr --json", dir);
   ASSERT_EQ(same.code, 0) << same.output;

@@ -12,11 +12,16 @@ namespace {
 
 constexpr int kMaxInterfaces = 32;  // per refractor crossing; TIR can bounce a ray around inside
 
-float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
+float luminance(const float* rgb) {
+  return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
 
 class Tracer {
  public:
-  explicit Tracer(const scene::Scene& scene) : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()) {}
+  Tracer(const scene::Scene& scene, const io::ImageData* caustic_map)
+      : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_map_(caustic_map) {
+    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().view.view_projection(1.0f);
+  }
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
 
@@ -30,10 +35,52 @@ class Tracer {
       const glm::vec3 l = to_light / std::sqrt(d2);
       float cone = spot_cone(light, -l);
       // The engine shadows the first spot light only (through its shadow map); so does the reference.
-      if (light.type == scene::LightType::spot && i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_)) cone = 0;
+      if (light.type == scene::LightType::spot && i == 0 && cone > 0 &&
+          rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_))
+        cone = 0;
+      if (light.type == scene::LightType::spot && i == 0 && caustic_map_) irradiance += caustic_irradiance(light, p, n);
       irradiance += light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
     return albedo * (scene_.ambient * scene_.sky + irradiance / glm::pi<float>());
+  }
+
+  // lighting.frag's caustic_irradiance on the exact geometry: only where the light sees p past
+  // the refractors (the engine's receiver depth map), the map sampled bilinearly at p's place in
+  // the light's image plane, its flux spread over the area the texel's solid angle covers at p.
+  glm::vec3 caustic_irradiance(const scene::Light& light, glm::vec3 p, glm::vec3 n) const {
+    const glm::vec4 clip = light_view_proj_ * glm::vec4(p, 1.0f);
+    if (clip.w <= 0.0f) return glm::vec3(0.0f);
+    const glm::vec2 uv = glm::vec2(clip) / clip.w * 0.5f + 0.5f;
+    if (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f) return glm::vec3(0.0f);
+    const glm::vec3 to_light = light.view.position - p;
+    const float r2 = std::max(glm::dot(to_light, to_light), 1e-8f), r = std::sqrt(r2);
+    for (glm::vec3 origin = p + n * epsilon_;;) {  // refractors let the map's light through; nothing else does
+      auto hit = rays_.intersect(origin, to_light / r, 0.0f, glm::distance(origin, light.view.position) - epsilon_);
+      if (!hit) break;
+      if (!scene_.objects[hit->geometry].material.refractor) return glm::vec3(0.0f);
+      origin += to_light / r * (hit->distance + epsilon_);
+    }
+    const float half = std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
+    const glm::vec2 plane = (uv * 2.0f - 1.0f) * half;
+    const float cos_axis = 1.0f / std::sqrt(1.0f + glm::dot(plane, plane));
+    const auto& map = *caustic_map_;
+    const float texel_solid_angle = 4.0f * half * half / float(map.width * map.height) * cos_axis * cos_axis * cos_axis;
+    const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
+    return light.color * sample_bilinear(map, uv) * cos_theta / (texel_solid_angle * r2);
+  }
+
+  // The first channel at uv, as a linear sampler with clamp-to-edge reads it (texel centres at
+  // (i + 0.5) / size).
+  static float sample_bilinear(const io::ImageData& map, glm::vec2 uv) {
+    const glm::vec2 c = uv * glm::vec2(float(map.width), float(map.height)) - 0.5f;
+    const glm::vec2 base = glm::floor(c), f = c - base;
+    auto at = [&](int x, int y) {
+      x = std::clamp(x, 0, int(map.width) - 1);
+      y = std::clamp(y, 0, int(map.height) - 1);
+      return map.rgba[(size_t(y) * map.width + size_t(x)) * 4];
+    };
+    const int x = int(base.x), y = int(base.y);
+    return glm::mix(glm::mix(at(x, y), at(x + 1, y), f.x), glm::mix(at(x, y + 1), at(x + 1, y + 1), f.x), f.y);
   }
 
   glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, bool* hit_refractor) const {
@@ -85,12 +132,14 @@ class Tracer {
   const scene::Scene& scene_;
   const RayScene& rays_;
   float epsilon_;
+  const io::ImageData* caustic_map_;
+  glm::mat4 light_view_proj_{1.0f};
 };
 
 }  // namespace
 
-RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height) {
-  Tracer tracer(scene);
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map) {
+  Tracer tracer(scene, caustic_map);
   RefractionImage out;
   out.radiance.width = width;
   out.radiance.height = height;
@@ -127,7 +176,8 @@ double refraction_relative_l1(const io::ImageData& engine, const RefractionImage
   const size_t pixels = reference.refractor.size();
   for (size_t i = 0; i < pixels && i * 4 < engine.rgba.size(); ++i) {
     if (!reference.refractor[i]) continue;
-    const double e = static_cast<double>(luminance(&engine.rgba[i * 4])), r = static_cast<double>(luminance(&reference.radiance.rgba[i * 4]));
+    const double e = static_cast<double>(luminance(&engine.rgba[i * 4])),
+                 r = static_cast<double>(luminance(&reference.radiance.rgba[i * 4]));
     difference += std::abs(e - r);
     total += std::abs(r);
   }

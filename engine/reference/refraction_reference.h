@@ -17,7 +17,13 @@ struct RefractionImage {
   std::vector<uint8_t> refractor;  // 1 where the primary ray hits a refractor first
 };
 
-RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height);
+// With `caustic_map` (flux per texel of the first light's image plane, as the photon reference
+// and the engine hold it), opaque surfaces the first spot light sees past the refractors also
+// receive that map's caustic irradiance, projected as the engine's lighting pass projects its own
+// (bilinear, flux over the texel's solid angle at the receiver): the same scene's picture with
+// the reference's caustics, seen directly and through the glass.
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height,
+                                            const io::ImageData* caustic_map = nullptr);
 
 // Error between an engine image and the reference, over the reference's refractor pixels:
 // sum |engine - reference| / sum |reference|, on luminance.

@@ -358,14 +358,17 @@ int cmd_graph(Args& args) {
 
 int cmd_reference(Args& args) {
   if (args.wants_help()) {
-    std::cout << "usage: caustica reference --scene FILE --out FILE.exr [--size WxH]\n"
+    std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics MAP.exr] [--exposure E]\n"
                  "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
                  "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel]\n\n"
                  "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
                  "core): refraction at every interface, total internal reflection followed inside, Fresnel\n"
                  "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
                  "that image-space refraction is measured against (docs/refraction.md). Writes linear radiance (EXR)\n"
-                 "or an 8-bit PNG.\n\n"
+                 "or an 8-bit PNG tone mapped as the engine's tonemap pass does (1 - exp(-E L), sRGB). With --caustics\n"
+                 "MAP.exr (a map from --photons), surfaces the first light sees past the refractors also receive that\n"
+                 "map's caustic, projected as the engine's lighting pass projects its own: the scene's reference picture\n"
+                 "with caustics, seen directly and through the glass.\n\n"
                  "With --photons: traces N photons from the first (spot) light through every interface, Fresnel and\n"
                  "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
@@ -378,11 +381,15 @@ int cmd_reference(Args& args) {
                  "  --seed K              random seed (default 1)\n"
                  "  --map-size N          side of the light-space map (default 512, the graphs' caustic_size)\n"
                  "  --camera FILE.exr     also write the caustic irradiance seen by the camera\n"
-                 "  --no-fresnel          transmit every photon unless total internal reflection (the graphs' fresnel=false)\n";
+                 "  --no-fresnel          transmit every photon unless total internal reflection (the graphs' fresnel=false)\n"
+                 "  --caustics MAP.exr    without --photons: light the picture with this caustic map too\n"
+                 "  --exposure E          without --photons: the PNG's exposure (default 1, as the graphs')\n";
     return 0;
   }
-  std::string scene_file = (data_dir() / kDefaultScene).string(), out, camera_out;
+  std::string scene_file = (data_dir() / kDefaultScene).string(), out, camera_out, caustics_file;
   uint32_t width = 1280, height = 720;
+  float exposure = 1.0f;
+  bool exposure_given = false;
   reference::PhotonOptions photons;
   photons.photons = 0;
   while (!args.done()) {
@@ -403,12 +410,19 @@ int cmd_reference(Args& args) {
       camera_out = args.value(a);
     else if (a == "--no-fresnel")
       photons.fresnel = false;
-    else
-      unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel"});
+    else if (a == "--caustics")
+      caustics_file = args.value(a);
+    else if (a == "--exposure") {
+      exposure = static_cast<float>(parse_number(a, args.value(a), 0.0, 100.0));
+      exposure_given = true;
+    } else
+      unknown_option(
+          a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel", "--caustics", "--exposure"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
   if (photons.photons == 0 && (!camera_out.empty() || !photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
-  io::check_image_output(out);
+  if (photons.photons > 0 && (!caustics_file.empty() || exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
+  const std::string out_extension = io::check_image_output(out);
   if (!camera_out.empty()) io::check_image_output(camera_out);
   const scene::Scene scene = scene::load_scene_file(scene_file);
   const auto start = std::chrono::steady_clock::now();
@@ -435,7 +449,14 @@ int cmd_reference(Args& args) {
     std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), out.c_str(), camera_out.empty() ? "" : ", ", camera_out.c_str());
     return 0;
   }
-  auto image = reference::render_refraction_reference(scene, width, height);
+  std::optional<io::ImageData> caustic_map;
+  if (!caustics_file.empty()) caustic_map = io::read_image(caustics_file);
+  auto image = reference::render_refraction_reference(scene, width, height, caustic_map ? &*caustic_map : nullptr);
+  if (out_extension == ".png") {
+    for (size_t i = 0; i < image.radiance.rgba.size(); ++i) {
+      if (i % 4 != 3) image.radiance.rgba[i] = 1.0f - std::exp(-exposure * image.radiance.rgba[i]);
+    }
+  }
   io::write_image(out, image.radiance);
   std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), width, height,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), out.c_str());
