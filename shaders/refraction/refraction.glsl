@@ -97,6 +97,12 @@ float exit_gap(uint kind, mat4 view_proj, vec3 eye, vec3 q, out bool valid) {
   return d - back.y;
 }
 
+// Where the gap crosses zero between lo and hi: by false position where both ends have a gap of
+// opposite signs, else halfway.
+float crossing_estimate(float lo, float gap_lo, bool lo_valid, float hi, float gap_hi, bool hi_valid) {
+  return lo_valid && hi_valid && gap_hi > gap_lo ? lo - gap_lo * (hi - lo) / (gap_hi - gap_lo) : 0.5 * (lo + hi);
+}
+
 // The crossing's distance along `direction` from `origin` within d_max (false when there is none):
 // linear steps, then refinement.
 bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direction, float d_max, out float t_cross) {
@@ -114,9 +120,7 @@ bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direct
     }
     int kept = 0;  // which end stayed last time: -1 lo, +1 hi (Illinois halves a twice-kept end's gap)
     for (int r = 0; r < EXIT_REFINEMENTS; ++r) {
-      bool interpolate = lo_valid && hi_valid && gap_hi > gap_lo;
-      float t = interpolate ? lo - gap_lo * (hi - lo) / (gap_hi - gap_lo) : 0.5 * (lo + hi);
-      t = clamp(t, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+      float t = clamp(crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid), lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
       bool valid;
       float gap = exit_gap(kind, view_proj, eye, origin + direction * t, valid);
       if (valid && gap < 0.0) {
@@ -133,8 +137,7 @@ bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direct
         kept = -1;
       }
     }
-    bool interpolate = lo_valid && hi_valid && gap_hi > gap_lo;
-    t_cross = interpolate ? lo - gap_lo * (hi - lo) / (gap_hi - gap_lo) : 0.5 * (lo + hi);
+    t_cross = crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid);
     return true;
   }
   return false;
