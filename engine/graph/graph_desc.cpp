@@ -176,7 +176,9 @@ GraphDesc load_graph(JsonDocument doc) {
   graph.doc = std::move(doc);
   Reader read(graph.doc);
   const auto& root = read.object(graph.doc.root(), "", "a graph file");
-  read.only_keys(root, "", {"$schema", "name", "description", "parameters", "resources", "passes", "outputs"}, "a graph");
+  read.only_keys(root, "", {"$schema", "name", "description", "parameters", "resources", "passes", "outputs", "editor"}, "a graph");
+  // The editor's layout (caustica edit): its own business, but it must be an object.
+  if (root.contains("editor")) read.object(root["editor"], "/editor", "\"editor\"");
   graph.name = root.contains("name") ? read.name(root["name"], "/name", "the graph name") : "graph";
   if (root.contains("description")) graph.description = read.string(root["description"], "/description", "\"description\"");
   load_parameters(graph, read);

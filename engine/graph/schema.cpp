@@ -95,7 +95,8 @@ json graph_schema_json(const PassRegistry& registry) {
             {"parameters", {{"type", "object"}, {"additionalProperties", parameter}}},
             {"resources", {{"type", "object"}, {"additionalProperties", resource}}},
             {"passes", {{"type", "array"}, {"minItems", 1}, {"items", pass}}},
-            {"outputs", {{"type", "array"}, {"minItems", 1}, {"items", {{"type", "string"}}}}}}},
+            {"outputs", {{"type", "array"}, {"minItems", 1}, {"items", {{"type", "string"}}}}},
+            {"editor", {{"type", "object"}, {"description", "the graph editor's layout (pass positions); the engine ignores it"}}}}},
           {"additionalProperties", false}};
 }
 

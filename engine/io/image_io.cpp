@@ -1,15 +1,14 @@
 #include "io/image_io.h"
 
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "core/error.h"
+#include "io/files.h"
 
 namespace caustica::io {
 
@@ -31,32 +30,6 @@ float half_to_float(uint16_t half) {
   bits |= sign;
   std::memcpy(&magnitude, &bits, 4);
   return magnitude;
-}
-
-namespace {
-
-std::filesystem::path temporary_name(const std::filesystem::path& target) {
-  // Same folder (so rename is atomic) and same extension (OpenImageIO picks the format by it).
-  return target.parent_path() / ("." + target.stem().string() + ".partial-" + std::to_string(::getpid()) + target.extension().string());
-}
-
-void commit(const std::filesystem::path& temp, const std::filesystem::path& target) {
-  std::error_code ec;
-  std::filesystem::rename(temp, target, ec);
-  if (ec) {
-    std::filesystem::remove(temp, ec);
-    throw InputError(target.string() + ": cannot write: " + ec.message());
-  }
-}
-
-}  // namespace
-
-void check_output_file(const std::string& path) {
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
-    throw InputError(path + ": cannot write: folder '" + folder.string() + "' does not exist");
-  }
 }
 
 std::string check_image_output(const std::string& path) {
@@ -118,23 +91,6 @@ ImageData read_image(const std::string& path) {
     if (channels == 1) image.rgba[p * 4 + 1] = image.rgba[p * 4 + 2] = image.rgba[p * 4];
   }
   return image;
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  check_output_file(path);
-  std::filesystem::path target(path);
-  std::filesystem::path temp = temporary_name(target);
-  {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(temp, ec);
-      throw InputError(path + ": cannot write");
-    }
-  }
-  commit(temp, target);
 }
 
 }  // namespace caustica::io

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "io/files.h"
+
 namespace caustica::io {
 
 struct ImageData {
@@ -17,13 +19,9 @@ struct ImageData {
 void write_image(const std::string& path, const ImageData& image);
 ImageData read_image(const std::string& path);
 
-// Throw before any work is done when an output cannot be written: its folder is missing, or
-// (images) it does not end in .png or .exr. check_image_output returns the lower-case extension.
-void check_output_file(const std::string& path);
+// Throws before any work is done when an image output cannot be written: its folder is missing
+// or it does not end in .png or .exr. Returns the lower-case extension.
 std::string check_image_output(const std::string& path);
-
-// Writes text through a temporary file and a rename.
-void write_text_atomically(const std::string& path, const std::string& text);
 
 float srgb_encode(float linear);
 float half_to_float(uint16_t half);

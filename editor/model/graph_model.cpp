@@ -1,0 +1,447 @@
+#include "model/graph_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <set>
+
+#include "core/error.h"
+#include "core/suggest.h"
+#include "graph/compiler.h"
+#include "io/files.h"
+#include "io/json_document.h"
+#include "model/json_text.h"
+
+namespace caustica::editor {
+namespace {
+
+using nlohmann::ordered_json;
+
+std::vector<std::string> pass_names(const ordered_json& doc) {
+  std::vector<std::string> names;
+  for (const auto& pass : doc["passes"]) {
+    if (pass.is_object() && pass.contains("name") && pass["name"].is_string()) names.push_back(pass["name"].get<std::string>());
+  }
+  return names;
+}
+
+std::vector<std::string> keys(const ordered_json& object) {
+  std::vector<std::string> out;
+  if (object.is_object()) {
+    for (const auto& [key, value] : object.items()) out.push_back(key);
+  }
+  return out;
+}
+
+// Renames a key in place, keeping its position among the others.
+void rename_key(ordered_json& object, const std::string& from, const std::string& to) {
+  ordered_json renamed = ordered_json::object();
+  for (auto& [key, value] : object.items()) renamed[key == from ? to : key] = std::move(value);
+  object = std::move(renamed);
+}
+
+// Every place a resource's name appears outside "resources": bindings, outputs, fallbacks.
+void for_each_resource_reference(ordered_json& doc, const std::function<void(ordered_json&)>& visit) {
+  for (auto& pass : doc["passes"]) {
+    for (const char* section : {"inputs", "outputs"}) {
+      if (!pass.contains(section)) continue;
+      for (auto& [port, resource] : pass[section].items()) visit(resource);
+    }
+  }
+  for (auto& output : doc["outputs"]) visit(output);
+  for (auto& [name, resource] : doc["resources"].items()) {
+    if (resource.contains("fallback") && resource["fallback"].is_string()) visit(resource["fallback"]);
+  }
+}
+
+bool writes(const graph::PortDecl& port) {
+  return port.access != graph::PortAccess::read;
+}
+
+}  // namespace
+
+GraphModel GraphModel::open(const std::string& path, const graph::PassRegistry& registry) {
+  return GraphModel(read_text_file(path, JsonDocument::kMaxBytes), path, registry);
+}
+
+GraphModel::GraphModel(std::string text, std::string path, const graph::PassRegistry& registry)
+    : registry_(&registry), path_(std::move(path)), base_text_(std::move(text)) {
+  // The engine's parser first: its messages name the line, and it refuses what nlohmann accepts
+  // (duplicate keys).
+  JsonDocument::parse(base_text_, path_);
+  doc_ = saved_ = ordered_json::parse(base_text_);
+  validate(doc_);
+}
+
+graph::GraphDesc GraphModel::desc() const {
+  return graph::load_graph(JsonDocument::parse(text(), path_));
+}
+
+std::string GraphModel::text() const {
+  return write_preserving(doc_, base_text_);
+}
+
+void GraphModel::validate(const ordered_json& doc) const {
+  const graph::GraphDesc graph = graph::load_graph(JsonDocument::parse(write_preserving(doc, base_text_), path_));
+  graph::CompileOptions options;
+  options.scene_values = graph::typical_scene_values();
+  graph::compile_graph(graph, *registry_, options);
+}
+
+template <class Change>
+void GraphModel::apply(const std::string& label, Change&& change) {
+  ordered_json next = doc_;
+  change(next);
+  if (next == doc_) return;  // nothing to undo
+  validate(next);
+  undo_.push_back({std::move(doc_), label});
+  redo_.clear();
+  doc_ = std::move(next);
+}
+
+ordered_json& GraphModel::pass_json(ordered_json& doc, const std::string& pass) const {
+  for (auto& p : doc["passes"]) {
+    if (p.value("name", "") == pass) return p;
+  }
+  throw InputError(path_ + ": no pass named '" + pass + "'" + did_you_mean(pass, pass_names(doc)));
+}
+
+const graph::PassTypeDecl& GraphModel::pass_type(const ordered_json& pass) const {
+  const std::string type = pass.value("type", "");
+  const graph::PassTypeDecl* decl = registry_->find(type);
+  if (!decl) throw InputError(path_ + ": unknown pass type '" + type + "'" + did_you_mean(type, registry_->names()));
+  return *decl;
+}
+
+std::string GraphModel::add_pass(const std::string& type, const std::string& wanted_name) {
+  const graph::PassTypeDecl* decl = registry_->find(type);
+  if (!decl) throw InputError(path_ + ": unknown pass type '" + type + "'" + did_you_mean(type, registry_->names()));
+  const std::vector<std::string> taken = pass_names(doc_);
+  auto is_taken = [&](const std::string& n) { return std::find(taken.begin(), taken.end(), n) != taken.end(); };
+  std::string name = wanted_name.empty() ? type : wanted_name;
+  if (!wanted_name.empty() && is_taken(name)) throw InputError(path_ + ": a pass named '" + name + "' already exists");
+  for (int i = 2; is_taken(name); ++i) name = type + "_" + std::to_string(i);
+
+  ordered_json pass = {{"name", name}, {"type", type}};
+  ordered_json params = ordered_json::object();
+  for (const auto& p : decl->params) params[p.name] = p.default_value;
+  if (!params.empty()) pass["params"] = params;
+
+  // Inputs: resources of an accepted format that a pass writes, the latest writer in the file
+  // first; ports of one extent group take resources of one size. Candidates are tried in that
+  // order until the graph compiles.
+  std::vector<std::string> written;  // latest writer first
+  for (auto it = doc_["passes"].rbegin(); it != doc_["passes"].rend(); ++it) {
+    if (!it->contains("outputs")) continue;
+    for (const auto& [port, resource] : (*it)["outputs"].items()) {
+      if (std::find(written.begin(), written.end(), resource.get<std::string>()) == written.end()) written.push_back(resource);
+    }
+  }
+  const ordered_json& resources = doc_["resources"];
+  auto accepts = [&](const graph::PortDecl& port, const std::string& resource) {
+    if (!resources.contains(resource)) return false;
+    const ordered_json& r = resources[resource];
+    const bool buffer = r.value("type", "image") == "buffer";
+    if (buffer != (port.kind == graph::ResourceKind::buffer)) return false;
+    if (buffer || port.formats.empty()) return true;
+    const auto format = graph::parse_format(r.value("format", ""));
+    return format && std::find(port.formats.begin(), port.formats.end(), *format) != port.formats.end();
+  };
+  std::vector<const graph::PortDecl*> inputs;
+  std::vector<std::vector<std::string>> candidates;
+  for (const auto& port : decl->ports) {
+    if (port.optional || port.access == graph::PortAccess::write) continue;
+    inputs.push_back(&port);
+    candidates.emplace_back();
+    for (const auto& r : written) {
+      if (accepts(port, r)) candidates.back().push_back(r);
+    }
+    if (candidates.back().empty()) {
+      std::string formats;
+      for (auto f : port.formats) formats += std::string(formats.empty() ? "" : ", ") + graph::format_info(f).name;
+      throw InputError(path_ + ": cannot add a " + type + " pass: its input '" + port.name + "' needs " +
+                       (port.kind == graph::ResourceKind::buffer ? "a buffer"
+                        : formats.empty()                        ? "an image"
+                                                                 : "an image of " + formats) +
+                       " that a pass writes, and the graph has none yet");
+    }
+  }
+  auto size_of = [&](const std::string& resource) {
+    const ordered_json& r = resources[resource];
+    return r.value("width", std::string("output.width")) + "," + r.value("height", std::string("output.height"));
+  };
+
+  // Outputs: a new resource each, of the size of an input in the same extent group if there is one.
+  auto outputs_for = [&](const std::vector<std::string>& chosen, ordered_json& new_resources) {
+    ordered_json bound = ordered_json::object();
+    for (const auto& port : decl->ports) {
+      if (port.optional || port.access != graph::PortAccess::write) continue;
+      std::string resource = name + "_" + port.name;
+      for (int i = 2; resources.contains(resource) || new_resources.contains(resource); ++i)
+        resource = name + "_" + port.name + "_" + std::to_string(i);
+      ordered_json r;
+      if (port.kind == graph::ResourceKind::buffer) {
+        r = {{"type", "buffer"}, {"size", "65536"}};
+      } else {
+        r = {{"type", "image"}, {"format", graph::format_info(port.formats.empty() ? graph::Format::rgba16f : port.formats.front()).name}};
+        for (size_t i = 0; i < inputs.size(); ++i) {
+          if (port.extent_group.empty() || inputs[i]->extent_group != port.extent_group) continue;
+          const ordered_json& source = resources[chosen[i]];
+          for (const char* axis : {"width", "height"}) {
+            if (source.contains(axis)) r[axis] = source[axis];
+          }
+          break;
+        }
+      }
+      new_resources[resource] = r;
+      bound[port.name] = resource;
+    }
+    return bound;
+  };
+
+  std::vector<std::string> chosen(inputs.size());
+  std::string first_error;
+  int tries = 0;
+  constexpr int kMaxTries = 64;
+  std::function<bool(size_t)> choose = [&](size_t i) -> bool {
+    if (i == inputs.size()) {
+      ++tries;
+      ordered_json next = doc_;
+      ordered_json candidate = pass;
+      ordered_json in = ordered_json::object();
+      for (size_t k = 0; k < inputs.size(); ++k) in[inputs[k]->name] = chosen[k];
+      ordered_json new_resources = ordered_json::object();
+      ordered_json out = outputs_for(chosen, new_resources);
+      if (!in.empty()) candidate["inputs"] = in;
+      if (!out.empty()) candidate["outputs"] = out;
+      for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
+      next["passes"].push_back(candidate);
+      try {
+        validate(next);
+      } catch (const InputError& e) {
+        if (first_error.empty()) first_error = e.what();
+        return false;
+      }
+      undo_.push_back({std::move(doc_), "add pass " + name});
+      redo_.clear();
+      doc_ = std::move(next);
+      return true;
+    }
+    for (const auto& r : candidates[i]) {
+      if (tries >= kMaxTries) return false;
+      bool fits = true;  // one size per extent group
+      for (size_t k = 0; k < i; ++k) {
+        if (!inputs[i]->extent_group.empty() && inputs[k]->extent_group == inputs[i]->extent_group && size_of(chosen[k]) != size_of(r))
+          fits = false;
+      }
+      if (!fits) continue;
+      chosen[i] = r;
+      if (choose(i + 1)) return true;
+    }
+    return false;
+  };
+  if (!choose(0)) {
+    throw InputError(first_error.empty() ? path_ + ": cannot add a " + type + " pass: no resources of one size fit its inputs"
+                                         : first_error);
+  }
+  return name;
+}
+
+void GraphModel::remove_pass(const std::string& name) {
+  apply("remove pass " + name, [&](ordered_json& doc) {
+    const ordered_json removed = pass_json(doc, name);
+    auto& passes = doc["passes"];
+    passes.erase(std::remove_if(passes.begin(), passes.end(), [&](const ordered_json& p) { return p.value("name", "") == name; }),
+                 passes.end());
+    for (auto& p : passes) {
+      if (!p.contains("after")) continue;
+      auto& after = p["after"];
+      after.erase(std::remove(after.begin(), after.end(), ordered_json(name)), after.end());
+      if (after.empty()) p.erase("after");
+    }
+    if (doc.contains("editor") && doc["editor"].contains("positions")) doc["editor"]["positions"].erase(name);
+    // Resources only this pass named go with it.
+    std::set<std::string> named;
+    for_each_resource_reference(doc, [&](ordered_json& r) { named.insert(r.get<std::string>()); });
+    for (const char* section : {"inputs", "outputs"}) {
+      if (!removed.contains(section)) continue;
+      for (const auto& [port, resource] : removed[section].items()) {
+        if (!named.count(resource.get<std::string>())) doc["resources"].erase(resource.get<std::string>());
+      }
+    }
+  });
+}
+
+void GraphModel::rename_pass(const std::string& name, const std::string& new_name) {
+  const auto taken = pass_names(doc_);
+  if (new_name != name && std::find(taken.begin(), taken.end(), new_name) != taken.end())
+    throw InputError(path_ + ": a pass named '" + new_name + "' already exists");
+  apply("rename pass " + name + " to " + new_name, [&](ordered_json& doc) {
+    pass_json(doc, name)["name"] = new_name;
+    for (auto& p : doc["passes"]) {
+      if (!p.contains("after")) continue;
+      for (auto& a : p["after"]) {
+        if (a == name) a = new_name;
+      }
+    }
+    if (doc.contains("editor") && doc["editor"].contains("positions") && doc["editor"]["positions"].contains(name))
+      rename_key(doc["editor"]["positions"], name, new_name);
+  });
+}
+
+void GraphModel::connect(const std::string& pass, const std::string& port_name, const std::string& resource) {
+  apply("connect " + pass + "." + port_name + " to " + resource, [&](ordered_json& doc) {
+    ordered_json& p = pass_json(doc, pass);
+    const graph::PortDecl* port = pass_type(p).find_port(port_name);
+    if (!port) throw InputError(path_ + ": pass type '" + p.value("type", "") + "' has no port '" + port_name + "'");
+    p[writes(*port) ? "outputs" : "inputs"][port_name] = resource;
+  });
+}
+
+void GraphModel::disconnect(const std::string& pass, const std::string& port_name) {
+  apply("disconnect " + pass + "." + port_name, [&](ordered_json& doc) {
+    ordered_json& p = pass_json(doc, pass);
+    for (const char* section : {"inputs", "outputs"}) {
+      if (!p.contains(section) || !p[section].contains(port_name)) continue;
+      p[section].erase(port_name);
+      if (p[section].empty()) p.erase(section);
+      return;
+    }
+    throw InputError(path_ + ": port '" + port_name + "' of pass '" + pass + "' is not connected");
+  });
+}
+
+void GraphModel::set_param(const std::string& pass, const std::string& param, const nlohmann::json& value) {
+  apply("set " + pass + "." + param + " = " + value.dump(), [&](ordered_json& doc) {
+    ordered_json& p = pass_json(doc, pass);
+    p["params"][param] = ordered_json::parse(value.dump());
+  });
+}
+
+void GraphModel::reset_param(const std::string& pass, const std::string& param) {
+  apply("reset " + pass + "." + param, [&](ordered_json& doc) {
+    ordered_json& p = pass_json(doc, pass);
+    if (!p.contains("params")) return;
+    p["params"].erase(param);
+    if (p["params"].empty()) p.erase("params");
+  });
+}
+
+void GraphModel::set_enabled(const std::string& pass, const nlohmann::json& value) {
+  apply("set " + pass + " enabled = " + value.dump(),
+        [&](ordered_json& doc) { pass_json(doc, pass)["enabled"] = ordered_json::parse(value.dump()); });
+}
+
+void GraphModel::add_resource(const std::string& name, const ordered_json& description) {
+  if (doc_["resources"].contains(name)) throw InputError(path_ + ": a resource named '" + name + "' already exists");
+  apply("add resource " + name, [&](ordered_json& doc) { doc["resources"][name] = description; });
+}
+
+void GraphModel::remove_resource(const std::string& name) {
+  apply("remove resource " + name, [&](ordered_json& doc) {
+    if (!doc["resources"].contains(name))
+      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
+    doc["resources"].erase(name);
+  });
+}
+
+void GraphModel::rename_resource(const std::string& name, const std::string& new_name) {
+  if (new_name != name && doc_["resources"].contains(new_name))
+    throw InputError(path_ + ": a resource named '" + new_name + "' already exists");
+  apply("rename resource " + name + " to " + new_name, [&](ordered_json& doc) {
+    if (!doc["resources"].contains(name))
+      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
+    rename_key(doc["resources"], name, new_name);
+    for_each_resource_reference(doc, [&](ordered_json& r) {
+      if (r == name) r = new_name;
+    });
+  });
+}
+
+void GraphModel::set_resource_field(const std::string& name, const std::string& field, const nlohmann::json& value) {
+  apply("set " + name + "." + field + " = " + value.dump(), [&](ordered_json& doc) {
+    if (!doc["resources"].contains(name))
+      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
+    doc["resources"][name][field] = ordered_json::parse(value.dump());
+  });
+}
+
+void GraphModel::add_parameter(const std::string& name, const ordered_json& declaration) {
+  if (doc_.contains("parameters") && doc_["parameters"].contains(name))
+    throw InputError(path_ + ": a parameter named '" + name + "' already exists");
+  apply("add parameter " + name, [&](ordered_json& doc) { doc["parameters"][name] = declaration; });
+}
+
+void GraphModel::remove_parameter(const std::string& name) {
+  apply("remove parameter " + name, [&](ordered_json& doc) {
+    if (!doc.contains("parameters") || !doc["parameters"].contains(name))
+      throw InputError(path_ + ": no parameter named '" + name + "'" + did_you_mean(name, keys(doc.value("parameters", ordered_json()))));
+    doc["parameters"].erase(name);
+  });
+}
+
+void GraphModel::set_parameter_field(const std::string& name, const std::string& field, const nlohmann::json& value) {
+  apply("set parameter " + name + "." + field + " = " + value.dump(), [&](ordered_json& doc) {
+    if (!doc.contains("parameters") || !doc["parameters"].contains(name))
+      throw InputError(path_ + ": no parameter named '" + name + "'" + did_you_mean(name, keys(doc.value("parameters", ordered_json()))));
+    doc["parameters"][name][field] = ordered_json::parse(value.dump());
+  });
+}
+
+void GraphModel::set_graph_field(const std::string& field, const nlohmann::json& value) {
+  if (field != "name" && field != "description") throw InputError(path_ + ": the graph's \"" + field + "\" is not a field the editor sets");
+  apply("set graph " + field, [&](ordered_json& doc) { doc[field] = ordered_json::parse(value.dump()); });
+}
+
+void GraphModel::set_outputs(const std::vector<std::string>& outputs) {
+  apply("set outputs", [&](ordered_json& doc) { doc["outputs"] = outputs; });
+}
+
+void GraphModel::set_position(const std::string& pass, float x, float y) {
+  apply("move " + pass, [&](ordered_json& doc) {
+    pass_json(doc, pass);
+    doc["editor"]["positions"][pass] = {std::lround(x), std::lround(y)};
+  });
+}
+
+bool GraphModel::undo() {
+  if (undo_.empty()) return false;
+  redo_.push_back({std::move(doc_), undo_.back().label});
+  doc_ = std::move(undo_.back().doc);
+  undo_.pop_back();
+  return true;
+}
+
+bool GraphModel::redo() {
+  if (redo_.empty()) return false;
+  undo_.push_back({std::move(doc_), redo_.back().label});
+  doc_ = std::move(redo_.back().doc);
+  redo_.pop_back();
+  return true;
+}
+
+bool GraphModel::changed_on_disk() const {
+  try {
+    return read_text_file(path_, JsonDocument::kMaxBytes) != base_text_;
+  } catch (const InputError&) {
+    return true;  // deleted or unreadable
+  }
+}
+
+void GraphModel::save(bool overwrite) {
+  if (!overwrite && changed_on_disk()) throw InputError(path_ + ": changed on disk since it was opened or last saved; not overwritten");
+  const std::string out = text();
+  io::write_text_atomically(path_, out);
+  base_text_ = out;
+  saved_ = doc_;
+}
+
+void GraphModel::save_as(const std::string& path) {
+  const std::string out = text();
+  io::write_text_atomically(path, out);
+  path_ = path;
+  base_text_ = out;
+  saved_ = doc_;
+}
+
+}  // namespace caustica::editor

@@ -1,0 +1,102 @@
+#pragma once
+// The graph as the editor changes it: no window, no device. Every edit is an operation on the
+// graph file's JSON (key order kept) that is checked as a whole graph, loaded and compiled as
+// `caustica validate` does; an edit that would make the graph invalid is refused with the
+// validator's message and changes nothing. Every edit can be undone and redone. Saving writes the
+// author's text back with only the edited parts changed (json_text.h), through a temporary file.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "graph/graph_desc.h"
+#include "graph/pass_type.h"
+
+namespace caustica::editor {
+
+class GraphModel {
+ public:
+  // Throws InputError (file, line, JSON pointer) when the file cannot be read or is not a valid graph.
+  static GraphModel open(const std::string& path, const graph::PassRegistry& registry);
+  GraphModel(std::string text, std::string path, const graph::PassRegistry& registry);
+
+  const nlohmann::ordered_json& json() const { return doc_; }
+  const std::string& path() const { return path_; }
+  const graph::PassRegistry& registry() const { return *registry_; }
+  // The current graph as the engine loads it.
+  graph::GraphDesc desc() const;
+  // What save() writes: the text as loaded with the edits applied.
+  std::string text() const;
+  // Whether the graph differs from the file as opened or last saved.
+  bool modified() const { return doc_ != saved_; }
+
+  // ---- edits: each throws InputError and changes nothing when refused ----
+  // Adds a pass of a registered type with every parameter at its default, a new resource for each
+  // required output (named pass_port, format and extent from the port) and each required input
+  // bound to a resource of an accepted format that a pass writes. Returns the pass's name (`name`,
+  // or the type made unique).
+  std::string add_pass(const std::string& type, const std::string& name = "");
+  // Removes a pass, its place in other passes' "after" and its position, and every resource that
+  // nothing else names any more.
+  void remove_pass(const std::string& pass);
+  void rename_pass(const std::string& pass, const std::string& new_name);
+  // Binds a port (an input or an output, as the pass type declares it) to an existing resource.
+  void connect(const std::string& pass, const std::string& port, const std::string& resource);
+  void disconnect(const std::string& pass, const std::string& port);
+  // A literal within the parameter's declared range, or "$name" of a graph parameter.
+  void set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
+  void reset_param(const std::string& pass, const std::string& param);     // back to the type's default
+  void set_enabled(const std::string& pass, const nlohmann::json& value);  // true, false or an expression
+
+  void add_resource(const std::string& name, const nlohmann::ordered_json& description);
+  void remove_resource(const std::string& name);
+  // Renames the resource and every binding, output and fallback that names it.
+  void rename_resource(const std::string& name, const std::string& new_name);
+  void set_resource_field(const std::string& name, const std::string& field, const nlohmann::json& value);
+
+  void add_parameter(const std::string& name, const nlohmann::ordered_json& declaration);
+  void remove_parameter(const std::string& name);
+  void set_parameter_field(const std::string& name, const std::string& field, const nlohmann::json& value);
+
+  void set_graph_field(const std::string& field, const nlohmann::json& value);  // "name" or "description"
+  void set_outputs(const std::vector<std::string>& outputs);
+  // The pass's place on the editor's canvas, kept in the file's "editor" block (the engine ignores it).
+  void set_position(const std::string& pass, float x, float y);
+
+  // ---- history ----
+  bool can_undo() const { return !undo_.empty(); }
+  bool can_redo() const { return !redo_.empty(); }
+  // What the next undo or redo would change ("add pass tonemap"); empty when there is none.
+  std::string undo_label() const { return undo_.empty() ? "" : undo_.back().label; }
+  std::string redo_label() const { return redo_.empty() ? "" : redo_.back().label; }
+  bool undo();
+  bool redo();
+
+  // ---- files ----
+  // Whether the file on disk is no longer what was opened or last saved (another editor wrote it).
+  bool changed_on_disk() const;
+  // Writes text() to path() through a temporary file and a rename. Refuses (InputError) when the
+  // file changed on disk meanwhile, unless `overwrite` (after the user confirmed).
+  void save(bool overwrite = false);
+  // Writes to another file, which becomes path().
+  void save_as(const std::string& path);
+
+ private:
+  struct Step {
+    nlohmann::ordered_json doc;
+    std::string label;
+  };
+  template <class Change>
+  void apply(const std::string& label, Change&& change);
+  // Throws the validator's InputError unless `doc` is a valid graph.
+  void validate(const nlohmann::ordered_json& doc) const;
+  nlohmann::ordered_json& pass_json(nlohmann::ordered_json& doc, const std::string& pass) const;
+  const graph::PassTypeDecl& pass_type(const nlohmann::ordered_json& pass) const;
+
+  const graph::PassRegistry* registry_;
+  std::string path_;
+  std::string base_text_;  // the file as opened or last saved: what text() preserves
+  nlohmann::ordered_json doc_, saved_;
+  std::vector<Step> undo_, redo_;
+};
+
+}  // namespace caustica::editor
