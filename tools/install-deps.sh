@@ -13,7 +13,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-dev glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev
-  libglfw3-dev libimgui-dev xvfb
+  libglfw3-dev libimgui-dev xvfb xdotool
   libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels

@@ -1,0 +1,75 @@
+#include "viewer/parameter_panel.h"
+
+#include <imgui.h>
+
+#include <optional>
+
+namespace caustica::editor {
+
+void parameter_panel(Session& session, const std::function<void()>& configure) {
+  for (const auto& parameter : session.graph->parameters) {
+    const auto& d = parameter.decl;
+    const auto found = session.edits.find(d.name);
+    nlohmann::json value = found != session.edits.end() ? nlohmann::json::parse(found->second) : parameter.value;
+    std::optional<nlohmann::json> next;
+    if (d.type == graph::ParamType::bool_) {
+      bool v = value.get<bool>();
+      if (ImGui::Checkbox(d.name.c_str(), &v)) next = v;
+    } else if (d.type == graph::ParamType::int_) {
+      int v = value.get<int>();
+      if (ImGui::SliderInt(d.name.c_str(), &v, static_cast<int>(d.min.value_or(0)), static_cast<int>(d.max.value_or(1024)))) next = v;
+    } else if (d.type == graph::ParamType::float_) {
+      float v = value.get<float>();
+      if (ImGui::SliderFloat(d.name.c_str(), &v, static_cast<float>(d.min.value_or(0)), static_cast<float>(d.max.value_or(10)))) next = v;
+    } else if (d.type == graph::ParamType::choice) {
+      const std::string current = value.get<std::string>();
+      if (ImGui::BeginCombo(d.name.c_str(), current.c_str())) {
+        for (const auto& c : d.choices) {
+          if (ImGui::Selectable(c.c_str(), c == current)) next = c;
+        }
+        ImGui::EndCombo();
+      }
+    }
+    if (ImGui::IsItemHovered() && !d.description.empty()) ImGui::SetTooltip("%s", d.description.c_str());
+    if (next) {
+      const auto previous = session.edits;
+      session.edits[d.name] = next->dump();
+      try {
+        configure();
+        session.status = d.name + " = " + next->dump();
+        session.status_is_error = false;
+      } catch (const std::exception& e) {
+        session.edits = previous;
+        configure();
+        session.status = e.what();
+        session.status_is_error = true;
+      }
+    }
+  }
+}
+
+void pass_switches(Session& session, const std::function<void()>& configure) {
+  for (const auto& pass : session.graph->passes) {
+    bool on = !session.disabled.count(pass.name);
+    if (!ImGui::Checkbox(pass.name.c_str(), &on)) continue;
+    if (on)
+      session.disabled.erase(pass.name);
+    else
+      session.disabled.insert(pass.name);
+    try {
+      configure();
+      session.status = pass.name + (on ? " enabled" : " disabled");
+      session.status_is_error = false;
+    } catch (const std::exception& e) {
+      if (on)
+        session.disabled.insert(pass.name);
+      else
+        session.disabled.erase(pass.name);
+      configure();
+      session.status = "cannot disable " + pass.name + ": " + e.what();
+      session.status_is_error = true;
+    }
+  }
+}
+
+}  // namespace caustica::editor

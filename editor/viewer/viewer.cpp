@@ -1,0 +1,692 @@
+#include "viewer/viewer.h"
+
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "builtin_passes.h"
+#include "core/paths.h"
+#include "io/image_io.h"
+#include "scene/acceleration.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+#include "scene_draw.h"
+#include "viewer/hot_reload.h"
+#include "viewer/inspector.h"
+#include "viewer/parameter_panel.h"
+#include "viewer/screenshot.h"
+#include "vk/buffer.h"
+
+namespace caustica::editor {
+
+const char* const kViewerKeys = R"(keys and mouse:
+  left drag   orbit the camera around its target       wheel      move the camera closer or farther
+  arrows      move the first light (x, z)              PgUp/PgDn  move the light up or down
+  R           reset camera and light                   P          screenshot (caustica_view_N.png)
+  Tab         hide or show the panels                  C          continuous rendering on or off
+  F1          this help on screen                      Esc        quit (as do Ctrl-C and SIGTERM, exit code 0)
+)";
+
+namespace {
+
+std::atomic<bool> g_close_requested{false};
+void request_close(int) {
+  g_close_requested = true;
+}
+
+}  // namespace
+
+void close_viewers_on_signals() {
+  std::signal(SIGINT, request_close);
+  std::signal(SIGTERM, request_close);
+}
+
+class Viewer::Impl {
+ public:
+  Impl(Viewer& owner, const ViewerOptions& o)
+      : owner_(owner),
+        options_(o),
+        window_(o.width, o.height),
+        vk_(context_options(o.device)),
+        shaders_(data_dir() / "shaders"),
+        executor_(vk_, shaders_, passes::builtin_registry()) {
+    inspector_.inspected = o.inspect;
+    inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
+    VkSurfaceKHR surface = VK_NULL_HANDLE;
+    vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
+    vk_.adopt_surface(surface);
+    surface_ = surface;
+    VkBool32 supported = VK_FALSE;
+    vkGetPhysicalDeviceSurfaceSupportKHR(vk_.physical_device(), vk_.queue_family(), surface, &supported);
+    if (!supported) throw DeviceError(vk_.device_name() + " cannot present to this window from its queue");
+    build_swapchain(vk_, surface_, window_.handle, swapchain_);
+    blit_supported_ = can_blit_output();
+    std::fprintf(stderr, "view: an 8-bit output at the window's size goes to the window %s\n",
+                 blit_supported_ ? "by a blit on the device" : "through the host (this device cannot blit it)");
+    if (!o.window_shot.empty() && !swapchain_.readable)
+      throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
+    session_.graph_file = o.graph_file;
+    session_.scene_file = o.scene_file;
+    shader_time_ = newest_file(data_dir() / "shaders");
+    reload(true);
+    if (!session_.graph) throw InputError(session_.status);
+    if (inspector_.inspected != o.inspect)
+      throw InputError("--inspect " + o.inspect + ": not an image of " + session_.graph_file + " that a running pass writes");
+    home_camera_ = session_.scene->camera;
+    home_light_ = session_.scene->lights.empty() ? glm::vec3(0.0f) : session_.scene->lights.front().view.position;
+    window_.capture_events();  // before ImGui's backend, which chains to these callbacks
+    init_imgui();
+  }
+
+  ~Impl() {
+    vk_.wait_idle();
+    if (imgui_ready_) {
+      ImGui_ImplVulkan_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+      ImGui::DestroyContext();
+    }
+  }
+
+  int run() {
+    using clock = std::chrono::steady_clock;
+    auto last_check = clock::now(), last_frame = clock::now() - std::chrono::hours(1);
+    continuous_ = options_.continuous;
+    for (uint32_t frame = 0; !glfwWindowShouldClose(window_.handle) && (options_.frames == 0 || frame < options_.frames);) {
+      // Asleep until an event, a file check or the end of a redraw request; the frame cap keeps a
+      // continuous or busy viewer from taking every core.
+      const bool every_frame = continuous_ || options_.frames != 0;
+      if (every_frame || redraw_frames_ > 0) {
+        glfwPollEvents();
+      } else {
+        glfwWaitEventsTimeout(0.25);
+      }
+      if (g_close_requested) break;
+      if (window_.events.any) redraw_frames_ = std::max(redraw_frames_, kFramesAfterInput);
+      if (clock::now() - last_check > std::chrono::milliseconds(250)) {
+        if (reload(false) | reload_shaders()) request_redraw();
+        last_check = clock::now();
+      }
+      if (!every_frame && redraw_frames_ == 0) continue;
+      if (options_.max_fps > 0 && options_.frames == 0) {
+        const auto next = last_frame + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / options_.max_fps));
+        if (clock::now() < next) std::this_thread::sleep_until(next);
+      }
+      last_frame = clock::now();
+      redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
+      draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
+      if (owner_.after_frame) owner_.after_frame();
+      ++frame;
+      ++frames_drawn_;
+      if (quit_) break;
+    }
+    vk_.wait_idle();
+    std::fprintf(stderr, "view: %llu frames drawn\n", static_cast<unsigned long long>(frames_drawn_));
+    if (vk_.validation_messages() > 0) {
+      std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk_.validation_messages());
+      return 3;
+    }
+    return 0;
+  }
+
+  std::string use_graph(graph::GraphDesc graph) {
+    std::optional<graph::GraphDesc> previous = std::move(session_.graph);
+    session_.graph = std::move(graph);
+    try {
+      configure();
+    } catch (const std::exception& e) {
+      session_.graph = std::move(previous);
+      if (session_.graph) configure();
+      return e.what();
+    }
+    request_redraw();
+    return "";
+  }
+  const graph::Plan& plan() const { return executor_.plan(); }
+  void set_status(std::string message, bool error) {
+    session_.report(std::move(message), error);
+    request_redraw();
+  }
+  void request_redraw() { redraw_frames_ = std::max(redraw_frames_, kFramesAfterInput); }
+  void screenshot_next(std::string path) {
+    io::check_image_output(path);
+    pending_screenshot_ = std::move(path);
+    request_redraw();
+  }
+
+ private:
+  static vk::ContextOptions context_options(vk::ContextOptions options) {
+    uint32_t count = 0;
+    const char** names = glfwGetRequiredInstanceExtensions(&count);
+    if (!names) throw DeviceError("GLFW finds no Vulkan window-system support (is libvulkan's WSI available?)");
+    for (uint32_t i = 0; i < count; ++i) options.instance_extensions.emplace_back(names[i]);
+    options.presentation = true;
+    return options;
+  }
+
+  // Recompiles every pass when a shader changed; a shader that fails to compile leaves the last
+  // good pipelines running (the executor keeps its plan when set-up fails).
+  bool reload_shaders() {
+    const auto newest = newest_file(data_dir() / "shaders");
+    if (newest == shader_time_) return false;
+    shader_time_ = newest;
+    try {
+      executor_.invalidate();
+      configure();
+      session_.status = "reloaded shaders";
+      session_.status_is_error = false;
+    } catch (const std::exception& e) {
+      session_.status = e.what();
+      session_.status_is_error = true;
+    }
+    std::fprintf(stderr, "view: %s%s\n", session_.status_is_error ? "kept the last good shaders: " : "", session_.status.c_str());
+    return true;
+  }
+
+  // Loads what changed on disk (everything when `first`); a failure keeps the last good version.
+  // Returns whether anything changed on disk.
+  bool reload(bool first) {
+    const auto graph_time = first || options_.watch_graph_file ? modified(session_.graph_file) : session_.graph_time;
+    const auto scene_time = modified(session_.scene_file);
+    if (!first && graph_time == session_.graph_time && scene_time == session_.scene_time) return false;
+    try {
+      graph::GraphDesc g = first || graph_time != session_.graph_time ? graph::load_graph_file(session_.graph_file) : *session_.graph;
+      auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(session_.scene_file));
+      std::optional<graph::GraphDesc> previous = std::move(session_.graph);
+      session_.graph = std::move(g);
+      try {
+        executor_.set_scene(scene);
+        configure();
+      } catch (...) {
+        session_.graph = std::move(previous);
+        if (session_.scene) executor_.set_scene(session_.scene);
+        if (session_.graph) configure();
+        throw;
+      }
+      session_.scene = scene;
+      session_.status = first ? "loaded " + session_.graph_file : "reloaded " + session_.graph_file + " and " + session_.scene_file;
+      session_.status_is_error = false;
+      std::fprintf(stderr, "view: %s\n", session_.status.c_str());
+    } catch (const std::exception& e) {
+      session_.status = e.what();
+      session_.status_is_error = true;
+      std::fprintf(stderr, "view: kept the last good files: %s\n", e.what());
+    }
+    session_.graph_time = graph_time;
+    session_.scene_time = scene_time;
+    return true;
+  }
+
+  void configure() {
+    std::set<std::string> retained;
+    if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
+    try {
+      executor_.configure(edited(session_), swapchain_.extent.width, swapchain_.extent.height, retained);
+    } catch (const InputError&) {
+      if (inspector_.inspected.empty()) throw;
+      inspector_.inspected.clear();  // the inspected image left the graph: back to its output
+      executor_.configure(edited(session_), swapchain_.extent.width, swapchain_.extent.height);
+    }
+  }
+
+  void init_imgui() {
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
+    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool_info.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pool_info.maxSets = 16;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    vk::check(vkCreateDescriptorPool(vk_.device(), &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
+    imgui_pool_ = vk::OwnedDescriptorPool(vk_, pool);
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's folder
+    ImGui_ImplGlfw_InitForVulkan(window_.handle, true);
+    ImGui_ImplVulkan_InitInfo info{};
+    info.Instance = vk_.instance();
+    info.PhysicalDevice = vk_.physical_device();
+    info.Device = vk_.device();
+    info.QueueFamily = vk_.queue_family();
+    info.Queue = vk_.queue();
+    info.DescriptorPool = pool;
+    info.MinImageCount = 2;
+    info.ImageCount = static_cast<uint32_t>(swapchain_.images.size());
+    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    info.CheckVkResultFn = [](VkResult r) { vk::check(r, "ImGui Vulkan backend"); };
+    ImGui_ImplVulkan_Init(&info, swapchain_.render_pass.get());
+    vk_.submit_and_wait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+    imgui_ready_ = true;
+
+    commands_ = vk::make_frame_commands(vk_);
+    cmd_ = commands_.cmd;
+    acquired_ = vk::make_semaphore(vk_);
+    rendered_ = vk::make_semaphore(vk_);
+  }
+
+  // Keys come as events (a tap shorter than a frame still counts); held arrows move the light by
+  // the keyboard's own repeat, so the speed does not depend on the frame rate.
+  void handle_input(const WindowEvents& events) {
+    ImGuiIO& io = ImGui::GetIO();
+    scene::Scene moved = *session_.scene;
+    bool changed = false;
+    if (!io.WantCaptureMouse && (ImGui::IsMouseDragging(ImGuiMouseButton_Left) || io.MouseWheel != 0.0f)) {
+      // Orbit: yaw and pitch of the camera's offset from its target, distance by the wheel.
+      glm::vec3 offset = moved.camera.position - moved.camera.target;
+      const float distance = glm::length(offset) * std::pow(0.9f, io.MouseWheel);
+      float yaw = std::atan2(offset.x, offset.z) - io.MouseDelta.x * 0.01f;
+      float pitch = std::clamp(std::asin(offset.y / glm::length(offset)) + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
+      moved.camera.position =
+          moved.camera.target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+      changed = true;
+    }
+    for (const auto& key : events.pressed) {
+      if (owner_.on_key && owner_.on_key(key)) continue;
+      if (key.key == GLFW_KEY_ESCAPE) quit_ = true;
+      if (key.key == GLFW_KEY_F1) show_help_ = !show_help_;
+      if (io.WantCaptureKeyboard) continue;  // typing into a field
+      constexpr float kStep = 0.05f;
+      glm::vec3 light_step(0.0f);
+      switch (key.key) {
+        case GLFW_KEY_TAB: panels_hidden_ = !panels_hidden_; break;
+        case GLFW_KEY_C: continuous_ = !continuous_; break;
+        case GLFW_KEY_P: screenshot_key_ = true; break;
+        case GLFW_KEY_R:
+          moved.camera = home_camera_;
+          if (!moved.lights.empty()) moved.lights.front().view.position = home_light_;
+          changed = true;
+          break;
+        case GLFW_KEY_LEFT: light_step.x = -kStep; break;
+        case GLFW_KEY_RIGHT: light_step.x = kStep; break;
+        case GLFW_KEY_UP: light_step.z = -kStep; break;
+        case GLFW_KEY_DOWN: light_step.z = kStep; break;
+        case GLFW_KEY_PAGE_UP: light_step.y = kStep; break;
+        case GLFW_KEY_PAGE_DOWN: light_step.y = -kStep; break;
+        default: break;
+      }
+      if (light_step != glm::vec3(0.0f) && !moved.lights.empty()) {
+        moved.lights.front().view.position += light_step;
+        changed = true;
+      }
+    }
+    if (changed) {
+      session_.scene = std::make_shared<const scene::Scene>(std::move(moved));
+      executor_.set_scene(session_.scene);
+    }
+  }
+
+  void draw_ui(const graph::FrameResult& frame, const io::ImageData& inspected) {
+    inspector_.panel = {};
+    if (panels_hidden_) return;
+    // Fits 1280x720 beside the picture: the graph's panel on the left, the inspector on the right.
+    const float height = std::min(700.0f, static_cast<float>(swapchain_.extent.height) - 20.0f);
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(370, height), ImGuiCond_FirstUseEver);
+    ImGui::Begin(executor_.plan().graph_name.c_str());
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextColored(session_.status_is_error ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", session_.status.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms", frame.gpu_ms, frame.cpu_ms);
+    ImGui::TextDisabled("F1 help, Tab hide panels");
+    ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
+    if (ImGui::CollapsingHeader("passes", ImGuiTreeNodeFlags_DefaultOpen) &&
+        ImGui::BeginTable("passes", 4, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
+      // Per pass: GPU and CPU recording time, and the GPU time of the last 120 frames drawn.
+      ImGui::TableSetupColumn("pass", ImGuiTableColumnFlags_WidthStretch);
+      ImGui::TableSetupColumn("GPU ms");
+      ImGui::TableSetupColumn("CPU ms");
+      ImGui::TableSetupColumn("GPU, last frames");
+      ImGui::TableHeadersRow();
+      for (const auto& p : frame.passes) {
+        std::vector<float>& history = gpu_history_[p.name];
+        history.push_back(static_cast<float>(p.gpu_ms));
+        if (history.size() > 120) history.erase(history.begin());
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(p.name.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%7.2f", p.gpu_ms);
+        ImGui::TableNextColumn();
+        ImGui::Text("%5.2f", p.cpu_ms);
+        ImGui::TableNextColumn();
+        ImGui::PlotHistogram(("##gpu" + p.name).c_str(), history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, FLT_MAX,
+                             ImVec2(70, 14));
+      }
+      for (const auto& culled : executor_.plan().culled) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextDisabled("%s (culled)", culled.c_str());
+      }
+      ImGui::EndTable();
+    }
+    auto reconfigure = [this] { configure(); };
+    if (ImGui::CollapsingHeader("enable passes")) pass_switches(session_, reconfigure);
+    if (ImGui::CollapsingHeader("counters")) {
+      for (const auto& [name, value] : frame.counters) ImGui::Text("%-28s %.6g", name.c_str(), value);
+    }
+    if (ImGui::CollapsingHeader("memory")) {
+      const auto& plan = executor_.plan();
+      ImGui::Text("transient: %.1f MiB aliased (lifetime bound %.1f)", double(plan.transient_bytes_aliased) / 1048576.0,
+                  double(plan.transient_bytes_lifetime_bound) / 1048576.0);
+      ImGui::Text("%.1f MiB unaliased, persistent %.1f MiB", double(plan.transient_bytes_unaliased) / 1048576.0,
+                  double(plan.persistent_bytes) / 1048576.0);
+      if (const auto* acceleration = executor_.scene() ? executor_.scene()->built_acceleration() : nullptr) {
+        ImGui::Text("acceleration structures: %.1f MiB", double(acceleration->bytes()) / 1048576.0);
+      }
+    }
+    if (options_.parameter_panel && ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
+      parameter_panel(session_, reconfigure);
+      ImGui::InputText("##save_as", save_as_, sizeof save_as_);
+      ImGui::SameLine();
+      if (ImGui::Button(save_as_[0] ? "save as" : "save")) save(save_as_[0] ? std::string(save_as_) : session_.graph_file);
+    }
+    ImGui::Checkbox("resource inspector", &inspector_.open);
+    ImGui::End();
+    if (inspector_.open) {
+      if (auto chosen = inspector_.draw(executor_.plan(), inspected, static_cast<float>(swapchain_.extent.width)))
+        select_inspected(*chosen);
+    }
+    if (owner_.extra_ui) owner_.extra_ui(frame);
+    if (show_help_) {
+      ImGui::SetNextWindowPos(ImVec2(390, 10), ImGuiCond_FirstUseEver);
+      ImGui::Begin("help", &show_help_);
+      ImGui::TextUnformatted(kViewerKeys);
+      ImGui::End();
+    }
+  }
+
+  // Writes the edited values into the graph file (only those values change), or into a new file.
+  void save(const std::string& path) {
+    try {
+      io::write_text_atomically(path, graph::graph_text_with_values(edited(session_)));
+      session_.status = "saved " + path;
+      session_.status_is_error = false;
+      if (path == session_.graph_file) session_.edits.clear();  // the file's defaults hold them now
+    } catch (const std::exception& e) {
+      session_.status = e.what();
+      session_.status_is_error = true;
+    }
+  }
+
+  void select_inspected(const std::string& name) {
+    inspector_.inspected = name;
+    configure();
+    inspector_.fit_exposure = true;
+  }
+
+  void draw_frame(bool last) {
+    handle_input(window_.take_events());
+    // The output goes into the window on the device (a blit) when it is already display-ready
+    // 8-bit at the window's size; otherwise, and for screenshots and the inspector, through a
+    // read-back to the host.
+    const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
+    const std::string output = out.name;
+    const bool main_inspected = inspector_.in_main_view && !inspector_.inspected.empty();
+    const bool blit = blit_supported_ && !main_inspected && out.format == graph::Format::rgba8 && out.width == swapchain_.extent.width &&
+                      out.height == swapchain_.extent.height;
+    const bool inspecting = !inspector_.inspected.empty() && (inspector_.open || inspector_.in_main_view);
+    const bool read_back = !blit || inspecting || screenshot_key_ || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
+    const graph::FrameResult frame = executor_.run_frame(read_back);
+    const uint32_t compiled = executor_.compile_count();
+    const graph::FrameImage output_image = executor_.frame_image(output);
+    const io::ImageData image = read_back ? executor_.read_image(output) : io::ImageData{};
+    const io::ImageData inspected =
+        read_back && !inspector_.inspected.empty() ? executor_.read_image(inspector_.inspected) : io::ImageData{};
+    if (inspector_.fit_exposure && inspected.width > 0) inspector_.expose_to_fit(inspected);
+    inspector_.fit_exposure = false;
+    if (last && !options_.screenshot.empty()) io::write_image(options_.screenshot, inspector_.inspected.empty() ? image : inspected);
+    if (!pending_screenshot_.empty()) {
+      io::write_image(pending_screenshot_, image);
+      std::fprintf(stderr, "view: screenshot %s\n", pending_screenshot_.c_str());
+      pending_screenshot_.clear();
+    }
+    if (screenshot_key_) {
+      const std::string name = "caustica_view_" + std::to_string(screenshots_++) + ".png";
+      io::write_image(name, image);
+      session_.report("screenshot " + name, false);
+      std::fprintf(stderr, "view: screenshot %s\n", name.c_str());
+      screenshot_key_ = false;
+    }
+
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    draw_ui(frame, inspected);
+    ImGui::Render();
+    // An edit in the panels recompiled the graph: the frame's images are gone, show the next one.
+    if (blit && executor_.compile_count() != compiled) return;
+
+    uint32_t index = 0;
+    VkResult acquired =
+        vkAcquireNextImageKHR(vk_.device(), swapchain_.swapchain.get(), UINT64_MAX, acquired_.get(), VK_NULL_HANDLE, &index);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+      rebuild();
+      return;
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) vk::check(acquired, "vkAcquireNextImageKHR");
+    const float exposure = std::exp2(inspector_.exposure_stops);
+    const io::ImageData panel = inspector_.panel.extent.width > 0 && inspected.width > 0
+                                    ? fit_image(inspected, inspector_.panel.extent.width, inspector_.panel.extent.height)
+                                    : io::ImageData{};
+    upload(blit ? io::ImageData{} : main_inspected ? inspected : image, main_inspected ? exposure : 1.0f, panel, exposure);
+    const bool shoot = last && !options_.window_shot.empty();
+
+    vk::check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vk::check(vkBeginCommandBuffer(cmd_, &begin), "vkBeginCommandBuffer");
+    // The wait on the acquire semaphore is at the transfer stage, so the transition waits for it too.
+    passes::image_barrier(cmd_, swapchain_.images[index], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE,
+                          VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy regions[2]{};
+    if (blit) {
+      record_output_blit(output_image, swapchain_.images[index]);
+    } else {
+      regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height),
+                                1};
+      regions[0].bufferRowLength = uploaded_width_;
+      vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
+    }
+    if (panel.width > 0 && panel_region(panel, regions[1])) {
+      // Regions of one copy land in no set order: the panel goes over the main view in a second.
+      passes::memory_barrier(cmd_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                             VK_ACCESS_2_TRANSFER_WRITE_BIT);
+      vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[1]);
+    }
+    VkRenderPassBeginInfo pass{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    pass.renderPass = swapchain_.render_pass.get();
+    pass.framebuffer = swapchain_.framebuffers[index].get();
+    pass.renderArea.extent = swapchain_.extent;
+    vkCmdBeginRenderPass(cmd_, &pass, VK_SUBPASS_CONTENTS_INLINE);
+    ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd_);
+    vkCmdEndRenderPass(cmd_);
+    if (shoot) window_shot_.record(vk_, cmd_, swapchain_.images[index], swapchain_.extent);
+    vk::check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+
+    const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSemaphore wait = acquired_.get(), signal = rendered_.get();
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &wait;
+    submit.pWaitDstStageMask = &wait_stage;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd_;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &signal;
+    VkFence fence = commands_.fence.get();
+    vk::check(vkQueueSubmit(vk_.queue(), 1, &submit, fence), "vkQueueSubmit");
+    VkSwapchainKHR sc = swapchain_.swapchain.get();
+    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    present.waitSemaphoreCount = 1;
+    present.pWaitSemaphores = &signal;
+    present.swapchainCount = 1;
+    present.pSwapchains = &sc;
+    present.pImageIndices = &index;
+    const VkResult presented = vkQueuePresentKHR(vk_.queue(), &present);
+    // One frame in flight: the staging buffer and the semaphores are reused next frame.
+    vk::check(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
+    if (shoot) write_window_shot();
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || size_changed())
+      rebuild();
+    else
+      vk::check(presented, "vkQueuePresentKHR");
+  }
+
+  bool size_changed() const {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_.handle, &w, &h);
+    return static_cast<uint32_t>(w) != swapchain_.extent.width || static_cast<uint32_t>(h) != swapchain_.extent.height;
+  }
+
+  void rebuild() {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_.handle, &w, &h);
+    while ((w == 0 || h == 0) && !glfwWindowShouldClose(window_.handle)) {  // minimised
+      glfwWaitEvents();
+      glfwGetFramebufferSize(window_.handle, &w, &h);
+    }
+    build_swapchain(vk_, surface_, window_.handle, swapchain_);
+    configure();
+  }
+
+  // The main view, then the inspector panel's image, as BGRA bytes in a host-visible buffer, for
+  // the copies into the swapchain image.
+  void upload(const io::ImageData& image, float scale, const io::ImageData& panel, float panel_scale) {
+    uploaded_width_ = image.width;
+    uploaded_height_ = image.height;
+    const VkDeviceSize main_bytes = VkDeviceSize{image.width} * image.height * 4;
+    const VkDeviceSize bytes = main_bytes + VkDeviceSize{panel.width} * panel.height * 4;
+    if (staging_.size < bytes) {
+      staging_ = vk::make_buffer(vk_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "view staging",
+                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+    }
+    auto* out = static_cast<uint8_t*>(staging_.mapped);
+    encode_bgra(image, scale, out);
+    encode_bgra(panel, panel_scale, out + main_bytes);
+  }
+
+  // The copy of the panel's image (after the main view in the staging buffer) to its place in the
+  // window, clipped to the window; false when nothing of it is inside.
+  bool panel_region(const io::ImageData& panel, VkBufferImageCopy& region) const {
+    const int32_t x0 = std::max(inspector_.panel.offset.x, 0), y0 = std::max(inspector_.panel.offset.y, 0);
+    const int32_t x1 =
+        std::min(inspector_.panel.offset.x + static_cast<int32_t>(panel.width), static_cast<int32_t>(swapchain_.extent.width));
+    const int32_t y1 =
+        std::min(inspector_.panel.offset.y + static_cast<int32_t>(panel.height), static_cast<int32_t>(swapchain_.extent.height));
+    if (x1 <= x0 || y1 <= y0) return false;
+    region = {};
+    region.bufferOffset = VkDeviceSize{uploaded_width_} * uploaded_height_ * 4 +
+                          (VkDeviceSize(y0 - inspector_.panel.offset.y) * panel.width + VkDeviceSize(x0 - inspector_.panel.offset.x)) * 4;
+    region.bufferRowLength = panel.width;
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageOffset = {x0, y0, 0};
+    region.imageExtent = {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0), 1};
+    return true;
+  }
+
+  // The graph's output into the swapchain image on the device; the blit swaps RGBA into BGRA. The
+  // executor's frame finished before this submission (run_frame waits), so the barrier only has
+  // to make its writes visible and bring the image into TRANSFER_SRC if it is not there.
+  void record_output_blit(const graph::FrameImage& output, VkImage target) {
+    passes::image_barrier(cmd_, output.image, VK_IMAGE_ASPECT_COLOR_BIT, output.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                          VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkImageBlit region{};
+    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.srcOffsets[1] =
+        region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+    vkCmdBlitImage(cmd_, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
+                   VK_FILTER_NEAREST);
+  }
+
+  // Whether the device blits the graph's 8-bit output into the window's format.
+  bool can_blit_output() const {
+    VkFormatProperties from{}, to{};
+    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), VK_FORMAT_R8G8B8A8_UNORM, &from);
+    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), swapchain_.format, &to);
+    return (from.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) && (to.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
+  }
+
+  void write_window_shot() {
+    io::write_image(options_.window_shot, window_shot_.image(swapchain_.extent));
+    // Where the inspector's image lies in the shot, for tests and scripts that cut it out.
+    const VkRect2D& panel = inspector_.panel;
+    if (panel.extent.width > 0) {
+      std::fprintf(stderr, "view: window shot %s; inspector image %s at %d,%d %ux%u\n", options_.window_shot.c_str(),
+                   inspector_.inspected.c_str(), panel.offset.x, panel.offset.y, panel.extent.width, panel.extent.height);
+    } else {
+      std::fprintf(stderr, "view: window shot %s\n", options_.window_shot.c_str());
+    }
+  }
+
+  // After input, a few frames more: ImGui settles hover and active states over the next frames.
+  static constexpr int kFramesAfterInput = 3;
+
+  Viewer& owner_;
+  ViewerOptions options_;
+  Window window_;
+  vk::Context vk_;
+  shader::ShaderCompiler shaders_;
+  graph::Executor executor_;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  Swapchain swapchain_;
+  Session session_;
+  Inspector inspector_;
+  WindowShot window_shot_;
+  scene::View home_camera_;
+  glm::vec3 home_light_{0.0f};
+  vk::OwnedDescriptorPool imgui_pool_;
+  vk::FrameCommands commands_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // commands_.cmd
+  vk::OwnedSemaphore acquired_, rendered_;
+  vk::Buffer staging_;
+  std::map<std::string, std::vector<float>> gpu_history_;
+  std::filesystem::file_time_type shader_time_{};
+  bool blit_supported_ = false;  // the output can go into the window on the device
+  uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
+  char save_as_[512] = {};
+  bool imgui_ready_ = false, show_help_ = false, quit_ = false, screenshot_key_ = false;
+  bool panels_hidden_ = false, continuous_ = false;
+  int redraw_frames_ = 0;
+  uint64_t frames_drawn_ = 0;
+  uint32_t screenshots_ = 0;
+  std::string pending_screenshot_;
+};
+
+Viewer::Viewer(const ViewerOptions& options) : impl_(std::make_unique<Impl>(*this, options)) {}
+Viewer::~Viewer() = default;
+int Viewer::run() {
+  return impl_->run();
+}
+std::string Viewer::use_graph(graph::GraphDesc graph) {
+  return impl_->use_graph(std::move(graph));
+}
+const graph::Plan& Viewer::plan() const {
+  return impl_->plan();
+}
+void Viewer::set_status(std::string message, bool error) {
+  impl_->set_status(std::move(message), error);
+}
+void Viewer::request_redraw() {
+  impl_->request_redraw();
+}
+void Viewer::screenshot_next(std::string path) {
+  impl_->screenshot_next(std::move(path));
+}
+
+}  // namespace caustica::editor

@@ -1,0 +1,69 @@
+#pragma once
+// caustica view: the graph running in a window (GLFW, a Vulkan swapchain, Dear ImGui), with its
+// passes' times, counters and memory, editable parameters, an orbit camera, a movable light, and
+// hot reload of the graph, scene and shader files. Each frame the executor renders the graph
+// headless as `render` does; its first output goes into the swapchain image (a blit on the device,
+// or through the host), and the UI is drawn over it. Nothing is rendered while nothing changes.
+// caustica edit (editor/edit/) adds its canvas through the hooks below.
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "graph/executor.h"
+#include "graph/graph_desc.h"
+#include "viewer/window.h"
+
+namespace caustica::editor {
+
+struct ViewerOptions {
+  std::string graph_file, scene_file;
+  uint32_t width = 1280, height = 720;
+  vk::ContextOptions device;  // window-system extensions are added
+  uint32_t frames = 0;        // quit after this many frames; 0: when the window closes
+  std::string screenshot, window_shot, inspect;
+  bool continuous = false;  // render every frame (for timing) instead of only when something changed
+  double max_fps = 60.0;
+  bool watch_graph_file = true;  // reload the graph when its file changes (the editor owns it instead)
+  bool parameter_panel = true;   // the graph parameters' panel with its save button
+};
+
+// What the help and the on-screen help say about the keys.
+extern const char* const kViewerKeys;
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& options);
+  ~Viewer();
+  Viewer(const Viewer&) = delete;
+  Viewer& operator=(const Viewer&) = delete;
+
+  // Runs until the window closes, Esc, a termination signal or the frame count; returns the exit
+  // code (3 after validation messages).
+  int run();
+
+  // ---- for the editor ----
+  // Drawn each frame after the viewer's own panels, with the frame's timings and counters.
+  std::function<void(const graph::FrameResult&)> extra_ui;
+  // Each key press before the viewer sees it; returns true when it was taken.
+  std::function<bool(const WindowEvents::Key&)> on_key;
+  // Runs `graph` from now on; when it does not compile or set up, keeps the last good one and
+  // returns the message (empty on success).
+  std::string use_graph(graph::GraphDesc graph);
+  const graph::Plan& plan() const;
+  void set_status(std::string message, bool error);
+  // Draw again soon even without input (an edit, a reload).
+  void request_redraw();
+  // Writes the graph's output of the next frame drawn to `path` (.png or .exr).
+  void screenshot_next(std::string path);
+  // Called after each frame is drawn (the editor's script steps on it).
+  std::function<void()> after_frame;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Ctrl-C or a termination request closes the window as its close button does.
+void close_viewers_on_signals();
+
+}  // namespace caustica::editor

@@ -1,0 +1,56 @@
+#pragma once
+// The viewer's window and swapchain (GLFW and Vulkan's WSI), and the window's input as events, so
+// that a key tap shorter than a frame is never lost and the viewer can sleep until something happens.
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+#include <vector>
+
+#include "vk/context.h"
+
+namespace caustica::editor {
+
+// What the window saw since the viewer last asked: key presses in order (a press and its release
+// within one frame still count), and whether anything at all happened (input, resize, expose).
+struct WindowEvents {
+  struct Key {
+    int key = 0;
+    int mods = 0;
+  };
+  std::vector<Key> pressed;
+  bool any = false;
+};
+
+struct Window {
+  GLFWwindow* handle = nullptr;
+  Window(uint32_t width, uint32_t height);
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  // Installs the callbacks that fill events(); call before ImGui's backend, which chains to them.
+  void capture_events();
+  // The events since the last call, and clears them.
+  WindowEvents take_events();
+  // Whether a key is held now, or was pressed since the events were last taken.
+  bool held(int key) const;
+
+  WindowEvents events;
+};
+
+// The swapchain with what draws into it: a render pass that keeps the copied frame and ends in
+// PRESENT_SRC, and one framebuffer per image.
+struct Swapchain {
+  vk::OwnedSwapchain swapchain;
+  VkFormat format = VK_FORMAT_B8G8R8A8_UNORM;
+  VkExtent2D extent{};
+  std::vector<VkImage> images;
+  bool readable = false;  // the images can be copied out (--window-shot)
+  std::vector<vk::OwnedImageView> views;
+  std::vector<vk::OwnedFramebuffer> framebuffers;
+  vk::OwnedRenderPass render_pass;
+};
+
+void build_swapchain(vk::Context& vk, VkSurfaceKHR surface, GLFWwindow* window, Swapchain& sc);
+
+}  // namespace caustica::editor
