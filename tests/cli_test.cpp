@@ -191,7 +191,7 @@ TEST(Cli, BundledGraphsValidate) {
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare "}) {
+  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare ", "view ", "edit "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;

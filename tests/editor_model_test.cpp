@@ -256,6 +256,13 @@ TEST(GraphModel, AddPassFillsPortsAndDefaultsAndRemovePassTakesItsResources) {
   EXPECT_EQ(model.json()["resources"]["box_blur_target"]["format"], "rgba16f");
   // Its output has the size of its input (one extent group): a quarter of the frame.
   EXPECT_EQ(model.json()["resources"]["box_blur_target"]["width"], "output.width / 4");
+  // Re-wired to a full-size image, the output it made follows (else the pass could not go live).
+  model.connect("box_blur", "source", "hdr");
+  EXPECT_EQ(model.json()["resources"]["box_blur_target"]["width"], "output.width");
+  model.connect("tonemap", "source", "box_blur_target");
+  EXPECT_EQ(model.desc().passes.back().name, "box_blur");
+  model.undo();
+  model.undo();
   EXPECT_EQ(model.add_pass("box_blur"), "box_blur_2");
   model.remove_pass("box_blur_2");
   model.remove_pass("box_blur");

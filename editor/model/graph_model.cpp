@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
 
 #include "core/error.h"
@@ -295,6 +296,24 @@ void GraphModel::connect(const std::string& pass, const std::string& port_name, 
     const graph::PortDecl* port = pass_type(p).find_port(port_name);
     if (!port) throw InputError(path_ + ": pass type '" + p.value("type", "") + "' has no port '" + port_name + "'");
     p[writes(*port) ? "outputs" : "inputs"][port_name] = resource;
+    // The pass's outputs of the same extent group that only it names follow the input's size, as
+    // they did when add_pass made them.
+    if (writes(*port) || port->extent_group.empty() || !doc["resources"].contains(resource) || !p.contains("outputs")) return;
+    std::map<std::string, int> references;
+    for_each_resource_reference(doc, [&](ordered_json& r) { ++references[r.get<std::string>()]; });
+    const ordered_json source = doc["resources"][resource];
+    for (const auto& [out_port, out_resource] : p["outputs"].items()) {
+      const graph::PortDecl* out = pass_type(p).find_port(out_port);
+      const std::string name = out_resource.get<std::string>();
+      if (!out || out->extent_group != port->extent_group || references[name] != 1 || !doc["resources"].contains(name)) continue;
+      ordered_json& target = doc["resources"][name];
+      for (const char* axis : {"width", "height"}) {
+        if (source.contains(axis))
+          target[axis] = source[axis];
+        else
+          target.erase(axis);
+      }
+    }
   });
 }
 

@@ -40,6 +40,8 @@ class GraphModel {
   void remove_pass(const std::string& pass);
   void rename_pass(const std::string& pass, const std::string& new_name);
   // Binds a port (an input or an output, as the pass type declares it) to an existing resource.
+  // An input's new size carries over to the pass's outputs of its extent group that nothing else
+  // names (the resources add_pass made), so that re-wiring a new pass keeps it valid.
   void connect(const std::string& pass, const std::string& port, const std::string& resource);
   void disconnect(const std::string& pass, const std::string& port);
   // A literal within the parameter's declared range, or "$name" of a graph parameter.

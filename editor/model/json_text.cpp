@@ -1,5 +1,6 @@
 #include "model/json_text.h"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -108,7 +109,10 @@ class Writer {
 
  private:
   void fresh(const ordered_json& value, int depth, std::string& out) const {
-    const std::string text = value.dump(indent_, indent_char_);
+    // A short array of numbers (a position) stays on one line.
+    const bool numbers = value.is_array() && value.size() <= 4 &&
+                         std::all_of(value.begin(), value.end(), [](const ordered_json& v) { return v.is_number(); });
+    const std::string text = numbers ? value.dump() : value.dump(indent_, indent_char_);
     const std::string newline = "\n" + std::string(static_cast<size_t>(indent_ * depth), indent_char_);
     for (char c : text) {
       if (c == '\n')

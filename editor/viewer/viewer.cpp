@@ -159,6 +159,7 @@ class Viewer::Impl {
     request_redraw();
   }
   void request_redraw() { redraw_frames_ = std::max(redraw_frames_, kFramesAfterInput); }
+  void close() { quit_ = true; }
   void screenshot_next(std::string path) {
     io::check_image_output(path);
     pending_screenshot_ = std::move(path);
@@ -685,6 +686,7 @@ void Viewer::set_status(std::string message, bool error) {
 void Viewer::request_redraw() {
   impl_->request_redraw();
 }
+void Viewer::close() { impl_->close(); }
 void Viewer::screenshot_next(std::string path) {
   impl_->screenshot_next(std::move(path));
 }

@@ -55,6 +55,8 @@ class Viewer {
   void request_redraw();
   // Writes the graph's output of the next frame drawn to `path` (.png or .exr).
   void screenshot_next(std::string path);
+  // Closes the window at the end of this frame, as Esc does.
+  void close();
   // Called after each frame is drawn (the editor's script steps on it).
   std::function<void()> after_frame;
 

@@ -66,6 +66,7 @@ struct Executor::Realized {
   std::vector<std::unique_ptr<Pass>> passes;
   std::vector<std::string> counter_names;
   std::vector<bool> counter_is_sum;
+  std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
   vk::Buffer counters;  // host-visible, uint32 each
   vk::OwnedSampler linear;
@@ -85,6 +86,7 @@ shader::ShaderCompiler& PassSetup::shaders() const { return executor_.shaders_; 
 const PlannedResource& PassSetup::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
 uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   auto& names = executor_.realized_->counter_names;
+  executor_.realized_->counter_passes.emplace(name, pass_.name);
   auto it = std::find(names.begin(), names.end(), name);
   if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
   if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
@@ -462,6 +464,7 @@ FrameResult Executor::run_frame(bool read_back) {
       result.counters[real.counter_names[c]] = count;
     }
   }
+  result.counter_passes = real.counter_passes;
   real.read_back_done = read_back;
   return result;
 }

@@ -90,5 +90,6 @@ double median(std::vector<double> v);
 
 int cmd_bench(Args& args);
 int cmd_view(Args& args);
+int cmd_edit(Args& args);
 
 }  // namespace caustica::cli

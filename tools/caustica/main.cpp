@@ -50,6 +50,7 @@ commands:
              table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
+  edit       the graph editor: passes as nodes, resources as wires, the frame live as you edit
   compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
 
 'caustica <command> --help' describes each command.
@@ -555,8 +556,9 @@ int main(int argc, char** argv) {
     if (command == "bench") return cmd_bench(args);
     if (command == "compare") return cmd_compare(args);
     if (command == "view") return cmd_view(args);
+    if (command == "edit") return cmd_edit(args);
     throw UsageError("unknown command '" + command + "'" +
-                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view"}) +
+                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view", "edit"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";

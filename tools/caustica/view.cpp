@@ -1,9 +1,15 @@
 // caustica view and caustica edit: the flags; the viewer and the editor live in editor/.
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
 
+#include "builtin_passes.h"
 #include "cli.h"
 #include "core/paths.h"
+#include "edit/graph_editor.h"
 #include "io/image_io.h"
+#include "io/json_document.h"
+#include "model/graph_model.h"
 #include "viewer/viewer.h"
 
 namespace caustica::cli {
@@ -39,7 +45,86 @@ options:
   --validate            Khronos validation; any message makes the command exit 3
 )";
 
+const char* kEditHelp = R"(usage: caustica edit GRAPH [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
+                     [--window-shot F.png] [--script FILE] [--continuous] [--max-fps N] [--validate] [--device NAME]
+
+The graph editor: the viewer (caustica view --help) with a canvas of the graph. Passes are nodes
+with their input and output ports, resources are wires labelled with format and extent, culled
+passes are grey, each node shows its last GPU time and counters. Drag from an output port to an
+input port to connect; right click for a searchable menu of pass types; Del removes the selected
+passes; drag the background to select a box; middle drag pans, the wheel zooms. The side panel
+edits the selected pass's parameters. Every edit is checked by the compiler and swaps the running
+frame; an edit the compiler refuses keeps the last good frame and shows its message on the node.
+Ctrl+Z and Ctrl+Y undo and redo, Ctrl+S saves: only what was edited changes in the file (node
+positions go into its "editor" block, which the engine ignores), and a file changed on disk
+meanwhile is overwritten only after a confirmation. A new GRAPH file does not need to exist:
+it starts as a copy of the default graph.
+
+options: as caustica view, and
+  --script FILE         run an edit script, one action per frame drawn (for tests):
+
+)";
+
 }  // namespace
+
+int cmd_edit(Args& args) {
+  if (args.wants_help()) {
+    std::cout << kEditHelp << editor::kEditScriptHelp;
+    return 0;
+  }
+  RenderOptions o;
+  editor::ViewerOptions v;
+  std::string script;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene")
+      o.scene = args.value(a);
+    else if (a == "--size")
+      parse_size(args.value(a), v.width, v.height);
+    else if (a == "--frames")
+      v.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
+    else if (a == "--screenshot")
+      v.screenshot = args.value(a);
+    else if (a == "--window-shot")
+      v.window_shot = args.value(a);
+    else if (a == "--script")
+      script = args.value(a);
+    else if (a == "--continuous")
+      v.continuous = true;
+    else if (a == "--max-fps")
+      v.max_fps = parse_number(a, args.value(a), 0, 1000);
+    else if (a == "--validate")
+      o.validate = true;
+    else if (a == "--device")
+      o.device = args.value(a);
+    else if (!a.starts_with("--") && o.graph.empty())
+      o.graph = a;
+    else
+      unknown_option(a, {"--scene", "--size", "--frames", "--screenshot", "--window-shot", "--script", "--continuous", "--max-fps",
+                         "--validate", "--device"});
+  }
+  if (o.graph.empty()) throw UsageError("caustica edit needs a GRAPH file (see caustica edit --help)");
+  if (!v.screenshot.empty() && v.frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
+  if (!v.window_shot.empty() && v.frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
+  if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
+  if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
+  if (!script.empty()) read_text_file(script, 1 << 20);  // a missing script is an error before the window opens
+  if (!std::filesystem::exists(o.graph)) {
+    io::check_output_file(o.graph);
+    io::write_text_atomically(o.graph, read_text_file((data_dir() / kDefaultGraph).string(), JsonDocument::kMaxBytes));
+    std::fprintf(stderr, "edit: %s is new: it starts as a copy of %s\n", o.graph.c_str(), kDefaultGraph);
+  }
+  editor::GraphModel model = editor::GraphModel::open(o.graph, passes::builtin_registry());
+  v.graph_file = o.graph;
+  v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
+  v.device = device_options(o.device, o.validate);
+  v.watch_graph_file = false;  // the editor owns the file; a change on disk is met at save
+  v.parameter_panel = false;   // parameters are edited in the graph, through the editor
+  editor::Viewer viewer(v);
+  editor::GraphEditor graph_editor(viewer, model, script);
+  editor::close_viewers_on_signals();
+  return viewer.run();
+}
 
 int cmd_view(Args& args) {
   if (args.wants_help()) {

@@ -1,0 +1,85 @@
+#pragma once
+// caustica edit: the viewer with a node canvas over the graph. Passes are boxes with their ports,
+// resources are wires labelled with format and extent, culled passes are grey, each node shows its
+// last GPU time and counters. Every edit goes through the graph model (editor/model), is compiled,
+// and swaps the running frame; a refused edit keeps the last good frame and shows the message on
+// the node it concerns.
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "model/graph_model.h"
+#include "viewer/viewer.h"
+
+namespace caustica::editor {
+
+class GraphEditor {
+ public:
+  // `script`: a file of editor actions, one per frame (for tests; see kEditScriptHelp).
+  GraphEditor(Viewer& viewer, GraphModel& model, std::string script = "");
+
+  // The actions the canvas, the side panel, the keys and the script share. Each returns whether
+  // it was applied; a refusal is shown on its node (or the status line) and changes nothing.
+  bool add_pass(const std::string& type, float x, float y);
+  bool remove_selected();
+  bool connect(const std::string& pass, const std::string& port, const std::string& resource);
+  bool disconnect(const std::string& pass, const std::string& port);
+  bool set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
+  bool rename(const std::string& pass, const std::string& new_name);
+  bool undo();
+  bool redo();
+  // Ctrl+S: a file changed on disk meanwhile asks first (confirm_overwrite_).
+  bool save(bool overwrite = false);
+
+ private:
+  struct Node {
+    std::string name, type;
+    float x = 0, y = 0;  // canvas units
+    std::vector<std::string> inputs, outputs;
+  };
+  struct PortHit {
+    std::string pass, port;
+    bool output = false;
+  };
+
+  template <class Edit>
+  bool act(const std::string& label, Edit&& edit);
+  void refresh();  // after any change of the model: nodes, layout, the running graph
+  void draw(const graph::FrameResult& frame);
+  void draw_canvas(const graph::FrameResult& frame);
+  void draw_side_panel();
+  void draw_add_menu();
+  bool on_key(const WindowEvents::Key& key);
+  void step_script();
+  const Node* node(const std::string& name) const;
+  std::string resource_of(const std::string& pass, const std::string& port) const;
+
+  Viewer& viewer_;
+  GraphModel& model_;
+  std::vector<Node> nodes_;
+  std::set<std::string> selected_;
+  std::map<std::string, std::string> node_errors_;  // pass -> the message of the edit it refused
+  std::string status_;
+  bool status_is_error_ = false;
+  // Canvas view: screen = origin + (canvas + pan) * zoom.
+  float pan_x_ = 0, pan_y_ = 0, zoom_ = 1.0f;
+  bool fitted_ = false;  // the view was fitted to the graph once
+  // Interaction in progress.
+  std::string dragging_node_;
+  float drag_dx_ = 0, drag_dy_ = 0;
+  std::optional<PortHit> wire_from_;
+  bool box_selecting_ = false;
+  float box_x0_ = 0, box_y0_ = 0;
+  float menu_x_ = 0, menu_y_ = 0;  // where an added pass goes, canvas units
+  char filter_[64] = {};
+  char rename_[128] = {};
+  bool confirm_overwrite_ = false;
+  bool canvas_hovered_ = false;
+  std::vector<std::string> script_;
+  size_t script_line_ = 0;
+};
+
+extern const char* const kEditScriptHelp;
+
+}  // namespace caustica::editor

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# caustica edit under Xvfb on lavapipe, validation on (any message makes it exit 3): an edit script
+# opens core_demo.json, adds a pass, connects it (the frame changes), breaks a connection (refused,
+# with the message), saves, and the file is compared; Ctrl+Z and Ctrl+S are real key taps (xdotool).
+# Then the viewer: idle CPU far below a rendering loop's, and a 10 ms key tap is never lost.
+set -euo pipefail
+bin=$1
+src=$2
+dir=$(mktemp -d)
+display=$((190 + $$ % 100))
+xvfb_pid=""
+view_pid=""
+cleanup() {
+  [ -n "$view_pid" ] && kill "$view_pid" 2>/dev/null || true
+  [ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null || true
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; [ -f "$dir/log" ] && sed "s/^/  log: /" "$dir/log" >&2; exit 1; }
+
+Xvfb ":$display" -screen 0 1280x720x24 -nolisten tcp > "$dir/xvfb.log" 2>&1 &
+xvfb_pid=$!
+for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X$display" ] && break; sleep 0.1; done
+[ -e "/tmp/.X11-unix/X$display" ] || fail "Xvfb did not start: $(cat "$dir/xvfb.log")"
+export DISPLAY=":$display"
+cd "$dir"
+
+# 1. The edit script: every action goes through the editor as the canvas does it.
+cp "$src/graphs/core_demo.json" g.json
+cat > script.txt <<'SCRIPT'
+screenshot before.png
+add box_blur 600 300
+connect box_blur source blurred
+connect tonemap source box_blur_target
+screenshot after.png
+disconnect tonemap source
+save
+SCRIPT
+"$bin" edit g.json --size 320x180 --frames 10 --script script.txt --validate > log 2>&1 || fail "edit exited $?"
+grep -q "edit: add box_blur 600 300: ok" log || fail "the pass was not added"
+grep -q "edit: connect tonemap source box_blur_target: ok" log || fail "the connection was refused"
+if "$bin" compare before.png after.png --max-l1 0.001 > /dev/null 2>&1; then fail "the frame did not change after the edit"; fi
+grep -q "edit: disconnect tonemap source: refused: .*input 'source' of pass 'tonemap' (type tonemap) is not connected" log ||
+  fail "breaking a required connection was not refused with the compiler's message"
+echo "ok: add, connect (the frame changed), a broken connection refused with its message"
+# The saved file: core_demo.json with the new pass, its resource, the new wiring and its position,
+# and every other line as it was written.
+"$bin" validate g.json > /dev/null || fail "the saved graph does not validate"
+python3 - "$src/graphs/core_demo.json" g.json <<'PY' || fail "the saved file is not the original with the edit"
+import json, sys
+before, after = open(sys.argv[1]).read(), open(sys.argv[2]).read()
+a, b = json.loads(before), json.loads(after)
+assert b["passes"][3]["inputs"]["source"] == "box_blur_target", b["passes"][3]
+assert b["passes"][-1]["name"] == "box_blur" and b["passes"][-1]["inputs"]["source"] == "blurred"
+assert b["editor"]["positions"]["box_blur"] == [600, 300]
+assert b["resources"]["box_blur_target"]["format"] == "rgba16f"
+# Only the edited lines changed: the tonemap's line and those added.
+old_lines, new_lines = before.splitlines(), after.splitlines()
+removed = [l for l in old_lines if l not in new_lines]
+assert all("tonemap" in l or l.rstrip().endswith("}") or "ldr" in l for l in removed), removed
+PY
+echo "ok: the saved file keeps every unedited line"
+
+# 2. Real keys: Ctrl+Z undoes the last edit, Ctrl+S saves it, with the editor idle between taps.
+cp "$src/graphs/core_demo.json" k.json
+printf 'set blur_x radius 9\n' > one.txt
+"$bin" edit k.json --size 320x180 --script one.txt > log 2>&1 &
+view_pid=$!
+for _ in $(seq 600); do grep -q "edit: set blur_x radius 9: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
+grep -q "edit: set blur_x radius 9: ok" log || fail "the script did not run"
+window=$(xdotool search --sync --name '^caustica$' | head -1)
+xdotool key --window "$window" ctrl+z
+sleep 1
+xdotool key --window "$window" ctrl+s
+for _ in $(seq 100); do grep -q "edit: saved" log && break; sleep 0.1; done
+grep -q "edit: saved" log || fail "Ctrl+S did not save"
+cmp -s k.json "$src/graphs/core_demo.json" || fail "Ctrl+Z then Ctrl+S did not give back the original file"
+kill -INT $view_pid; wait $view_pid || fail "edit exited $? after Ctrl-C"
+view_pid=""
+echo "ok: Ctrl+Z and Ctrl+S from the keyboard"
+
+# 3. The viewer at rest: CPU over 3 s with no input, against the same window rendering continuously.
+cpu_seconds() { awk '{print ($14 + $15) / 100}' "/proc/$1/stat"; }
+idle_cpu() {  # FLAGS...: CPU seconds used over 3 s once the first frame is drawn
+  : > log
+  "$bin" view --size 320x180 "$@" > log 2>&1 &
+  view_pid=$!
+  for _ in $(seq 600); do grep -q "view: loaded" log && break; sleep 0.1; done
+  sleep 2
+  local start end
+  start=$(cpu_seconds $view_pid)
+  sleep 3
+  end=$(cpu_seconds $view_pid)
+  kill -INT $view_pid; wait $view_pid || true
+  view_pid=""
+  awk -v a="$start" -v b="$end" 'BEGIN { print b - a }'
+}
+resting=$(idle_cpu --graph "$src/graphs/core_demo.json")
+busy=$(idle_cpu --graph "$src/graphs/core_demo.json" --continuous)
+echo "viewer CPU over 3 s: at rest ${resting}s, continuous ${busy}s"
+awk -v r="$resting" 'BEGIN { exit !(r < 0.15) }' || fail "the resting viewer used ${resting}s of CPU in 3 s (limit 0.15: 5% of a core)"
+awk -v r="$resting" -v b="$busy" 'BEGIN { exit !(b > 5 * r && b > 0.3) }' || fail "the check cannot tell rest (${resting}s) from rendering (${busy}s)"
+echo "ok: the resting viewer sleeps"
+
+# 4. A 10 ms tap of P (screenshot) is never lost, at any frame rate: here a slow graph, continuous.
+: > log
+"$bin" view --size 640x360 --continuous > log 2>&1 &
+view_pid=$!
+for _ in $(seq 600); do grep -q "view: loaded" log && break; sleep 0.1; done
+window=$(xdotool search --sync --name '^caustica$' | head -1)
+for i in 1 2 3; do
+  xdotool keydown --window "$window" p
+  sleep 0.01
+  xdotool keyup --window "$window" p
+  sleep 0.7
+done
+for _ in $(seq 100); do [ "$(grep -c 'view: screenshot' log)" -ge 3 ] && break; sleep 0.1; done
+kill -INT $view_pid; wait $view_pid || true
+view_pid=""
+taps=$(grep -c "view: screenshot" log || true)
+[ "$taps" -eq 3 ] || fail "$taps of 3 key taps of 10 ms were seen"
+echo "ok: 3 of 3 taps of 10 ms seen"
