@@ -191,7 +191,8 @@ TEST(Cli, BundledGraphsValidate) {
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare ", "view ", "edit "}) {
+  for (const char* command :
+       {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare ", "view ", "edit "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
@@ -202,6 +203,24 @@ TEST(Cli, EveryCommandHasHelp) {
                           "'graph schema'", "'graph set"}) {
     EXPECT_NE(top.output.find(sub), std::string::npos) << sub << " in\n" << top.output;
   }
+}
+
+// --scene takes a model file as a scene of its own: render, reference and validate open it alike,
+// and --no-stage leaves the floor out (so the pictures differ).
+TEST(Cli, ModelFilesOpenAsScenes) {
+  fs::path dir = scratch("model_scene");
+  const std::string model = (kSource / "tests/data/gltf/cube_camera_spot.gltf").string();
+  CliRun staged = run("render --validate --size 96x54 --scene " + model + " --out staged.png", dir);
+  ASSERT_EQ(staged.code, 0) << staged.output;
+  CliRun bare = run("render --validate --size 96x54 --no-stage --scene " + model + " --out bare.png", dir);
+  ASSERT_EQ(bare.code, 0) << bare.output;
+  EXPECT_NE(run("compare staged.png bare.png --max-l1 0.01", dir).code, 0) << "the stage made no difference";
+  CliRun reference = run("reference --size 96x54 --scene " + model + " --out reference.png", dir);
+  EXPECT_EQ(reference.code, 0) << reference.output;
+  CliRun validated = run("validate " + model, dir);
+  EXPECT_EQ(validated.code, 0) << validated.output;
+  EXPECT_NE(validated.output.find("cube_camera_spot.gltf: ok"), std::string::npos) << validated.output;
+  fs::remove_all(dir);
 }
 
 TEST(Cli, DefaultRenderWritesCausticaPng) {

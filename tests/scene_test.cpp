@@ -177,3 +177,53 @@ TEST(BvhOrder, IsAPermutationSplitAtTheMedianOfTheLongestAxis) {
   for (size_t t = middle / 2; t < middle; ++t) quarter_min = std::min(quarter_min, centroid_x(t));
   EXPECT_LE(quarter_max, quarter_min);
 }
+
+// A model file opened as a scene of its own (--scene model.gltf): what the file holds is used as
+// its author placed it; what it lacks is made up around the model.
+TEST(ModelScenes, TheFilesCameraAndLightsAreUsed) {
+  const Scene s = load_model_scene((kSource / "tests/data/gltf/cube_camera_spot.gltf").string());
+  // The camera node: translation (0, 1.5, 4), pitched down 15 degrees; yfov 0.6 rad.
+  EXPECT_NEAR(glm::distance(s.camera.position, glm::vec3(0, 1.5f, 4)), 0.0f, 1e-4f);
+  const glm::vec3 forward = glm::normalize(s.camera.target - s.camera.position);
+  EXPECT_NEAR(forward.y, -std::sin(glm::radians(15.0f)), 1e-3f);
+  EXPECT_NEAR(forward.z, -std::cos(glm::radians(15.0f)), 1e-3f);
+  EXPECT_NEAR(s.camera.fov_y_degrees, glm::degrees(0.6f), 1e-3f);
+  // The spot light node: at (1, 4, 0) looking straight down, cone twice outerConeAngle.
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].type, LightType::spot);
+  EXPECT_NEAR(glm::distance(s.lights[0].view.position, glm::vec3(1, 4, 0)), 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::normalize(s.lights[0].view.target - s.lights[0].view.position).y, -1.0f, 1e-4f);
+  EXPECT_NEAR(s.lights[0].view.fov_y_degrees, glm::degrees(0.8f), 1e-3f);
+  EXPECT_FLOAT_EQ(s.lights[0].intensity, 30.0f);
+  EXPECT_NEAR(s.lights[0].color.z, 0.8f, 1e-6f);
+  // The cube is glass (transmission 1, ior 1.5) at y 0..1, and the stage's floor lies under it.
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_TRUE(s.objects[0].material.refractor);
+  EXPECT_NEAR(s.objects[0].bounds_min.y, 0.0f, 1e-5f);
+  EXPECT_FALSE(s.objects[1].material.refractor);
+  EXPECT_NEAR(s.objects[1].bounds_max.y, 0.0f, 1e-2f);
+  EXPECT_LE(s.objects[1].bounds_max.y, 0.0f);
+  EXPECT_EQ(load_model_scene((kSource / "tests/data/gltf/cube_camera_spot.gltf").string(), false).objects.size(), 1u);
+}
+
+TEST(ModelScenes, AModelWithoutCameraOrLightIsFramedAndLitForACaustic) {
+  const Scene s = load_scene_file("/usr/share/glmark2/models/bunny.obj");
+  ASSERT_EQ(s.objects.size(), 2u);
+  const Object& model = s.objects[0];
+  // Every corner of the model's box is in the camera's view and in the light's cone.
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? model.bounds_max.x : model.bounds_min.x, (corner & 2) ? model.bounds_max.y : model.bounds_min.y,
+                      (corner & 4) ? model.bounds_max.z : model.bounds_min.z);
+    for (const View* view : {&s.camera, &s.lights[0].view}) {
+      const glm::vec4 clip = view->view_projection(view == &s.camera ? 16.0f / 9.0f : 1.0f) * glm::vec4(p, 1.0f);
+      EXPECT_GT(clip.w, 0.0f);
+      EXPECT_LE(std::abs(clip.x / clip.w), 1.0f) << "corner " << corner;
+      EXPECT_LE(std::abs(clip.y / clip.w), 1.0f) << "corner " << corner;
+    }
+  }
+  // The light is above the model, and the floor under it.
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_GT(s.lights[0].view.position.y, model.bounds_max.y);
+  EXPECT_NEAR(s.objects[1].bounds_max.y, model.bounds_min.y, 0.01f * glm::length(model.bounds_max - model.bounds_min));
+  EXPECT_GT(s.ambient, 0.0f);
+}

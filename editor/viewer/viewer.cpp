@@ -203,7 +203,7 @@ class Viewer::Impl {
     if (!first && graph_time == session_.graph_time && scene_time == session_.scene_time) return false;
     try {
       graph::GraphDesc g = first || graph_time != session_.graph_time ? graph::load_graph_file(session_.graph_file) : *session_.graph;
-      auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(session_.scene_file));
+      auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(session_.scene_file, options_.stage));
       std::optional<graph::GraphDesc> previous = std::move(session_.graph);
       session_.graph = std::move(g);
       try {
@@ -686,7 +686,9 @@ void Viewer::set_status(std::string message, bool error) {
 void Viewer::request_redraw() {
   impl_->request_redraw();
 }
-void Viewer::close() { impl_->close(); }
+void Viewer::close() {
+  impl_->close();
+}
 void Viewer::screenshot_next(std::string path) {
   impl_->screenshot_next(std::move(path));
 }

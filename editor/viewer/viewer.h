@@ -25,6 +25,7 @@ struct ViewerOptions {
   double max_fps = 60.0;
   bool watch_graph_file = true;  // reload the graph when its file changes (the editor owns it instead)
   bool parameter_panel = true;   // the graph parameters' panel with its save button
+  bool stage = true;             // a model file as the scene gets a floor
 };
 
 // What the help and the on-screen help say about the keys.

@@ -34,9 +34,9 @@ struct FrameImage {
 
 struct FrameResult {
   std::vector<PassTiming> passes;
-  double gpu_ms = 0;  // first to last timestamp of the frame, barriers included
-  double cpu_ms = 0;  // recording and submission
-  std::map<std::string, double> counters;  // counts are whole numbers; sums (caustic.flux) are floats
+  double gpu_ms = 0;                                  // first to last timestamp of the frame, barriers included
+  double cpu_ms = 0;                                  // recording and submission
+  std::map<std::string, double> counters;             // counts are whole numbers; sums (caustic.flux) are floats
   std::map<std::string, std::string> counter_passes;  // counter -> the pass that set it up
 };
 

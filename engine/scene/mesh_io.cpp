@@ -1,11 +1,11 @@
 // Mesh files: Wavefront OBJ and OFF (the Stanford models Debian ships), glTF 2.0 through tinygltf.
 #include <algorithm>
 #include <charconv>
-#include <cstring>
-#include <functional>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -28,7 +28,8 @@ constexpr size_t kMaxMeshFileBytes = 512u << 20;
 void check_mesh(const std::string& path, const Mesh& mesh) {
   if (mesh.indices.empty()) fail(path, 0, "the mesh has no triangles");
   for (uint32_t index : mesh.indices) {
-    if (index >= mesh.positions.size()) fail(path, 0, "a triangle refers to vertex " + std::to_string(index) + " of " + std::to_string(mesh.positions.size()));
+    if (index >= mesh.positions.size())
+      fail(path, 0, "a triangle refers to vertex " + std::to_string(index) + " of " + std::to_string(mesh.positions.size()));
   }
   for (const auto& p : mesh.positions) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) fail(path, 0, "a vertex position is not finite");
@@ -110,8 +111,10 @@ Mesh load_off(const std::string& path, const std::string& text) {
   };
   auto header = next();
   if (header[0] != "OFF") fail(path, number, "an OFF file starts with 'OFF'");
-  if (header.size() == 1) header = next();
-  else header.erase(header.begin());
+  if (header.size() == 1)
+    header = next();
+  else
+    header.erase(header.begin());
   if (header.size() < 2) fail(path, number, "expected vertex and face counts");
   long vertices = parse_int(header[0], path, number), faces = parse_int(header[1], path, number);
   if (vertices <= 0 || faces <= 0 || vertices > 50'000'000 || faces > 50'000'000) fail(path, number, "vertex or face count out of range");
@@ -152,7 +155,8 @@ glm::mat4 node_matrix(const tinygltf::Node& node) {
 // Reads accessor `index` as `components` floats (or integers converted) per element.
 template <typename T>
 std::vector<T> read_accessor(const tinygltf::Model& model, int index, int components, const std::string& path) {
-  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) fail(path, 0, "accessor " + std::to_string(index) + " does not exist");
+  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
+    fail(path, 0, "accessor " + std::to_string(index) + " does not exist");
   const auto& accessor = model.accessors[static_cast<size_t>(index)];
   if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)) != components) {
     fail(path, 0, "accessor " + std::to_string(index) + " has the wrong type");
@@ -179,9 +183,24 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
     for (int c = 0; c < components; ++c) {
       const unsigned char* q = p + c * component_size;
       switch (accessor.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, q, 4); out.push_back(static_cast<T>(v)); break; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, q, 4); out.push_back(static_cast<T>(v)); break; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, q, 2); out.push_back(static_cast<T>(v)); break; }
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+          float v;
+          std::memcpy(&v, q, 4);
+          out.push_back(static_cast<T>(v));
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+          uint32_t v;
+          std::memcpy(&v, q, 4);
+          out.push_back(static_cast<T>(v));
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+          uint16_t v;
+          std::memcpy(&v, q, 2);
+          out.push_back(static_cast<T>(v));
+          break;
+        }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out.push_back(static_cast<T>(*q)); break;
         default: fail(path, 0, "accessor " + std::to_string(index) + " has a component type this loader does not read");
       }
@@ -217,8 +236,19 @@ Material gltf_material(const tinygltf::Model& model, int index) {
   return m;
 }
 
-std::vector<MeshPart> load_gltf(const std::string& path) {
+// The extensions whose content caustica reads: a file that requires any other is refused.
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
+                                                  "KHR_lights_punctual"};
+
+// Images are not decoded (no material property caustica reads uses them yet); an external image
+// must still exist, as the specification requires.
+bool check_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+ModelFile load_gltf(const std::string& path) {
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(check_image, nullptr);
   tinygltf::Model model;
   std::string error, warning;
   const bool binary = std::filesystem::path(path).extension() == ".glb";
@@ -230,21 +260,80 @@ std::vector<MeshPart> load_gltf(const std::string& path) {
       fail(path, 0, "binary glTF version " + std::to_string(header[1]) + ": only version 2 is supported");
     }
   }
-  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path) : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+  const bool ok =
+      binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path) : loader.LoadASCIIFromFile(&model, &error, &warning, path);
   if (!ok) {
     while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
     fail(path, 0, "not a valid glTF file: " + (error.empty() ? std::string("tinygltf gave no reason") : error));
   }
-  std::vector<MeshPart> parts;
+  for (const auto& required : model.extensionsRequired) {
+    if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
+      fail(path, 0,
+           "requires the extension " + required +
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume and KHR_lights_punctual)");
+    }
+  }
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const std::string& uri = model.images[i].uri;
+    if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
+    std::string decoded;  // a URI: %XX escapes
+    for (size_t k = 0; k < uri.size(); ++k) {
+      if (uri[k] == '%' && k + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[k + 1])) &&
+          std::isxdigit(static_cast<unsigned char>(uri[k + 2]))) {
+        decoded += static_cast<char>(std::stoi(uri.substr(k + 1, 2), nullptr, 16));
+        k += 2;
+      } else {
+        decoded += uri[k];
+      }
+    }
+    const auto file = std::filesystem::path(path).parent_path() / decoded;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      fail(path, 0, "image " + std::to_string(i) + ": cannot read '" + uri + "' (" + file.string() + ")");
+  }
+  ModelFile out;
+  std::vector<MeshPart>& parts = out.parts;
   std::vector<int> visiting;  // guards against node cycles, which the spec forbids
   std::function<void(int, const glm::mat4&)> visit = [&](int node_index, const glm::mat4& parent) {
-    if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size()) fail(path, 0, "node " + std::to_string(node_index) + " does not exist");
-    if (std::find(visiting.begin(), visiting.end(), node_index) != visiting.end()) fail(path, 0, "node " + std::to_string(node_index) + " is its own ancestor");
+    if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size())
+      fail(path, 0, "node " + std::to_string(node_index) + " does not exist");
+    if (std::find(visiting.begin(), visiting.end(), node_index) != visiting.end())
+      fail(path, 0, "node " + std::to_string(node_index) + " is its own ancestor");
     visiting.push_back(node_index);
     const auto& node = model.nodes[static_cast<size_t>(node_index)];
     const glm::mat4 world = parent * node_matrix(node);
+    const glm::vec3 origin(world[3]);
+    const glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));  // cameras and lights look down -Z
+    if (node.camera >= 0 && !out.camera && static_cast<size_t>(node.camera) < model.cameras.size()) {
+      const auto& camera = model.cameras[static_cast<size_t>(node.camera)];
+      View view;
+      view.position = origin;
+      view.target = origin + forward;
+      if (camera.type == "perspective") {
+        view.fov_y_degrees = static_cast<float>(glm::degrees(camera.perspective.yfov));
+        if (camera.perspective.znear > 0) view.near_plane = static_cast<float>(camera.perspective.znear);
+        if (camera.perspective.zfar > camera.perspective.znear) view.far_plane = static_cast<float>(camera.perspective.zfar);
+      }
+      out.camera = view;
+      out.camera_is_orthographic = camera.type == "orthographic";
+    }
+    if (const auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
+      const int index = ext->second.Get("light").GetNumberAsInt();
+      if (index < 0 || static_cast<size_t>(index) >= model.lights.size())
+        fail(path, 0, "node " + std::to_string(node_index) + " names a missing light");
+      const auto& l = model.lights[static_cast<size_t>(index)];
+      ModelLight light;
+      light.type = l.type;
+      light.position = origin;
+      light.direction = forward;
+      light.intensity = static_cast<float>(l.intensity);
+      if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+      light.cone_degrees = static_cast<float>(glm::degrees(2.0 * l.spot.outerConeAngle));
+      out.lights.push_back(light);
+    }
     if (node.mesh >= 0) {
-      if (static_cast<size_t>(node.mesh) >= model.meshes.size()) fail(path, 0, "node " + std::to_string(node_index) + " names a missing mesh");
+      if (static_cast<size_t>(node.mesh) >= model.meshes.size())
+        fail(path, 0, "node " + std::to_string(node_index) + " names a missing mesh");
       const auto& mesh = model.meshes[static_cast<size_t>(node.mesh)];
       const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
       for (const auto& prim : mesh.primitives) {
@@ -254,7 +343,8 @@ std::vector<MeshPart> load_gltf(const std::string& path) {
         MeshPart part;
         part.name = mesh.name;
         auto p = read_accessor<float>(model, position->second, 3, path);
-        for (size_t i = 0; i + 2 < p.size(); i += 3) part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
+        for (size_t i = 0; i + 2 < p.size(); i += 3)
+          part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
         auto normal = prim.attributes.find("NORMAL");
         if (normal != prim.attributes.end()) {
           auto n = read_accessor<float>(model, normal->second, 3, path);
@@ -286,7 +376,7 @@ std::vector<MeshPart> load_gltf(const std::string& path) {
     for (int root : model.scenes[static_cast<size_t>(scene)].nodes) visit(root, glm::mat4(1.0f));
   }
   if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
-  return parts;
+  return out;
 }
 
 }  // namespace
@@ -307,14 +397,20 @@ void compute_smooth_normals(Mesh& mesh) {
 }
 
 std::vector<MeshPart> load_mesh_file(const std::string& path) {
+  return load_model_file(path).parts;
+}
+
+ModelFile load_model_file(const std::string& path) {
   const std::string extension = std::filesystem::path(path).extension().string();
-  std::vector<MeshPart> parts;
+  ModelFile model;
+  std::vector<MeshPart>& parts = model.parts;
   if (extension == ".gltf" || extension == ".glb") {
     if (!std::filesystem::is_regular_file(path)) fail(path, 0, "no such mesh file");
-    parts = load_gltf(path);
+    model = load_gltf(path);
   } else if (extension == ".obj" || extension == ".off") {
     const std::string text = read_text_file(path, kMaxMeshFileBytes);
-    parts.push_back({std::filesystem::path(path).stem().string(), extension == ".obj" ? load_obj(path, text) : load_off(path, text), std::nullopt});
+    parts.push_back(
+        {std::filesystem::path(path).stem().string(), extension == ".obj" ? load_obj(path, text) : load_off(path, text), std::nullopt});
   } else {
     fail(path, 0, "unknown mesh format '" + extension + "' (expected .gltf, .glb, .obj or .off)");
   }
@@ -322,7 +418,7 @@ std::vector<MeshPart> load_mesh_file(const std::string& path) {
     check_mesh(path, part.mesh);
     if (part.mesh.normals.size() != part.mesh.positions.size()) compute_smooth_normals(part.mesh);
   }
-  return parts;
+  return model;
 }
 
 }  // namespace caustica::scene

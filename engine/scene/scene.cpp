@@ -108,7 +108,8 @@ void apply_material(const JsonReader& read, const nlohmann::json& value, const s
   read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption"}, "a material");
   if (value.contains("color")) m.albedo = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1.0);
   if (value.contains("refractor")) m.refractor = read.boolean(value["refractor"], pointer + "/refractor", "\"refractor\"");
-  if (value.contains("ior")) m.ior = static_cast<float>(read.number(value["ior"], pointer + "/ior", "\"ior\" (index of refraction)", 1.0, 4.0));
+  if (value.contains("ior"))
+    m.ior = static_cast<float>(read.number(value["ior"], pointer + "/ior", "\"ior\" (index of refraction)", 1.0, 4.0));
   if (value.contains("absorption")) {
     m.absorption = vec3(read, value["absorption"], pointer + "/absorption", "\"absorption\" (per unit length)", 0.0, 1e4);
   }
@@ -120,7 +121,8 @@ Mesh load_primitive(const JsonDocument& doc, const JsonReader& read, const nlohm
   read.only_keys(value, pointer, {"type", "radius", "size", "major_radius", "minor_radius", "detail"}, "a primitive");
   if (!value.contains("type")) throw doc.error(pointer, "a primitive needs a \"type\"" + did_you_mean("", types));
   const std::string type = read.string(value["type"], pointer + "/type", "a primitive type");
-  const int detail = value.contains("detail") ? static_cast<int>(read.number(value["detail"], pointer + "/detail", "\"detail\"", 3, 1024)) : 64;
+  const int detail =
+      value.contains("detail") ? static_cast<int>(read.number(value["detail"], pointer + "/detail", "\"detail\"", 3, 1024)) : 64;
   auto number = [&](const char* key, double fallback, double lo, double hi) {
     return static_cast<float>(value.contains(key) ? read.number(value[key], pointer + "/" + key, key, lo, hi) : fallback);
   };
@@ -172,7 +174,8 @@ Scene load_scene(const JsonDocument& doc) {
   read.only_keys(root, "", {"$schema", "name", "description", "camera", "lights", "objects", "sky", "ambient"}, "a scene");
   Scene scene;
   scene.path = doc.path();
-  scene.name = root.contains("name") ? read.name(root["name"], "/name", "the scene name") : std::filesystem::path(doc.path()).stem().string();
+  scene.name =
+      root.contains("name") ? read.name(root["name"], "/name", "the scene name") : std::filesystem::path(doc.path()).stem().string();
   if (root.contains("description")) read.string(root["description"], "/description", "\"description\"");
   if (!root.contains("camera")) throw doc.error("", "a scene needs a \"camera\"");
   scene.camera = load_view(doc, read, root["camera"], "/camera", "the camera", {});
@@ -190,11 +193,15 @@ Scene load_scene(const JsonDocument& doc) {
     light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color"});
     static const std::vector<std::string> types{"spot", "point"};
     const std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "a light type") : "spot";
-    if (type == "spot") light.type = LightType::spot;
-    else if (type == "point") light.type = LightType::point;
-    else throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point)" + did_you_mean(type, types));
+    if (type == "spot")
+      light.type = LightType::spot;
+    else if (type == "point")
+      light.type = LightType::point;
+    else
+      throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point)" + did_you_mean(type, types));
     if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
-    if (value.contains("intensity")) light.intensity = static_cast<float>(read.number(value["intensity"], pointer + "/intensity", "\"intensity\"", 0.0, 1e9));
+    if (value.contains("intensity"))
+      light.intensity = static_cast<float>(read.number(value["intensity"], pointer + "/intensity", "\"intensity\"", 0.0, 1e9));
     if (value.contains("color")) light.color = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1e4);
     scene.lights.push_back(light);
   }
@@ -207,12 +214,15 @@ Scene load_scene(const JsonDocument& doc) {
     const std::string pointer = "/objects/" + std::to_string(i);
     const auto& value = read.object(objects[i], pointer, "an object");
     read.only_keys(value, pointer, {"name", "mesh", "primitive", "transform", "material"}, "an object");
-    const std::string name = value.contains("name") ? read.name(value["name"], pointer + "/name", "an object name") : "object" + std::to_string(i);
+    const std::string name =
+        value.contains("name") ? read.name(value["name"], pointer + "/name", "an object name") : "object" + std::to_string(i);
     for (const auto& o : scene.objects) {
       if (o.name == name || o.name.rfind(name + ".", 0) == 0) throw doc.error(pointer + "/name", "two objects are named '" + name + "'");
     }
-    if (value.contains("mesh") == value.contains("primitive")) throw doc.error(pointer, "an object needs exactly one of \"mesh\" and \"primitive\"");
-    const glm::mat4 transform = value.contains("transform") ? load_transform(read, value["transform"], pointer + "/transform") : glm::mat4(1.0f);
+    if (value.contains("mesh") == value.contains("primitive"))
+      throw doc.error(pointer, "an object needs exactly one of \"mesh\" and \"primitive\"");
+    const glm::mat4 transform =
+        value.contains("transform") ? load_transform(read, value["transform"], pointer + "/transform") : glm::mat4(1.0f);
     std::vector<Object> parts;
     if (value.contains("primitive")) {
       Object o;
@@ -246,6 +256,99 @@ Scene load_scene(const JsonDocument& doc) {
   return scene;
 }
 
-Scene load_scene_file(const std::string& path) { return load_scene(JsonDocument::load(path)); }
+bool is_model_file(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".gltf" || extension == ".glb" || extension == ".obj" || extension == ".off";
+}
+
+Scene load_model_scene(const std::string& path, bool stage) {
+  ModelFile model = load_model_file(path);
+  Scene scene;
+  scene.path = path;
+  scene.name = std::filesystem::path(path).stem().string();
+  // The default picture's fill: a sky and ambient light, so that no shadow is black.
+  scene.sky = glm::vec3(0.55f, 0.65f, 0.8f);
+  scene.ambient = 0.25f;
+  for (size_t p = 0; p < model.parts.size(); ++p) {
+    Object o;
+    o.name = (model.parts[p].name.empty() ? scene.name : model.parts[p].name) + "." + std::to_string(p);
+    o.mesh = std::move(model.parts[p].mesh);
+    if (model.parts[p].material) o.material = *model.parts[p].material;
+    finish_object(o, glm::mat4(1.0f));
+    scene.objects.push_back(std::move(o));
+  }
+  glm::vec3 low = scene.objects.front().bounds_min, high = scene.objects.front().bounds_max;
+  for (const auto& o : scene.objects) {
+    low = glm::min(low, o.bounds_min);
+    high = glm::max(high, o.bounds_max);
+  }
+  const glm::vec3 center = 0.5f * (low + high);
+  const float radius = std::max(0.5f * glm::length(high - low), 1e-4f);
+  if (stage) {
+    Object floor;
+    floor.name = "stage_floor";
+    floor.mesh = make_plane(8.0f * radius, 8.0f * radius);
+    floor.material.albedo = glm::vec3(0.78f, 0.76f, 0.72f);
+    finish_object(floor, glm::translate(glm::mat4(1.0f), glm::vec3(center.x, low.y - 1e-3f * radius, center.z)));
+    scene.objects.push_back(std::move(floor));
+  }
+  if (model.camera && !model.camera_is_orthographic) {
+    scene.camera = *model.camera;
+    // Aim at the model along the file's direction, so that the orbit camera turns around it.
+    scene.camera.target =
+        scene.camera.position + (scene.camera.target - scene.camera.position) * glm::length(center - scene.camera.position);
+  } else {
+    // Framed: the model's bounding sphere fills the view, seen from in front and above.
+    scene.camera.fov_y_degrees = 45.0f;
+    const float distance = 1.15f * radius / std::sin(glm::radians(0.5f * scene.camera.fov_y_degrees));
+    scene.camera.target = center;
+    scene.camera.position = center + distance * glm::normalize(glm::vec3(0.0f, 0.45f, 1.0f));
+  }
+  scene.camera.near_plane = std::min(scene.camera.near_plane, 0.01f * radius);
+  scene.camera.far_plane = std::max(scene.camera.far_plane, 50.0f * radius);
+  for (const auto& l : model.lights) {
+    Light light;
+    light.color = l.color;
+    light.view.near_plane = 0.01f * radius;
+    light.view.far_plane = 50.0f * radius;
+    if (l.type == "directional") {
+      // No orthographic light map yet: a distant spot light along the direction, its intensity
+      // chosen so that it gives the model the file's illuminance (docs/scenes.md).
+      const float distance = 20.0f * radius;
+      light.type = LightType::spot;
+      light.view.position = center - distance * l.direction;
+      light.view.target = center;
+      light.view.fov_y_degrees = glm::degrees(2.0f * std::atan(1.2f * radius / distance));
+      light.intensity = l.intensity * distance * distance;
+    } else {
+      light.type = l.type == "point" ? LightType::point : LightType::spot;
+      light.view.position = l.position;
+      light.view.target = l.position + l.direction;
+      light.view.fov_y_degrees = light.type == LightType::spot ? std::clamp(l.cone_degrees, 1.0f, 170.0f) : 90.0f;
+      light.intensity = l.intensity;
+    }
+    if (scene.lights.size() < 8) scene.lights.push_back(light);
+  }
+  if (scene.lights.empty()) {
+    // As in the default scene: a spot light above and behind the model, so that its caustic falls
+    // on the floor in front of it, in view; irradiance at the model about the default scene's.
+    Light light;
+    light.view.position = center + radius * glm::vec3(-0.4f, 3.5f, -1.6f);
+    light.view.target = glm::vec3(center.x, low.y, center.z + 0.4f * radius);
+    const float distance = glm::length(light.view.position - center);
+    light.view.fov_y_degrees = glm::degrees(2.0f * std::atan(1.3f * radius / distance));
+    light.view.near_plane = 0.01f * radius;
+    light.view.far_plane = 50.0f * radius;
+    light.intensity = 1.8f * distance * distance;
+    scene.lights.push_back(light);
+  }
+  return scene;
+}
+
+Scene load_scene_file(const std::string& path, bool stage) {
+  if (is_model_file(path)) return load_model_scene(path, stage);
+  return load_scene(JsonDocument::load(path));
+}
 
 }  // namespace caustica::scene

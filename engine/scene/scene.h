@@ -23,7 +23,7 @@ struct Material {
 struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
-  std::vector<uint32_t> indices;  // triangles
+  std::vector<uint32_t> indices;       // triangles
   std::vector<float> normal_distance;  // d_N per vertex; refractors only
 };
 
@@ -52,8 +52,8 @@ enum class LightType { spot, point };
 
 struct Light {
   LightType type = LightType::spot;
-  View view;                     // spot: position, target and the cone as a square frustum
-  float intensity = 10.0f;       // radiant intensity (W/sr) along the axis
+  View view;                // spot: position, target and the cone as a square frustum
+  float intensity = 10.0f;  // radiant intensity (W/sr) along the axis
   glm::vec3 color{1.0f};
 };
 
@@ -64,7 +64,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Object> objects;
   glm::vec3 sky{0.35f, 0.45f, 0.6f};  // radiance of everything that is not geometry
-  float ambient = 0.03f;               // fraction of albedo lit without a light
+  float ambient = 0.03f;              // fraction of albedo lit without a light
 
   size_t refractor_count() const;
   size_t triangle_count() const;
@@ -76,7 +76,8 @@ struct Scene {
 };
 
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
-Scene load_scene_file(const std::string& path);
+// A scene file, or a model file opened as a scene (load_model_scene).
+Scene load_scene_file(const std::string& path, bool stage = true);
 Scene load_scene(const JsonDocument& doc);
 
 // One primitive of a mesh file with its material, if the file gives one (glTF does, OBJ and OFF
@@ -89,6 +90,32 @@ struct MeshPart {
 
 // .gltf, .glb, .obj, .off. Throws InputError naming `path` (and the line, for text formats).
 std::vector<MeshPart> load_mesh_file(const std::string& path);
+
+// A light as a glTF file gives it (KHR_lights_punctual): type "spot", "point" or "directional",
+// where it is and where it points in world space, candela (lux for directional), the spot's cone.
+struct ModelLight {
+  std::string type;
+  glm::vec3 position{0.0f}, direction{0.0f, -1.0f, 0.0f};
+  float intensity = 1.0f;
+  glm::vec3 color{1.0f};
+  float cone_degrees = 90.0f;  // full angle: twice outerConeAngle
+};
+
+// A mesh file with what else it holds: a glTF file's first camera and its lights.
+struct ModelFile {
+  std::vector<MeshPart> parts;
+  std::optional<View> camera;
+  bool camera_is_orthographic = false;
+  std::vector<ModelLight> lights;
+};
+ModelFile load_model_file(const std::string& path);
+
+// A model file (.gltf, .glb, .obj, .off) opened as a scene of its own: the file's camera, or one
+// that frames the model; its lights, or a spot light placed above and behind it for a caustic; a
+// floor under it when `stage`.
+Scene load_model_scene(const std::string& path, bool stage = true);
+// Whether a path names a model file rather than a scene file (by its extension).
+bool is_model_file(const std::string& path);
 void compute_smooth_normals(Mesh& mesh);
 
 // Primitives in object space, centred on the origin (the plane faces +y).

@@ -6,23 +6,7 @@
 set -euo pipefail
 bin=$1
 src=$2
-dir=$(mktemp -d)
-display=$((190 + $$ % 100))
-xvfb_pid=""
-view_pid=""
-cleanup() {
-  [ -n "$view_pid" ] && kill "$view_pid" 2>/dev/null || true
-  [ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; [ -f "$dir/log" ] && sed "s/^/  log: /" "$dir/log" >&2; exit 1; }
-
-Xvfb ":$display" -screen 0 1280x720x24 -nolisten tcp > "$dir/xvfb.log" 2>&1 &
-xvfb_pid=$!
-for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X$display" ] && break; sleep 0.1; done
-[ -e "/tmp/.X11-unix/X$display" ] || fail "Xvfb did not start: $(cat "$dir/xvfb.log")"
-export DISPLAY=":$display"
+DISPLAY_BASE=190 source "$(dirname "$0")/xvfb.sh"
 cd "$dir"
 
 # 1. The edit script: every action goes through the editor as the canvas does it.

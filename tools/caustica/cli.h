@@ -21,6 +21,7 @@ struct RenderOptions {
   std::string graph;
   std::string scene;
   bool scene_given = false;
+  bool stage = true;  // a model file opened as a scene gets a floor (--no-stage: none)
   std::string out = "caustica.png";
   std::string stats;
   std::string trace;

@@ -59,7 +59,10 @@ exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
 
 const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/caustics_adaptive.json in the data folder)
   --scene FILE          scene for graphs that draw one (default: scenes/glass_bunny.json); a graph
-                        without scene passes ignores it
+                        without scene passes ignores it. A model file (.gltf, .glb, .obj, .off) is a
+                        scene of its own: its camera (or one that frames it), its KHR_lights_punctual
+                        lights (or a spot light placed for a caustic), and a floor under it
+  --no-stage            with a model file: no floor
   --size WxH            output size (default 1280x720)
   --frames N            frames to run (default 1; timings are medians over frames 2..N)
   --set NAME=VALUE      override a graph parameter (repeatable)
@@ -74,8 +77,8 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
 
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
-  const std::vector<std::string> known = {"--graph", "--scene", "--out",    "--size",     "--frames",      "--set",
-                                          "--stats", "--dump",  "--device", "--validate", "--memory-limit"};
+  const std::vector<std::string> known = {"--graph", "--scene", "--out",    "--size",     "--frames",       "--set",
+                                          "--stats", "--dump",  "--device", "--validate", "--memory-limit", "--no-stage"};
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--graph")
@@ -83,7 +86,9 @@ RenderOptions parse_render(Args& args, bool trace) {
     else if (a == "--scene") {
       o.scene = args.value(a);
       o.scene_given = true;
-    } else if (a == "--out")
+    } else if (a == "--no-stage")
+      o.stage = false;
+    else if (a == "--out")
       (trace ? o.trace : o.out) = args.value(a);
     else if (a == "--stats")
       o.stats = args.value(a);
@@ -137,7 +142,7 @@ int run_render(const RenderOptions& o, bool trace) {
     return decl && decl->needs_scene;
   });
   std::shared_ptr<const scene::Scene> scene;
-  if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene));
+  if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene, o.stage));
 
   vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
@@ -220,7 +225,8 @@ int cmd_validate(Args& args) {
     std::cout << "usage: caustica validate FILE...\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
                  "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
                  "objects); a scene (a file with \"camera\" or \"objects\") is loaded\n"
-                 "with its meshes; a JSON Schema (graphs/schema.json) is skipped. Prints 'FILE: ok' or the problems\n"
+                 "with its meshes; a model file (.gltf, .glb, .obj, .off) is loaded as --scene opens it; a JSON Schema "
+                 "(graphs/schema.json) is skipped. Prints 'FILE: ok' or the problems\n"
                  "with file, line and JSON pointer.\n"
                  "A graph with a pass that traces exact paths (ray queries) is also checked against the device it\n"
                  "would run on (lavapipe by default; CAUSTICA_NO_RAY_QUERY=1 masks ray queries).\n"
@@ -231,6 +237,11 @@ int cmd_validate(Args& args) {
   while (!args.done()) {
     std::string file = args.take();
     try {
+      if (scene::is_model_file(file)) {  // a model opened as a scene, as --scene takes it
+        scene::load_model_scene(file);
+        std::cout << file << ": ok\n";
+        continue;
+      }
       JsonDocument doc = JsonDocument::load(file);
       const auto& root = doc.root();
       // graphs/schema.json sits beside the graphs, so that `validate graphs/*.json` meets it.
@@ -334,7 +345,7 @@ int cmd_graph(Args& args) {
   options.scene_values = graph::typical_scene_values();
   std::optional<scene::Scene> scene;
   if (o.scene_given) {
-    scene = scene::load_scene_file(o.scene);
+    scene = scene::load_scene_file(o.scene, o.stage);
     options.scene_values = scene->expression_values();
   }
   graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
@@ -344,7 +355,7 @@ int cmd_graph(Args& args) {
   }
   nlohmann::json out = graph::plan_to_json(plan);
   if (!plan.ray_query_passes.empty()) {
-    if (!scene) scene = scene::load_scene_file(o.scene);
+    if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
     const scene::AccelerationEstimate estimate = scene::estimate_acceleration(*scene);
     out["memory"]["acceleration"] = {{"scene", o.scene},
                                      {"triangles", estimate.triangles},
@@ -375,7 +386,8 @@ int cmd_reference(Args& args) {
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
                  "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
                  "options:\n"
-                 "  --scene FILE          the scene (default: scenes/glass_bunny.json)\n"
+                 "  --scene FILE          the scene (default: scenes/glass_bunny.json), or a model file (as for render)\n"
+                 "  --no-stage            with a model file: no floor\n"
                  "  --out FILE            the image (required)\n"
                  "  --size WxH            camera image size (default 1280x720)\n"
                  "  --photons N           photons to trace, e.g. 1e8\n"
@@ -391,6 +403,7 @@ int cmd_reference(Args& args) {
   uint32_t width = 1280, height = 720;
   float exposure = 1.0f;
   bool exposure_given = false;
+  bool stage = true;
   reference::PhotonOptions photons;
   photons.photons = 0;
   while (!args.done()) {
@@ -411,21 +424,23 @@ int cmd_reference(Args& args) {
       camera_out = args.value(a);
     else if (a == "--no-fresnel")
       photons.fresnel = false;
+    else if (a == "--no-stage")
+      stage = false;
     else if (a == "--caustics")
       caustics_file = args.value(a);
     else if (a == "--exposure") {
       exposure = static_cast<float>(parse_number(a, args.value(a), 0.0, 100.0));
       exposure_given = true;
     } else
-      unknown_option(
-          a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel", "--caustics", "--exposure"});
+      unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel", "--caustics",
+                         "--exposure", "--no-stage"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
   if (photons.photons == 0 && (!camera_out.empty() || !photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
   if (photons.photons > 0 && (!caustics_file.empty() || exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
   const std::string out_extension = io::check_image_output(out);
   if (!camera_out.empty()) io::check_image_output(camera_out);
-  const scene::Scene scene = scene::load_scene_file(scene_file);
+  const scene::Scene scene = scene::load_scene_file(scene_file, stage);
   const auto start = std::chrono::steady_clock::now();
   if (photons.photons > 0) {
     if (!camera_out.empty()) {
@@ -557,9 +572,10 @@ int main(int argc, char** argv) {
     if (command == "compare") return cmd_compare(args);
     if (command == "view") return cmd_view(args);
     if (command == "edit") return cmd_edit(args);
-    throw UsageError("unknown command '" + command + "'" +
-                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view", "edit"}) +
-                     "; see caustica --help");
+    throw UsageError(
+        "unknown command '" + command + "'" +
+        did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view", "edit"}) +
+        "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
     return 1;

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include "builtin_passes.h"
 #include "cli.h"
@@ -40,6 +41,8 @@ options:
                         with --inspect the inspected image at full size (.exr: its values as they are)
   --window-shot F.png   with --frames: write the whole window as shown, panels included, and quit
   --inspect IMAGE       open the resource inspector on one of the graph's images
+  --scene FILE          the scene, or a model file (.gltf, .glb, .obj, .off) as render takes it
+  --no-stage            with a model file: no floor
   --continuous          render every frame even when nothing changes (for timing; key C toggles it)
   --max-fps N           frame-rate cap (default 60; 0: none)
   --validate            Khronos validation; any message makes the command exit 3
@@ -65,6 +68,45 @@ options: as caustica view, and
 
 )";
 
+// The flags view and edit share; returns false for any other.
+bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::ViewerOptions& v) {
+  if (a == "--scene")
+    o.scene = args.value(a);
+  else if (a == "--size")
+    parse_size(args.value(a), v.width, v.height);
+  else if (a == "--frames")
+    v.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
+  else if (a == "--screenshot")
+    v.screenshot = args.value(a);
+  else if (a == "--window-shot")
+    v.window_shot = args.value(a);
+  else if (a == "--continuous")
+    v.continuous = true;
+  else if (a == "--max-fps")
+    v.max_fps = parse_number(a, args.value(a), 0, 1000);
+  else if (a == "--validate")
+    o.validate = true;
+  else if (a == "--device")
+    o.device = args.value(a);
+  else if (a == "--no-stage")
+    v.stage = false;
+  else
+    return false;
+  return true;
+}
+const std::vector<std::string> kWindowFlags = {"--scene",      "--size",    "--frames",   "--screenshot", "--window-shot",
+                                               "--continuous", "--max-fps", "--validate", "--device",     "--no-stage"};
+
+// Checks what can be checked before the window opens, and fills in the defaults.
+void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
+  if (!v.screenshot.empty() && v.frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
+  if (!v.window_shot.empty() && v.frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
+  if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
+  if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
+  v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
+  v.device = device_options(o.device, o.validate);
+}
+
 }  // namespace
 
 int cmd_edit(Args& args) {
@@ -77,37 +119,19 @@ int cmd_edit(Args& args) {
   std::string script;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--scene")
-      o.scene = args.value(a);
-    else if (a == "--size")
-      parse_size(args.value(a), v.width, v.height);
-    else if (a == "--frames")
-      v.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
-    else if (a == "--screenshot")
-      v.screenshot = args.value(a);
-    else if (a == "--window-shot")
-      v.window_shot = args.value(a);
-    else if (a == "--script")
+    if (window_flag(args, a, o, v)) continue;
+    if (a == "--script") {
       script = args.value(a);
-    else if (a == "--continuous")
-      v.continuous = true;
-    else if (a == "--max-fps")
-      v.max_fps = parse_number(a, args.value(a), 0, 1000);
-    else if (a == "--validate")
-      o.validate = true;
-    else if (a == "--device")
-      o.device = args.value(a);
-    else if (!a.starts_with("--") && o.graph.empty())
+    } else if (!a.starts_with("--") && o.graph.empty()) {
       o.graph = a;
-    else
-      unknown_option(a, {"--scene", "--size", "--frames", "--screenshot", "--window-shot", "--script", "--continuous", "--max-fps",
-                         "--validate", "--device"});
+    } else {
+      auto known = kWindowFlags;
+      known.push_back("--script");
+      unknown_option(a, known);
+    }
   }
   if (o.graph.empty()) throw UsageError("caustica edit needs a GRAPH file (see caustica edit --help)");
-  if (!v.screenshot.empty() && v.frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
-  if (!v.window_shot.empty() && v.frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
-  if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
-  if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
+  finish_window_options(o, v);
   if (!script.empty()) read_text_file(script, 1 << 20);  // a missing script is an error before the window opens
   if (!std::filesystem::exists(o.graph)) {
     io::check_output_file(o.graph);
@@ -116,8 +140,6 @@ int cmd_edit(Args& args) {
   }
   editor::GraphModel model = editor::GraphModel::open(o.graph, passes::builtin_registry());
   v.graph_file = o.graph;
-  v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
-  v.device = device_options(o.device, o.validate);
   v.watch_graph_file = false;  // the editor owns the file; a change on disk is met at save
   v.parameter_panel = false;   // parameters are edited in the graph, through the editor
   editor::Viewer viewer(v);
@@ -135,39 +157,19 @@ int cmd_view(Args& args) {
   editor::ViewerOptions v;
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--graph")
+    if (window_flag(args, a, o, v)) continue;
+    if (a == "--graph") {
       o.graph = args.value(a);
-    else if (a == "--scene")
-      o.scene = args.value(a);
-    else if (a == "--size")
-      parse_size(args.value(a), v.width, v.height);
-    else if (a == "--frames")
-      v.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
-    else if (a == "--screenshot")
-      v.screenshot = args.value(a);
-    else if (a == "--window-shot")
-      v.window_shot = args.value(a);
-    else if (a == "--inspect")
+    } else if (a == "--inspect") {
       v.inspect = args.value(a);
-    else if (a == "--continuous")
-      v.continuous = true;
-    else if (a == "--max-fps")
-      v.max_fps = parse_number(a, args.value(a), 0, 1000);
-    else if (a == "--validate")
-      o.validate = true;
-    else if (a == "--device")
-      o.device = args.value(a);
-    else
-      unknown_option(a, {"--graph", "--scene", "--size", "--frames", "--screenshot", "--window-shot", "--inspect", "--continuous",
-                         "--max-fps", "--validate", "--device"});
+    } else {
+      auto known = kWindowFlags;
+      known.insert(known.end(), {"--graph", "--inspect"});
+      unknown_option(a, known);
+    }
   }
-  if (!v.screenshot.empty() && v.frames == 0) throw UsageError("--screenshot needs --frames N: the frame it captures");
-  if (!v.window_shot.empty() && v.frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
-  if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
-  if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
+  finish_window_options(o, v);
   v.graph_file = o.graph.empty() ? (data_dir() / kDefaultGraph).string() : o.graph;
-  v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
-  v.device = device_options(o.device, o.validate);
   editor::Viewer viewer(v);
   editor::close_viewers_on_signals();
   return viewer.run();
