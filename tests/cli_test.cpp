@@ -217,6 +217,11 @@ TEST(Cli, ModelFilesOpenAsScenes) {
   EXPECT_NE(run("compare staged.png bare.png --max-l1 0.01", dir).code, 0) << "the stage made no difference";
   CliRun reference = run("reference --size 96x54 --scene " + model + " --out reference.png", dir);
   EXPECT_EQ(reference.code, 0) << reference.output;
+  // A quantized copy of the model (KHR_mesh_quantization) renders the same picture.
+  CliRun quantized =
+      run("render --size 96x54 --scene " + (kSource / "tests/data/gltf/cube_quantized.gltf").string() + " --out quantized.png", dir);
+  ASSERT_EQ(quantized.code, 0) << quantized.output;
+  EXPECT_EQ(run("compare staged.png quantized.png --max-l1 0", dir).code, 0) << run("compare staged.png quantized.png", dir).output;
   CliRun validated = run("validate " + model, dir);
   EXPECT_EQ(validated.code, 0) << validated.output;
   EXPECT_NE(validated.output.find("cube_camera_spot.gltf: ok"), std::string::npos) << validated.output;

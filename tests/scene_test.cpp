@@ -227,3 +227,21 @@ TEST(ModelScenes, AModelWithoutCameraOrLightIsFramedAndLitForACaustic) {
   EXPECT_NEAR(s.objects[1].bounds_max.y, model.bounds_min.y, 0.01f * glm::length(model.bounds_max - model.bounds_min));
   EXPECT_GT(s.ambient, 0.0f);
 }
+
+// The same cube stored three ways (floats; KHR_mesh_quantization's shorts and normalized bytes; a
+// sparse accessor over no buffer view) is the same geometry to the vertex.
+TEST(ModelScenes, QuantizedAndSparseEncodingsReadAsTheFloatOriginal) {
+  const Scene original = load_model_scene((kSource / "tests/data/gltf/cube_camera_spot.gltf").string(), false);
+  for (const char* encoded : {"cube_quantized.gltf", "cube_sparse.gltf"}) {
+    SCOPED_TRACE(encoded);
+    const Scene s = load_model_scene((kSource / "tests/data/gltf" / encoded).string(), false);
+    ASSERT_EQ(s.objects.size(), original.objects.size());
+    const Mesh &a = s.objects[0].mesh, &b = original.objects[0].mesh;
+    ASSERT_EQ(a.positions.size(), b.positions.size());
+    EXPECT_EQ(a.indices, b.indices);
+    for (size_t i = 0; i < a.positions.size(); ++i) {
+      EXPECT_EQ(a.positions[i], b.positions[i]) << i;
+      EXPECT_EQ(a.normals[i], b.normals[i]) << i;
+    }
+  }
+}

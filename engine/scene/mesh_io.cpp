@@ -10,6 +10,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <sstream>
+#include <type_traits>
 
 #include "core/error.h"
 #include "scene/scene.h"
@@ -152,59 +153,92 @@ glm::mat4 node_matrix(const tinygltf::Node& node) {
   return m;
 }
 
-// Reads accessor `index` as `components` floats (or integers converted) per element.
+// One component as a number. Normalized integers map to [0, 1] or [-1, 1] as the specification
+// says (KHR_mesh_quantization stores positions and normals this way); others keep their value.
+double read_component(const unsigned char* q, int type, bool normalized) {
+  auto load = [q](auto v) {
+    std::memcpy(&v, q, sizeof v);
+    return v;
+  };
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(0.0f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load(uint32_t{0});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return normalized ? load(uint16_t{0}) / 65535.0 : load(uint16_t{0});
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? std::max(load(int16_t{0}) / 32767.0, -1.0) : load(int16_t{0});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? load(uint8_t{0}) / 255.0 : load(uint8_t{0});
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? std::max(load(int8_t{0}) / 127.0, -1.0) : load(int8_t{0});
+    default: return std::nan("");
+  }
+}
+
+// Where `count` elements of `element` bytes, `stride` apart, lie in a buffer view; checked.
+const unsigned char* view_data(const tinygltf::Model& model, int view_index, size_t offset, size_t count, size_t element, size_t stride,
+                               const std::string& what, const std::string& path) {
+  if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size()) fail(path, 0, what + " has no valid buffer view");
+  const auto& view = model.bufferViews[static_cast<size_t>(view_index)];
+  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) fail(path, 0, "a buffer view names a missing buffer");
+  const auto& buffer = model.buffers[static_cast<size_t>(view.buffer)].data;
+  if (view.byteOffset + view.byteLength > buffer.size()) fail(path, 0, what + ": its buffer view is longer than its buffer");
+  if (count > 0 && (offset + (count - 1) * stride + element > view.byteLength)) fail(path, 0, what + " reads past the end of its buffer");
+  return buffer.data() + view.byteOffset + offset;
+}
+
+// Reads accessor `index` as `components` numbers per element: any component type, normalized or
+// not, from a buffer view or (none given) zeros, with its sparse substitutions applied.
 template <typename T>
 std::vector<T> read_accessor(const tinygltf::Model& model, int index, int components, const std::string& path) {
   if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
     fail(path, 0, "accessor " + std::to_string(index) + " does not exist");
   const auto& accessor = model.accessors[static_cast<size_t>(index)];
-  if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)) != components) {
-    fail(path, 0, "accessor " + std::to_string(index) + " has the wrong type");
-  }
-  if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) {
-    fail(path, 0, "accessor " + std::to_string(index) + " has no valid buffer view");
-  }
-  const auto& view = model.bufferViews[static_cast<size_t>(accessor.bufferView)];
-  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) fail(path, 0, "a buffer view names a missing buffer");
-  const auto& buffer = model.buffers[static_cast<size_t>(view.buffer)].data;
+  const std::string what = "accessor " + std::to_string(index);
+  if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)) != components) fail(path, 0, what + " has the wrong type");
   const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.componentType));
-  if (component_size <= 0) fail(path, 0, "accessor " + std::to_string(index) + " has an unknown component type");
+  if (component_size <= 0) fail(path, 0, what + " has an unknown component type");
+  if (accessor.count > (size_t{1} << 28)) fail(path, 0, what + " has " + std::to_string(accessor.count) + " elements, more than 2^28");
   const size_t element = static_cast<size_t>(component_size) * static_cast<size_t>(components);
-  const size_t stride = view.byteStride ? view.byteStride : element;
-  const size_t start = view.byteOffset + accessor.byteOffset;
-  if (accessor.count > 0 && (start + (accessor.count - 1) * stride + element > buffer.size() ||
-                             accessor.byteOffset + (accessor.count - 1) * stride + element > view.byteLength)) {
-    fail(path, 0, "accessor " + std::to_string(index) + " reads past the end of its buffer");
-  }
-  std::vector<T> out;
-  out.reserve(accessor.count * static_cast<size_t>(components));
-  for (size_t i = 0; i < accessor.count; ++i) {
-    const unsigned char* p = buffer.data() + start + i * stride;
-    for (int c = 0; c < components; ++c) {
-      const unsigned char* q = p + c * component_size;
-      switch (accessor.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-          float v;
-          std::memcpy(&v, q, 4);
-          out.push_back(static_cast<T>(v));
-          break;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-          uint32_t v;
-          std::memcpy(&v, q, 4);
-          out.push_back(static_cast<T>(v));
-          break;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-          uint16_t v;
-          std::memcpy(&v, q, 2);
-          out.push_back(static_cast<T>(v));
-          break;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out.push_back(static_cast<T>(*q)); break;
-        default: fail(path, 0, "accessor " + std::to_string(index) + " has a component type this loader does not read");
+  std::vector<double> values(accessor.count * static_cast<size_t>(components), 0.0);
+  auto read_elements = [&](const unsigned char* data, size_t stride, size_t count, auto&& target) {
+    for (size_t i = 0; i < count; ++i) {
+      for (int c = 0; c < components; ++c) {
+        target(i, c,
+               read_component(data + i * stride + static_cast<size_t>(c * component_size), accessor.componentType, accessor.normalized));
       }
     }
+  };
+  if (accessor.bufferView >= 0) {
+    if (static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) fail(path, 0, what + " has no valid buffer view");
+    const int stride = accessor.ByteStride(model.bufferViews[static_cast<size_t>(accessor.bufferView)]);
+    if (stride <= 0 || static_cast<size_t>(stride) < element)
+      fail(path, 0, what + ": its buffer view's byteStride does not fit its elements");
+    const auto step = static_cast<size_t>(stride);
+    const unsigned char* data = view_data(model, accessor.bufferView, accessor.byteOffset, accessor.count, element, step, what, path);
+    read_elements(data, step, accessor.count,
+                  [&](size_t i, int c, double v) { values[i * static_cast<size_t>(components) + static_cast<size_t>(c)] = v; });
+  }
+  if (accessor.sparse.isSparse) {
+    const auto count = static_cast<size_t>(std::max(accessor.sparse.count, 0));
+    const int index_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.sparse.indices.componentType));
+    if (index_size <= 0 || count > accessor.count) fail(path, 0, what + " has invalid sparse indices");
+    const unsigned char* indices =
+        view_data(model, accessor.sparse.indices.bufferView, static_cast<size_t>(accessor.sparse.indices.byteOffset), count,
+                  static_cast<size_t>(index_size), static_cast<size_t>(index_size), what + "'s sparse indices", path);
+    const unsigned char* data = view_data(model, accessor.sparse.values.bufferView, static_cast<size_t>(accessor.sparse.values.byteOffset),
+                                          count, element, element, what + "'s sparse values", path);
+    for (size_t k = 0; k < count; ++k) {
+      const double target = read_component(indices + k * static_cast<size_t>(index_size), accessor.sparse.indices.componentType, false);
+      if (!(target >= 0 && target < static_cast<double>(accessor.count))) fail(path, 0, what + " has a sparse index out of range");
+      for (int c = 0; c < components; ++c) {
+        values[static_cast<size_t>(target) * static_cast<size_t>(components) + static_cast<size_t>(c)] =
+            read_component(data + k * element + static_cast<size_t>(c * component_size), accessor.componentType, accessor.normalized);
+      }
+    }
+  }
+  std::vector<T> out;
+  out.reserve(values.size());
+  for (double v : values) {
+    if (!std::isfinite(v) || (std::is_unsigned_v<T> && v < 0))
+      fail(path, 0, what + " holds a value that is not a finite number" + (std::is_unsigned_v<T> ? " of 0 or more" : ""));
+    out.push_back(static_cast<T>(v));
   }
   return out;
 }
@@ -238,7 +272,7 @@ Material gltf_material(const tinygltf::Model& model, int index) {
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
 const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                                  "KHR_lights_punctual"};
+                                                  "KHR_lights_punctual", "KHR_mesh_quantization"};
 
 // Images are not decoded (no material property caustica reads uses them yet); an external image
 // must still exist, as the specification requires.
@@ -270,7 +304,8 @@ ModelFile load_gltf(const std::string& path) {
     if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
       fail(path, 0,
            "requires the extension " + required +
-               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume and KHR_lights_punctual)");
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, KHR_lights_punctual and "
+               "KHR_mesh_quantization)");
     }
   }
   for (size_t i = 0; i < model.images.size(); ++i) {
