@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "io/json_reader.h"
 #include "scene/scene.h"
 
 #include <tiny_gltf.h>  // the implementation is Debian's libtinygltf
@@ -243,28 +244,64 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
   return out;
 }
 
-Material gltf_material(const tinygltf::Model& model, int index) {
+// A material as the specification and its ratified extensions give it; a value outside their
+// ranges or of the wrong type is an error naming its JSON pointer. `from` is the pointer of the
+// primitive's "material" (for a missing one).
+Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path) {
   Material m;
-  if (index < 0 || static_cast<size_t>(index) >= model.materials.size()) return m;
+  if (index < 0) return m;  // the default material: opaque white
+  if (static_cast<size_t>(index) >= model.materials.size()) fail(path, 0, from + ": material " + std::to_string(index) + " does not exist");
   const auto& mat = model.materials[static_cast<size_t>(index)];
+  const std::string at = "/materials/" + std::to_string(index);
+  auto in_unit = [&](double v, const std::string& pointer) {
+    if (!(v >= 0.0 && v <= 1.0)) fail(path, 0, pointer + ": " + JsonReader::format_number(v) + " is outside [0, 1]");
+    return v;
+  };
   const auto& base = mat.pbrMetallicRoughness.baseColorFactor;
-  if (base.size() >= 3) m.albedo = glm::vec3(base[0], base[1], base[2]);
+  if (base.size() != 4) fail(path, 0, at + "/pbrMetallicRoughness/baseColorFactor: needs 4 numbers");
+  for (size_t c = 0; c < 4; ++c) in_unit(base[c], at + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c));
+  m.albedo = glm::vec3(base[0], base[1], base[2]);
   auto ext = [&](const char* name) -> const tinygltf::Value* {
     auto it = mat.extensions.find(name);
     return it == mat.extensions.end() ? nullptr : &it->second;
   };
-  auto number = [](const tinygltf::Value& v, const char* key, double fallback) {
-    return v.Has(key) && v.Get(key).IsNumber() ? v.Get(key).GetNumberAsDouble() : fallback;
+  auto number = [&](const tinygltf::Value& v, const char* extension, const char* key, double fallback) {
+    if (!v.Has(key)) return fallback;
+    const std::string pointer = at + "/extensions/" + extension + "/" + key;
+    if (!v.Get(key).IsNumber()) fail(path, 0, pointer + ": must be a number");
+    const double value = v.Get(key).GetNumberAsDouble();
+    if (!std::isfinite(value)) fail(path, 0, pointer + ": must be a finite number");
+    return value;
   };
-  if (const auto* t = ext("KHR_materials_transmission")) m.refractor = number(*t, "transmissionFactor", 0.0) > 0.0;
-  if (const auto* i = ext("KHR_materials_ior")) m.ior = static_cast<float>(number(*i, "ior", 1.5));
+  if (const auto* t = ext("KHR_materials_transmission")) {
+    const double factor = in_unit(number(*t, "KHR_materials_transmission", "transmissionFactor", 0.0),
+                                  at + "/extensions/KHR_materials_transmission/transmissionFactor");
+    m.refractor = factor > 0.0;
+  }
+  if (const auto* i = ext("KHR_materials_ior")) {
+    const double ior = number(*i, "KHR_materials_ior", "ior", 1.5);
+    if (ior < 1.0 || ior > 4.0) {
+      fail(path, 0, at + "/extensions/KHR_materials_ior/ior: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
+    }
+    m.ior = static_cast<float>(ior);
+  }
   if (const auto* v = ext("KHR_materials_volume")) {
-    const double distance = number(*v, "attenuationDistance", 0.0);
-    if (distance > 0 && v->Has("attenuationColor") && v->Get("attenuationColor").IsArray() && v->Get("attenuationColor").ArrayLen() == 3) {
-      for (int c = 0; c < 3; ++c) {
-        const double color = v->Get("attenuationColor").Get(c).GetNumberAsDouble();
-        m.absorption[c] = static_cast<float>(-std::log(std::max(color, 1e-6)) / distance);  // colour reached after `distance`
+    const std::string volume = at + "/extensions/KHR_materials_volume";
+    if (number(*v, "KHR_materials_volume", "thicknessFactor", 0.0) < 0.0) fail(path, 0, volume + "/thicknessFactor: must be 0 or more");
+    const double distance = number(*v, "KHR_materials_volume", "attenuationDistance", INFINITY);
+    if (!(distance > 0.0)) fail(path, 0, volume + "/attenuationDistance: must be above 0");
+    glm::dvec3 color(1.0);
+    if (v->Has("attenuationColor")) {
+      const auto& c = v->Get("attenuationColor");
+      if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, volume + "/attenuationColor: needs 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!c.Get(k).IsNumber()) fail(path, 0, volume + "/attenuationColor/" + std::to_string(k) + ": must be a number");
+        color[k] = in_unit(c.Get(k).GetNumberAsDouble(), volume + "/attenuationColor/" + std::to_string(k));
       }
+    }
+    if (std::isfinite(distance)) {
+      for (int k = 0; k < 3; ++k)
+        m.absorption[k] = static_cast<float>(-std::log(std::max(color[k], 1e-6)) / distance);  // colour reached after `distance`
     }
   }
   return m;
@@ -299,6 +336,9 @@ ModelFile load_gltf(const std::string& path) {
   if (!ok) {
     while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
     fail(path, 0, "not a valid glTF file: " + (error.empty() ? std::string("tinygltf gave no reason") : error));
+  }
+  if (model.asset.version.rfind("2.", 0) != 0) {
+    fail(path, 0, "/asset/version: '" + model.asset.version + "' is not a glTF version caustica reads (2.x)");
   }
   for (const auto& required : model.extensionsRequired) {
     if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
@@ -396,7 +436,9 @@ ModelFile load_gltf(const std::string& path) {
           for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
         }
         part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
-        part.material = gltf_material(model, prim.material);
+        part.material = gltf_material(
+            model, prim.material,
+            "/meshes/" + std::to_string(node.mesh) + "/primitives/" + std::to_string(&prim - mesh.primitives.data()) + "/material", path);
         parts.push_back(std::move(part));
       }
     }

@@ -9,13 +9,13 @@ cd "$(dirname "$0")/../.."
 jobs="${CAUSTICA_JOBS:-2}"
 CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_FUZZ=ON -DCAUSTICA_BUILD_TESTS=OFF \
   -DCAUSTICA_WERROR=ON > /dev/null
-cmake --build build/fuzz -j "$jobs" --target fuzz_graph fuzz_scene
+cmake --build build/fuzz -j "$jobs" --target fuzz_graph fuzz_scene fuzz_model
 if [ "${1:-}" = "--ci" ]; then
   limits=(-seed=1 -runs=100000)
 else
   limits=(-max_total_time="${1:-300}")
 fi
-for target in graph scene; do
+for target in graph scene model; do
   scratch="$(mktemp -d)"
   echo "fuzz_$target: ${limits[*]}"
   # Artifacts (a crashing input) land in build/fuzz so that a failure can be reproduced.
