@@ -27,6 +27,7 @@ class GraphEditor {
   bool disconnect(const std::string& pass, const std::string& port);
   bool set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
   bool rename(const std::string& pass, const std::string& new_name);
+  bool move(const std::string& pass, float x, float y);
   bool undo();
   bool redo();
   // Ctrl+S: a file changed on disk meanwhile asks first (confirm_overwrite_).
@@ -43,9 +44,14 @@ class GraphEditor {
     bool output = false;
   };
 
+  // The canvas's geometry, in canvas units.
+  static constexpr float kNodeWidth = 210.0f, kHeader = 20.0f, kRow = 17.0f, kPortRadius = 5.0f;
+  static constexpr size_t kCounterLines = 4;  // the GPU time and the pass's first counters
+
   template <class Edit>
   bool act(const std::string& label, Edit&& edit);
   void refresh();  // after any change of the model: nodes, layout, the running graph
+  // edit/canvas.cpp: the editor's window, its canvas and side panel.
   void draw(const graph::FrameResult& frame);
   void draw_canvas(const graph::FrameResult& frame);
   void draw_side_panel();

@@ -23,6 +23,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "scene_draw.h"
+#include "viewer/frame_panel.h"
 #include "viewer/hot_reload.h"
 #include "viewer/inspector.h"
 #include "viewer/parameter_panel.h"
@@ -72,7 +73,7 @@ class Viewer::Impl {
     vkGetPhysicalDeviceSurfaceSupportKHR(vk_.physical_device(), vk_.queue_family(), surface, &supported);
     if (!supported) throw DeviceError(vk_.device_name() + " cannot present to this window from its queue");
     build_swapchain(vk_, surface_, window_.handle, swapchain_);
-    blit_supported_ = can_blit_output();
+    blit_supported_ = can_blit_to_window(vk_.physical_device(), swapchain_.format);
     std::fprintf(stderr, "view: an 8-bit output at the window's size goes to the window %s\n",
                  blit_supported_ ? "by a blit on the device" : "through the host (this device cannot blit it)");
     if (!o.window_shot.empty() && !swapchain_.readable)
@@ -341,51 +342,10 @@ class Viewer::Impl {
     ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms", frame.gpu_ms, frame.cpu_ms);
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
-    if (ImGui::CollapsingHeader("passes", ImGuiTreeNodeFlags_DefaultOpen) &&
-        ImGui::BeginTable("passes", 4, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
-      // Per pass: GPU and CPU recording time, and the GPU time of the last 120 frames drawn.
-      ImGui::TableSetupColumn("pass", ImGuiTableColumnFlags_WidthStretch);
-      ImGui::TableSetupColumn("GPU ms");
-      ImGui::TableSetupColumn("CPU ms");
-      ImGui::TableSetupColumn("GPU, last frames");
-      ImGui::TableHeadersRow();
-      for (const auto& p : frame.passes) {
-        std::vector<float>& history = gpu_history_[p.name];
-        history.push_back(static_cast<float>(p.gpu_ms));
-        if (history.size() > 120) history.erase(history.begin());
-        ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(p.name.c_str());
-        ImGui::TableNextColumn();
-        ImGui::Text("%7.2f", p.gpu_ms);
-        ImGui::TableNextColumn();
-        ImGui::Text("%5.2f", p.cpu_ms);
-        ImGui::TableNextColumn();
-        ImGui::PlotHistogram(("##gpu" + p.name).c_str(), history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, FLT_MAX,
-                             ImVec2(70, 14));
-      }
-      for (const auto& culled : executor_.plan().culled) {
-        ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        ImGui::TextDisabled("%s (culled)", culled.c_str());
-      }
-      ImGui::EndTable();
-    }
+    frame_panel(frame, executor_.plan(), gpu_history_);
     auto reconfigure = [this] { configure(); };
     if (ImGui::CollapsingHeader("enable passes")) pass_switches(session_, reconfigure);
-    if (ImGui::CollapsingHeader("counters")) {
-      for (const auto& [name, value] : frame.counters) ImGui::Text("%-28s %.6g", name.c_str(), value);
-    }
-    if (ImGui::CollapsingHeader("memory")) {
-      const auto& plan = executor_.plan();
-      ImGui::Text("transient: %.1f MiB aliased (lifetime bound %.1f)", double(plan.transient_bytes_aliased) / 1048576.0,
-                  double(plan.transient_bytes_lifetime_bound) / 1048576.0);
-      ImGui::Text("%.1f MiB unaliased, persistent %.1f MiB", double(plan.transient_bytes_unaliased) / 1048576.0,
-                  double(plan.persistent_bytes) / 1048576.0);
-      if (const auto* acceleration = executor_.scene() ? executor_.scene()->built_acceleration() : nullptr) {
-        ImGui::Text("acceleration structures: %.1f MiB", double(acceleration->bytes()) / 1048576.0);
-      }
-    }
+    counters_and_memory(frame, executor_.plan(), executor_.scene());
     if (options_.parameter_panel && ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
       parameter_panel(session_, reconfigure);
       ImGui::InputText("##save_as", save_as_, sizeof save_as_);
@@ -493,7 +453,7 @@ class Viewer::Impl {
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferImageCopy regions[2]{};
     if (blit) {
-      record_output_blit(output_image, swapchain_.images[index]);
+      record_output_blit(cmd_, output_image, swapchain_.images[index]);
     } else {
       regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
       regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height),
@@ -501,7 +461,8 @@ class Viewer::Impl {
       regions[0].bufferRowLength = uploaded_width_;
       vkCmdCopyBufferToImage(cmd_, staging_.get(), swapchain_.images[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &regions[0]);
     }
-    if (panel.width > 0 && panel_region(panel, regions[1])) {
+    if (panel.width > 0 && clipped_copy(inspector_.panel.offset, panel.width, panel.height, swapchain_.extent,
+                                        VkDeviceSize{uploaded_width_} * uploaded_height_ * 4, regions[1])) {
       // Regions of one copy land in no set order: the panel goes over the main view in a second.
       passes::memory_barrier(cmd_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                              VK_ACCESS_2_TRANSFER_WRITE_BIT);
@@ -579,48 +540,6 @@ class Viewer::Impl {
     auto* out = static_cast<uint8_t*>(staging_.mapped);
     encode_bgra(image, scale, out);
     encode_bgra(panel, panel_scale, out + main_bytes);
-  }
-
-  // The copy of the panel's image (after the main view in the staging buffer) to its place in the
-  // window, clipped to the window; false when nothing of it is inside.
-  bool panel_region(const io::ImageData& panel, VkBufferImageCopy& region) const {
-    const int32_t x0 = std::max(inspector_.panel.offset.x, 0), y0 = std::max(inspector_.panel.offset.y, 0);
-    const int32_t x1 =
-        std::min(inspector_.panel.offset.x + static_cast<int32_t>(panel.width), static_cast<int32_t>(swapchain_.extent.width));
-    const int32_t y1 =
-        std::min(inspector_.panel.offset.y + static_cast<int32_t>(panel.height), static_cast<int32_t>(swapchain_.extent.height));
-    if (x1 <= x0 || y1 <= y0) return false;
-    region = {};
-    region.bufferOffset = VkDeviceSize{uploaded_width_} * uploaded_height_ * 4 +
-                          (VkDeviceSize(y0 - inspector_.panel.offset.y) * panel.width + VkDeviceSize(x0 - inspector_.panel.offset.x)) * 4;
-    region.bufferRowLength = panel.width;
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageOffset = {x0, y0, 0};
-    region.imageExtent = {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0), 1};
-    return true;
-  }
-
-  // The graph's output into the swapchain image on the device; the blit swaps RGBA into BGRA. The
-  // executor's frame finished before this submission (run_frame waits), so the barrier only has
-  // to make its writes visible and bring the image into TRANSFER_SRC if it is not there.
-  void record_output_blit(const graph::FrameImage& output, VkImage target) {
-    passes::image_barrier(cmd_, output.image, VK_IMAGE_ASPECT_COLOR_BIT, output.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
-                          VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkImageBlit region{};
-    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.srcOffsets[1] =
-        region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
-    vkCmdBlitImage(cmd_, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
-                   VK_FILTER_NEAREST);
-  }
-
-  // Whether the device blits the graph's 8-bit output into the window's format.
-  bool can_blit_output() const {
-    VkFormatProperties from{}, to{};
-    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), VK_FORMAT_R8G8B8A8_UNORM, &from);
-    vkGetPhysicalDeviceFormatProperties(vk_.physical_device(), swapchain_.format, &to);
-    return (from.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) && (to.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
   }
 
   void write_window_shot() {

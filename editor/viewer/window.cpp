@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "scene_draw.h"
 
 namespace caustica::editor {
 namespace {
@@ -156,6 +157,39 @@ void build_swapchain(vk::Context& vk, VkSurfaceKHR surface, GLFWwindow* window, 
     vk::check(vkCreateFramebuffer(vk.device(), &fb_info, nullptr, &fb), "vkCreateFramebuffer");
     sc.framebuffers.emplace_back(vk, fb);
   }
+}
+
+bool can_blit_to_window(VkPhysicalDevice device, VkFormat window_format) {
+  VkFormatProperties from{}, to{};
+  vkGetPhysicalDeviceFormatProperties(device, VK_FORMAT_R8G8B8A8_UNORM, &from);
+  vkGetPhysicalDeviceFormatProperties(device, window_format, &to);
+  return (from.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) && (to.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
+}
+
+void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target) {
+  passes::image_barrier(cmd, output.image, VK_IMAGE_ASPECT_COLOR_BIT, output.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                        VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                        VK_ACCESS_2_TRANSFER_READ_BIT);
+  VkImageBlit region{};
+  region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.srcOffsets[1] = region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+  vkCmdBlitImage(cmd, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
+                 VK_FILTER_NEAREST);
+}
+
+bool clipped_copy(VkOffset2D place, uint32_t width, uint32_t height, VkExtent2D window, VkDeviceSize buffer_offset,
+                  VkBufferImageCopy& region) {
+  const int32_t x0 = std::max(place.x, 0), y0 = std::max(place.y, 0);
+  const int32_t x1 = std::min(place.x + static_cast<int32_t>(width), static_cast<int32_t>(window.width));
+  const int32_t y1 = std::min(place.y + static_cast<int32_t>(height), static_cast<int32_t>(window.height));
+  if (x1 <= x0 || y1 <= y0) return false;
+  region = {};
+  region.bufferOffset = buffer_offset + (VkDeviceSize(y0 - place.y) * width + VkDeviceSize(x0 - place.x)) * 4;
+  region.bufferRowLength = width;
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageOffset = {x0, y0, 0};
+  region.imageExtent = {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0), 1};
+  return true;
 }
 
 }  // namespace caustica::editor

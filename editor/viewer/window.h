@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "graph/executor.h"
 #include "vk/context.h"
 
 namespace caustica::editor {
@@ -52,5 +53,16 @@ struct Swapchain {
 };
 
 void build_swapchain(vk::Context& vk, VkSurfaceKHR surface, GLFWwindow* window, Swapchain& sc);
+
+// Whether the device blits the graph's 8-bit output into the window's format.
+bool can_blit_to_window(VkPhysicalDevice device, VkFormat window_format);
+// The graph's output into a swapchain image (in TRANSFER_DST) on the device; the blit swaps RGBA
+// into BGRA. The executor's frame finished before this submission (run_frame waits), so the barrier
+// only makes its writes visible and brings the image into TRANSFER_SRC.
+void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target);
+// The copy of a width x height image, `buffer_offset` into a staging buffer, to `place` in the
+// window, clipped to the window; false when nothing of it is inside.
+bool clipped_copy(VkOffset2D place, uint32_t width, uint32_t height, VkExtent2D window, VkDeviceSize buffer_offset,
+                  VkBufferImageCopy& region);
 
 }  // namespace caustica::editor
