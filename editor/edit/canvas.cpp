@@ -75,6 +75,7 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
     fitted_ = true;
   }
   draw->PushClipRect(origin, origin + size, true);
+  port_positions_.clear();
   const graph::Plan& plan = viewer_.plan();
   // Text scales with the canvas, so that a zoomed-out graph does not overlap itself.
   const float font_size = ImGui::GetFontSize() * zoom_;
@@ -157,6 +158,7 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
         text_at(ImVec2(side ? p.x - label_size.x - 8 * zoom_ : p.x + 8 * zoom_, p.y - label_size.y * 0.5f), text, port);
         const float dx = io.MousePos.x - p.x, dy = io.MousePos.y - p.y;
         if (dx * dx + dy * dy < 64.0f) hovered_port = PortHit{n.name, port, side == 1};
+        port_positions_[n.name + "." + port] = {p.x, p.y};
       }
     }
     float y = n.y + kHeader + static_cast<float>(std::max(n.inputs.size(), n.outputs.size())) * kRow;

@@ -21,6 +21,7 @@ would do it, and logs "edit: LINE: ok" or "edit: LINE: refused: MESSAGE":
   select PASS...                 select passes;  remove  removes the selected ones
   rename PASS NEW_NAME           rename a pass
   undo | redo | save | save!     save! overwrites a file that changed on disk
+  where PASS.PORT                log where the port is drawn in the window (to drive the mouse)
   screenshot FILE                write the next frame's output
   quit                           close the editor
 )";
@@ -69,6 +70,7 @@ bool GraphEditor::act(const std::string& label, Edit&& edit) {
   }
   node_errors_.clear();
   refresh();
+  std::fprintf(stderr, "edit: %s\n", label.c_str());
   status_ = label + (model_.modified() ? " (unsaved)" : "");
   status_is_error_ = false;
   return true;
@@ -271,6 +273,12 @@ void GraphEditor::step_script() {
     need(1);
     viewer_.screenshot_next(args[0]);
     ok = true;
+  } else if (verb == "where") {
+    // Where a port was drawn, in window pixels: scripts drive the mouse with it (edit_test).
+    need(1);
+    const auto found = port_positions_.find(args[0]);
+    ok = found != port_positions_.end();
+    if (ok) std::fprintf(stderr, "edit: port %s at %.0f,%.0f\n", args[0].c_str(), double(found->second[0]), double(found->second[1]));
   } else if (verb == "quit") {
     viewer_.close();
     ok = true;

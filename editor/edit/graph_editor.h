@@ -4,6 +4,7 @@
 // last GPU time and counters. Every edit goes through the graph model (editor/model), is compiled,
 // and swaps the running frame; a refused edit keeps the last good frame and shows the message on
 // the node it concerns.
+#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -82,6 +83,7 @@ class GraphEditor {
   char rename_[128] = {};
   bool confirm_overwrite_ = false;
   bool canvas_hovered_ = false;
+  std::map<std::string, std::array<float, 2>> port_positions_;  // "pass.port" -> where it was drawn last
   std::vector<std::string> script_;
   size_t script_line_ = 0;
 };

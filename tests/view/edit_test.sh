@@ -63,6 +63,51 @@ kill -INT $view_pid; wait $view_pid || fail "edit exited $? after Ctrl-C"
 view_pid=""
 echo "ok: Ctrl+Z and Ctrl+S from the keyboard"
 
+# A file another editor changed meanwhile is not overwritten by Ctrl+S: the editor asks first.
+cp "$src/graphs/core_demo.json" other.json
+: > log
+"$bin" edit other.json --size 320x180 --script one.txt > log 2>&1 &
+view_pid=$!
+for _ in $(seq 600); do grep -q "edit: set blur_x radius 9: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
+printf '\n' >> other.json
+cp other.json changed_elsewhere.json
+window=$(xdotool search --sync --name '^caustica$' | head -1)
+xdotool key --window "$window" ctrl+s
+for _ in $(seq 100); do grep -q "changed on disk since it was opened: overwrite it?" log && break; sleep 0.1; done
+grep -q "changed on disk since it was opened: overwrite it?" log || fail "Ctrl+S did not ask before overwriting a file changed on disk"
+cmp -s other.json changed_elsewhere.json || fail "the file changed on disk was overwritten without a confirmation"
+kill -INT $view_pid; wait $view_pid || fail "edit exited $? after Ctrl-C"
+view_pid=""
+echo "ok: a file changed on disk is not overwritten without a confirmation"
+
+# The canvas with a real mouse: drag from an output port to an input port connects them; Del over
+# the canvas removes the selected pass (selected by the script). The script logs where it drew the ports.
+cp "$src/graphs/core_demo.json" mouse.json
+printf 'add box_blur 700 400\nwhere blur_y.target\nwhere box_blur.source\nselect box_blur\n' > ports.txt
+: > log
+"$bin" edit mouse.json --size 1280x720 --script ports.txt > log 2>&1 &
+view_pid=$!
+for _ in $(seq 600); do grep -q "edit: select box_blur: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
+from=$(sed -n 's/^edit: port blur_y.target at \([0-9]*\),\([0-9]*\)$/\1 \2/p' log)
+to=$(sed -n 's/^edit: port box_blur.source at \([0-9]*\),\([0-9]*\)$/\1 \2/p' log)
+[ -n "$from" ] && [ -n "$to" ] || fail "the ports were not drawn on the canvas"
+window=$(xdotool search --sync --name '^caustica$' | head -1)
+xdotool mousemove --window "$window" $from
+sleep 0.3
+xdotool mousedown 1
+sleep 0.3
+xdotool mousemove --window "$window" $to
+sleep 0.3
+xdotool mouseup 1
+for _ in $(seq 50); do grep -q "edit: connect box_blur.source to blurred" log && break; sleep 0.1; done
+grep -q "edit: connect box_blur.source to blurred" log || fail "dragging from blur_y.target to box_blur.source did not connect them"
+xdotool key --window "$window" Delete
+for _ in $(seq 50); do grep -q "edit: remove box_blur" log && break; sleep 0.1; done
+grep -q "edit: remove box_blur" log || fail "Del did not remove the selected pass"
+kill -INT $view_pid; wait $view_pid || fail "edit exited $? after Ctrl-C"
+view_pid=""
+echo "ok: drag port to port connects, Del removes (real mouse and keys)"
+
 # 3. The viewer at rest: CPU over 3 s with no input, against the same window rendering continuously.
 cpu_seconds() { awk '{print ($14 + $15) / 100}' "/proc/$1/stat"; }
 idle_cpu() {  # FLAGS...: CPU seconds used over 3 s once the first frame is drawn
