@@ -6,6 +6,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "edit/graph_editor.h"
 
@@ -253,14 +254,24 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
 void GraphEditor::draw_add_menu() {
   if (!ImGui::BeginPopup("add pass")) return;
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-  ImGui::InputTextWithHint("##filter", "search pass types", filter_, sizeof filter_);
-  for (const auto& [type, decl] : model_.registry().types()) {
-    if (filter_[0] && type.find(filter_) == std::string::npos && decl.description.find(filter_) == std::string::npos) continue;
-    if (ImGui::Selectable(type.c_str())) {
-      add_pass(type, menu_x_, menu_y_);
-      ImGui::CloseCurrentPopup();
+  const bool enter = ImGui::InputTextWithHint("##filter", "search pass types (Enter: the first)", filter_, sizeof filter_,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  // Types whose name matches first, then those whose description does.
+  std::vector<const graph::PassTypeDecl*> matches;
+  for (int by_description = 0; by_description < 2; ++by_description) {
+    for (const auto& [type, decl] : model_.registry().types()) {
+      const bool name = type.find(filter_) != std::string::npos;
+      if (by_description ? !name && decl.description.find(filter_) != std::string::npos : name) matches.push_back(&decl);
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", decl.description.c_str());
+  }
+  std::string chosen = enter && !matches.empty() ? matches.front()->type : "";
+  for (const auto* decl : matches) {
+    if (ImGui::Selectable(decl->type.c_str())) chosen = decl->type;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", decl->description.c_str());
+  }
+  if (!chosen.empty()) {
+    add_pass(chosen, menu_x_, menu_y_);
+    ImGui::CloseCurrentPopup();
   }
   ImGui::EndPopup();
 }

@@ -255,6 +255,7 @@ class Viewer::Impl {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's folder
     ImGui_ImplGlfw_InitForVulkan(window_.handle, true);
+    window_.hold_short_key_taps();
     ImGui_ImplVulkan_InitInfo info{};
     info.Instance = vk_.instance();
     info.PhysicalDevice = vk_.physical_device();
@@ -423,6 +424,7 @@ class Viewer::Impl {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
+    window_.release_held_keys();  // this frame saw them pressed; the next sees them released
     draw_ui(frame, inspected);
     ImGui::Render();
     // An edit in the panels recompiled the graph: the frame's images are gone, show the next one.

@@ -82,6 +82,28 @@ void Window::capture_events() {
   glfwSetWindowRefreshCallback(handle, [](GLFWwindow* w) { events_of(w).any = true; });
 }
 
+void Window::hold_short_key_taps() {
+  imgui_key_ = glfwSetKeyCallback(handle, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+    Window& self = *static_cast<Window*>(glfwGetWindowUserPointer(w));
+    auto& pressed = self.pressed_since_frame_;
+    if (action == GLFW_PRESS) pressed.push_back(key);
+    if (action == GLFW_RELEASE && std::find(pressed.begin(), pressed.end(), key) != pressed.end()) {
+      self.held_.push_back({key, scancode, action, mods});
+      return;
+    }
+    if (self.imgui_key_) self.imgui_key_(w, key, scancode, action, mods);
+  });
+}
+
+void Window::release_held_keys() {
+  pressed_since_frame_.clear();
+  const std::vector<KeyEvent> held = std::move(held_);
+  held_.clear();
+  for (const auto& e : held) {
+    if (imgui_key_) imgui_key_(handle, e.key, e.scancode, e.action, e.mods);
+  }
+}
+
 WindowEvents Window::take_events() {
   WindowEvents out = std::move(events);
   events = {};

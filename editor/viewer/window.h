@@ -33,10 +33,23 @@ struct Window {
   void capture_events();
   // The events since the last call, and clears them.
   WindowEvents take_events();
+  // Call after ImGui's GLFW backend is installed. ImGui 1.86 reads key state once a frame, so a key
+  // pressed and released between two frames would never reach its widgets (Enter in a text field):
+  // such a release is held back and let through by release_held_keys(), after the next NewFrame.
+  void hold_short_key_taps();
+  void release_held_keys();
   // Whether a key is held now, or was pressed since the events were last taken.
   bool held(int key) const;
 
   WindowEvents events;
+
+ private:
+  struct KeyEvent {
+    int key, scancode, action, mods;
+  };
+  GLFWkeyfun imgui_key_ = nullptr;
+  std::vector<int> pressed_since_frame_;
+  std::vector<KeyEvent> held_;
 };
 
 // The swapchain with what draws into it: a render pass that keeps the copied frame and ends in

@@ -104,9 +104,16 @@ grep -q "edit: connect box_blur.source to blurred" log || fail "dragging from bl
 xdotool key --window "$window" Delete
 for _ in $(seq 50); do grep -q "edit: remove box_blur" log && break; sleep 0.1; done
 grep -q "edit: remove box_blur" log || fail "Del did not remove the selected pass"
+# Right click on the canvas opens the menu of pass types; typing filters it, Enter adds the first.
+xdotool click 3
+sleep 0.3
+xdotool type --delay 30 "tonemap"
+xdotool key --window "$window" Return
+for _ in $(seq 50); do grep -q "edit: add tonemap" log && break; sleep 0.1; done
+grep -q "edit: add tonemap" log || fail "the menu of pass types did not add a tonemap pass"
 kill -INT $view_pid; wait $view_pid || fail "edit exited $? after Ctrl-C"
 view_pid=""
-echo "ok: drag port to port connects, Del removes (real mouse and keys)"
+echo "ok: drag port to port connects, Del removes, the right-click menu adds (real mouse and keys)"
 
 # 3. The viewer at rest: CPU over 3 s with no input, against the same window rendering continuously.
 cpu_seconds() { awk '{print ($14 + $15) / 100}' "/proc/$1/stat"; }
