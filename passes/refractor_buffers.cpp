@@ -96,6 +96,7 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
       false,
       [] { return std::make_unique<RefractorBuffersPass>(); }};
   decl.needs_scene = true;
+  decl.uses_spot_light = [](const nlohmann::json& params) { return params.value("view", "camera") == "light"; };
   return decl;
 }
 

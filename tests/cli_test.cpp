@@ -228,6 +228,27 @@ TEST(Cli, ModelFilesOpenAsScenes) {
   fs::remove_all(dir);
 }
 
+// A caustic graph on a scene lit only by a point light compiles, and says that its light-view passes
+// add nothing (only spot lights cast shadows and caustics); with a spot light it says nothing.
+TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {
+  fs::path dir = scratch("point_light");
+  CliRun point = run("render --size 96x54 --scene " + (kSource / "tests/data/point_light.json").string() + " --out p.png", dir);
+  ASSERT_EQ(point.code, 0) << point.output;
+  EXPECT_NE(point.output.find("warning: light 0 is not a spot light"), std::string::npos) << point.output;
+  for (const char* pass : {"light_refractors", "receivers", "caustics", "shadow"}) {
+    EXPECT_NE(point.output.find(pass), std::string::npos) << pass << " not named in " << point.output;
+  }
+  CliRun plan = run("graph plan " + (kSource / "graphs/caustics_adaptive.json").string() + " --scene " +
+                        (kSource / "tests/data/point_light.json").string(),
+                    dir);
+  ASSERT_EQ(plan.code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("\"warnings\": ["), std::string::npos) << plan.output;
+  CliRun spot = run("render --size 96x54 --scene " + (kSource / "scenes/sphere_plane.json").string() + " --out s.png", dir);
+  ASSERT_EQ(spot.code, 0) << spot.output;
+  EXPECT_EQ(spot.output.find("warning:"), std::string::npos) << spot.output;
+  fs::remove_all(dir);
+}
+
 TEST(Cli, DefaultRenderWritesCausticaPng) {
   fs::path dir = scratch("default");
   CliRun r = run("", dir);

@@ -220,6 +220,10 @@ class Viewer::Impl {
       session_.status = first ? "loaded " + session_.graph_file : "reloaded " + session_.graph_file + " and " + session_.scene_file;
       session_.status_is_error = false;
       std::fprintf(stderr, "view: %s\n", session_.status.c_str());
+      for (const auto& warning : executor_.plan().warnings) {
+        session_.report("warning: " + warning, true);
+        std::fprintf(stderr, "view: warning: %s\n", warning.c_str());
+      }
     } catch (const std::exception& e) {
       session_.status = e.what();
       session_.status_is_error = true;

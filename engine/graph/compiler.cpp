@@ -723,6 +723,7 @@ class Compiler {
     for (uint32_t i = 0; i < nodes_.size(); ++i) {
       if (nodes_[i].decl && !live[i]) plan_.culled.push_back(nodes_[i].desc->name);
     }
+    std::map<int, std::string> unlit;  // light -> the passes that need it to be a spot light
     for (uint32_t n : order_) {
       const Node& node = nodes_[n];
       PlannedPass pass;
@@ -741,7 +742,18 @@ class Compiler {
         }
         plan_.ray_query_passes.push_back(pass.name);
       }
+      if (pass.decl->uses_spot_light && pass.decl->uses_spot_light(pass.params)) {
+        const int light = pass.params.value("light", 0);
+        const auto spot = options_.scene_values.find("scene.light" + std::to_string(light) + ".spot");
+        if (spot != options_.scene_values.end() && spot->second == 0.0) unlit[light] += (unlit[light].empty() ? "" : ", ") + pass.name;
+      }
       plan_.passes.push_back(std::move(pass));
+    }
+    for (const auto& [light, names] : unlit) {
+      plan_.warnings.push_back("light " + std::to_string(light) +
+                               " is not a spot light, and only a spot light casts shadows and caustics (a point light's cube "
+                               "map is not implemented): the passes that draw from its view add nothing to the picture (" +
+                               names + "); give the scene a spot light, or use a graph without them");
     }
   }
 

@@ -72,6 +72,10 @@ struct PassTypeDecl {
   // (VK_KHR_ray_query over the scene's acceleration structures). A plan with such a pass compiles
   // only for a device that has them (CompileOptions::ray_queries). Unset: never.
   std::function<bool(const nlohmann::json& params)> uses_ray_queries;
+  // Whether the pass, with these parameters, draws from its light's view (parameter "light", default
+  // 0): only a spot light has one, so with another kind of light the plan warns that the pass
+  // contributes nothing (Plan::warnings). Unset: never.
+  std::function<bool(const nlohmann::json& params)> uses_spot_light;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

@@ -88,6 +88,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
   for (const auto& p : plan.passes) out["order"].push_back(p.name);
   out["culled"] = plan.culled;
   out["ray_query_passes"] = plan.ray_query_passes;
+  out["warnings"] = plan.warnings;
   out["disabled"] = plan.disabled;
   out["fallbacks"] = plan.fallbacks;
   out["passes"] = json::array();

@@ -89,6 +89,7 @@ struct Plan {
   std::vector<std::string> culled;               // enabled passes that reach no output and have no side effect
   std::vector<std::string> disabled;             // passes whose "enabled" is 0 for this scene and these parameters
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
+  std::vector<std::string> warnings;             // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
   std::vector<std::string> ray_query_passes;     // passes that trace with ray queries: the scene's acceleration structures are built
   std::vector<PlannedResource> resources;
   std::vector<MemoryBlock> blocks;

@@ -34,9 +34,12 @@ size_t Scene::refractor_count() const {
 }
 
 std::map<std::string, double> Scene::expression_values() const {
-  return {{"scene.refractors", static_cast<double>(refractor_count())},
-          {"scene.lights", static_cast<double>(lights.size())},
-          {"scene.objects", static_cast<double>(objects.size())}};
+  std::map<std::string, double> values{{"scene.refractors", static_cast<double>(refractor_count())},
+                                       {"scene.lights", static_cast<double>(lights.size())},
+                                       {"scene.objects", static_cast<double>(objects.size())}};
+  for (size_t i = 0; i < lights.size(); ++i)
+    values["scene.light" + std::to_string(i) + ".spot"] = lights[i].type == LightType::spot ? 1 : 0;
+  return values;
 }
 
 float Scene::ray_epsilon() const {

@@ -149,6 +149,7 @@ int run_render(const RenderOptions& o, bool trace) {
   graph::Executor executor(vk, shaders, passes::builtin_registry());
   executor.set_scene(scene);
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
+  for (const auto& warning : executor.plan().warnings) std::cerr << "caustica: warning: " << warning << "\n";
   for (const auto& [resource, file] : o.dumps) {
     const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(executor.plan().resolve(resource)))];
     if (r.kind != graph::ResourceKind::image)
