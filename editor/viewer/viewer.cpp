@@ -392,7 +392,8 @@ class Viewer::Impl {
   }
 
   void draw_frame(bool last) {
-    handle_input(window_.take_events());
+    const WindowEvents events = window_.take_events();
+    handle_input(events);
     // The output goes into the window on the device (a blit) when it is already display-ready
     // 8-bit at the window's size; otherwise, and for screenshots and the inspector, through a
     // read-back to the host.
@@ -427,6 +428,7 @@ class Viewer::Impl {
 
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    if (events.button_moved) ImGui::GetIO().MousePos = ImVec2(static_cast<float>(events.button_x), static_cast<float>(events.button_y));
     ImGui::NewFrame();
     window_.release_held_keys();  // this frame saw them pressed; the next sees them released
     draw_ui(frame, inspected);

@@ -73,9 +73,25 @@ void Window::capture_events() {
     if (action == GLFW_PRESS || action == GLFW_REPEAT) e.pressed.push_back({key, mods});
   });
   glfwSetCharCallback(handle, [](GLFWwindow* w, unsigned) { events_of(w).any = true; });
-  glfwSetMouseButtonCallback(handle, [](GLFWwindow* w, int, int, int) { events_of(w).any = true; });
+  glfwSetMouseButtonCallback(handle, [](GLFWwindow* w, int, int, int) {
+    WindowEvents& e = events_of(w);
+    e.any = true;
+    // The last motion event's position, not glfwGetCursorPos: that asks the X server where the
+    // pointer is now, which may be past the click already.
+    Window& self = *static_cast<Window*>(glfwGetWindowUserPointer(w));
+    if (!e.button_moved) {
+      e.button_x = self.cursor_x_;
+      e.button_y = self.cursor_y_;
+    }
+    e.button_moved = true;
+  });
   glfwSetScrollCallback(handle, [](GLFWwindow* w, double, double) { events_of(w).any = true; });
-  glfwSetCursorPosCallback(handle, [](GLFWwindow* w, double, double) { events_of(w).any = true; });
+  glfwSetCursorPosCallback(handle, [](GLFWwindow* w, double x, double y) {
+    Window& self = *static_cast<Window*>(glfwGetWindowUserPointer(w));
+    self.cursor_x_ = x;
+    self.cursor_y_ = y;
+    self.events.any = true;
+  });
   glfwSetCursorEnterCallback(handle, [](GLFWwindow* w, int) { events_of(w).any = true; });
   glfwSetWindowFocusCallback(handle, [](GLFWwindow* w, int) { events_of(w).any = true; });
   glfwSetFramebufferSizeCallback(handle, [](GLFWwindow* w, int, int) { events_of(w).any = true; });

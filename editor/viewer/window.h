@@ -20,6 +20,11 @@ struct WindowEvents {
   };
   std::vector<Key> pressed;
   bool any = false;
+  // Where the cursor was at the first mouse-button press or release since the last frame: ImGui 1.86
+  // reads the cursor once a frame, so at a few frames a second a click would land where the mouse
+  // has moved to since.
+  bool button_moved = false;
+  double button_x = 0, button_y = 0;
 };
 
 struct Window {
@@ -48,6 +53,7 @@ struct Window {
     int key, scancode, action, mods;
   };
   GLFWkeyfun imgui_key_ = nullptr;
+  double cursor_x_ = 0, cursor_y_ = 0;  // as of the last motion event handled
   std::vector<int> pressed_since_frame_;
   std::vector<KeyEvent> held_;
 };

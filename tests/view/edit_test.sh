@@ -85,7 +85,9 @@ echo "ok: a file changed on disk is not overwritten without a confirmation"
 cp "$src/graphs/core_demo.json" mouse.json
 printf 'add box_blur 700 400\nwhere blur_y.target\nwhere box_blur.source\nselect box_blur\n' > ports.txt
 : > log
-"$bin" edit mouse.json --size 1280x720 --script ports.txt > log 2>&1 &
+# At two frames a second (--max-fps 2 --continuous), with the mouse moved on at once after the
+# press: the click must land where the button went down, not where the mouse is at the next frame.
+"$bin" edit mouse.json --size 1280x720 --continuous --max-fps 2 --script ports.txt > log 2>&1 &
 view_pid=$!
 for _ in $(seq 600); do grep -q "edit: select box_blur: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
 from=$(sed -n 's/^edit: port blur_y.target at \([0-9]*\),\([0-9]*\)$/\1 \2/p' log)
@@ -93,11 +95,9 @@ to=$(sed -n 's/^edit: port box_blur.source at \([0-9]*\),\([0-9]*\)$/\1 \2/p' lo
 [ -n "$from" ] && [ -n "$to" ] || fail "the ports were not drawn on the canvas"
 window=$(xdotool search --sync --name '^caustica$' | head -1)
 xdotool mousemove --window "$window" $from
-sleep 0.3
-xdotool mousedown 1
-sleep 0.3
-xdotool mousemove --window "$window" $to
-sleep 0.3
+sleep 1.5
+xdotool mousedown 1 mousemove --window "$window" $to
+sleep 1.5
 xdotool mouseup 1
 for _ in $(seq 50); do grep -q "edit: connect box_blur.source to blurred" log && break; sleep 0.1; done
 grep -q "edit: connect box_blur.source to blurred" log || fail "dragging from blur_y.target to box_blur.source did not connect them"
@@ -106,7 +106,7 @@ for _ in $(seq 50); do grep -q "edit: remove box_blur" log && break; sleep 0.1; 
 grep -q "edit: remove box_blur" log || fail "Del did not remove the selected pass"
 # Right click on the canvas opens the menu of pass types; typing filters it, Enter adds the first.
 xdotool click 3
-sleep 0.3
+sleep 1.5
 xdotool type --delay 30 "tonemap"
 xdotool key --window "$window" Return
 for _ in $(seq 50); do grep -q "edit: add tonemap" log && break; sleep 0.1; done
