@@ -210,9 +210,10 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
       ordered_json next = doc_;
       ordered_json candidate = pass;
       ordered_json in = ordered_json::object();
-      for (size_t k = 0; k < inputs.size(); ++k) in[inputs[k]->name] = chosen[k];
       ordered_json new_resources = ordered_json::object();
       ordered_json out = outputs_for(chosen, new_resources);
+      // A read_write port reads an existing resource but is listed with the outputs.
+      for (size_t k = 0; k < inputs.size(); ++k) (inputs[k]->access == graph::PortAccess::read ? in : out)[inputs[k]->name] = chosen[k];
       if (!in.empty()) candidate["inputs"] = in;
       if (!out.empty()) candidate["outputs"] = out;
       for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
