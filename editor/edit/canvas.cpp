@@ -246,6 +246,7 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
     menu_x_ = m.x;
     menu_y_ = m.y;
     filter_[0] = '\0';
+    menu_has_keyboard_ = false;
     ImGui::OpenPopup("add pass");
   }
   draw_add_menu();
@@ -256,6 +257,10 @@ void GraphEditor::draw_add_menu() {
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
   const bool enter = ImGui::InputTextWithHint("##filter", "search pass types (Enter: the first)", filter_, sizeof filter_,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
+  if (ImGui::IsItemActive() && !menu_has_keyboard_) {
+    menu_has_keyboard_ = true;  // said once per opening, for scripts that type into it
+    std::fprintf(stderr, "edit: the pass-type menu has the keyboard\n");
+  }
   // Types whose name matches first, then those whose description does.
   std::vector<const graph::PassTypeDecl*> matches;
   for (int by_description = 0; by_description < 2; ++by_description) {

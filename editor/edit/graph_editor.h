@@ -80,6 +80,7 @@ class GraphEditor {
   float box_x0_ = 0, box_y0_ = 0;
   float menu_x_ = 0, menu_y_ = 0;  // where an added pass goes, canvas units
   char filter_[64] = {};
+  bool menu_has_keyboard_ = false;
   char rename_[128] = {};
   bool confirm_overwrite_ = false;
   bool canvas_hovered_ = false;

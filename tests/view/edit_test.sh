@@ -106,7 +106,8 @@ for _ in $(seq 50); do grep -q "edit: remove box_blur" log && break; sleep 0.1; 
 grep -q "edit: remove box_blur" log || fail "Del did not remove the selected pass"
 # Right click on the canvas opens the menu of pass types; typing filters it, Enter adds the first.
 xdotool click 3
-sleep 1.5
+for _ in $(seq 100); do grep -q "edit: the pass-type menu has the keyboard" log && break; sleep 0.1; done
+grep -q "edit: the pass-type menu has the keyboard" log || fail "right click did not open the menu of pass types"
 xdotool type --delay 30 "tonemap"
 xdotool key --window "$window" Return
 for _ in $(seq 50); do grep -q "edit: add tonemap" log && break; sleep 0.1; done
