@@ -308,7 +308,7 @@ class Viewer::Impl {
       switch (key.key) {
         case GLFW_KEY_TAB: panels_hidden_ = !panels_hidden_; break;
         case GLFW_KEY_C: continuous_ = !continuous_; break;
-        case GLFW_KEY_P: screenshot_key_ = true; break;
+        case GLFW_KEY_P: ++screenshot_keys_; break;
         case GLFW_KEY_R:
           moved.camera = home_camera_;
           if (!moved.lights.empty()) moved.lights.front().view.position = home_light_;
@@ -403,7 +403,8 @@ class Viewer::Impl {
     const bool blit = blit_supported_ && !main_inspected && out.format == graph::Format::rgba8 && out.width == swapchain_.extent.width &&
                       out.height == swapchain_.extent.height;
     const bool inspecting = !inspector_.inspected.empty() && (inspector_.open || inspector_.in_main_view);
-    const bool read_back = !blit || inspecting || screenshot_key_ || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
+    const bool read_back =
+        !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
     const graph::FrameResult frame = executor_.run_frame(read_back);
     const uint32_t compiled = executor_.compile_count();
     const graph::FrameImage output_image = executor_.frame_image(output);
@@ -418,12 +419,12 @@ class Viewer::Impl {
       std::fprintf(stderr, "view: screenshot %s\n", pending_screenshot_.c_str());
       pending_screenshot_.clear();
     }
-    if (screenshot_key_) {
+    // One file per press, even when several came within one slow frame.
+    for (; screenshot_keys_ > 0; --screenshot_keys_) {
       const std::string name = "caustica_view_" + std::to_string(screenshots_++) + ".png";
       io::write_image(name, image);
       session_.report("screenshot " + name, false);
       std::fprintf(stderr, "view: screenshot %s\n", name.c_str());
-      screenshot_key_ = false;
     }
 
     ImGui_ImplVulkan_NewFrame();
@@ -588,7 +589,8 @@ class Viewer::Impl {
   bool blit_supported_ = false;  // the output can go into the window on the device
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
-  bool imgui_ready_ = false, show_help_ = false, quit_ = false, screenshot_key_ = false;
+  bool imgui_ready_ = false, show_help_ = false, quit_ = false;
+  int screenshot_keys_ = 0;  // P presses not yet written
   bool panels_hidden_ = false, continuous_ = false;
   int redraw_frames_ = 0;
   uint64_t frames_drawn_ = 0;
