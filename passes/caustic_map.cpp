@@ -23,13 +23,11 @@ class CausticMapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     if (!setup.vk().float_atomics()) {
-      throw DeviceError(setup.vk().device_name() +
-                        " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
+      throw DeviceError(setup.vk().device_name() + " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
                         "(VK_EXT_shader_atomic_float), which caustic_map splats photons with");
     }
     using Kind = graph::PassSetup::CounterKind;
-    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir",
-                            "photons.processed.level0"};
+    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir", "photons.processed.level0"};
     const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
     for (int i = 0; i < 5; ++i) slots_[i] = setup.add_counter(counts[i]);
     for (int i = 0; i < 3; ++i) slots_[5 + i] = setup.add_counter(sums[i], Kind::sum);
@@ -57,14 +55,8 @@ class CausticMapPass final : public graph::Pass {
 
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);
-    PhotonPush push{shared.distance_mode,
-                    shared.search_steps,
-                    shared.search_distance,
-                    p["light"].get<uint32_t>(),
-                    p["grid"].get<uint32_t>(),
-                    p["fresnel"].get<bool>() ? 1u : 0u,
-                    {},
-                    exact_.push(ctx)};
+    PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
+                    p["fresnel"].get<bool>() ? 1u : 0u, {}, exact_.push(ctx)};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
     ctx.set_counter(batches_slot_, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());

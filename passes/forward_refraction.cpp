@@ -21,11 +21,11 @@ class ForwardRefractionPass final : public graph::Pass {
     state.color_formats = {color};
     state.depth_format = graph::format_info(setup.resource("refractor_depth").format).vk;
     state.cull = VK_CULL_MODE_BACK_BIT;
-    refract_ = make_scene_pipeline(
-        setup, "forward_refraction", "refraction/forward_refraction.frag", state,
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        sizeof(ForwardPush));
+    refract_ = make_scene_pipeline(setup, "forward_refraction", "refraction/forward_refraction.frag", state,
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                   sizeof(ForwardPush));
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -58,29 +58,11 @@ class ForwardRefractionPass final : public graph::Pass {
 graph::PassTypeDecl forward_refraction_pass_type() {
   using namespace graph;
   auto ports = refraction_inputs();
-  ports.push_back({"back",
-                   PortAccess::read,
-                   ResourceKind::image,
-                   PortUsage::sampled,
-                   {Format::rgba32f},
-                   false,
-                   "frame",
+  ports.push_back({"back", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
                    "refractor back surfaces (refractor_buffers)"});
-  ports.push_back({"color",
-                   PortAccess::write,
-                   ResourceKind::image,
-                   PortUsage::color_attachment,
-                   {Format::rgba16f, Format::rgba32f},
-                   false,
-                   "frame",
-                   "the background with the refractors composited"});
-  ports.push_back({"refractor_depth",
-                   PortAccess::write,
-                   ResourceKind::image,
-                   PortUsage::depth_attachment,
-                   {Format::d32f},
-                   false,
-                   "frame",
+  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
+                   "frame", "the background with the refractors composited"});
+  ports.push_back({"refractor_depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame",
                    "depth test among refractor front faces"});
   PassTypeDecl decl{"forward_refraction",
                     "Image-space refraction through two interfaces (Wyman 2005) shaded while rasterizing refractor front faces: the "

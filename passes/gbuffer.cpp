@@ -35,30 +35,17 @@ class GBufferPass final : public graph::Pass {
 
 graph::PassTypeDecl gbuffer_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{
-      "gbuffer",
-      "Opaque geometry seen from the camera: depth, world normal (facing the viewer) and albedo. Refractors are left out.",
-      PassQueue::graphics,
-      {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
-       {"normal",
-        PortAccess::write,
-        ResourceKind::image,
-        PortUsage::color_attachment,
-        {Format::rgba16f, Format::rgba32f},
-        false,
-        "frame",
-        "world-space normal"},
-       {"albedo",
-        PortAccess::write,
-        ResourceKind::image,
-        PortUsage::color_attachment,
-        {Format::rgba8, Format::rgba16f},
-        false,
-        "frame",
-        "base colour"}},
-      {},
-      false,
-      [] { return std::make_unique<GBufferPass>(); }};
+  PassTypeDecl decl{"gbuffer",
+                    "Opaque geometry seen from the camera: depth, world normal (facing the viewer) and albedo. Refractors are left out.",
+                    PassQueue::graphics,
+                    {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
+                     {"normal", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
+                      "frame", "world-space normal"},
+                     {"albedo", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba8, Format::rgba16f}, false,
+                      "frame", "base colour"}},
+                    {},
+                    false,
+                    [] { return std::make_unique<GBufferPass>(); }};
   decl.needs_scene = true;
   return decl;
 }

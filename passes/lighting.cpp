@@ -27,8 +27,7 @@ class LightingPass final : public graph::Pass {
     has_shadow_ = setup.bound("shadow");
     has_caustics_ = setup.bound("caustics");
     if (has_caustics_ != setup.bound("caustic_depth")) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer +
-                       "): bind both \"caustics\" and \"caustic_depth\", or neither");
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): bind both \"caustics\" and \"caustic_depth\", or neither");
     }
   }
 
@@ -71,29 +70,11 @@ graph::PassTypeDecl lighting_pass_type() {
        {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
        {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "albedo"},
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
-       {"caustics",
-        PortAccess::read,
-        ResourceKind::image,
-        PortUsage::sampled,
-        {Format::r32f},
-        true,
-        "",
+       {"caustics", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::r32f}, true, "",
         "caustic map of the first light: flux per texel of its image plane (caustic_map)"},
-       {"caustic_depth",
-        PortAccess::read,
-        ResourceKind::image,
-        PortUsage::sampled,
-        {Format::d32f},
-        true,
-        "",
+       {"caustic_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "",
         "the first light's depth of opaque geometry, for the caustic map's receiver test"},
-       {"color",
-        PortAccess::write,
-        ResourceKind::image,
-        PortUsage::color_attachment,
-        {Format::rgba16f, Format::rgba32f},
-        false,
-        "frame",
+       {"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "frame",
         "lit radiance"}},
       {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis"}},
       false,

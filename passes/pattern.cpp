@@ -18,9 +18,9 @@ class PatternPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     const auto& target = setup.resource("color");
-    pipeline_ =
-        vk::make_fullscreen_pipeline(setup.vk(), {"pattern", {}, sizeof(PatternParams)}, setup.shaders().compile("common/fullscreen.vert"),
-                                     setup.shaders().compile("core/pattern.frag"), {graph::format_info(target.format).vk});
+    pipeline_ = vk::make_fullscreen_pipeline(setup.vk(), {"pattern", {}, sizeof(PatternParams)},
+                                             setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("core/pattern.frag"),
+                                             {graph::format_info(target.format).vk});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -64,13 +64,7 @@ graph::PassTypeDecl pattern_pass_type() {
   return {"pattern",
           "Full-screen pass: an analytic HDR test pattern (stripes and a Gaussian sun brighter than 1).",
           PassQueue::graphics,
-          {{"color",
-            PortAccess::write,
-            ResourceKind::image,
-            PortUsage::color_attachment,
-            {Format::rgba16f, Format::rgba32f},
-            false,
-            "",
+          {{"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "",
             "the pattern, linear HDR"}},
           {{"frequency", ParamType::float_, 4.0, 0.0, 256.0, {}, "stripes across the image"},
            {"sun_x", ParamType::float_, 0.7, -1.0, 2.0, {}, "sun centre, 0..1 across"},

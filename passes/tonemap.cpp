@@ -16,18 +16,19 @@ class TonemapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     bright_counter_ = setup.add_counter("tonemap.bright_pixels");
-    pipeline_ = vk::make_compute_pipeline(
-        setup.vk(),
-        {"tonemap",
-         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         sizeof(TonemapParams)},
-        setup.shaders().compile("core/tonemap.comp"));
+    pipeline_ = vk::make_compute_pipeline(setup.vk(),
+                                          {"tonemap",
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                           sizeof(TonemapParams)},
+                                          setup.shaders().compile("core/tonemap.comp"));
   }
 
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("target");
-    TonemapParams params{
-        {static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}, ctx.params()["exposure"].get<float>(), bright_counter_};
+    TonemapParams params{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)},
+                         ctx.params()["exposure"].get<float>(),
+                         bright_counter_};
     VkCommandBuffer cmd = ctx.cmd();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
     vk::DescriptorWriter()

@@ -93,9 +93,15 @@ void GraphEditor::refresh() {
   // Nodes, placed where the file says or, for the rest, in columns by dependency depth.
   const ordered_json& doc = model_.json();
   std::map<std::string, std::string> writer;  // resource -> pass
+  bindings_.clear();
   for (const auto& pass : doc["passes"]) {
-    if (!pass.contains("outputs")) continue;
-    for (const auto& [port, resource] : pass["outputs"].items()) writer[resource.get<std::string>()] = pass["name"];
+    for (const char* section : {"inputs", "outputs"}) {
+      if (!pass.contains(section)) continue;
+      for (const auto& [port, resource] : pass[section].items()) {
+        bindings_[pass["name"].get<std::string>() + "." + port] = resource;
+        if (std::string(section) == "outputs") writer[resource.get<std::string>()] = pass["name"];
+      }
+    }
   }
   std::map<std::string, int> depth;
   for (size_t round = 0; round < doc["passes"].size(); ++round) {
@@ -142,13 +148,8 @@ const GraphEditor::Node* GraphEditor::node(const std::string& name) const {
 }
 
 std::string GraphEditor::resource_of(const std::string& pass, const std::string& port) const {
-  for (const auto& p : model_.json()["passes"]) {
-    if (p["name"] != pass) continue;
-    for (const char* section : {"inputs", "outputs"}) {
-      if (p.contains(section) && p[section].contains(port)) return p[section][port];
-    }
-  }
-  return "";
+  const auto found = bindings_.find(pass + "." + port);
+  return found == bindings_.end() ? "" : found->second;
 }
 
 bool GraphEditor::add_pass(const std::string& type, float x, float y) {

@@ -65,6 +65,7 @@ class GraphEditor {
   Viewer& viewer_;
   GraphModel& model_;
   std::vector<Node> nodes_;
+  std::map<std::string, std::string> bindings_;  // "pass.port" -> resource, as of the last refresh
   std::set<std::string> selected_;
   std::map<std::string, std::string> node_errors_;  // pass -> the message of the edit it refused
   std::string status_;

@@ -107,6 +107,12 @@ ordered_json& GraphModel::pass_json(ordered_json& doc, const std::string& pass) 
   throw InputError(path_ + ": no pass named '" + pass + "'" + did_you_mean(pass, pass_names(doc)));
 }
 
+ordered_json& GraphModel::member(ordered_json& doc, const char* section, const std::string& name, const char* what) const {
+  if (!doc.contains(section) || !doc[section].contains(name))
+    throw InputError(path_ + ": no " + what + " named '" + name + "'" + did_you_mean(name, keys(doc.value(section, ordered_json()))));
+  return doc[section][name];
+}
+
 const graph::PassTypeDecl& GraphModel::pass_type(const ordered_json& pass) const {
   const std::string type = pass.value("type", "");
   const graph::PassTypeDecl* decl = registry_->find(type);
@@ -359,8 +365,7 @@ void GraphModel::add_resource(const std::string& name, const ordered_json& descr
 
 void GraphModel::remove_resource(const std::string& name) {
   apply("remove resource " + name, [&](ordered_json& doc) {
-    if (!doc["resources"].contains(name))
-      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
+    member(doc, "resources", name, "resource");
     doc["resources"].erase(name);
   });
 }
@@ -369,8 +374,7 @@ void GraphModel::rename_resource(const std::string& name, const std::string& new
   if (new_name != name && doc_["resources"].contains(new_name))
     throw InputError(path_ + ": a resource named '" + new_name + "' already exists");
   apply("rename resource " + name + " to " + new_name, [&](ordered_json& doc) {
-    if (!doc["resources"].contains(name))
-      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
+    member(doc, "resources", name, "resource");
     rename_key(doc["resources"], name, new_name);
     for_each_resource_reference(doc, [&](ordered_json& r) {
       if (r == name) r = new_name;
@@ -379,11 +383,8 @@ void GraphModel::rename_resource(const std::string& name, const std::string& new
 }
 
 void GraphModel::set_resource_field(const std::string& name, const std::string& field, const nlohmann::json& value) {
-  apply("set " + name + "." + field + " = " + value.dump(), [&](ordered_json& doc) {
-    if (!doc["resources"].contains(name))
-      throw InputError(path_ + ": no resource named '" + name + "'" + did_you_mean(name, keys(doc["resources"])));
-    doc["resources"][name][field] = ordered_json::parse(value.dump());
-  });
+  apply("set " + name + "." + field + " = " + value.dump(),
+        [&](ordered_json& doc) { member(doc, "resources", name, "resource")[field] = ordered_json::parse(value.dump()); });
 }
 
 void GraphModel::add_parameter(const std::string& name, const ordered_json& declaration) {
@@ -394,18 +395,14 @@ void GraphModel::add_parameter(const std::string& name, const ordered_json& decl
 
 void GraphModel::remove_parameter(const std::string& name) {
   apply("remove parameter " + name, [&](ordered_json& doc) {
-    if (!doc.contains("parameters") || !doc["parameters"].contains(name))
-      throw InputError(path_ + ": no parameter named '" + name + "'" + did_you_mean(name, keys(doc.value("parameters", ordered_json()))));
+    member(doc, "parameters", name, "parameter");
     doc["parameters"].erase(name);
   });
 }
 
 void GraphModel::set_parameter_field(const std::string& name, const std::string& field, const nlohmann::json& value) {
-  apply("set parameter " + name + "." + field + " = " + value.dump(), [&](ordered_json& doc) {
-    if (!doc.contains("parameters") || !doc["parameters"].contains(name))
-      throw InputError(path_ + ": no parameter named '" + name + "'" + did_you_mean(name, keys(doc.value("parameters", ordered_json()))));
-    doc["parameters"][name][field] = ordered_json::parse(value.dump());
-  });
+  apply("set parameter " + name + "." + field + " = " + value.dump(),
+        [&](ordered_json& doc) { member(doc, "parameters", name, "parameter")[field] = ordered_json::parse(value.dump()); });
 }
 
 void GraphModel::set_graph_field(const std::string& field, const nlohmann::json& value) {
@@ -424,20 +421,20 @@ void GraphModel::set_position(const std::string& pass, float x, float y) {
   });
 }
 
-bool GraphModel::undo() {
-  if (undo_.empty()) return false;
-  redo_.push_back({std::move(doc_), undo_.back().label});
-  doc_ = std::move(undo_.back().doc);
-  undo_.pop_back();
+// Moves the newest step of `from` onto `to`, swapping it with the current document.
+bool GraphModel::step(std::vector<Step>& from, std::vector<Step>& to) {
+  if (from.empty()) return false;
+  to.push_back({std::move(doc_), from.back().label});
+  doc_ = std::move(from.back().doc);
+  from.pop_back();
   return true;
 }
 
+bool GraphModel::undo() {
+  return step(undo_, redo_);
+}
 bool GraphModel::redo() {
-  if (redo_.empty()) return false;
-  undo_.push_back({std::move(doc_), redo_.back().label});
-  doc_ = std::move(redo_.back().doc);
-  redo_.pop_back();
-  return true;
+  return step(redo_, undo_);
 }
 
 bool GraphModel::changed_on_disk() const {

@@ -92,6 +92,9 @@ class GraphModel {
   // Throws the validator's InputError unless `doc` is a valid graph.
   void validate(const nlohmann::ordered_json& doc) const;
   nlohmann::ordered_json& pass_json(nlohmann::ordered_json& doc, const std::string& pass) const;
+  // doc[section][name]; throws InputError naming the missing `what` (with a suggestion).
+  nlohmann::ordered_json& member(nlohmann::ordered_json& doc, const char* section, const std::string& name, const char* what) const;
+  bool step(std::vector<Step>& from, std::vector<Step>& to);
   const graph::PassTypeDecl& pass_type(const nlohmann::ordered_json& pass) const;
 
   const graph::PassRegistry* registry_;

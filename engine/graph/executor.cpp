@@ -14,9 +14,7 @@ namespace {
 constexpr uint32_t kMaxCounters = 256;
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
 
 VkImageCreateInfo image_info(const PlannedResource& r) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
@@ -70,7 +68,7 @@ struct Executor::Realized {
   std::vector<bool> counter_is_sum;
   std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  vk::Buffer counters;                       // host-visible, uint32 each
+  vk::Buffer counters;  // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
   vk::OwnedCommandPool pool;
@@ -83,15 +81,9 @@ struct Executor::Realized {
 
 // ---- PassSetup / PassContext --------------------------------------------------------------------
 
-vk::Context& PassSetup::vk() const {
-  return executor_.vk_;
-}
-shader::ShaderCompiler& PassSetup::shaders() const {
-  return executor_.shaders_;
-}
-const PlannedResource& PassSetup::resource(const std::string& port) const {
-  return executor_.plan_->resources[pass_.ports.at(port)];
-}
+vk::Context& PassSetup::vk() const { return executor_.vk_; }
+shader::ShaderCompiler& PassSetup::shaders() const { return executor_.shaders_; }
+const PlannedResource& PassSetup::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
 uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   auto& names = executor_.realized_->counter_names;
   executor_.realized_->counter_passes.emplace(name, pass_.name);
@@ -103,37 +95,19 @@ uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   return static_cast<uint32_t>(names.size() - 1);
 }
 
-vk::Context& PassContext::vk() const {
-  return executor_.vk_;
-}
-const PlannedResource& PassContext::resource(const std::string& port) const {
-  return executor_.plan_->resources[pass_.ports.at(port)];
-}
-VkImage PassContext::image(const std::string& port) const {
-  return executor_.realized_->images[pass_.ports.at(port)].image.get();
-}
-VkImageView PassContext::view(const std::string& port) const {
-  return executor_.realized_->images[pass_.ports.at(port)].view.get();
-}
-VkBuffer PassContext::buffer(const std::string& port) const {
-  return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get();
-}
+vk::Context& PassContext::vk() const { return executor_.vk_; }
+const PlannedResource& PassContext::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
+VkImage PassContext::image(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].image.get(); }
+VkImageView PassContext::view(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].view.get(); }
+VkBuffer PassContext::buffer(const std::string& port) const { return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get(); }
 VkExtent2D PassContext::extent(const std::string& port) const {
   const auto& r = resource(port);
   return {r.width, r.height};
 }
-VkSampler PassContext::linear_sampler() const {
-  return executor_.realized_->linear.get();
-}
-VkSampler PassContext::nearest_sampler() const {
-  return executor_.realized_->nearest.get();
-}
-VkBuffer PassContext::counter_buffer() const {
-  return executor_.realized_->counters.get();
-}
-void PassContext::set_counter(uint32_t counter, double value) const {
-  executor_.realized_->host_counters[counter] = value;
-}
+VkSampler PassContext::linear_sampler() const { return executor_.realized_->linear.get(); }
+VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
+VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
+void PassContext::set_counter(uint32_t counter, double value) const { executor_.realized_->host_counters[counter] = value; }
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
   return *executor_.scene_;
@@ -143,6 +117,7 @@ const scene::GpuScene& PassContext::scene() const {
 
 Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
     : vk_(vk), shaders_(shaders), registry_(registry) {}
+
 
 void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
   scene_.reset();  // its buffers are destroyed once the GPU is done with them
@@ -186,8 +161,8 @@ CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const 
 
 bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained,
                          uint64_t memory_limit_bytes) {
-  std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) + "\n" +
-                    std::to_string(memory_limit_bytes);
+  std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) +
+                    "\n" + std::to_string(memory_limit_bytes);
   for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
   for (const auto& r : retained) key += "\nretain " + r;
   const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
@@ -285,15 +260,12 @@ void Executor::realize_passes_and_resources() {
     if (!res.used() || res.transient) continue;
     Realized::Readback rb;
     rb.resource = i;
-    rb.bytes =
-        res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * format_info(res.format).bytes_per_texel : res.buffer_size;
-    rb.buffer =
-        vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * format_info(res.format).bytes_per_texel : res.buffer_size;
+    rb.buffer = vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     real.readbacks.push_back(std::move(rb));
   }
-  real.counters =
-      vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, host,
-                      "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  real.counters = vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                  host, "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 
   for (VkFilter filter : {VK_FILTER_LINEAR, VK_FILTER_NEAREST}) {
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -414,8 +386,8 @@ FrameResult Executor::run_frame(bool read_back) {
     uint32_t end = stamp();
     vk_.end_label(cmd);
     pass_stamps.emplace_back(start, end);
-    result.passes.push_back(
-        {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count()});
+    result.passes.push_back({pass.name, 0, ms_since(pass_start),
+                             0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count()});
   }
   const uint32_t frame_end = stamp();
 
@@ -499,8 +471,8 @@ FrameResult Executor::run_frame(bool read_back) {
 
 FrameImage Executor::frame_image(const std::string& name) const {
   const int index = plan_->find_resource(plan_->resolve(name));
-  if (index < 0 || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image ||
-      plan_->resources[static_cast<size_t>(index)].transient || !plan_->resources[static_cast<size_t>(index)].used()) {
+  if (index < 0 || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image || plan_->resources[static_cast<size_t>(index)].transient ||
+      !plan_->resources[static_cast<size_t>(index)].used()) {
     throw InputError("'" + name + "' is not an image output or a retained image of graph " + plan_->graph_path);
   }
   const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
@@ -544,31 +516,13 @@ io::ImageData Executor::read_image(const std::string& name) const {
       case Format::rgba8_srgb:
         for (int c = 0; c < 4; ++c) out[c] = static_cast<float>(in[c]) / 255.0f;
         break;
-      case Format::rgba16f:
-        for (int c = 0; c < 4; ++c) out[c] = f16(c);
-        break;
-      case Format::rgba32f:
-        for (int c = 0; c < 4; ++c) out[c] = f32(c);
-        break;
-      case Format::r16f:
-        out[0] = out[1] = out[2] = f16(0);
-        out[3] = 1;
-        break;
-      case Format::rg16f:
-        out[0] = f16(0);
-        out[1] = f16(1);
-        out[3] = 1;
-        break;
+      case Format::rgba16f: for (int c = 0; c < 4; ++c) out[c] = f16(c); break;
+      case Format::rgba32f: for (int c = 0; c < 4; ++c) out[c] = f32(c); break;
+      case Format::r16f: out[0] = out[1] = out[2] = f16(0); out[3] = 1; break;
+      case Format::rg16f: out[0] = f16(0); out[1] = f16(1); out[3] = 1; break;
       case Format::r32f:
-      case Format::d32f:
-        out[0] = out[1] = out[2] = f32(0);
-        out[3] = 1;
-        break;
-      case Format::rg32f:
-        out[0] = f32(0);
-        out[1] = f32(1);
-        out[3] = 1;
-        break;
+      case Format::d32f: out[0] = out[1] = out[2] = f32(0); out[3] = 1; break;
+      case Format::rg32f: out[0] = f32(0); out[1] = f32(1); out[3] = 1; break;
       case Format::r32ui: {
         uint32_t v;
         std::memcpy(&v, in, 4);
