@@ -7,6 +7,8 @@ find_package(glm CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 find_package(TinyGLTF CONFIG REQUIRED)
 find_package(embree 3 CONFIG REQUIRED)
+find_package(draco CONFIG REQUIRED)          # KHR_draco_mesh_compression
+find_package(meshoptimizer CONFIG REQUIRED)  # EXT_meshopt_compression
 
 # Debian's OpenImageIO config lists /usr/include/opencv4, which does not exist without
 # libopencv-dev; CMake rejects targets with missing include directories.

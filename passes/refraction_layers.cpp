@@ -1,7 +1,8 @@
 // refraction_layers: multi-layer deferred refraction. One layer per refractor, sorted back to front
 // from the camera every frame; each layer draws that refractor's surfaces, then refracts the
-// previous layer's result (the background for the farthest) in a full-screen pass. Two colour
-// images ping-pong so that the last layer lands in `color`.
+// previous layer's result (the background for the farthest) in a full-screen pass. `color` and the
+// background ping-pong so that the last layer lands in `color`: the background is only read by the
+// farthest layer, so reusing it saves a frame-sized image at the graph's peak of memory.
 #include <map>
 
 #include "builtin_passes.h"
@@ -42,14 +43,29 @@ class RefractionLayersPass final : public graph::Pass {
     const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.scene().camera.position);
     ctx.set_counter(layers_counter_, static_cast<double>(order.size()));
     if (order.empty()) {  // no refractor, no layer: the background passes through
+      to_sampled(cmd, ctx.image("background"));
       record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
+      to_attachment(cmd, ctx.image("background"));
       return;
     }
     const SceneView view = camera_view(ctx, extent);
     const RefractionPush push = refraction_push(ctx, tir_counter_);
-    const std::string ping_pong[2] = {"color", "scratch"};
-    std::map<std::string, VkImageLayout> layout{{"color", kAttachment}, {"scratch", kAttachment}};
+    // Both start and end as attachments (the plan's layout); in between each is wherever the
+    // last layer left it.
+    std::map<std::string, VkImageLayout> layout{{"color", kAttachment}, {"background", kAttachment}};
+    auto make = [&](const std::string& name, VkImageLayout wanted) {
+      if (layout[name] == wanted) return;
+      (wanted == kSampled ? to_sampled : to_attachment)(cmd, ctx.image(name));
+      layout[name] = wanted;
+    };
+    const std::string ping_pong[2] = {"color", "background"};
     const auto layers = static_cast<uint32_t>(order.size());
+    // Layer i writes ping_pong[(layers - 1 - i) % 2], so the last writes color. With an even count
+    // the farthest layer would write the background it reads: it reads a copy in color instead.
+    if (layers % 2 == 0) {
+      make("background", kSampled);
+      record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
+    }
     for (uint32_t i = 0; i < layers; ++i) {
       if (i > 0) {
         // The previous layer's surfaces were sampled and its depth written: both are reused.
@@ -65,21 +81,15 @@ class RefractionLayersPass final : public graph::Pass {
 
       const std::string& target = ping_pong[(layers - 1 - i) % 2];
       const std::string& previous = ping_pong[(layers - i) % 2];
-      if (i > 0) {
-        to_sampled(cmd, ctx.image(previous));
-        layout[previous] = kSampled;
-      }
-      if (layout[target] == kSampled) {
-        to_attachment(cmd, ctx.image(target));
-        layout[target] = kAttachment;
-      }
-      shading_.record(ctx, push, ctx.view(i == 0 ? "background" : previous), ctx.view("front"), ctx.view("back"), ctx.view(target), extent,
+      make(previous, kSampled);
+      make(target, kAttachment);
+      shading_.record(ctx, push, ctx.view(previous), ctx.view("front"), ctx.view("back"), ctx.view(target), extent,
                       screen_rect(scene.scene(), view.view_proj, {order[i]}, extent));
     }
     // Leave every port in the layout the plan expects after this pass.
     to_attachment(cmd, ctx.image("front"));
     to_attachment(cmd, ctx.image("back"));
-    if (layout["scratch"] == kSampled) to_attachment(cmd, ctx.image("scratch"));
+    make("background", kAttachment);
   }
 
  private:
@@ -93,6 +103,15 @@ class RefractionLayersPass final : public graph::Pass {
 graph::PassTypeDecl refraction_layers_pass_type() {
   using namespace graph;
   auto ports = refraction_inputs();
+  ports[0] = {"background",
+              PortAccess::read_write,
+              ResourceKind::image,
+              PortUsage::color_attachment,
+              {Format::rgba16f},
+              false,
+              "frame",
+              "radiance behind the refractors (an output: with two or more layers it is also color's ping-pong partner, and "
+              "afterwards holds an intermediate layer)"};
   auto scratch = [](const char* name, Format format, PortUsage usage, const char* what) {
     return PortDecl{name, PortAccess::write, ResourceKind::image, usage, {format}, false, "frame", what};
   };
@@ -104,11 +123,10 @@ graph::PassTypeDecl refraction_layers_pass_type() {
                    false,
                    "frame",
                    "the background with every refractor composited, back to front"});
-  ports.push_back(scratch("scratch", Format::rgba16f, PortUsage::color_attachment, "ping-pong partner of color (same format)"));
   ports.push_back(scratch("front", Format::rgba32f, PortUsage::color_attachment, "one refractor's front surface, reused per layer"));
   ports.push_back(scratch("back", Format::rgba32f, PortUsage::color_attachment, "one refractor's back surface, reused per layer"));
   for (auto& port : ports)
-    port.also_sampled = port.name == "scratch" || port.name == "front" || port.name == "back" || port.name == "color";
+    port.also_sampled = port.name == "background" || port.name == "front" || port.name == "back" || port.name == "color";
   ports.push_back(scratch("front_depth", Format::d32f, PortUsage::depth_attachment, "depth for the front-surface draw"));
   ports.push_back(RefractorSurfaces::back_depth_port("frame"));
   PassTypeDecl decl{"refraction_layers",

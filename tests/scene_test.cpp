@@ -245,3 +245,62 @@ TEST(ModelScenes, QuantizedAndSparseEncodingsReadAsTheFloatOriginal) {
     }
   }
 }
+
+// The dragon compressed by the extensions' own encoders (tests/data/gltf/make_compressed.sh):
+// Draco and meshoptimizer (with KHR_mesh_quantization) decode to the OFF file's triangles, with the
+// same winding, every vertex within the encoder's quantization step of the original (16 bits for
+// Draco, gltfpack's 14, of the largest extent).
+TEST(ModelScenes, CompressedMeshesDecodeToTheOriginalTriangles) {
+  const Mesh original = load_model_file((kSource / "scenes/models/ChineseDragon-10kv.off").string()).parts.at(0).mesh;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& p : original.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  std::vector<uint32_t> by_x(original.positions.size());
+  for (uint32_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(), [&](uint32_t a, uint32_t b) { return original.positions[a].x < original.positions[b].x; });
+  // A triangle as original vertex ids, rotated so the smallest comes first (winding kept).
+  auto key = [](uint32_t a, uint32_t b, uint32_t c) {
+    if (b < a && b < c) return std::array<uint32_t, 3>{b, c, a};
+    if (c < a && c < b) return std::array<uint32_t, 3>{c, a, b};
+    return std::array<uint32_t, 3>{a, b, c};
+  };
+  std::multiset<std::array<uint32_t, 3>> expected;
+  for (size_t t = 0; t < original.indices.size(); t += 3)
+    expected.insert(key(original.indices[t], original.indices[t + 1], original.indices[t + 2]));
+
+  for (const auto& [file, bits] : {std::pair{"dragon_draco.glb", 16}, std::pair{"dragon_meshopt.glb", 14}}) {
+    SCOPED_TRACE(file);
+    const ModelFile model = load_model_file((kSource / "tests/data/gltf" / file).string());
+    ASSERT_EQ(model.parts.size(), 1u);
+    const Mesh& m = model.parts[0].mesh;
+    ASSERT_EQ(m.indices.size(), original.indices.size());
+    const float tolerance = extent / static_cast<float>(1 << bits);
+    std::vector<uint32_t> nearest(m.positions.size());
+    size_t unmatched = 0;
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+      const glm::vec3 p = m.positions[v];
+      auto first = std::lower_bound(by_x.begin(), by_x.end(), p.x - tolerance,
+                                    [&](uint32_t i, float x) { return original.positions[i].x < x; });
+      float best = tolerance;
+      nearest[v] = UINT32_MAX;
+      for (auto it = first; it != by_x.end() && original.positions[*it].x <= p.x + tolerance; ++it) {
+        const float d = glm::length(original.positions[*it] - p);
+        if (d <= best) {
+          best = d;
+          nearest[v] = *it;
+        }
+      }
+      unmatched += nearest[v] == UINT32_MAX;
+    }
+    EXPECT_EQ(unmatched, 0u) << "vertices farther than " << tolerance << " from every original vertex";
+    std::multiset<std::array<uint32_t, 3>> decoded;
+    for (size_t t = 0; t < m.indices.size(); t += 3)
+      decoded.insert(key(nearest[m.indices[t]], nearest[m.indices[t + 1]], nearest[m.indices[t + 2]]));
+    std::vector<std::array<uint32_t, 3>> missing;
+    std::set_difference(expected.begin(), expected.end(), decoded.begin(), decoded.end(), std::back_inserter(missing));
+    EXPECT_EQ(missing.size(), 0u) << "original triangles not decoded, of " << expected.size();
+  }
+}

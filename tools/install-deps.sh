@@ -12,7 +12,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-dev glslang-tools spirv-tools
-  libglm-dev libtinygltf-dev nlohmann-json3-dev
+  libglm-dev libtinygltf-dev nlohmann-json3-dev libdraco-dev libmeshoptimizer-dev
   libglfw3-dev libimgui-dev xvfb xdotool
   libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev

@@ -96,6 +96,7 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
       const std::string resource = resource_of(reader.name, in);
       if (resource.empty()) continue;
       for (const auto& writer : nodes_) {
+        if (&writer == &reader) continue;  // a read_write port's own binding
         for (const auto& out : writer.outputs) {
           if (resource_of(writer.name, out) != resource) continue;
           const ImVec2 a = port_pos(writer, out, true), b = port_pos(reader, in, false);

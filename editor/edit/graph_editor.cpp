@@ -113,6 +113,11 @@ void GraphEditor::refresh() {
           if (w != writer.end() && w->second != pass["name"]) d = std::max(d, depth[w->second] + 1);
         }
       }
+      if (pass.contains("after") && pass["after"].is_array()) {
+        for (const auto& before : pass["after"]) {
+          if (before.is_string() && before != pass["name"]) d = std::max(d, depth[before.get<std::string>()] + 1);
+        }
+      }
       depth[pass["name"]] = std::min(d, static_cast<int>(doc["passes"].size()));
     }
   }
@@ -124,7 +129,11 @@ void GraphEditor::refresh() {
     n.name = pass["name"];
     n.type = pass["type"];
     if (const auto* decl = model_.registry().find(n.type)) {
-      for (const auto& port : decl->ports) (port.access == graph::PortAccess::read ? n.inputs : n.outputs).push_back(port.name);
+      // A read_write port has a side for each: the wire in from the pass it reads after, and out.
+      for (const auto& port : decl->ports) {
+        if (port.access != graph::PortAccess::write) n.inputs.push_back(port.name);
+        if (port.access != graph::PortAccess::read) n.outputs.push_back(port.name);
+      }
     }
     const int column = depth[n.name];
     const int row = rows[column]++;

@@ -297,12 +297,42 @@ void GraphModel::rename_pass(const std::string& name, const std::string& new_nam
   });
 }
 
+// A read_write port reads what another pass wrote, and the compiler wants that order stated: the
+// pass goes "after" the last other pass in the file that writes `resource` ("after" right after
+// "type", where the bundled graphs have it).
+void GraphModel::order_after_last_writer(ordered_json& doc, ordered_json& pass, const std::string& resource) const {
+  std::string writer;
+  for (const auto& other : doc["passes"]) {
+    if (&other == &pass || !other.contains("outputs")) continue;
+    for (const auto& [port, bound] : other["outputs"].items()) {
+      if (bound == resource) writer = other.value("name", "");
+    }
+  }
+  if (writer.empty()) return;
+  if (pass.contains("after")) {
+    if (!pass["after"].is_array()) return;  // the compiler names what is wrong with it
+    for (const auto& name : pass["after"]) {
+      if (name == writer) return;
+    }
+    pass["after"].push_back(writer);
+    return;
+  }
+  ordered_json ordered = ordered_json::object();
+  for (auto& [key, value] : pass.items()) {
+    ordered[key] = std::move(value);
+    if (key == "type") ordered["after"] = ordered_json::array({writer});
+  }
+  if (!ordered.contains("after")) ordered["after"] = ordered_json::array({writer});
+  pass = std::move(ordered);
+}
+
 void GraphModel::connect(const std::string& pass, const std::string& port_name, const std::string& resource) {
   apply("connect " + pass + "." + port_name + " to " + resource, [&](ordered_json& doc) {
     ordered_json& p = pass_json(doc, pass);
     const graph::PortDecl* port = pass_type(p).find_port(port_name);
     if (!port) throw InputError(path_ + ": pass type '" + p.value("type", "") + "' has no port '" + port_name + "'");
     p[writes(*port) ? "outputs" : "inputs"][port_name] = resource;
+    if (port->access == graph::PortAccess::read_write) order_after_last_writer(doc, p, resource);
     // The pass's outputs of the same extent group that only it names follow the input's size, as
     // they did when add_pass made them.
     if (writes(*port) || port->extent_group.empty() || !doc["resources"].contains(resource) || !p.contains("outputs")) return;

@@ -41,7 +41,8 @@ class GraphModel {
   void rename_pass(const std::string& pass, const std::string& new_name);
   // Binds a port (an input or an output, as the pass type declares it) to an existing resource.
   // An input's new size carries over to the pass's outputs of its extent group that nothing else
-  // names (the resources add_pass made), so that re-wiring a new pass keeps it valid.
+  // names (the resources add_pass made), so that re-wiring a new pass keeps it valid. A read_write
+  // port bound to a resource another pass writes orders its pass "after" the last such writer.
   void connect(const std::string& pass, const std::string& port, const std::string& resource);
   void disconnect(const std::string& pass, const std::string& port);
   // A literal within the parameter's declared range, or "$name" of a graph parameter.
@@ -96,6 +97,7 @@ class GraphModel {
   nlohmann::ordered_json& member(nlohmann::ordered_json& doc, const char* section, const std::string& name, const char* what) const;
   bool step(std::vector<Step>& from, std::vector<Step>& to);
   const graph::PassTypeDecl& pass_type(const nlohmann::ordered_json& pass) const;
+  void order_after_last_writer(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const std::string& resource) const;
 
   const graph::PassRegistry* registry_;
   std::string path_;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <limits>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -15,6 +16,7 @@
 
 #include "core/error.h"
 #include "io/json_reader.h"
+#include "scene/gltf_compression.h"
 #include "scene/scene.h"
 
 #include <tiny_gltf.h>  // the implementation is Debian's libtinygltf
@@ -313,7 +315,8 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
 const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                                  "KHR_lights_punctual", "KHR_mesh_quantization"};
+                                                  "KHR_lights_punctual",        "KHR_mesh_quantization", "EXT_meshopt_compression",
+                                                  "KHR_draco_mesh_compression"};
 
 // Images are not decoded (no material property caustica reads uses them yet); an external image
 // must still exist, as the specification requires.
@@ -327,16 +330,29 @@ ModelFile load_gltf(const std::string& path) {
   tinygltf::Model model;
   std::string error, warning;
   const bool binary = std::filesystem::path(path).extension() == ".glb";
-  if (binary) {
-    // tinygltf reads the GLB container without looking at its version; version 1 was a different format.
+  std::vector<unsigned char> bytes;
+  {
     std::ifstream in(path, std::ios::binary);
-    uint32_t header[2] = {};
-    if (in.read(reinterpret_cast<char*>(header), sizeof header) && std::memcmp(&header[0], "glTF", 4) == 0 && header[1] != 2) {
-      fail(path, 0, "binary glTF version " + std::to_string(header[1]) + ": only version 2 is supported");
-    }
+    if (!in) fail(path, 0, "cannot open the file");
+    in.seekg(0, std::ios::end);
+    const auto size = static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0));
+    if (size > kMaxMeshFileBytes) fail(path, 0, "the file is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB");
+    in.seekg(0);
+    bytes.resize(size);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) fail(path, 0, "cannot read the file");
   }
-  const bool ok =
-      binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path) : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+  // tinygltf reads the GLB container without looking at its version; version 1 was a different format.
+  if (binary && bytes.size() >= 8 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    uint32_t version = 0;
+    std::memcpy(&version, bytes.data() + 4, 4);
+    if (version != 2) fail(path, 0, "binary glTF version " + std::to_string(version) + ": only version 2 is supported");
+  }
+  const gltf::PreparedFile prepared = gltf::prepare(std::move(bytes), binary, path);
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  const auto& data = prepared.bytes;
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data.data(), static_cast<unsigned int>(data.size()), base_dir)
+                         : loader.LoadASCIIFromString(&model, &error, &warning, reinterpret_cast<const char*>(data.data()),
+                                                      static_cast<unsigned int>(data.size()), base_dir);
   if (!ok) {
     while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
     fail(path, 0, "not a valid glTF file: " + (error.empty() ? std::string("tinygltf gave no reason") : error));
@@ -348,8 +364,8 @@ ModelFile load_gltf(const std::string& path) {
     if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
       fail(path, 0,
            "requires the extension " + required +
-               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, KHR_lights_punctual and "
-               "KHR_mesh_quantization)");
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, KHR_lights_punctual, "
+               "KHR_mesh_quantization, EXT_meshopt_compression and KHR_draco_mesh_compression)");
     }
   }
   for (size_t i = 0; i < model.images.size(); ++i) {
@@ -370,6 +386,7 @@ ModelFile load_gltf(const std::string& path) {
     if (!std::filesystem::is_regular_file(file, ec))
       fail(path, 0, "image " + std::to_string(i) + ": cannot read '" + uri + "' (" + file.string() + ")");
   }
+  gltf::decode_meshopt(model, prepared, path);
   ModelFile out;
   std::vector<MeshPart>& parts = out.parts;
   std::vector<int> visiting;  // guards against node cycles, which the spec forbids
@@ -421,12 +438,19 @@ ModelFile load_gltf(const std::string& path) {
         if (position == prim.attributes.end()) fail(path, 0, "a primitive of mesh '" + mesh.name + "' has no POSITION");
         MeshPart part;
         part.name = mesh.name;
-        auto p = read_accessor<float>(model, position->second, 3, path);
+        const auto primitive_index = static_cast<size_t>(&prim - mesh.primitives.data());
+        const std::string pointer = "/meshes/" + std::to_string(node.mesh) + "/primitives/" + std::to_string(primitive_index);
+        std::optional<gltf::DracoGeometry> draco;
+        if (prim.extensions.count("KHR_draco_mesh_compression")) {
+          const auto indices = prepared.draco_indices.find({static_cast<size_t>(node.mesh), primitive_index});
+          draco = gltf::decode_draco(model, prim, indices == prepared.draco_indices.end() ? -1 : indices->second, pointer, path);
+        }
+        const auto p = draco ? draco->positions : read_accessor<float>(model, position->second, 3, path);
         for (size_t i = 0; i + 2 < p.size(); i += 3)
           part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
         auto normal = prim.attributes.find("NORMAL");
         if (normal != prim.attributes.end()) {
-          auto n = read_accessor<float>(model, normal->second, 3, path);
+          const auto n = draco && !draco->normals.empty() ? draco->normals : read_accessor<float>(model, normal->second, 3, path);
           if (n.size() != p.size()) fail(path, 0, "NORMAL and POSITION of mesh '" + mesh.name + "' differ in count");
           for (size_t i = 0; i + 2 < n.size(); i += 3) {
             glm::vec3 v = normal_matrix * glm::vec3(n[i], n[i + 1], n[i + 2]);
@@ -434,15 +458,15 @@ ModelFile load_gltf(const std::string& path) {
             part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
           }
         }
-        if (prim.indices >= 0) {
+        if (draco) {
+          part.mesh.indices = draco->indices;
+        } else if (prim.indices >= 0) {
           part.mesh.indices = read_accessor<uint32_t>(model, prim.indices, 1, path);
         } else {
           for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
         }
         part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
-        part.material = gltf_material(
-            model, prim.material,
-            "/meshes/" + std::to_string(node.mesh) + "/primitives/" + std::to_string(&prim - mesh.primitives.data()) + "/material", path);
+        part.material = gltf_material(model, prim.material, pointer + "/material", path);
         parts.push_back(std::move(part));
       }
     }
