@@ -20,12 +20,16 @@ class ForwardRefractionPass final : public graph::Pass {
     vk::RasterState state;
     state.color_formats = {color};
     state.depth_format = graph::format_info(setup.resource("refractor_depth").format).vk;
-    state.cull = VK_CULL_MODE_BACK_BIT;
-    refract_ = make_scene_pipeline(setup, "forward_refraction", "refraction/forward_refraction.frag", state,
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                   sizeof(ForwardPush));
+    // A thin-walled refractor is one surface seen from either side: drawn without culling.
+    for (int thin = 0; thin < 2; ++thin) {
+      state.cull = thin ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
+      refract_[thin] = make_scene_pipeline(setup, thin ? "forward_refraction_thin" : "forward_refraction", "refraction/forward_refraction.frag",
+                                           state,
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                            VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                           sizeof(ForwardPush));
+    }
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -38,18 +42,23 @@ class ForwardRefractionPass final : public graph::Pass {
                   VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 
     begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_LOAD}}, Attachment{ctx.view("refractor_depth")});
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-    // Binding 5 (front) is unread here: the back buffer fills it to keep the deferred pass's layout.
-    push_refraction_descriptors(ctx, refract_, ctx.view("background"), ctx.view("back"), ctx.view("back"));
     const SceneView view = camera_view(ctx, extent);
     const ForwardPush push{{view.view_proj, glm::vec4(view.eye, 1.0f)}, refraction_push(ctx, tir_counter_)};
-    vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
-    draw_range(cmd, ctx.scene(), ctx.scene().refractors());
+    const scene::DrawRange all = ctx.scene().refractors(), thin = ctx.scene().thin_refractors();
+    const scene::DrawRange parts[2] = {{all.first_index, all.index_count - thin.index_count}, thin};
+    for (int part = 0; part < 2; ++part) {
+      if (parts[part].index_count == 0) continue;
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_[part].pipeline.get());
+      // Binding 5 (front) is unread here: the back buffer fills it to keep the deferred pass's layout.
+      push_refraction_descriptors(ctx, refract_[part], ctx.view("background"), ctx.view("back"), ctx.view("back"));
+      vkCmdPushConstants(cmd, refract_[part].layout.get(), refract_[part].stages, 0, sizeof(push), &push);
+      draw_range(cmd, ctx.scene(), parts[part]);
+    }
     vkCmdEndRendering(cmd);
   }
 
  private:
-  vk::Pipeline copy_, refract_;
+  vk::Pipeline copy_, refract_[2];  // solid refractors (back faces culled), thin-walled ones
   uint32_t tir_counter_ = 0;
 };
 

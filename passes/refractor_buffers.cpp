@@ -8,12 +8,13 @@
 namespace caustica::passes {
 
 void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front, const std::string& front_depth) {
-  for (int back = 0; back < 2; ++back) {
+  for (int kind = 0; kind < 3; ++kind) {
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource(front).format).vk};
     state.depth_format = graph::format_info(setup.resource(front_depth).format).vk;
-    state.cull = back ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
-    pipelines_[back] = make_scene_pipeline(setup, back ? "refractor_back" : "refractor_front", "scene/refractor.frag", state);
+    state.cull = kind == 0 ? VK_CULL_MODE_BACK_BIT : kind == 1 ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_NONE;
+    const char* names[] = {"refractor_front", "refractor_back", "refractor_thin"};
+    pipelines_[kind] = make_scene_pipeline(setup, names[kind], "scene/refractor.frag", state);
   }
 }
 
@@ -41,10 +42,19 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
     if (shared_depth) wait_for_depth_writes(cmd, targets.front_depth_image);
     begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}},
                     Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_[back].pipeline.get());
-    scene_descriptors(ctx).push(ctx.vk(), cmd, pipelines_[back]);
-    vkCmdPushConstants(cmd, pipelines_[back].layout.get(), pipelines_[back].stages, 0, sizeof(push), &push);
-    draw_range(cmd, ctx.scene(), drawn);
+    // A thin wall is one surface, seen from either side: both draws take its nearest face.
+    const scene::DrawRange thin = ctx.scene().thin_refractors();
+    const uint32_t end = drawn.first_index + drawn.index_count, thin_first = std::max(drawn.first_index, thin.first_index);
+    const scene::DrawRange parts[2] = {{drawn.first_index, std::min(end, thin.first_index) - std::min(drawn.first_index, thin.first_index)},
+                                       {thin_first, end > thin_first ? end - thin_first : 0}};
+    for (int part = 0; part < 2; ++part) {
+      if (parts[part].index_count == 0) continue;
+      const vk::Pipeline& pipeline = pipelines_[part ? 2 : back];
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline.get());
+      scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline);
+      vkCmdPushConstants(cmd, pipeline.layout.get(), pipeline.stages, 0, sizeof(push), &push);
+      draw_range(cmd, ctx.scene(), parts[part]);
+    }
     vkCmdEndRendering(cmd);
   }
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <map>
+#include <optional>
 
 #include "ball_lens.h"
 #include "reference/refraction_reference.h"
@@ -380,4 +381,53 @@ TEST(Caustics, TheReferencePictureProjectsACausticMapAsTheEngineDoes) {
   ASSERT_GT(reference_sum, 0.0);
   EXPECT_NEAR(engine_sum, reference_sum, 0.02 * reference_sum);
   EXPECT_LT(difference / reference_sum, 0.05);
+}
+
+// Thin walls pass light unbent: with Fresnel off, a pane of tint 1 and transmission 1 makes the
+// caustic fill its own shadow exactly (as n = 1 does for a solid), and a pane passing a share k of
+// the light (transmission 0.8 times the tint's mean; one-channel caustic map) leaves the floor at k
+// of the way from its black shadow to the light without it, texel for texel. Each pane of
+// scenes/thin_panes.json on its own (with two, the multi-layer pass leaves an intermediate layer
+// in "lit"): the second is upside down, so the light sees its back face. Image space, the adaptive
+// traversal and ray queries alike.
+TEST(Caustics, ThinWallsPassTheirShareOfTheLightUnbent) {
+  Engine e;
+  for (const char* pane : {"pane_tilted", "pane_flipped"}) {
+    auto only = [&](std::optional<glm::vec3> tint, float transmission) {
+      auto scene = load("thin_panes");
+      std::erase_if(scene->objects, [&](const scene::Object& o) { return o.material.refractor && (!tint || o.name != pane); });
+      for (auto& object : scene->objects) {
+        if (!object.material.refractor) continue;
+        object.material.tint = *tint;
+        object.material.transmission = transmission;
+      }
+      return scene;
+    };
+    const double k = 0.8 * (1.0 + 0.6 + 0.3) / 3.0;
+    for (const char* graph : {"caustics_regular", "caustics_adaptive", "caustics_raytraced"}) {
+      SCOPED_TRACE(std::string(pane) + " " + graph);
+      const std::vector<std::string> sets{"fresnel=false", "grid=2048", "caustic_size=512"};
+      e.render(graph, only(std::nullopt, 1.0f), sets);
+      const io::ImageData direct = e.executor.read_image("lit");
+      e.render(graph, only(glm::vec3(1.0f), 1.0f), sets);
+      const io::ImageData clear = e.executor.read_image("lit");
+      e.render(graph, only(glm::vec3(0.0f), 1.0f), sets);
+      const io::ImageData black = e.executor.read_image("lit");
+      e.render(graph, only(glm::vec3(1.0f, 0.6f, 0.3f), 0.8f), sets);
+      const io::ImageData tinted = e.executor.read_image("lit");
+      double clear_diff = 0, tinted_diff = 0, shadow = 0;
+      for (size_t i = 0; i < size_t{kWidth} * kHeight * 4; ++i) {
+        if (i % 4 == 3) continue;
+        const double d = direct.rgba[i], c = clear.rgba[i], b = black.rgba[i], t = tinted.rgba[i];
+        clear_diff += std::abs(c - d);
+        tinted_diff += std::abs(t - (b + k * (d - b)));
+        shadow += d - b;
+      }
+      std::printf("%-12s %-18s relative to the light its shadow takes: clear pane off by %.4f, tinted by %.4f\n", pane, graph,
+                  clear_diff / shadow, tinted_diff / shadow);
+      EXPECT_GT(shadow, 0.0);
+      EXPECT_LT(clear_diff / shadow, 0.03);
+      EXPECT_LT(tinted_diff / shadow, 0.03);
+    }
+  }
 }

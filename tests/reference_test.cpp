@@ -88,6 +88,48 @@ TEST(PhotonReference, SlabTransmitsTheFresnelFraction) {
   EXPECT_NEAR(t.entering, t.emitted, 1e-9 * t.emitted) << "the slab covers the whole light view";
 }
 
+// A thin wall (one surface, no volume) under light from straight above: the Fresnel share at normal
+// incidence is reflected, of the rest transmission x the tint's mean lands, unbent, and the
+// remainder is counted as absorbed (reflected diffusely, not a caustic). Upside down it is the same.
+TEST(PhotonReference, ThinWallTransmitsItsShareUnbent) {
+  for (const char* rotate : {"0", "180"}) {
+    SCOPED_TRACE(rotate);
+    const scene::Scene scene = from_text(std::string(R"({
+      "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+      "lights": [{"type": "spot", "position": [0, 40, 0], "target": [0, 0, 0], "fov": 2, "intensity": 1000}],
+      "objects": [
+        {"name": "floor", "primitive": {"type": "plane", "size": [20, 20]}},
+        {"name": "pane", "primitive": {"type": "plane", "size": [4, 4]}, "transform": {"translate": [0, 1, 0], "rotate": [)") + rotate +
+                                         R"(, 0, 0]},
+         "material": {"refractor": true, "thin": true, "ior": 1.5, "tint": [1, 0.5, 0.25], "transmission": 0.8}}
+      ]})");
+    reference::PhotonOptions options;
+    options.photons = 1'000'000;
+    const auto result = reference::trace_photon_reference(scene, options);
+    const auto& t = result.totals;
+    expect_flux_accounted(t);
+    const double reflectance = 0.04, share = 0.8 * (1.0 + 0.5 + 0.25) / 3.0;
+    std::printf("landed %.5f of the entering flux (exact %.5f), reflected %.5f\n", t.landed / t.entering, (1 - reflectance) * share,
+                t.reflected / t.entering);
+    EXPECT_NEAR(t.landed / t.entering, (1 - reflectance) * share, 0.002);
+    EXPECT_NEAR(t.reflected / t.entering, reflectance, 0.002);
+    EXPECT_NEAR(t.absorbed / t.entering, (1 - reflectance) * (1 - share), 0.002);
+    // Unbent: the spot's disc lands centred under the light, as without the pane.
+    double sum = 0, cx = 0, cy = 0;
+    const auto& map = result.caustic_map;
+    for (uint32_t y = 0; y < map.height; ++y) {
+      for (uint32_t x = 0; x < map.width; ++x) {
+        const double v = map.rgba[(size_t{y} * map.width + x) * 4];
+        sum += v;
+        cx += v * (x + 0.5);
+        cy += v * (y + 0.5);
+      }
+    }
+    EXPECT_NEAR(cx / sum, map.width / 2.0, 0.5);
+    EXPECT_NEAR(cy / sum, map.height / 2.0, 0.5);
+  }
+}
+
 // n = 1: the refractor bends and reflects nothing, so every entering photon lands where it would
 // have without it; the caustic map is the light's direct flux on the floor under the sphere.
 TEST(PhotonReference, IndexOneChangesNothing) {

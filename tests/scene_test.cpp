@@ -87,7 +87,8 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
     "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]},
                    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
                                   "KHR_materials_ior": {"ior": 1.33},
-                                  "KHR_materials_volume": {"attenuationColor": [0.5, 1, 1], "attenuationDistance": 2}}}],
+                                  "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationColor": [0.5, 1, 1],
+                                                           "attenuationDistance": 2}}}],
     "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"],
     "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" +
                            buffer + R"("}],
@@ -99,6 +100,8 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   ASSERT_TRUE(parts[0].material.has_value());
   const Material& m = *parts[0].material;
   EXPECT_TRUE(m.refractor);
+  EXPECT_FALSE(m.thin);  // a volume with a thickness
+  EXPECT_EQ(m.tint, glm::vec3(0.2f, 0.4f, 0.6f));  // transmitted light takes the base colour
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
   EXPECT_NEAR(m.absorption.r, std::log(2.0f) / 2.0f, 1e-5f);  // half the red left after 2 units
   EXPECT_FLOAT_EQ(m.absorption.g, 0.0f);
@@ -108,6 +111,32 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   EXPECT_FLOAT_EQ(mesh.positions[1].z, 5.0f);  // the node's translation is applied
   ASSERT_EQ(mesh.normals.size(), 3u);          // computed, since the file has none
   EXPECT_NEAR(mesh.normals[0].z, 1.0f, 1e-6f);
+}
+
+// KHR_materials_transmission without a volume, or with thicknessFactor 0, is a thin wall; the
+// transmission factor is kept as it is.
+TEST(MeshFiles, GltfTransmissionWithoutThicknessIsThinWalled) {
+  const std::string buffer = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=";
+  for (const char* volume : {"", R"(, "KHR_materials_volume": {})", R"(, "KHR_materials_volume": {"thicknessFactor": 0})",
+                             R"(, "KHR_materials_volume": {"thicknessFactor": 0.01})"}) {
+    SCOPED_TRACE(volume);
+    const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+      "materials": [{"extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.75})" +
+                             std::string(volume) + R"(}}],
+      "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" +
+                             buffer + R"("}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                    {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+    const auto parts = load_mesh_file(write_temp("caustica_thin_test.gltf", gltf).string());
+    ASSERT_EQ(parts.size(), 1u);
+    const Material& m = parts[0].material.value();
+    EXPECT_TRUE(m.refractor);
+    EXPECT_EQ(m.thin, std::string(volume).find("0.01") == std::string::npos);
+    EXPECT_FLOAT_EQ(m.transmission, 0.75f);
+    EXPECT_EQ(m.tint, glm::vec3(1.0f));  // the default base colour
+  }
 }
 
 TEST(SceneFiles, BundledScenesLoadWithTheirRefractors) {

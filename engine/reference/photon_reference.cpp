@@ -105,6 +105,25 @@ class PhotonTracer {
       glm::vec3 n = exact_.smooth_normal(*hit);
       if (glm::dot(n, direction) > 0) n = -n;
       const float ior = object.material.ior;
+      // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
+      // rest is reflected diffusely (not a caustic) and counted with the absorbed.
+      auto transmit = [&] {
+        const double kept = power * double(object.material.caustic_transmittance());
+        acc.totals.absorbed += power - kept;
+        power = kept;
+      };
+      if (object.material.thin) {  // a thin wall: Fresnel reflection, or through it unbent
+        const float reflectance = options_.fresnel ? fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior) : 0.0f;
+        origin = p;
+        if (reflectance > 0.0f && random.uniform() < reflectance) {
+          if (!refracted) acc.totals.reflected += power;
+          direction = glm::reflect(direction, n);
+        } else {
+          transmit();
+        }
+        refracted = true;
+        continue;
+      }
       const float eta = entering ? 1.0f / ior : ior;
       const glm::vec3 transmitted = glm::refract(direction, n, eta);
       const bool total_internal = glm::dot(transmitted, transmitted) == 0.0f;
@@ -118,6 +137,7 @@ class PhotonTracer {
         direction = glm::reflect(direction, n);
         refracted = true;
       } else {
+        if (entering) transmit();
         direction = glm::normalize(transmitted);
         inside = entering ? static_cast<int>(hit->geometry) : -1;
         refracted = true;

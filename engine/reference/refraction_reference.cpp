@@ -96,14 +96,19 @@ class Tracer {
         return radiance + throughput * shade_opaque(p, n, object.material.albedo);
       }
       if (segment == 0 && hit_refractor) *hit_refractor = true;
-      // Entry: reflection sees the sky (as in the engine); the rest refracts in.
+      // Entry: reflection sees the sky (as in the engine); of the rest, the share `transmission`
+      // passes tinted, the remainder is reflected diffusely with the tint as albedo.
       if (glm::dot(n, direction) > 0) n = -n;
-      const float ior = object.material.ior;
+      const scene::Material& m = object.material;
+      const float ior = m.ior;
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
-      direction = glm::refract(direction, n, 1.0f / ior);
+      if (m.transmission < 1.0f) radiance += throughput * (1.0f - m.transmission) * shade_opaque(p, n, m.tint);
+      throughput *= m.transmission * m.tint;
       origin = p;
+      if (m.thin) continue;  // a thin wall: the ray goes on unbent
+      direction = glm::refract(direction, n, 1.0f / ior);
       bool left = false;
       for (int bounce = 0; bounce < kMaxInterfaces && !left; ++bounce) {
         auto inner = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());

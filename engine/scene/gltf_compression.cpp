@@ -41,18 +41,19 @@ struct GlbChunks {
   bool has_bin = false;
 };
 
-GlbChunks split_glb(const std::vector<unsigned char>& bytes, const std::string& path) {
-  if (bytes.size() < 20) fail(path, "not a valid glTF file: the GLB is shorter than its header");
+// The chunks of a well-formed GLB; nothing for anything else (tinygltf then says what is wrong).
+std::optional<GlbChunks> split_glb(const std::vector<unsigned char>& bytes) {
+  if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0 || read_u32(bytes.data() + 8) > bytes.size()) return std::nullopt;
   GlbChunks chunks;
   size_t at = 12;
-  const size_t end = std::min<size_t>(bytes.size(), read_u32(bytes.data() + 8));
+  const size_t end = read_u32(bytes.data() + 8);
   for (int chunk = 0; at + 8 <= end && chunk < 2; ++chunk) {
     const size_t length = read_u32(bytes.data() + at);
     const uint32_t type = read_u32(bytes.data() + at + 4);
-    if (length > end - at - 8) fail(path, "not a valid glTF file: GLB chunk " + std::to_string(chunk) + " runs past the end of the file");
+    if (length > end - at - 8) return std::nullopt;
     const auto* data = bytes.data() + at + 8;
     if (chunk == 0) {
-      if (type != 0x4E4F534Au) fail(path, "not a valid glTF file: the GLB's first chunk is not JSON");
+      if (type != 0x4E4F534Au) return std::nullopt;
       chunks.json.assign(reinterpret_cast<const char*>(data), length);
     } else if (type == 0x004E4942u) {
       chunks.bin.assign(data, data + length);
@@ -60,6 +61,7 @@ GlbChunks split_glb(const std::vector<unsigned char>& bytes, const std::string& 
     }
     at += 8 + length;
   }
+  if (chunks.json.empty()) return std::nullopt;
   return chunks;
 }
 
@@ -109,12 +111,17 @@ std::string string_member(const tinygltf::Value& object, const char* key, const 
 
 }  // namespace
 
-PreparedFile prepare(std::vector<unsigned char> bytes, bool binary, const std::string& path) {
+PreparedFile prepare(std::vector<unsigned char> bytes, bool binary) {
   PreparedFile prepared;
   GlbChunks chunks;
   std::string text;
   if (binary) {
-    chunks = split_glb(bytes, path);
+    const auto split = split_glb(bytes);
+    if (!split) {
+      prepared.bytes = std::move(bytes);
+      return prepared;
+    }
+    chunks = *split;
     text = chunks.json;
   } else {
     text.assign(bytes.begin(), bytes.end());

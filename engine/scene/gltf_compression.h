@@ -24,9 +24,9 @@ struct PreparedFile {
   std::map<size_t, uint64_t> fallback_bytes;               // fallback buffer index -> its byteLength in the file
   std::map<std::pair<size_t, size_t>, int> draco_indices;  // (mesh, primitive) -> its "indices" accessor
 };
-// `bytes` is the whole file; `binary` whether it is a GLB. Throws InputError for a GLB whose chunks
-// do not fit it.
-PreparedFile prepare(std::vector<unsigned char> bytes, bool binary, const std::string& path);
+// `bytes` is the whole file; `binary` whether it is a GLB. A malformed file is passed on unchanged,
+// for tinygltf to name what is wrong.
+PreparedFile prepare(std::vector<unsigned char> bytes, bool binary);
 
 // Replaces every EXT_meshopt_compression buffer view's data with its decoded bytes (a new buffer
 // per view). Errors name the buffer view's JSON pointer.

@@ -12,12 +12,15 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
   std::vector<gpu::ObjectData> objects;
   ranges_.resize(scene_->objects.size());
   vertex_base_.resize(scene_->objects.size());
-  for (int refractors = 0; refractors < 2; ++refractors) {
-    DrawRange& group = refractors ? refractors_ : opaque_;
+  // Opaque objects, solid refractors, thin-walled refractors: the refractor draws need another
+  // culling mode for the thin ones.
+  for (int kind = 0; kind < 3; ++kind) {
+    DrawRange& group = kind == 0 ? opaque_ : kind == 1 ? refractors_ : thin_refractors_;
     group.first_index = static_cast<uint32_t>(indices.size());
     for (uint32_t o = 0; o < scene_->objects.size(); ++o) {
       const Object& object = scene_->objects[o];
-      if (object.material.refractor != (refractors == 1)) continue;
+      const int object_kind = !object.material.refractor ? 0 : object.material.thin ? 2 : 1;
+      if (object_kind != kind) continue;
       const auto base = static_cast<uint32_t>(vertices.size());
       vertex_base_[o] = base;
       for (size_t v = 0; v < object.mesh.positions.size(); ++v) {
@@ -30,10 +33,11 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
     }
     group.index_count = static_cast<uint32_t>(indices.size()) - group.first_index;
   }
+  refractors_.index_count += thin_refractors_.index_count;
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
-    objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(object.bounds_min, 0.0f),
-                       glm::vec4(object.bounds_max, 0.0f)});
+    objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
+                       glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, 0.0f)});
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

@@ -1,6 +1,6 @@
 #pragma once
 // A scene on the device: one vertex buffer and one index buffer for every object (opaque objects
-// first, then refractors, each object a contiguous index range), object materials, and per-frame
+// first, then solid refractors, then thin-walled ones, each object a contiguous index range), object materials, and per-frame
 // data (camera, lights) that run_frame() refreshes before recording.
 #include <memory>
 #include <vector>
@@ -28,7 +28,8 @@ class GpuScene {
   VkBuffer frame() const { return frame_.get(); }
 
   DrawRange opaque() const { return opaque_; }
-  DrawRange refractors() const { return refractors_; }
+  DrawRange refractors() const { return refractors_; }  // solid ones first, then thin_refractors()
+  DrawRange thin_refractors() const { return thin_refractors_; }
   DrawRange object(uint32_t index) const { return ranges_[index]; }
   // Indices into scene().objects of the refractors, farthest from `eye` first (by bounding-box centre).
   std::vector<uint32_t> refractors_back_to_front(glm::vec3 eye) const;
@@ -48,7 +49,7 @@ class GpuScene {
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;
   vk::Buffer vertices_, indices_, objects_, frame_;
-  DrawRange opaque_, refractors_;
+  DrawRange opaque_, refractors_, thin_refractors_;
   std::vector<DrawRange> ranges_;
   gpu::FrameData frame_data_{};
 };

@@ -283,6 +283,9 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     const double factor = in_unit(number(*t, "KHR_materials_transmission", "transmissionFactor", 0.0),
                                   at + "/extensions/KHR_materials_transmission/transmissionFactor");
     m.refractor = factor > 0.0;
+    m.transmission = static_cast<float>(factor);
+    m.tint = m.albedo;  // the specification tints transmitted light with the base colour
+    m.thin = true;      // until a volume with a thickness says otherwise
   }
   if (const auto* i = ext("KHR_materials_ior")) {
     const double ior = number(*i, "KHR_materials_ior", "ior", 1.5);
@@ -293,7 +296,9 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
   }
   if (const auto* v = ext("KHR_materials_volume")) {
     const std::string volume = at + "/extensions/KHR_materials_volume";
-    if (number(*v, "KHR_materials_volume", "thicknessFactor", 0.0) < 0.0) fail(path, 0, volume + "/thicknessFactor: must be 0 or more");
+    const double thickness = number(*v, "KHR_materials_volume", "thicknessFactor", 0.0);
+    if (thickness < 0.0) fail(path, 0, volume + "/thicknessFactor: must be 0 or more");
+    m.thin = thickness == 0.0;  // the specification: a thickness of 0 is a thin wall
     const double distance = number(*v, "KHR_materials_volume", "attenuationDistance", std::numeric_limits<double>::infinity());
     if (!(distance > 0.0)) fail(path, 0, volume + "/attenuationDistance: must be above 0");
     glm::dvec3 color(1.0);
@@ -347,7 +352,7 @@ ModelFile load_gltf(const std::string& path) {
     std::memcpy(&version, bytes.data() + 4, 4);
     if (version != 2) fail(path, 0, "binary glTF version " + std::to_string(version) + ": only version 2 is supported");
   }
-  const gltf::PreparedFile prepared = gltf::prepare(std::move(bytes), binary, path);
+  const gltf::PreparedFile prepared = gltf::prepare(std::move(bytes), binary);
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   const auto& data = prepared.bytes;
   const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data.data(), static_cast<unsigned int>(data.size()), base_dir)

@@ -108,7 +108,7 @@ glm::mat4 load_transform(const JsonReader& read, const nlohmann::json& value, co
 
 void apply_material(const JsonReader& read, const nlohmann::json& value, const std::string& pointer, Material& m) {
   read.object(value, pointer, "a material");
-  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption"}, "a material");
+  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption", "transmission", "tint", "thin"}, "a material");
   if (value.contains("color")) m.albedo = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1.0);
   if (value.contains("refractor")) m.refractor = read.boolean(value["refractor"], pointer + "/refractor", "\"refractor\"");
   if (value.contains("ior"))
@@ -116,6 +116,11 @@ void apply_material(const JsonReader& read, const nlohmann::json& value, const s
   if (value.contains("absorption")) {
     m.absorption = vec3(read, value["absorption"], pointer + "/absorption", "\"absorption\" (per unit length)", 0.0, 1e4);
   }
+  if (value.contains("transmission")) {
+    m.transmission = static_cast<float>(read.number(value["transmission"], pointer + "/transmission", "\"transmission\"", 0.0, 1.0));
+  }
+  if (value.contains("tint")) m.tint = vec3(read, value["tint"], pointer + "/tint", "\"tint\"", 0.0, 1.0);
+  if (value.contains("thin")) m.thin = read.boolean(value["thin"], pointer + "/thin", "\"thin\"");
 }
 
 Mesh load_primitive(const JsonDocument& doc, const JsonReader& read, const nlohmann::json& value, const std::string& pointer) {

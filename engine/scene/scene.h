@@ -18,6 +18,16 @@ struct Material {
   bool refractor = false;
   float ior = 1.5f;
   glm::vec3 absorption{0.0f};  // per unit of distance travelled inside, per channel (Beer-Lambert)
+  // Refractors, as glTF's KHR_materials_transmission gives them: the share of the light past the
+  // surface's Fresnel reflection that is transmitted (the rest is diffusely reflected with `tint`),
+  // the colour that multiplies transmitted light (glTF's baseColor), and whether the object is a
+  // thin wall (transmission without a volume: light passes without bending).
+  float transmission = 1.0f;
+  glm::vec3 tint{1.0f};
+  bool thin = false;
+  // The share of a photon's power that passes the surface (after Fresnel) in the one-channel
+  // caustic map: transmission times the tint's mean.
+  float caustic_transmittance() const { return transmission * (tint.x + tint.y + tint.z) / 3.0f; }
 };
 
 struct Mesh {

@@ -108,8 +108,9 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     ++interfaces;
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
     bool entering = inside < 0;
+    bool thin = thin_walled(object);
     float ior = object.absorption_ior.a;
-    vec3 transmitted = refract(direction, n, entering ? 1.0 / ior : ior);
+    vec3 transmitted = thin ? direction : refract(direction, n, entering ? 1.0 / ior : ior);
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
     if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, n), entering ? 1.0 : ior, entering ? ior : 1.0);
@@ -118,8 +119,13 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
       if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
       direction = reflect(direction, n);
     } else {
+      if (entering) {  // past the surface only caustic_transmittance() goes on; the rest is diffuse
+        float kept = ph.power * caustic_transmittance(object);
+        exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
+        ph.power = kept;
+      }
       direction = normalize(transmitted);
-      inside = entering ? int(h.object) : -1;
+      if (!thin) inside = entering ? int(h.object) : -1;
     }
   }
 }
@@ -156,6 +162,18 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.entering = ph.power;
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
+  if (thin_walled(object)) {  // through a thin wall unbent: image space sees the exact path
+    vec3 n1 = unpack_normal(front.x);
+    if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, n1)), 1.0, object.absorption_ior.a);
+    ph.power *= caustic_transmittance(object);
+    vec2 landing;
+    if (!march_depth(receiver_depth, light.view_proj, p1, direction, landing)) return ph;
+    ivec2 size = imageSize(caustic_map);
+    ph.landing = landing * vec2(size);
+    ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
+    ph.landed = true;
+    return ph;
+  }
   TwoInterfaces path = refract_two_interfaces(light.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
@@ -187,7 +205,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   }
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
   // The caustic map holds one channel: the mean of the three absorption coefficients.
-  ph.power *= exp(-dot(object.absorption_ior.rgb, vec3(1.0 / 3.0)) * path.distance);
+  ph.power *= exp(-dot(object.absorption_ior.rgb, vec3(1.0 / 3.0)) * path.distance) * caustic_transmittance(object);
   if (!lands) return ph;
   ivec2 size = imageSize(caustic_map);
   ph.landing = landing * vec2(size);

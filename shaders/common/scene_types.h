@@ -19,9 +19,10 @@ struct Vertex {
 };
 
 struct ObjectData {
-  vec4 albedo_refractor;  // rgb albedo, a: 1 for refractors
-  vec4 absorption_ior;    // rgb absorption per unit length, a: index of refraction
-  vec4 bounds_min;        // xyz: world-space bounding box
+  vec4 albedo_refractor;      // rgb albedo, a: 1 for refractors
+  vec4 absorption_ior;        // rgb absorption per unit length, a: index of refraction
+  vec4 tint_transmission;     // rgb: colour of transmitted light, a: transmission factor (refractors)
+  vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor
   vec4 bounds_max;
 };
 

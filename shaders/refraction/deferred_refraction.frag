@@ -39,14 +39,19 @@ layout(location = 0) out vec4 out_color;
 uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
   ObjectData object = objects[uint(front.w)];
   vec3 eye = frame.camera_position.xyz;
-  TwoInterfaces path = refract_two_interfaces(frame.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  vec3 n1 = unpack_normal(front.x);
+  if (thin_walled(object)) {  // image space sees a thin wall's path exactly
+    radiance = through_thin_wall(object, p1, n1, uv);
+    return EXIT_TRUSTED;
+  }
+  TwoInterfaces path = refract_two_interfaces(frame.view_proj, eye, p1, n1, front.y, front.z, object.absorption_ior.a, uv);
   uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
   if (reason != EXIT_TRUSTED) return reason;
   vec2 behind_uv;
   if (!march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv)) return CAMERA_OFF_SCREEN;
   vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
   if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
-  radiance = through_refractor(path, object, texture(background_tex, behind_uv).rgb);
+  radiance = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
   return EXIT_TRUSTED;
 }
 #endif

@@ -285,14 +285,53 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
   vec3 inv = 1.0 / d;  // IEEE infinities for an axis the segment does not move along
   for (uint i = 0u; i < uint(objects.length()); ++i) {
     if (i == own || objects[i].albedo_refractor.a < 0.5) continue;
-    vec3 t0 = (objects[i].bounds_min.xyz - a) * inv, t1 = (objects[i].bounds_max.xyz - a) * inv;
+    vec3 t0 = (objects[i].bounds_min_thin.xyz - a) * inv, t1 = (objects[i].bounds_max.xyz - a) * inv;
     vec3 lo = min(t0, t1), hi = max(t0, t1);
     if (max(max(lo.x, lo.y), max(lo.z, 0.0)) <= min(min(hi.x, hi.y), min(hi.z, 1.0))) return true;
   }
   return false;
 }
 
+// A thin-walled refractor (glTF transmission without a volume): light passes it without bending.
+bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
+// The share of a photon's power past a refractor's surface (after Fresnel) in the one-channel
+// caustic map: the transmission factor times the tint's mean (scene::Material::caustic_transmittance).
+float caustic_transmittance(ObjectData object) { return object.tint_transmission.a * dot(object.tint_transmission.rgb, vec3(1.0 / 3.0)); }
+
 #ifndef REFRACTION_NO_CAMERA
+#ifdef CAUSTICA_RAY_QUERY
+#include "scene/ray_query.glsl"
+#endif
+
+// scene/lighting.frag's model at p (ambient sky and every light); with `shadowed`, and ray
+// queries, an exact shadow ray for the first spot light, as the ray-traced reference has.
+vec3 lambert(vec3 p, vec3 n, vec3 albedo, bool shadowed) {
+  vec3 irradiance = vec3(0.0);
+  for (uint i = 0u; i < frame.light_count; ++i) {
+    LightData light = frame.lights[i];
+    vec3 to_light = light.position_type.xyz - p;
+    float d2 = max(dot(to_light, to_light), 1e-8);
+    vec3 l = to_light * inversesqrt(d2);
+    float cone = spot_cone(light, -l);
+#ifdef CAUSTICA_RAY_QUERY
+    if (shadowed && i == 0u && light.position_type.w == 0.0 && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, sqrt(d2) - params.exact_epsilon)) cone = 0.0;
+#endif
+    irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
+  }
+  return albedo * (frame.sky_ambient.a * frame.sky_ambient.rgb + irradiance * (1.0 / 3.14159265358979));
+}
+
+// What a refractor's surface at p (normal n towards the viewer) sends to the viewer, given the
+// radiance `through` that reaches it from behind the surface (exit Fresnel and absorption applied):
+// the entry's Fresnel reflection of the sky; of the rest, the share `transmission` passes tinted,
+// the remainder is reflected diffusely with the tint as albedo (lit without shadows in image space).
+vec3 refractor_surface(ObjectData object, float reflectance_in, vec3 p, vec3 n, vec3 through) {
+  float transmission = object.tint_transmission.a;
+  vec3 tint = object.tint_transmission.rgb;
+  vec3 diffuse = transmission < 1.0 ? (1.0 - transmission) * lambert(p, n, tint, false) : vec3(0.0);
+  return reflectance_in * frame.sky_ambient.rgb + (1.0 - reflectance_in) * (transmission * tint * through + diffuse);
+}
+
 // The background seen along an exit ray from the camera: the lit image where the ray meets the
 // background's depth, the sky where it leaves the screen.
 vec3 background_along(vec3 origin, vec3 direction) {
@@ -300,22 +339,33 @@ vec3 background_along(vec3 origin, vec3 direction) {
   return march_depth(depth_tex, frame.view_proj, origin, direction, uv) ? texture(background_tex, uv).rgb : frame.sky_ambient.rgb;
 }
 
-// Radiance through a refractor along `path`: the entry's Fresnel reflection sees the sky, the rest
-// is absorbed inside and weighted by the exit's transmittance before it sees `behind`.
-vec3 through_refractor(TwoInterfaces path, ObjectData object, vec3 behind) {
+// Radiance through a refractor along `path` from its front surface point p1 (normal n1): the rest
+// of the entry's light is absorbed inside and weighted by the exit's transmittance before it sees
+// `behind`.
+vec3 through_refractor(TwoInterfaces path, ObjectData object, vec3 p1, vec3 n1, vec3 behind) {
   vec3 absorbed = exp(-object.absorption_ior.rgb * path.distance);
-  return path.reflectance_in * frame.sky_ambient.rgb + (1.0 - path.reflectance_in) * path.transmit_out * absorbed * behind;
+  return refractor_surface(object, path.reflectance_in, p1, n1, path.transmit_out * absorbed * behind);
+}
+
+// Radiance seen through a thin wall at p1: the pixel's own background, unbent.
+vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec2 pixel_uv) {
+  vec3 v = normalize(p1 - frame.camera_position.xyz);
+  if (dot(v, n1) > 0.0) n1 = -n1;
+  float reflectance = fresnel_dielectric(-dot(v, n1), 1.0, object.absorption_ior.a);
+  return refractor_surface(object, reflectance, p1, n1, texture(background_tex, pixel_uv).rgb);
 }
 
 // Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
 vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
   ObjectData object = objects[object_index];
+  if (thin_walled(object)) return through_thin_wall(object, p1, n1, pixel_uv);
   TwoInterfaces path = refract_two_interfaces(frame.view_proj, frame.camera_position.xyz, p1, n1, front_distance, dn,
                                               object.absorption_ior.a, pixel_uv);
   // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
   // reflected direction with all its energy (no black pixels, no NaN).
   if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
-  return through_refractor(path, object, background_along(path.exit_point, path.exit_direction));
+  if (dot(normalize(p1 - frame.camera_position.xyz), n1) > 0.0) n1 = -n1;
+  return through_refractor(path, object, p1, n1, background_along(path.exit_point, path.exit_direction));
 }
 
 #ifdef CAUSTICA_RAY_QUERY
@@ -323,7 +373,6 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
 // Needs params.exact_max_interfaces, exact_epsilon and exact_counters: consecutive counter slots
 // for the pixels traced exactly, the hybrid's reasons (EXIT_TIR .. EXIT_MULTIPLE, then
 // CAMERA_OFF_SCREEN) and the rays trapped inside after exact_max_interfaces interfaces.
-#include "scene/ray_query.glsl"
 const uint CAMERA_EXACT = 0u, CAMERA_OFF_SCREEN = 5u, CAMERA_TRAPPED = 6u;
 void camera_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 
@@ -339,17 +388,7 @@ vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
     vec3 seen = world_from_depth(frame.inv_view_proj, uv, texture(depth_tex, uv).r);
     if (distance(seen, p) <= 0.01 * distance(p, eye) + 4.0 * params.exact_epsilon) return texture(background_tex, uv).rgb;
   }
-  vec3 irradiance = vec3(0.0);
-  for (uint i = 0u; i < frame.light_count; ++i) {
-    LightData light = frame.lights[i];
-    vec3 to_light = light.position_type.xyz - p;
-    float d2 = max(dot(to_light, to_light), 1e-8);
-    vec3 l = to_light * inversesqrt(d2);
-    float cone = spot_cone(light, -l);
-    if (i == 0u && light.position_type.w == 0.0 && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, sqrt(d2) - params.exact_epsilon)) cone = 0.0;
-    irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
-  }
-  return albedo * (frame.sky_ambient.a * frame.sky_ambient.rgb + irradiance * (1.0 / 3.14159265358979));
+  return lambert(p, n, albedo, true);
 }
 
 // Radiance along a camera ray traced through every interface, as the ray-traced reference does:
@@ -378,9 +417,15 @@ vec3 trace_camera_exact(vec3 origin, vec3 direction) {
     float ior = object.absorption_ior.a;
     origin = p;
     if (inside < 0) {
+      // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
+      // `transmission` passes tinted, the remainder is reflected diffusely (shadowed exactly here).
       float reflectance = fresnel_dielectric(-dot(direction, n), 1.0, ior);
       radiance += throughput * reflectance * frame.sky_ambient.rgb;
       throughput *= 1.0 - reflectance;
+      float transmission = object.tint_transmission.a;
+      if (transmission < 1.0) radiance += throughput * (1.0 - transmission) * shade_exit_hit(p, n, object.tint_transmission.rgb);
+      throughput *= transmission * object.tint_transmission.rgb;
+      if (thin_walled(object)) continue;  // through a thin wall, unbent
       direction = normalize(refract(direction, n, 1.0 / ior));
       inside = int(h.object);
     } else {
