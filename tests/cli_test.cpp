@@ -228,6 +228,22 @@ TEST(Cli, ModelFilesOpenAsScenes) {
   fs::remove_all(dir);
 }
 
+// Losslessly compressed copies of the dragon (Draco without quantization, meshopt without
+// KHR_mesh_quantization; tests/data/gltf/make_compressed.sh) render the OFF file's picture.
+TEST(Cli, CompressedModelsRenderAsTheirOriginal) {
+  fs::path dir = scratch("compressed");
+  const std::string common = "render --validate --size 96x54 --scene ";
+  CliRun original = run(common + (kSource / "scenes/models/ChineseDragon-10kv.off").string() + " --out original.png", dir);
+  ASSERT_EQ(original.code, 0) << original.output;
+  for (const char* file : {"dragon_draco_lossless.glb", "dragon_meshopt_lossless.glb"}) {
+    CliRun compressed = run(common + (kSource / "tests/data/gltf" / file).string() + " --out compressed.png", dir);
+    ASSERT_EQ(compressed.code, 0) << compressed.output;
+    EXPECT_EQ(run("compare original.png compressed.png --max-l1 0", dir).code, 0)
+        << file << ": " << run("compare original.png compressed.png", dir).output;
+  }
+  fs::remove_all(dir);
+}
+
 // A caustic graph on a scene lit only by a point light compiles, and says that its light-view passes
 // add nothing (only spot lights cast shadows and caustics); with a spot light it says nothing.
 TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {

@@ -278,7 +278,7 @@ TEST(ModelScenes, QuantizedAndSparseEncodingsReadAsTheFloatOriginal) {
 // The dragon compressed by the extensions' own encoders (tests/data/gltf/make_compressed.sh):
 // Draco and meshoptimizer (with KHR_mesh_quantization) decode to the OFF file's triangles, with the
 // same winding, every vertex within the encoder's quantization step of the original (16 bits for
-// Draco, gltfpack's 14, of the largest extent).
+// Draco, gltfpack's 14, of the largest extent), or exactly the original for the lossless encodings.
 TEST(ModelScenes, CompressedMeshesDecodeToTheOriginalTriangles) {
   const Mesh original = load_model_file((kSource / "scenes/models/ChineseDragon-10kv.off").string()).parts.at(0).mesh;
   glm::vec3 lo(1e30f), hi(-1e30f);
@@ -300,13 +300,15 @@ TEST(ModelScenes, CompressedMeshesDecodeToTheOriginalTriangles) {
   for (size_t t = 0; t < original.indices.size(); t += 3)
     expected.insert(key(original.indices[t], original.indices[t + 1], original.indices[t + 2]));
 
-  for (const auto& [file, bits] : {std::pair{"dragon_draco.glb", 16}, std::pair{"dragon_meshopt.glb", 14}}) {
+  // bits 0: lossless, every vertex exactly an original one.
+  for (const auto& [file, bits] : {std::pair{"dragon_draco.glb", 16}, std::pair{"dragon_meshopt.glb", 14},
+                                   std::pair{"dragon_draco_lossless.glb", 0}, std::pair{"dragon_meshopt_lossless.glb", 0}}) {
     SCOPED_TRACE(file);
     const ModelFile model = load_model_file((kSource / "tests/data/gltf" / file).string());
     ASSERT_EQ(model.parts.size(), 1u);
     const Mesh& m = model.parts[0].mesh;
     ASSERT_EQ(m.indices.size(), original.indices.size());
-    const float tolerance = extent / static_cast<float>(1 << bits);
+    const float tolerance = bits ? extent / static_cast<float>(1 << bits) : 0.0f;
     std::vector<uint32_t> nearest(m.positions.size());
     size_t unmatched = 0;
     for (size_t v = 0; v < m.positions.size(); ++v) {

@@ -255,7 +255,10 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
 // primitive's "material" (for a missing one).
 Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path) {
   Material m;
-  if (index < 0) return m;  // the default material: opaque white
+  if (index < 0) {  // the specification's default material: opaque, base colour white
+    m.albedo = glm::vec3(1.0f);
+    return m;
+  }
   if (static_cast<size_t>(index) >= model.materials.size()) fail(path, 0, from + ": material " + std::to_string(index) + " does not exist");
   const auto& mat = model.materials[static_cast<size_t>(index)];
   const std::string at = "/materials/" + std::to_string(index);

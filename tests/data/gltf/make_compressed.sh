@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Regenerates the compressed glTF test assets from scenes/models/ChineseDragon-10kv.off with the
 # encoders the extensions' authors ship (Debian packages draco and gltfpack; the tests only need
-# the decoders): dragon_draco.glb (KHR_draco_mesh_compression, positions quantized to 16 bits) and
-# dragon_meshopt.glb (EXT_meshopt_compression with KHR_mesh_quantization, gltfpack -c).
-# scene_test compares what caustica decodes from them with the OFF file itself.
+# the decoders): dragon_draco.glb (KHR_draco_mesh_compression, positions quantized to 16 bits),
+# dragon_meshopt.glb (EXT_meshopt_compression with KHR_mesh_quantization, gltfpack -c), and the
+# lossless dragon_draco_lossless.glb (-qp 0) and dragon_meshopt_lossless.glb (gltfpack -c -noq).
+# scene_test compares what caustica decodes from them with the OFF file itself; cli_test renders
+# the lossless ones to the OFF file's picture.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
@@ -30,7 +32,9 @@ hi = [max(positions[c::3]) for c in range(3)]
 doc = {
     "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_compressed.sh"},
     "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-    "meshes": [{"name": "dragon", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "meshes": [{"name": "dragon", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+    # caustica's own default albedo, so that the OFF file renders the same picture
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1]}}],
     "accessors": [
         {"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3", "min": lo, "max": hi},
         {"bufferView": 1, "componentType": 5125, "count": len(indices), "type": "SCALAR"}],
@@ -48,3 +52,5 @@ with open(sys.argv[2], "wb") as f:
 EOF
 draco_transcoder -i "$work/dragon.glb" -o "$here/dragon_draco.glb" -qp 16
 gltfpack -i "$work/dragon.glb" -o "$here/dragon_meshopt.glb" -c
+draco_transcoder -i "$work/dragon.glb" -o "$here/dragon_draco_lossless.glb" -qp 0
+gltfpack -i "$work/dragon.glb" -o "$here/dragon_meshopt_lossless.glb" -c -noq
