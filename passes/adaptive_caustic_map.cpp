@@ -362,7 +362,7 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
       false,
       [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
-  decl.uses_spot_light = [](const nlohmann::json&) { return true; };
+  decl.uses_light_view = [](const nlohmann::json&) { return true; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
@@ -382,7 +382,7 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
       false,
       [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
-  decl.uses_spot_light = [](const nlohmann::json&) { return true; };
+  decl.uses_light_view = [](const nlohmann::json&) { return true; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;

@@ -93,7 +93,7 @@ graph::PassTypeDecl caustic_map_pass_type() {
       false,
       [] { return std::make_unique<CausticMapPass>(); }};
   decl.needs_scene = true;
-  decl.uses_spot_light = [](const nlohmann::json&) { return true; };
+  decl.uses_light_view = [](const nlohmann::json&) { return true; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;

@@ -43,7 +43,7 @@ class ForwardRefractionPass final : public graph::Pass {
 
     begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_LOAD}}, Attachment{ctx.view("refractor_depth")});
     const SceneView view = camera_view(ctx, extent);
-    const ForwardPush push{{view.view_proj, glm::vec4(view.eye, 1.0f)}, refraction_push(ctx, tir_counter_)};
+    const ForwardPush push{DrawPush(view), refraction_push(ctx, tir_counter_)};
     const scene::DrawRange all = ctx.scene().refractors(), thin = ctx.scene().thin_refractors();
     const scene::DrawRange parts[2] = {{all.first_index, all.index_count - thin.index_count}, thin};
     for (int part = 0; part < 2; ++part) {

@@ -35,7 +35,7 @@ graph::PortDecl RefractorSurfaces::back_depth_port(const char* extent_group) {
 void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, scene::DrawRange range, const Targets& targets,
                                bool back_only) {
   VkCommandBuffer cmd = ctx.cmd();
-  const DrawPush push{view.view_proj, glm::vec4(view.eye, 1.0f)};
+  const DrawPush push(view);
   for (int back = 0; back < 2; ++back) {
     const scene::DrawRange drawn = back || !back_only ? range : scene::DrawRange{};  // back_only: the front is only cleared
     const bool shared_depth = back && targets.back_depth == VK_NULL_HANDLE;
@@ -106,7 +106,7 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
       false,
       [] { return std::make_unique<RefractorBuffersPass>(); }};
   decl.needs_scene = true;
-  decl.uses_spot_light = [](const nlohmann::json& params) { return params.value("view", "camera") == "light"; };
+  decl.uses_light_view = [](const nlohmann::json& params) { return params.value("view", "camera") == "light"; };
   return decl;
 }
 

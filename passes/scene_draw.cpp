@@ -9,8 +9,8 @@ SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
 
 SceneView light_view(const graph::PassContext& ctx, uint32_t light) {
   const auto& lights = ctx.scene().scene().lights;
-  const auto& view = lights[std::min<size_t>(light, lights.size() - 1)].view;  // the scene always has one light
-  return {view.view_projection(1.0f), view.position};
+  const auto& l = lights[std::min<size_t>(light, lights.size() - 1)];  // the scene always has one light
+  return {l.view_projection(), l.view.position, l.axis(), l.type == scene::LightType::directional};
 }
 
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent) {

@@ -10,15 +10,22 @@
 
 namespace caustica::passes {
 
-struct DrawPush {
-  glm::mat4 view_proj;
-  glm::vec4 eye;
-};
-
-// "camera", or "light" with a light index: where a scene pass looks from.
+// "camera", or "light" with a light index: where a scene pass looks from. A directional light
+// looks along `axis` from the plane through `eye` (orthographic); the others from the point `eye`.
 struct SceneView {
   glm::mat4 view_proj;
   glm::vec3 eye;
+  glm::vec3 axis{0.0f};
+  bool orthographic = false;
+};
+
+// What scene/mesh.vert and the scene fragment shaders take (layout in scene/scene.glsl's DRAW_PUSH).
+struct DrawPush {
+  glm::mat4 view_proj;
+  glm::vec4 eye;   // xyz, w 1
+  glm::vec4 axis;  // xyz, w: 1 when orthographic (distances are then along axis from the plane through eye)
+  explicit DrawPush(const SceneView& view)
+      : view_proj(view.view_proj), eye(view.eye, 1.0f), axis(view.axis, view.orthographic ? 1.0f : 0.0f) {}
 };
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent);
 SceneView light_view(const graph::PassContext& ctx, uint32_t light);

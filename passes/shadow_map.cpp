@@ -20,7 +20,7 @@ class ShadowMapPass final : public graph::Pass {
     begin_rendering(cmd, extent, {}, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
-    const DrawPush push{view.view_proj, glm::vec4(view.eye, 1.0f)};
+    const DrawPush push(view);
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
     draw_range(cmd, ctx.scene(), ctx.scene().opaque());
     if (ctx.params()["refractors_cast_shadows"].get<bool>()) draw_range(cmd, ctx.scene(), ctx.scene().refractors());
@@ -45,7 +45,7 @@ graph::PassTypeDecl shadow_map_pass_type() {
                     false,
                     [] { return std::make_unique<ShadowMapPass>(); }};
   decl.needs_scene = true;
-  decl.uses_spot_light = [](const nlohmann::json&) { return true; };
+  decl.uses_light_view = [](const nlohmann::json&) { return true; };
   return decl;
 }
 

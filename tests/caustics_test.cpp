@@ -8,6 +8,8 @@
 #include <optional>
 
 #include "ball_lens.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
 #include "scene_engine.h"
 
@@ -430,4 +432,38 @@ TEST(Caustics, ThinWallsPassTheirShareOfTheLightUnbent) {
       EXPECT_LT(tinted_diff / shadow, 0.03);
     }
   }
+}
+
+// A directional light casts caustics through an orthographic light map (scenes/sphere_sun.json,
+// the ball lens under parallel light): the flux entering the sphere is the irradiance times its
+// cross section, every entering photon is splatted or reported dropped, the ray-query tracer's map
+// matches the photon reference's, and the floor outside the ball's shadow gets E cos / pi.
+TEST(Caustics, DirectionalLightsCastCausticsThroughAnOrthographicMap) {
+  Engine e;
+  auto scene = load("sphere_sun");
+  const double irradiance = scene->lights.front().intensity;
+  auto frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"});
+  const double in = frame.counters.at("caustic.flux_entering"), splatted = frame.counters.at("caustic.flux"),
+               dropped = frame.counters.at("caustic.flux_dropped");
+  std::printf("directional: entering %.4f (pi R^2 E = %.4f), splatted %.4f, dropped %.4f\n", in, glm::pi<double>() * irradiance, splatted,
+              dropped);
+  EXPECT_NEAR(in, glm::pi<double>() * irradiance, 0.015 * in);
+  EXPECT_NEAR(splatted + dropped, in, 1e-3 * in);
+
+  reference::PhotonOptions options;
+  options.photons = 20'000'000;
+  options.fresnel = false;
+  const auto reference = reference::trace_photon_reference(*scene, options);
+  e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"});
+  const auto exact = reference::compare_images(e.executor.read_image("caustics"), reference.caustic_map, 1.5);
+  std::printf("directional: ray-query map against the reference: energy %.4f, relative L1 %.4f\n", exact.energy_ratio, exact.relative_l1);
+  EXPECT_NEAR(exact.energy_ratio, 1.0, 0.02);
+  EXPECT_LT(exact.relative_l1, 0.1);
+
+  // Lit floor at the image's bottom centre (in front of the ball, outside its shadow): albedo 0.8
+  // times ambient sky plus E cos(0) / pi, the light straight above.
+  const io::ImageData lit = e.executor.read_image("lit");
+  const float* p = &lit.rgba[(size_t{kHeight - 4} * kWidth + kWidth / 2) * 4];
+  const double expected = 0.8 * (static_cast<double>(scene->ambient * scene->sky.g) + irradiance / glm::pi<double>());
+  EXPECT_NEAR(static_cast<double>(p[1]), expected, 0.01 * expected);
 }

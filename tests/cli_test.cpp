@@ -250,7 +250,7 @@ TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {
   fs::path dir = scratch("point_light");
   CliRun point = run("render --size 96x54 --scene " + (kSource / "tests/data/point_light.json").string() + " --out p.png", dir);
   ASSERT_EQ(point.code, 0) << point.output;
-  EXPECT_NE(point.output.find("warning: light 0 is not a spot light"), std::string::npos) << point.output;
+  EXPECT_NE(point.output.find("warning: light 0 is a point light, which has no light view"), std::string::npos) << point.output;
   for (const char* pass : {"light_refractors", "receivers", "caustics", "shadow"}) {
     EXPECT_NE(point.output.find(pass), std::string::npos) << pass << " not named in " << point.output;
   }
@@ -262,6 +262,14 @@ TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {
   CliRun spot = run("render --size 96x54 --scene " + (kSource / "scenes/sphere_plane.json").string() + " --out s.png", dir);
   ASSERT_EQ(spot.code, 0) << spot.output;
   EXPECT_EQ(spot.output.find("warning:"), std::string::npos) << spot.output;
+  // validate --scene says the same without a device; a directional light has a view.
+  const std::string graph = (kSource / "graphs/caustics_adaptive.json").string();
+  CliRun validated = run("validate " + graph + " --scene " + (kSource / "tests/data/point_light.json").string(), dir);
+  EXPECT_EQ(validated.code, 0) << validated.output;
+  EXPECT_NE(validated.output.find("caustics_adaptive.json: warning: light 0 is a point light"), std::string::npos) << validated.output;
+  CliRun directional = run("validate " + graph + " --scene " + (kSource / "scenes/sphere_sun.json").string(), dir);
+  EXPECT_EQ(directional.code, 0) << directional.output;
+  EXPECT_EQ(directional.output.find("warning:"), std::string::npos) << directional.output;
   fs::remove_all(dir);
 }
 

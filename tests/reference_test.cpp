@@ -130,6 +130,27 @@ TEST(PhotonReference, ThinWallTransmitsItsShareUnbent) {
   }
 }
 
+// A directional light sends its irradiance across its orthographic view's square: what the light
+// emits is E (2 extent)^2 exactly, and what enters the ball lens is E times the sphere's cross
+// section, pi R^2 (the tessellated sphere's a little less).
+TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
+  const scene::Scene scene = bundled("sphere_sun");
+  ASSERT_EQ(scene.lights.front().type, scene::LightType::directional);
+  reference::PhotonOptions options;
+  options.photons = 1'000'000;
+  options.fresnel = false;
+  const auto t = reference::trace_photon_reference(scene, options).totals;
+  expect_flux_accounted(t);
+  const double irradiance = scene.lights.front().intensity, extent = scene.lights.front().extent;
+  std::printf("emitted %.5f (exact %.5f), entering %.5f (pi R^2 E = %.5f), landed %.5f\n", t.emitted, irradiance * 4 * extent * extent,
+              t.entering, glm::pi<double>() * irradiance, t.landed);
+  EXPECT_NEAR(t.emitted, irradiance * 4 * extent * extent, 1e-6 * t.emitted);
+  EXPECT_NEAR(t.entering, glm::pi<double>() * irradiance, 0.015 * t.entering);
+  // No Fresnel, no absorption: entering photons leave the sphere (the steepest land beyond the map).
+  EXPECT_LT(t.trapped + t.absorbed + t.reflected, 1e-4 * t.entering);  // a grazing photon or two in the facets
+  EXPECT_GT(t.landed, 0.95 * t.entering);
+}
+
 // n = 1: the refractor bends and reflects nothing, so every entering photon lands where it would
 // have without it; the caustic map is the light's direct flux on the floor under the sphere.
 TEST(PhotonReference, IndexOneChangesNothing) {

@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "core/error.h"
+#include "io/json_document.h"
 #include "scene/bvh_order.h"
 #include "scene/scene.h"
 
@@ -334,4 +336,58 @@ TEST(ModelScenes, CompressedMeshesDecodeToTheOriginalTriangles) {
     std::set_difference(expected.begin(), expected.end(), decoded.begin(), decoded.end(), std::back_inserter(missing));
     EXPECT_EQ(missing.size(), 0u) << "original triangles not decoded, of " << expected.size();
   }
+}
+
+// A directional light without an extent gets an orthographic view fitted around every object (its
+// prism holds all their bounding-box corners) with a far plane past them; its projection maps the
+// plane through its position to depth 0, and points along the axis to the view's centre.
+TEST(SceneFiles, DirectionalLightsFitTheirViewAroundTheScene) {
+  const Scene s = load_scene(JsonDocument::parse(R"({
+    "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+    "lights": [{"type": "directional", "position": [1, 10, 0], "target": [1, 0, 0], "intensity": 3}],
+    "objects": [{"name": "floor", "primitive": {"type": "plane", "size": [6, 4]}},
+                {"name": "box", "primitive": {"type": "box", "size": [1, 1, 1]}, "transform": {"translate": [-2, 3, 1]}}]})",
+                                                 "directional.json"));
+  const Light& light = s.lights.at(0);
+  ASSERT_EQ(light.type, LightType::directional);
+  EXPECT_TRUE(light.has_view());
+  // The floor's corner (-3, 0, +-2) is the farthest from the axis x = 1, z = 0: sqrt(16 + 4).
+  EXPECT_NEAR(light.extent, 1.02f * std::sqrt(20.0f), 1e-4f);
+  EXPECT_GE(light.view.far_plane, 10.0f);
+  const glm::mat4 m = light.view_projection();
+  auto project = [&](glm::vec3 p) {
+    const glm::vec4 c = m * glm::vec4(p, 1.0f);
+    return glm::vec3(c) / c.w;
+  };
+  EXPECT_NEAR(project({1, 10 - light.view.near_plane, 0}).z, 0.0f, 1e-5f);
+  EXPECT_NEAR(project({1, 2, 0}).x, 0.0f, 1e-5f);
+  EXPECT_NEAR(project({1, 2, 0}).y, 0.0f, 1e-5f);
+  EXPECT_NEAR(std::abs(project({1 + light.extent, 5, 0}).x), 1.0f, 1e-5f);  // the view's edge, whatever the depth
+  EXPECT_NEAR(std::abs(project({1 + light.extent, 1, 0}).x), 1.0f, 1e-5f);
+  EXPECT_THROW(load_scene(JsonDocument::parse(R"({"camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+    "lights": [{"type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "extent": 2}],
+    "objects": [{"name": "floor", "primitive": {"type": "plane"}}]})",
+                                               "spot_extent.json")),
+               InputError);
+}
+
+// A glTF directional light stays directional: its direction from the node, the file's illuminance
+// as irradiance, and an orthographic view fitted to the model (not to the stage's floor).
+TEST(ModelScenes, AGltfDirectionalLightIsDirectional) {
+  std::ifstream in(kSource / "tests/data/gltf/cube_camera_spot.gltf");
+  std::ostringstream file;
+  file << in.rdbuf();
+  std::string text = file.str();
+  const std::string spot = R"("type": "spot",)";
+  ASSERT_NE(text.find(spot), std::string::npos);
+  text.replace(text.find(spot), spot.size(), R"("type": "directional",)");
+  const Scene s = load_model_scene(write_temp("caustica_directional.gltf", text).string());
+  ASSERT_EQ(s.lights.size(), 1u);
+  const Light& light = s.lights[0];
+  EXPECT_EQ(light.type, LightType::directional);
+  EXPECT_NEAR(light.axis().y, -1.0f, 1e-4f);  // the node looks straight down
+  EXPECT_FLOAT_EQ(light.intensity, 30.0f);
+  // The unit cube's corners lie within sqrt(0.5) of the vertical axis through its centre; the
+  // 8-radius floor would need far more.
+  EXPECT_NEAR(light.extent, 1.02f * std::sqrt(0.5f), 1e-3f);
 }

@@ -742,18 +742,19 @@ class Compiler {
         }
         plan_.ray_query_passes.push_back(pass.name);
       }
-      if (pass.decl->uses_spot_light && pass.decl->uses_spot_light(pass.params)) {
+      if (pass.decl->uses_light_view && pass.decl->uses_light_view(pass.params)) {
         const int light = pass.params.value("light", 0);
-        const auto spot = options_.scene_values.find("scene.light" + std::to_string(light) + ".spot");
-        if (spot != options_.scene_values.end() && spot->second == 0.0) unlit[light] += (unlit[light].empty() ? "" : ", ") + pass.name;
+        const auto view = options_.scene_values.find("scene.light" + std::to_string(light) + ".view");
+        if (view != options_.scene_values.end() && view->second == 0.0) unlit[light] += (unlit[light].empty() ? "" : ", ") + pass.name;
       }
       plan_.passes.push_back(std::move(pass));
     }
     for (const auto& [light, names] : unlit) {
       plan_.warnings.push_back("light " + std::to_string(light) +
-                               " is not a spot light, and only a spot light casts shadows and caustics (a point light's cube "
-                               "map is not implemented): the passes that draw from its view add nothing to the picture (" +
-                               names + "); give the scene a spot light, or use a graph without them");
+                               " is a point light, which has no light view: only spot and directional lights cast shadows "
+                               "and caustics (a point light's cube map is not implemented), so the passes that draw from its "
+                               "view add nothing to the picture (" +
+                               names + "); give the scene a spot or directional light, or use a graph without them");
     }
   }
 

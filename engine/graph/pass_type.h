@@ -73,9 +73,9 @@ struct PassTypeDecl {
   // only for a device that has them (CompileOptions::ray_queries). Unset: never.
   std::function<bool(const nlohmann::json& params)> uses_ray_queries;
   // Whether the pass, with these parameters, draws from its light's view (parameter "light", default
-  // 0): only a spot light has one, so with another kind of light the plan warns that the pass
+  // 0): only spot and directional lights have one, so with a point light the plan warns that the pass
   // contributes nothing (Plan::warnings). Unset: never.
-  std::function<bool(const nlohmann::json& params)> uses_spot_light;
+  std::function<bool(const nlohmann::json& params)> uses_light_view;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

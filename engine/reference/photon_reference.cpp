@@ -41,9 +41,11 @@ struct Accumulator {
 class PhotonTracer {
  public:
   PhotonTracer(const scene::Scene& scene, const PhotonOptions& options) : exact_(scene), options_(options), light_(scene.lights.front()) {
-    light_view_proj_ = light_.view.view_projection(1.0f);
+    light_view_proj_ = light_.view_projection();
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
-    half_plane_ = std::tan(glm::radians(light_.view.fov_y_degrees) * 0.5f);
+    // The image plane at distance 1 (spot), or the orthographic view's square itself (directional).
+    directional_ = light_.type == scene::LightType::directional;
+    half_plane_ = directional_ ? light_.extent : std::tan(glm::radians(light_.view.fov_y_degrees) * 0.5f);
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
@@ -66,11 +68,14 @@ class PhotonTracer {
     const glm::vec2 uv(random.uniform(), random.uniform());
     const glm::vec2 ndc = uv * 2.0f - 1.0f;
     const glm::vec4 far = inv_light_view_proj_ * glm::vec4(ndc, 0.5f, 1.0f);
-    const glm::vec3 eye = light_.view.position;
-    glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - eye);
-    // The photon stands for photon_area_ of the image plane at distance 1: solid angle area cos^3.
+    // A directional light's photon starts on the view's near plane and travels along the axis, and
+    // carries irradiance times its share of the square; a spot's stands for photon_area_ of the
+    // image plane at distance 1: solid angle area cos^3.
+    const glm::vec4 near = inv_light_view_proj_ * glm::vec4(ndc, 0.0f, 1.0f);
+    const glm::vec3 eye = directional_ ? glm::vec3(near) / near.w : light_.view.position;
+    glm::vec3 direction = directional_ ? light_.axis() : glm::normalize(glm::vec3(far) / far.w - eye);
     const glm::vec2 plane = ndc * half_plane_;
-    const double cos_axis = 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
+    const double cos_axis = directional_ ? 1.0 : 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
     double power = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
     if (power <= 0) return;
     acc.totals.emitted += power;
@@ -178,6 +183,7 @@ class PhotonTracer {
   const scene::Light& light_;
   glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
   float half_plane_ = 1.0f;
+  bool directional_ = false;
   double photon_area_ = 0, max_power_ = 0, unit_ = 1;
 };
 
@@ -206,8 +212,8 @@ io::ImageData grey_image(uint32_t width, uint32_t height) {
 }  // namespace
 
 PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options) {
-  if (scene.lights.empty() || scene.lights.front().type != scene::LightType::spot) {
-    throw InputError(scene.path + ": the photon reference traces from the first light, which must be a spot light");
+  if (scene.lights.empty() || !scene.lights.front().has_view()) {
+    throw InputError(scene.path + ": the photon reference traces from the first light, which must be a spot or directional light");
   }
   if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
   const PhotonTracer tracer(scene, options);

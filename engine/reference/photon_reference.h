@@ -49,7 +49,7 @@ struct PhotonReference {
   PhotonTotals totals;
 };
 
-// Throws InputError when the scene's first light is not a spot light.
+// Throws InputError when the scene's first light is a point light (it has no light view).
 PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options);
 
 }  // namespace caustica::reference

@@ -20,7 +20,7 @@ class Tracer {
  public:
   Tracer(const scene::Scene& scene, const io::ImageData* caustic_map)
       : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_map_(caustic_map) {
-    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().view.view_projection(1.0f);
+    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().view_projection();
   }
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
@@ -30,15 +30,16 @@ class Tracer {
     glm::vec3 irradiance(0.0f);
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const auto& light = scene_.lights[i];
-      const glm::vec3 to_light = light.view.position - p;
-      const float d2 = std::max(glm::dot(to_light, to_light), 1e-8f);
+      // A directional light comes from infinitely far along its axis, with no falloff.
+      const bool directional = light.type == scene::LightType::directional;
+      const glm::vec3 to_light = directional ? -light.axis() : light.view.position - p;
+      const float d2 = directional ? 1.0f : std::max(glm::dot(to_light, to_light), 1e-8f);
       const glm::vec3 l = to_light / std::sqrt(d2);
+      const float reach = directional ? std::numeric_limits<float>::infinity() : std::sqrt(d2) - epsilon_;
       float cone = spot_cone(light, -l);
-      // The engine shadows the first spot light only (through its shadow map); so does the reference.
-      if (light.type == scene::LightType::spot && i == 0 && cone > 0 &&
-          rays_.intersect(p + n * epsilon_, l, 0.0f, std::sqrt(d2) - epsilon_))
-        cone = 0;
-      if (light.type == scene::LightType::spot && i == 0 && caustic_map_) irradiance += caustic_irradiance(light, p, n);
+      // The engine shadows the first light with a view only (through its shadow map); so does the reference.
+      if (light.has_view() && i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
+      if (light.has_view() && i == 0 && caustic_map_) irradiance += caustic_irradiance(light, p, n);
       irradiance += light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
     return albedo * (scene_.ambient * scene_.sky + irradiance / glm::pi<float>());
@@ -52,20 +53,26 @@ class Tracer {
     if (clip.w <= 0.0f) return glm::vec3(0.0f);
     const glm::vec2 uv = glm::vec2(clip) / clip.w * 0.5f + 0.5f;
     if (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f) return glm::vec3(0.0f);
-    const glm::vec3 to_light = light.view.position - p;
-    const float r2 = std::max(glm::dot(to_light, to_light), 1e-8f), r = std::sqrt(r2);
+    const bool directional = light.type == scene::LightType::directional;
+    const glm::vec3 to_light = directional ? -light.axis() : light.view.position - p;
+    const float r2 = directional ? 1.0f : std::max(glm::dot(to_light, to_light), 1e-8f), r = std::sqrt(r2);
     for (glm::vec3 origin = p + n * epsilon_;;) {  // refractors let the map's light through; nothing else does
-      auto hit = rays_.intersect(origin, to_light / r, 0.0f, glm::distance(origin, light.view.position) - epsilon_);
+      const float reach = directional ? std::numeric_limits<float>::infinity() : glm::distance(origin, light.view.position) - epsilon_;
+      auto hit = rays_.intersect(origin, to_light / r, 0.0f, reach);
       if (!hit) break;
       if (!scene_.objects[hit->geometry].material.refractor) return glm::vec3(0.0f);
       origin += to_light / r * (hit->distance + epsilon_);
     }
+    const auto& map = *caustic_map_;
+    const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
+    if (directional) {  // the texel's flux over the area it covers across the light's direction
+      const float texel = 2.0f * light.extent / float(map.width);
+      return light.color * sample_bilinear(map, uv) * cos_theta / (texel * texel);
+    }
     const float half = std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
     const glm::vec2 plane = (uv * 2.0f - 1.0f) * half;
     const float cos_axis = 1.0f / std::sqrt(1.0f + glm::dot(plane, plane));
-    const auto& map = *caustic_map_;
     const float texel_solid_angle = 4.0f * half * half / float(map.width * map.height) * cos_axis * cos_axis * cos_axis;
-    const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
     return light.color * sample_bilinear(map, uv) * cos_theta / (texel_solid_angle * r2);
   }
 

@@ -81,14 +81,15 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   for (uint32_t i = 0; i < f.light_count; ++i) {
     const Light& light = s.lights[i];
     gpu::LightData& l = f.lights[i];
-    l.view_proj = light.view.view_projection(1.0f);
+    const bool directional = light.type == LightType::directional;
+    l.view_proj = light.view_projection();
     l.inv_view_proj = glm::inverse(l.view_proj);
-    l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : 1.0f);
+    l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : directional ? 2.0f : 1.0f);
     // A square frustum's inscribed cone: the half angle is half the field of view.
-    l.direction_cos =
-        glm::vec4(glm::normalize(light.view.target - light.view.position), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
+    l.direction_cos = glm::vec4(light.axis(), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
     l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
-    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
+    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane,
+                       directional ? light.extent : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
 }

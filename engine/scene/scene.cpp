@@ -17,6 +17,45 @@ glm::mat4 View::view_matrix() const {
   return glm::lookAt(position, target, up);
 }
 
+glm::mat4 Light::view_projection() const {
+  if (type != LightType::directional) return view.view_projection(1.0f);
+  // Orthographic, Vulkan conventions as View::projection: depth 0..1 from near to far, y down.
+  glm::mat4 p(1.0f);
+  p[0][0] = 1.0f / extent;
+  p[1][1] = -1.0f / extent;
+  p[2][2] = 1.0f / (view.near_plane - view.far_plane);
+  p[3][2] = view.near_plane / (view.near_plane - view.far_plane);
+  return p * view.view_matrix();
+}
+
+namespace {
+
+// A directional light's orthographic view is a prism along its direction: one that holds the first
+// `fitted` objects (every bounding-box corner) shadows and throws caustics for all of them. Only
+// lights whose extent the scene did not give are fitted; the far plane reaches past every object.
+void fit_directional_lights(Scene& scene, size_t fitted) {
+  for (Light& light : scene.lights) {
+    if (light.type != LightType::directional) continue;
+    const glm::vec3 axis = light.axis();
+    float radial = 0.0f, depth = 0.0f;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+      const Object& o = scene.objects[i];
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 c((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
+                          (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
+        const glm::vec3 d = c - light.view.position;
+        const float along = glm::dot(d, axis);
+        depth = std::max(depth, along);
+        if (i < fitted) radial = std::max(radial, glm::length(d - along * axis));
+      }
+    }
+    if (light.extent <= 0.0f) light.extent = std::max(1.02f * radial, 1e-3f);
+    light.view.far_plane = std::max(light.view.far_plane, 1.05f * depth + light.view.near_plane);
+  }
+}
+
+}  // namespace
+
 glm::mat4 View::projection(float aspect) const {
   // Vulkan: depth 0..1 and framebuffer y pointing down.
   const float f = 1.0f / std::tan(glm::radians(fov_y_degrees) * 0.5f);
@@ -38,7 +77,7 @@ std::map<std::string, double> Scene::expression_values() const {
                                        {"scene.lights", static_cast<double>(lights.size())},
                                        {"scene.objects", static_cast<double>(objects.size())}};
   for (size_t i = 0; i < lights.size(); ++i)
-    values["scene.light" + std::to_string(i) + ".spot"] = lights[i].type == LightType::spot ? 1 : 0;
+    values["scene.light" + std::to_string(i) + ".view"] = lights[i].has_view() ? 1 : 0;
   return values;
 }
 
@@ -198,15 +237,21 @@ Scene load_scene(const JsonDocument& doc) {
     const std::string pointer = "/lights/" + std::to_string(i);
     const auto& value = lights[i];
     Light light;
-    light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color"});
-    static const std::vector<std::string> types{"spot", "point"};
+    light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color", "extent"});
+    static const std::vector<std::string> types{"spot", "point", "directional"};
     const std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "a light type") : "spot";
     if (type == "spot")
       light.type = LightType::spot;
     else if (type == "point")
       light.type = LightType::point;
+    else if (type == "directional")
+      light.type = LightType::directional;
     else
-      throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point)" + did_you_mean(type, types));
+      throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point, directional)" + did_you_mean(type, types));
+    if (value.contains("extent")) {
+      if (light.type != LightType::directional) throw doc.error(pointer + "/extent", "\"extent\" is for directional lights only");
+      light.extent = static_cast<float>(read.number(value["extent"], pointer + "/extent", "\"extent\" (half the light view's side)", 1e-3, 1e5));
+    }
     if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
     if (value.contains("intensity"))
       light.intensity = static_cast<float>(read.number(value["intensity"], pointer + "/intensity", "\"intensity\"", 0.0, 1e9));
@@ -261,6 +306,7 @@ Scene load_scene(const JsonDocument& doc) {
     }
   }
   if (scene.objects.empty()) throw doc.error("/objects", "a scene needs at least one object");
+  fit_directional_lights(scene, scene.objects.size());
   return scene;
 }
 
@@ -272,6 +318,7 @@ bool is_model_file(const std::string& path) {
 
 Scene load_model_scene(const std::string& path, bool stage) {
   ModelFile model = load_model_file(path);
+  const size_t model_objects = model.parts.size();
   Scene scene;
   scene.path = path;
   scene.name = std::filesystem::path(path).stem().string();
@@ -321,14 +368,12 @@ Scene load_model_scene(const std::string& path, bool stage) {
     light.view.near_plane = 0.01f * radius;
     light.view.far_plane = 50.0f * radius;
     if (l.type == "directional") {
-      // No orthographic light map yet: a distant spot light along the direction, its intensity
-      // chosen so that it gives the model the file's illuminance (docs/scenes.md).
-      const float distance = 20.0f * radius;
-      light.type = LightType::spot;
-      light.view.position = center - distance * l.direction;
+      // Its orthographic view starts two model radii before the model and is fitted to the model
+      // (not the stage floor: the model's shadow and caustic on it lie inside the prism anyway).
+      light.type = LightType::directional;
+      light.view.position = center - 2.0f * radius * l.direction;
       light.view.target = center;
-      light.view.fov_y_degrees = glm::degrees(2.0f * std::atan(1.2f * radius / distance));
-      light.intensity = l.intensity * distance * distance;
+      light.intensity = l.intensity;  // lux as W/m^2, as candela as W/sr for the others
     } else {
       light.type = l.type == "point" ? LightType::point : LightType::spot;
       light.view.position = l.position;
@@ -351,6 +396,7 @@ Scene load_model_scene(const std::string& path, bool stage) {
     light.intensity = 1.8f * distance * distance;
     scene.lights.push_back(light);
   }
+  fit_directional_lights(scene, model_objects);
   return scene;
 }
 

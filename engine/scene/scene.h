@@ -58,13 +58,21 @@ struct View {
   glm::mat4 view_projection(float aspect) const { return projection(aspect) * view_matrix(); }
 };
 
-enum class LightType { spot, point };
+enum class LightType { spot, point, directional };
 
 struct Light {
   LightType type = LightType::spot;
-  View view;                // spot: position, target and the cone as a square frustum
-  float intensity = 10.0f;  // radiant intensity (W/sr) along the axis
+  // spot: position, target and the cone as a square frustum; directional: the direction from
+  // position to target, and an orthographic view from the plane through position across it.
+  View view;
+  float intensity = 10.0f;  // radiant intensity (W/sr) along the axis; directional: irradiance (W/m^2)
   glm::vec3 color{1.0f};
+  float extent = 0.0f;  // directional: half the side of the orthographic view's square (world units)
+
+  // Spot and directional lights have a view (shadow map, light-space refractor buffers, caustics).
+  bool has_view() const { return type != LightType::point; }
+  glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
+  glm::mat4 view_projection() const;
 };
 
 struct Scene {

@@ -143,10 +143,17 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.texel = ivec2(0);
   ph.landing = vec2(0.0);
   ph.exact = false;
+  // A directional light's photon starts on the plane through its position and travels along the
+  // axis, carrying irradiance times its square (`texel` is then in world units); a spot's leaves
+  // the light through the image plane at distance 1.
+  bool directional = light_is_directional(light);
   vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
-  float cos_axis = inversesqrt(1.0 + dot(plane, plane));
-  vec3 eye = light.position_type.xyz;
-  vec3 direction = normalize(world_from_depth(light.inv_view_proj, uv, 0.5) - eye);
+  float cos_axis = directional ? 1.0 : inversesqrt(1.0 + dot(plane, plane));
+  vec3 axis = light.direction_cos.xyz;
+  vec3 eye = directional ? world_from_depth(light.inv_view_proj, uv, 0.0) - axis * light.clip.x : light.position_type.xyz;
+  vec3 direction = directional ? axis : normalize(world_from_depth(light.inv_view_proj, uv, 0.5) - eye);
+  ViewOrigin origin = ViewOrigin(light.position_type.xyz, axis, directional);
+  if (!directional) origin = perspective_origin(eye);
   float cone = spot_cone(light, direction);
   ph.power = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
   if (ph.power <= 0.0) return ph;
@@ -174,7 +181,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
     ph.landed = true;
     return ph;
   }
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, eye, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
   uint reason = EXIT_TRUSTED;

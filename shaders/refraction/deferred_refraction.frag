@@ -44,7 +44,7 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
     radiance = through_thin_wall(object, p1, n1, uv);
     return EXIT_TRUSTED;
   }
-  TwoInterfaces path = refract_two_interfaces(frame.view_proj, eye, p1, n1, front.y, front.z, object.absorption_ior.a, uv);
+  TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, object.absorption_ior.a, uv);
   uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
   if (reason != EXIT_TRUSTED) return reason;
   vec2 behind_uv;

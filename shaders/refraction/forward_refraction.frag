@@ -13,6 +13,7 @@ layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 layout(push_constant) uniform Params {
   mat4 view_proj;
   vec4 eye;
+  vec4 axis;  // passes/scene_draw.h's DrawPush; unused here
   uint distance_mode;
   uint search_steps;
   float search_distance;

@@ -77,14 +77,25 @@ const int EXIT_REFINEMENTS = 4;
 const uint GAP_BEHIND_BACK = 0u;      // behind the refractor's back surface (distance beyond it)
 const uint GAP_OUTSIDE_REFRACTOR = 1u;  // outside the refractor (REFRACTION_FRONT_TEX only)
 
-float exit_gap(uint kind, mat4 view_proj, vec3 eye, vec3 q, out bool valid) {
+// Where a refractor buffer's distances are measured from: the eye (a perspective view), or the plane
+// through `eye` across `axis` (an orthographic one: a directional light's view).
+struct ViewOrigin {
+  vec3 eye;
+  vec3 axis;
+  bool orthographic;
+};
+ViewOrigin perspective_origin(vec3 eye) { return ViewOrigin(eye, vec3(0.0), false); }
+float view_distance(ViewOrigin o, vec3 q) { return o.orthographic ? dot(q - o.eye, o.axis) : distance(q, o.eye); }
+vec3 view_direction(ViewOrigin o, vec3 q) { return o.orthographic ? o.axis : normalize(q - o.eye); }
+
+float exit_gap(uint kind, mat4 view_proj, ViewOrigin eye, vec3 q, out bool valid) {
   vec2 uv;
   float depth;
   valid = false;
   if (!project_with(view_proj, q, uv, depth)) return 1.0;
   vec4 back = texture(back_tex, uv);
   if (back.y <= 0.0) return 1.0;
-  float d = distance(q, eye);
+  float d = view_distance(eye, q);
 #ifdef REFRACTION_FRONT_TEX
   if (kind == GAP_OUTSIDE_REFRACTOR) {
     vec4 front = texture(front_tex, uv);
@@ -105,7 +116,7 @@ float crossing_estimate(float lo, float gap_lo, bool lo_valid, float hi, float g
 
 // The crossing's distance along `direction` from `origin` within d_max (false when there is none):
 // linear steps, then refinement.
-bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direction, float d_max, out float t_cross) {
+bool find_crossing(uint kind, mat4 view_proj, ViewOrigin eye, vec3 origin, vec3 direction, float d_max, out float t_cross) {
   float lo = 0.0, gap_lo = 0.0;
   bool lo_valid = false;
   for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
@@ -145,7 +156,7 @@ bool find_crossing(uint kind, mat4 view_proj, vec3 eye, vec3 origin, vec3 direct
 
 // The distance along t1 from p1 to where the ray crosses the back surface, within d_max; the
 // estimate `d` when no crossing is found.
-float search_exit(mat4 view_proj, vec3 eye, vec3 p1, vec3 t1, float d, float d_max) {
+float search_exit(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 t1, float d, float d_max) {
   float t;
   return find_crossing(GAP_BEHIND_BACK, view_proj, eye, p1, t1, d_max, t) ? t : d;
 }
@@ -158,7 +169,7 @@ const int SEARCH_TIR_BOUNCES = 3;
 // From p inside the refractor along `direction`: the distance to where the ray leaves it and the
 // outward normal of the surface it leaves through, the front or the back one; false when it does
 // not leave within d_max.
-bool leave_refractor(mat4 view_proj, vec3 eye, vec3 p, vec3 direction, float d_max, out float t_exit, out vec3 normal) {
+bool leave_refractor(mat4 view_proj, ViewOrigin eye, vec3 p, vec3 direction, float d_max, out float t_exit, out vec3 normal) {
   if (!find_crossing(GAP_OUTSIDE_REFRACTOR, view_proj, eye, p, direction, d_max, t_exit)) return false;
   vec2 uv;
   float depth;
@@ -166,7 +177,7 @@ bool leave_refractor(mat4 view_proj, vec3 eye, vec3 p, vec3 direction, float d_m
   if (!project_with(view_proj, q, uv, depth)) return false;
   vec4 front = texture(front_tex, uv), back = texture(back_tex, uv);
   if (front.y <= 0.0 || back.y <= 0.0) return false;
-  float d = distance(q, eye);
+  float d = view_distance(eye, q);
   normal = unpack_normal(abs(d - front.y) < abs(d - back.y) ? front.x : back.x);
   return true;
 }
@@ -188,9 +199,10 @@ struct TwoInterfaces {
   float back_object;
 };
 
-TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior, vec2 pixel_uv) {
+TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior,
+                                     vec2 pixel_uv) {
   TwoInterfaces r;
-  vec3 v = normalize(p1 - eye);
+  vec3 v = view_direction(eye, p1);
   if (dot(v, n1) > 0.0) n1 = -n1;  // interpolated normals can face away at silhouettes
   float cos_i = -dot(v, n1);
   r.reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
@@ -223,7 +235,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, vec3 eye, vec3 p1, vec3 n1,
     vec4 back = texture(back_tex, uv2);
     if (back.y > 0.0) {
       r.back_found = true;
-      r.back_offset = abs(distance(r.exit_point, eye) - back.y);
+      r.back_offset = abs(view_distance(eye, r.exit_point) - back.y);
       r.back_object = back.w;
       vec3 n2 = unpack_normal(back.x);  // outward
       vec3 inward = dot(t1, n2) > 0.0 ? -n2 : n2;
@@ -309,12 +321,12 @@ vec3 lambert(vec3 p, vec3 n, vec3 albedo, bool shadowed) {
   vec3 irradiance = vec3(0.0);
   for (uint i = 0u; i < frame.light_count; ++i) {
     LightData light = frame.lights[i];
-    vec3 to_light = light.position_type.xyz - p;
-    float d2 = max(dot(to_light, to_light), 1e-8);
-    vec3 l = to_light * inversesqrt(d2);
+    float d2;
+    vec3 l = toward_light(light, p, d2);
     float cone = spot_cone(light, -l);
 #ifdef CAUSTICA_RAY_QUERY
-    if (shadowed && i == 0u && light.position_type.w == 0.0 && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, sqrt(d2) - params.exact_epsilon)) cone = 0.0;
+    float reach = light_is_directional(light) ? 1e30 : sqrt(d2) - params.exact_epsilon;
+    if (shadowed && i == 0u && light_has_view(light) && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, reach)) cone = 0.0;
 #endif
     irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }
@@ -359,7 +371,7 @@ vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec2 pixel_uv) {
 vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
   ObjectData object = objects[object_index];
   if (thin_walled(object)) return through_thin_wall(object, p1, n1, pixel_uv);
-  TwoInterfaces path = refract_two_interfaces(frame.view_proj, frame.camera_position.xyz, p1, n1, front_distance, dn,
+  TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
                                               object.absorption_ior.a, pixel_uv);
   // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
   // reflected direction with all its energy (no black pixels, no NaN).

@@ -25,6 +25,7 @@ const float PI = 3.14159265358979;
 // Distance along the light's axis for a depth-buffer value of its projection.
 float linear_depth(LightData light, float depth) {
   float n = light.clip.x, f = light.clip.y;
+  if (light_is_directional(light)) return n + depth * (f - n);  // orthographic: depth is linear
   return n * f / (f - depth * (f - n));
 }
 
@@ -35,10 +36,10 @@ float linear_depth(LightData light, float depth) {
 // shadows itself in stripes (shadow acne); a constant bias alone would have to grow large enough
 // to detach every shadow from its caster.
 vec3 normal_offset(LightData light, vec3 p, vec3 n, float size) {
-  vec3 to_light = light.position_type.xyz - p;
-  float d = max(length(to_light), 1e-6);
-  float cos_theta = clamp(dot(n, to_light / d), 0.0, 1.0);
-  float texel = 2.0 * light.clip.z * d / size;
+  float d2;
+  float cos_theta = clamp(dot(n, toward_light(light, p, d2)), 0.0, 1.0);
+  // A texel's side at p: the view's side over its texels, times the distance for a perspective one.
+  float texel = 2.0 * light.clip.z * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
   return p + n * (2.0 * texel * sqrt(1.0 - cos_theta * cos_theta));
 }
 
@@ -48,7 +49,9 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
   if (clip.w <= 0.0) return 0.0;
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
-  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 0.0;
+  // Outside a spot's frustum is outside its cone; outside a directional light's prism nothing that
+  // casts a shadow lies (it is fitted around the scene).
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return light_is_directional(light) ? 1.0 : 0.0;
   vec2 texel = 1.0 / vec2(textureSize(shadow_tex, 0));
   // The bias is a distance: a fixed bias in depth-buffer units would grow with the square of the
   // distance from the light.
@@ -70,14 +73,18 @@ vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   if (linear_depth(light, ndc.z) - params.shadow_bias > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
   vec2 size = vec2(textureSize(caustics_tex, 0));
-  vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
-  float cos_axis = inversesqrt(1.0 + dot(plane, plane));
-  float texel_solid_angle = 4.0 * light.clip.z * light.clip.z / (size.x * size.y) * cos_axis * cos_axis * cos_axis;
-  vec3 to_light = light.position_type.xyz - p;
-  float r2 = max(dot(to_light, to_light), 1e-8);
-  float cos_theta = max(dot(n, to_light * inversesqrt(r2)), 0.0);
+  float r2;
+  float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
   float flux = texture(caustics_tex, uv).r;
-  return light.radiant.rgb / max(light.radiant.a, 1e-20) * flux * cos_theta / (texel_solid_angle * r2);
+  // The area a texel covers across the light's direction: its share of a directional light's square,
+  // or its solid angle times r^2.
+  float texel_area = 4.0 * light.clip.z * light.clip.z / (size.x * size.y);
+  if (!light_is_directional(light)) {
+    vec2 plane = (uv * 2.0 - 1.0) * light.clip.z;
+    float cos_axis = inversesqrt(1.0 + dot(plane, plane));
+    texel_area *= cos_axis * cos_axis * cos_axis * r2;
+  }
+  return light.radiant.rgb / max(light.radiant.a, 1e-20) * flux * cos_theta / texel_area;
 }
 
 void main() {
@@ -93,11 +100,10 @@ void main() {
   vec3 irradiance = vec3(0.0);
   for (uint i = 0; i < frame.light_count; ++i) {
     LightData light = frame.lights[i];
-    vec3 to_light = light.position_type.xyz - p;
-    float d2 = max(dot(to_light, to_light), 1e-8);
-    vec3 l = to_light * inversesqrt(d2);
+    float d2;
+    vec3 l = toward_light(light, p, d2);
     float cone = spot_cone(light, -l);
-    if (light.position_type.w == 0.0) {
+    if (light_has_view(light)) {
       if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p, n);
       if (i == 0 && params.has_caustics != 0) irradiance += caustic_irradiance(light, p, n);
     }

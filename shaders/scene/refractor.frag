@@ -1,12 +1,14 @@
 #version 460
 // Refractor surfaces, front or back faces depending on the pipeline's culling: the outward normal,
-// the distance from the eye, d_N, and the object, in one rgba32f texel.
+// the distance from the eye (along the axis for an orthographic view), d_N, and the object, in one
+// rgba32f texel.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 
 layout(push_constant) uniform Draw {
   mat4 view_proj;
   vec4 eye;
+  vec4 axis;  // w 1: orthographic (a directional light), distances along axis from the plane through eye
 } draw;
 
 layout(location = 0) in vec3 world_position;
@@ -16,5 +18,6 @@ layout(location = 3) flat in uint object_index;
 layout(location = 0) out vec4 out_surface;
 
 void main() {
-  out_surface = vec4(pack_normal(normalize(world_normal)), distance(world_position, draw.eye.xyz), normal_distance, float(object_index));
+  float from_eye = draw.axis.w > 0.5 ? dot(world_position - draw.eye.xyz, draw.axis.xyz) : distance(world_position, draw.eye.xyz);
+  out_surface = vec4(pack_normal(normalize(world_normal)), from_eye, normal_distance, float(object_index));
 }

@@ -28,8 +28,23 @@ vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
   return p.xyz / p.w;
 }
 
+// Lights: position_type.w 0 spot, 1 point, 2 directional (common/scene_types.h).
+bool light_is_directional(LightData light) { return light.position_type.w == 2.0; }
+bool light_has_view(LightData light) { return light.position_type.w != 1.0; }  // spot or directional
+// The unit direction from p towards the light, and the squared distance its light falls off with
+// (1 for a directional light, which is infinitely far along -axis).
+vec3 toward_light(LightData light, vec3 p, out float d2) {
+  if (light_is_directional(light)) {
+    d2 = 1.0;
+    return -light.direction_cos.xyz;
+  }
+  vec3 to_light = light.position_type.xyz - p;
+  d2 = max(dot(to_light, to_light), 1e-8);
+  return to_light * inversesqrt(d2);
+}
+
 // A spot light's cone seen along `direction` (unit, from the light), its edge softened over a small
-// band so that it does not alias; 1 for a point light.
+// band so that it does not alias; 1 for a point or directional light.
 float spot_cone(LightData light, vec3 direction) {
   if (light.position_type.w != 0.0) return 1.0;
   return smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));

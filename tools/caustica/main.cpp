@@ -223,9 +223,10 @@ int cmd_trace(Args& args) {
 
 int cmd_validate(Args& args) {
   if (args.wants_help() || args.done()) {
-    std::cout << "usage: caustica validate FILE...\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
+    std::cout << "usage: caustica validate FILE... [--scene S [--no-stage]]\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
                  "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
-                 "objects); a scene (a file with \"camera\" or \"objects\") is loaded\n"
+                 "objects; with --scene S, as for that scene, which is checked too, and the plan's warnings are\n"
+                 "printed, e.g. passes that draw from a point light's view); a scene (a file with \"camera\" or \"objects\") is loaded\n"
                  "with its meshes; a model file (.gltf, .glb, .obj, .off) is loaded as --scene opens it; a JSON Schema "
                  "(graphs/schema.json) is skipped. Prints 'FILE: ok' or the problems\n"
                  "with file, line and JSON pointer.\n"
@@ -234,9 +235,32 @@ int cmd_validate(Args& args) {
                  "Exit 0 when every file is valid, 1 otherwise.\n";
     return args.wants_help() ? 0 : 2;
   }
-  int status = 0;
+  std::vector<std::string> files;
+  std::string scene_file;
+  bool stage = true;
   while (!args.done()) {
-    std::string file = args.take();
+    const std::string a = args.take();
+    if (a == "--scene")
+      scene_file = args.value(a);
+    else if (a == "--no-stage")
+      stage = false;
+    else if (a.rfind("--", 0) == 0)
+      unknown_option(a, {"--scene", "--no-stage"});
+    else
+      files.push_back(a);
+  }
+  int status = 0;
+  std::map<std::string, double> scene_values = graph::typical_scene_values();
+  if (!scene_file.empty()) {
+    try {
+      scene_values = scene::load_scene_file(scene_file, stage).expression_values();
+      std::cout << scene_file << ": ok\n";
+    } catch (const InputError& e) {
+      std::cerr << e.what() << "\n";
+      return 1;
+    }
+  }
+  for (const std::string& file : files) {
     try {
       if (scene::is_model_file(file)) {  // a model opened as a scene, as --scene takes it
         scene::load_model_scene(file);
@@ -255,9 +279,10 @@ int cmd_validate(Args& args) {
         scene::load_scene(doc);
       } else {
         graph::CompileOptions options;
-        options.scene_values = graph::typical_scene_values();
+        options.scene_values = scene_values;
         const graph::GraphDesc graph = graph::load_graph(std::move(doc));
         const graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
+        for (const auto& warning : plan.warnings) std::cout << file << ": warning: " << warning << "\n";
         // A graph that traces with ray queries is valid only where the device it would run on has them.
         if (!plan.ray_query_passes.empty()) {
           vk::RayQuerySupport support;
@@ -382,7 +407,7 @@ int cmd_reference(Args& args) {
                  "MAP.exr (a map from --photons), surfaces the first light sees past the refractors also receive that\n"
                  "map's caustic, projected as the engine's lighting pass projects its own: the scene's reference picture\n"
                  "with caustics, seen directly and through the glass.\n\n"
-                 "With --photons: traces N photons from the first (spot) light through every interface, Fresnel and\n"
+                 "With --photons: traces N photons from the first (spot or directional) light through every interface, Fresnel and\n"
                  "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
                  "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
