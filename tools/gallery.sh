@@ -4,8 +4,8 @@
 # map, and each graph's caustic map against that map (energy ratio, relative L1).
 #   tools/gallery.sh [CAUSTICA] [SAMPLES_DIR] [PHOTONS]
 # CAUSTICA defaults to build/release/caustica, SAMPLES_DIR to ../shared/gltf-samples (the Khronos
-# transmission samples; skipped when absent), PHOTONS to 2e7. Writes docs/gallery/*.png and
-# docs/gallery/table.md.
+# transmission samples; skipped when absent), PHOTONS to 2e7. Writes docs/gallery/*.png and prints
+# the table that docs/gallery.md quotes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${1:-build/release/caustica}")
@@ -21,7 +21,7 @@ for sample in TransmissionTest AttenuationTest TransmissionRoughnessTest; do
   [ -f "$samples/$sample.glb" ] && assets+=("$sample|$samples/$sample.glb")
 done
 assets+=("thin_panes|scenes/thin_panes.json" "sphere_sun|scenes/sphere_sun.json" "glass_cube|tests/data/gltf/cube_camera_spot.gltf"
-  "dragon_draco|tests/data/gltf/dragon_draco.glb")
+  "dragon|scenes/dragon.json")
 
 energy() {  # A B -> "energy_ratio relative_l1"
   "$bin" compare "$1" "$2" --json | python3 -c 'import json, sys; d = json.load(sys.stdin); print("%.3f %.3f" % (d["energy_ratio"], d["relative_l1"]))'
@@ -30,7 +30,7 @@ energy() {  # A B -> "energy_ratio relative_l1"
 {
   echo "| asset | default graph: energy, relative L1 | caustics_raytraced: energy, relative L1 | reference: entering flux that lands |"
   echo "|---|---|---|---|"
-} > "$out/table.md"
+} > "$work/table.md"
 for entry in "${assets[@]}"; do
   name=${entry%%|*}
   scene=${entry#*|}
@@ -43,6 +43,6 @@ for entry in "${assets[@]}"; do
   landed=$(grep -o 'landed in the map [^)]*)' "$work/$name.photons.txt" | sed 's/.*(//; s/)//' || true)
   read -r de dl <<< "$(energy "$work/$name.default.exr" "$work/$name.map.exr")"
   read -r re rl <<< "$(energy "$work/$name.raytraced.exr" "$work/$name.map.exr")"
-  echo "| $name | $de, $dl | $re, $rl | ${landed:-?} |" >> "$out/table.md"
+  echo "| $name | $de, $dl | $re, $rl | ${landed:-?} |" >> "$work/table.md"
 done
-cat "$out/table.md"
+cat "$work/table.md"

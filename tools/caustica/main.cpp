@@ -151,7 +151,12 @@ int run_render(const RenderOptions& o, bool trace) {
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& warning : executor.plan().warnings) std::cerr << "caustica: warning: " << warning << "\n";
   for (const auto& [resource, file] : o.dumps) {
-    const auto& r = executor.plan().resources[static_cast<size_t>(executor.plan().find_resource(executor.plan().resolve(resource)))];
+    const int index = executor.plan().find_resource(executor.plan().resolve(resource));
+    if (index < 0) {
+      throw InputError("--dump " + resource + ": no pass that runs on this scene writes '" + resource +
+                       "' (its fallback is null; e.g. a caustic map without a refractor)");
+    }
+    const auto& r = executor.plan().resources[static_cast<size_t>(index)];
     if (r.kind != graph::ResourceKind::image)
       throw InputError("--dump " + resource + ": '" + resource + "' is a buffer; --dump takes images");
     if (!r.used()) throw InputError("--dump " + resource + ": '" + resource + "' is not used by any pass that runs");
