@@ -467,3 +467,29 @@ TEST(Caustics, DirectionalLightsCastCausticsThroughAnOrthographicMap) {
   const double expected = 0.8 * (static_cast<double>(scene->ambient * scene->sky.g) + irradiance / glm::pi<double>());
   EXPECT_NEAR(static_cast<double>(p[1]), expected, 0.01 * expected);
 }
+
+// An opaque plate between the light and half of the ball lens takes those photons first (direct
+// light on the plate, not a caustic), although the light-view refractor buffers are drawn without
+// it: the flux the engine counts as entering the sphere is the photon reference's, and about half
+// of the unobstructed sphere's.
+TEST(Caustics, OpaqueOccludersInTheLightsViewTakeTheirPhotons) {
+  Engine e;
+  auto scene = load("sphere_plane");
+  scene::Object plate;
+  plate.name = "plate";
+  plate.mesh = scene::make_box(glm::vec3(2.0f, 0.05f, 2.0f));
+  for (auto& p : plate.mesh.positions) p += glm::vec3(1.0f, 3.5f, 0.0f);  // over the sphere's +x half
+  plate.bounds_min = glm::vec3(0.0f, 3.475f, -1.0f);
+  plate.bounds_max = glm::vec3(2.0f, 3.525f, 1.0f);
+  scene->objects.insert(scene->objects.begin(), plate);
+  auto frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"});
+  reference::PhotonOptions options;
+  options.photons = 4'000'000;
+  options.fresnel = false;
+  const double reference_entering = reference::trace_photon_reference(*scene, options).totals.entering;
+  const double entering = frame.counters.at("caustic.flux_entering");
+  std::printf("half-occluded ball lens: entering %.4f, reference %.4f, unobstructed %.4f\n", entering, reference_entering,
+              flux_into_ball(*load("sphere_plane")));
+  EXPECT_NEAR(entering, reference_entering, 0.01 * reference_entering);
+  EXPECT_NEAR(entering, 0.5 * flux_into_ball(*load("sphere_plane")), 0.05 * entering);
+}

@@ -165,6 +165,10 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
 #endif
   vec4 front = texture(front_tex, uv);
   if (front.y <= 0.0) return ph;
+  // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
+  // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
+  float receiver = texture(receiver_depth, uv).r;
+  if (receiver < 1.0 && view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) < front.y * (1.0 - 1e-4)) return ph;
   ph.hit = true;
   ph.entering = ph.power;
   ObjectData object = objects[uint(front.w)];
