@@ -42,14 +42,16 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
     if (shared_depth) wait_for_depth_writes(cmd, targets.front_depth_image);
     begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}},
                     Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
-    // A thin wall is one surface, seen from either side: both draws take its nearest face.
+    // A thin wall is one surface, seen from either side: the front draw takes its nearest face
+    // whichever way it faces; the back draw, as for solids, the nearest back face (a closed thin
+    // object's far wall, or a one-sided pane seen from behind, again).
     const scene::DrawRange thin = ctx.scene().thin_refractors();
     const uint32_t end = drawn.first_index + drawn.index_count, thin_first = std::max(drawn.first_index, thin.first_index);
     const scene::DrawRange parts[2] = {{drawn.first_index, std::min(end, thin.first_index) - std::min(drawn.first_index, thin.first_index)},
                                        {thin_first, end > thin_first ? end - thin_first : 0}};
     for (int part = 0; part < 2; ++part) {
       if (parts[part].index_count == 0) continue;
-      const vk::Pipeline& pipeline = pipelines_[part ? 2 : back];
+      const vk::Pipeline& pipeline = pipelines_[part && !back ? 2 : back];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline.get());
       scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline);
       vkCmdPushConstants(cmd, pipeline.layout.get(), pipeline.stages, 0, sizeof(push), &push);

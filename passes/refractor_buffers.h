@@ -23,7 +23,7 @@ class RefractorSurfaces {
   void record(graph::PassContext& ctx, const SceneView& view, scene::DrawRange range, const Targets& targets, bool back_only = false);
 
  private:
-  vk::Pipeline pipelines_[3];  // front faces, back faces, thin-walled refractors (no culling)
+  vk::Pipeline pipelines_[3];  // front faces, back faces, thin-walled refractors' front (no culling)
 };
 
 }  // namespace caustica::passes

@@ -472,6 +472,27 @@ TEST(Caustics, DirectionalLightsCastCausticsThroughAnOrthographicMap) {
 // light on the plate, not a caustic), although the light-view refractor buffers are drawn without
 // it: the flux the engine counts as entering the sphere is the photon reference's, and about half
 // of the unobstructed sphere's.
+// A closed thin object (the ball lens as a thin-walled tinted bubble) passes photons through both
+// its walls: its caustic map has the photon reference's energy, the tint applied twice (Fresnel
+// off: the reference also follows what the walls reflect, which image space does not).
+TEST(Caustics, AThinBubbleTransmitsThroughBothWalls) {
+  Engine e;
+  auto bubble = load("sphere_plane");
+  bubble->objects.back().material.thin = true;
+  bubble->objects.back().material.tint = glm::vec3(0.5f, 0.8f, 1.0f);
+  reference::PhotonOptions options;
+  options.photons = 10'000'000;
+  options.fresnel = false;
+  const auto reference = reference::trace_photon_reference(*bubble, options);
+  for (const char* graph : {"caustics_regular", "caustics_adaptive"}) {
+    e.render(graph, bubble, {"grid=2048", "fresnel=false"});
+    const auto c = reference::compare_images(e.executor.read_image("caustics"), reference.caustic_map, 1.5);
+    std::printf("thin bubble %-18s energy %.4f, relative L1 %.4f\n", graph, c.energy_ratio, c.relative_l1);
+    EXPECT_NEAR(c.energy_ratio, 1.0, 0.02) << graph;
+    EXPECT_LT(c.relative_l1, 0.1) << graph;
+  }
+}
+
 TEST(Caustics, OpaqueOccludersInTheLightsViewTakeTheirPhotons) {
   Engine e;
   auto scene = load("sphere_plane");

@@ -135,6 +135,16 @@ TEST(Refraction, ThinWallsMatchTheRayTracedReference) {
     std::printf("thin_panes %-22s relative L1 against the reference: %.4f\n", graph, error);
     EXPECT_LT(error, 0.02) << graph;
   }
+  // A closed thin object has two walls along each ray: the ball lens as a thin-walled tinted bubble.
+  auto bubble = test::load_bundled_scene("sphere_plane");
+  bubble->objects.back().material.thin = true;
+  bubble->objects.back().material.tint = glm::vec3(0.5f, 0.8f, 1.0f);
+  const auto bubble_reference = reference::render_refraction_reference(*bubble, kWidth, kHeight);
+  for (const char* graph : {"refraction_deferred", "refraction_forward", "refraction_multilayer"}) {
+    const double error = reference::refraction_relative_l1(e.render(graph, bubble).refracted, bubble_reference);
+    std::printf("thin bubble %-22s relative L1 against the reference: %.4f\n", graph, error);
+    EXPECT_LT(error, 0.02) << graph;
+  }
   auto solid = test::load_bundled_scene("thin_panes");
   for (auto& object : solid->objects) object.material.thin = false;
   const auto solid_reference = reference::render_refraction_reference(*solid, kWidth, kHeight);

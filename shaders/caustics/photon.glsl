@@ -173,10 +173,16 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.entering = ph.power;
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
-  if (thin_walled(object)) {  // through a thin wall unbent: image space sees the exact path
-    vec3 n1 = unpack_normal(front.x);
-    if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, n1)), 1.0, object.absorption_ior.a);
+  if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
+    float ior = object.absorption_ior.a;
+    if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior);
     ph.power *= caustic_transmittance(object);
+    vec4 back = texture(back_tex, uv);
+    if (thin_far_wall(front, back)) {
+      if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior);
+      ph.power *= caustic_transmittance(object);
+      p1 = eye + direction * back.y;
+    }
     vec2 landing;
     if (!march_depth(receiver_depth, light.view_proj, p1, direction, landing)) return ph;
     ivec2 size = imageSize(caustic_map);

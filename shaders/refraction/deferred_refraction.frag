@@ -41,7 +41,7 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
   vec3 eye = frame.camera_position.xyz;
   vec3 n1 = unpack_normal(front.x);
   if (thin_walled(object)) {  // image space sees a thin wall's path exactly
-    radiance = through_thin_wall(object, p1, n1, uv);
+    radiance = through_thin_wall(object, p1, n1, front, uv);
     return EXIT_TRUSTED;
   }
   TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, object.absorption_ior.a, uv);

@@ -306,6 +306,10 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
 
 // A thin-walled refractor (glTF transmission without a volume): light passes it without bending.
 bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
+// Whether a ray that met a thin-walled object's near wall at `front` (a refractor-buffer texel)
+// meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
+// pane one (its back texel is then the near wall again, or empty).
+bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-4) && back.w == front.w; }
 // The share of a photon's power past a refractor's surface (after Fresnel) in the one-channel
 // caustic map: the transmission factor times the tint's mean (scene::Material::caustic_transmittance).
 float caustic_transmittance(ObjectData object) { return object.tint_transmission.a * dot(object.tint_transmission.rgb, vec3(1.0 / 3.0)); }
@@ -359,18 +363,27 @@ vec3 through_refractor(TwoInterfaces path, ObjectData object, vec3 p1, vec3 n1, 
   return refractor_surface(object, path.reflectance_in, p1, n1, path.transmit_out * absorbed * behind);
 }
 
-// Radiance seen through a thin wall at p1: the pixel's own background, unbent.
-vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec2 pixel_uv) {
-  vec3 v = normalize(p1 - frame.camera_position.xyz);
+// Radiance seen through a thin-walled object whose near wall is at p1 (refractor-buffer texel
+// `front`): the pixel's own background, unbent, through its far wall too when it has one.
+vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pixel_uv) {
+  vec3 eye = frame.camera_position.xyz;
+  vec3 v = normalize(p1 - eye);
+  float ior = object.absorption_ior.a;
+  vec3 through = texture(background_tex, pixel_uv).rgb;
+  vec4 back = texture(back_tex, pixel_uv);
+  if (thin_far_wall(front, back)) {
+    vec3 n2 = unpack_normal(back.x);
+    if (dot(v, n2) > 0.0) n2 = -n2;
+    through = refractor_surface(object, fresnel_dielectric(-dot(v, n2), 1.0, ior), eye + v * back.y, n2, through);
+  }
   if (dot(v, n1) > 0.0) n1 = -n1;
-  float reflectance = fresnel_dielectric(-dot(v, n1), 1.0, object.absorption_ior.a);
-  return refractor_surface(object, reflectance, p1, n1, texture(background_tex, pixel_uv).rgb);
+  return refractor_surface(object, fresnel_dielectric(-dot(v, n1), 1.0, ior), p1, n1, through);
 }
 
 // Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
 vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
   ObjectData object = objects[object_index];
-  if (thin_walled(object)) return through_thin_wall(object, p1, n1, pixel_uv);
+  if (thin_walled(object)) return through_thin_wall(object, p1, n1, vec4(0.0, front_distance, 0.0, float(object_index)), pixel_uv);
   TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
                                               object.absorption_ior.a, pixel_uv);
   // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
