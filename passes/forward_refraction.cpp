@@ -44,8 +44,8 @@ class ForwardRefractionPass final : public graph::Pass {
     begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_LOAD}}, Attachment{ctx.view("refractor_depth")});
     const SceneView view = camera_view(ctx, extent);
     const ForwardPush push{DrawPush(view), refraction_push(ctx, tir_counter_)};
-    const scene::DrawRange all = ctx.scene().refractors(), thin = ctx.scene().thin_refractors();
-    const scene::DrawRange parts[2] = {{all.first_index, all.index_count - thin.index_count}, thin};
+    const auto [solid, thin] = ctx.scene().split_thin(ctx.scene().refractors());
+    const scene::DrawRange parts[2] = {solid, thin};
     for (int part = 0; part < 2; ++part) {
       if (parts[part].index_count == 0) continue;
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_[part].pipeline.get());

@@ -45,10 +45,8 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
     // A thin wall is one surface, seen from either side: the front draw takes its nearest face
     // whichever way it faces; the back draw, as for solids, the nearest back face (a closed thin
     // object's far wall, or a one-sided pane seen from behind, again).
-    const scene::DrawRange thin = ctx.scene().thin_refractors();
-    const uint32_t end = drawn.first_index + drawn.index_count, thin_first = std::max(drawn.first_index, thin.first_index);
-    const scene::DrawRange parts[2] = {{drawn.first_index, std::min(end, thin.first_index) - std::min(drawn.first_index, thin.first_index)},
-                                       {thin_first, end > thin_first ? end - thin_first : 0}};
+    const auto [solid, thin] = ctx.scene().split_thin(drawn);
+    const scene::DrawRange parts[2] = {solid, thin};
     for (int part = 0; part < 2; ++part) {
       if (parts[part].index_count == 0) continue;
       const vk::Pipeline& pipeline = pipelines_[part && !back ? 2 : back];

@@ -54,6 +54,12 @@ const AccelerationStructures& GpuScene::acceleration() {
   return *acceleration_;
 }
 
+std::pair<DrawRange, DrawRange> GpuScene::split_thin(DrawRange range) const {
+  const uint32_t end = range.first_index + range.index_count;
+  const uint32_t cut = std::clamp(thin_refractors_.first_index, range.first_index, end);
+  return {{range.first_index, cut - range.first_index}, {cut, end - cut}};
+}
+
 std::vector<uint32_t> GpuScene::refractors_back_to_front(glm::vec3 eye) const {
   std::vector<uint32_t> order;
   for (uint32_t o = 0; o < scene_->objects.size(); ++o) {

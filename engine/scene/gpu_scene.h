@@ -3,6 +3,7 @@
 // first, then solid refractors, then thin-walled ones, each object a contiguous index range), object materials, and per-frame
 // data (camera, lights) that run_frame() refreshes before recording.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "common/scene_types.h"  // shaders/ is on the include path: the layouts GLSL sees
@@ -30,6 +31,8 @@ class GpuScene {
   DrawRange opaque() const { return opaque_; }
   DrawRange refractors() const { return refractors_; }  // solid ones first, then thin_refractors()
   DrawRange thin_refractors() const { return thin_refractors_; }
+  // `range` (within the refractors) cut into its solid part and its thin-walled part.
+  std::pair<DrawRange, DrawRange> split_thin(DrawRange range) const;
   DrawRange object(uint32_t index) const { return ranges_[index]; }
   // Indices into scene().objects of the refractors, farthest from `eye` first (by bounding-box centre).
   std::vector<uint32_t> refractors_back_to_front(glm::vec3 eye) const;

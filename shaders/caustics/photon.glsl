@@ -50,6 +50,14 @@ struct Photon {
   bool exact;      // traced with ray queries: absorption and every loss are already counted
 };
 
+// Lands a photon at `uv` on the light's image plane: its caustic-map texel.
+void land_on_map(inout Photon ph, vec2 uv) {
+  ivec2 size = imageSize(caustic_map);
+  ph.landing = uv * vec2(size);
+  ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
+  ph.landed = true;
+}
+
 // Lands a photon at world point p seen from the light: in the caustic map, or off it.
 void land_at(inout Photon ph, LightData light, vec3 p) {
   vec2 uv;
@@ -59,10 +67,7 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
     exact_sum(EXACT_FLUX_OFF_MAP, ph.power);
     return;
   }
-  ivec2 size = imageSize(caustic_map);
-  ph.landing = uv * vec2(size);
-  ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
-  ph.landed = true;
+  land_on_map(ph, uv);
 }
 
 #ifdef CAUSTICA_RAY_QUERY
@@ -184,11 +189,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
       p1 = eye + direction * back.y;
     }
     vec2 landing;
-    if (!march_depth(receiver_depth, light.view_proj, p1, direction, landing)) return ph;
-    ivec2 size = imageSize(caustic_map);
-    ph.landing = landing * vec2(size);
-    ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
-    ph.landed = true;
+    if (march_depth(receiver_depth, light.view_proj, p1, direction, landing)) land_on_map(ph, landing);
     return ph;
   }
   TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
@@ -223,11 +224,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
   // The caustic map holds one channel: the mean of the three absorption coefficients.
   ph.power *= exp(-dot(object.absorption_ior.rgb, vec3(1.0 / 3.0)) * path.distance) * caustic_transmittance(object);
-  if (!lands) return ph;
-  ivec2 size = imageSize(caustic_map);
-  ph.landing = landing * vec2(size);
-  ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
-  ph.landed = true;
+  if (lands) land_on_map(ph, landing);
   return ph;
 }
 
