@@ -114,8 +114,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     uint64_t pyramid_words = 0;
     const auto& map = setup.resource("caustic_map");
     for (uint32_t l = 0; l < splat_levels_; ++l) pyramid_words += uint64_t{std::max(1u, map.width >> l)} * std::max(1u, map.height >> l);
-    pyramid_ = vk::make_buffer(vk, pyramid_words * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
-                               setup.pass().name + " multi-resolution caustic map");
+    pyramid_ = vk::make_buffer(vk, pyramid_words * 3 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               0, setup.pass().name + " multi-resolution caustic map");
     const vk::PipelineDesc layout{
         hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
         exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -342,7 +342,10 @@ std::vector<graph::PortDecl> traversal_ports() {
                    "",
                    "optional, for inspection: the multi-resolution map's levels as splatted, side by side (level 0 at the left, "
                    "each next level half as large to the right of the one before), as flux per level-0 texel; twice as wide "
-                   "as caustic_map and as high; written only when a pass reads it, it is a graph output or it is kept"});
+                   "as caustic_map and as high, a layer per colour channel; written only when a pass reads it, it is a graph output "
+                   "or it is kept",
+                   false,
+                   3});
   return ports;
 }
 

@@ -9,12 +9,19 @@ namespace {
 struct LightingParams {
   float shadow_bias;
   uint32_t has_shadow;
-  uint32_t has_caustics;
 };
 
 class LightingPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
+    has_shadow_ = setup.bound("shadow");
+    has_caustics_ = setup.bound("caustics");
+    if (has_caustics_ != setup.bound("caustic_depth")) {
+      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer +
+                       "): bind both \"caustics\" and \"caustic_depth\", or neither");
+    }
+    shader::Defines defines;
+    if (has_caustics_) defines["CAUSTICS"] = "1";
     pipeline_ = vk::make_fullscreen_pipeline(
         setup.vk(),
         {"lighting",
@@ -22,13 +29,8 @@ class LightingPass final : public graph::Pass {
           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
          sizeof(LightingParams)},
-        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag"),
+        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag", defines),
         {graph::format_info(setup.resource("color").format).vk});
-    has_shadow_ = setup.bound("shadow");
-    has_caustics_ = setup.bound("caustics");
-    if (has_caustics_ != setup.bound("caustic_depth")) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): bind both \"caustics\" and \"caustic_depth\", or neither");
-    }
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -45,7 +47,7 @@ class LightingPass final : public graph::Pass {
         .sampled_image(5, ctx.view(has_caustics_ ? "caustics" : "depth"), has_caustics_ ? ctx.linear_sampler() : ctx.nearest_sampler())
         .sampled_image(6, ctx.view(has_caustics_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())
         .push(ctx.vk(), cmd, pipeline_);
-    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u, has_caustics_ ? 1u : 0u};
+    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
@@ -70,11 +72,31 @@ graph::PassTypeDecl lighting_pass_type() {
        {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
        {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "albedo"},
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
-       {"caustics", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::r32f}, true, "",
-        "caustic map of the first light: flux per texel of its image plane (caustic_map)"},
-       {"caustic_depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "",
+       {"caustics",
+        PortAccess::read,
+        ResourceKind::image,
+        PortUsage::sampled,
+        {Format::r32f},
+        true,
+        "",
+        "caustic map of the first light: flux per texel of its image plane, a layer per colour channel (caustic_map)",
+        false,
+        3},
+       {"caustic_depth",
+        PortAccess::read,
+        ResourceKind::image,
+        PortUsage::sampled,
+        {Format::d32f},
+        true,
+        "",
         "the first light's depth of opaque geometry, for the caustic map's receiver test"},
-       {"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "frame",
+       {"color",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba16f, Format::rgba32f},
+        false,
+        "frame",
         "lit radiance"}},
       {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis"}},
       false,

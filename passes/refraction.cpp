@@ -176,7 +176,9 @@ std::vector<graph::PortDecl> photon_ports() {
            {Format::r32f},
            false,
            "",
-           "flux per texel, in the light's image plane"}};
+           "flux per texel, in the light's image plane: r32f with a layer per colour channel (\"layers\": 3)",
+           false,
+           3}};
 }
 
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {

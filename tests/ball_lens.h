@@ -60,7 +60,8 @@ inline ExactLens exact_ball_lens(const scene::Scene& scene, const std::vector<do
   return exact;
 }
 
-// The flux of a light-space caustic map (flux per texel of the first light's image plane) inside
+// The flux of a light-space caustic map (flux per texel of the first light's image plane, the
+// channels' mean) inside
 // each radius of the axis on the floor y = 0, placing each texel's flux where its centre sees the floor.
 inline std::vector<double> map_flux_inside(const scene::Scene& scene, const io::ImageData& map, const std::vector<double>& radii) {
   const glm::dvec3 light(scene.lights[0].view.position);
@@ -68,7 +69,8 @@ inline std::vector<double> map_flux_inside(const scene::Scene& scene, const io::
   std::vector<double> inside(radii.size(), 0.0);
   for (uint32_t y = 0; y < map.height; ++y) {
     for (uint32_t x = 0; x < map.width; ++x) {
-      const double flux = static_cast<double>(map.rgba[(size_t{y} * map.width + x) * 4]);
+      const float* rgb = &map.rgba[(size_t{y} * map.width + x) * 4];
+      const double flux = (double(rgb[0]) + double(rgb[1]) + double(rgb[2])) / 3.0;  // as the flux counters count it
       if (flux == 0) continue;
       const glm::dvec4 far = inverse * glm::dvec4((x + 0.5) / map.width * 2 - 1, (y + 0.5) / map.height * 2 - 1, 1, 1);
       const glm::dvec3 d = glm::normalize(glm::dvec3(far) / far.w - light);

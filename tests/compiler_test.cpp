@@ -235,6 +235,43 @@ TEST(Compiler, ValidatesPortsFormatsAndExtents) {
       << compile_error(blend);
 }
 
+// Array layers: a port that takes three layers (the caustic map's colour channels) refuses an
+// image of one and a one-layer port refuses three; only r32f images have layers; the memory and
+// the plan count every layer.
+TEST(Compiler, LayeredImagesMatchTheirPorts) {
+  nlohmann::json layered = image("r32f");
+  layered["layers"] = 3;
+  nlohmann::json g = {{"resources", {{"map", layered}, {"c", image()}}},
+                      {"passes", {{{"name", "s"}, {"type", "splat"}, {"outputs", {{"target", "map"}, {"color", "c"}}}}}},
+                      {"outputs", {"c"}}};
+  const Plan plan = compile(g);
+  const PlannedResource& map = plan.resources[static_cast<size_t>(plan.find_resource("map"))];
+  EXPECT_EQ(map.layers, 3u);
+  PlannedResource one = map;
+  one.layers = 1;
+  EXPECT_EQ(estimate_memory_requirements(map).size, 3 * estimate_memory_requirements(one).size);
+  EXPECT_EQ(plan_to_json(plan)["resources"][static_cast<size_t>(plan.find_resource("map"))]["layers"], 3);
+
+  g["resources"]["map"].erase("layers");
+  EXPECT_NE(compile_error(g).find("layer mismatch: port 'target' of pass 's' takes an image of 3 array layers, but 'map' has 1"),
+            std::string::npos)
+      << compile_error(g);
+
+  g["resources"]["map"]["layers"] = 3;
+  g["passes"].push_back({{"name", "r"}, {"type", "report"}, {"inputs", {{"source", "map"}}}});
+  EXPECT_NE(compile_error(g).find("layer mismatch: port 'source' of pass 'r' takes an image of 1 layer, but 'map' has 3"),
+            std::string::npos)
+      << compile_error(g);
+
+  g["passes"].erase(1);
+  g["resources"]["c"]["layers"] = 2;
+  EXPECT_NE(compile_error(g).find("'c' is rgba16f; only r32f images can have layers (at /resources/c/layers)"), std::string::npos)
+      << compile_error(g);
+  g["resources"]["c"] = layered;
+  g["resources"]["c"]["layers"] = 5;
+  EXPECT_NE(compile_error(g).find("'c' asks for 5 array layers; an image has 1 to 4"), std::string::npos) << compile_error(g);
+}
+
 TEST(Compiler, ParametersResolveDefaultsReferencesAndRanges) {
   auto g = chain();
   g["parameters"] = {{"blur", {{"type", "int"}, {"default", 3}, {"min", 0}, {"max", 8}}}};

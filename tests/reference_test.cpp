@@ -18,9 +18,10 @@ scene::Scene bundled(const std::string& name) { return scene::load_scene_file((d
 
 scene::Scene from_text(const std::string& text) { return scene::load_scene(JsonDocument::parse(text, "test_scene.json")); }
 
+// The map's flux as the totals count it: the mean of the three channels.
 double map_sum(const io::ImageData& map) {
   double sum = 0;
-  for (size_t i = 0; i < map.rgba.size(); i += 4) sum += static_cast<double>(map.rgba[i]);
+  for (size_t i = 0; i < map.rgba.size(); i += 4) sum += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
   return sum;
 }
 

@@ -29,6 +29,14 @@ inline graph::PassRegistry make_test_registry() {
   registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
                 {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
   registry.add({"report", "reads an image and reports on it (side effect)", PassQueue::compute, {sampled_in("source")}, {}, true, nullptr});
+  registry.add({"splat",
+                "writes an r32f array of three layers (a colour per layer) and reads it back",
+                PassQueue::compute,
+                {{"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::r32f}, false, "", "", false, 3},
+                 {"color", PortAccess::write, ResourceKind::image, PortUsage::storage, {}, true, "", ""}},
+                {},
+                true,
+                nullptr});
   // A pass with many optional ports of every kind, for randomly generated graphs.
   PassTypeDecl node{"node", "random graph node", PassQueue::compute, {}, {}, false, nullptr};
   for (int i = 0; i < 4; ++i) node.ports.push_back(sampled_in("in" + std::to_string(i), true));

@@ -55,6 +55,18 @@ void for_each_resource_reference(ordered_json& doc, const std::function<void(ord
   }
 }
 
+// An image resource's "layers" when written as a number (an expression counts as unknown: 0).
+uint32_t written_layers(const ordered_json& resource) {
+  if (!resource.contains("layers")) return 1;
+  const ordered_json& layers = resource["layers"];
+  if (layers.is_number_unsigned()) return layers.get<uint32_t>();
+  if (!layers.is_string()) return 0;
+  const std::string text = layers.get<std::string>();
+  if (text.empty() || text.size() > 2 || text.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return static_cast<uint32_t>(std::stoul(text));
+  return 0;
+}
+
 bool writes(const graph::PortDecl& port) {
   return port.access != graph::PortAccess::read;
 }
@@ -150,7 +162,9 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
     const ordered_json& r = resources[resource];
     const bool buffer = r.value("type", "image") == "buffer";
     if (buffer != (port.kind == graph::ResourceKind::buffer)) return false;
-    if (buffer || port.formats.empty()) return true;
+    if (buffer) return true;
+    if (written_layers(r) != port.layers) return false;
+    if (port.formats.empty()) return true;
     const auto format = graph::parse_format(r.value("format", ""));
     return format && std::find(port.formats.begin(), port.formats.end(), *format) != port.formats.end();
   };
@@ -191,6 +205,7 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
         r = {{"type", "buffer"}, {"size", "65536"}};
       } else {
         r = {{"type", "image"}, {"format", graph::format_info(port.formats.empty() ? graph::Format::rgba16f : port.formats.front()).name}};
+        if (port.layers > 1) r["layers"] = port.layers;
         for (size_t i = 0; i < inputs.size(); ++i) {
           if (port.extent_group.empty() || inputs[i]->extent_group != port.extent_group) continue;
           const ordered_json& source = resources[chosen[i]];

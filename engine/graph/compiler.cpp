@@ -19,7 +19,7 @@ MemoryRequirements estimate_memory_requirements(const PlannedResource& resource)
   uint64_t w = resource.width;
   uint64_t h = resource.height;
   for (uint32_t level = 0; level < resource.mips; ++level) {
-    bytes += w * h * format_info(resource.format).bytes_per_texel;
+    bytes += w * h * resource.layers * format_info(resource.format).bytes_per_texel;
     w = std::max<uint64_t>(1, w / 2);
     h = std::max<uint64_t>(1, h / 2);
   }
@@ -280,6 +280,16 @@ class Compiler {
                                                          std::to_string(max_mips));
         }
         r.mips = static_cast<uint32_t>(mips);
+        double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers"));
+        if (layers < 1 || layers > kMaxImageLayers) {
+          throw graph_.error(desc.pointer + "/layers", "'" + desc.name + "' asks for " + JsonReader::format_number(layers) +
+                                                           " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
+        }
+        r.layers = static_cast<uint32_t>(layers);
+        if (r.layers > 1 && r.format != Format::r32f) {
+          throw graph_.error(desc.pointer + "/layers",
+                             "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f images can have layers");
+        }
       } else {
         double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
         if (bytes < 4) {
@@ -424,6 +434,11 @@ class Compiler {
       for (Format f : port.formats) accepted += std::string(accepted.empty() ? "" : ", ") + format_info(f).name;
       throw graph_.error(pointer, "format mismatch: port '" + port.name + "' of pass '" + pass.name + "' accepts " + accepted + ", but '" +
                                       r.name + "' is " + info.name);
+    }
+    if (port.kind == ResourceKind::image && r.layers != port.layers) {
+      throw graph_.error(pointer, "layer mismatch: port '" + port.name + "' of pass '" + pass.name + "' takes an image of " +
+                                      std::to_string(port.layers) + (port.layers == 1 ? " layer" : " array layers") + ", but '" + r.name +
+                                      "' has " + std::to_string(r.layers) + " (its \"layers\")");
     }
     if (port.usage == PortUsage::storage && std::string_view(info.glsl_qualifier).empty()) {
       throw graph_.error(pointer, "'" + r.name + "' (" + info.name + ") cannot be a storage image (port '" + port.name + "')");

@@ -22,7 +22,7 @@ VkImageCreateInfo image_info(const PlannedResource& r) {
   info.format = format_info(r.format).vk;
   info.extent = {r.width, r.height, 1};
   info.mipLevels = r.mips;
-  info.arrayLayers = 1;
+  info.arrayLayers = r.layers;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = r.image_usage;
@@ -238,9 +238,9 @@ void Executor::realize_passes_and_resources() {
       vk_.set_name(VK_OBJECT_TYPE_IMAGE, reinterpret_cast<uint64_t>(image), res.name);
       VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
       view_info.image = image;
-      view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+      view_info.viewType = res.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
       view_info.format = create.format;
-      view_info.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
+      view_info.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
       VkImageView view = VK_NULL_HANDLE;
       vk::check(vkCreateImageView(device, &view_info, nullptr, &view), "vkCreateImageView");
       real.images[i].view = vk::OwnedImageView(vk_, view);
@@ -260,7 +260,8 @@ void Executor::realize_passes_and_resources() {
     if (!res.used() || res.transient) continue;
     Realized::Readback rb;
     rb.resource = i;
-    rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * format_info(res.format).bytes_per_texel : res.buffer_size;
+    rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * res.layers * format_info(res.format).bytes_per_texel
+                                               : res.buffer_size;
     rb.buffer = vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     real.readbacks.push_back(std::move(rb));
   }
@@ -316,7 +317,7 @@ void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBar
       ib.newLayout = b.new_layout;
       ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
       ib.image = realized_->images[b.resource].image.get();
-      ib.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, 1};
+      ib.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
       images.push_back(ib);
     } else {
       VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
@@ -405,7 +406,7 @@ FrameResult Executor::run_frame(bool read_back) {
       const PlannedResource& res = p.resources[rb.resource];
       if (res.kind == ResourceKind::image) {
         VkBufferImageCopy copy{};
-        copy.imageSubresource = {aspect_of(res.format), 0, 0, 1};
+        copy.imageSubresource = {aspect_of(res.format), 0, 0, res.layers};
         copy.imageExtent = {res.width, res.height, 1};
         vkCmdCopyImageToBuffer(cmd, real.images[rb.resource].image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer.get(), 1, &copy);
       } else {
@@ -521,7 +522,17 @@ io::ImageData Executor::read_image(const std::string& name) const {
       case Format::r16f: out[0] = out[1] = out[2] = f16(0); out[3] = 1; break;
       case Format::rg16f: out[0] = f16(0); out[1] = f16(1); out[3] = 1; break;
       case Format::r32f:
-      case Format::d32f: out[0] = out[1] = out[2] = f32(0); out[3] = 1; break;
+      case Format::d32f:
+        if (res.layers > 1) {  // layer k is channel k (see kMaxImageLayers; only r32f has layers)
+          for (uint32_t layer = 0; layer < res.layers; ++layer) {
+            std::memcpy(&out[layer], bytes + (layer * texels + t) * info.bytes_per_texel, 4);
+          }
+          if (res.layers < 4) out[3] = 1;
+          break;
+        }
+        out[0] = out[1] = out[2] = f32(0);
+        out[3] = 1;
+        break;
       case Format::rg32f: out[0] = f32(0); out[1] = f32(1); out[3] = 1; break;
       case Format::r32ui: {
         uint32_t v;

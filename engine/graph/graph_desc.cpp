@@ -87,7 +87,8 @@ void load_resources(GraphDesc& graph, const Reader& read) {
     r.pointer = pointer;
     r.name = read.name(nlohmann::json(key), pointer, "a resource name");
     read.object(value, pointer, "a resource");
-    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "size", "fallback", "description"}, "a resource");
+    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "layers", "size", "fallback", "description"},
+                   "a resource");
     std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
     if (type == "image") {
       r.kind = ResourceKind::image;
@@ -99,12 +100,13 @@ void load_resources(GraphDesc& graph, const Reader& read) {
       if (value.contains("width")) r.width = read.expression(value["width"], pointer + "/width", "\"width\"");
       if (value.contains("height")) r.height = read.expression(value["height"], pointer + "/height", "\"height\"");
       if (value.contains("mips")) r.mips = read.expression(value["mips"], pointer + "/mips", "\"mips\"");
+      if (value.contains("layers")) r.layers = read.expression(value["layers"], pointer + "/layers", "\"layers\"");
       if (value.contains("size")) throw graph.error(pointer + "/size", "\"size\" is for buffers; an image has \"width\" and \"height\"");
     } else if (type == "buffer") {
       r.kind = ResourceKind::buffer;
       if (!value.contains("size")) throw graph.error(pointer, "buffer '" + key + "' needs a \"size\" in bytes");
       r.size = read.expression(value["size"], pointer + "/size", "\"size\"");
-      for (const char* image_only : {"format", "width", "height", "mips"}) {
+      for (const char* image_only : {"format", "width", "height", "mips", "layers"}) {
         if (value.contains(image_only)) throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
       }
     } else {

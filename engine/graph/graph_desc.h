@@ -24,6 +24,8 @@ struct ResourceDesc {
   std::string width = "output.width";  // expressions
   std::string height = "output.height";
   std::string mips = "1";
+  // Array layers; a layered image is read by shaders as an array (image2DArray, sampler2DArray).
+  std::string layers = "1";
   std::string size;  // buffers: bytes
   // Read in this resource's place when no enabled pass writes it (a pass disabled for the scene).
   std::string fallback;

@@ -45,6 +45,8 @@ struct PortDecl {
   // The pass also samples the image between its own draws (and transitions it itself), so the
   // image is created with sampled usage; the plan's barriers still see only `usage`.
   bool also_sampled = false;
+  // Array layers the bound image must have: the shader declares an array (image2DArray) when above 1.
+  uint32_t layers = 1;
 };
 
 enum class ParamType { float_, int_, bool_, choice };

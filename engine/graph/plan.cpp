@@ -125,6 +125,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
       res["format"] = format_info(r.format).name;
       res["extent"] = {r.width, r.height};
       res["mips"] = r.mips;
+      res["layers"] = r.layers;
     } else {
       res["size"] = r.buffer_size;
     }

@@ -16,6 +16,9 @@ namespace caustica::graph {
 
 inline constexpr uint32_t kNoPass = UINT32_MAX;
 inline constexpr uint32_t kNoBlock = UINT32_MAX;
+// Layered images hold one value per layer (an RGB caustic map: three r32f layers, because image
+// atomics are single-channel); they read back and dump with layer k as colour channel k.
+inline constexpr uint32_t kMaxImageLayers = 4;
 
 struct MemoryRequirements {
   uint64_t size = 0;
@@ -49,6 +52,7 @@ struct PlannedResource {
   uint32_t width = 0;
   uint32_t height = 0;
   uint32_t mips = 1;
+  uint32_t layers = 1;
   uint64_t buffer_size = 0;
   VkImageUsageFlags image_usage = 0;
   VkBufferUsageFlags buffer_usage = 0;

@@ -33,8 +33,14 @@ class Random {
   uint64_t state_;
 };
 
+// A photon's power per colour channel; the totals count the channels' mean, as the engine's counters.
+using Power = glm::dvec3;
+double mean(const Power& power) {
+  return (power.x + power.y + power.z) / 3.0;
+}
+
 struct Accumulator {
-  std::vector<uint64_t> map, camera;
+  std::vector<uint64_t> map, camera;  // three channels per texel
   PhotonTotals totals;  // per thread in double; summed in thread order (only the printout uses them)
 };
 
@@ -76,9 +82,10 @@ class PhotonTracer {
     glm::vec3 direction = directional_ ? light_.axis() : glm::normalize(glm::vec3(far) / far.w - eye);
     const glm::vec2 plane = ndc * half_plane_;
     const double cos_axis = directional_ ? 1.0 : 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
-    double power = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
-    if (power <= 0) return;
-    acc.totals.emitted += power;
+    const double emitted = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
+    if (emitted <= 0) return;
+    acc.totals.emitted += emitted;
+    Power power(emitted);
 
     const auto& objects = exact_.scene().objects;
     const float epsilon = exact_.epsilon();
@@ -88,40 +95,39 @@ class PhotonTracer {
     for (int segment = 0; segment < kMaxSegments; ++segment) {
       const auto hit = exact_.rays().intersect(origin, direction, segment == 0 ? 0.0f : epsilon, std::numeric_limits<float>::infinity());
       if (!hit) {
-        (refracted ? acc.totals.escaped : acc.totals.direct) += power;
+        (refracted ? acc.totals.escaped : acc.totals.direct) += mean(power);
         return;
       }
       const auto& object = objects[hit->geometry];
       const glm::vec3 p = origin + direction * hit->distance;
       if (inside >= 0) {
-        // The caustic map has one channel: the mean of the three absorption coefficients, as the engine.
-        const glm::vec3& a = objects[static_cast<size_t>(inside)].material.absorption;
-        const double kept = power * std::exp(-double(a.x + a.y + a.z) / 3.0 * double(hit->distance));
-        acc.totals.absorbed += power - kept;
+        const Power kept = power * glm::exp(-Power(objects[static_cast<size_t>(inside)].material.absorption) * double(hit->distance));
+        acc.totals.absorbed += mean(power - kept);
         power = kept;
       }
       if (!object.material.refractor) {
         if (refracted) land(p, power, acc);
-        else acc.totals.direct += power;
+        else
+          acc.totals.direct += mean(power);
         return;
       }
       const bool entering = inside < 0;
-      if (!refracted) acc.totals.entering += power;
+      if (!refracted) acc.totals.entering += mean(power);
       glm::vec3 n = exact_.smooth_normal(*hit);
       if (glm::dot(n, direction) > 0) n = -n;
       const float ior = object.material.ior;
       // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
       // rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {
-        const double kept = power * double(object.material.caustic_transmittance());
-        acc.totals.absorbed += power - kept;
+        const Power kept = power * Power(object.material.caustic_transmittance());
+        acc.totals.absorbed += mean(power - kept);
         power = kept;
       };
       if (object.material.thin) {  // a thin wall: Fresnel reflection, or through it unbent
         const float reflectance = options_.fresnel ? fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior) : 0.0f;
         origin = p;
         if (reflectance > 0.0f && random.uniform() < reflectance) {
-          if (!refracted) acc.totals.reflected += power;
+          if (!refracted) acc.totals.reflected += mean(power);
           direction = glm::reflect(direction, n);
         } else {
           transmit();
@@ -138,7 +144,7 @@ class PhotonTracer {
       if (reflectance > 0.0f && random.uniform() < reflectance) {
         // Reflected off the outside too: followed, since it lands on the receivers like any other
         // specular path (3.8% of the ball lens's floor flux); only the exact tracers model it.
-        if (entering && !refracted) acc.totals.reflected += power;
+        if (entering && !refracted) acc.totals.reflected += mean(power);
         direction = glm::reflect(direction, n);
         refracted = true;
       } else {
@@ -148,23 +154,23 @@ class PhotonTracer {
         refracted = true;
       }
     }
-    acc.totals.trapped += power;
+    acc.totals.trapped += mean(power);
   }
 
-  void land(glm::vec3 p, double power, Accumulator& acc) const {
+  void land(glm::vec3 p, const Power& power, Accumulator& acc) const {
     const glm::vec4 clip = light_view_proj_ * glm::vec4(p, 1.0f);
     const glm::vec2 uv = clip.w > 0 ? glm::vec2(clip) / clip.w * 0.5f + 0.5f : glm::vec2(-1.0f);
     if (uv.x < 0 || uv.y < 0 || uv.x >= 1 || uv.y >= 1) {
-      acc.totals.off_map += power;
+      acc.totals.off_map += mean(power);
       return;
     }
-    acc.totals.landed += power;
+    acc.totals.landed += mean(power);
     ++acc.totals.landed_photons;
-    const uint64_t units = static_cast<uint64_t>(std::llround(power / unit_));
+    const glm::u64vec3 units(glm::round(power / unit_));
     const uint32_t size = options_.map_size;
     const uint32_t x = std::min(size - 1, static_cast<uint32_t>(uv.x * float(size)));
     const uint32_t y = std::min(size - 1, static_cast<uint32_t>(uv.y * float(size)));
-    acc.map[size_t{y} * size + x] += units;
+    for (int c = 0; c < 3; ++c) acc.map[(size_t{y} * size + x) * 3 + static_cast<size_t>(c)] += units[c];
     if (options_.camera_width == 0) return;
     const glm::vec4 cam = camera_view_proj_ * glm::vec4(p, 1.0f);
     if (cam.w <= 0) return;
@@ -175,7 +181,7 @@ class PhotonTracer {
     if (exact_.rays().intersect(exact_.scene().camera.position, to_p / distance, 0.0f, distance - 2 * exact_.epsilon())) return;  // hidden
     const uint32_t cx = std::min(options_.camera_width - 1, static_cast<uint32_t>(cam_uv.x * float(options_.camera_width)));
     const uint32_t cy = std::min(options_.camera_height - 1, static_cast<uint32_t>(cam_uv.y * float(options_.camera_height)));
-    acc.camera[size_t{cy} * options_.camera_width + cx] += units;
+    for (int c = 0; c < 3; ++c) acc.camera[(size_t{cy} * options_.camera_width + cx) * 3 + static_cast<size_t>(c)] += units[c];
   }
 
   ExactScene exact_;
@@ -222,8 +228,8 @@ PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOp
   std::vector<Accumulator> accumulators(threads);
   std::atomic<uint64_t> next_chunk{0}, photons_done{0};
   auto work = [&](Accumulator& acc) {
-    acc.map.assign(size_t{options.map_size} * options.map_size, 0);
-    acc.camera.assign(size_t{options.camera_width} * options.camera_height, 0);
+    acc.map.assign(size_t{options.map_size} * options.map_size * 3, 0);
+    acc.camera.assign(size_t{options.camera_width} * options.camera_height * 3, 0);
     for (uint64_t chunk; (chunk = next_chunk.fetch_add(1)) < chunks;) {
       tracer.trace_chunk(chunk, acc);
       photons_done.fetch_add(std::min(kChunk, options.photons - chunk * kChunk));
@@ -245,10 +251,12 @@ PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOp
   auto resolve = [&](std::vector<uint64_t> Accumulator::*member, io::ImageData& image, auto&& scale) {
     const size_t texels = size_t{image.width} * image.height;
     for (size_t i = 0; i < texels; ++i) {
-      uint64_t units = 0;
-      for (const auto& acc : accumulators) units += (acc.*member)[i];
-      const float value = static_cast<float>(double(units) * tracer.unit() * scale(i));
-      for (int c = 0; c < 3; ++c) image.rgba[i * 4 + static_cast<size_t>(c)] = value;
+      const double texel_scale = scale(i);
+      for (size_t c = 0; c < 3; ++c) {
+        uint64_t units = 0;
+        for (const auto& acc : accumulators) units += (acc.*member)[i * 3 + c];
+        image.rgba[i * 4 + c] = static_cast<float>(double(units) * tracer.unit() * texel_scale);
+      }
     }
   };
   resolve(&Accumulator::map, out.caustic_map, [](size_t) { return 1.0; });

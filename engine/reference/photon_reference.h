@@ -44,7 +44,7 @@ struct PhotonTotals {
 };
 
 struct PhotonReference {
-  io::ImageData caustic_map;  // map_size^2, flux per texel in every colour channel
+  io::ImageData caustic_map;  // map_size^2, flux per texel and colour channel (the totals are the channels' mean)
   io::ImageData camera;       // caustic irradiance (flux per receiver area) per camera pixel, if asked
   PhotonTotals totals;
 };

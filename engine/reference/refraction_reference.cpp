@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <thread>
 
 #include "reference/exact_scene.h"
@@ -76,15 +77,15 @@ class Tracer {
     return light.color * sample_bilinear(map, uv) * cos_theta / (texel_solid_angle * r2);
   }
 
-  // The first channel at uv, as a linear sampler with clamp-to-edge reads it (texel centres at
+  // The colour at uv, as a linear sampler with clamp-to-edge reads it (texel centres at
   // (i + 0.5) / size).
-  static float sample_bilinear(const io::ImageData& map, glm::vec2 uv) {
+  static glm::vec3 sample_bilinear(const io::ImageData& map, glm::vec2 uv) {
     const glm::vec2 c = uv * glm::vec2(float(map.width), float(map.height)) - 0.5f;
     const glm::vec2 base = glm::floor(c), f = c - base;
     auto at = [&](int x, int y) {
       x = std::clamp(x, 0, int(map.width) - 1);
       y = std::clamp(y, 0, int(map.height) - 1);
-      return map.rgba[(size_t(y) * map.width + size_t(x)) * 4];
+      return glm::make_vec3(&map.rgba[(size_t(y) * map.width + size_t(x)) * 4]);
     };
     const int x = int(base.x), y = int(base.y);
     return glm::mix(glm::mix(at(x, y), at(x + 1, y), f.x), glm::mix(at(x, y + 1), at(x + 1, y + 1), f.x), f.y);

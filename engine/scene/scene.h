@@ -25,9 +25,9 @@ struct Material {
   float transmission = 1.0f;
   glm::vec3 tint{1.0f};
   bool thin = false;
-  // The share of a photon's power that passes the surface (after Fresnel) in the one-channel
-  // caustic map: transmission times the tint's mean.
-  float caustic_transmittance() const { return transmission * (tint.x + tint.y + tint.z) / 3.0f; }
+  // The share of a photon's power that passes the surface (after Fresnel), per colour channel of
+  // the caustic map: transmission times the tint.
+  glm::vec3 caustic_transmittance() const { return transmission * tint; }
 };
 
 struct Mesh {

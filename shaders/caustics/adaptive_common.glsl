@@ -9,7 +9,7 @@ SCENE_OBJECTS
 layout(set = 0, binding = 3) uniform sampler2D front_tex;
 layout(set = 0, binding = 4) uniform sampler2D back_tex;
 layout(set = 0, binding = 5) uniform sampler2D receiver_depth;
-layout(set = 0, binding = 6, r32f) uniform image2D caustic_map;
+layout(set = 0, binding = 6, r32f) uniform image2DArray caustic_map;  // a layer per colour channel
 layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 layout(set = 0, binding = 8, std430) buffer SumBlock { float sums[]; };  // the same buffer, float slots
 // Two cluster lists of `list_capacity` entries each; level L reads list L % 2 and appends to the other.
@@ -22,8 +22,9 @@ layout(set = 0, binding = 10, std430) buffer ControlBlock {
 // Hierarchical, and adaptive with coverage_seeding: a max pyramid of the refractor coverage of the
 // light-view front surfaces, finest level (light_size^2) first, each next level half the side.
 layout(set = 0, binding = 11, std430) buffer CoverageBlock { uint coverage[]; };
-// The multi-resolution caustic map: splat_levels levels of flux per texel, the caustic map's size
-// first, each next level half the side; combine.comp sums them into the caustic map.
+// The multi-resolution caustic map: splat_levels levels of flux per texel and colour channel (three
+// consecutive floats), the caustic map's size first, each next level half the side; combine.comp
+// sums them into the caustic map.
 layout(set = 0, binding = 12, std430) buffer PyramidBlock { float pyramid[]; };
 
 const uint START_CLUSTERS_SIDE = 32u;  // a 64 x 64 photon grid: 32 x 32 clusters of 2 x 2 photons
@@ -69,12 +70,13 @@ bool covered(uvec2 cluster) {
   return coverage[offset + texel.y * level_side + texel.x] != 0u;
 }
 
-uvec2 pyramid_size(uint level) { return max(uvec2(imageSize(caustic_map)) >> level, uvec2(1u)); }
+uvec2 pyramid_size(uint level) { return max(uvec2(imageSize(caustic_map).xy) >> level, uvec2(1u)); }
 
-uint pyramid_offset(uint level) {
+// The index of texel t's first channel at `level`.
+uint pyramid_index(uint level, uvec2 t) {
   uint offset = 0u;
   for (uint l = 0u; l < level; ++l) offset += pyramid_size(l).x * pyramid_size(l).y;
-  return offset;
+  return 3u * (offset + t.y * pyramid_size(level).x + t.x);
 }
 
 #endif

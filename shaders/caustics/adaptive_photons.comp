@@ -36,13 +36,13 @@ uint footprint_level(Photon ph[4]) {
 }
 
 // Level 0 is the caustic map itself; coarser levels wait in the pyramid for combine.comp.
-void splat_at(ivec2 texel, uint level, float power) {
+void splat_at(ivec2 texel, uint level, vec3 power) {
   if (level == 0u) {
-    imageAtomicAdd(caustic_map, texel, power);
+    splat(texel, power);
     return;
   }
-  uvec2 t = uvec2(texel) >> level;
-  atomicAdd(pyramid[pyramid_offset(level) + t.y * pyramid_size(level).x + t.x], power);
+  uint at = pyramid_index(level, uvec2(texel) >> level);
+  for (uint c = 0u; c < 3u; ++c) atomicAdd(pyramid[at + c], power[c]);
 }
 
 void output_photon(Photon ph, uint level) {
@@ -53,14 +53,14 @@ void output_photon(Photon ph, uint level) {
   add_sum(ENTERING, ph.entering);
   if (ph.tir) {
     count(TIR);
-    add_sum(DROPPED, ph.power);
+    add_sum(DROPPED, channel_mean(ph.power));
   } else if (!ph.landed) {
     count(MISS);
-    add_sum(DROPPED, ph.power);
+    add_sum(DROPPED, channel_mean(ph.power));
   } else {
     splat_at(ph.texel, level, ph.power);
     count(SPLATTED);
-    add_sum(FLUX, ph.power);
+    add_sum(FLUX, channel_mean(ph.power));
   }
 }
 
@@ -70,15 +70,15 @@ void output_photon(Photon ph, uint level) {
 // wide, so that a cluster landing in a point shares its power with bilinear weights. Each texel
 // gets the part of the box it covers; texels outside the map are clamped to its edge, so no flux
 // is lost there.
-void splat_footprint(vec2 centre, vec2 spread, float power) {
+void splat_footprint(vec2 centre, vec2 spread, vec3 power) {
   vec2 width = clamp(2.0 * spread, vec2(1.0), vec2(8.0));
   vec2 low = centre - 0.5 * width, high = centre + 0.5 * width;
-  ivec2 first = ivec2(floor(low)), size = imageSize(caustic_map);
-  float per_area = power / (width.x * width.y);
+  ivec2 first = ivec2(floor(low)), size = imageSize(caustic_map).xy;
+  vec3 per_area = power / (width.x * width.y);
   for (int y = first.y; float(y) < high.y; ++y) {
     for (int x = first.x; float(x) < high.x; ++x) {
       vec2 covered = min(high, vec2(x + 1, y + 1)) - max(low, vec2(x, y));
-      if (covered.x > 0.0 && covered.y > 0.0) imageAtomicAdd(caustic_map, clamp(ivec2(x, y), ivec2(0), size - 1), per_area * covered.x * covered.y);
+      if (covered.x > 0.0 && covered.y > 0.0) splat(clamp(ivec2(x, y), ivec2(0), size - 1), per_area * covered.x * covered.y);
     }
   }
 }
@@ -180,15 +180,15 @@ void main() {
       for (uint k = 0u; k < 4u; ++k) {
         count(ph[k].tir ? TIR : MISS);
         add_sum(ENTERING, ph[k].entering);
-        add_sum(DROPPED, ph[k].power);
+        add_sum(DROPPED, channel_mean(ph[k].power));
       }
       count(CONVERGED);
     } else if (params.level >= params.converge_level && converged) {
-      float power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
+      vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
       splat_footprint(middle, high - low, power);
       count(CONVERGED);
       count(SPLATTED);
-      add_sum(FLUX, power);
+      add_sum(FLUX, channel_mean(power));
       add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
     } else {
       refine(cluster);

@@ -16,17 +16,19 @@ void main() {
   ivec2 t = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(pyramid_size(level));
   if (any(greaterThanEqual(t, size))) return;
-  float flux = pyramid[pyramid_offset(level) + uint(t.y * size.x + t.x)];
-  if (flux == 0.0) return;
+  uint at = pyramid_index(level, uvec2(t));
+  vec3 flux = vec3(pyramid[at], pyramid[at + 1u], pyramid[at + 2u]);
+  if (flux == vec3(0.0)) return;
   int side = 1 << level;  // finest texels per texel of this level
   ivec2 first = t * side - side / 2;
-  ivec2 map_size = imageSize(caustic_map);
+  ivec2 map_size = imageSize(caustic_map).xy;
   float norm = 1.0 / float(side);
   for (int y = 0; y < 2 * side; ++y) {
     float wy = (1.0 - abs(float(y) + 0.5 - float(side)) * norm) * norm;
     for (int x = 0; x < 2 * side; ++x) {
       float wx = (1.0 - abs(float(x) + 0.5 - float(side)) * norm) * norm;
-      imageAtomicAdd(caustic_map, clamp(first + ivec2(x, y), ivec2(0), map_size - 1), flux * wx * wy);
+      ivec2 texel = clamp(first + ivec2(x, y), ivec2(0), map_size - 1);
+      for (int c = 0; c < 3; ++c) imageAtomicAdd(caustic_map, ivec3(texel, c), flux[c] * wx * wy);
     }
   }
 }

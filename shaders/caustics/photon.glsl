@@ -21,7 +21,9 @@ const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_
 const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order
 const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP = 11u, EXACT_FLUX_ABSORBED = 12u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
-void exact_sum(uint k, float v) { atomicAdd(sums[params.exact_counters + k], v); }
+// Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
+float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
+void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
 
 #ifdef CAUSTICA_RAY_QUERY
 #include "scene/ray_query.glsl"
@@ -40,8 +42,8 @@ float next_uniform(inout uint state) {
 #endif
 
 struct Photon {
-  float power;     // after Fresnel and absorption; the power it left the light with when it missed
-  float entering;  // its power before the refractor, when it met one (else 0)
+  vec3 power;      // per caustic-map channel, after Fresnel, tint and absorption; as it left the light when it missed
+  float entering;  // its power before the refractor, when it met one (else 0); the light's photons are white
   bool hit;        // met a refractor
   bool tir;        // dropped: total internal reflection at the back surface
   bool landed;     // reached a receiver at `texel` of the caustic map
@@ -52,7 +54,7 @@ struct Photon {
 
 // Lands a photon at `uv` on the light's image plane: its caustic-map texel.
 void land_on_map(inout Photon ph, vec2 uv) {
-  ivec2 size = imageSize(caustic_map);
+  ivec2 size = imageSize(caustic_map).xy;
   ph.landing = uv * vec2(size);
   ph.texel = clamp(ivec2(ph.landing), ivec2(0), size - 1);
   ph.landed = true;
@@ -89,8 +91,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
       return;
     }
     if (inside >= 0) {
-      // One channel: the mean of the three absorption coefficients, as every caustic method.
-      float kept = ph.power * exp(-dot(objects[inside].absorption_ior.rgb, vec3(1.0 / 3.0)) * h.t);
+      vec3 kept = ph.power * exp(-objects[inside].absorption_ior.rgb * h.t);
       exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
       ph.power = kept;
     }
@@ -102,7 +103,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     }
     if (!ph.hit) {
       ph.hit = true;
-      ph.entering = ph.power;
+      ph.entering = channel_mean(ph.power);
       exact_count(EXACT_TRACED);
     }
     if (interfaces == params.exact_max_interfaces) {
@@ -125,7 +126,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
       direction = reflect(direction, n);
     } else {
       if (entering) {  // past the surface only caustic_transmittance() goes on; the rest is diffuse
-        float kept = ph.power * caustic_transmittance(object);
+        vec3 kept = ph.power * caustic_transmittance(object);
         exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
         ph.power = kept;
       }
@@ -160,8 +161,9 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ViewOrigin origin = ViewOrigin(light.position_type.xyz, axis, directional);
   if (!directional) origin = perspective_origin(eye);
   float cone = spot_cone(light, direction);
-  ph.power = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
-  if (ph.power <= 0.0) return ph;
+  float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
+  ph.power = vec3(emitted);
+  if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
   if (params.distance_mode == DISTANCE_RAY_QUERY) {
     trace_photon_exact(ph, light, eye, direction, uv);
@@ -175,7 +177,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   float receiver = texture(receiver_depth, uv).r;
   if (receiver < 1.0 && view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) < front.y * (1.0 - 1e-4)) return ph;
   ph.hit = true;
-  ph.entering = ph.power;
+  ph.entering = emitted;
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
@@ -222,12 +224,14 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
     return ph;
   }
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
-  // The caustic map holds one channel: the mean of the three absorption coefficients.
-  ph.power *= exp(-dot(object.absorption_ior.rgb, vec3(1.0 / 3.0)) * path.distance) * caustic_transmittance(object);
+  ph.power *= exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
   if (lands) land_on_map(ph, landing);
   return ph;
 }
 
-void splat(ivec2 texel, float power) { imageAtomicAdd(caustic_map, texel, power); }
+// The caustic map has a layer per colour channel (image atomics are single-channel).
+void splat(ivec2 texel, vec3 power) {
+  for (int c = 0; c < 3; ++c) imageAtomicAdd(caustic_map, ivec3(texel, c), power[c]);
+}
 
 #endif

@@ -8,7 +8,7 @@ SCENE_OBJECTS
 layout(set = 0, binding = 3) uniform sampler2D front_tex;
 layout(set = 0, binding = 4) uniform sampler2D back_tex;
 layout(set = 0, binding = 5) uniform sampler2D receiver_depth;
-layout(set = 0, binding = 6, r32f) uniform image2D caustic_map;
+layout(set = 0, binding = 6, r32f) uniform image2DArray caustic_map;  // a layer per colour channel
 layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 layout(set = 0, binding = 8, std430) buffer SumBlock { float sums[]; };  // the same buffer, float slots
 
@@ -48,14 +48,14 @@ void main() {
       add_sum(1, ph.entering);
       if (ph.tir) {
         count(3);
-        add_sum(2, ph.power);
+        add_sum(2, channel_mean(ph.power));
       } else if (!ph.landed) {
         count(2);
-        add_sum(2, ph.power);
+        add_sum(2, channel_mean(ph.power));
       } else {
         splat(ph.texel, ph.power);
         count(1);
-        add_sum(0, ph.power);
+        add_sum(0, channel_mean(ph.power));
       }
     }
   }

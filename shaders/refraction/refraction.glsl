@@ -310,9 +310,9 @@ bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
 // meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
 // pane one (its back texel is then the near wall again, or empty).
 bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-4) && back.w == front.w; }
-// The share of a photon's power past a refractor's surface (after Fresnel) in the one-channel
-// caustic map: the transmission factor times the tint's mean (scene::Material::caustic_transmittance).
-float caustic_transmittance(ObjectData object) { return object.tint_transmission.a * dot(object.tint_transmission.rgb, vec3(1.0 / 3.0)); }
+// The share of a photon's power past a refractor's surface (after Fresnel), per colour channel of
+// the caustic map: the transmission factor times the tint (scene::Material::caustic_transmittance).
+vec3 caustic_transmittance(ObjectData object) { return object.tint_transmission.a * object.tint_transmission.rgb; }
 
 #ifndef REFRACTION_NO_CAMERA
 #ifdef CAUSTICA_RAY_QUERY

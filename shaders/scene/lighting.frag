@@ -9,13 +9,16 @@ layout(set = 0, binding = 1) uniform sampler2D depth_tex;
 layout(set = 0, binding = 2) uniform sampler2D normal_tex;
 layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
 layout(set = 0, binding = 4) uniform sampler2D shadow_tex;
-layout(set = 0, binding = 5) uniform sampler2D caustics_tex;      // flux per texel in the first light's image plane
+// Flux per texel in the first light's image plane, a layer per colour channel. Without a caustic map
+// the pass binds a plain image here and compiles without CAUSTICS (the two view types differ).
+#ifdef CAUSTICS
+layout(set = 0, binding = 5) uniform sampler2DArray caustics_tex;
+#endif
 layout(set = 0, binding = 6) uniform sampler2D caustic_depth_tex;  // what that light sees without refractors
 
 layout(push_constant) uniform Params {
   float shadow_bias;
   uint has_shadow;
-  uint has_caustics;
 } params;
 
 layout(location = 0) out vec4 out_color;
@@ -65,6 +68,7 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
 // Irradiance from the caustic map: a texel's flux spread over the receiver area its solid angle
 // covers at this point, dw r^2 / cos(theta); only on the surface the light sees first (the
 // receiver depth test, like a shadow map).
+#ifdef CAUSTICS
 vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   vec4 clip = light.view_proj * vec4(normal_offset(light, p, n, float(textureSize(caustic_depth_tex, 0).x)), 1.0);
   if (clip.w <= 0.0) return vec3(0.0);
@@ -72,10 +76,10 @@ vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   if (linear_depth(light, ndc.z) - params.shadow_bias > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
-  vec2 size = vec2(textureSize(caustics_tex, 0));
+  vec2 size = vec2(textureSize(caustics_tex, 0).xy);
   float r2;
   float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
-  float flux = texture(caustics_tex, uv).r;
+  vec3 flux = vec3(texture(caustics_tex, vec3(uv, 0.0)).r, texture(caustics_tex, vec3(uv, 1.0)).r, texture(caustics_tex, vec3(uv, 2.0)).r);
   // The area a texel covers across the light's direction: its share of a directional light's square,
   // or its solid angle times r^2.
   float texel_area = 4.0 * light.clip.z * light.clip.z / (size.x * size.y);
@@ -86,6 +90,7 @@ vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   }
   return light.radiant.rgb / max(light.radiant.a, 1e-20) * flux * cos_theta / texel_area;
 }
+#endif
 
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
@@ -105,7 +110,9 @@ void main() {
     float cone = spot_cone(light, -l);
     if (light_has_view(light)) {
       if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p, n);
-      if (i == 0 && params.has_caustics != 0) irradiance += caustic_irradiance(light, p, n);
+#ifdef CAUSTICS
+      if (i == 0) irradiance += caustic_irradiance(light, p, n);
+#endif
     }
     irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }
