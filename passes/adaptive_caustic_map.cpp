@@ -39,7 +39,9 @@ struct AdaptivePush {
   float converge_spread;
   uint32_t counter_slot[11];
   ExactPathPush exact;
+  uint32_t band;  // 128 bytes: the push-constant size every device allows
 };
+static_assert(sizeof(AdaptivePush) <= 128);
 
 constexpr uint32_t kCoverageBlockLog2 = 2;  // the coverage pyramid's finest texel: 4 x 4 light-view texels
 
@@ -149,7 +151,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    ctx.set_counter(batches_slot_, batches);
+    const std::vector<uint32_t> bands = photon_bands(ctx.scene().scene());
+    ctx.set_counter(batches_slot_, batches * static_cast<uint32_t>(bands.size()));
     // The caustic map (level 0) and the coarser levels start at zero, after the previous frame's
     // combine read them.
     record_caustic_clear(ctx, clear_);
@@ -174,7 +177,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                       uses_coverage_ ? 1u : 0u,
                       converge_spread_,
                       {},
-                      exact_.push(ctx)};
+                      exact_.push(ctx),
+                      kWhiteBand};
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
@@ -200,7 +204,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         vkCmdDispatch(cmd, (side + 7) / 8, (side + 7) / 8, 1);
       }
     }
-    for (uint32_t b = 0; b < batches; ++b) {
+    for (uint32_t batch = 0; batch < batches * bands.size(); ++batch) {  // every batch once per colour band
+      const uint32_t b = batch % batches;
+      push.band = bands[batch / batches];
       // Everything the previous batch (or the clear, the counter fill) wrote is visible, and the
       // control block starts at zero.
       memory_barrier(cmd, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | kTransfer,

@@ -17,6 +17,7 @@ struct PhotonPush {
   uint32_t fresnel;
   uint32_t counter_slot[8];
   ExactPathPush exact;
+  uint32_t band;
 };
 
 class CausticMapPass final : public graph::Pass {
@@ -55,16 +56,27 @@ class CausticMapPass final : public graph::Pass {
 
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);
-    PhotonPush push{shared.distance_mode, shared.search_steps, shared.search_distance, p["light"].get<uint32_t>(), p["grid"].get<uint32_t>(),
-                    p["fresnel"].get<bool>() ? 1u : 0u, {}, exact_.push(ctx)};
+    PhotonPush push{shared.distance_mode,
+                    shared.search_steps,
+                    shared.search_distance,
+                    p["light"].get<uint32_t>(),
+                    p["grid"].get<uint32_t>(),
+                    p["fresnel"].get<bool>() ? 1u : 0u,
+                    {},
+                    exact_.push(ctx),
+                    kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    ctx.set_counter(batches_slot_, 1);
+    const std::vector<uint32_t> bands = photon_bands(ctx.scene().scene());
+    ctx.set_counter(batches_slot_, static_cast<uint32_t>(bands.size()));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
     vk::DescriptorWriter writer = photon_descriptors(ctx);
     exact_.bind(ctx, writer);
     writer.push(ctx.vk(), cmd, photons_);
-    vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
+    for (uint32_t band : bands) {  // the bands add into one map; atomics need no order between them
+      push.band = band;
+      vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
+      vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
+    }
   }
 
  private:

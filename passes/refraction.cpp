@@ -196,6 +196,12 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
+std::vector<uint32_t> photon_bands(const scene::Scene& scene) {
+  const bool disperses = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                     [](const scene::Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
+  return disperses ? std::vector<uint32_t>{0, 1, 2} : std::vector<uint32_t>{kWhiteBand};
+}
+
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
   vk::DescriptorWriter writer = scene_descriptors(ctx);
   writer.sampled_image(3, ctx.view("front"), ctx.nearest_sampler())

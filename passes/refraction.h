@@ -81,6 +81,12 @@ std::vector<graph::PortDecl> photon_ports();
 // Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
 // caustic map, counters as uint and as float.
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
+
+// The colour bands a photon pass traces each photon in: kWhiteBand alone (one path carries every
+// channel), or, when a refractor disperses light (KHR_materials_dispersion), red, green and blue,
+// each with its own index of refraction (caustics/photon.glsl, params.band).
+inline constexpr uint32_t kWhiteBand = 3;
+std::vector<uint32_t> photon_bands(const scene::Scene& scene);
 // Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible
 // to the compute shaders that follow.
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup);

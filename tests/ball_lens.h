@@ -60,25 +60,31 @@ inline ExactLens exact_ball_lens(const scene::Scene& scene, const std::vector<do
   return exact;
 }
 
-// The flux of a light-space caustic map (flux per texel of the first light's image plane, the
-// channels' mean) inside
-// each radius of the axis on the floor y = 0, placing each texel's flux where its centre sees the floor.
-inline std::vector<double> map_flux_inside(const scene::Scene& scene, const io::ImageData& map, const std::vector<double>& radii) {
+// Visits every texel of a light-space caustic map (flux per texel and channel of the first light's
+// image plane) with the distance from the axis at which its centre sees the floor y = 0.
+template <typename Visit>
+void for_each_floor_texel(const scene::Scene& scene, const io::ImageData& map, Visit&& visit) {
   const glm::dvec3 light(scene.lights[0].view.position);
   const glm::dmat4 inverse = glm::inverse(glm::dmat4(scene.lights[0].view.view_projection(1.0f)));
-  std::vector<double> inside(radii.size(), 0.0);
   for (uint32_t y = 0; y < map.height; ++y) {
     for (uint32_t x = 0; x < map.width; ++x) {
       const float* rgb = &map.rgba[(size_t{y} * map.width + x) * 4];
-      const double flux = (double(rgb[0]) + double(rgb[1]) + double(rgb[2])) / 3.0;  // as the flux counters count it
-      if (flux == 0) continue;
+      if (rgb[0] == 0 && rgb[1] == 0 && rgb[2] == 0) continue;
       const glm::dvec4 far = inverse * glm::dvec4((x + 0.5) / map.width * 2 - 1, (y + 0.5) / map.height * 2 - 1, 1, 1);
       const glm::dvec3 d = glm::normalize(glm::dvec3(far) / far.w - light);
       const glm::dvec3 floor = light + (-light.y / d.y) * d;
-      const double r = std::hypot(floor.x, floor.z);
-      for (size_t k = 0; k < radii.size(); ++k) inside[k] += r <= radii[k] ? flux : 0.0;
+      visit(std::hypot(floor.x, floor.z), glm::dvec3(rgb[0], rgb[1], rgb[2]));
     }
   }
+}
+
+// The flux of a caustic map (the channels' mean, as the flux counters count it) inside each radius
+// of the axis on the floor.
+inline std::vector<double> map_flux_inside(const scene::Scene& scene, const io::ImageData& map, const std::vector<double>& radii) {
+  std::vector<double> inside(radii.size(), 0.0);
+  for_each_floor_texel(scene, map, [&](double r, const glm::dvec3& rgb) {
+    for (size_t k = 0; k < radii.size(); ++k) inside[k] += r <= radii[k] ? (rgb.x + rgb.y + rgb.z) / 3.0 : 0.0;
+  });
   return inside;
 }
 

@@ -89,9 +89,11 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
     "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]},
                    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
                                   "KHR_materials_ior": {"ior": 1.33},
+                                  "KHR_materials_dispersion": {"dispersion": 0.5},
                                   "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationColor": [0.5, 1, 1],
                                                            "attenuationDistance": 2}}}],
-    "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"],
+    "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion"],
+    "extensionsRequired": ["KHR_materials_dispersion"],
     "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" +
                            buffer + R"("}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
@@ -105,6 +107,8 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   EXPECT_FALSE(m.thin);  // a volume with a thickness
   EXPECT_EQ(m.tint, glm::vec3(0.2f, 0.4f, 0.6f));  // transmitted light takes the base colour
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  EXPECT_FLOAT_EQ(m.dispersion, 0.5f);  // 20 / Abbe number 40: n_F - n_C = 0.33 / 40
+  EXPECT_NEAR(m.band_iors().z - m.band_iors().x, 0.33f / 40.0f, 1e-6f);
   EXPECT_NEAR(m.absorption.r, std::log(2.0f) / 2.0f, 1e-5f);  // half the red left after 2 units
   EXPECT_FLOAT_EQ(m.absorption.g, 0.0f);
   const Mesh& mesh = parts[0].mesh;

@@ -21,7 +21,7 @@ for sample in TransmissionTest AttenuationTest TransmissionRoughnessTest; do
   [ -f "$samples/$sample.glb" ] && assets+=("$sample|$samples/$sample.glb")
 done
 assets+=("thin_panes|scenes/thin_panes.json" "sphere_sun|scenes/sphere_sun.json" "glass_cube|tests/data/gltf/cube_camera_spot.gltf"
-  "dragon|scenes/dragon.json")
+  "dragon|scenes/dragon.json" "rainbow_lens|scenes/rainbow_lens.json")
 
 energy() {  # A B -> "energy_ratio relative_l1"
   "$bin" compare "$1" "$2" --json | python3 -c 'import json, sys; d = json.load(sys.stdin); print("%.3f %.3f" % (d["energy_ratio"], d["relative_l1"]))'

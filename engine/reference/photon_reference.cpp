@@ -55,6 +55,10 @@ class PhotonTracer {
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
+    for (const auto& object : scene.objects) {
+      band_iors_.push_back(object.material.band_iors());
+      disperses_ = disperses_ || (object.material.refractor && object.material.ior_spread() > 0.0f);
+    }
     if (options.camera_width > 0) {
       camera_view_proj_ = scene.camera.view_projection(float(options.camera_width) / float(options.camera_height));
     }
@@ -85,8 +89,20 @@ class PhotonTracer {
     const double emitted = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
     if (emitted <= 0) return;
     acc.totals.emitted += emitted;
-    Power power(emitted);
+    if (!disperses_) {
+      trace_band(random, acc, eye, direction, Power(emitted), -1);
+      return;
+    }
+    for (int band = 0; band < 3; ++band) {  // as the engine: each band its own path, its power in its channel
+      Power power(0.0);
+      power[band] = emitted;
+      trace_band(random, acc, eye, direction, power, band);
+    }
+  }
 
+  // One photon's path; `band` is -1 for white light (every channel, the index n_d) or the colour
+  // band whose index it refracts with.
+  void trace_band(Random& random, Accumulator& acc, glm::vec3 eye, glm::vec3 direction, Power power, int band) const {
     const auto& objects = exact_.scene().objects;
     const float epsilon = exact_.epsilon();
     glm::vec3 origin = eye;
@@ -115,7 +131,7 @@ class PhotonTracer {
       if (!refracted) acc.totals.entering += mean(power);
       glm::vec3 n = exact_.smooth_normal(*hit);
       if (glm::dot(n, direction) > 0) n = -n;
-      const float ior = object.material.ior;
+      const float ior = band < 0 ? object.material.ior : band_iors_[hit->geometry][band];
       // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
       // rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {
@@ -190,6 +206,8 @@ class PhotonTracer {
   glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
   float half_plane_ = 1.0f;
   bool directional_ = false;
+  bool disperses_ = false;  // a refractor disperses: every photon is traced once per colour band
+  std::vector<glm::vec3> band_iors_;
   double photon_area_ = 0, max_power_ = 0, unit_ = 1;
 };
 

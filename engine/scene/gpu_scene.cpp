@@ -37,7 +37,7 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
     objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
-                       glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, 0.0f)});
+                       glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread())});
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

@@ -297,6 +297,11 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     }
     m.ior = static_cast<float>(ior);
   }
+  if (const auto* d = ext("KHR_materials_dispersion")) {
+    const double dispersion = number(*d, "KHR_materials_dispersion", "dispersion", 0.0);
+    if (dispersion < 0.0) fail(path, 0, at + "/extensions/KHR_materials_dispersion/dispersion: must be 0 or more");
+    m.dispersion = static_cast<float>(dispersion);
+  }
   if (const auto* v = ext("KHR_materials_volume")) {
     const std::string volume = at + "/extensions/KHR_materials_volume";
     const double thickness = number(*v, "KHR_materials_volume", "thicknessFactor", 0.0);
@@ -322,9 +327,9 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
 }
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
-const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                                  "KHR_lights_punctual",        "KHR_mesh_quantization", "EXT_meshopt_compression",
-                                                  "KHR_draco_mesh_compression"};
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior",         "KHR_materials_volume",
+                                                  "KHR_materials_dispersion",   "KHR_lights_punctual",       "KHR_mesh_quantization",
+                                                  "EXT_meshopt_compression",    "KHR_draco_mesh_compression"};
 
 // Images are not decoded (no material property caustica reads uses them yet); an external image
 // must still exist, as the specification requires.

@@ -10,6 +10,15 @@
 
 namespace caustica::scene {
 
+glm::vec3 Material::band_iors() const {
+  // n(lambda) = n_d + (n_F - n_C) (1/lambda^2 - 1/lambda_d^2) / (1/lambda_F^2 - 1/lambda_C^2)
+  constexpr double kC = 656.27, kD = 587.56, kF = 486.13;
+  const auto inv2 = [](double nm) { return 1.0 / (nm * nm); };
+  const double per_spread = 1.0 / (inv2(kF) - inv2(kC));
+  const double spread = ior_spread();
+  return glm::vec3(glm::dvec3(ior) + spread * per_spread * (glm::dvec3(inv2(kC), inv2(kD), inv2(kF)) - inv2(kD)));
+}
+
 glm::mat4 View::view_matrix() const {
   glm::vec3 forward = glm::normalize(target - position);
   // Looking straight up or down: any up vector not parallel to the view direction serves.
@@ -147,7 +156,7 @@ glm::mat4 load_transform(const JsonReader& read, const nlohmann::json& value, co
 
 void apply_material(const JsonReader& read, const nlohmann::json& value, const std::string& pointer, Material& m) {
   read.object(value, pointer, "a material");
-  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption", "transmission", "tint", "thin"}, "a material");
+  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption", "transmission", "tint", "thin", "dispersion"}, "a material");
   if (value.contains("color")) m.albedo = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1.0);
   if (value.contains("refractor")) m.refractor = read.boolean(value["refractor"], pointer + "/refractor", "\"refractor\"");
   if (value.contains("ior"))
@@ -160,6 +169,10 @@ void apply_material(const JsonReader& read, const nlohmann::json& value, const s
   }
   if (value.contains("tint")) m.tint = vec3(read, value["tint"], pointer + "/tint", "\"tint\"", 0.0, 1.0);
   if (value.contains("thin")) m.thin = read.boolean(value["thin"], pointer + "/thin", "\"thin\"");
+  if (value.contains("dispersion")) {
+    m.dispersion =
+        static_cast<float>(read.number(value["dispersion"], pointer + "/dispersion", "\"dispersion\" (20 / Abbe number)", 0.0, 100.0));
+  }
 }
 
 Mesh load_primitive(const JsonDocument& doc, const JsonReader& read, const nlohmann::json& value, const std::string& pointer) {

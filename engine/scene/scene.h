@@ -25,6 +25,13 @@ struct Material {
   float transmission = 1.0f;
   glm::vec3 tint{1.0f};
   bool thin = false;
+  // KHR_materials_dispersion: 20 / the Abbe number V_d = (n_d - 1) / (n_F - n_C); 0 disperses nothing.
+  float dispersion = 0.0f;
+  // n_F - n_C: how much the index of blue light exceeds that of red (`ior` is n_d).
+  float ior_spread() const { return dispersion > 0.0f ? (ior - 1.0f) * dispersion / 20.0f : 0.0f; }
+  // The index in each colour band: red at the C line (656.27 nm), green at d (587.56 nm), blue at F
+  // (486.13 nm), on the two-term Cauchy curve n = A + B / lambda^2 the specification gives.
+  glm::vec3 band_iors() const;
   // The share of a photon's power that passes the surface (after Fresnel), per colour channel of
   // the caustic map: transmission times the tint.
   glm::vec3 caustic_transmittance() const { return transmission * tint; }

@@ -55,6 +55,7 @@ layout(push_constant) uniform Params {
   uint exact_counters;
   float exact_epsilon;
   float hybrid_tolerance;
+  uint band;  // caustics/photon.glsl: BAND_WHITE, or the colour band traced
 } params;
 
 // Whether any light-view texel under a cluster's footprint at params.level shows a refractor: one

@@ -3,7 +3,7 @@
 // One photon from a spot light through the light-view refractor buffers to the receivers, shared by
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
 // back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search_steps,
-// search_distance, light and fresnel (see refraction.glsl), and the exact-path fields
+// search_distance, light, fresnel (see refraction.glsl) and band, and the exact-path fields
 // exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_tolerance.
 //
 // With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query or
@@ -21,6 +21,17 @@ const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_
 const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order
 const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP = 11u, EXACT_FLUX_ABSORBED = 12u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
+// Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
+// dispersive refractor, the pass traces every photon once per colour band (params.band), each with
+// that band's index of refraction and its power in that channel only.
+const uint BAND_WHITE = 3u;
+// Where each band's index lies between n_d and n_F - n_C above it: (1/lambda^2 - 1/lambda_d^2) /
+// (1/lambda_F^2 - 1/lambda_C^2) at the C, d and F lines (scene::Material::band_iors).
+const vec3 BAND_SPREAD = vec3(-0.300993, 0.0, 0.699007);
+float band_ior(ObjectData object) {
+  return params.band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[params.band] * object.bounds_max_spread.w;
+}
+
 // Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
 float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
 void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
@@ -43,7 +54,7 @@ float next_uniform(inout uint state) {
 
 struct Photon {
   vec3 power;      // per caustic-map channel, after Fresnel, tint and absorption; as it left the light when it missed
-  float entering;  // its power before the refractor, when it met one (else 0); the light's photons are white
+  float entering;  // the channels' mean of its power before the refractor, when it met one (else 0)
   bool hit;        // met a refractor
   bool tir;        // dropped: total internal reflection at the back surface
   bool landed;     // reached a receiver at `texel` of the caustic map
@@ -115,7 +126,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
     bool entering = inside < 0;
     bool thin = thin_walled(object);
-    float ior = object.absorption_ior.a;
+    float ior = band_ior(object);
     vec3 transmitted = thin ? direction : refract(direction, n, entering ? 1.0 / ior : ior);
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
@@ -162,7 +173,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   if (!directional) origin = perspective_origin(eye);
   float cone = spot_cone(light, direction);
   float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
-  ph.power = vec3(emitted);
+  ph.power = params.band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(params.band)));
   if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
   if (params.distance_mode == DISTANCE_RAY_QUERY) {
@@ -177,11 +188,11 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   float receiver = texture(receiver_depth, uv).r;
   if (receiver < 1.0 && view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) < front.y * (1.0 - 1e-4)) return ph;
   ph.hit = true;
-  ph.entering = emitted;
+  ph.entering = channel_mean(ph.power);
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
-    float ior = object.absorption_ior.a;
+    float ior = band_ior(object);
     if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior);
     ph.power *= caustic_transmittance(object);
     vec4 back = texture(back_tex, uv);
@@ -194,7 +205,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
     if (march_depth(receiver_depth, light.view_proj, p1, direction, landing)) land_on_map(ph, landing);
     return ph;
   }
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, object.absorption_ior.a, uv);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object), uv);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
   uint reason = EXIT_TRUSTED;

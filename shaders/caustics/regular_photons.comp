@@ -28,6 +28,7 @@ layout(push_constant) uniform Params {
   uint exact_counters;
   float exact_epsilon;
   float hybrid_tolerance;
+  uint band;  // caustics/photon.glsl: BAND_WHITE, or the colour band traced
 } params;
 
 #include "caustics/photon.glsl"

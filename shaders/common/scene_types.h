@@ -23,7 +23,7 @@ struct ObjectData {
   vec4 absorption_ior;        // rgb absorption per unit length, a: index of refraction
   vec4 tint_transmission;     // rgb: colour of transmitted light, a: transmission factor (refractors)
   vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor
-  vec4 bounds_max;
+  vec4 bounds_max_spread;     // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
 };
 
 struct LightData {

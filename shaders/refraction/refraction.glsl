@@ -297,7 +297,7 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
   vec3 inv = 1.0 / d;  // IEEE infinities for an axis the segment does not move along
   for (uint i = 0u; i < uint(objects.length()); ++i) {
     if (i == own || objects[i].albedo_refractor.a < 0.5) continue;
-    vec3 t0 = (objects[i].bounds_min_thin.xyz - a) * inv, t1 = (objects[i].bounds_max.xyz - a) * inv;
+    vec3 t0 = (objects[i].bounds_min_thin.xyz - a) * inv, t1 = (objects[i].bounds_max_spread.xyz - a) * inv;
     vec3 lo = min(t0, t1), hi = max(t0, t1);
     if (max(max(lo.x, lo.y), max(lo.z, 0.0)) <= min(min(hi.x, hi.y), min(hi.z, 1.0))) return true;
   }
