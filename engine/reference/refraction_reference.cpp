@@ -91,7 +91,9 @@ class Tracer {
     return glm::mix(glm::mix(at(x, y), at(x + 1, y), f.x), glm::mix(at(x, y + 1), at(x + 1, y + 1), f.x), f.y);
   }
 
-  glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, bool* hit_refractor) const {
+  // In colour band `band` (-1: white light, every refractor with its index n_d; 0, 1, 2: red, green,
+  // blue with their indices, scene::Material::band_iors).
+  glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, bool* hit_refractor, int band = -1) const {
     glm::vec3 throughput(1.0f), radiance(0.0f);
     for (int segment = 0; segment < 16; ++segment) {
       auto hit = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
@@ -108,7 +110,7 @@ class Tracer {
       // passes tinted, the remainder is reflected diffusely with the tint as albedo.
       if (glm::dot(n, direction) > 0) n = -n;
       const scene::Material& m = object.material;
-      const float ior = m.ior;
+      const float ior = band < 0 || m.thin ? m.ior : m.band_iors()[band];
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
@@ -153,6 +155,8 @@ class Tracer {
 
 RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map) {
   Tracer tracer(scene, caustic_map);
+  const bool disperses = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                     [](const scene::Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
   RefractionImage out;
   out.radiance.width = width;
   out.radiance.height = height;
@@ -168,7 +172,10 @@ RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t 
         const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
         const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
         bool refractor = false;
-        const glm::vec3 c = tracer.trace(scene.camera.position, direction, &refractor);
+        glm::vec3 c = tracer.trace(scene.camera.position, direction, &refractor);
+        if (disperses) {  // each colour band along its own path, as the engine
+          for (int band = 0; band < 3; ++band) c[band] = tracer.trace(scene.camera.position, direction, nullptr, band)[band];
+        }
         float* px = &out.radiance.rgba[(size_t{y} * width + x) * 4];
         px[0] = c.r;
         px[1] = c.g;

@@ -23,15 +23,7 @@ const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (params.band), each with
-// that band's index of refraction and its power in that channel only.
-const uint BAND_WHITE = 3u;
-// Where each band's index lies between n_d and n_F - n_C above it: (1/lambda^2 - 1/lambda_d^2) /
-// (1/lambda_F^2 - 1/lambda_C^2) at the C, d and F lines (scene::Material::band_iors).
-const vec3 BAND_SPREAD = vec3(-0.300993, 0.0, 0.699007);
-float band_ior(ObjectData object) {
-  return params.band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[params.band] * object.bounds_max_spread.w;
-}
-
+// that band's index of refraction (refraction.glsl's band_ior) and its power in that channel only.
 // Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
 float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
 void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
@@ -126,7 +118,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
     bool entering = inside < 0;
     bool thin = thin_walled(object);
-    float ior = band_ior(object);
+    float ior = band_ior(object, params.band);
     vec3 transmitted = thin ? direction : refract(direction, n, entering ? 1.0 / ior : ior);
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
@@ -192,7 +184,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
-    float ior = band_ior(object);
+    float ior = band_ior(object, params.band);
     if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior);
     ph.power *= caustic_transmittance(object);
     vec4 back = texture(back_tex, uv);
@@ -205,7 +197,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
     if (march_depth(receiver_depth, light.view_proj, p1, direction, landing)) land_on_map(ph, landing);
     return ph;
   }
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object), uv);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
   uint reason = EXIT_TRUSTED;

@@ -44,14 +44,20 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
     radiance = through_thin_wall(object, p1, n1, front, uv);
     return EXIT_TRUSTED;
   }
-  TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, object.absorption_ior.a, uv);
-  uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
-  if (reason != EXIT_TRUSTED) return reason;
-  vec2 behind_uv;
-  if (!march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv)) return CAMERA_OFF_SCREEN;
-  vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
-  if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
-  radiance = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
+  // A dispersive refractor: each colour band's path, each trusted, gives its own channel.
+  uint first = disperses(object) ? 0u : BAND_WHITE, last = disperses(object) ? 2u : BAND_WHITE;
+  for (uint band = first; band <= last; ++band) {
+    TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, band_ior(object, band), uv);
+    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+    if (reason != EXIT_TRUSTED) return reason;
+    vec2 behind_uv;
+    if (!march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv)) return CAMERA_OFF_SCREEN;
+    vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
+    if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
+    vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
+    if (band == BAND_WHITE) radiance = seen;
+    else radiance[band] = seen[band];
+  }
   return EXIT_TRUSTED;
 }
 #endif

@@ -310,6 +310,17 @@ bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
 // meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
 // pane one (its back texel is then the near wall again, or empty).
 bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-4) && back.w == front.w; }
+// Colour bands (KHR_materials_dispersion): BAND_WHITE is one path for every channel with the index
+// n_d; bands 0, 1, 2 (red, green, blue) refract with the index of the C, d and F lines. Where each
+// band's index lies, in units of n_F - n_C above n_d: (1/lambda^2 - 1/lambda_d^2) / (1/lambda_F^2 -
+// 1/lambda_C^2) (scene::Material::band_iors).
+const uint BAND_WHITE = 3u;
+const vec3 BAND_SPREAD = vec3(-0.300993, 0.0, 0.699007);
+bool disperses(ObjectData object) { return object.bounds_max_spread.w > 0.0; }
+float band_ior(ObjectData object, uint band) {
+  return band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[band] * object.bounds_max_spread.w;
+}
+
 // The share of a photon's power past a refractor's surface (after Fresnel), per colour channel of
 // the caustic map: the transmission factor times the tint (scene::Material::caustic_transmittance).
 vec3 caustic_transmittance(ObjectData object) { return object.tint_transmission.a * object.tint_transmission.rgb; }
@@ -380,17 +391,25 @@ vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pix
   return refractor_surface(object, fresnel_dielectric(-dot(v, n1), 1.0, ior), p1, n1, through);
 }
 
-// Radiance seen through a refractor whose front surface is at p1 with outward normal n1.
+// Radiance seen through a refractor whose front surface is at p1 with outward normal n1; a
+// dispersive one is refracted once per colour band, each band giving its own channel.
 vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
   ObjectData object = objects[object_index];
   if (thin_walled(object)) return through_thin_wall(object, p1, n1, vec4(0.0, front_distance, 0.0, float(object_index)), pixel_uv);
-  TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
-                                              object.absorption_ior.a, pixel_uv);
-  // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
-  // reflected direction with all its energy (no black pixels, no NaN).
-  if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
-  if (dot(normalize(p1 - frame.camera_position.xyz), n1) > 0.0) n1 = -n1;
-  return through_refractor(path, object, p1, n1, background_along(path.exit_point, path.exit_direction));
+  vec3 facing = dot(normalize(p1 - frame.camera_position.xyz), n1) > 0.0 ? -n1 : n1;
+  vec3 radiance = vec3(0.0);
+  uint first = disperses(object) ? 0u : BAND_WHITE, last = disperses(object) ? 2u : BAND_WHITE;
+  for (uint band = first; band <= last; ++band) {
+    TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
+                                                band_ior(object, band), pixel_uv);
+    // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
+    // reflected direction with all its energy (no black pixels, no NaN).
+    if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
+    vec3 seen = through_refractor(path, object, p1, facing, background_along(path.exit_point, path.exit_direction));
+    if (band == BAND_WHITE) return seen;
+    radiance[band] = seen[band];
+  }
+  return radiance;
 }
 
 #ifdef CAUSTICA_RAY_QUERY
@@ -420,7 +439,9 @@ vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
 // at a refractor's entry the Fresnel reflection sees the sky and the rest refracts in; inside,
 // absorption and total internal reflection; at the exit the Fresnel transmittance. A ray still
 // inside after exact_max_interfaces interfaces (or lost in an open mesh) brings nothing more.
-vec3 trace_camera_exact(vec3 origin, vec3 direction) {
+// In colour band `band` (refracting with its index); a white ray that meets a dispersive refractor
+// stops and sets `dispersed` (trace_camera_exact below then traces each band).
+vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout bool dispersed) {
   vec3 throughput = vec3(1.0), radiance = vec3(0.0);
   int inside = -1;
   uint interfaces = 0u;
@@ -439,7 +460,11 @@ vec3 trace_camera_exact(vec3 origin, vec3 direction) {
       return radiance;
     }
     ++interfaces;
-    float ior = object.absorption_ior.a;
+    if (band == BAND_WHITE && !thin_walled(object) && disperses(object)) {
+      dispersed = true;
+      return vec3(0.0);
+    }
+    float ior = band_ior(object, band);
     origin = p;
     if (inside < 0) {
       // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
@@ -464,6 +489,15 @@ vec3 trace_camera_exact(vec3 origin, vec3 direction) {
       }
     }
   }
+}
+
+vec3 trace_camera_exact(vec3 origin, vec3 direction) {
+  bool dispersed = false;
+  vec3 white = trace_camera_band(origin, direction, BAND_WHITE, dispersed);
+  if (!dispersed) return white;
+  vec3 radiance;
+  for (uint band = 0u; band < 3u; ++band) radiance[band] = trace_camera_band(origin, direction, band, dispersed)[band];
+  return radiance;
 }
 #endif
 #endif
