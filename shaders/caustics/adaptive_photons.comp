@@ -42,7 +42,9 @@ void splat_at(ivec2 texel, uint level, vec3 power) {
     return;
   }
   uint at = pyramid_index(level, uvec2(texel) >> level);
-  for (uint c = 0u; c < 3u; ++c) atomicAdd(pyramid[at + c], power[c]);
+  for (uint c = 0u; c < 3u; ++c) {
+    if (power[c] != 0.0) atomicAdd(pyramid[at + c], power[c]);
+  }
 }
 
 void output_photon(Photon ph, uint level) {

@@ -28,7 +28,9 @@ void main() {
     for (int x = 0; x < 2 * side; ++x) {
       float wx = (1.0 - abs(float(x) + 0.5 - float(side)) * norm) * norm;
       ivec2 texel = clamp(first + ivec2(x, y), ivec2(0), map_size - 1);
-      for (int c = 0; c < 3; ++c) imageAtomicAdd(caustic_map, ivec3(texel, c), flux[c] * wx * wy);
+      for (int c = 0; c < 3; ++c) {
+        if (flux[c] != 0.0) imageAtomicAdd(caustic_map, ivec3(texel, c), flux[c] * wx * wy);
+      }
     }
   }
 }

@@ -232,9 +232,12 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   return ph;
 }
 
-// The caustic map has a layer per colour channel (image atomics are single-channel).
+// The caustic map has a layer per colour channel (image atomics are single-channel). A colour
+// band's photon has one channel: the others' atomics are skipped.
 void splat(ivec2 texel, vec3 power) {
-  for (int c = 0; c < 3; ++c) imageAtomicAdd(caustic_map, ivec3(texel, c), power[c]);
+  for (int c = 0; c < 3; ++c) {
+    if (power[c] != 0.0) imageAtomicAdd(caustic_map, ivec3(texel, c), power[c]);
+  }
 }
 
 #endif
