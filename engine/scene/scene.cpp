@@ -15,8 +15,8 @@ glm::vec3 Material::band_iors() const {
   constexpr double kC = 656.27, kD = 587.56, kF = 486.13;
   const auto inv2 = [](double nm) { return 1.0 / (nm * nm); };
   const double per_spread = 1.0 / (inv2(kF) - inv2(kC));
-  const double spread = ior_spread();
-  return glm::vec3(glm::dvec3(ior) + spread * per_spread * (glm::dvec3(inv2(kC), inv2(kD), inv2(kF)) - inv2(kD)));
+  const double spread = double(ior_spread());
+  return glm::vec3(glm::dvec3(double(ior)) + spread * per_spread * (glm::dvec3(inv2(kC), inv2(kD), inv2(kF)) - inv2(kD)));
 }
 
 glm::mat4 View::view_matrix() const {
