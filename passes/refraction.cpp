@@ -197,9 +197,7 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
 }
 
 std::vector<uint32_t> photon_bands(const scene::Scene& scene) {
-  const bool disperses = std::any_of(scene.objects.begin(), scene.objects.end(),
-                                     [](const scene::Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
-  return disperses ? std::vector<uint32_t>{0, 1, 2} : std::vector<uint32_t>{kWhiteBand};
+  return scene.disperses() ? std::vector<uint32_t>{0, 1, 2} : std::vector<uint32_t>{kWhiteBand};
 }
 
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {

@@ -48,6 +48,7 @@ class PhotonTracer {
  public:
   PhotonTracer(const scene::Scene& scene, const PhotonOptions& options) : exact_(scene), options_(options), light_(scene.lights.front()) {
     light_view_proj_ = light_.view_projection();
+    disperses_ = scene.disperses();
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
     // The image plane at distance 1 (spot), or the orthographic view's square itself (directional).
     directional_ = light_.type == scene::LightType::directional;
@@ -55,10 +56,7 @@ class PhotonTracer {
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
-    for (const auto& object : scene.objects) {
-      band_iors_.push_back(object.material.band_iors());
-      disperses_ = disperses_ || (object.material.refractor && object.material.ior_spread() > 0.0f);
-    }
+    for (const auto& object : scene.objects) band_iors_.push_back(object.material.band_iors());
     if (options.camera_width > 0) {
       camera_view_proj_ = scene.camera.view_projection(float(options.camera_width) / float(options.camera_height));
     }
@@ -206,7 +204,7 @@ class PhotonTracer {
   glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
   float half_plane_ = 1.0f;
   bool directional_ = false;
-  bool disperses_ = false;  // a refractor disperses: every photon is traced once per colour band
+  bool disperses_ = false;  // Scene::disperses: every photon is traced once per colour band
   std::vector<glm::vec3> band_iors_;
   double photon_area_ = 0, max_power_ = 0, unit_ = 1;
 };

@@ -155,8 +155,7 @@ class Tracer {
 
 RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map) {
   Tracer tracer(scene, caustic_map);
-  const bool disperses = std::any_of(scene.objects.begin(), scene.objects.end(),
-                                     [](const scene::Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
+  const bool disperses = scene.disperses();
   RefractionImage out;
   out.radiance.width = width;
   out.radiance.height = height;

@@ -77,6 +77,10 @@ glm::mat4 View::projection(float aspect) const {
   return p;
 }
 
+bool Scene::disperses() const {
+  return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
+}
+
 size_t Scene::refractor_count() const {
   return static_cast<size_t>(std::count_if(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor; }));
 }

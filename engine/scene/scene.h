@@ -93,6 +93,8 @@ struct Scene {
 
   size_t refractor_count() const;
   size_t triangle_count() const;
+  // Whether a refractor disperses light: light is then traced once per colour band.
+  bool disperses() const;
   // How far a ray starts off the surface it leaves: 1e-4 of the largest object's diagonal, at least
   // 1e-4. The exact tracers (Embree and ray queries) share it.
   float ray_epsilon() const;
