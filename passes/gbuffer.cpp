@@ -21,6 +21,7 @@ class GBufferPass final : public graph::Pass {
     begin_rendering(cmd, extent, {{ctx.view("normal")}, {ctx.view("albedo")}}, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
+    bind_scene_textures(ctx, cmd, pipeline_);
     const DrawPush push(view);
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
     draw_range(cmd, ctx.scene(), ctx.scene().opaque());

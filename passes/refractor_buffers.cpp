@@ -52,6 +52,7 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
       const vk::Pipeline& pipeline = pipelines_[part && !back ? 2 : back];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline.get());
       scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline);
+      bind_scene_textures(ctx, cmd, pipeline);
       vkCmdPushConstants(cmd, pipeline.layout.get(), pipeline.stages, 0, sizeof(push), &push);
       draw_range(cmd, ctx.scene(), parts[part]);
     }

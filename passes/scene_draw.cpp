@@ -1,5 +1,7 @@
 #include "scene_draw.h"
 
+#include "common/scene_types.h"
+
 namespace caustica::passes {
 
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
@@ -28,8 +30,8 @@ vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, cons
   std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
   bindings.insert(bindings.end(), extra.begin(), extra.end());
-  return vk::make_graphics_pipeline(setup.vk(), {name, bindings, push_bytes}, setup.shaders().compile("scene/mesh.vert"),
-                                    setup.shaders().compile(fragment_shader), state);
+  return vk::make_graphics_pipeline(setup.vk(), {name, bindings, push_bytes, CAUSTICA_MAX_TEXTURES},
+                                    setup.shaders().compile("scene/mesh.vert"), setup.shaders().compile(fragment_shader), state);
 }
 
 vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx) {
@@ -37,6 +39,11 @@ vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx) {
   vk::DescriptorWriter writer;
   writer.uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
   return writer;
+}
+
+void bind_scene_textures(const graph::PassContext& ctx, VkCommandBuffer cmd, const vk::Pipeline& pipeline) {
+  const VkDescriptorSet set = ctx.scene().textures();
+  vkCmdBindDescriptorSets(cmd, pipeline.bind_point, pipeline.layout.get(), 1, 1, &set, 0, nullptr);
 }
 
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<Attachment>& colors, std::optional<Attachment> depth) {

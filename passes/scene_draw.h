@@ -33,9 +33,12 @@ SceneView light_view(const graph::PassContext& ctx, uint32_t light);
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
 
 // Bindings 0..2 are the scene's (frame data, vertices, objects); `extra` follow from binding 3.
+// Set 1 is the scene's texture array: a pass whose fragment shader samples it binds it with
+// bind_scene_textures.
 vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
                                  std::vector<VkDescriptorType> extra = {}, uint32_t push_bytes = sizeof(DrawPush));
 vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx);
+void bind_scene_textures(const graph::PassContext& ctx, VkCommandBuffer cmd, const vk::Pipeline& pipeline);
 
 struct Attachment {
   VkImageView view = VK_NULL_HANDLE;

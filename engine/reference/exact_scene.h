@@ -36,7 +36,13 @@ inline float spot_cone(const scene::Light& light, glm::vec3 direction) {
 class ExactScene {
  public:
   explicit ExactScene(const scene::Scene& scene) : scene_(scene) {
-    for (const auto& o : scene.objects) rays_.add_mesh(o.mesh.positions, o.mesh.indices);
+    for (const auto& o : scene.objects) {
+      RayScene::CutOut cut_out;
+      if (o.material.alpha_mode == scene::AlphaMode::mask) {
+        cut_out = [this, &o](uint32_t triangle, float u, float v) { return base_color(o, triangle, u, v).a < o.material.alpha_cutoff; };
+      }
+      rays_.add_mesh(o.mesh.positions, o.mesh.indices, std::move(cut_out));
+    }
     rays_.commit();
     epsilon_ = scene.ray_epsilon();
   }
@@ -45,6 +51,23 @@ class ExactScene {
   const RayScene& rays() const { return rays_; }
   // Ray offsets that keep a ray from hitting the surface it leaves, scaled to the scene.
   float epsilon() const { return epsilon_; }
+
+  // The material's base colour and alpha where a ray meets triangle `triangle` at barycentric
+  // (u, v), its texture sampled as the engine's sampler reads the full-resolution level.
+  glm::vec4 base_color(const scene::Object& object, uint32_t triangle, float u, float v) const {
+    const scene::Material& m = object.material;
+    glm::vec4 color(m.albedo, m.alpha);
+    if (!m.base_color_texture.used()) return color;
+    glm::vec4 uv(0.0f);
+    if (!object.mesh.texcoords.empty()) {
+      const uint32_t* tri = &object.mesh.indices[3 * triangle];
+      uv = (1 - u - v) * object.mesh.texcoords[tri[0]] + u * object.mesh.texcoords[tri[1]] + v * object.mesh.texcoords[tri[2]];
+    }
+    const scene::TextureRef& ref = m.base_color_texture;
+    const glm::vec3 at = ref.transform * glm::vec3(ref.texcoord == 1 ? glm::vec2(uv.z, uv.w) : glm::vec2(uv.x, uv.y), 1.0f);
+    return color * scene_.textures[static_cast<size_t>(ref.texture)].sample(glm::vec2(at));
+  }
+  glm::vec4 base_color(const RayHit& hit) const { return base_color(scene_.objects[hit.geometry], hit.triangle, hit.u, hit.v); }
 
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;

@@ -29,8 +29,27 @@ RayScene::~RayScene() {
   rtcReleaseDevice(impl_->device);
 }
 
-uint32_t RayScene::add_mesh(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices) {
+namespace {
+
+// Rejects the candidate hits that land where the geometry's CutOut says there is no surface.
+void filter_cut_outs(const RTCFilterFunctionNArguments* args) {
+  const auto& cut_out = *static_cast<const RayScene::CutOut*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
+    if (cut_out(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) args->valid[i] = 0;
+  }
+}
+
+}  // namespace
+
+uint32_t RayScene::add_mesh(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices, CutOut cut_out) {
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (cut_out) {
+    cut_outs_.push_back(std::make_unique<CutOut>(std::move(cut_out)));
+    rtcSetGeometryUserData(geometry, cut_outs_.back().get());
+    rtcSetGeometryIntersectFilterFunction(geometry, filter_cut_outs);
+  }
   // Embree may read 16 bytes at the last vertex: the buffers it allocates are padded for that.
   auto* vertices = static_cast<float*>(
       rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));

@@ -103,7 +103,7 @@ class Tracer {
       glm::vec3 n = smooth_normal(*hit);
       if (!object.material.refractor) {
         if (glm::dot(n, direction) > 0) n = -n;
-        return radiance + throughput * shade_opaque(p, n, object.material.albedo);
+        return radiance + throughput * shade_opaque(p, n, glm::vec3(exact_.base_color(*hit)));
       }
       if (segment == 0 && hit_refractor) *hit_refractor = true;
       // Entry: reflection sees the sky (as in the engine); of the rest, the share `transmission`

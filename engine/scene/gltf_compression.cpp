@@ -272,7 +272,8 @@ DracoGeometry decode_draco(const tinygltf::Model& model, const tinygltf::Primiti
                      ", but the Draco data decodes to " + std::to_string(decoded_count));
     }
   };
-  auto read = [&](const char* name) {
+  auto read = [&](const char* name, int components) {
+    const auto width = static_cast<size_t>(components);
     std::vector<float> values;
     if (!ids.Has(name)) return values;
     const auto attribute = primitive.attributes.find(name);
@@ -280,24 +281,27 @@ DracoGeometry decode_draco(const tinygltf::Model& model, const tinygltf::Primiti
     check_count(attribute->second, points, pointer + "/attributes/" + name);
     const auto id = integer(ids, name, at + "/attributes", 0, UINT32_MAX, path);
     const draco::PointAttribute* source = mesh->GetAttributeByUniqueId(static_cast<uint32_t>(id));
-    if (!source || source->num_components() < 3) {
-      fail(path, at + "/attributes/" + name + ": the Draco data has no attribute " + std::to_string(id) + " of three components");
+    if (!source || source->num_components() < components) {
+      fail(path, at + "/attributes/" + name + ": the Draco data has no attribute " + std::to_string(id) + " of " +
+                     std::to_string(components) + " components");
     }
-    values.resize(points * 3);
+    values.resize(points * width);
     for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
       float v[4] = {};
       source->ConvertValue<float>(source->mapped_index(i), std::min<int8_t>(source->num_components(), 4), v);
-      for (int c = 0; c < 3; ++c) {
+      for (int c = 0; c < components; ++c) {
         if (!std::isfinite(v[c])) fail(path, at + "/attributes/" + name + ": holds a value that is not a finite number");
-        values[i.value() * 3 + static_cast<size_t>(c)] = v[c];
+        values[i.value() * width + static_cast<size_t>(c)] = v[c];
       }
     }
     return values;
   };
   DracoGeometry out;
-  out.positions = read("POSITION");
+  out.positions = read("POSITION", 3);
   if (out.positions.empty()) fail(path, at + "/attributes: has no POSITION");
-  out.normals = read("NORMAL");
+  out.normals = read("NORMAL", 3);
+  out.texcoords[0] = read("TEXCOORD_0", 2);
+  out.texcoords[1] = read("TEXCOORD_1", 2);
   out.indices.reserve(uint64_t{mesh->num_faces()} * 3);
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
     for (int k = 0; k < 3; ++k) out.indices.push_back(mesh->face(f)[k].value());

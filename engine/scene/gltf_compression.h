@@ -35,6 +35,7 @@ void decode_meshopt(tinygltf::Model& model, const PreparedFile& prepared, const 
 struct DracoGeometry {
   std::vector<float> positions;  // 3 per point, dequantized
   std::vector<float> normals;    // 3 per point, or empty when the Draco data has no NORMAL
+  std::vector<float> texcoords[2];  // TEXCOORD_0 and _1: 2 per point, or empty
   std::vector<uint32_t> indices;
 };
 // Decodes a KHR_draco_mesh_compression primitive. `pointer` is the primitive's JSON pointer;

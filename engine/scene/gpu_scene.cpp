@@ -5,8 +5,18 @@
 #include <cstring>
 
 namespace caustica::scene {
+namespace {
 
-GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk), scene_(std::move(scene)) {
+gpu::TextureSlot texture_slot(const TextureRef& ref) {
+  // glm is column-major: row r of the transform is (m[0][r], m[1][r], m[2][r]).
+  const glm::mat3& m = ref.transform;
+  return {glm::vec4(m[0][0], m[1][0], m[2][0], static_cast<float>(ref.texture)),
+          glm::vec4(m[0][1], m[1][1], m[2][1], static_cast<float>(ref.texcoord))};
+}
+
+}  // namespace
+
+GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk), scene_(std::move(scene)), textures_(vk, *scene_) {
   std::vector<gpu::Vertex> vertices;
   std::vector<uint32_t> indices;
   std::vector<gpu::ObjectData> objects;
@@ -25,7 +35,8 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
       vertex_base_[o] = base;
       for (size_t v = 0; v < object.mesh.positions.size(); ++v) {
         const float dn = object.mesh.normal_distance.empty() ? 0.0f : object.mesh.normal_distance[v];
-        vertices.push_back({glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o))});
+        const glm::vec4 uv = object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[v];
+        vertices.push_back({glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o)), uv});
       }
       ranges_[o].first_index = static_cast<uint32_t>(indices.size());
       ranges_[o].index_count = static_cast<uint32_t>(object.mesh.indices.size());
@@ -37,7 +48,9 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
     objects.push_back({glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
-                       glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread())});
+                       glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread()),
+                       texture_slot(m.base_color_texture),
+                       glm::vec4(m.alpha, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f, 0.0f, 0.0f)});
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

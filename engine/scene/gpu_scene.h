@@ -8,6 +8,7 @@
 
 #include "common/scene_types.h"  // shaders/ is on the include path: the layouts GLSL sees
 #include "scene/acceleration.h"
+#include "scene/gpu_textures.h"
 #include "scene/scene.h"
 #include "vk/buffer.h"
 
@@ -27,6 +28,9 @@ class GpuScene {
   VkBuffer indices() const { return indices_.get(); }
   VkBuffer objects() const { return objects_.get(); }
   VkBuffer frame() const { return frame_.get(); }
+  // Set 1 of pipelines made with PipelineDesc::texture_array = CAUSTICA_MAX_TEXTURES.
+  VkDescriptorSet textures() const { return textures_.set(); }
+  uint64_t texture_bytes() const { return textures_.bytes(); }
 
   DrawRange opaque() const { return opaque_; }
   DrawRange refractors() const { return refractors_; }  // solid ones first, then thin_refractors()
@@ -49,6 +53,7 @@ class GpuScene {
  private:
   vk::Context& vk_;
   std::shared_ptr<const Scene> scene_;
+  GpuTextures textures_;
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;
   vk::Buffer vertices_, indices_, objects_, frame_;

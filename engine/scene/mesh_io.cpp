@@ -6,11 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <optional>
-#include <limits>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <limits>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
@@ -250,10 +251,138 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
   return out;
 }
 
+// The textures a file's materials use, each decoded when a material first names it, so that an
+// image no material reads is never decoded. One entry per glTF texture and colour space.
+class TextureTable {
+ public:
+  TextureTable(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
+
+  // `info` is at JSON pointer `at`; `srgb` for colour data.
+  TextureRef reference(const tinygltf::TextureInfo& info, const std::string& at, bool srgb) {
+    TextureRef ref;
+    if (info.index < 0) return ref;
+    if (static_cast<size_t>(info.index) >= model_.textures.size())
+      fail(path_, 0, at + "/index: texture " + std::to_string(info.index) + " does not exist");
+    ref.texcoord = info.texCoord;
+    if (const auto t = info.extensions.find("KHR_texture_transform"); t != info.extensions.end()) {
+      read_transform(t->second, at + "/extensions/KHR_texture_transform", ref);
+    }
+    if (ref.texcoord < 0 || ref.texcoord > 1)
+      fail(path_, 0, at + "/texCoord: TEXCOORD_" + std::to_string(ref.texcoord) + " is not read (caustica reads sets 0 and 1)");
+    const auto key = std::make_pair(info.index, srgb);
+    if (const auto found = index_.find(key); found != index_.end()) {
+      ref.texture = found->second;
+    } else {
+      ref.texture = static_cast<int>(textures_.size());
+      textures_.push_back(decode(info.index, srgb));
+      index_[key] = ref.texture;
+    }
+    return ref;
+  }
+
+  std::vector<Texture> take() { return std::move(textures_); }
+
+ private:
+  // KHR_texture_transform: uv' = translation * rotation * scale * uv, as the extension defines it.
+  void read_transform(const tinygltf::Value& v, const std::string& at, TextureRef& ref) const {
+    auto pair = [&](const char* key, glm::vec2 fallback) {
+      if (!v.Has(key)) return fallback;
+      const auto& a = v.Get(key);
+      if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+        fail(path_, 0, at + "/" + key + ": needs 2 numbers");
+      const glm::vec2 out(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
+      if (!std::isfinite(out.x) || !std::isfinite(out.y)) fail(path_, 0, at + "/" + key + ": must be finite numbers");
+      return out;
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+    float rotation = 0.0f;
+    if (v.Has("rotation")) {
+      if (!v.Get("rotation").IsNumber() || !std::isfinite(v.Get("rotation").GetNumberAsDouble()))
+        fail(path_, 0, at + "/rotation: must be a finite number");
+      rotation = static_cast<float>(v.Get("rotation").GetNumberAsDouble());
+    }
+    if (v.Has("texCoord")) {
+      if (!v.Get("texCoord").IsInt()) fail(path_, 0, at + "/texCoord: must be an integer");
+      ref.texcoord = v.Get("texCoord").GetNumberAsInt();
+    }
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const glm::mat3 translate(glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(offset, 1));
+    const glm::mat3 rotate(glm::vec3(c, -s, 0), glm::vec3(s, c, 0), glm::vec3(0, 0, 1));
+    const glm::mat3 stretch(glm::vec3(scale.x, 0, 0), glm::vec3(0, scale.y, 0), glm::vec3(0, 0, 1));
+    ref.transform = translate * rotate * stretch;
+  }
+
+  Texture decode(int index, bool srgb) const {
+    const std::string at = "/textures/" + std::to_string(index);
+    const auto& texture = model_.textures[static_cast<size_t>(index)];
+    if (texture.source < 0 || static_cast<size_t>(texture.source) >= model_.images.size()) {
+      fail(path_, 0,
+           at +
+               "/source: " + (texture.source < 0 ? std::string("missing") : "image " + std::to_string(texture.source) + " does not exist") +
+               " (caustica decodes PNG and JPEG images, not KHR_texture_basisu or EXT_texture_webp)");
+    }
+    const auto& image = model_.images[static_cast<size_t>(texture.source)];
+    const std::string image_at = "/images/" + std::to_string(texture.source);
+    Texture out;
+    out.name = path_ + ": " + at;
+    out.srgb = srgb;
+    tinygltf::Image decoded;
+    std::string error, warning;
+    if (image.image.empty() || image.image.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
+        !tinygltf::LoadImageData(&decoded, texture.source, &error, &warning, 0, 0, image.image.data(), static_cast<int>(image.image.size()),
+                                 nullptr)) {
+      fail(path_, 0,
+           image_at + ": cannot decode the image" + (image.uri.empty() || image.uri.rfind("data:", 0) == 0 ? "" : " '" + image.uri + "'") +
+               " (caustica decodes PNG and JPEG)");
+    }
+    if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) || decoded.width <= 0 || decoded.height <= 0)
+      fail(path_, 0, image_at + ": the image decodes to a layout caustica does not read");
+    out.width = static_cast<uint32_t>(decoded.width);
+    out.height = static_cast<uint32_t>(decoded.height);
+    const size_t values = size_t{out.width} * out.height * 4;
+    out.rgba.resize(values);
+    if (decoded.bits == 8) {
+      std::memcpy(out.rgba.data(), decoded.image.data(), values);
+    } else {  // 16 bits: the high byte (host order, as stb_image gives them)
+      for (size_t i = 0; i < values; ++i) {
+        uint16_t v = 0;
+        std::memcpy(&v, decoded.image.data() + 2 * i, 2);
+        out.rgba[i] = static_cast<uint8_t>(v >> 8);
+      }
+    }
+    if (texture.sampler >= 0) {
+      if (static_cast<size_t>(texture.sampler) >= model_.samplers.size())
+        fail(path_, 0, at + "/sampler: sampler " + std::to_string(texture.sampler) + " does not exist");
+      const auto& sampler = model_.samplers[static_cast<size_t>(texture.sampler)];
+      const std::string sampler_at = "/samplers/" + std::to_string(texture.sampler);
+      auto wrap = [&](int mode, const char* key) {
+        switch (mode) {
+          case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::repeat;
+          case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::clamp;
+          case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::mirror;
+          default: fail(path_, 0, sampler_at + "/" + key + ": " + std::to_string(mode) + " is not a wrap mode (10497, 33071 or 33648)");
+        }
+      };
+      out.wrap_u = wrap(sampler.wrapS, "wrapS");
+      out.wrap_v = wrap(sampler.wrapT, "wrapT");
+      if (sampler.magFilter != -1 && sampler.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+          sampler.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
+        fail(path_, 0, sampler_at + "/magFilter: " + std::to_string(sampler.magFilter) + " is not a filter (9728 or 9729)");
+      out.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    return out;
+  }
+
+  const tinygltf::Model& model_;
+  std::string path_;
+  std::map<std::pair<int, bool>, int> index_;
+  std::vector<Texture> textures_;
+};
+
 // A material as the specification and its ratified extensions give it; a value outside their
 // ranges or of the wrong type is an error naming its JSON pointer. `from` is the pointer of the
 // primitive's "material" (for a missing one).
-Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path) {
+Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path, TextureTable& textures) {
   Material m;
   if (index < 0) {  // the specification's default material: opaque, base colour white
     m.albedo = glm::vec3(1.0f);
@@ -270,6 +399,18 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
   if (base.size() != 4) fail(path, 0, at + "/pbrMetallicRoughness/baseColorFactor: needs 4 numbers");
   for (size_t c = 0; c < 4; ++c) in_unit(base[c], at + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c));
   m.albedo = glm::vec3(base[0], base[1], base[2]);
+  m.alpha = static_cast<float>(base[3]);
+  m.base_color_texture = textures.reference(mat.pbrMetallicRoughness.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", true);
+  if (mat.alphaMode == "MASK") {
+    m.alpha_mode = AlphaMode::mask;
+  } else if (mat.alphaMode == "BLEND") {
+    m.alpha_mode = AlphaMode::blend;
+  } else if (mat.alphaMode != "OPAQUE") {
+    fail(path, 0, at + "/alphaMode: '" + mat.alphaMode + "' is not OPAQUE, MASK or BLEND");
+  }
+  if (!(mat.alphaCutoff >= 0.0) || !std::isfinite(mat.alphaCutoff))
+    fail(path, 0, at + "/alphaCutoff: " + JsonReader::format_number(mat.alphaCutoff) + " must be 0 or more");
+  m.alpha_cutoff = static_cast<float>(mat.alphaCutoff);
   auto ext = [&](const char* name) -> const tinygltf::Value* {
     auto it = mat.extensions.find(name);
     return it == mat.extensions.end() ? nullptr : &it->second;
@@ -327,19 +468,42 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
 }
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
-const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior",         "KHR_materials_volume",
-                                                  "KHR_materials_dispersion",   "KHR_lights_punctual",       "KHR_mesh_quantization",
-                                                  "EXT_meshopt_compression",    "KHR_draco_mesh_compression"};
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior",          "KHR_materials_volume",
+                                                  "KHR_materials_dispersion",   "KHR_lights_punctual",        "KHR_mesh_quantization",
+                                                  "EXT_meshopt_compression",    "KHR_draco_mesh_compression", "KHR_texture_transform"};
 
-// Images are not decoded (no material property caustica reads uses them yet); an external image
-// must still exist, as the specification requires.
-bool check_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// TEXCOORD_0 and TEXCOORD_1, when the primitive has either, into mesh.texcoords.
+void read_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
+                    Mesh& mesh, const std::string& pointer, const std::string& path) {
+  for (int set = 0; set < 2; ++set) {
+    const std::string name = "TEXCOORD_" + std::to_string(set);
+    const auto attribute = prim.attributes.find(name);
+    if (attribute == prim.attributes.end()) continue;
+    const auto uv =
+        draco && !draco->texcoords[set].empty() ? draco->texcoords[set] : read_accessor<float>(model, attribute->second, 2, path);
+    if (uv.size() / 2 != mesh.positions.size())
+      fail(path, 0,
+           pointer + "/attributes/" + name + ": " + std::to_string(uv.size() / 2) + " coordinates for " +
+               std::to_string(mesh.positions.size()) + " positions");
+    mesh.texcoords.resize(mesh.positions.size(), glm::vec4(0.0f));
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      mesh.texcoords[i][2 * set] = uv[2 * i];
+      mesh.texcoords[i][2 * set + 1] = uv[2 * i + 1];
+    }
+  }
+}
+
+// Images are kept as their encoded bytes: TextureTable decodes the ones a material uses.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
+                        void*) {
+  image->image.assign(bytes, bytes + std::max(size, 0));
+  image->as_is = true;
   return true;
 }
 
 ModelFile load_gltf(const std::string& path) {
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(check_image, nullptr);
+  loader.SetImageLoader(keep_encoded_image, nullptr);
   tinygltf::Model model;
   std::string error, warning;
   const bool binary = std::filesystem::path(path).extension() == ".glb";
@@ -377,8 +541,8 @@ ModelFile load_gltf(const std::string& path) {
     if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
       fail(path, 0,
            "requires the extension " + required +
-               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, KHR_lights_punctual, "
-               "KHR_mesh_quantization, EXT_meshopt_compression and KHR_draco_mesh_compression)");
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, _dispersion, KHR_lights_punctual, "
+               "KHR_mesh_quantization, EXT_meshopt_compression, KHR_draco_mesh_compression and KHR_texture_transform)");
     }
   }
   for (size_t i = 0; i < model.images.size(); ++i) {
@@ -401,6 +565,7 @@ ModelFile load_gltf(const std::string& path) {
   }
   gltf::decode_meshopt(model, prepared, path);
   ModelFile out;
+  TextureTable textures(model, path);
   std::vector<MeshPart>& parts = out.parts;
   std::vector<int> visiting;  // guards against node cycles, which the spec forbids
   std::function<void(int, const glm::mat4&)> visit = [&](int node_index, const glm::mat4& parent) {
@@ -479,7 +644,8 @@ ModelFile load_gltf(const std::string& path) {
           for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
         }
         part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
-        part.material = gltf_material(model, prim.material, pointer + "/material", path);
+        part.material = gltf_material(model, prim.material, pointer + "/material", path, textures);
+        read_texcoords(model, prim, draco, part.mesh, pointer, path);
         parts.push_back(std::move(part));
       }
     }
@@ -494,6 +660,7 @@ ModelFile load_gltf(const std::string& path) {
     for (int root : model.scenes[static_cast<size_t>(scene)].nodes) visit(root, glm::mat4(1.0f));
   }
   if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
+  out.textures = textures.take();
   return out;
 }
 

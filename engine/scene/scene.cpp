@@ -215,6 +215,16 @@ std::string resolve_mesh_path(const JsonDocument& doc, const std::string& text) 
   return (std::filesystem::path(doc.path()).parent_path() / p).lexically_normal().string();
 }
 
+// A mesh file's part as a scene object; its material's textures move from the file's list to the
+// scene's, which already holds `texture_base` of them.
+Object object_from_part(MeshPart&& part, size_t texture_base) {
+  Object o;
+  o.mesh = std::move(part.mesh);
+  if (part.material) o.material = *part.material;
+  if (o.material.base_color_texture.used()) o.material.base_color_texture.texture += static_cast<int>(texture_base);
+  return o;
+}
+
 void finish_object(Object& o, const glm::mat4& transform) {
   const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
   for (auto& p : o.mesh.positions) p = glm::vec3(transform * glm::vec4(p, 1.0f));
@@ -300,18 +310,14 @@ Scene load_scene(const JsonDocument& doc) {
       parts.push_back(std::move(o));
     } else {
       const std::string path = resolve_mesh_path(doc, read.string(value["mesh"], pointer + "/mesh", "\"mesh\""));
-      std::vector<MeshPart> mesh_parts;
+      ModelFile model;
       try {
-        mesh_parts = load_mesh_file(path);
+        model = load_model_file(path);
       } catch (const InputError& e) {
         throw doc.error(pointer + "/mesh", e.what());
       }
-      for (auto& part : mesh_parts) {
-        Object o;
-        o.mesh = std::move(part.mesh);
-        if (part.material) o.material = *part.material;
-        parts.push_back(std::move(o));
-      }
+      for (auto& part : model.parts) parts.push_back(object_from_part(std::move(part), scene.textures.size()));
+      std::move(model.textures.begin(), model.textures.end(), std::back_inserter(scene.textures));
     }
     for (size_t p = 0; p < parts.size(); ++p) {
       Object& o = parts[p];
@@ -342,11 +348,10 @@ Scene load_model_scene(const std::string& path, bool stage) {
   // The default picture's fill: a sky and ambient light, so that no shadow is black.
   scene.sky = glm::vec3(0.55f, 0.65f, 0.8f);
   scene.ambient = 0.25f;
+  scene.textures = std::move(model.textures);
   for (size_t p = 0; p < model.parts.size(); ++p) {
-    Object o;
+    Object o = object_from_part(std::move(model.parts[p]), 0);
     o.name = (model.parts[p].name.empty() ? scene.name : model.parts[p].name) + "." + std::to_string(p);
-    o.mesh = std::move(model.parts[p].mesh);
-    if (model.parts[p].material) o.material = *model.parts[p].material;
     finish_object(o, glm::mat4(1.0f));
     scene.objects.push_back(std::move(o));
   }

@@ -13,6 +13,33 @@
 
 namespace caustica::scene {
 
+// A glTF texture's image, decoded once, with its sampler's wrap modes and magnification filter.
+enum class Wrap { repeat, clamp, mirror };
+struct Texture {
+  std::string name;  // the file and the texture's JSON pointer, for messages and --stats
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // 8 bits per channel, top row first, as the file stores them
+  bool srgb = false;          // colour data (base colour): sRGB-encoded, read as linear
+  Wrap wrap_u = Wrap::repeat, wrap_v = Wrap::repeat;
+  bool nearest = false;  // magnification filter NEAREST (else LINEAR)
+  // The linear value at uv (glTF: origin at the image's top left), filtered as the GPU samples the
+  // full-resolution level.
+  glm::vec4 sample(glm::vec2 uv) const;
+};
+
+// Where a material reads a texture: glTF's textureInfo, with KHR_texture_transform folded into
+// one affine map of the texture coordinates (offset, then rotation, then scale).
+struct TextureRef {
+  int texture = -1;  // index into Scene::textures; -1: none
+  int texcoord = 0;  // which TEXCOORD_n set (0 or 1)
+  glm::mat3 transform{1.0f};
+  bool used() const { return texture >= 0; }
+};
+
+// glTF alpha modes: coverage from the base colour's alpha. MASK cuts out where it is below the
+// cutoff, everywhere the engine sees the surface (camera, shadow and light maps, the references).
+enum class AlphaMode { opaque, mask, blend };
+
 struct Material {
   glm::vec3 albedo{0.8f};
   bool refractor = false;
@@ -35,6 +62,12 @@ struct Material {
   // The share of a photon's power that passes the surface (after Fresnel), per colour channel of
   // the caustic map: transmission times the tint.
   glm::vec3 caustic_transmittance() const { return transmission * tint; }
+
+  // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
+  TextureRef base_color_texture;
+  float alpha = 1.0f;  // baseColorFactor's alpha
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;
 };
 
 struct Mesh {
@@ -42,6 +75,7 @@ struct Mesh {
   std::vector<glm::vec3> normals;
   std::vector<uint32_t> indices;       // triangles
   std::vector<float> normal_distance;  // d_N per vertex; refractors only
+  std::vector<glm::vec4> texcoords;    // per vertex: TEXCOORD_0 in xy, TEXCOORD_1 in zw; empty without
 };
 
 struct Object {
@@ -88,6 +122,7 @@ struct Scene {
   View camera;
   std::vector<Light> lights;
   std::vector<Object> objects;
+  std::vector<Texture> textures;      // what materials sample (TextureRef::texture)
   glm::vec3 sky{0.35f, 0.45f, 0.6f};  // radiance of everything that is not geometry
   float ambient = 0.03f;              // fraction of albedo lit without a light
 
@@ -112,10 +147,11 @@ Scene load_scene(const JsonDocument& doc);
 struct MeshPart {
   std::string name;
   Mesh mesh;
-  std::optional<Material> material;
+  std::optional<Material> material;  // its textures index ModelFile::textures
 };
 
-// .gltf, .glb, .obj, .off. Throws InputError naming `path` (and the line, for text formats).
+// .gltf, .glb, .obj, .off: the parts alone (load_model_file for their textures). Throws InputError
+// naming `path` (and the line, for text formats).
 std::vector<MeshPart> load_mesh_file(const std::string& path);
 
 // A light as a glTF file gives it (KHR_lights_punctual): type "spot", "point" or "directional",
@@ -131,6 +167,7 @@ struct ModelLight {
 // A mesh file with what else it holds: a glTF file's first camera and its lights.
 struct ModelFile {
   std::vector<MeshPart> parts;
+  std::vector<Texture> textures;  // only those the parts' materials use: no other image is decoded
   std::optional<View> camera;
   bool camera_is_orthographic = false;
   std::vector<ModelLight> lights;

@@ -271,14 +271,24 @@ Context::Context(const ContextOptions& options)
   VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceRayQueryFeaturesKHR ray_query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  {
+    // Scene textures are indexed by object within one draw: a non-uniform index into their array.
+    VkPhysicalDeviceVulkan12Features supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    query.pNext = &supported;
+    vkGetPhysicalDeviceFeatures2(physical_, &query);
+    nonuniform_textures_ = supported.shaderSampledImageArrayNonUniformIndexing == VK_TRUE;
+    features12.shaderSampledImageArrayNonUniformIndexing = supported.shaderSampledImageArrayNonUniformIndexing;
+  }
+  features12.pNext = features.pNext;
+  features.pNext = &features12;
   if (ray_queries_.available) {
     features12.bufferDeviceAddress = VK_TRUE;
     acceleration.accelerationStructure = VK_TRUE;
     ray_query.rayQuery = VK_TRUE;
-    features12.pNext = &acceleration;
     acceleration.pNext = &ray_query;
-    ray_query.pNext = features.pNext;
-    features.pNext = &features12;
+    ray_query.pNext = features12.pNext;
+    features12.pNext = &acceleration;
     for (const char* name : kRayQueryExtensions) extensions.push_back(name);
   }
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};

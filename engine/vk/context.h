@@ -67,6 +67,8 @@ class Context {
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
   bool float_atomics() const { return float_atomics_; }
+  // shaderSampledImageArrayNonUniformIndexing (lavapipe and desktop GPUs have it): scene textures.
+  bool nonuniform_textures() const { return nonuniform_textures_; }
   // VK_KHR_acceleration_structure + VK_KHR_ray_query, enabled (see RayQuerySupport).
   const RayQuerySupport& ray_queries() const { return ray_queries_; }
   // Set when ray_queries().available: the extension entry points the loader does not export.
@@ -115,6 +117,7 @@ class Context {
   uint32_t queue_family_ = 0;
   uint32_t timestamp_valid_bits_ = 0;
   bool float_atomics_ = false;
+  bool nonuniform_textures_ = false;
   RayQuerySupport ray_queries_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_properties_{};

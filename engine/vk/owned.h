@@ -54,6 +54,7 @@ using OwnedShaderModule = Owned<VkShaderModule, vkDestroyShaderModule>;
 using OwnedPipeline = Owned<VkPipeline, vkDestroyPipeline>;
 using OwnedPipelineLayout = Owned<VkPipelineLayout, vkDestroyPipelineLayout>;
 using OwnedSetLayout = Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+using OwnedDescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
 using OwnedQueryPool = Owned<VkQueryPool, vkDestroyQueryPool>;
 using OwnedFence = Owned<VkFence, vkDestroyFence>;
 using OwnedCommandPool = Owned<VkCommandPool, vkDestroyCommandPool>;

@@ -23,10 +23,15 @@ void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stage
   check(vkCreateDescriptorSetLayout(vk.device(), &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
   out.set_layout = OwnedSetLayout(vk, set_layout);
 
+  std::vector<VkDescriptorSetLayout> sets{set_layout};
+  if (desc.texture_array > 0) {
+    out.texture_set_layout = texture_array_layout(vk, desc.texture_array);
+    sets.push_back(out.texture_set_layout.get());
+  }
   VkPushConstantRange range{stages, 0, desc.push_constant_bytes};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout;
+  layout_info.setLayoutCount = static_cast<uint32_t>(sets.size());
+  layout_info.pSetLayouts = sets.data();
   layout_info.pushConstantRangeCount = desc.push_constant_bytes ? 1 : 0;
   layout_info.pPushConstantRanges = &range;
   VkPipelineLayout layout = VK_NULL_HANDLE;
@@ -36,6 +41,16 @@ void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stage
 }
 
 }  // namespace
+
+OwnedSetLayout texture_array_layout(Context& vk, uint32_t count) {
+  const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count, VK_SHADER_STAGE_ALL, nullptr};
+  VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  info.bindingCount = 1;
+  info.pBindings = &binding;
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  check(vkCreateDescriptorSetLayout(vk.device(), &info, nullptr, &layout), "vkCreateDescriptorSetLayout");
+  return OwnedSetLayout(vk, layout);
+}
 
 Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv) {
   Pipeline out;

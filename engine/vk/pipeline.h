@@ -1,5 +1,7 @@
 #pragma once
 // Pipelines with one push-descriptor set: passes push their bindings each frame and need no pools.
+// A pipeline that samples the scene's textures also has set 1, an array of them that the scene
+// writes once (vk::texture_array_layout).
 #include <string>
 #include <vector>
 
@@ -11,10 +13,12 @@ struct PipelineDesc {
   std::string name;
   std::vector<VkDescriptorType> bindings;  // binding i has type bindings[i]
   uint32_t push_constant_bytes = 0;
+  uint32_t texture_array = 0;  // > 0: set 1 is an array of this many combined image samplers
 };
 
 struct Pipeline {
   OwnedSetLayout set_layout;
+  OwnedSetLayout texture_set_layout;  // when PipelineDesc::texture_array
   OwnedPipelineLayout layout;
   OwnedPipeline pipeline;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
@@ -30,6 +34,10 @@ struct RasterState {
   VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
   VkCullModeFlags cull = VK_CULL_MODE_NONE;  // counter-clockwise triangles face the viewer
 };
+
+// Set 1 of a pipeline with a texture array: `count` combined image samplers, every stage, every
+// one written. Layouts made by this function with one count are compatible with each other.
+OwnedSetLayout texture_array_layout(Context& vk, uint32_t count);
 
 Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv);
 // A full-screen triangle drawn with dynamic rendering into `color_formats`.

@@ -12,10 +12,19 @@ using uint = uint32_t;
 #endif
 
 #define CAUSTICA_MAX_LIGHTS 8
+#define CAUSTICA_MAX_TEXTURES 128  // the scene's texture array (set 1); unused slots hold a white texel
 
 struct Vertex {
   vec4 position_dn;   // xyz world position, w: d_N (distance through the object along -normal)
   vec4 normal_object;  // xyz world normal, w: object index as a float
+  vec4 texcoords;      // TEXCOORD_0 in xy, TEXCOORD_1 in zw
+};
+
+// Where a material reads a texture: the affine map of its texture coordinates (KHR_texture_transform)
+// as two rows, the texture's slot in the scene's array (-1: none) and the TEXCOORD set.
+struct TextureSlot {
+  vec4 row_u;  // xyz: u' = dot(xyz, (u, v, 1)); w: texture slot, -1 for none
+  vec4 row_v;  // xyz: v' = dot(xyz, (u, v, 1)); w: TEXCOORD set (0 or 1)
 };
 
 struct ObjectData {
@@ -24,6 +33,8 @@ struct ObjectData {
   vec4 tint_transmission;     // rgb: colour of transmitted light, a: transmission factor (refractors)
   vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor
   vec4 bounds_max_spread;     // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
+  TextureSlot base_color;     // multiplies albedo_refractor.rgb and alpha_cutoff.x
+  vec4 alpha_cutoff;          // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -1 unless MASK
 };
 
 struct LightData {

@@ -5,6 +5,7 @@
 #include "scene/scene.glsl"
 SCENE_FRAME
 SCENE_OBJECTS
+SCENE_TEXTURES
 layout(set = 0, binding = 3) uniform sampler2D background_tex;
 layout(set = 0, binding = 4) uniform sampler2D depth_tex;
 layout(set = 0, binding = 6) uniform sampler2D back_tex;
@@ -30,11 +31,13 @@ layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
 layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
+layout(location = 4) in vec4 texcoords;
 layout(location = 0) out vec4 out_color;
 
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   if (texture(depth_tex, uv).r < gl_FragCoord.z) discard;  // behind opaque geometry
+  if (cut_out(objects[object_index], texcoords)) discard;   // MASK: no surface here
   float front_distance = distance(world_position, frame.camera_position.xyz);
   out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, uv), 1.0);
 }

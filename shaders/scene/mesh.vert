@@ -13,6 +13,7 @@ layout(location = 0) out vec3 world_position;
 layout(location = 1) out vec3 world_normal;
 layout(location = 2) out float normal_distance;
 layout(location = 3) flat out uint object_index;
+layout(location = 4) out vec4 texcoords;
 
 void main() {
   Vertex v = vertices[gl_VertexIndex];
@@ -20,5 +21,6 @@ void main() {
   world_normal = v.normal_object.xyz;
   normal_distance = v.position_dn.w;
   object_index = uint(v.normal_object.w);
+  texcoords = v.texcoords;
   gl_Position = draw.view_proj * vec4(world_position, 1.0);
 }

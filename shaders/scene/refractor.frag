@@ -1,9 +1,11 @@
 #version 460
 // Refractor surfaces, front or back faces depending on the pipeline's culling: the outward normal,
 // the distance from the eye (along the axis for an orthographic view), d_N, and the object, in one
-// rgba32f texel.
+// rgba32f texel. MASK materials cut out where their coverage is below the cutoff.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
+SCENE_OBJECTS
+SCENE_TEXTURES
 
 layout(push_constant) uniform Draw {
   mat4 view_proj;
@@ -15,9 +17,11 @@ layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
 layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
+layout(location = 4) in vec4 texcoords;
 layout(location = 0) out vec4 out_surface;
 
 void main() {
+  if (cut_out(objects[object_index], texcoords)) discard;  // MASK: no surface here
   float from_eye = draw.axis.w > 0.5 ? dot(world_position - draw.eye.xyz, draw.axis.xyz) : distance(world_position, draw.eye.xyz);
   out_surface = vec4(pack_normal(normalize(world_normal)), from_eye, normal_distance, float(object_index));
 }

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""Writes textured_mask.gltf: a test scene for base colour textures, KHR_texture_transform, a second
+texture coordinate set and alpha MASK. A checkered floor (texture 0 through a transform) under a
+quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK), a spot light
+straight above, and a camera. Everything is embedded, so the file stands alone.
+Also writes malformed variants for the bad-input tests (bad_texture_*.gltf).
+Run from this folder: python3 make_textured.py"""
+import base64, json, math, struct, zlib
+
+
+def png(width, height, pixels):  # pixels: rows of (r, g, b, a) bytes
+    raw = b"".join(b"\x00" + bytes(v for p in row for v in p) for row in pixels)
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def data_uri(mime, data):
+    return "data:%s;base64,%s" % (mime, base64.b64encode(data).decode())
+
+
+floor_colors = [(230, 120, 40, 255), (80, 160, 230, 255)]
+floor_png = png(8, 8, [[floor_colors[(x // 2 + y // 2) % 2] for x in range(8)] for y in range(8)])
+mask_png = png(4, 4, [[(255, 255, 255, 255 if (x + y) % 2 == 0 else 0) for x in range(4)] for y in range(4)])
+
+# Two quads facing +y: the floor (4 x 4 at y = 0) and the masked quad (1.6 x 1.6 at y = 1).
+def quad(half, y):
+    return [(-half, y, -half), (half, y, -half), (half, y, half), (-half, y, half)]
+positions = quad(2.0, 0.0) + quad(0.8, 1.0)
+normals = [(0.0, 1.0, 0.0)] * 8
+uv0 = [(0, 0), (1, 0), (1, 1), (0, 1)] * 2
+uv1 = [(0, 0), (1, 0), (1, 1), (0, 1)] * 2
+indices = [0, 2, 1, 0, 3, 2]  # counter-clockwise seen from +y
+blob = b"".join(struct.pack("<3f", *p) for p in positions)
+blob += b"".join(struct.pack("<3f", *n) for n in normals)
+blob += b"".join(struct.pack("<2f", *t) for t in uv0)
+blob += b"".join(struct.pack("<2f", *t) for t in uv1)
+blob += b"".join(struct.pack("<H", i) for i in indices)
+offsets = {"pos": 0, "nrm": 96, "uv0": 192, "uv1": 256, "idx": 320}
+
+views, accessors = [], []
+def view(offset, length):
+    views.append({"buffer": 0, "byteOffset": offset, "byteLength": length})
+    return len(views) - 1
+def accessor(v, offset, count, kind, component=5126, **extra):
+    accessors.append(dict({"bufferView": v, "byteOffset": offset, "count": count, "type": kind, "componentType": component}, **extra))
+    return len(accessors) - 1
+pos_view, nrm_view = view(offsets["pos"], 96), view(offsets["nrm"], 96)
+uv0_view, uv1_view, idx_view = view(offsets["uv0"], 64), view(offsets["uv1"], 64), view(offsets["idx"], 12)
+def primitive(first, material):
+    return {"attributes": {"POSITION": accessor(pos_view, first * 12, 4, "VEC3", min=[-2, 0, -2] if first == 0 else [-0.8, 1, -0.8],
+                                                 max=[2, 0, 2] if first == 0 else [0.8, 1, 0.8]),
+                           "NORMAL": accessor(nrm_view, first * 12, 4, "VEC3"),
+                           "TEXCOORD_0": accessor(uv0_view, first * 8, 4, "VEC2"),
+                           "TEXCOORD_1": accessor(uv1_view, first * 8, 4, "VEC2")},
+            "indices": accessor(idx_view, 0, 6, "SCALAR", 5123), "material": material}
+
+half = math.radians(-90) / 2
+down = [math.sin(half), 0, 0, math.cos(half)]
+tilt = math.atan2(3.0, 4.0) / 2
+gltf = {
+    "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_textured.py"},
+    "extensionsUsed": ["KHR_texture_transform", "KHR_lights_punctual"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 30.0, "spot": {"outerConeAngle": 0.75}}]}},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2, 3]}],
+    "nodes": [{"mesh": 0}, {"mesh": 1},
+              {"translation": [0, 4, 0], "rotation": down, "extensions": {"KHR_lights_punctual": {"light": 0}}},
+              {"camera": 0, "translation": [0, 3, 4], "rotation": [-math.sin(tilt), 0, 0, math.cos(tilt)]}],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50}}],
+    "meshes": [{"name": "floor", "primitives": [primitive(0, 0)]}, {"name": "mask", "primitives": [primitive(4, 1)]}],
+    "materials": [
+        {"name": "checkered floor",
+         "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+             "offset": [0.25, 0.0], "rotation": 0.3, "scale": [2.0, 2.0]}}}, "metallicFactor": 0.0}},
+        {"name": "masked quad", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
+         "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "baseColorTexture": {"index": 1, "texCoord": 1},
+                                  "metallicFactor": 0.0}}],
+    "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 10497, "wrapT": 10497}],
+    "images": [{"uri": data_uri("image/png", floor_png)}, {"uri": data_uri("image/png", mask_png)},
+               {"uri": data_uri("image/png", png(1, 1, [[(255, 0, 255, 255)]]))}],
+    "buffers": [{"byteLength": len(blob), "uri": data_uri("application/octet-stream", blob)}],
+    "bufferViews": views,
+    "accessors": accessors,
+}
+def write(name, content):
+    with open(name, "w") as out:
+        json.dump(content, out, indent=1)
+        out.write("\n")
+
+
+write("textured_mask.gltf", gltf)
+bad = json.loads(json.dumps(gltf))
+bad["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 7
+write("bad_texture_index.gltf", bad)
+bad = json.loads(json.dumps(gltf))
+bad["samplers"][0]["wrapS"] = 1234
+write("bad_texture_wrap.gltf", bad)
+bad = json.loads(json.dumps(gltf))
+bad["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 2
+write("bad_texture_texcoord.gltf", bad)
+bad = json.loads(json.dumps(gltf))
+bad["images"][1]["uri"] = data_uri("image/png", b"\x89PNG not really")
+write("bad_texture_image.gltf", bad)
