@@ -125,7 +125,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}),
-        sizeof(AdaptivePush)};
+        sizeof(AdaptivePush), exact_.texture_array()};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", exact_.defines(defines)));
@@ -192,6 +192,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
           .storage_buffer(12, pyramid_.get());
       exact_.bind(ctx, writer);
       writer.push(ctx.vk(), cmd, pipeline);
+      exact_.bind_textures(ctx, pipeline);
     };
     if (uses_coverage_) {
       // The coverage pyramid, finest level first; each level reads the one before.

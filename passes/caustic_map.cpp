@@ -46,7 +46,7 @@ class CausticMapPass final : public graph::Pass {
                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                           VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
-         sizeof(PhotonPush)},
+         sizeof(PhotonPush), exact_.texture_array()},
         setup.shaders().compile("caustics/regular_photons.comp", exact_.defines()));
   }
 
@@ -72,6 +72,7 @@ class CausticMapPass final : public graph::Pass {
     vk::DescriptorWriter writer = photon_descriptors(ctx);
     exact_.bind(ctx, writer);
     writer.push(ctx.vk(), cmd, photons_);
+    exact_.bind_textures(ctx, photons_);
     for (uint32_t band : bands) {  // the bands add into one map; atomics need no order between them
       push.band = band;
       vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);

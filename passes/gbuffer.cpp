@@ -10,15 +10,21 @@ class GBufferPass final : public graph::Pass {
   void setup(graph::PassSetup& setup) override {
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource("normal").format).vk, graph::format_info(setup.resource("albedo").format).vk};
+    has_emission_ = setup.bound("emission");
+    if (has_emission_) state.color_formats.push_back(graph::format_info(setup.resource("emission").format).vk);
     state.depth_format = graph::format_info(setup.resource("depth").format).vk;
-    pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state);
+    shader::Defines defines;
+    if (has_emission_) defines["EMISSION"] = "1";
+    pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state, {}, sizeof(DrawPush), defines);
   }
 
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("depth");
     const SceneView view = camera_view(ctx, extent);
     VkCommandBuffer cmd = ctx.cmd();
-    begin_rendering(cmd, extent, {{ctx.view("normal")}, {ctx.view("albedo")}}, Attachment{ctx.view("depth")});
+    std::vector<Attachment> targets{{ctx.view("normal")}, {ctx.view("albedo")}};
+    if (has_emission_) targets.push_back({ctx.view("emission")});
+    begin_rendering(cmd, extent, targets, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
     bind_scene_textures(ctx, cmd, pipeline_);
@@ -30,23 +36,46 @@ class GBufferPass final : public graph::Pass {
 
  private:
   vk::Pipeline pipeline_;
+  bool has_emission_ = false;
 };
 
 }  // namespace
 
 graph::PassTypeDecl gbuffer_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{"gbuffer",
-                    "Opaque geometry seen from the camera: depth, world normal (facing the viewer) and albedo. Refractors are left out.",
-                    PassQueue::graphics,
-                    {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
-                     {"normal", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
-                      "frame", "world-space normal"},
-                     {"albedo", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba8, Format::rgba16f}, false,
-                      "frame", "base colour"}},
-                    {},
-                    false,
-                    [] { return std::make_unique<GBufferPass>(); }};
+  PassTypeDecl decl{
+      "gbuffer",
+      "Opaque geometry seen from the camera: depth, shading normal (facing the viewer; normal maps applied) with "
+      "roughness, base colour with metallic, and emitted radiance. MASK materials cut out. Refractors are left out.",
+      PassQueue::graphics,
+      {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
+       {"normal",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba16f, Format::rgba32f},
+        false,
+        "frame",
+        "world-space shading normal; w: roughness (below 0: Lambertian)"},
+       {"albedo",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba8, Format::rgba16f},
+        false,
+        "frame",
+        "base colour; alpha: metallic"},
+       {"emission",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba16f, Format::rgba32f},
+        true,
+        "frame",
+        "emitted radiance (glTF emissive); unbound, nothing emits"}},
+      {},
+      false,
+      [] { return std::make_unique<GBufferPass>(); }};
   decl.needs_scene = true;
   return decl;
 }

@@ -20,14 +20,16 @@ class LightingPass final : public graph::Pass {
       throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer +
                        "): bind both \"caustics\" and \"caustic_depth\", or neither");
     }
+    has_emission_ = setup.bound("emission");
     shader::Defines defines;
     if (has_caustics_) defines["CAUSTICS"] = "1";
+    if (has_emission_) defines["EMISSION"] = "1";
     pipeline_ = vk::make_fullscreen_pipeline(
         setup.vk(),
         {"lighting",
          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
          sizeof(LightingParams)},
         setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag", defines),
         {graph::format_info(setup.resource("color").format).vk});
@@ -46,6 +48,7 @@ class LightingPass final : public graph::Pass {
         .sampled_image(4, ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
         .sampled_image(5, ctx.view(has_caustics_ ? "caustics" : "depth"), has_caustics_ ? ctx.linear_sampler() : ctx.nearest_sampler())
         .sampled_image(6, ctx.view(has_caustics_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())
+        .sampled_image(7, ctx.view(has_emission_ ? "emission" : "normal"), ctx.nearest_sampler())  // unread without emission
         .push(ctx.vk(), cmd, pipeline_);
     const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
@@ -57,6 +60,7 @@ class LightingPass final : public graph::Pass {
   vk::Pipeline pipeline_;
   bool has_shadow_ = false;
   bool has_caustics_ = false;
+  bool has_emission_ = false;
 };
 
 }  // namespace
@@ -66,11 +70,13 @@ graph::PassTypeDecl lighting_pass_type() {
   PassTypeDecl decl{
       "lighting",
       "Full-screen pass: direct light from every scene light on the G-buffer (inverse square, spot cone; the first light shadowed "
-      "when a shadow map is bound), ambient sky light, the sky where there is no geometry. Linear HDR radiance out.",
+      "when a shadow map is bound) through each surface's BRDF (Lambertian, or glTF's metallic-roughness), ambient sky light, "
+      "emitted light when bound, the sky where there is no geometry. Linear HDR radiance out.",
       PassQueue::graphics,
       {{"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "camera depth"},
        {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
-       {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "albedo"},
+       {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "base colour; alpha: metallic"},
+       {"emission", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, true, "frame", "emitted radiance, added as it is"},
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
        {"caustics",
         PortAccess::read,

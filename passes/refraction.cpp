@@ -123,6 +123,14 @@ void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& wr
   writer.acceleration_structure(14, acceleration->tlas()).storage_buffer(15, acceleration->triangles());
 }
 
+uint32_t RayQueryScene::texture_array() const {
+  return traced_ ? CAUSTICA_MAX_TEXTURES : 0;
+}
+
+void RayQueryScene::bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const {
+  if (traced_) bind_scene_textures(ctx, ctx.cmd(), pipeline);
+}
+
 void ExactPaths::setup(graph::PassSetup& setup) {
   RayQueryScene::setup(setup);
   using Kind = graph::PassSetup::CounterKind;
@@ -236,6 +244,7 @@ void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeli
       .storage_buffer(7, ctx.counter_buffer());
   if (exact) exact->bind(ctx, writer);
   writer.push(ctx.vk(), ctx.cmd(), pipeline);
+  if (exact) exact->bind_textures(ctx, pipeline);
 }
 
 VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent) {
@@ -267,7 +276,8 @@ void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color, c
                                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
   refract_ = vk::make_fullscreen_pipeline(
-      setup.vk(), {"deferred_refraction", exact ? exact->bindings(bindings) : bindings, sizeof(RefractionPush)},
+      setup.vk(),
+      {"deferred_refraction", exact ? exact->bindings(bindings) : bindings, sizeof(RefractionPush), exact ? exact->texture_array() : 0},
       setup.shaders().compile("common/fullscreen.vert"),
       setup.shaders().compile("refraction/deferred_refraction.frag", exact ? exact->defines() : shader::Defines{}), {color});
   copy_ = make_copy_pipeline(setup, color);

@@ -47,6 +47,10 @@ class RayQueryScene {
   // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
   std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
   void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
+  // The texture array (MASK coverage) as set 1 when traced: the layout count for PipelineDesc,
+  // and binding the scene's set after the pass's descriptors are pushed.
+  uint32_t texture_array() const;
+  void bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const;
 
  private:
   bool traced_ = false;

@@ -26,12 +26,12 @@ std::vector<graph::ParamDecl> view_params() {
 }
 
 vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
-                                 std::vector<VkDescriptorType> extra, uint32_t push_bytes) {
+                                 std::vector<VkDescriptorType> extra, uint32_t push_bytes, const shader::Defines& defines) {
   std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
   bindings.insert(bindings.end(), extra.begin(), extra.end());
   return vk::make_graphics_pipeline(setup.vk(), {name, bindings, push_bytes, CAUSTICA_MAX_TEXTURES},
-                                    setup.shaders().compile("scene/mesh.vert"), setup.shaders().compile(fragment_shader), state);
+                                    setup.shaders().compile("scene/mesh.vert"), setup.shaders().compile(fragment_shader, defines), state);
 }
 
 vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx) {

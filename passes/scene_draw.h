@@ -36,7 +36,8 @@ SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
 // Set 1 is the scene's texture array: a pass whose fragment shader samples it binds it with
 // bind_scene_textures.
 vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
-                                 std::vector<VkDescriptorType> extra = {}, uint32_t push_bytes = sizeof(DrawPush));
+                                 std::vector<VkDescriptorType> extra = {}, uint32_t push_bytes = sizeof(DrawPush),
+                                 const shader::Defines& defines = {});
 vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx);
 void bind_scene_textures(const graph::PassContext& ctx, VkCommandBuffer cmd, const vk::Pipeline& pipeline);
 

@@ -229,11 +229,11 @@ TEST(Cli, ModelFilesOpenAsScenes) {
 }
 
 // Losslessly compressed copies of the dragon (Draco without quantization, meshopt without
-// KHR_mesh_quantization; tests/data/gltf/make_compressed.sh) render the OFF file's picture.
+// KHR_mesh_quantization; tests/data/gltf/make_compressed.sh) render the uncompressed glTF's picture.
 TEST(Cli, CompressedModelsRenderAsTheirOriginal) {
   fs::path dir = scratch("compressed");
   const std::string common = "render --validate --size 96x54 --scene ";
-  CliRun original = run(common + (kSource / "scenes/models/ChineseDragon-10kv.off").string() + " --out original.png", dir);
+  CliRun original = run(common + (kSource / "tests/data/gltf/dragon.glb").string() + " --out original.png", dir);
   ASSERT_EQ(original.code, 0) << original.output;
   for (const char* file : {"dragon_draco_lossless.glb", "dragon_meshopt_lossless.glb"}) {
     CliRun compressed = run(common + (kSource / "tests/data/gltf" / file).string() + " --out compressed.png", dir);

@@ -7,7 +7,10 @@
 
 #include <cstdio>
 
+#include <filesystem>
+
 #include "ball_lens.h"
+#include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
 #include "scene_engine.h"
 
@@ -52,6 +55,41 @@ TEST(ExactPaths, RayQueryPhotonsMatchTheExactBallLens) {
   EXPECT_EQ(frame.counters.at("photons.dropped_tir"), 0.0);
   EXPECT_EQ(frame.counters.at("photons.reflected_outside"), 0.0);  // no Fresnel: nothing reflects off the outside
   EXPECT_GT(frame.counters.at("photons.exact"), 0.0);
+}
+
+double map_flux(const io::ImageData& map) {
+  double total = 0;
+  for (size_t i = 0; i < map.rgba.size(); i += 4) total += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
+  return total;
+}
+
+// A glass ball under a quad cut into a checker by its alpha MASK (tests/data/mask_over_lens.json):
+// only the light through the holes reaches the ball. The ray-query tracer passes the holes (its
+// candidate hits are tested against the mask's texture) and lands the photon reference's caustic
+// flux within 3%; the image-space map sees the holes through the light's depth map; with the mask
+// treated as opaque, the reference has no caustic at all.
+TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
+  auto scene = std::make_shared<scene::Scene>(
+      scene::load_scene_file((std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/mask_over_lens.json").string()));
+  reference::PhotonOptions options;
+  options.photons = 4'000'000;
+  options.fresnel = false;
+  const double reference = map_flux(reference::trace_photon_reference(*scene, options).caustic_map);
+  auto opaque = std::make_shared<scene::Scene>(*scene);
+  for (auto& o : opaque->objects) o.material.alpha_mode = scene::AlphaMode::opaque;
+  const double reference_opaque = map_flux(reference::trace_photon_reference(*opaque, options).caustic_map);
+  e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
+  const double traced = map_flux(e.executor.read_image("caustics"));
+  e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
+  const double regular = map_flux(e.executor.read_image("caustics"));
+  std::printf("caustic flux under the masked quad: reference %.5f (%.5f with the mask opaque), ray query %.4f, regular %.4f of it\n",
+              reference, reference_opaque, traced / reference, regular / reference);
+  ASSERT_GT(reference, 0.0);
+  EXPECT_LT(reference_opaque, 0.01 * reference);
+  EXPECT_NEAR(traced / reference, 1.0, 0.03);
+  EXPECT_GT(regular / reference, 0.5);
 }
 
 // With Fresnel and absorption, every entering photon ends in exactly one place: landed, escaped,

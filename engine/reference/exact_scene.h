@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
 
 #include "reference/ray_scene.h"
 #include "scene/scene.h"
@@ -33,6 +34,36 @@ inline float spot_cone(const scene::Light& light, glm::vec3 direction) {
   return x * x * (3 - 2 * x);
 }
 
+// What the engine's G-buffer holds of an opaque surface point, and its lighting model
+// (scene/lighting.frag): Lambertian reflection for scene-file materials, glTF's metallic-roughness
+// BRDF (GGX, Smith height-correlated visibility, Schlick Fresnel) for glTF materials.
+struct SurfacePoint {
+  glm::vec3 normal{0.0f, 1.0f, 0.0f};  // shading normal, facing the viewer
+  glm::vec3 base{1.0f};
+  float metallic = 0.0f;
+  float roughness = -1.0f;  // below 0: Lambertian
+  glm::vec3 emitted{0.0f};
+
+  glm::vec3 diffuse_color() const { return roughness < 0.0f ? base : base * (1.0f - metallic); }
+  glm::vec3 f0() const { return roughness < 0.0f ? glm::vec3(0.0f) : glm::mix(glm::vec3(0.04f), base, metallic); }
+  // Reflected radiance per unit irradiance from direction l (unit, towards the light) seen from v.
+  glm::vec3 brdf(glm::vec3 v, glm::vec3 l) const {
+    if (roughness < 0.0f) return base / glm::pi<float>();
+    const glm::vec3 h = glm::normalize(v + l);
+    const float n_l = std::max(glm::dot(normal, l), 0.0f), n_v = std::max(glm::dot(normal, v), 1e-4f);
+    const float n_h = std::max(glm::dot(normal, h), 0.0f), v_h = std::max(glm::dot(v, h), 0.0f);
+    const float a = std::max(roughness * roughness, 1e-3f), a2 = a * a;
+    const glm::vec3 fresnel = f0() + (1.0f - f0()) * std::pow(1.0f - v_h, 5.0f);
+    const float d = n_h * n_h * (a2 - 1.0f) + 1.0f;
+    const float distribution = a2 / (glm::pi<float>() * d * d);
+    const float visibility =
+        0.5f / std::max(n_l * std::sqrt(n_v * n_v * (1.0f - a2) + a2) + n_v * std::sqrt(n_l * n_l * (1.0f - a2) + a2), 1e-8f);
+    return (1.0f - fresnel) * diffuse_color() / glm::pi<float>() + fresnel * distribution * visibility;
+  }
+  // Reflected sky light per unit of the scene's ambient sky radiance.
+  glm::vec3 ambient_reflectance() const { return diffuse_color() + f0(); }
+};
+
 class ExactScene {
  public:
   explicit ExactScene(const scene::Scene& scene) : scene_(scene) {
@@ -58,16 +89,48 @@ class ExactScene {
     const scene::Material& m = object.material;
     glm::vec4 color(m.albedo, m.alpha);
     if (!m.base_color_texture.used()) return color;
-    glm::vec4 uv(0.0f);
-    if (!object.mesh.texcoords.empty()) {
-      const uint32_t* tri = &object.mesh.indices[3 * triangle];
-      uv = (1 - u - v) * object.mesh.texcoords[tri[0]] + u * object.mesh.texcoords[tri[1]] + v * object.mesh.texcoords[tri[2]];
-    }
-    const scene::TextureRef& ref = m.base_color_texture;
-    const glm::vec3 at = ref.transform * glm::vec3(ref.texcoord == 1 ? glm::vec2(uv.z, uv.w) : glm::vec2(uv.x, uv.y), 1.0f);
-    return color * scene_.textures[static_cast<size_t>(ref.texture)].sample(glm::vec2(at));
+    const glm::vec4 uv = texcoords(object, triangle, u, v);
+    return color * scene_.textures[static_cast<size_t>(m.base_color_texture.texture)].sample(transformed(m.base_color_texture, uv));
   }
   glm::vec4 base_color(const RayHit& hit) const { return base_color(scene_.objects[hit.geometry], hit.triangle, hit.u, hit.v); }
+
+  // The G-buffer's view of an opaque surface where a ray along `direction` meets it: textures
+  // sampled, the normal map applied in the frame the engine derives from the texture coordinates'
+  // screen derivatives (tangent along increasing u, bitangent = normal x tangent).
+  SurfacePoint surface(const RayHit& hit, glm::vec3 direction) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::Material& m = object.material;
+    SurfacePoint s;
+    s.base = glm::vec3(base_color(hit));
+    s.normal = smooth_normal(hit);
+    if (m.normal_texture.used()) {  // in the front face's frame; seen from behind, all of it flips
+      const uint32_t* tri = &object.mesh.indices[3 * hit.triangle];
+      const glm::vec2 uv0 = texcoord(object, m.normal_texture, tri[0]), uv1 = texcoord(object, m.normal_texture, tri[1]),
+                      uv2 = texcoord(object, m.normal_texture, tri[2]);
+      const glm::vec3 e1 = object.mesh.positions[tri[1]] - object.mesh.positions[tri[0]];
+      const glm::vec3 e2 = object.mesh.positions[tri[2]] - object.mesh.positions[tri[0]];
+      const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+      const float det = d1.x * d2.y - d2.x * d1.y;
+      glm::vec3 t = det != 0.0f ? (e1 * d2.y - e2 * d1.y) / det : glm::vec3(0.0f);
+      t -= s.normal * glm::dot(s.normal, t);
+      if (glm::dot(t, t) > 1e-20f) {
+        t = glm::normalize(t);
+        const glm::vec3 b = glm::cross(s.normal, t);
+        const glm::vec3 sampled = glm::vec3(sample(object, m.normal_texture, hit)) * 2.0f - 1.0f;
+        const glm::vec3 mapped = glm::normalize(glm::vec3(sampled.x * m.normal_scale, sampled.y * m.normal_scale, sampled.z));
+        s.normal = glm::normalize(t * mapped.x + b * mapped.y + s.normal * mapped.z);
+      }
+    }
+    if (glm::dot(smooth_normal(hit), direction) > 0.0f) s.normal = -s.normal;
+    if (m.metallic_roughness) {
+      const glm::vec4 mr = m.metallic_roughness_texture.used() ? sample(object, m.metallic_roughness_texture, hit) : glm::vec4(1.0f);
+      s.metallic = m.metallic * mr.b;
+      s.roughness = m.roughness * mr.g;
+    }
+    s.emitted = m.emissive;
+    if (m.emissive_texture.used()) s.emitted *= glm::vec3(sample(object, m.emissive_texture, hit));
+    return s;
+  }
 
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;
@@ -78,6 +141,21 @@ class ExactScene {
   }
 
  private:
+  static glm::vec4 texcoords(const scene::Object& object, uint32_t triangle, float u, float v) {
+    if (object.mesh.texcoords.empty()) return glm::vec4(0.0f);
+    const uint32_t* tri = &object.mesh.indices[3 * triangle];
+    return (1 - u - v) * object.mesh.texcoords[tri[0]] + u * object.mesh.texcoords[tri[1]] + v * object.mesh.texcoords[tri[2]];
+  }
+  static glm::vec2 transformed(const scene::TextureRef& ref, glm::vec4 uv) {
+    return glm::vec2(ref.transform * glm::vec3(ref.texcoord == 1 ? glm::vec2(uv.z, uv.w) : glm::vec2(uv.x, uv.y), 1.0f));
+  }
+  static glm::vec2 texcoord(const scene::Object& object, const scene::TextureRef& ref, uint32_t vertex) {
+    return transformed(ref, object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[vertex]);
+  }
+  glm::vec4 sample(const scene::Object& object, const scene::TextureRef& ref, const RayHit& hit) const {
+    return scene_.textures[static_cast<size_t>(ref.texture)].sample(transformed(ref, texcoords(object, hit.triangle, hit.u, hit.v)));
+  }
+
   const scene::Scene& scene_;
   RayScene rays_;
   float epsilon_ = 1e-4f;

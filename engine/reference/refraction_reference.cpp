@@ -26,9 +26,10 @@ class Tracer {
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
 
-  // The engine's lighting model (scene/lighting.frag) with exact shadow rays.
-  glm::vec3 shade_opaque(glm::vec3 p, glm::vec3 n, glm::vec3 albedo) const {
-    glm::vec3 irradiance(0.0f);
+  // The engine's lighting model (scene/lighting.frag) with exact shadow rays, seen along `direction`.
+  glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction) const {
+    const glm::vec3 n = surface.normal, v = -direction;
+    glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance();
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const auto& light = scene_.lights[i];
       // A directional light comes from infinitely far along its axis, with no falloff.
@@ -40,10 +41,12 @@ class Tracer {
       float cone = spot_cone(light, -l);
       // The engine shadows the first light with a view only (through its shadow map); so does the reference.
       if (light.has_view() && i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
-      if (light.has_view() && i == 0 && caustic_map_) irradiance += caustic_irradiance(light, p, n);
-      irradiance += light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
+      // The caustic's light arrives through the refractor from many directions: diffuse only.
+      if (light.has_view() && i == 0 && caustic_map_)
+        radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(light, p, n);
+      radiance += surface.brdf(v, l) * light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
-    return albedo * (scene_.ambient * scene_.sky + irradiance / glm::pi<float>());
+    return radiance;
   }
 
   // lighting.frag's caustic_irradiance on the exact geometry: only where the light sees p past
@@ -101,10 +104,11 @@ class Tracer {
       const auto& object = scene_.objects[hit->geometry];
       glm::vec3 p = origin + direction * hit->distance;
       glm::vec3 n = smooth_normal(*hit);
-      if (!object.material.refractor) {
-        if (glm::dot(n, direction) > 0) n = -n;
-        return radiance + throughput * shade_opaque(p, n, glm::vec3(exact_.base_color(*hit)));
+      if (!object.material.refractor && !object.material.double_sided && glm::dot(hit->geometric_normal, direction) > 0.0f) {
+        origin = p;  // the back of a single-sided surface: culled, as in the engine's camera view
+        continue;
       }
+      if (!object.material.refractor) return radiance + throughput * shade_opaque(p, exact_.surface(*hit, direction), direction);
       if (segment == 0 && hit_refractor) *hit_refractor = true;
       // Entry: reflection sees the sky (as in the engine); of the rest, the share `transmission`
       // passes tinted, the remainder is reflected diffusely with the tint as albedo.
@@ -114,7 +118,12 @@ class Tracer {
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
-      if (m.transmission < 1.0f) radiance += throughput * (1.0f - m.transmission) * shade_opaque(p, n, m.tint);
+      if (m.transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
+        SurfacePoint diffuse;
+        diffuse.normal = n;
+        diffuse.base = m.tint;
+        radiance += throughput * (1.0f - m.transmission) * shade_opaque(p, diffuse, direction);
+      }
       throughput *= m.transmission * m.tint;
       origin = p;
       if (m.thin) continue;  // a thin wall: the ray goes on unbent

@@ -127,7 +127,9 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
     auto& geometry = blas_geometry[g];
     geometry = {VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
     geometry.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-    geometry.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    // A MASK material's geometry is tested by the shaders (ray_query.glsl's confirm_if_covered).
+    const bool masked = scene.objects[geometries[g].object].material.alpha_mode == AlphaMode::mask;
+    geometry.flags = masked ? VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR : VK_GEOMETRY_OPAQUE_BIT_KHR;
     auto& tris = geometry.geometry.triangles;
     tris = {VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR};
     tris.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;

@@ -11,9 +11,6 @@
 namespace caustica::scene {
 namespace {
 
-float srgb_to_linear(float v) {
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
 float linear_to_srgb(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
@@ -34,8 +31,8 @@ std::vector<std::vector<uint8_t>> mip_chain(const Texture& texture) {
           float sum = 0.0f;
           for (uint32_t k = 0; k < 4; ++k) {
             const uint32_t sx = std::min(2 * x + (k & 1), w - 1), sy = std::min(2 * y + (k >> 1), h - 1);
-            const float v = static_cast<float>(above[(size_t{sy} * w + sx) * 4 + c]) / 255.0f;
-            sum += srgb ? srgb_to_linear(v) : v;
+            const uint8_t byte = above[(size_t{sy} * w + sx) * 4 + c];
+            sum += srgb ? srgb_byte_to_linear(byte) : static_cast<float>(byte) / 255.0f;
           }
           const float mean = sum / 4.0f;
           level[(size_t{y} * nw + x) * 4 + c] =

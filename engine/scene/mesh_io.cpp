@@ -282,6 +282,18 @@ class TextureTable {
 
   std::vector<Texture> take() { return std::move(textures_); }
 
+  // The mean linear value of texture `index` over its texels.
+  glm::vec4 mean(int index) const {
+    const Texture& t = textures_[static_cast<size_t>(index)];
+    glm::dvec4 sum(0.0);
+    for (uint32_t y = 0; y < t.height; ++y) {
+      for (uint32_t x = 0; x < t.width; ++x) {
+        sum += glm::dvec4(t.sample((glm::vec2(x, y) + 0.5f) / glm::vec2(static_cast<float>(t.width), static_cast<float>(t.height))));
+      }
+    }
+    return glm::vec4(sum / std::max(1.0, static_cast<double>(t.width) * t.height));
+  }
+
  private:
   // KHR_texture_transform: uv' = translation * rotation * scale * uv, as the extension defines it.
   void read_transform(const tinygltf::Value& v, const std::string& at, TextureRef& ref) const {
@@ -384,8 +396,10 @@ class TextureTable {
 // primitive's "material" (for a missing one).
 Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path, TextureTable& textures) {
   Material m;
-  if (index < 0) {  // the specification's default material: opaque, base colour white
+  if (index < 0) {  // the specification's default material: opaque, base colour white, metal 1, roughness 1
     m.albedo = glm::vec3(1.0f);
+    m.metallic_roughness = true;
+    m.double_sided = false;
     return m;
   }
   if (static_cast<size_t>(index) >= model.materials.size()) fail(path, 0, from + ": material " + std::to_string(index) + " does not exist");
@@ -401,6 +415,23 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
   m.albedo = glm::vec3(base[0], base[1], base[2]);
   m.alpha = static_cast<float>(base[3]);
   m.base_color_texture = textures.reference(mat.pbrMetallicRoughness.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", true);
+  m.double_sided = mat.doubleSided;
+  m.metallic_roughness = true;
+  m.metallic = static_cast<float>(in_unit(mat.pbrMetallicRoughness.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor"));
+  m.roughness = static_cast<float>(in_unit(mat.pbrMetallicRoughness.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor"));
+  m.metallic_roughness_texture =
+      textures.reference(mat.pbrMetallicRoughness.metallicRoughnessTexture, at + "/pbrMetallicRoughness/metallicRoughnessTexture", false);
+  tinygltf::TextureInfo normal;  // a normalTextureInfo: textureInfo and a scale
+  normal.index = mat.normalTexture.index;
+  normal.texCoord = mat.normalTexture.texCoord;
+  normal.extensions = mat.normalTexture.extensions;
+  m.normal_texture = textures.reference(normal, at + "/normalTexture", false);
+  if (!std::isfinite(mat.normalTexture.scale)) fail(path, 0, at + "/normalTexture/scale: must be a finite number");
+  m.normal_scale = static_cast<float>(mat.normalTexture.scale);
+  if (mat.emissiveFactor.size() != 3) fail(path, 0, at + "/emissiveFactor: needs 3 numbers");
+  for (int c = 0; c < 3; ++c)
+    m.emissive[c] = static_cast<float>(in_unit(mat.emissiveFactor[static_cast<size_t>(c)], at + "/emissiveFactor/" + std::to_string(c)));
+  m.emissive_texture = textures.reference(mat.emissiveTexture, at + "/emissiveTexture", true);
   if (mat.alphaMode == "MASK") {
     m.alpha_mode = AlphaMode::mask;
   } else if (mat.alphaMode == "BLEND") {
@@ -430,6 +461,19 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     m.transmission = static_cast<float>(factor);
     m.tint = m.albedo;  // the specification tints transmitted light with the base colour
     m.thin = true;      // until a volume with a thickness says otherwise
+    tinygltf::TextureInfo transmission_texture;
+    if (t->Has("transmissionTexture")) {
+      const auto& info = t->Get("transmissionTexture");
+      const std::string info_at = at + "/extensions/KHR_materials_transmission/transmissionTexture";
+      if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) fail(path, 0, info_at + ": needs an integer \"index\"");
+      transmission_texture.index = info.Get("index").GetNumberAsInt();
+      if (info.Has("texCoord")) transmission_texture.texCoord = info.Get("texCoord").GetNumberAsInt();
+      if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+        transmission_texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
+      // Refraction and caustics take one transmission per object: the texture's mean (red channel).
+      const TextureRef ref = textures.reference(transmission_texture, info_at, false);
+      m.transmission *= textures.mean(ref.texture).r;
+    }
   }
   if (const auto* i = ext("KHR_materials_ior")) {
     const double ior = number(*i, "KHR_materials_ior", "ior", 1.5);
@@ -437,6 +481,11 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
       fail(path, 0, at + "/extensions/KHR_materials_ior/ior: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
     }
     m.ior = static_cast<float>(ior);
+  }
+  if (const auto* e = ext("KHR_materials_emissive_strength")) {
+    const double strength = number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+    if (strength < 0.0) fail(path, 0, at + "/extensions/KHR_materials_emissive_strength/emissiveStrength: must be 0 or more");
+    m.emissive *= static_cast<float>(strength);
   }
   if (const auto* d = ext("KHR_materials_dispersion")) {
     const double dispersion = number(*d, "KHR_materials_dispersion", "dispersion", 0.0);
@@ -464,13 +513,31 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
         m.absorption[k] = static_cast<float>(-std::log(std::max(color[k], 1e-6)) / distance);  // colour reached after `distance`
     }
   }
+  if (m.refractor && m.base_color_texture.used()) {
+    // Refraction and caustics tint per object: a textured refractor's tint is its texture's mean
+    // colour times the factor (MASK coverage still cuts per texel).
+    m.tint *= glm::vec3(textures.mean(m.base_color_texture.texture));
+  }
+  if (m.alpha_mode == AlphaMode::blend && !m.refractor) {
+    // BLEND: drawn as a thin wall that passes the uncovered share 1 - alpha of the light unbent,
+    // tinted by the base colour, and reflects the rest diffusely; no sorting is needed (docs/gltf.md).
+    const float coverage = m.alpha * (m.base_color_texture.used() ? textures.mean(m.base_color_texture.texture).a : 1.0f);
+    if (coverage < 1.0f) {
+      m.refractor = true;
+      m.thin = true;
+      m.ior = 1.0f;
+      m.transmission = 1.0f - coverage;
+      m.tint = m.albedo * (m.base_color_texture.used() ? glm::vec3(textures.mean(m.base_color_texture.texture)) : glm::vec3(1.0f));
+    }
+  }
   return m;
 }
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
-const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission", "KHR_materials_ior",          "KHR_materials_volume",
-                                                  "KHR_materials_dispersion",   "KHR_lights_punctual",        "KHR_mesh_quantization",
-                                                  "EXT_meshopt_compression",    "KHR_draco_mesh_compression", "KHR_texture_transform"};
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission",     "KHR_materials_ior",          "KHR_materials_volume",
+                                                  "KHR_materials_dispersion",       "KHR_lights_punctual",        "KHR_mesh_quantization",
+                                                  "EXT_meshopt_compression",        "KHR_draco_mesh_compression", "KHR_texture_transform",
+                                                  "KHR_materials_emissive_strength"};
 
 // TEXCOORD_0 and TEXCOORD_1, when the primitive has either, into mesh.texcoords.
 void read_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
@@ -542,7 +609,8 @@ ModelFile load_gltf(const std::string& path) {
       fail(path, 0,
            "requires the extension " + required +
                ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, _dispersion, KHR_lights_punctual, "
-               "KHR_mesh_quantization, EXT_meshopt_compression, KHR_draco_mesh_compression and KHR_texture_transform)");
+               "KHR_materials_emissive_strength, KHR_mesh_quantization, EXT_meshopt_compression, KHR_draco_mesh_compression and "
+               "KHR_texture_transform)");
     }
   }
   for (size_t i = 0; i < model.images.size(); ++i) {
@@ -661,6 +729,7 @@ ModelFile load_gltf(const std::string& path) {
   }
   if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
   out.textures = textures.take();
+  out.images = model.images.size();
   return out;
 }
 

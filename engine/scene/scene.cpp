@@ -221,7 +221,10 @@ Object object_from_part(MeshPart&& part, size_t texture_base) {
   Object o;
   o.mesh = std::move(part.mesh);
   if (part.material) o.material = *part.material;
-  if (o.material.base_color_texture.used()) o.material.base_color_texture.texture += static_cast<int>(texture_base);
+  for (TextureRef* ref :
+       {&o.material.base_color_texture, &o.material.metallic_roughness_texture, &o.material.normal_texture, &o.material.emissive_texture}) {
+    if (ref->used()) ref->texture += static_cast<int>(texture_base);
+  }
   return o;
 }
 
@@ -318,6 +321,7 @@ Scene load_scene(const JsonDocument& doc) {
       }
       for (auto& part : model.parts) parts.push_back(object_from_part(std::move(part), scene.textures.size()));
       std::move(model.textures.begin(), model.textures.end(), std::back_inserter(scene.textures));
+      scene.file_images += model.images;
     }
     for (size_t p = 0; p < parts.size(); ++p) {
       Object& o = parts[p];
@@ -349,6 +353,7 @@ Scene load_model_scene(const std::string& path, bool stage) {
   scene.sky = glm::vec3(0.55f, 0.65f, 0.8f);
   scene.ambient = 0.25f;
   scene.textures = std::move(model.textures);
+  scene.file_images = model.images;
   for (size_t p = 0; p < model.parts.size(); ++p) {
     Object o = object_from_part(std::move(model.parts[p]), 0);
     o.name = (model.parts[p].name.empty() ? scene.name : model.parts[p].name) + "." + std::to_string(p);

@@ -27,6 +27,9 @@ struct Texture {
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
+// An 8-bit sRGB-encoded value in linear light.
+float srgb_byte_to_linear(uint8_t byte);
+
 // Where a material reads a texture: glTF's textureInfo, with KHR_texture_transform folded into
 // one affine map of the texture coordinates (offset, then rotation, then scale).
 struct TextureRef {
@@ -65,9 +68,24 @@ struct Material {
 
   // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
   TextureRef base_color_texture;
+  // glTF's metallic-roughness model: opaque surfaces of glTF materials reflect with its BRDF (a
+  // GGX specular lobe over a diffuse one that metal takes away); scene-file materials and OBJ/OFF
+  // meshes are Lambertian, as before. The texture's blue channel scales metallic, green roughness.
+  bool metallic_roughness = false;
+  float metallic = 1.0f, roughness = 1.0f;
+  TextureRef metallic_roughness_texture;
+  // Tangent-space normal map (scaled in xy by normal_scale) and emitted radiance (emissiveFactor
+  // times KHR_materials_emissive_strength, times the texture's rgb).
+  TextureRef normal_texture;
+  float normal_scale = 1.0f;
+  glm::vec3 emissive{0.0f};
+  TextureRef emissive_texture;
   float alpha = 1.0f;  // baseColorFactor's alpha
   AlphaMode alpha_mode = AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
+  // glTF's doubleSided: false culls the back faces of opaque surfaces in the camera's view (they
+  // still cast shadows, as the engine's shadow maps draw both sides). Scene-file materials are.
+  bool double_sided = true;
 };
 
 struct Mesh {
@@ -123,6 +141,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Object> objects;
   std::vector<Texture> textures;      // what materials sample (TextureRef::texture)
+  size_t file_images = 0;             // images in the scene's glTF files, used or not (only `textures` are decoded)
   glm::vec3 sky{0.35f, 0.45f, 0.6f};  // radiance of everything that is not geometry
   float ambient = 0.03f;              // fraction of albedo lit without a light
 
@@ -168,6 +187,7 @@ struct ModelLight {
 struct ModelFile {
   std::vector<MeshPart> parts;
   std::vector<Texture> textures;  // only those the parts' materials use: no other image is decoded
+  size_t images = 0;              // images in the file
   std::optional<View> camera;
   bool camera_is_orthographic = false;
   std::vector<ModelLight> lights;

@@ -9,10 +9,6 @@
 namespace caustica::scene {
 namespace {
 
-float srgb_decode(float encoded) {
-  return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
-}
-
 // Texel index i of a row or column of `size`, by the sampler's wrap mode.
 int wrap_index(int i, int size, Wrap mode) {
   switch (mode) {
@@ -33,14 +29,21 @@ int wrap_index(int i, int size, Wrap mode) {
 
 }  // namespace
 
+float srgb_byte_to_linear(uint8_t byte) {
+  static const std::array<float, 256> kDecoded = [] {
+    std::array<float, 256> table{};
+    for (size_t i = 0; i < 256; ++i) {
+      const float encoded = static_cast<float>(i) / 255.0f;
+      table[i] = encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+    }
+    return table;
+  }();
+  return kDecoded[byte];
+}
+
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width == 0 || height == 0) return glm::vec4(1.0f);
   // sRGB decoding per texel comes before filtering, as with an sRGB image format.
-  static const std::array<float, 256> kDecoded = [] {
-    std::array<float, 256> table{};
-    for (int i = 0; i < 256; ++i) table[static_cast<size_t>(i)] = srgb_decode(static_cast<float>(i) / 255.0f);
-    return table;
-  }();
   auto texel = [&](int x, int y) {
     const size_t at = (static_cast<size_t>(wrap_index(y, static_cast<int>(height), wrap_v)) * width +
                        static_cast<size_t>(wrap_index(x, static_cast<int>(width), wrap_u))) *
@@ -48,7 +51,7 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
     glm::vec4 v;
     for (int c = 0; c < 4; ++c) {
       const uint8_t byte = rgba[at + static_cast<size_t>(c)];
-      v[c] = srgb && c < 3 ? kDecoded[byte] : static_cast<float>(byte) / 255.0f;
+      v[c] = srgb && c < 3 ? srgb_byte_to_linear(byte) : static_cast<float>(byte) / 255.0f;
     }
     return v;
   };

@@ -5,7 +5,7 @@
 #include "scene/scene.glsl"
 SCENE_FRAME
 SCENE_OBJECTS
-SCENE_TEXTURES
+#include "scene/textures.glsl"
 layout(set = 0, binding = 3) uniform sampler2D background_tex;
 layout(set = 0, binding = 4) uniform sampler2D depth_tex;
 layout(set = 0, binding = 6) uniform sampler2D back_tex;

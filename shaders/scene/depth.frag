@@ -4,7 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
-SCENE_TEXTURES
+#include "scene/textures.glsl"
 
 layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;

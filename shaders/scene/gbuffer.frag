@@ -1,10 +1,11 @@
 #version 460
-// Opaque geometry seen from the camera: world normal (facing the viewer) and albedo (base colour,
-// textured); MASK materials cut out where their coverage is below the cutoff.
+// Opaque geometry seen from the camera: the shading normal (facing the viewer, normal map applied)
+// with roughness, base colour (textured) with metallic, and emitted radiance; MASK materials cut
+// out where their coverage is below the cutoff.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
-SCENE_TEXTURES
+#include "scene/textures.glsl"
 
 layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
@@ -13,12 +14,46 @@ layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;
 layout(location = 0) out vec4 out_normal;
 layout(location = 1) out vec4 out_albedo;
+#ifdef EMISSION
+layout(location = 2) out vec4 out_emission;
+#endif
+
+// The normal map's tangent frame from the screen derivatives of position and texture coordinates
+// (no TANGENT attribute is read): tangent along increasing u, bitangent = normal x tangent, as the
+// Khronos sample viewer builds it. docs/gltf.md says where this differs from MikkTSpace.
+vec3 apply_normal_map(ObjectData object, vec3 n) {
+  vec2 uv = slot_uv(object.normal, texcoords);
+  vec3 dp_dx = dFdx(world_position), dp_dy = dFdy(world_position);
+  vec2 duv_dx = dFdx(uv), duv_dy = dFdy(uv);
+  float det = duv_dx.x * duv_dy.y - duv_dy.x * duv_dx.y;
+  vec3 t = det != 0.0 ? (dp_dx * duv_dy.y - dp_dy * duv_dx.y) / det : vec3(0.0);
+  t -= n * dot(n, t);
+  if (dot(t, t) <= 1e-20) return n;
+  t = normalize(t);
+  vec3 b = cross(n, t);
+  vec3 m = sample_slot(object.normal, texcoords, vec4(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+  m = normalize(vec3(m.xy * object.emissive_normal_scale.w, m.z));
+  return normalize(t * m.x + b * m.y + n * m.z);
+}
 
 void main() {
   ObjectData object = objects[object_index];
+  if (!gl_FrontFacing && object.alpha_cutoff.z > 0.5) discard;  // single-sided: its back is culled
   vec4 base = base_color(object, texcoords);
   if (base.a < object.alpha_cutoff.y) discard;
   vec3 n = normalize(world_normal);
-  out_normal = vec4(gl_FrontFacing ? n : -n, 1.0);
-  out_albedo = vec4(base.rgb, 1.0);
+  if (object.normal.row_u.w >= 0.0) n = apply_normal_map(object, n);
+  // Seen from behind, the whole frame flips with the surface.
+  if (!gl_FrontFacing) n = -n;
+  float metallic = 0.0, roughness = -1.0;  // Lambertian
+  if (object.metallic_roughness.z > 0.5) {
+    vec4 mr = sample_slot(object.metallic_roughness_map, texcoords, vec4(1.0));
+    metallic = object.metallic_roughness.x * mr.b;
+    roughness = object.metallic_roughness.y * mr.g;
+  }
+  out_normal = vec4(n, roughness);
+  out_albedo = vec4(base.rgb, metallic);
+#ifdef EMISSION
+  out_emission = vec4(object.emissive_normal_scale.rgb * sample_slot(object.emissive, texcoords, vec4(1.0)).rgb, 1.0);
+#endif
 }

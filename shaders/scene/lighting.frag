@@ -1,7 +1,7 @@
 #version 460
-// Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone, the
-// first light shadowed through its shadow map (3x3 PCF) and adding its caustic map when one is
-// bound, plus ambient sky light. Sky where empty.
+// Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
+// the surface's BRDF, the first light shadowed through its shadow map (3x3 PCF) and adding its
+// caustic map when one is bound, plus ambient sky light and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -15,6 +15,9 @@ layout(set = 0, binding = 4) uniform sampler2D shadow_tex;
 layout(set = 0, binding = 5) uniform sampler2DArray caustics_tex;
 #endif
 layout(set = 0, binding = 6) uniform sampler2D caustic_depth_tex;  // what that light sees without refractors
+#ifdef EMISSION
+layout(set = 0, binding = 7) uniform sampler2D emission_tex;
+#endif
 
 layout(push_constant) uniform Params {
   float shadow_bias;
@@ -92,6 +95,30 @@ vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
 }
 #endif
 
+// The G-buffer's surface: Lambertian (roughness below 0) or glTF's metallic-roughness BRDF, GGX
+// with Smith height-correlated visibility and Schlick's Fresnel (the specification's appendix B).
+// reference/exact_scene.h's SurfacePoint is the same model on the host.
+struct Surface {
+  vec3 n;
+  vec3 base;
+  float metallic;
+  float roughness;
+};
+vec3 diffuse_color(Surface s) { return s.roughness < 0.0 ? s.base : s.base * (1.0 - s.metallic); }
+vec3 specular_f0(Surface s) { return s.roughness < 0.0 ? vec3(0.0) : mix(vec3(0.04), s.base, s.metallic); }
+vec3 brdf(Surface s, vec3 v, vec3 l) {
+  if (s.roughness < 0.0) return s.base / PI;
+  vec3 h = normalize(v + l);
+  float n_l = max(dot(s.n, l), 0.0), n_v = max(dot(s.n, v), 1e-4), n_h = max(dot(s.n, h), 0.0), v_h = max(dot(v, h), 0.0);
+  float a = max(s.roughness * s.roughness, 1e-3), a2 = a * a;
+  vec3 f0 = specular_f0(s);
+  vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - v_h, 5.0);
+  float d = n_h * n_h * (a2 - 1.0) + 1.0;
+  float distribution = a2 / (PI * d * d);
+  float visibility = 0.5 / max(n_l * sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * sqrt(n_l * n_l * (1.0 - a2) + a2), 1e-8);
+  return (1.0 - fresnel) * diffuse_color(s) / PI + fresnel * distribution * visibility;
+}
+
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   float depth = texture(depth_tex, uv).r;
@@ -100,9 +127,14 @@ void main() {
     return;
   }
   vec3 p = world_from_depth(frame.inv_view_proj, uv, depth);
-  vec3 n = normalize(texture(normal_tex, uv).xyz);
-  vec3 albedo = texture(albedo_tex, uv).rgb;
-  vec3 irradiance = vec3(0.0);
+  vec4 normal_roughness = texture(normal_tex, uv), albedo_metallic = texture(albedo_tex, uv);
+  Surface s = Surface(normalize(normal_roughness.xyz), albedo_metallic.rgb, albedo_metallic.a, normal_roughness.w);
+  vec3 n = s.n;
+  vec3 v = normalize(frame.camera_position.xyz - p);
+  vec3 radiance = frame.sky_ambient.a * frame.sky_ambient.rgb * (diffuse_color(s) + specular_f0(s));
+#ifdef EMISSION
+  radiance += texture(emission_tex, uv).rgb;
+#endif
   for (uint i = 0; i < frame.light_count; ++i) {
     LightData light = frame.lights[i];
     float d2;
@@ -111,10 +143,11 @@ void main() {
     if (light_has_view(light)) {
       if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p, n);
 #ifdef CAUSTICS
-      if (i == 0) irradiance += caustic_irradiance(light, p, n);
+      // The caustic's light arrives through the refractor from many directions: diffuse only.
+      if (i == 0) radiance += diffuse_color(s) / PI * caustic_irradiance(light, p, n);
 #endif
     }
-    irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
+    radiance += brdf(s, v, l) * light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }
-  out_color = vec4(albedo * (frame.sky_ambient.a * frame.sky_ambient.rgb + irradiance / PI), 1.0);
+  out_color = vec4(radiance, 1.0);
 }

@@ -4,9 +4,11 @@
 // paths (passes/refraction.h, RayQueryScene): binding 14 is the top-level acceleration structure,
 // 15 the vertex indices of every triangle, whose instance custom index is the object's first
 // triangle (engine/scene/acceleration.cpp). Needs SCENE_OBJECTS-style bindings 0 to 2 in the
-// including shader.
+// including shader, and the scene's textures (set 1): MASK materials' geometry is not opaque, and
+// a candidate hit where the coverage is below the cutoff is passed by.
 #extension GL_EXT_ray_query : require
 #include "scene/scene.glsl"
+#include "scene/textures.glsl"
 SCENE_VERTICES
 layout(set = 0, binding = 14) uniform accelerationStructureEXT scene_tlas;
 layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
@@ -18,11 +20,23 @@ struct SurfaceHit {
   uint object;
 };
 
+// Confirms the query's candidate triangle unless a MASK material cuts it out there (only geometry
+// of MASK materials is built non-opaque, so only it reaches here).
+void confirm_if_covered(rayQueryEXT query) {
+  if (rayQueryGetIntersectionTypeEXT(query, false) != gl_RayQueryCandidateIntersectionTriangleEXT) return;
+  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) + rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
+  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, false);
+  Vertex v0 = vertices[triangle_vertices[3u * triangle]];
+  Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
+  Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
+  vec4 texcoords = (1.0 - b.x - b.y) * v0.texcoords + b.x * v1.texcoords + b.y * v2.texcoords;
+  if (!cut_out_at_full_resolution(objects[uint(v0.normal_object.w + 0.5)], texcoords)) rayQueryConfirmIntersectionEXT(query);
+}
+
 SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
   rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, t_min, direction, 1e30);
-  while (rayQueryProceedEXT(query)) {
-  }
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsNoneEXT, 0xFFu, origin, t_min, direction, 1e30);
+  while (rayQueryProceedEXT(query)) confirm_if_covered(query);
   SurfaceHit h;
   h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
   h.t = 0.0;
@@ -45,9 +59,8 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
 // Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).
 bool occluded(vec3 origin, vec3 direction, float t_max) {
   rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, origin, 0.0, direction, t_max);
-  while (rayQueryProceedEXT(query)) {
-  }
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, origin, 0.0, direction, t_max);
+  while (rayQueryProceedEXT(query)) confirm_if_covered(query);
   return rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT;
 }
 

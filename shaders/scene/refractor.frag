@@ -5,7 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
-SCENE_TEXTURES
+#include "scene/textures.glsl"
 
 layout(push_constant) uniform Draw {
   mat4 view_proj;

@@ -1,29 +1,12 @@
 #ifndef CAUSTICA_SCENE_GLSL
 #define CAUSTICA_SCENE_GLSL
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_nonuniform_qualifier : require
 #include "common/scene_types.h"
 
 // Bindings every scene pass shares; a shader declares the ones it uses with these macros.
 #define SCENE_FRAME layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameData frame; };
 #define SCENE_VERTICES layout(set = 0, binding = 1, std430) readonly buffer VertexBlock { Vertex vertices[]; };
 #define SCENE_OBJECTS layout(set = 0, binding = 2, std430) readonly buffer ObjectBlock { ObjectData objects[]; };
-
-// The scene's textures (set 1, written once by the scene). Indexed per object within a draw, so
-// the index is not uniform.
-#define SCENE_TEXTURES                                        \
-  layout(set = 1, binding = 0) uniform sampler2D scene_textures[CAUSTICA_MAX_TEXTURES]; \
-  vec4 sample_slot(TextureSlot slot, vec4 texcoords, vec4 fallback) {                   \
-    if (slot.row_u.w < 0.0) return fallback;                                            \
-    vec3 uv = vec3(slot.row_v.w > 0.5 ? texcoords.zw : texcoords.xy, 1.0);              \
-    return texture(scene_textures[nonuniformEXT(int(slot.row_u.w))], vec2(dot(slot.row_u.xyz, uv), dot(slot.row_v.xyz, uv))); \
-  }                                                                                     \
-  vec4 base_color(ObjectData object, vec4 texcoords) {                                  \
-    return vec4(object.albedo_refractor.rgb, object.alpha_cutoff.x) * sample_slot(object.base_color, texcoords, vec4(1.0)); \
-  }                                                                                     \
-  bool cut_out(ObjectData object, vec4 texcoords) {                                     \
-    return object.alpha_cutoff.y >= 0.0 && base_color(object, texcoords).a < object.alpha_cutoff.y; \
-  }
 
 // Octahedral unit-vector encoding in two snorm16 values packed into one float's bits.
 vec2 oct_wrap(vec2 v) { return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }

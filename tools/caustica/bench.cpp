@@ -22,6 +22,7 @@
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
+#include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace caustica::cli {
@@ -41,6 +42,51 @@ std::string graph_path(const std::string& name) {
 }
 
 }  // namespace
+
+// Loading a model or scene: the host's part (parsing, decoding the textures materials use, normals,
+// d_N) and the device's (buffers, texture upload with their mip chains), median over runs.
+int cmd_bench_load(Args& args) {
+  std::string file, device;
+  uint32_t runs = 5;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene")
+      file = args.value(a);
+    else if (a == "--runs")
+      runs = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--device")
+      device = args.value(a);
+    else
+      unknown_option(a, {"--scene", "--runs", "--device"});
+  }
+  if (file.empty()) throw UsageError("bench load needs --scene FILE (a scene or a model file)");
+  vk::Context vk(device_options(device, false));
+  std::vector<double> host_ms, device_ms;
+  std::shared_ptr<const scene::Scene> scene;
+  uint64_t texture_bytes = 0;
+  for (uint32_t run = 0; run < runs; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    scene = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
+    const auto loaded = std::chrono::steady_clock::now();
+    {
+      scene::GpuScene on_device(vk, scene);
+      texture_bytes = on_device.texture_bytes();
+    }
+    const auto uploaded = std::chrono::steady_clock::now();
+    host_ms.push_back(std::chrono::duration<double, std::milli>(loaded - start).count());
+    device_ms.push_back(std::chrono::duration<double, std::milli>(uploaded - loaded).count());
+    vk.wait_idle();
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  std::printf("%s: %zu triangles, %zu of %zu images decoded (%.1f MiB of textures on the device with their mips)\n", file.c_str(),
+              scene->triangle_count(), scene->textures.size(), scene->file_images, static_cast<double>(texture_bytes) / (1 << 20));
+  std::printf("median of %u runs: host %.0f ms (parse, decode, normals, d_N), device %.0f ms (upload), total %.0f ms\n", runs,
+              median(host_ms), median(device_ms), median(host_ms) + median(device_ms));
+  return 0;
+}
 
 // Deferred against forward refraction: the same scene through both graphs, frames interleaved so
 // that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
@@ -680,6 +726,7 @@ int cmd_bench(Args& args) {
       "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
       "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n"
       "       caustica bench stability [--grid G] [--out DIR] ...\n"
+      "       caustica bench load --scene FILE [--runs N]\n"
       "       caustica bench accuracy --out DIR [--scenes A,B] [--graphs G,H,...] [--grids 256,512,...] [--frames N]\n"
       "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n\n"
       "accuracy: speed against accuracy. For every scene (bundled names or files; default sphere_plane,bunny_plane) x\n"
@@ -708,18 +755,24 @@ int cmd_bench(Args& args) {
       "refraction: deferred against forward refraction on the same scenes (default: the bundled ball lens and bunny),\n"
       "one run, frames interleaved, after two warm-up frames: median GPU time of the refraction passes\n"
       "(refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders the ball-lens scene\n"
-      "with its sphere tessellated into N slices (triangle count alone varies).\n";
+      "with its sphere tessellated into N slices (triangle count alone varies).\n\n"
+      "load: loading a scene or model file, median over --runs (default 5): the host's part (parsing, decoding the\n"
+      "textures its materials use, normals, d_N) and the device's (buffers, textures with their mip chains), and how\n"
+      "many of the file's images were decoded. tools/make_load_asset.py writes a textured 100k-triangle test model.\n";
   if (args.wants_help()) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("bench needs a benchmark name: refraction, photons, accuracy or stability; see caustica bench --help");
+  if (args.done())
+    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability or load; see caustica bench --help");
   std::string what = args.take();
   if (what == "refraction") return cmd_bench_refraction(args);
   if (what == "photons") return cmd_bench_photons(args);
   if (what == "accuracy") return cmd_bench_accuracy(args);
   if (what == "stability") return cmd_bench_stability(args);
-  throw UsageError("bench " + what + ": unknown benchmark" + did_you_mean(what, {"refraction", "photons", "accuracy", "stability"}));
+  if (what == "load") return cmd_bench_load(args);
+  throw UsageError("bench " + what + ": unknown benchmark" +
+                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "load"}));
 }
 
 }  // namespace caustica::cli

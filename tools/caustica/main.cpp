@@ -47,7 +47,8 @@ commands:
              'graph schema' (the JSON Schema of graph files), 'graph set FILE NAME=VALUE...' (new defaults)
   devices    list the Vulkan devices
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's
-             table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks)
+             table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks),
+             'bench load' (loading a scene or model: host and device time)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   edit       the graph editor: passes as nodes, resources as wires, the frame live as you edit

@@ -3,14 +3,15 @@
 # encoders the extensions' authors ship (Debian packages draco and gltfpack; the tests only need
 # the decoders): dragon_draco.glb (KHR_draco_mesh_compression, positions quantized to 16 bits),
 # dragon_meshopt.glb (EXT_meshopt_compression with KHR_mesh_quantization, gltfpack -c), and the
-# lossless dragon_draco_lossless.glb (-qp 0) and dragon_meshopt_lossless.glb (gltfpack -c -noq).
+# lossless dragon_draco_lossless.glb (-qp 0) and dragon_meshopt_lossless.glb (gltfpack -c -noq),
+# all from dragon.glb, the uncompressed original it writes first.
 # scene_test compares what caustica decodes from them with the OFF file itself; cli_test renders
-# the lossless ones to the OFF file's picture.
+# the lossless ones to dragon.glb's picture (same glTF material; the OFF file is Lambertian).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-python3 - "$here/../../../scenes/models/ChineseDragon-10kv.off" "$work/dragon.glb" <<'EOF'
+python3 - "$here/../../../scenes/models/ChineseDragon-10kv.off" "$here/dragon.glb" <<'EOF'
 import json, struct, sys
 words = open(sys.argv[1]).read().split()
 assert words[0] == "OFF"
@@ -50,7 +51,7 @@ with open(sys.argv[2], "wb") as f:
     f.write(struct.pack("<II", len(text), 0x4E4F534A) + text)
     f.write(struct.pack("<II", len(binary), 0x004E4942) + binary)
 EOF
-draco_transcoder -i "$work/dragon.glb" -o "$here/dragon_draco.glb" -qp 16
-gltfpack -i "$work/dragon.glb" -o "$here/dragon_meshopt.glb" -c
-draco_transcoder -i "$work/dragon.glb" -o "$here/dragon_draco_lossless.glb" -qp 0
-gltfpack -i "$work/dragon.glb" -o "$here/dragon_meshopt_lossless.glb" -c -noq
+draco_transcoder -i "$here/dragon.glb" -o "$here/dragon_draco.glb" -qp 16
+gltfpack -i "$here/dragon.glb" -o "$here/dragon_meshopt.glb" -c
+draco_transcoder -i "$here/dragon.glb" -o "$here/dragon_draco_lossless.glb" -qp 0
+gltfpack -i "$here/dragon.glb" -o "$here/dragon_meshopt_lossless.glb" -c -noq

@@ -104,3 +104,72 @@ write("bad_texture_texcoord.gltf", bad)
 bad = json.loads(json.dumps(gltf))
 bad["images"][1]["uri"] = data_uri("image/png", b"\x89PNG not really")
 write("bad_texture_image.gltf", bad)
+
+
+# textured_surfaces.gltf: glTF's metallic-roughness model with its textures, a normal map, emission
+# (KHR_materials_emissive_strength) and a single-sided quad whose back faces the camera.
+def build(quads):  # quads: (corners counter-clockwise seen from the front, normal, material)
+    data, meshes, views2, accessors2 = b"", [], [], []
+    for corners, normal, material in quads:
+        start = len(data)
+        data += b"".join(struct.pack("<3f", *c) for c in corners)
+        data += b"".join(struct.pack("<3f", *normal) for _ in corners)
+        data += b"".join(struct.pack("<2f", *t) for t in [(0, 1), (1, 1), (1, 0), (0, 0)])
+        data += b"".join(struct.pack("<H", i) for i in [0, 1, 2, 0, 2, 3])
+        data += b"\0" * (-len(data) % 4)
+        base = len(views2)
+        views2 += [{"buffer": 0, "byteOffset": start, "byteLength": 48}, {"buffer": 0, "byteOffset": start + 48, "byteLength": 48},
+                   {"buffer": 0, "byteOffset": start + 96, "byteLength": 32}, {"buffer": 0, "byteOffset": start + 128, "byteLength": 12}]
+        lo = [min(c[k] for c in corners) for k in range(3)]
+        hi = [max(c[k] for c in corners) for k in range(3)]
+        a = len(accessors2)
+        accessors2 += [{"bufferView": base, "count": 4, "type": "VEC3", "componentType": 5126, "min": lo, "max": hi},
+                       {"bufferView": base + 1, "count": 4, "type": "VEC3", "componentType": 5126},
+                       {"bufferView": base + 2, "count": 4, "type": "VEC2", "componentType": 5126},
+                       {"bufferView": base + 3, "count": 6, "type": "SCALAR", "componentType": 5123}]
+        meshes.append({"primitives": [{"attributes": {"POSITION": a, "NORMAL": a + 1, "TEXCOORD_0": a + 2}, "indices": a + 3,
+                                       "material": material}]})
+    return data, meshes, views2, accessors2
+
+
+def encode_normal(x, y):
+    z = math.sqrt(max(0.0, 1 - x * x - y * y))
+    return tuple(int(round((v * 0.5 + 0.5) * 255)) for v in (x, y, z)) + (255,)
+
+
+ridges = png(16, 16, [[encode_normal(0.7 * math.sin(2 * math.pi * x / 4), 0.3 * math.cos(2 * math.pi * y / 8)) for x in range(16)]
+                      for y in range(16)])
+metal_rough = png(8, 8, [[(0, 70, 255, 255) if (x // 2 + y // 2) % 2 == 0 else (0, 220, 0, 255) for x in range(8)] for y in range(8)])
+glow = png(8, 8, [[(255, 255, 255, 255) if x % 4 < 2 else (40, 40, 40, 255) for x in range(8)] for y in range(8)])
+surfaces_blob, surface_meshes, surface_views, surface_accessors = build([
+    ([(-2, 0, 2), (2, 0, 2), (2, 0, -2), (-2, 0, -2)], (0, 1, 0), 0),             # floor, facing up
+    ([(-1, 0.3, -1.5), (1, 0.3, -1.5), (1, 1.3, -1.5), (-1, 1.3, -1.5)], (0, 0, 1), 1),  # emissive panel, facing the camera
+    ([(0.6, 0.6, 1.0), (-0.6, 0.6, 1.0), (-0.6, 1.8, 1.0), (0.6, 1.8, 1.0)], (0, 0, -1), 2),  # single-sided, facing away
+])
+surfaces = {
+    "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_textured.py"},
+    "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 40.0, "spot": {"outerConeAngle": 0.8}}]}},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+    "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2},
+              {"translation": [1.0, 4, 1.0], "rotation": down, "extensions": {"KHR_lights_punctual": {"light": 0}}},
+              {"camera": 0, "translation": [0, 3, 4], "rotation": [-math.sin(tilt), 0, 0, math.cos(tilt)]}],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50}}],
+    "meshes": surface_meshes,
+    "materials": [
+        {"name": "bumped metal and plastic",
+         "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1.0], "metallicRoughnessTexture": {"index": 0}},
+         "normalTexture": {"index": 1, "scale": 1.0}},
+        {"name": "glowing panel", "emissiveFactor": [1.0, 0.8, 0.5], "emissiveTexture": {"index": 2},
+         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2.0}},
+         "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.05, 0.05, 1.0], "metallicFactor": 0.0}},
+        {"name": "single-sided red", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}}],
+    "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}, {"sampler": 0, "source": 2}],
+    "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}],
+    "images": [{"uri": data_uri("image/png", metal_rough)}, {"uri": data_uri("image/png", ridges)}, {"uri": data_uri("image/png", glow)}],
+    "buffers": [{"byteLength": len(surfaces_blob), "uri": data_uri("application/octet-stream", surfaces_blob)}],
+    "bufferViews": surface_views,
+    "accessors": surface_accessors,
+}
+write("textured_surfaces.gltf", surfaces)

@@ -1,0 +1,38 @@
+#ifndef CAUSTICA_TEXTURES_GLSL
+#define CAUSTICA_TEXTURES_GLSL
+// The scene's textures (set 1, written once by the scene: scene/gpu_textures.h) and how materials
+// read them. Indexed per object within a draw or a dispatch, so the index is not uniform.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_nonuniform_qualifier : require
+#include "scene/scene.glsl"
+layout(set = 1, binding = 0) uniform sampler2D scene_textures[CAUSTICA_MAX_TEXTURES];
+
+vec2 slot_uv(TextureSlot slot, vec4 texcoords) {
+  vec3 uv = vec3(slot.row_v.w > 0.5 ? texcoords.zw : texcoords.xy, 1.0);
+  return vec2(dot(slot.row_u.xyz, uv), dot(slot.row_v.xyz, uv));
+}
+
+// Filtered over the mip chain: fragment shaders.
+vec4 sample_slot(TextureSlot slot, vec4 texcoords, vec4 fallback) {
+  if (slot.row_u.w < 0.0) return fallback;
+  return texture(scene_textures[nonuniformEXT(int(slot.row_u.w))], slot_uv(slot, texcoords));
+}
+vec4 base_color(ObjectData object, vec4 texcoords) {
+  return vec4(object.albedo_refractor.rgb, object.alpha_cutoff.x) * sample_slot(object.base_color, texcoords, vec4(1.0));
+}
+// MASK: no surface where the coverage is below the cutoff.
+bool cut_out(ObjectData object, vec4 texcoords) {
+  return object.alpha_cutoff.y >= 0.0 && base_color(object, texcoords).a < object.alpha_cutoff.y;
+}
+
+// The same at the full-resolution level, for stages without derivatives (ray queries in compute
+// and full-screen shaders), as the Embree references sample it.
+bool cut_out_at_full_resolution(ObjectData object, vec4 texcoords) {
+  if (object.alpha_cutoff.y < 0.0) return false;
+  float alpha = object.alpha_cutoff.x;
+  if (object.base_color.row_u.w >= 0.0)
+    alpha *= textureLod(scene_textures[nonuniformEXT(int(object.base_color.row_u.w))], slot_uv(object.base_color, texcoords), 0.0).a;
+  return alpha < object.alpha_cutoff.y;
+}
+
+#endif
