@@ -51,11 +51,7 @@ void draw_range(VkCommandBuffer cmd, const scene::GpuScene& scene, scene::DrawRa
 // Inside one pass, before a depth image is cleared and drawn again: the earlier draw's depth
 // writes finish first.
 void wait_for_depth_writes(VkCommandBuffer cmd, VkImage depth);
-// A layout transition of a whole single-level colour or depth image inside one pass.
-void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
-                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
-                   VkAccessFlags2 dst_access);
-
+using vk::image_barrier;
 using vk::memory_barrier;
 
 // Parameters every pass that shows a choice of view declares.

@@ -156,6 +156,11 @@ OwnedSemaphore make_semaphore(Context& vk);
 void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
                     VkAccessFlags2 dst_access);
 
+// A layout transition of the first `levels` mip levels of a single-layer image (synchronization2).
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
+                   uint32_t levels = 1);
+
 // Throws DeviceError naming the call and the VkResult.
 void check(VkResult result, const char* call);
 const char* result_name(VkResult result);
