@@ -27,14 +27,15 @@ std::vector<graph::ParamDecl> refraction_params() {
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
   using graph::ParamType;
   auto params = refraction_params();
-  params[0].choices = {"dv", "dv_dn", "search", "ray_query", "hybrid"};
+  params[0].choices = {"dv", "dv_dn", "search", "ray_query", "hybrid", "material"};
   params[0].description =
       "where " + what +
       " leaves the refractor: d_V or the d_V/d_N blend (estimates), search (image-space search along the "
       "refracted ray against the back-surface buffer, from the blend; every device), ray_query (traced exactly through the scene's "
       "acceleration structures; needs VK_KHR_ray_query), or hybrid (the search, traced exactly where it cannot be trusted: total "
       "internal reflection at the exit, no back surface there, an exit point off the back surface by more than hybrid_tolerance, or "
-      "another refractor in the way)";
+      "another refractor in the way), or material (chosen from the material it meets first: traced exactly through a solid "
+      "refractor, in image space through a thin wall, where image space is exact; needs VK_KHR_ray_query)";
   params.push_back({"max_interfaces",
                     ParamType::int_,
                     32,
@@ -69,7 +70,12 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
   const auto& p = ctx.params();
   // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
   const std::string distance = p["distance"].get<std::string>();
-  const uint32_t mode = distance == "dv" ? 0u : distance == "dv_dn" ? 1u : distance == "ray_query" ? 2u : distance == "hybrid" ? 3u : 4u;
+  const uint32_t mode = distance == "dv"          ? 0u
+                        : distance == "dv_dn"     ? 1u
+                        : distance == "ray_query" ? 2u
+                        : distance == "hybrid"    ? 3u
+                        : distance == "search"    ? 4u
+                                                  : 5u;  // material
   return {mode,
           p["search_steps"].get<uint32_t>(),
           p["search_distance"].get<float>(),
@@ -82,7 +88,7 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
 
 bool traces_exact_paths(const nlohmann::json& params) {
   const std::string distance = params.value("distance", std::string());
-  return distance == "ray_query" || distance == "hybrid";
+  return distance == "ray_query" || distance == "hybrid" || distance == "material";
 }
 
 const char* const kPhotonRayQueryAlternative =

@@ -92,6 +92,43 @@ TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
   EXPECT_GT(regular / reference, 0.5);
 }
 
+// distance=material chooses the method from the material a photon meets first: exact paths
+// through a solid (the ball lens: the ray-query tracer's map, to the photon), image space through
+// a thin wall, where image space sees the exact path (the thin panes: the image-space map, to the
+// photon, with no exact photon at all).
+TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
+  auto ball = test::load_bundled_scene("sphere_plane");
+  e.render("caustics_raytraced", ball, {"distance=ray_query", "grid=1024"}, {"caustics"});
+  const double exact = map_flux(e.executor.read_image("caustics"));
+  auto by_material = e.render("caustics_raytraced", ball, {"distance=material", "grid=1024"}, {"caustics"});
+  const double chosen = map_flux(e.executor.read_image("caustics"));
+  e.render("caustics_raytraced", ball, {"distance=dv_dn", "grid=1024"}, {"caustics"});
+  const double image_space = map_flux(e.executor.read_image("caustics"));
+  std::printf("ball lens: material %.5f, ray query %.5f, image space %.5f\n", chosen, exact, image_space);
+  EXPECT_NEAR(chosen / exact, 1.0, 1e-4);
+  EXPECT_LT(image_space / exact, 0.9);  // what the choice avoids
+  EXPECT_GT(by_material.counters.at("photons.exact"), 0.0);
+
+  auto panes = test::load_bundled_scene("thin_panes");
+  auto thin = e.render("caustics_raytraced", panes, {"distance=material", "grid=1024"}, {"caustics"});
+  const auto thin_map = e.executor.read_image("caustics");
+  e.render("caustics_raytraced", panes, {"distance=dv_dn", "grid=1024"}, {"caustics"});
+  const auto image_space_map = e.executor.read_image("caustics");
+  EXPECT_EQ(thin.counters.at("photons.exact"), 0.0);
+  EXPECT_EQ(thin_map.rgba, image_space_map.rgba);
+
+  // The camera's rays choose alike.
+  auto view = [&](const std::shared_ptr<scene::Scene>& scene, const char* distance) {
+    e.render("refraction_raytraced", scene, {std::string("distance=") + distance}, {"refracted"});
+    return e.executor.read_image("refracted").rgba;
+  };
+  EXPECT_EQ(view(ball, "material"), view(ball, "ray_query"));
+  EXPECT_NE(view(ball, "material"), view(ball, "dv_dn"));
+  EXPECT_EQ(view(panes, "material"), view(panes, "dv_dn"));
+}
+
 // With Fresnel and absorption, every entering photon ends in exactly one place: landed, escaped,
 // trapped, off the map, or absorbed on the way; the sums add up to the entering flux.
 TEST(ExactPaths, EveryEnteringPhotonIsAccountedFor) {

@@ -175,13 +175,21 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
 #endif
   vec4 front = texture(front_tex, uv);
   if (front.y <= 0.0) return ph;
+  ObjectData object = objects[uint(front.w)];
+#ifdef CAUSTICA_RAY_QUERY
+  // Chosen from the material: image space where it sees the exact path (a thin wall without a
+  // mask), exact paths for the rest; the exact tracer meets the opaque occluders itself.
+  if (params.distance_mode == DISTANCE_MATERIAL && (!thin_walled(object) || object.alpha_cutoff.y >= 0.0)) {
+    trace_photon_exact(ph, light, eye, direction, uv);
+    return ph;
+  }
+#endif
   // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
   // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
   float receiver = texture(receiver_depth, uv).r;
   if (receiver < 1.0 && view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) < front.y * (1.0 - 1e-4)) return ph;
   ph.hit = true;
   ph.entering = channel_mean(ph.power);
-  ObjectData object = objects[uint(front.w)];
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
     float ior = band_ior(object, params.band);

@@ -82,11 +82,14 @@ void main() {
     return;
   }
 #ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID) {
+  ObjectData front_object = objects[uint(front.w)];
+  bool solid = !thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0;  // DISTANCE_MATERIAL's choice, as for photons
+  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID ||
+      (params.distance_mode == DISTANCE_MATERIAL && solid)) {
     vec3 radiance;
     uint reason = EXIT_TRUSTED;
     if (params.distance_mode == DISTANCE_HYBRID) reason = hybrid_radiance(p1, front, uv, radiance);
-    if (params.distance_mode == DISTANCE_RAY_QUERY || reason != EXIT_TRUSTED) {
+    if (params.distance_mode != DISTANCE_HYBRID || reason != EXIT_TRUSTED) {
       camera_count(CAMERA_EXACT);
       if (reason != EXIT_TRUSTED) camera_count(reason);
       radiance = trace_camera_exact(eye, ray);

@@ -19,6 +19,9 @@ const uint DISTANCE_HYBRID = 3u;
 // Image-space search along the refracted ray against the back-surface buffer (Umenhoffer et al.
 // 2007; Davis and Wyman 2007): see find_crossing. The hybrid starts from it too.
 const uint DISTANCE_SEARCH = 4u;
+// Chosen from the material met first: exact paths (ray queries) through a solid refractor, image
+// space through a thin wall, where image space sees the exact path.
+const uint DISTANCE_MATERIAL = 5u;
 
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
@@ -218,7 +221,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
     float w = theta_i > 1e-4 ? theta_t / theta_i : 1.0;
     d = w * dv + (1.0 - w) * dn;
   }
-  if (params.distance_mode >= DISTANCE_HYBRID) d = search_exit(view_proj, eye, p1, t1, d, 2.0 * max(max(dv, dn), d) + 1e-4);
+  if (params.distance_mode == DISTANCE_HYBRID || params.distance_mode == DISTANCE_SEARCH) d = search_exit(view_proj, eye, p1, t1, d, 2.0 * max(max(dv, dn), d) + 1e-4);
   r.distance = d;
   r.exit_point = p1 + t1 * d;
   r.exit_direction = t1;
