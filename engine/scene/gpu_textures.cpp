@@ -63,10 +63,11 @@ GpuTextures::GpuTextures(vk::Context& vk, const Scene& scene) : vk_(vk) {
     throw InputError(scene.path + ": the scene's materials use " + std::to_string(scene.textures.size()) +
                      " textures; caustica binds at most " + std::to_string(CAUSTICA_MAX_TEXTURES));
   }
-  if (!scene.textures.empty() && !vk.nonuniform_textures()) {
+  // The scene pipelines index the array per object whether or not the scene has textures.
+  if (!vk.nonuniform_textures()) {
     throw DeviceError(vk.device_name() +
-                      " cannot index textures per object (shaderSampledImageArrayNonUniformIndexing), which textured "
-                      "materials need");
+                      " cannot index textures per object (shaderSampledImageArrayNonUniformIndexing), which the scene "
+                      "pipelines need");
   }
   Texture white;
   white.name = "white";

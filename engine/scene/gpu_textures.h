@@ -13,7 +13,7 @@ namespace caustica::scene {
 class GpuTextures {
  public:
   // Throws InputError when the scene has more textures than CAUSTICA_MAX_TEXTURES, DeviceError when
-  // it has textures and the device cannot index them per object.
+  // the device cannot index them per object (lavapipe and desktop GPU drivers can).
   GpuTextures(vk::Context& vk, const Scene& scene);
 
   VkDescriptorSet set() const { return set_; }
