@@ -21,7 +21,14 @@ std::vector<graph::ParamDecl> refraction_params() {
            "distance to the back surface: d_V (along the view ray), Wyman's d_V/d_N blend by refraction angle, or search (an "
            "image-space search along the refracted ray against the back-surface buffer, from the blend)"},
           {"search_steps", ParamType::int_, 48, 4.0, 512.0, {}, "linear steps of the background search along the exit ray"},
-          {"search_distance", ParamType::float_, 8.0, 0.01, 1000.0, {}, "how far the background search goes, in scene units"}};
+          {"search_distance",
+           ParamType::float_,
+           0.0,
+           0.0,
+           1e6,
+           {},
+           "how far the background search goes, in scene units; 0: the diagonal of the box around the scene, so that a ray finds "
+           "whatever it meets in the scene, however large"}};
 }
 
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
@@ -66,6 +73,15 @@ std::vector<graph::ParamDecl> photon_path_params() {
   return params;
 }
 
+namespace {
+float search_distance(const graph::PassContext& ctx) {
+  const float chosen = ctx.params()["search_distance"].get<float>();
+  if (chosen > 0.0f) return chosen;
+  const auto [low, high] = ctx.scene().scene().bounds();
+  return std::max(glm::length(high - low), 1e-3f);
+}
+}  // namespace
+
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters) {
   const auto& p = ctx.params();
   // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
@@ -78,7 +94,7 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
                                                   : 5u;  // material
   return {mode,
           p["search_steps"].get<uint32_t>(),
-          p["search_distance"].get<float>(),
+          search_distance(ctx),
           tir_counter,
           p.value("max_interfaces", 1u),
           ctx.scene().scene().ray_epsilon(),

@@ -61,7 +61,43 @@ glm::dvec3 channel_flux(const io::ImageData& map) {
   return sum;
 }
 
+// The scene made `k` times larger: every length, the light's intensity kept (the flux into the ball
+// is a solid angle times it, which scaling leaves alone).
+void scale_scene(scene::Scene& scene, float k) {
+  auto scale_view = [k](scene::View& view) {
+    view.position *= k;
+    view.target *= k;
+    view.near_plane *= k;
+    view.far_plane *= k;
+  };
+  scale_view(scene.camera);
+  for (auto& light : scene.lights) scale_view(light.view);
+  for (auto& object : scene.objects) {
+    for (auto& p : object.mesh.positions) p *= k;
+    for (auto& d : object.mesh.normal_distance) d *= k;
+    object.bounds_min *= k;
+    object.bounds_max *= k;
+  }
+}
+
 }  // namespace
+
+// Image-space photons look for their receiver as far as the scene reaches: the ball lens made ten
+// times larger lands the same share of its entering flux as the ball lens (a search that stopped a
+// fixed 8 scene units out lost every photon of the large one).
+TEST(Caustics, ImageSpacePhotonsFindTheirReceiversInALargeScene) {
+  Engine e;
+  auto landed_share = [&](float scale) {
+    auto scene = load("sphere_plane");
+    scale_scene(*scene, scale);
+    auto frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"});
+    return frame.counters.at("caustic.flux") / frame.counters.at("caustic.flux_entering");
+  };
+  const double unit = landed_share(1.0f), large = landed_share(10.0f);
+  std::printf("landed share of the entering flux: ball lens %.4f, ten times larger %.4f\n", unit, large);
+  EXPECT_GT(unit, 0.5);
+  EXPECT_NEAR(large, unit, 0.01 * unit);
+}
 
 // The ball lens lit by a spot light at distance D from its centre: the flux entering the sphere is
 // the intensity times the solid angle of the sphere, 2 pi (1 - sqrt(1 - R^2 / D^2)). Without

@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "ball_lens.h"
+#include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "reference/refraction_reference.h"
 #include "scene_engine.h"
@@ -94,8 +95,8 @@ TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
 
 // distance=material chooses the method from the material a photon meets first: exact paths
 // through a solid (the ball lens: the ray-query tracer's map, to the photon), image space through
-// a thin wall, where image space sees the exact path (the thin panes: the image-space map, to the
-// photon, with no exact photon at all).
+// a thin wall, where image space sees the exact path (the thin panes without Fresnel: the
+// image-space map, to the photon, with no exact photon at all).
 TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
@@ -112,9 +113,9 @@ TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
   EXPECT_GT(by_material.counters.at("photons.exact"), 0.0);
 
   auto panes = test::load_bundled_scene("thin_panes");
-  auto thin = e.render("caustics_raytraced", panes, {"distance=material", "grid=1024"}, {"caustics"});
+  auto thin = e.render("caustics_raytraced", panes, {"distance=material", "grid=1024", "fresnel=false"}, {"caustics"});
   const auto thin_map = e.executor.read_image("caustics");
-  e.render("caustics_raytraced", panes, {"distance=dv_dn", "grid=1024"}, {"caustics"});
+  e.render("caustics_raytraced", panes, {"distance=dv_dn", "grid=1024", "fresnel=false"}, {"caustics"});
   const auto image_space_map = e.executor.read_image("caustics");
   EXPECT_EQ(thin.counters.at("photons.exact"), 0.0);
   EXPECT_EQ(thin_map.rgba, image_space_map.rgba);
@@ -127,6 +128,47 @@ TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
   EXPECT_EQ(view(ball, "material"), view(ball, "ray_query"));
   EXPECT_NE(view(ball, "material"), view(ball, "dv_dn"));
   EXPECT_EQ(view(panes, "material"), view(panes, "dv_dn"));
+}
+
+// Where image space cannot see a thin wall's whole path, distance=material traces it exactly, so its
+// map is the ray-query tracer's (tests/data/thin_walls_reflect.json): the light a steep pane
+// reflects onto the floor (the exact tracer's Fresnel choices, replayed), and the light through a
+// pane that a glass ball below it then bends. Image space alone loses the first and misplaces the
+// second; the panes' transmitted light stays in image space.
+TEST(ExactPaths, MaterialModeTracesWhatImageSpaceCannotSeeBehindAThinWall) {
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
+  auto shared = std::make_shared<scene::Scene>(
+      scene::load_scene_file((std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/thin_walls_reflect.json").string()));
+  auto map_of = [&](const char* distance, graph::FrameResult* frame = nullptr) {
+    auto result = e.render("caustics_raytraced", shared, {std::string("distance=") + distance, "grid=1024"}, {"caustics"});
+    if (frame) *frame = result;
+    return e.executor.read_image("caustics");
+  };
+  graph::FrameResult exact_frame, material_frame;
+  const auto exact = map_of("ray_query", &exact_frame), chosen = map_of("material", &material_frame), image_space = map_of("dv_dn");
+  const auto chosen_vs_exact = reference::compare_images(chosen, exact, 1.5),
+             image_vs_exact = reference::compare_images(image_space, exact, 1.5);
+  std::printf("material against ray query: energy %.5f, relative L1 %.5f (%.0f of %.0f photons exact); image space: energy %.4f, L1 %.4f\n",
+              chosen_vs_exact.energy_ratio, chosen_vs_exact.relative_l1, material_frame.counters.at("photons.exact"),
+              exact_frame.counters.at("photons.exact"), image_vs_exact.energy_ratio, image_vs_exact.relative_l1);
+  EXPECT_NEAR(chosen_vs_exact.energy_ratio, 1.0, 1e-3);
+  EXPECT_LT(chosen_vs_exact.relative_l1, 0.01);
+  EXPECT_LT(image_vs_exact.energy_ratio, 0.97);  // the steep pane's reflection, lost
+  EXPECT_GT(image_vs_exact.relative_l1, 0.2);    // the ball's caustic, missing
+  EXPECT_LT(material_frame.counters.at("photons.exact"), 0.8 * exact_frame.counters.at("photons.exact"));
+
+  // The camera's rays choose alike: through the pane over the ball, the ball is seen.
+  auto view = [&](const char* distance) {
+    e.render("refraction_raytraced", shared, {std::string("distance=") + distance}, {"refracted"});
+    return e.executor.read_image("refracted");
+  };
+  const auto view_exact = view("ray_query");
+  const double view_chosen = reference::compare_images(view("material"), view_exact, 1.5).relative_l1,
+               view_image_space = reference::compare_images(view("dv_dn"), view_exact, 1.5).relative_l1;
+  std::printf("camera, relative L1 against ray query: material %.2e, image space %.2e\n", view_chosen, view_image_space);
+  EXPECT_LT(view_chosen, 1e-4);
+  EXPECT_GT(view_image_space, 1e-3);
 }
 
 // With Fresnel and absorption, every entering photon ends in exactly one place: landed, escaped,

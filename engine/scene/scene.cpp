@@ -100,6 +100,16 @@ float Scene::ray_epsilon() const {
   return 1e-4f * extent;
 }
 
+std::pair<glm::vec3, glm::vec3> Scene::bounds() const {
+  if (objects.empty()) return {glm::vec3(0.0f), glm::vec3(0.0f)};
+  glm::vec3 low = objects.front().bounds_min, high = objects.front().bounds_max;
+  for (const auto& o : objects) {
+    low = glm::min(low, o.bounds_min);
+    high = glm::max(high, o.bounds_max);
+  }
+  return {low, high};
+}
+
 size_t Scene::triangle_count() const {
   size_t n = 0;
   for (const auto& o : objects) n += o.mesh.indices.size() / 3;
@@ -360,11 +370,7 @@ Scene load_model_scene(const std::string& path, bool stage) {
     finish_object(o, glm::mat4(1.0f));
     scene.objects.push_back(std::move(o));
   }
-  glm::vec3 low = scene.objects.front().bounds_min, high = scene.objects.front().bounds_max;
-  for (const auto& o : scene.objects) {
-    low = glm::min(low, o.bounds_min);
-    high = glm::max(high, o.bounds_max);
-  }
+  const auto [low, high] = scene.bounds();
   const glm::vec3 center = 0.5f * (low + high);
   const float radius = std::max(0.5f * glm::length(high - low), 1e-4f);
   if (stage) {

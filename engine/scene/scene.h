@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/json_document.h"
@@ -152,6 +153,8 @@ struct Scene {
   // How far a ray starts off the surface it leaves: 1e-4 of the largest object's diagonal, at least
   // 1e-4. The exact tracers (Embree and ray queries) share it.
   float ray_epsilon() const;
+  // The box around every object (both corners at the origin when there is none).
+  std::pair<glm::vec3, glm::vec3> bounds() const;
   // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects.
   std::map<std::string, double> expression_values() const;
 };

@@ -78,9 +78,12 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
 #ifdef CAUSTICA_RAY_QUERY
 // The photon's whole path from the light, exact. Sets hit, entering, power, landed, texel, landing;
 // what does not land is counted by where it went (escaped, trapped, off the map, absorbed).
+// The random numbers of the photon through `uv`, in the order its Fresnel choices draw them.
+uint photon_rng(vec2 uv) { return pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed))); }
+
 void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 direction, vec2 uv) {
   ph.exact = true;
-  uint rng = pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed)));
+  uint rng = photon_rng(uv);
   vec3 origin = eye;
   int inside = -1;  // the refractor the photon travels in
   uint interfaces = 0u;
@@ -176,33 +179,50 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   vec4 front = texture(front_tex, uv);
   if (front.y <= 0.0) return ph;
   ObjectData object = objects[uint(front.w)];
+  float receiver = texture(receiver_depth, uv).r;
+  float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
 #ifdef CAUSTICA_RAY_QUERY
-  // Chosen from the material: image space where it sees the exact path (a thin wall without a
-  // mask), exact paths for the rest; the exact tracer meets the opaque occluders itself.
-  if (params.distance_mode == DISTANCE_MATERIAL && (!thin_walled(object) || object.alpha_cutoff.y >= 0.0)) {
+  // Chosen from the material: image space where it sees the exact path (a thin wall without a mask,
+  // with no other refractor between it and the receiver), exact paths for the rest; the exact
+  // tracer meets the opaque occluders itself.
+  if (params.distance_mode == DISTANCE_MATERIAL &&
+      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 ||
+       crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
     trace_photon_exact(ph, light, eye, direction, uv);
     return ph;
   }
 #endif
   // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
   // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
-  float receiver = texture(receiver_depth, uv).r;
-  if (receiver < 1.0 && view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) < front.y * (1.0 - 1e-4)) return ph;
+  if (receiver_distance < front.y * (1.0 - 1e-4)) return ph;
   ph.hit = true;
   ph.entering = channel_mean(ph.power);
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
     float ior = band_ior(object, params.band);
-    if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior);
-    ph.power *= caustic_transmittance(object);
     vec4 back = texture(back_tex, uv);
-    if (thin_far_wall(front, back)) {
-      if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior);
-      ph.power *= caustic_transmittance(object);
-      p1 = eye + direction * back.y;
+    bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
+    float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
+    float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
+#ifdef CAUSTICA_RAY_QUERY
+    if (params.distance_mode == DISTANCE_MATERIAL) {
+      // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
+      // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
+      // reflects is traced exactly, and the rest pass both walls in image space at full weight.
+      uint rng = photon_rng(uv);
+      if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
+        ph.hit = false;
+        ph.entering = 0.0;
+        trace_photon_exact(ph, light, eye, direction, uv);
+        return ph;
+      }
+      reflect_near = reflect_far = 0.0;
     }
-    vec2 landing;
-    if (march_depth(receiver_depth, light.view_proj, p1, direction, landing)) land_on_map(ph, landing);
+#endif
+    ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
+    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
+    // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
+    if (receiver < 1.0) land_on_map(ph, uv);
     return ph;
   }
   TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv);

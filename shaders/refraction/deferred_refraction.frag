@@ -83,9 +83,13 @@ void main() {
   }
 #ifdef CAUSTICA_RAY_QUERY
   ObjectData front_object = objects[uint(front.w)];
-  bool solid = !thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0;  // DISTANCE_MATERIAL's choice, as for photons
-  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID ||
-      (params.distance_mode == DISTANCE_MATERIAL && solid)) {
+  // DISTANCE_MATERIAL's choice, as for photons: image space through a thin wall without a mask,
+  // unless another refractor lies between it and the background there.
+  bool exact_material = params.distance_mode == DISTANCE_MATERIAL &&
+                        (!thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0 ||
+                         crosses_other_refractor(p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance,
+                                                 uint(front.w)));
+  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {
     vec3 radiance;
     uint reason = EXIT_TRUSTED;
     if (params.distance_mode == DISTANCE_HYBRID) reason = hybrid_radiance(p1, front, uv, radiance);

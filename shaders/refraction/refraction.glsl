@@ -46,26 +46,58 @@ bool project_with(mat4 view_proj, vec3 p, out vec2 uv, out float depth) {
 
 bool project_to_screen(vec3 p, out vec2 uv, out float depth) { return project_with(frame.view_proj, p, uv, depth); }
 
-// Follows a ray through a depth image seen through `view_proj`: linear steps until the ray passes
-// behind the stored surface, then bisection. Returns false when it leaves the image or goes past
-// the search distance; else `uv` is where it meets the surface.
+// How far along origin + t direction (t <= t_max) the ray stays in front of the eye and inside the
+// image of `view_proj`: each bound is linear in t in clip space. The march spends its steps on that
+// part only, so a large search distance (a large scene) costs no precision where the ray soon
+// leaves the image.
+float length_in_view(mat4 view_proj, vec3 origin, vec3 direction, float t_max) {
+  vec4 a = view_proj * vec4(origin, 1.0), b = view_proj * vec4(direction, 0.0);
+  vec4 at_origin[2] = vec4[2](vec4(a.w - a.x, a.w + a.x, a.w - a.y, a.w + a.y), vec4(a.w - 1e-6));
+  vec4 slope[2] = vec4[2](vec4(b.w - b.x, b.w + b.x, b.w - b.y, b.w + b.y), vec4(b.w));
+  float t_end = t_max;
+  for (int i = 0; i < 2; ++i) {
+    for (int c = 0; c < 4; ++c) {
+      if (slope[i][c] < 0.0) t_end = min(t_end, max(-at_origin[i][c] / slope[i][c], 0.0));
+    }
+  }
+  return t_end;
+}
+
+// True where a point at `ray_depth` lies behind the surface stored at `uv`. A cleared texel (depth
+// 1: nothing there) has nothing to be behind; without this a ray that runs past the far plane would
+// "meet" the sky texel it projects to, and hybrid tracing would trust that.
+bool behind_stored_depth(sampler2D depth_image, vec2 uv, float ray_depth) {
+  float stored = texture(depth_image, uv).r;
+  return stored < 1.0 && ray_depth >= stored;
+}
+
+// Follows a ray through a depth image seen through `view_proj`: linear steps until the ray goes from
+// in front of the stored surfaces to behind one, then bisection. Where the ray is then farther behind
+// the surface it found than one step, it did not pass through that surface but behind its outline
+// (a ray that slips past a floor's far edge and falls below it seems to "meet" the floor from
+// behind): it is hidden there, and the march goes on for a real crossing. Returns false when it
+// leaves the image or goes past the search distance; else `uv` is where it meets the surface.
 bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
-  float step_length = params.search_distance / float(params.search_steps);
+  float step_length = length_in_view(view_proj, origin, direction, params.search_distance) / float(params.search_steps);
   float t_before = 0.0;
+  bool in_front_before = true;
   float ray_depth;
   for (uint i = 1u; i <= params.search_steps; ++i) {
     float t = step_length * float(i);
     if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) return false;
-    if (ray_depth >= texture(depth_image, uv).r) {
+    bool behind = behind_stored_depth(depth_image, uv, ray_depth);
+    if (behind && in_front_before) {
       float lo = t_before, hi = t;
       for (int b = 0; b < 6; ++b) {
         float mid = 0.5 * (lo + hi);
-        if (project_with(view_proj, origin + direction * mid, uv, ray_depth) && ray_depth >= texture(depth_image, uv).r) hi = mid;
+        if (project_with(view_proj, origin + direction * mid, uv, ray_depth) && behind_stored_depth(depth_image, uv, ray_depth)) hi = mid;
         else lo = mid;
       }
-      project_with(view_proj, origin + direction * hi, uv, ray_depth);
-      return true;
+      vec3 on_ray = origin + direction * hi;
+      project_with(view_proj, on_ray, uv, ray_depth);
+      if (distance(on_ray, world_from_depth(inverse(view_proj), uv, texture(depth_image, uv).r)) <= step_length) return true;
     }
+    in_front_before = !behind;
     t_before = t;
   }
   return false;
