@@ -10,6 +10,9 @@
 // coverage pyramid shows free of refractors is skipped, any other is refined, and the last level
 // traces and outputs its photons.
 #extension GL_GOOGLE_include_directive : require
+// A photon here may stand for a cluster that stops refining when its photons land together, so
+// photon.glsl makes no random choice that moves a landing (see PHOTON_CLUSTERS there).
+#define PHOTON_CLUSTERS
 #include "caustics/adaptive_common.glsl"
 #include "caustics/photon.glsl"
 #include "caustics/group_totals.glsl"

@@ -51,7 +51,7 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
     uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
     if (reason != EXIT_TRUSTED) return reason;
     vec2 behind_uv;
-    if (!march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv)) return CAMERA_OFF_SCREEN;
+    if (march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv) != MARCH_HIT) return CAMERA_OFF_SCREEN;
     vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
     if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
     vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);

@@ -71,20 +71,28 @@ bool behind_stored_depth(sampler2D depth_image, vec2 uv, float ray_depth) {
   return stored < 1.0 && ray_depth >= stored;
 }
 
+// What a march along a ray through a depth image found.
+const uint MARCH_MISS = 0u;    // nothing: the ray left the image or went past the search distance
+const uint MARCH_HIT = 1u;     // a surface the ray passes through
+const uint MARCH_HIDDEN = 2u;  // no surface, but the ray slipped behind one's outline (below)
+
 // Follows a ray through a depth image seen through `view_proj`: linear steps until the ray goes from
 // in front of the stored surfaces to behind one, then bisection. Where the ray is then farther behind
 // the surface it found than one step, it did not pass through that surface but behind its outline
 // (a ray that slips past a floor's far edge and falls below it seems to "meet" the floor from
-// behind): it is hidden there, and the march goes on for a real crossing. Returns false when it
-// leaves the image or goes past the search distance; else `uv` is where it meets the surface.
-bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
+// behind): the march goes on for a real crossing. `uv` is where the ray meets a surface (MARCH_HIT)
+// or, failing one, the first outline it slipped behind (MARCH_HIDDEN): where the image sees
+// whatever hides the rest of the ray.
+uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
   float step_length = length_in_view(view_proj, origin, direction, params.search_distance) / float(params.search_steps);
   float t_before = 0.0;
   bool in_front_before = true;
+  uint found = MARCH_MISS;
+  vec2 outline_uv = vec2(0.0);
   float ray_depth;
   for (uint i = 1u; i <= params.search_steps; ++i) {
     float t = step_length * float(i);
-    if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) return false;
+    if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) break;
     bool behind = behind_stored_depth(depth_image, uv, ray_depth);
     if (behind && in_front_before) {
       float lo = t_before, hi = t;
@@ -95,12 +103,17 @@ bool march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
       }
       vec3 on_ray = origin + direction * hi;
       project_with(view_proj, on_ray, uv, ray_depth);
-      if (distance(on_ray, world_from_depth(inverse(view_proj), uv, texture(depth_image, uv).r)) <= step_length) return true;
+      if (distance(on_ray, world_from_depth(inverse(view_proj), uv, texture(depth_image, uv).r)) <= step_length) return MARCH_HIT;
+      if (found == MARCH_MISS) {
+        found = MARCH_HIDDEN;
+        outline_uv = uv;
+      }
     }
     in_front_before = !behind;
     t_before = t;
   }
-  return false;
+  uv = outline_uv;
+  return found;
 }
 
 // The searches below march a signed gap along a ray: negative before the crossing they look for,
@@ -398,7 +411,7 @@ vec3 refractor_surface(ObjectData object, float reflectance_in, vec3 p, vec3 n, 
 // background's depth, the sky where it leaves the screen.
 vec3 background_along(vec3 origin, vec3 direction) {
   vec2 uv;
-  return march_depth(depth_tex, frame.view_proj, origin, direction, uv) ? texture(background_tex, uv).rgb : frame.sky_ambient.rgb;
+  return march_depth(depth_tex, frame.view_proj, origin, direction, uv) == MARCH_HIT ? texture(background_tex, uv).rgb : frame.sky_ambient.rgb;
 }
 
 // Radiance through a refractor along `path` from its front surface point p1 (normal n1): the rest
