@@ -47,9 +47,9 @@ bool project_with(mat4 view_proj, vec3 p, out vec2 uv, out float depth) {
 bool project_to_screen(vec3 p, out vec2 uv, out float depth) { return project_with(frame.view_proj, p, uv, depth); }
 
 // How far along origin + t direction (t <= t_max) the ray stays in front of the eye and inside the
-// image of `view_proj`: each bound is linear in t in clip space. The march spends its steps on that
-// part only, so a large search distance (a large scene) costs no precision where the ray soon
-// leaves the image.
+// image of `view_proj`: each bound is linear in t in clip space. The march's last step stops there,
+// so that a ray which meets a receiver near the image's edge is not lost to a step that overshoots
+// the edge (with a search distance as long as the scene's diagonal, such steps are long).
 float length_in_view(mat4 view_proj, vec3 origin, vec3 direction, float t_max) {
   vec4 a = view_proj * vec4(origin, 1.0), b = view_proj * vec4(direction, 0.0);
   vec4 at_origin[2] = vec4[2](vec4(a.w - a.x, a.w + a.x, a.w - a.y, a.w + a.y), vec4(a.w - 1e-6));
@@ -84,14 +84,15 @@ const uint MARCH_HIDDEN = 2u;  // no surface, but the ray slipped behind one's o
 // or, failing one, the first outline it slipped behind (MARCH_HIDDEN): where the image sees
 // whatever hides the rest of the ray.
 uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
-  float step_length = length_in_view(view_proj, origin, direction, params.search_distance) / float(params.search_steps);
+  float step_length = params.search_distance / float(params.search_steps);
+  float t_end = length_in_view(view_proj, origin, direction, params.search_distance);
   float t_before = 0.0;
   bool in_front_before = true;
   uint found = MARCH_MISS;
   vec2 outline_uv = vec2(0.0);
   float ray_depth;
   for (uint i = 1u; i <= params.search_steps; ++i) {
-    float t = step_length * float(i);
+    float t = min(step_length * float(i), t_end);
     if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) break;
     bool behind = behind_stored_depth(depth_image, uv, ray_depth);
     if (behind && in_front_before) {
@@ -111,6 +112,7 @@ uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
     }
     in_front_before = !behind;
     t_before = t;
+    if (t >= t_end) break;
   }
   uv = outline_uv;
   return found;
