@@ -143,6 +143,94 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
 }
 #endif
 
+// The image-space part of trace_photon: through the light-view refractor buffers to the receiver.
+// True where the photon is to be traced exactly instead (distance modes hybrid and material): the
+// caller then traces it from the light, so that the exact tracer, which the compiler inlines, is
+// in the shader once (each copy of it added tens of seconds to lavapipe's first compile under
+// the sanitizers).
+bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin) {
+  vec4 front = texture(front_tex, uv);
+  if (front.y <= 0.0) return false;
+  ObjectData object = objects[uint(front.w)];
+  float receiver = texture(receiver_depth, uv).r;
+  float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
+#ifdef CAUSTICA_RAY_QUERY
+  // Chosen from the material: image space where it sees the exact path (a thin wall without a mask,
+  // with no other refractor between it and the receiver), exact paths for the rest; the exact
+  // tracer meets the opaque occluders itself.
+  if (params.distance_mode == DISTANCE_MATERIAL &&
+      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 ||
+       crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
+    return true;
+  }
+#endif
+  // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
+  // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
+  if (receiver_distance < front.y * (1.0 - 1e-4)) return false;
+  ph.hit = true;
+  ph.entering = channel_mean(ph.power);
+  vec3 p1 = eye + direction * front.y;
+  if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
+    float ior = band_ior(object, params.band);
+    vec4 back = texture(back_tex, uv);
+    bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
+    float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
+    float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
+#if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
+    if (params.distance_mode == DISTANCE_MATERIAL) {
+      // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
+      // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
+      // reflects is traced exactly, and the rest pass both walls in image space at full weight.
+      // Not in the adaptive traversals: there a cluster whose photons all happened to pass
+      // converges with their whole power while one that reflected refines on, which biases the
+      // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
+      uint rng = photon_rng(uv);
+      if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
+        return true;
+      }
+      reflect_near = reflect_far = 0.0;
+    }
+#endif
+    ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
+    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
+    // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
+    if (receiver < 1.0) land_on_map(ph, uv);
+    return false;
+  }
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv);
+  // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
+  // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
+  uint reason = EXIT_TRUSTED;
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+#endif
+  // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
+  // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
+  vec2 landing;
+  bool lands = reason == EXIT_TRUSTED && !path.tir &&
+               march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
+#ifdef CAUSTICA_RAY_QUERY
+  if (params.distance_mode == DISTANCE_HYBRID) {
+    if (lands &&
+        crosses_other_refractor(path.exit_point, world_from_depth(light.inv_view_proj, landing, texture(receiver_depth, landing).r), uint(front.w))) {
+      reason = EXIT_MULTIPLE;
+    }
+    if (reason != EXIT_TRUSTED) {
+      exact_count(RETRACED_FIRST + reason - EXIT_TIR);
+      return true;
+    }
+  }
+#endif
+  if (path.tir) {
+    ph.tir = true;
+    return false;
+  }
+  if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
+  ph.power *= exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
+  if (lands) land_on_map(ph, landing);
+  return false;
+}
+
 // The photon through the centre of `uv` on the light's image plane, standing for a square of side
 // `texel` (in units of the image plane at distance 1): its power is the light's intensity times
 // that square's solid angle, texel^2 cos^3 of its angle to the axis, times the spot cone.
@@ -171,97 +259,14 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.power = params.band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(params.band)));
   if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_RAY_QUERY) {
+  if (params.distance_mode == DISTANCE_RAY_QUERY || image_space_photon(ph, light, uv, eye, direction, origin)) {
+    ph.hit = false;
+    ph.entering = 0.0;
     trace_photon_exact(ph, light, eye, direction, uv);
-    return ph;
   }
+#else
+  image_space_photon(ph, light, uv, eye, direction, origin);
 #endif
-  vec4 front = texture(front_tex, uv);
-  if (front.y <= 0.0) return ph;
-  ObjectData object = objects[uint(front.w)];
-  float receiver = texture(receiver_depth, uv).r;
-  float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
-#ifdef CAUSTICA_RAY_QUERY
-  // Chosen from the material: image space where it sees the exact path (a thin wall without a mask,
-  // with no other refractor between it and the receiver), exact paths for the rest; the exact
-  // tracer meets the opaque occluders itself.
-  if (params.distance_mode == DISTANCE_MATERIAL &&
-      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 ||
-       crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
-    trace_photon_exact(ph, light, eye, direction, uv);
-    return ph;
-  }
-#endif
-  // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
-  // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
-  if (receiver_distance < front.y * (1.0 - 1e-4)) return ph;
-  ph.hit = true;
-  ph.entering = channel_mean(ph.power);
-  vec3 p1 = eye + direction * front.y;
-  if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
-    float ior = band_ior(object, params.band);
-    vec4 back = texture(back_tex, uv);
-    bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
-    float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
-    float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
-#if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
-    if (params.distance_mode == DISTANCE_MATERIAL) {
-      // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
-      // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
-      // reflects is traced exactly, and the rest pass both walls in image space at full weight.
-      // Not in the adaptive traversals: there a cluster whose photons all happened to pass
-      // converges with their whole power while one that reflected refines on, which biases the
-      // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
-      uint rng = photon_rng(uv);
-      if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
-        ph.hit = false;
-        ph.entering = 0.0;
-        trace_photon_exact(ph, light, eye, direction, uv);
-        return ph;
-      }
-      reflect_near = reflect_far = 0.0;
-    }
-#endif
-    ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
-    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
-    // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
-    if (receiver < 1.0) land_on_map(ph, uv);
-    return ph;
-  }
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv);
-  // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
-  // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
-  uint reason = EXIT_TRUSTED;
-#ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
-#endif
-  // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
-  // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
-  vec2 landing;
-  bool lands = reason == EXIT_TRUSTED && !path.tir &&
-               march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
-#ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_HYBRID) {
-    if (lands &&
-        crosses_other_refractor(path.exit_point, world_from_depth(light.inv_view_proj, landing, texture(receiver_depth, landing).r), uint(front.w))) {
-      reason = EXIT_MULTIPLE;
-    }
-    if (reason != EXIT_TRUSTED) {
-      exact_count(RETRACED_FIRST + reason - EXIT_TIR);
-      ph.hit = false;
-      ph.entering = 0.0;
-      trace_photon_exact(ph, light, eye, direction, uv);
-      return ph;
-    }
-  }
-#endif
-  if (path.tir) {
-    ph.tir = true;
-    return ph;
-  }
-  if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
-  ph.power *= exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
-  if (lands) land_on_map(ph, landing);
   return ph;
 }
 
