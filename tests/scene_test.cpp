@@ -86,7 +86,7 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
     "nodes": [{"mesh": 0, "translation": [0, 0, 5]}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
-    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]},
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "roughnessFactor": 0.25},
                    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
                                   "KHR_materials_ior": {"ior": 1.33},
                                   "KHR_materials_dispersion": {"dispersion": 0.5},
@@ -108,6 +108,7 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
   EXPECT_EQ(m.tint, glm::vec3(0.2f, 0.4f, 0.6f));  // transmitted light takes the base colour
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
   EXPECT_FLOAT_EQ(m.dispersion, 0.5f);  // 20 / Abbe number 40: n_F - n_C = 0.33 / 40
+  EXPECT_FLOAT_EQ(m.transmission_roughness, 0.25f);  // transmission is as rough as the surface
   EXPECT_NEAR(m.band_iors().z - m.band_iors().x, 0.33f / 40.0f, 1e-6f);
   EXPECT_NEAR(m.absorption.r, std::log(2.0f) / 2.0f, 1e-5f);  // half the red left after 2 units
   EXPECT_FLOAT_EQ(m.absorption.g, 0.0f);
@@ -142,6 +143,7 @@ TEST(MeshFiles, GltfTransmissionWithoutThicknessIsThinWalled) {
     EXPECT_EQ(m.thin, std::string(volume).find("0.01") == std::string::npos);
     EXPECT_FLOAT_EQ(m.transmission, 0.75f);
     EXPECT_EQ(m.tint, glm::vec3(1.0f));  // the default base colour
+    EXPECT_FLOAT_EQ(m.transmission_roughness, 1.0f);  // the default roughnessFactor
   }
 }
 

@@ -23,6 +23,49 @@ inline float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
+// A splitmix64 stream per (seed, stream): deterministic wherever a tracer's work is split.
+class Random {
+ public:
+  Random(uint64_t seed, uint64_t stream) : state_(seed * 0xD1B54A32D192ED03ull ^ stream) { next(); }
+  float uniform() { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
+
+ private:
+  uint64_t next() {
+    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  uint64_t state_;
+};
+
+// Rough transmission as the engine draws it (refraction/refraction.glsl, microfacet_normal): a
+// microfacet normal around n (facing the ray) from GGX's D(m) (m.n) with alpha = roughness^2, one
+// that faces `direction`; no shadowing-masking weight. A smooth surface draws no numbers.
+inline glm::vec3 microfacet_normal(glm::vec3 n, glm::vec3 direction, float roughness, Random& random) {
+  if (roughness <= 0.0f) return n;
+  const float a2 = roughness * roughness * roughness * roughness;
+  const float s = n.z >= 0.0f ? 1.0f : -1.0f, k = -1.0f / (s + n.z);
+  const glm::vec3 t(1.0f + s * n.x * n.x * k, s * n.x * n.y * k, -s * n.x), b(n.x * n.y * k, s + n.y * n.y * k, -n.y);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const float u1 = random.uniform(), u2 = random.uniform();
+    const float cos2 = (1.0f - u1) / (1.0f + (a2 - 1.0f) * u1);
+    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos2)), phi = glm::two_pi<float>() * u2;
+    const glm::vec3 m = t * (sin_theta * std::cos(phi)) + b * (sin_theta * std::sin(phi)) + n * std::sqrt(cos2);
+    if (glm::dot(m, direction) < 0.0f) return m;
+  }
+  return n;
+}
+// A scattered direction kept on its side of the surface (n faces the incoming ray): reflected
+// light above it, transmitted light below; one on the wrong side is mirrored across the surface.
+inline glm::vec3 on_side(glm::vec3 direction, glm::vec3 n, bool above) {
+  return (glm::dot(direction, n) > 0.0f) == above ? direction : direction - 2.0f * glm::dot(direction, n) * n;
+}
+// Through a thin wall about facet m: its mirror direction mirrored through the wall.
+inline glm::vec3 through_thin(glm::vec3 direction, glm::vec3 m, glm::vec3 n) {
+  return on_side(glm::reflect(direction, m), n, false);
+}
+
 // The spot's cone along `direction` (unit, from the light), with the soft edge of
 // scene/lighting.frag; 1 for point lights.
 inline float spot_cone(const scene::Light& light, glm::vec3 direction) {

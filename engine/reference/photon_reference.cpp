@@ -17,22 +17,6 @@ constexpr int kMaxSegments = 64;       // interfaces one photon may cross, TIR b
 // Fixed point: the brightest photon is 2^24 units, so 10^11 of them still fit in 64 bits.
 constexpr double kUnitsPerMaxPhoton = 16777216.0;
 
-uint64_t splitmix64(uint64_t& state) {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-class Random {
- public:
-  Random(uint64_t seed, uint64_t stream) : state_(seed * 0xD1B54A32D192ED03ull ^ stream) { splitmix64(state_); }
-  float uniform() { return static_cast<float>(splitmix64(state_) >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
-
- private:
-  uint64_t state_;
-};
-
 // A photon's power per colour channel; the totals count the channels' mean, as the engine's counters.
 using Power = glm::dvec3;
 double mean(const Power& power) {
@@ -130,6 +114,7 @@ class PhotonTracer {
       glm::vec3 n = exact_.smooth_normal(*hit);
       if (glm::dot(n, direction) > 0) n = -n;
       const float ior = band < 0 ? object.material.ior : band_iors_[hit->geometry][band];
+      const glm::vec3 m = microfacet_normal(n, direction, object.material.transmission_roughness, random);
       // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
       // rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {
@@ -137,33 +122,35 @@ class PhotonTracer {
         acc.totals.absorbed += mean(power - kept);
         power = kept;
       };
-      if (object.material.thin) {  // a thin wall: Fresnel reflection, or through it unbent
-        const float reflectance = options_.fresnel ? fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior) : 0.0f;
+      if (object.material.thin) {  // a thin wall: Fresnel reflection, or through it (unbent where smooth)
+        const float reflectance = options_.fresnel ? fresnel_dielectric(-glm::dot(direction, m), 1.0f, ior) : 0.0f;
         origin = p;
         if (reflectance > 0.0f && random.uniform() < reflectance) {
           if (!refracted) acc.totals.reflected += mean(power);
-          direction = glm::reflect(direction, n);
+          direction = on_side(glm::reflect(direction, m), n, true);
         } else {
           transmit();
+          direction = through_thin(direction, m, n);
         }
         refracted = true;
         continue;
       }
       const float eta = entering ? 1.0f / ior : ior;
-      const glm::vec3 transmitted = glm::refract(direction, n, eta);
+      const glm::vec3 transmitted = glm::refract(direction, m, eta);
       const bool total_internal = glm::dot(transmitted, transmitted) == 0.0f;
       float reflectance = total_internal ? 1.0f : 0.0f;
-      if (options_.fresnel && !total_internal) reflectance = fresnel_dielectric(-glm::dot(direction, n), entering ? 1.0f : ior, entering ? ior : 1.0f);
+      if (options_.fresnel && !total_internal)
+        reflectance = fresnel_dielectric(-glm::dot(direction, m), entering ? 1.0f : ior, entering ? ior : 1.0f);
       origin = p;
       if (reflectance > 0.0f && random.uniform() < reflectance) {
         // Reflected off the outside too: followed, since it lands on the receivers like any other
         // specular path (3.8% of the ball lens's floor flux); only the exact tracers model it.
         if (entering && !refracted) acc.totals.reflected += mean(power);
-        direction = glm::reflect(direction, n);
+        direction = on_side(glm::reflect(direction, m), n, true);
         refracted = true;
       } else {
         if (entering) transmit();
-        direction = glm::normalize(transmitted);
+        direction = on_side(glm::normalize(transmitted), n, false);
         inside = entering ? static_cast<int>(hit->geometry) : -1;
         refracted = true;
       }

@@ -12,6 +12,9 @@ namespace caustica::reference {
 namespace {
 
 constexpr int kMaxInterfaces = 32;  // per refractor crossing; TIR can bounce a ray around inside
+// A pixel whose ray meets a rough refractor averages this many paths (the engine takes 8: its
+// pictures are noisier, their mean the same).
+constexpr int kRoughSamples = 64;
 
 float luminance(const float* rgb) {
   return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
@@ -95,8 +98,9 @@ class Tracer {
   }
 
   // In colour band `band` (-1: white light, every refractor with its index n_d; 0, 1, 2: red, green,
-  // blue with their indices, scene::Material::band_iors).
-  glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, bool* hit_refractor, int band = -1) const {
+  // blue with their indices, scene::Material::band_iors). Rough refractors scatter the ray about
+  // microfacets drawn from `random` and set `rough`.
+  glm::vec3 trace(glm::vec3 origin, glm::vec3 direction, Random& random, bool& rough, bool* hit_refractor, int band = -1) const {
     glm::vec3 throughput(1.0f), radiance(0.0f);
     for (int segment = 0; segment < 16; ++segment) {
       auto hit = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
@@ -115,7 +119,9 @@ class Tracer {
       if (glm::dot(n, direction) > 0) n = -n;
       const scene::Material& m = object.material;
       const float ior = band < 0 || m.thin ? m.ior : m.band_iors()[band];
-      const float reflect_in = fresnel_dielectric(-glm::dot(direction, n), 1.0f, ior);
+      rough = rough || m.transmission_roughness > 0.0f;
+      const glm::vec3 facet = microfacet_normal(n, direction, m.transmission_roughness, random);
+      const float reflect_in = fresnel_dielectric(-glm::dot(direction, facet), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
       if (m.transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
@@ -126,8 +132,11 @@ class Tracer {
       }
       throughput *= m.transmission * m.tint;
       origin = p;
-      if (m.thin) continue;  // a thin wall: the ray goes on unbent
-      direction = glm::refract(direction, n, 1.0f / ior);
+      if (m.thin) {  // a thin wall: the ray goes on, unbent where it is smooth
+        direction = through_thin(direction, facet, n);
+        continue;
+      }
+      direction = on_side(glm::normalize(glm::refract(direction, facet, 1.0f / ior)), n, false);
       bool left = false;
       for (int bounce = 0; bounce < kMaxInterfaces && !left; ++bounce) {
         auto inner = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
@@ -136,13 +145,14 @@ class Tracer {
         p = origin + direction * inner->distance;
         glm::vec3 inward = smooth_normal(*inner);
         if (glm::dot(inward, direction) > 0) inward = -inward;
-        const glm::vec3 out = glm::refract(direction, inward, ior);
+        const glm::vec3 exit_facet = microfacet_normal(inward, direction, m.transmission_roughness, random);
+        const glm::vec3 out = glm::refract(direction, exit_facet, ior);
         origin = p;
         if (glm::dot(out, out) == 0.0f) {
-          direction = glm::reflect(direction, inward);  // total internal reflection
+          direction = on_side(glm::reflect(direction, exit_facet), inward, true);  // total internal reflection
         } else {
-          throughput *= 1.0f - fresnel_dielectric(-glm::dot(direction, inward), ior, 1.0f);
-          direction = glm::normalize(out);
+          throughput *= 1.0f - fresnel_dielectric(-glm::dot(direction, exit_facet), ior, 1.0f);
+          direction = on_side(glm::normalize(out), inward, false);
           left = true;
         }
       }
@@ -179,11 +189,19 @@ RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t 
                             (static_cast<float>(y) + 0.5f) / static_cast<float>(height) * 2 - 1);
         const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
         const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
-        bool refractor = false;
-        glm::vec3 c = tracer.trace(scene.camera.position, direction, &refractor);
-        if (disperses) {  // each colour band along its own path, as the engine
-          for (int band = 0; band < 3; ++band) c[band] = tracer.trace(scene.camera.position, direction, nullptr, band)[band];
-        }
+        bool refractor = false, rough = false;
+        Random random(uint64_t{y} * width + x, 0);
+        glm::vec3 c(0.0f);
+        int samples = 0;
+        do {
+          glm::vec3 sample = tracer.trace(scene.camera.position, direction, random, rough, &refractor);
+          if (disperses) {  // each colour band along its own path, as the engine
+            for (int band = 0; band < 3; ++band)
+              sample[band] = tracer.trace(scene.camera.position, direction, random, rough, nullptr, band)[band];
+          }
+          c += sample;
+        } while (rough && ++samples < kRoughSamples);
+        if (rough) c /= float(kRoughSamples);
         float* px = &out.radiance.rgba[(size_t{y} * width + x) * 4];
         px[0] = c.r;
         px[1] = c.g;

@@ -461,6 +461,10 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     m.transmission = static_cast<float>(factor);
     m.tint = m.albedo;  // the specification tints transmitted light with the base colour
     m.thin = true;      // until a volume with a thickness says otherwise
+    // The specification's transmission is as rough as the surface's reflection; refraction and
+    // caustics take one roughness per object: the factor times the texture's mean (green channel).
+    m.transmission_roughness =
+        m.roughness * (m.metallic_roughness_texture.used() ? textures.mean(m.metallic_roughness_texture.texture).g : 1.0f);
     tinygltf::TextureInfo transmission_texture;
     if (t->Has("transmissionTexture")) {
       const auto& info = t->Get("transmissionTexture");

@@ -170,7 +170,8 @@ glm::mat4 load_transform(const JsonReader& read, const nlohmann::json& value, co
 
 void apply_material(const JsonReader& read, const nlohmann::json& value, const std::string& pointer, Material& m) {
   read.object(value, pointer, "a material");
-  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption", "transmission", "tint", "thin", "dispersion"}, "a material");
+  read.only_keys(value, pointer, {"color", "refractor", "ior", "absorption", "transmission", "tint", "thin", "dispersion", "roughness"},
+                 "a material");
   if (value.contains("color")) m.albedo = vec3(read, value["color"], pointer + "/color", "\"color\"", 0.0, 1.0);
   if (value.contains("refractor")) m.refractor = read.boolean(value["refractor"], pointer + "/refractor", "\"refractor\"");
   if (value.contains("ior"))
@@ -183,6 +184,10 @@ void apply_material(const JsonReader& read, const nlohmann::json& value, const s
   }
   if (value.contains("tint")) m.tint = vec3(read, value["tint"], pointer + "/tint", "\"tint\"", 0.0, 1.0);
   if (value.contains("thin")) m.thin = read.boolean(value["thin"], pointer + "/thin", "\"thin\"");
+  if (value.contains("roughness")) {
+    m.transmission_roughness =
+        static_cast<float>(read.number(value["roughness"], pointer + "/roughness", "\"roughness\" (of a refractor's surfaces)", 0.0, 1.0));
+  }
   if (value.contains("dispersion")) {
     m.dispersion =
         static_cast<float>(read.number(value["dispersion"], pointer + "/dispersion", "\"dispersion\" (20 / Abbe number)", 0.0, 100.0));

@@ -56,6 +56,9 @@ struct Material {
   float transmission = 1.0f;
   glm::vec3 tint{1.0f};
   bool thin = false;
+  // Rough transmission (glTF's roughness on a transmissive material): refraction and caustics
+  // scatter about GGX microfacet normals with alpha = roughness^2 (docs/gltf.md); 0 is specular.
+  float transmission_roughness = 0.0f;
   // KHR_materials_dispersion: 20 / the Abbe number V_d = (n_d - 1) / (n_F - n_C); 0 disperses nothing.
   float dispersion = 0.0f;
   // n_F - n_C: how much the index of blue light exceeds that of red (`ior` is n_d).

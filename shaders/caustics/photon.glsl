@@ -30,19 +30,11 @@ void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], chan
 
 #ifdef CAUSTICA_RAY_QUERY
 #include "scene/ray_query.glsl"
-
-// A hash-based generator: the same photon (by its position on the light's image plane) and seed
-// draw the same numbers on every device and in every run.
-uint pcg_hash(uint v) {
-  uint state = v * 747796405u + 2891336453u;
-  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return (word >> 22u) ^ word;
-}
-float next_uniform(inout uint state) {
-  state = pcg_hash(state);
-  return float(state >> 8) * (1.0 / 16777216.0);
-}
 #endif
+
+// The random numbers of the photon through `uv` (its position on the light's image plane), in the
+// order its Fresnel choices and rough surfaces draw them: the same on every device and in every run.
+uint photon_rng(vec2 uv) { return pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed))); }
 
 struct Photon {
   vec3 power;      // per caustic-map channel, after Fresnel, tint and absorption; as it left the light when it missed
@@ -78,9 +70,6 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
 #ifdef CAUSTICA_RAY_QUERY
 // The photon's whole path from the light, exact. Sets hit, entering, power, landed, texel, landing;
 // what does not land is counted by where it went (escaped, trapped, off the map, absorbed).
-// The random numbers of the photon through `uv`, in the order its Fresnel choices draw them.
-uint photon_rng(vec2 uv) { return pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed))); }
-
 void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 direction, vec2 uv) {
   ph.exact = true;
   uint rng = photon_rng(uv);
@@ -119,24 +108,25 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     }
     ++interfaces;
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
+    vec3 m = microfacet_normal(n, direction, transmission_roughness(object), rng);
     bool entering = inside < 0;
     bool thin = thin_walled(object);
     float ior = band_ior(object, params.band);
-    vec3 transmitted = thin ? direction : refract(direction, n, entering ? 1.0 / ior : ior);
+    vec3 transmitted = thin ? through_thin(direction, m, n) : refract(direction, m, entering ? 1.0 / ior : ior);
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
-    if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, n), entering ? 1.0 : ior, entering ? ior : 1.0);
+    if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, m), entering ? 1.0 : ior, entering ? ior : 1.0);
     origin = p;
     if (reflectance > 0.0 && next_uniform(rng) < reflectance) {
       if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
-      direction = reflect(direction, n);
+      direction = on_side(reflect(direction, m), n, true);
     } else {
       if (entering) {  // past the surface only caustic_transmittance() goes on; the rest is diffuse
         vec3 kept = ph.power * caustic_transmittance(object);
         exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
         ph.power = kept;
       }
-      direction = normalize(transmitted);
+      direction = on_side(normalize(transmitted), n, false);
       if (!thin) inside = entering ? int(h.object) : -1;
     }
   }
@@ -155,11 +145,11 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   float receiver = texture(receiver_depth, uv).r;
   float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
 #ifdef CAUSTICA_RAY_QUERY
-  // Chosen from the material: image space where it sees the exact path (a thin wall without a mask,
-  // with no other refractor between it and the receiver), exact paths for the rest; the exact
+  // Chosen from the material: image space where it sees the exact path (a smooth thin wall without a
+  // mask, with no other refractor between it and the receiver), exact paths for the rest; the exact
   // tracer meets the opaque occluders itself.
   if (params.distance_mode == DISTANCE_MATERIAL &&
-      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 ||
+      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 || transmission_roughness(object) > 0.0 ||
        crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
     return true;
   }
@@ -193,11 +183,27 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
 #endif
     ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
     if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
+    float roughness = transmission_roughness(object);
+    if (roughness > 0.0) {  // scattered by each wall (at the far wall's texel here), it lands where it meets a receiver
+      uint rng = photon_rng(uv);
+      vec3 n1 = unpack_normal(front.x), n2 = unpack_normal(back.x);
+      n1 = dot(direction, n1) > 0.0 ? -n1 : n1;
+      vec3 d = through_thin(direction, microfacet_normal(n1, direction, roughness, rng), n1);
+      if (far_wall) {
+        n2 = dot(d, n2) > 0.0 ? -n2 : n2;
+        d = through_thin(d, microfacet_normal(n2, d, roughness, rng), n2);
+      }
+      vec2 landing;
+      if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS) land_on_map(ph, landing);
+      return false;
+    }
     // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
     if (receiver < 1.0) land_on_map(ph, uv);
     return false;
   }
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv);
+  uint rng = photon_rng(uv);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv,
+                                              transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
   uint reason = EXIT_TRUSTED;

@@ -40,7 +40,8 @@ struct ObjectData {
   TextureSlot normal;                  // tangent-space normal map
   TextureSlot emissive;                // multiplies emissive_normal_scale.rgb
   vec4 emissive_normal_scale;          // rgb: emitted radiance; w: the normal map's scale
-  vec4 metallic_roughness;             // x metallic, y roughness; z: 1 for glTF's metallic-roughness BRDF, 0 Lambertian
+  vec4 metallic_roughness;             // x metallic, y roughness; z: 1 for glTF's metallic-roughness BRDF, 0 Lambertian;
+                                       // w: a refractor's transmission roughness (0: specular)
 };
 
 struct LightData {

@@ -44,20 +44,27 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
     radiance = through_thin_wall(object, p1, n1, front, uv);
     return EXIT_TRUSTED;
   }
-  // A dispersive refractor: each colour band's path, each trusted, gives its own channel.
+  // A dispersive refractor: each colour band's path, each trusted, gives its own channel; a rough
+  // one: the mean of its samples' paths, each trusted.
   uint first = disperses(object) ? 0u : BAND_WHITE, last = disperses(object) ? 2u : BAND_WHITE;
-  for (uint band = first; band <= last; ++band) {
-    TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, band_ior(object, band), uv);
-    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
-    if (reason != EXIT_TRUSTED) return reason;
-    vec2 behind_uv;
-    if (march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv) != MARCH_HIT) return CAMERA_OFF_SCREEN;
-    vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
-    if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
-    vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
-    if (band == BAND_WHITE) radiance = seen;
-    else radiance[band] = seen[band];
+  uint rng = pixel_rng(uv), samples = camera_samples(object);
+  radiance = vec3(0.0);
+  for (uint s = 0u; s < samples; ++s) {
+    for (uint band = first; band <= last; ++band) {
+      TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, band_ior(object, band), uv,
+                                                  transmission_roughness(object), rng);
+      uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+      if (reason != EXIT_TRUSTED) return reason;
+      vec2 behind_uv;
+      if (march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv) != MARCH_HIT) return CAMERA_OFF_SCREEN;
+      vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
+      if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
+      vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
+      if (band == BAND_WHITE) radiance += seen;
+      else radiance[band] += seen[band];
+    }
   }
+  radiance /= float(samples);
   return EXIT_TRUSTED;
 }
 #endif
@@ -83,10 +90,10 @@ void main() {
   }
 #ifdef CAUSTICA_RAY_QUERY
   ObjectData front_object = objects[uint(front.w)];
-  // DISTANCE_MATERIAL's choice, as for photons: image space through a thin wall without a mask,
-  // unless another refractor lies between it and the background there.
+  // DISTANCE_MATERIAL's choice, as for photons: image space through a smooth thin wall without a
+  // mask, unless another refractor lies between it and the background there.
   bool exact_material = params.distance_mode == DISTANCE_MATERIAL &&
-                        (!thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0 ||
+                        (!thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0 || transmission_roughness(front_object) > 0.0 ||
                          crosses_other_refractor(p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance,
                                                  uint(front.w)));
   if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {
@@ -96,7 +103,7 @@ void main() {
     if (params.distance_mode != DISTANCE_HYBRID || reason != EXIT_TRUSTED) {
       camera_count(CAMERA_EXACT);
       if (reason != EXIT_TRUSTED) camera_count(reason);
-      radiance = trace_camera_exact(eye, ray);
+      radiance = trace_camera_exact(eye, ray, uv);
     }
     out_color = vec4(radiance, 1.0);
     return;

@@ -34,6 +34,48 @@ float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
   return 0.5 * (rs * rs + rp * rp);
 }
 
+// A hash-based generator: a photon or a pixel (by its position) and a seed draw the same numbers on
+// every device and in every run.
+uint pcg_hash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+float next_uniform(inout uint state) {
+  state = pcg_hash(state);
+  return float(state >> 8) * (1.0 / 16777216.0);
+}
+
+// Rough transmission (glTF's roughness on a transmissive material; scene::Material::
+// transmission_roughness): every interface refracts or reflects about a microfacet normal drawn
+// from GGX's distribution D(m) (m.n) with alpha = roughness^2, a facet that faces the ray; the
+// shadowing-masking weight is left out (the path keeps its power), as in the references
+// (reference/exact_scene.h, microfacet_normal). Smooth surfaces draw no numbers.
+float transmission_roughness(ObjectData object) { return object.metallic_roughness.w; }
+vec3 microfacet_normal(vec3 n, vec3 direction, float roughness, inout uint rng) {
+  if (roughness <= 0.0) return n;
+  float a2 = roughness * roughness * roughness * roughness;
+  // A frame around n without a branch on its direction (Duff et al. 2017).
+  float s = n.z >= 0.0 ? 1.0 : -1.0;
+  float k = -1.0 / (s + n.z);
+  vec3 t = vec3(1.0 + s * n.x * n.x * k, s * n.x * n.y * k, -s * n.x), b = vec3(n.x * n.y * k, s + n.y * n.y * k, -n.y);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    float u1 = next_uniform(rng), u2 = next_uniform(rng);
+    float cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
+    float sin_theta = sqrt(max(0.0, 1.0 - cos2)), phi = 6.28318530718 * u2;
+    vec3 m = t * (sin_theta * cos(phi)) + b * (sin_theta * sin(phi)) + n * sqrt(cos2);
+    if (dot(m, direction) < 0.0) return m;
+  }
+  return n;
+}
+// A direction scattered about a microfacet kept on its side of the surface (n faces the incoming
+// ray): reflected light above it (`above` true), transmitted light below; one that a tilted facet
+// sends to the wrong side is mirrored back across the surface.
+vec3 on_side(vec3 direction, vec3 n, bool above) { return (dot(direction, n) > 0.0) == above ? direction : direction - 2.0 * dot(direction, n) * n; }
+// Through a thin wall about facet m: the facet's mirror direction, mirrored through the wall (the
+// unbent ray where m = n).
+vec3 through_thin(vec3 direction, vec3 m, vec3 n) { return on_side(reflect(direction, m), n, false); }
+
 // Projects a world point through `view_proj`; false when it is behind the eye or outside the image.
 bool project_with(mat4 view_proj, vec3 p, out vec2 uv, out float depth) {
   vec4 clip = view_proj * vec4(p, 1.0);
@@ -249,14 +291,17 @@ struct TwoInterfaces {
   float back_object;
 };
 
+// A rough refractor (`roughness` above 0) refracts about microfacet normals drawn from `rng` at
+// both interfaces.
 TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior,
-                                     vec2 pixel_uv) {
+                                     vec2 pixel_uv, float roughness, inout uint rng) {
   TwoInterfaces r;
   vec3 v = view_direction(eye, p1);
   if (dot(v, n1) > 0.0) n1 = -n1;  // interpolated normals can face away at silhouettes
-  float cos_i = -dot(v, n1);
+  vec3 m1 = microfacet_normal(n1, v, roughness, rng);
+  float cos_i = -dot(v, m1);
   r.reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
-  vec3 t1 = refract(v, n1, 1.0 / ior);
+  vec3 t1 = on_side(refract(v, m1, 1.0 / ior), n1, false);
 
   // Distance to the back surface.
   vec4 back_here = texture(back_tex, pixel_uv);
@@ -289,14 +334,15 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       r.back_object = back.w;
       vec3 n2 = unpack_normal(back.x);  // outward
       vec3 inward = dot(t1, n2) > 0.0 ? -n2 : n2;
-      vec3 t2 = refract(t1, inward, ior);
+      vec3 m2 = microfacet_normal(inward, t1, roughness, rng);
+      vec3 t2 = refract(t1, m2, ior);
       if (dot(t2, t2) == 0.0) {
         r.tir = true;
-        r.exit_direction = reflect(t1, inward);
+        r.exit_direction = on_side(reflect(t1, m2), inward, true);
         r.transmit_out = 1.0;
       } else {
-        r.transmit_out = 1.0 - fresnel_dielectric(-dot(t1, inward), ior, 1.0);
-        r.exit_direction = t2;
+        r.transmit_out = 1.0 - fresnel_dielectric(-dot(t1, m2), ior, 1.0);
+        r.exit_direction = on_side(t2, inward, false);
       }
     }
   }
@@ -311,13 +357,14 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       r.exit_point += r.exit_direction * t;
       r.distance += t;
       vec3 inward = dot(r.exit_direction, n_out) > 0.0 ? -n_out : n_out;
-      vec3 out_direction = refract(r.exit_direction, inward, ior);
+      vec3 m = microfacet_normal(inward, r.exit_direction, roughness, rng);
+      vec3 out_direction = refract(r.exit_direction, m, ior);
       if (dot(out_direction, out_direction) == 0.0) {
-        r.exit_direction = reflect(r.exit_direction, inward);
+        r.exit_direction = on_side(reflect(r.exit_direction, m), inward, true);
       } else {
         r.tir = false;
-        r.transmit_out = 1.0 - fresnel_dielectric(-dot(r.exit_direction, inward), ior, 1.0);
-        r.exit_direction = normalize(out_direction);
+        r.transmit_out = 1.0 - fresnel_dielectric(-dot(r.exit_direction, m), ior, 1.0);
+        r.exit_direction = on_side(normalize(out_direction), inward, false);
       }
     }
   }
@@ -424,21 +471,41 @@ vec3 through_refractor(TwoInterfaces path, ObjectData object, vec3 p1, vec3 n1, 
   return refractor_surface(object, path.reflectance_in, p1, n1, path.transmit_out * absorbed * behind);
 }
 
+// A rough refractor's pixel averages this many paths, each through its own microfacets (the
+// pixel's random numbers: pixel_rng); a smooth one's takes one.
+const uint CAMERA_ROUGH_SAMPLES = 8u;
+uint camera_samples(ObjectData object) { return transmission_roughness(object) > 0.0 ? CAMERA_ROUGH_SAMPLES : 1u; }
+uint pixel_rng(vec2 pixel_uv) { return pcg_hash(floatBitsToUint(pixel_uv.x) ^ pcg_hash(floatBitsToUint(pixel_uv.y))); }
+
 // Radiance seen through a thin-walled object whose near wall is at p1 (refractor-buffer texel
-// `front`): the pixel's own background, unbent, through its far wall too when it has one.
+// `front`): the pixel's own background, unbent, through its far wall too when it has one; a rough
+// wall scatters the ray, which then sees the background where it meets it.
 vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pixel_uv) {
   vec3 eye = frame.camera_position.xyz;
   vec3 v = normalize(p1 - eye);
   float ior = object.absorption_ior.a;
-  vec3 through = texture(background_tex, pixel_uv).rgb;
+  float roughness = transmission_roughness(object);
   vec4 back = texture(back_tex, pixel_uv);
-  if (thin_far_wall(front, back)) {
-    vec3 n2 = unpack_normal(back.x);
-    if (dot(v, n2) > 0.0) n2 = -n2;
-    through = refractor_surface(object, fresnel_dielectric(-dot(v, n2), 1.0, ior), eye + v * back.y, n2, through);
-  }
+  bool far_wall = thin_far_wall(front, back);
+  vec3 p2 = eye + v * back.y, n2 = unpack_normal(back.x);
+  if (dot(v, n2) > 0.0) n2 = -n2;
   if (dot(v, n1) > 0.0) n1 = -n1;
-  return refractor_surface(object, fresnel_dielectric(-dot(v, n1), 1.0, ior), p1, n1, through);
+  uint rng = pixel_rng(pixel_uv), samples = camera_samples(object);
+  vec3 radiance = vec3(0.0);
+  for (uint s = 0u; s < samples; ++s) {
+    vec3 m1 = microfacet_normal(n1, v, roughness, rng);
+    vec3 d = through_thin(v, m1, n1);
+    float reflect_far = 0.0;
+    if (far_wall) {
+      vec3 m2 = microfacet_normal(n2, d, roughness, rng);
+      reflect_far = fresnel_dielectric(-dot(d, m2), 1.0, ior);
+      d = through_thin(d, m2, n2);
+    }
+    vec3 through = roughness > 0.0 ? background_along(far_wall ? p2 : p1, d) : texture(background_tex, pixel_uv).rgb;
+    if (far_wall) through = refractor_surface(object, reflect_far, p2, n2, through);
+    radiance += refractor_surface(object, fresnel_dielectric(-dot(v, m1), 1.0, ior), p1, n1, through);
+  }
+  return radiance / float(samples);
 }
 
 // Radiance seen through a refractor whose front surface is at p1 with outward normal n1; a
@@ -449,17 +516,20 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
   vec3 facing = dot(normalize(p1 - frame.camera_position.xyz), n1) > 0.0 ? -n1 : n1;
   vec3 radiance = vec3(0.0);
   uint first = disperses(object) ? 0u : BAND_WHITE, last = disperses(object) ? 2u : BAND_WHITE;
-  for (uint band = first; band <= last; ++band) {
-    TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
-                                                band_ior(object, band), pixel_uv);
-    // Total internal reflection: the ray reflects and, in this two-interface model, leaves along the
-    // reflected direction with all its energy (no black pixels, no NaN).
-    if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
-    vec3 seen = through_refractor(path, object, p1, facing, background_along(path.exit_point, path.exit_direction));
-    if (band == BAND_WHITE) return seen;
-    radiance[band] = seen[band];
+  uint rng = pixel_rng(pixel_uv), samples = camera_samples(object);
+  for (uint s = 0u; s < samples; ++s) {
+    for (uint band = first; band <= last; ++band) {
+      TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
+                                                  band_ior(object, band), pixel_uv, transmission_roughness(object), rng);
+      // Total internal reflection: the ray reflects and, in this two-interface model, leaves along
+      // the reflected direction with all its energy (no black pixels, no NaN).
+      if (path.tir) atomicAdd(counters[params.tir_counter], 1u);
+      vec3 seen = through_refractor(path, object, p1, facing, background_along(path.exit_point, path.exit_direction));
+      if (band == BAND_WHITE) radiance += seen;
+      else radiance[band] += seen[band];
+    }
   }
-  return radiance;
+  return radiance / float(samples);
 }
 
 #ifdef CAUSTICA_RAY_QUERY
@@ -490,8 +560,9 @@ vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
 // absorption and total internal reflection; at the exit the Fresnel transmittance. A ray still
 // inside after exact_max_interfaces interfaces (or lost in an open mesh) brings nothing more.
 // In colour band `band` (refracting with its index); a white ray that meets a dispersive refractor
-// stops and sets `dispersed` (trace_camera_exact below then traces each band).
-vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout bool dispersed) {
+// stops and sets `dispersed` (trace_camera_exact below then traces each band). A rough refractor's
+// surfaces scatter the ray about microfacets drawn from `rng`, and set `rough`.
+vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, inout bool dispersed, inout bool rough) {
   vec3 throughput = vec3(1.0), radiance = vec3(0.0);
   int inside = -1;
   uint interfaces = 0u;
@@ -515,39 +586,54 @@ vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout bool disper
       return vec3(0.0);
     }
     float ior = band_ior(object, band);
+    float roughness = transmission_roughness(object);
+    rough = rough || roughness > 0.0;
+    vec3 m = microfacet_normal(n, direction, roughness, rng);
     origin = p;
     if (inside < 0) {
       // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
       // `transmission` passes tinted, the remainder is reflected diffusely (shadowed exactly here).
-      float reflectance = fresnel_dielectric(-dot(direction, n), 1.0, ior);
+      float reflectance = fresnel_dielectric(-dot(direction, m), 1.0, ior);
       radiance += throughput * reflectance * frame.sky_ambient.rgb;
       throughput *= 1.0 - reflectance;
       float transmission = object.tint_transmission.a;
       if (transmission < 1.0) radiance += throughput * (1.0 - transmission) * shade_exit_hit(p, n, object.tint_transmission.rgb);
       throughput *= transmission * object.tint_transmission.rgb;
-      if (thin_walled(object)) continue;  // through a thin wall, unbent
-      direction = normalize(refract(direction, n, 1.0 / ior));
+      if (thin_walled(object)) {  // through a thin wall, unbent where it is smooth
+        direction = through_thin(direction, m, n);
+        continue;
+      }
+      direction = on_side(normalize(refract(direction, m, 1.0 / ior)), n, false);
       inside = int(h.object);
     } else {
-      vec3 out_direction = refract(direction, n, ior);
+      vec3 out_direction = refract(direction, m, ior);
       if (dot(out_direction, out_direction) == 0.0) {
-        direction = reflect(direction, n);
+        direction = on_side(reflect(direction, m), n, true);
       } else {
-        throughput *= 1.0 - fresnel_dielectric(-dot(direction, n), ior, 1.0);
-        direction = normalize(out_direction);
+        throughput *= 1.0 - fresnel_dielectric(-dot(direction, m), ior, 1.0);
+        direction = on_side(normalize(out_direction), n, false);
         inside = -1;
       }
     }
   }
 }
 
-vec3 trace_camera_exact(vec3 origin, vec3 direction) {
-  bool dispersed = false;
-  vec3 white = trace_camera_band(origin, direction, BAND_WHITE, dispersed);
-  if (!dispersed) return white;
-  vec3 radiance;
-  for (uint band = 0u; band < 3u; ++band) radiance[band] = trace_camera_band(origin, direction, band, dispersed)[band];
-  return radiance;
+// The pixel at `pixel_uv` seen along a camera ray: one path, or, where it met a rough refractor,
+// the mean of CAMERA_ROUGH_SAMPLES.
+vec3 trace_camera_exact(vec3 origin, vec3 direction, vec2 pixel_uv) {
+  uint rng = pixel_rng(pixel_uv);
+  bool rough = false;
+  vec3 sum = vec3(0.0);
+  for (uint s = 0u; s < CAMERA_ROUGH_SAMPLES; ++s) {
+    bool dispersed = false;
+    vec3 radiance = trace_camera_band(origin, direction, BAND_WHITE, rng, dispersed, rough);
+    if (dispersed) {
+      for (uint band = 0u; band < 3u; ++band) radiance[band] = trace_camera_band(origin, direction, band, rng, dispersed, rough)[band];
+    }
+    sum += radiance;
+    if (!rough) return sum;
+  }
+  return sum / float(CAMERA_ROUGH_SAMPLES);
 }
 #endif
 #endif
