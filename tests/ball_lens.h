@@ -60,10 +60,10 @@ inline ExactLens exact_ball_lens(const scene::Scene& scene, const std::vector<do
   return exact;
 }
 
-// Visits every texel of a light-space caustic map (flux per texel and channel of the first light's
-// image plane) with the distance from the axis at which its centre sees the floor y = 0.
+// Visits every lit texel of a light-space caustic map (flux per texel and channel of the first
+// light's image plane) with the point where its centre sees the floor y = 0.
 template <typename Visit>
-void for_each_floor_texel(const scene::Scene& scene, const io::ImageData& map, Visit&& visit) {
+void for_each_floor_point(const scene::Scene& scene, const io::ImageData& map, Visit&& visit) {
   const glm::dvec3 light(scene.lights[0].view.position);
   const glm::dmat4 inverse = glm::inverse(glm::dmat4(scene.lights[0].view.view_projection(1.0f)));
   for (uint32_t y = 0; y < map.height; ++y) {
@@ -72,10 +72,15 @@ void for_each_floor_texel(const scene::Scene& scene, const io::ImageData& map, V
       if (rgb[0] == 0 && rgb[1] == 0 && rgb[2] == 0) continue;
       const glm::dvec4 far = inverse * glm::dvec4((x + 0.5) / map.width * 2 - 1, (y + 0.5) / map.height * 2 - 1, 1, 1);
       const glm::dvec3 d = glm::normalize(glm::dvec3(far) / far.w - light);
-      const glm::dvec3 floor = light + (-light.y / d.y) * d;
-      visit(std::hypot(floor.x, floor.z), glm::dvec3(rgb[0], rgb[1], rgb[2]));
+      visit(light + (-light.y / d.y) * d, glm::dvec3(rgb[0], rgb[1], rgb[2]));
     }
   }
+}
+
+// The same with the floor point's distance from the axis.
+template <typename Visit>
+void for_each_floor_texel(const scene::Scene& scene, const io::ImageData& map, Visit&& visit) {
+  for_each_floor_point(scene, map, [&](const glm::dvec3& floor, const glm::dvec3& rgb) { visit(std::hypot(floor.x, floor.z), rgb); });
 }
 
 // The flux of a caustic map (the channels' mean, as the flux counters count it) inside each radius

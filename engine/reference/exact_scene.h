@@ -175,6 +175,16 @@ class ExactScene {
     return s;
   }
 
+  // A refractor's transmission roughness where a ray meets it: per texel where its material has a
+  // metallic-roughness texture (roughnessFactor times the green channel, as the engine's exact paths
+  // read it; its image-space methods take the object's mean); else the material's.
+  float transmission_roughness(const RayHit& hit) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::Material& m = object.material;
+    if (m.transmission_roughness <= 0.0f || !m.metallic_roughness_texture.used()) return m.transmission_roughness;
+    return m.roughness * sample(object, m.metallic_roughness_texture, hit).g;
+  }
+
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;
     const uint32_t* tri = &mesh.indices[3 * hit.triangle];

@@ -114,7 +114,7 @@ class PhotonTracer {
       glm::vec3 n = exact_.smooth_normal(*hit);
       if (glm::dot(n, direction) > 0) n = -n;
       const float ior = band < 0 ? object.material.ior : band_iors_[hit->geometry][band];
-      const glm::vec3 m = microfacet_normal(n, direction, object.material.transmission_roughness, random);
+      const glm::vec3 m = microfacet_normal(n, direction, exact_.transmission_roughness(*hit), random);
       // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
       // rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {

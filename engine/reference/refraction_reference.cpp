@@ -119,8 +119,9 @@ class Tracer {
       if (glm::dot(n, direction) > 0) n = -n;
       const scene::Material& m = object.material;
       const float ior = band < 0 || m.thin ? m.ior : m.band_iors()[band];
-      rough = rough || m.transmission_roughness > 0.0f;
-      const glm::vec3 facet = microfacet_normal(n, direction, m.transmission_roughness, random);
+      const float roughness = exact_.transmission_roughness(*hit);
+      rough = rough || roughness > 0.0f;
+      const glm::vec3 facet = microfacet_normal(n, direction, roughness, random);
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, facet), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
@@ -145,7 +146,9 @@ class Tracer {
         p = origin + direction * inner->distance;
         glm::vec3 inward = smooth_normal(*inner);
         if (glm::dot(inward, direction) > 0) inward = -inward;
-        const glm::vec3 exit_facet = microfacet_normal(inward, direction, m.transmission_roughness, random);
+        const float exit_roughness = exact_.transmission_roughness(*inner);
+        rough = rough || exit_roughness > 0.0f;
+        const glm::vec3 exit_facet = microfacet_normal(inward, direction, exit_roughness, random);
         const glm::vec3 out = glm::refract(direction, exit_facet, ior);
         origin = p;
         if (glm::dot(out, out) == 0.0f) {

@@ -108,7 +108,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     }
     ++interfaces;
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
-    vec3 m = microfacet_normal(n, direction, transmission_roughness(object), rng);
+    vec3 m = microfacet_normal(n, direction, roughness_at(h), rng);
     bool entering = inside < 0;
     bool thin = thin_walled(object);
     float ior = band_ior(object, params.band);

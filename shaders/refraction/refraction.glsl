@@ -586,7 +586,7 @@ vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, i
       return vec3(0.0);
     }
     float ior = band_ior(object, band);
-    float roughness = transmission_roughness(object);
+    float roughness = roughness_at(h);
     rough = rough || roughness > 0.0;
     vec3 m = microfacet_normal(n, direction, roughness, rng);
     origin = p;

@@ -18,6 +18,7 @@ struct SurfaceHit {
   float t;
   vec3 normal;  // interpolated, unit
   uint object;
+  vec4 texcoords;  // interpolated: TEXCOORD_0 in xy, TEXCOORD_1 in zw
 };
 
 // Confirms the query's candidate triangle unless a MASK material cuts it out there (only geometry
@@ -42,6 +43,7 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
   h.t = 0.0;
   h.normal = vec3(0.0, 1.0, 0.0);
   h.object = 0u;
+  h.texcoords = vec4(0.0);
   if (!h.hit) return h;
   h.t = rayQueryGetIntersectionTEXT(query, true);
   uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) + rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
@@ -53,7 +55,19 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
   vec3 geometric = cross(v1.position_dn.xyz - v0.position_dn.xyz, v2.position_dn.xyz - v0.position_dn.xyz);
   h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
   h.object = uint(v0.normal_object.w + 0.5);
+  h.texcoords = (1.0 - b.x - b.y) * v0.texcoords + b.x * v1.texcoords + b.y * v2.texcoords;
   return h;
+}
+
+// A refractor's transmission roughness where a ray meets it: per texel where its material has a
+// metallic-roughness texture (roughnessFactor times its green channel, at the full-resolution
+// level, as the Embree references read it); the image-space methods take the object's mean
+// (transmission_roughness in refraction/refraction.glsl), which is what metallic_roughness.w holds.
+float roughness_at(SurfaceHit h) {
+  ObjectData object = objects[h.object];
+  TextureSlot map = object.metallic_roughness_map;
+  if (object.metallic_roughness.w <= 0.0 || map.row_u.w < 0.0) return object.metallic_roughness.w;
+  return object.metallic_roughness.y * textureLod(scene_textures[nonuniformEXT(int(map.row_u.w))], slot_uv(map, h.texcoords), 0.0).g;
 }
 
 // Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).

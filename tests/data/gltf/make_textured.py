@@ -3,7 +3,8 @@
 texture coordinate set and alpha MASK. A checkered floor (texture 0 through a transform) under a
 quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK), a spot light
 straight above, and a camera. Everything is embedded, so the file stands alone.
-Also writes malformed variants for the bad-input tests (bad_texture_*.gltf).
+Also writes malformed variants for the bad-input tests (bad_texture_*.gltf), and textured_surfaces.gltf
+and rough_pane.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
 
@@ -173,3 +174,38 @@ surfaces = {
     "accessors": surface_accessors,
 }
 write("textured_surfaces.gltf", surfaces)
+
+
+# rough_pane.gltf: a thin transmissive pane (KHR_materials_transmission without a volume) over a
+# floor, under a spot light straight above. Its metallic-roughness texture makes the half at -x
+# smooth (green 0) and the half at +x fully rough (green 255, roughnessFactor 1): light passes the
+# smooth half unbent and is scattered by the rough half, so only that half's light spills past the
+# pane's shadow on the floor.
+pane_blob, pane_meshes, pane_views, pane_accessors = build([
+    ([(-2, 0, 2), (2, 0, 2), (2, 0, -2), (-2, 0, -2)], (0, 1, 0), 0),              # floor
+    ([(-0.8, 1, 0.8), (0.8, 1, 0.8), (0.8, 1, -0.8), (-0.8, 1, -0.8)], (0, 1, 0), 1),  # pane: u from -x to +x
+])
+pane = {
+    "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_textured.py"},
+    "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 30.0, "spot": {"outerConeAngle": 0.75}}]}},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2, 3]}],
+    "nodes": [{"mesh": 0}, {"mesh": 1},
+              {"translation": [0, 4, 0], "rotation": down, "extensions": {"KHR_lights_punctual": {"light": 0}}},
+              {"camera": 0, "translation": [0, 3, 4], "rotation": [-math.sin(tilt), 0, 0, math.cos(tilt)]}],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50}}],
+    "meshes": pane_meshes,
+    "materials": [
+        {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0}},
+        {"name": "half-rough pane", "doubleSided": True,
+         "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0, "metallicRoughnessTexture": {"index": 0}},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}],
+    "textures": [{"sampler": 0, "source": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
+    "images": [{"uri": data_uri("image/png", png(2, 1, [[(0, 0, 0, 255), (0, 255, 0, 255)]]))}],
+    "buffers": [{"byteLength": len(pane_blob), "uri": data_uri("application/octet-stream", pane_blob)}],
+    "bufferViews": pane_views,
+    "accessors": pane_accessors,
+}
+write("rough_pane.gltf", pane)
