@@ -336,6 +336,14 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       vec3 inward = dot(t1, n2) > 0.0 ? -n2 : n2;
       vec3 m2 = microfacet_normal(inward, t1, roughness, rng);
       vec3 t2 = refract(t1, m2, ior);
+      // Two interfaces cannot follow light that a facet reflects back inside, where a real rough
+      // surface lets most of it out nearby: where the surface itself would let the ray out, a facet
+      // that reflects it totally is drawn again (up to 4 times), not dropped.
+      bool leaves = roughness > 0.0 && dot(refract(t1, inward, ior), refract(t1, inward, ior)) > 0.0;
+      for (int redraw = 0; redraw < 4 && leaves && dot(t2, t2) == 0.0; ++redraw) {
+        m2 = microfacet_normal(inward, t1, roughness, rng);
+        t2 = refract(t1, m2, ior);
+      }
       if (dot(t2, t2) == 0.0) {
         r.tir = true;
         r.exit_direction = on_side(reflect(t1, m2), inward, true);
