@@ -150,27 +150,51 @@ void main() {
 #else
     float texel = 2.0 * light.clip.z / float(side);
     Photon ph[4];
-    bool any_hit = false, all_same_texel = true, all_lost = true, all_landed = true;
-    vec2 low = vec2(1e30), high = vec2(-1e30), middle = vec2(0.0);
-    for (uint k = 0u; k < 4u; ++k) {
-      uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
-      ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
-      any_hit = any_hit || ph[k].hit;
-      all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
-      all_lost = all_lost && ph[k].hit && !ph[k].landed;
-      all_landed = all_landed && ph[k].landed;
-      low = min(low, ph[k].landing);
-      high = max(high, ph[k].landing);
-      middle += 0.25 * ph[k].landing;
+    bool any_hit, all_lost, converged;
+    vec2 low, high, middle;
+    // A cluster decided before the last level (converged, or lost) by photons whose paths drew
+    // random numbers (Fresnel choices, rough facets) would be biased by those very draws: all four
+    // happening to land together splats its whole power, all four happening to be lost drops it
+    // (at n = 2.4 the hybrid kept 0.81 of the reference's energy so). Such a cluster's photons are
+    // traced once more with their second set of numbers (photon_stream 1), and those, each splatted
+    // where it lands, are its estimate, independent of the decision. A loop, not a second call:
+    // each call of trace_photon inlines the exact tracer, which lavapipe compiles slowly.
+    for (uint stream = 0u; stream < 2u; ++stream) {
+      photon_stream = stream;
+      any_hit = false;
+      bool all_same_texel = true, all_landed = true, any_random = false;
+      all_lost = true;
+      low = vec2(1e30);
+      high = vec2(-1e30);
+      middle = vec2(0.0);
+      for (uint k = 0u; k < 4u; ++k) {
+        uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
+        ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
+        any_hit = any_hit || ph[k].hit;
+        all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
+        all_lost = all_lost && ph[k].hit && !ph[k].landed;
+        all_landed = all_landed && ph[k].landed;
+        any_random = any_random || ph[k].random;
+        low = min(low, ph[k].landing);
+        high = max(high, ph[k].landing);
+        middle += 0.25 * ph[k].landing;
+      }
+      count_n(PROCESSED, 4u);
+      count_n(PROCESSED_LEVEL, 4u);
+      if (stream == 1u) break;
+      // The paper's test: all four in one texel. Within a texel: their landing points closer than
+      // converge_spread texels on both axes, wherever the texel edges fall; a cluster that
+      // straddles an edge then converges too, instead of refining to the last level.
+      converged = params.converge_spread > 0.0 ? all_landed && all(lessThan(high - low, vec2(params.converge_spread))) : all_same_texel;
+      converged = converged && cells_on_refractor(cluster, side);
+      bool early = any_hit && params.level < params.max_level && params.level >= params.converge_level && (all_lost || converged);
+      if (!(early && any_random)) break;
     }
-    // The paper's test: all four in one texel. Within a texel: their landing points closer than
-    // converge_spread texels on both axes, wherever the texel edges fall; a cluster that straddles
-    // an edge then converges too, instead of refining to the last level.
-    bool converged = params.converge_spread > 0.0 ? all_landed && all(lessThan(high - low, vec2(params.converge_spread))) : all_same_texel;
-    converged = converged && cells_on_refractor(cluster, side);
-    count_n(PROCESSED, 4u);
-    count_n(PROCESSED_LEVEL, 4u);
-    if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
+    if (photon_stream == 1u) {
+      uint level = footprint_level(ph);
+      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+      count(CONVERGED);
+    } else if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
       // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
       // the photon spacing): look closer instead of losing it.
       refine(cluster);

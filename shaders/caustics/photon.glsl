@@ -34,7 +34,12 @@ void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], chan
 
 // The random numbers of the photon through `uv` (its position on the light's image plane), in the
 // order its Fresnel choices and rough surfaces draw them: the same on every device and in every run.
-uint photon_rng(vec2 uv) { return pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed))); }
+// photon_stream picks an independent second set for the same photons (the adaptive traversals'
+// second look at a cluster, adaptive_photons.comp).
+uint photon_stream = 0u;
+uint photon_rng(vec2 uv) {
+  return pcg_hash(floatBitsToUint(uv.x) ^ pcg_hash(floatBitsToUint(uv.y) ^ pcg_hash(params.exact_seed + photon_stream * 0x9E3779B9u)));
+}
 
 struct Photon {
   vec3 power;      // per caustic-map channel, after Fresnel, tint and absorption; as it left the light when it missed
@@ -45,6 +50,7 @@ struct Photon {
   ivec2 texel;
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
   bool exact;      // traced with ray queries: absorption and every loss are already counted
+  bool random;     // its path drew random numbers (Fresnel choices, rough facets)
 };
 
 // Lands a photon at `uv` on the light's image plane: its caustic-map texel.
@@ -108,7 +114,8 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     }
     ++interfaces;
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
-    vec3 m = microfacet_normal(n, direction, roughness_at(h), rng);
+    float roughness = roughness_at(h);
+    vec3 m = microfacet_normal(n, direction, roughness, rng);
     bool entering = inside < 0;
     bool thin = thin_walled(object);
     float ior = band_ior(object, params.band);
@@ -116,6 +123,7 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
     if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, m), entering ? 1.0 : ior, entering ? ior : 1.0);
+    ph.random = ph.random || roughness > 0.0 || (reflectance > 0.0 && reflectance < 1.0);
     origin = p;
     if (reflectance > 0.0 && next_uniform(rng) < reflectance) {
       if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
@@ -184,6 +192,7 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
     if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
     float roughness = transmission_roughness(object);
+    ph.random = roughness > 0.0;
     if (roughness > 0.0) {  // scattered by each wall (at the far wall's texel here), it lands where it meets a receiver
       uint rng = photon_rng(uv);
       vec3 n1 = unpack_normal(front.x), n2 = unpack_normal(back.x);
@@ -202,6 +211,7 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     return false;
   }
   uint rng = photon_rng(uv);
+  ph.random = transmission_roughness(object) > 0.0;
   TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv,
                                               transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
@@ -249,6 +259,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.texel = ivec2(0);
   ph.landing = vec2(0.0);
   ph.exact = false;
+  ph.random = false;
   // A directional light's photon starts on the plane through its position and travels along the
   // axis, carrying irradiance times its square (`texel` is then in world units); a spot's leaves
   // the light through the image plane at distance 1.
