@@ -72,7 +72,7 @@ graph::PassTypeDecl gbuffer_pass_type() {
         {Format::rgba16f, Format::rgba32f},
         true,
         "frame",
-        "emitted radiance (glTF emissive); unbound, nothing emits"}},
+        "emitted radiance (glTF emissive); alpha: ambient occlusion (glTF occlusionTexture); unbound, nothing emits or is occluded"}},
       {},
       false,
       [] { return std::make_unique<GBufferPass>(); }};

@@ -76,7 +76,7 @@ graph::PassTypeDecl lighting_pass_type() {
       {{"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "camera depth"},
        {"normal", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "world normal"},
        {"albedo", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "base colour; alpha: metallic"},
-       {"emission", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, true, "frame", "emitted radiance, added as it is"},
+       {"emission", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, true, "frame", "emitted radiance, added as it is; alpha: ambient occlusion, which scales the sky light"},
        {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
        {"caustics",
         PortAccess::read,

@@ -86,6 +86,7 @@ struct SurfacePoint {
   float metallic = 0.0f;
   float roughness = -1.0f;  // below 0: Lambertian
   glm::vec3 emitted{0.0f};
+  float occlusion = 1.0f;  // of the ambient sky light (glTF's occlusionTexture with its strength)
 
   glm::vec3 diffuse_color() const { return roughness < 0.0f ? base : base * (1.0f - metallic); }
   glm::vec3 f0() const { return roughness < 0.0f ? glm::vec3(0.0f) : glm::mix(glm::vec3(0.04f), base, metallic); }
@@ -172,6 +173,7 @@ class ExactScene {
     }
     s.emitted = m.emissive;
     if (m.emissive_texture.used()) s.emitted *= glm::vec3(sample(object, m.emissive_texture, hit));
+    if (m.occlusion_texture.used()) s.occlusion = 1.0f + m.occlusion_strength * (sample(object, m.occlusion_texture, hit).r - 1.0f);
     return s;
   }
 

@@ -32,7 +32,7 @@ class Tracer {
   // The engine's lighting model (scene/lighting.frag) with exact shadow rays, seen along `direction`.
   glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction) const {
     const glm::vec3 n = surface.normal, v = -direction;
-    glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance();
+    glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance() * surface.occlusion;
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const auto& light = scene_.lights[i];
       // A directional light comes from infinitely far along its axis, with no falloff.

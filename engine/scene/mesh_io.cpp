@@ -432,6 +432,12 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
   for (int c = 0; c < 3; ++c)
     m.emissive[c] = static_cast<float>(in_unit(mat.emissiveFactor[static_cast<size_t>(c)], at + "/emissiveFactor/" + std::to_string(c)));
   m.emissive_texture = textures.reference(mat.emissiveTexture, at + "/emissiveTexture", true);
+  tinygltf::TextureInfo occlusion;  // an occlusionTextureInfo: textureInfo and a strength
+  occlusion.index = mat.occlusionTexture.index;
+  occlusion.texCoord = mat.occlusionTexture.texCoord;
+  occlusion.extensions = mat.occlusionTexture.extensions;
+  m.occlusion_texture = textures.reference(occlusion, at + "/occlusionTexture", false);
+  m.occlusion_strength = static_cast<float>(in_unit(mat.occlusionTexture.strength, at + "/occlusionTexture/strength"));
   if (mat.alphaMode == "MASK") {
     m.alpha_mode = AlphaMode::mask;
   } else if (mat.alphaMode == "BLEND") {

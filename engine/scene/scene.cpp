@@ -237,7 +237,8 @@ Object object_from_part(MeshPart&& part, size_t texture_base) {
   o.mesh = std::move(part.mesh);
   if (part.material) o.material = *part.material;
   for (TextureRef* ref :
-       {&o.material.base_color_texture, &o.material.metallic_roughness_texture, &o.material.normal_texture, &o.material.emissive_texture}) {
+       {&o.material.base_color_texture, &o.material.metallic_roughness_texture, &o.material.normal_texture, &o.material.emissive_texture,
+        &o.material.occlusion_texture}) {
     if (ref->used()) ref->texture += static_cast<int>(texture_base);
   }
   return o;

@@ -84,6 +84,10 @@ struct Material {
   float normal_scale = 1.0f;
   glm::vec3 emissive{0.0f};
   TextureRef emissive_texture;
+  // glTF's occlusionTexture: its red channel darkens the ambient (sky) light a surface receives, as
+  // 1 + strength * (red - 1); direct light and emission are not occluded.
+  TextureRef occlusion_texture;
+  float occlusion_strength = 1.0f;
   float alpha = 1.0f;  // baseColorFactor's alpha
   AlphaMode alpha_mode = AlphaMode::opaque;
   float alpha_cutoff = 0.5f;

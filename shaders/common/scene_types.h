@@ -35,13 +35,14 @@ struct ObjectData {
   vec4 bounds_max_spread;     // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
   TextureSlot base_color;     // multiplies albedo_refractor.rgb and alpha_cutoff.x
   vec4 alpha_cutoff;          // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -1 unless MASK;
-                              // z: 1 when single-sided (the camera's view culls its back faces)
+                              // z: 1 when single-sided (the camera's view culls its back faces); w: occlusion strength
   TextureSlot metallic_roughness_map;  // b scales metallic, g roughness
   TextureSlot normal;                  // tangent-space normal map
   TextureSlot emissive;                // multiplies emissive_normal_scale.rgb
   vec4 emissive_normal_scale;          // rgb: emitted radiance; w: the normal map's scale
   vec4 metallic_roughness;             // x metallic, y roughness; z: 1 for glTF's metallic-roughness BRDF, 0 Lambertian;
                                        // w: a refractor's transmission roughness (0: specular)
+  TextureSlot occlusion;               // red: ambient occlusion, applied with alpha_cutoff.w's strength
 };
 
 struct LightData {

@@ -1,7 +1,8 @@
 #version 460
 // Opaque geometry seen from the camera: the shading normal (facing the viewer, normal map applied)
-// with roughness, base colour (textured) with metallic, and emitted radiance; MASK materials cut
-// out where their coverage is below the cutoff.
+// with roughness, base colour (textured) with metallic, and emitted radiance with the ambient
+// occlusion (glTF's occlusionTexture) in its alpha; MASK materials cut out where their coverage is
+// below the cutoff.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
@@ -54,6 +55,7 @@ void main() {
   out_normal = vec4(n, roughness);
   out_albedo = vec4(base.rgb, metallic);
 #ifdef EMISSION
-  out_emission = vec4(object.emissive_normal_scale.rgb * sample_slot(object.emissive, texcoords, vec4(1.0)).rgb, 1.0);
+  float occlusion = 1.0 + object.alpha_cutoff.w * (sample_slot(object.occlusion, texcoords, vec4(1.0)).r - 1.0);
+  out_emission = vec4(object.emissive_normal_scale.rgb * sample_slot(object.emissive, texcoords, vec4(1.0)).rgb, occlusion);
 #endif
 }

@@ -1,7 +1,8 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
 // the surface's BRDF, the first light shadowed through its shadow map (3x3 PCF) and adding its
-// caustic map when one is bound, plus ambient sky light and emitted light. Sky where empty.
+// caustic map when one is bound, plus ambient sky light (occluded by the emission target's alpha)
+// and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -133,7 +134,8 @@ void main() {
   vec3 v = normalize(frame.camera_position.xyz - p);
   vec3 radiance = frame.sky_ambient.a * frame.sky_ambient.rgb * (diffuse_color(s) + specular_f0(s));
 #ifdef EMISSION
-  radiance += texture(emission_tex, uv).rgb;
+  vec4 emission_occlusion = texture(emission_tex, uv);
+  radiance = radiance * emission_occlusion.a + emission_occlusion.rgb;
 #endif
   for (uint i = 0; i < frame.light_count; ++i) {
     LightData light = frame.lights[i];

@@ -3,7 +3,7 @@
 texture coordinate set and alpha MASK. A checkered floor (texture 0 through a transform) under a
 quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK), a spot light
 straight above, and a camera. Everything is embedded, so the file stands alone.
-Also writes malformed variants for the bad-input tests (bad_texture_*.gltf), and textured_surfaces.gltf
+Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf), and textured_surfaces.gltf
 and rough_pane.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
@@ -107,7 +107,8 @@ bad["images"][1]["uri"] = data_uri("image/png", b"\x89PNG not really")
 write("bad_texture_image.gltf", bad)
 
 
-# textured_surfaces.gltf: glTF's metallic-roughness model with its textures, a normal map, emission
+# textured_surfaces.gltf: glTF's metallic-roughness model with its textures, a normal map, an
+# occlusion map (bands across the floor that take 0.7 of the sky light), emission
 # (KHR_materials_emissive_strength) and a single-sided quad whose back faces the camera.
 def build(quads):  # quads: (corners counter-clockwise seen from the front, normal, material)
     data, meshes, views2, accessors2 = b"", [], [], []
@@ -142,6 +143,7 @@ ridges = png(16, 16, [[encode_normal(0.7 * math.sin(2 * math.pi * x / 4), 0.3 * 
                       for y in range(16)])
 metal_rough = png(8, 8, [[(0, 70, 255, 255) if (x // 2 + y // 2) % 2 == 0 else (0, 220, 0, 255) for x in range(8)] for y in range(8)])
 glow = png(8, 8, [[(255, 255, 255, 255) if x % 4 < 2 else (40, 40, 40, 255) for x in range(8)] for y in range(8)])
+occluded_bands = png(8, 8, [[(255, 0, 0, 255) if y % 4 < 2 else (0, 0, 0, 255) for x in range(8)] for y in range(8)])
 surfaces_blob, surface_meshes, surface_views, surface_accessors = build([
     ([(-2, 0, 2), (2, 0, 2), (2, 0, -2), (-2, 0, -2)], (0, 1, 0), 0),             # floor, facing up
     ([(-1, 0.3, -1.5), (1, 0.3, -1.5), (1, 1.3, -1.5), (-1, 1.3, -1.5)], (0, 0, 1), 1),  # emissive panel, facing the camera
@@ -161,19 +163,23 @@ surfaces = {
     "materials": [
         {"name": "bumped metal and plastic",
          "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1.0], "metallicRoughnessTexture": {"index": 0}},
-         "normalTexture": {"index": 1, "scale": 1.0}},
+         "normalTexture": {"index": 1, "scale": 1.0}, "occlusionTexture": {"index": 3, "strength": 0.7}},
         {"name": "glowing panel", "emissiveFactor": [1.0, 0.8, 0.5], "emissiveTexture": {"index": 2},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2.0}},
          "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.05, 0.05, 1.0], "metallicFactor": 0.0}},
         {"name": "single-sided red", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}}],
-    "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}, {"sampler": 0, "source": 2}],
+    "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}, {"sampler": 0, "source": 2}, {"sampler": 0, "source": 3}],
     "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}],
-    "images": [{"uri": data_uri("image/png", metal_rough)}, {"uri": data_uri("image/png", ridges)}, {"uri": data_uri("image/png", glow)}],
+    "images": [{"uri": data_uri("image/png", metal_rough)}, {"uri": data_uri("image/png", ridges)}, {"uri": data_uri("image/png", glow)},
+               {"uri": data_uri("image/png", occluded_bands)}],
     "buffers": [{"byteLength": len(surfaces_blob), "uri": data_uri("application/octet-stream", surfaces_blob)}],
     "bufferViews": surface_views,
     "accessors": surface_accessors,
 }
 write("textured_surfaces.gltf", surfaces)
+bad = json.loads(json.dumps(surfaces))
+bad["materials"][0]["occlusionTexture"]["strength"] = 1.5
+write("bad_occlusion_strength.gltf", bad)
 
 
 # rough_pane.gltf: a thin transmissive pane (KHR_materials_transmission without a volume) over a
