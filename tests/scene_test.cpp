@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 #include <set>
 #include <sstream>
 
@@ -177,6 +178,23 @@ TEST(SceneFiles, TransformsAreBakedAndMirrorsKeepWinding) {
   EXPECT_NEAR(box.bounds_max.x, 2.0f, 1e-6f);
   EXPECT_NEAR(box.center().z, 3.0f, 1e-6f);
   expect_outward(box.mesh, "mirrored box");
+}
+
+// A TANGENT carried by a transform stays a unit direction on the surface, and its bitangent sign
+// flips with a mirror: the frame (t, w n x t) must be the transformed frame, and n x t flips.
+TEST(SceneFiles, TangentsFollowTheirTransformAndMirrorsFlipTheirSign) {
+  const glm::vec3 n(0, 1, 0), t(1, 0, 0);
+  const glm::vec3 bitangent = -1.0f * glm::cross(n, t);  // w = -1 in the file
+  for (const glm::mat4& m : {glm::scale(glm::mat4(1.0f), glm::vec3(3, 1, 1)),
+                             glm::scale(glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0, 1, 0)), glm::vec3(-2, 1, 1)),
+                             glm::scale(glm::mat4(1.0f), glm::vec3(1, 1, -1))}) {
+    const glm::vec4 carried = carry_tangent(m, glm::vec4(t, -1.0f));
+    const glm::vec3 carried_normal = glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * n);
+    const glm::vec3 expected_tangent = glm::normalize(glm::mat3(m) * t);
+    const glm::vec3 expected_bitangent = glm::normalize(glm::mat3(m) * bitangent);
+    EXPECT_NEAR(glm::length(glm::vec3(carried) - expected_tangent), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(carried.w * glm::cross(carried_normal, glm::vec3(carried)) - expected_bitangent), 0.0f, 1e-6f);
+  }
 }
 
 // The BVH order (scene/bvh_order.h) keeps every triangle, each with its vertices in their winding

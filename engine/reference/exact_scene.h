@@ -139,8 +139,9 @@ class ExactScene {
   glm::vec4 base_color(const RayHit& hit) const { return base_color(scene_.objects[hit.geometry], hit.triangle, hit.u, hit.v); }
 
   // The G-buffer's view of an opaque surface where a ray along `direction` meets it: textures
-  // sampled, the normal map applied in the frame the engine derives from the texture coordinates'
-  // screen derivatives (tangent along increasing u, bitangent = normal x tangent).
+  // sampled, the normal map applied in the mesh's TANGENT frame, or without one in the frame the
+  // engine derives from the texture coordinates' screen derivatives (tangent along increasing u,
+  // bitangent = normal x tangent).
   SurfacePoint surface(const RayHit& hit, glm::vec3 direction) const {
     const scene::Object& object = scene_.objects[hit.geometry];
     const scene::Material& m = object.material;
@@ -149,17 +150,28 @@ class ExactScene {
     s.normal = smooth_normal(hit);
     if (m.normal_texture.used()) {  // in the front face's frame; seen from behind, all of it flips
       const uint32_t* tri = &object.mesh.indices[3 * hit.triangle];
-      const glm::vec2 uv0 = texcoord(object, m.normal_texture, tri[0]), uv1 = texcoord(object, m.normal_texture, tri[1]),
-                      uv2 = texcoord(object, m.normal_texture, tri[2]);
-      const glm::vec3 e1 = object.mesh.positions[tri[1]] - object.mesh.positions[tri[0]];
-      const glm::vec3 e2 = object.mesh.positions[tri[2]] - object.mesh.positions[tri[0]];
-      const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
-      const float det = d1.x * d2.y - d2.x * d1.y;
-      glm::vec3 t = det != 0.0f ? (e1 * d2.y - e2 * d1.y) / det : glm::vec3(0.0f);
-      t -= s.normal * glm::dot(s.normal, t);
+      glm::vec3 t(0.0f);
+      float sign = 1.0f;
+      if (!object.mesh.tangents.empty()) {  // the file's TANGENT, interpolated
+        const glm::vec4 tangent = (1 - hit.u - hit.v) * object.mesh.tangents[tri[0]] + hit.u * object.mesh.tangents[tri[1]] +
+                                  hit.v * object.mesh.tangents[tri[2]];
+        t = glm::vec3(tangent) - s.normal * glm::dot(s.normal, glm::vec3(tangent));
+        sign = tangent.w < 0.0f ? -1.0f : 1.0f;
+      }
+      if (glm::dot(t, t) <= 1e-20f) {
+        const glm::vec2 uv0 = texcoord(object, m.normal_texture, tri[0]), uv1 = texcoord(object, m.normal_texture, tri[1]),
+                        uv2 = texcoord(object, m.normal_texture, tri[2]);
+        const glm::vec3 e1 = object.mesh.positions[tri[1]] - object.mesh.positions[tri[0]];
+        const glm::vec3 e2 = object.mesh.positions[tri[2]] - object.mesh.positions[tri[0]];
+        const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+        const float det = d1.x * d2.y - d2.x * d1.y;
+        t = det != 0.0f ? (e1 * d2.y - e2 * d1.y) / det : glm::vec3(0.0f);
+        t -= s.normal * glm::dot(s.normal, t);
+        sign = 1.0f;
+      }
       if (glm::dot(t, t) > 1e-20f) {
         t = glm::normalize(t);
-        const glm::vec3 b = glm::cross(s.normal, t);
+        const glm::vec3 b = sign * glm::cross(s.normal, t);
         const glm::vec3 sampled = glm::vec3(sample(object, m.normal_texture, hit)) * 2.0f - 1.0f;
         const glm::vec3 mapped = glm::normalize(glm::vec3(sampled.x * m.normal_scale, sampled.y * m.normal_scale, sampled.z));
         s.normal = glm::normalize(t * mapped.x + b * mapped.y + s.normal * mapped.z);

@@ -302,6 +302,7 @@ DracoGeometry decode_draco(const tinygltf::Model& model, const tinygltf::Primiti
   out.normals = read("NORMAL", 3);
   out.texcoords[0] = read("TEXCOORD_0", 2);
   out.texcoords[1] = read("TEXCOORD_1", 2);
+  out.tangents = read("TANGENT", 4);
   out.indices.reserve(uint64_t{mesh->num_faces()} * 3);
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
     for (int k = 0; k < 3; ++k) out.indices.push_back(mesh->face(f)[k].value());

@@ -36,6 +36,7 @@ struct DracoGeometry {
   std::vector<float> positions;  // 3 per point, dequantized
   std::vector<float> normals;    // 3 per point, or empty when the Draco data has no NORMAL
   std::vector<float> texcoords[2];  // TEXCOORD_0 and _1: 2 per point, or empty
+  std::vector<float> tangents;      // TANGENT: 4 per point, or empty
   std::vector<uint32_t> indices;
 };
 // Decodes a KHR_draco_mesh_compression primitive. `pointer` is the primitive's JSON pointer;

@@ -36,7 +36,9 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
       for (size_t v = 0; v < object.mesh.positions.size(); ++v) {
         const float dn = object.mesh.normal_distance.empty() ? 0.0f : object.mesh.normal_distance[v];
         const glm::vec4 uv = object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[v];
-        vertices.push_back({glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o)), uv});
+        const glm::vec4 tangent = object.mesh.tangents.empty() ? glm::vec4(0.0f) : object.mesh.tangents[v];
+        vertices.push_back(
+            {glm::vec4(object.mesh.positions[v], dn), glm::vec4(object.mesh.normals[v], static_cast<float>(o)), uv, tangent});
       }
       ranges_[o].first_index = static_cast<uint32_t>(indices.size());
       ranges_[o].index_count = static_cast<uint32_t>(object.mesh.indices.size());

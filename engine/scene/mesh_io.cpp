@@ -570,6 +570,20 @@ void read_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& pri
   }
 }
 
+// TANGENT, when the primitive has it, into mesh.tangents, carried by the node's transform `world`.
+void read_tangents(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
+                   const glm::mat4& world, Mesh& mesh, const std::string& pointer, const std::string& path) {
+  const auto attribute = prim.attributes.find("TANGENT");
+  if (attribute == prim.attributes.end()) return;
+  const auto t = draco && !draco->tangents.empty() ? draco->tangents : read_accessor<float>(model, attribute->second, 4, path);
+  if (t.size() / 4 != mesh.positions.size())
+    fail(path, 0,
+         pointer + "/attributes/TANGENT: " + std::to_string(t.size() / 4) + " tangents for " + std::to_string(mesh.positions.size()) +
+             " positions");
+  mesh.tangents.reserve(mesh.positions.size());
+  for (size_t i = 0; i + 3 < t.size(); i += 4) mesh.tangents.push_back(carry_tangent(world, glm::vec4(t[i], t[i + 1], t[i + 2], t[i + 3])));
+}
+
 // Images are kept as their encoded bytes: TextureTable decodes the ones a material uses.
 bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
                         void*) {
@@ -713,6 +727,8 @@ ModelFile load_gltf(const std::string& path) {
             float len = glm::length(v);
             part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
           }
+          // The specification ignores tangents where the normals are computed, so only here.
+          read_tangents(model, prim, draco, world, part.mesh, pointer, path);
         }
         if (draco) {
           part.mesh.indices = draco->indices;
@@ -744,6 +760,14 @@ ModelFile load_gltf(const std::string& path) {
 }
 
 }  // namespace
+
+glm::vec4 carry_tangent(const glm::mat4& transform, glm::vec4 tangent) {
+  const glm::mat3 m(transform);
+  const glm::vec3 t = m * glm::vec3(tangent);
+  const float len = glm::length(t);
+  const float sign = (tangent.w < 0.0f) != (glm::determinant(m) < 0.0f) ? -1.0f : 1.0f;
+  return {len > 0 && std::isfinite(len) ? t / len : glm::vec3(0.0f), sign};
+}
 
 void compute_smooth_normals(Mesh& mesh) {
   mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));

@@ -248,6 +248,7 @@ void finish_object(Object& o, const glm::mat4& transform) {
   const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
   for (auto& p : o.mesh.positions) p = glm::vec3(transform * glm::vec4(p, 1.0f));
   for (auto& n : o.mesh.normals) n = glm::normalize(normal_matrix * n);
+  for (auto& t : o.mesh.tangents) t = carry_tangent(transform, t);
   if (glm::determinant(glm::mat3(transform)) < 0) {
     for (size_t t = 0; t + 2 < o.mesh.indices.size(); t += 3) std::swap(o.mesh.indices[t + 1], o.mesh.indices[t + 2]);
   }

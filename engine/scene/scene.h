@@ -102,6 +102,10 @@ struct Mesh {
   std::vector<uint32_t> indices;       // triangles
   std::vector<float> normal_distance;  // d_N per vertex; refractors only
   std::vector<glm::vec4> texcoords;    // per vertex: TEXCOORD_0 in xy, TEXCOORD_1 in zw; empty without
+  // Per vertex: glTF's TANGENT, xyz the unit tangent (along increasing u of the normal map's
+  // texture coordinates), w the bitangent's sign (bitangent = w normal x tangent); empty without,
+  // and then normal maps take their frame from the texture coordinates' derivatives.
+  std::vector<glm::vec4> tangents;
 };
 
 struct Object {
@@ -211,6 +215,11 @@ Scene load_model_scene(const std::string& path, bool stage = true);
 // Whether a path names a model file rather than a scene file (by its extension).
 bool is_model_file(const std::string& path);
 void compute_smooth_normals(Mesh& mesh);
+// A TANGENT (xyz, w the bitangent's sign) carried by a transform: the tangent as a direction on the
+// surface, the sign flipped by a mirroring transform, since the cross product of the carried normal
+// and tangent flips with it. A tangent that degenerates comes out zero (the normal map then takes
+// the derivative frame).
+glm::vec4 carry_tangent(const glm::mat4& transform, glm::vec4 tangent);
 
 // Primitives in object space, centred on the origin (the plane faces +y).
 Mesh make_sphere(float radius, int slices = 64, int stacks = 32);

@@ -18,6 +18,7 @@ struct Vertex {
   vec4 position_dn;   // xyz world position, w: d_N (distance through the object along -normal)
   vec4 normal_object;  // xyz world normal, w: object index as a float
   vec4 texcoords;      // TEXCOORD_0 in xy, TEXCOORD_1 in zw
+  vec4 tangent;        // xyz world tangent, w the bitangent's sign (glTF TANGENT); w 0: none
 };
 
 // Where a material reads a texture: the affine map of its texture coordinates (KHR_texture_transform)

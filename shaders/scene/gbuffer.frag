@@ -13,25 +13,33 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;
+layout(location = 5) in vec4 tangent;
 layout(location = 0) out vec4 out_normal;
 layout(location = 1) out vec4 out_albedo;
 #ifdef EMISSION
 layout(location = 2) out vec4 out_emission;
 #endif
 
-// The normal map's tangent frame from the screen derivatives of position and texture coordinates
-// (no TANGENT attribute is read): tangent along increasing u, bitangent = normal x tangent, as the
-// Khronos sample viewer builds it. docs/gltf.md says where this differs from MikkTSpace.
+// The normal map's tangent frame: the file's TANGENT where the mesh has one (interpolated, made
+// orthogonal to the normal; bitangent = sign * normal x tangent), else from the screen derivatives
+// of position and texture coordinates: tangent along increasing u, bitangent = normal x tangent, as
+// the Khronos sample viewer builds it. docs/gltf.md says where this differs from MikkTSpace.
 vec3 apply_normal_map(ObjectData object, vec3 n) {
-  vec2 uv = slot_uv(object.normal, texcoords);
-  vec3 dp_dx = dFdx(world_position), dp_dy = dFdy(world_position);
-  vec2 duv_dx = dFdx(uv), duv_dy = dFdy(uv);
-  float det = duv_dx.x * duv_dy.y - duv_dy.x * duv_dx.y;
-  vec3 t = det != 0.0 ? (dp_dx * duv_dy.y - dp_dy * duv_dx.y) / det : vec3(0.0);
+  vec3 t = tangent.xyz;
+  float sign = tangent.w < 0.0 ? -1.0 : 1.0;
   t -= n * dot(n, t);
+  if (tangent.w == 0.0 || dot(t, t) <= 1e-20) {
+    vec2 uv = slot_uv(object.normal, texcoords);
+    vec3 dp_dx = dFdx(world_position), dp_dy = dFdy(world_position);
+    vec2 duv_dx = dFdx(uv), duv_dy = dFdy(uv);
+    float det = duv_dx.x * duv_dy.y - duv_dy.x * duv_dx.y;
+    t = det != 0.0 ? (dp_dx * duv_dy.y - dp_dy * duv_dx.y) / det : vec3(0.0);
+    t -= n * dot(n, t);
+    sign = 1.0;
+  }
   if (dot(t, t) <= 1e-20) return n;
   t = normalize(t);
-  vec3 b = cross(n, t);
+  vec3 b = sign * cross(n, t);
   vec3 m = sample_slot(object.normal, texcoords, vec4(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
   m = normalize(vec3(m.xy * object.emissive_normal_scale.w, m.z));
   return normalize(t * m.x + b * m.y + n * m.z);

@@ -14,6 +14,7 @@ layout(location = 1) out vec3 world_normal;
 layout(location = 2) out float normal_distance;
 layout(location = 3) flat out uint object_index;
 layout(location = 4) out vec4 texcoords;
+layout(location = 5) out vec4 tangent;
 
 void main() {
   Vertex v = vertices[gl_VertexIndex];
@@ -22,5 +23,6 @@ void main() {
   normal_distance = v.position_dn.w;
   object_index = uint(v.normal_object.w);
   texcoords = v.texcoords;
+  tangent = v.tangent;
   gl_Position = draw.view_proj * vec4(world_position, 1.0);
 }

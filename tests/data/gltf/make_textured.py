@@ -3,7 +3,8 @@
 texture coordinate set and alpha MASK. A checkered floor (texture 0 through a transform) under a
 quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK), a spot light
 straight above, and a camera. Everything is embedded, so the file stands alone.
-Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf), and textured_surfaces.gltf
+Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf,
+bad_tangent_count.gltf), and textured_surfaces.gltf
 and rough_pane.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
@@ -107,12 +108,12 @@ bad["images"][1]["uri"] = data_uri("image/png", b"\x89PNG not really")
 write("bad_texture_image.gltf", bad)
 
 
-# textured_surfaces.gltf: glTF's metallic-roughness model with its textures, a normal map, an
-# occlusion map (bands across the floor that take 0.7 of the sky light), emission
+# textured_surfaces.gltf: glTF's metallic-roughness model with its textures, a normal map in the
+# floor's own TANGENT frame, an occlusion map (bands across the floor that take 0.9 of the sky light), emission
 # (KHR_materials_emissive_strength) and a single-sided quad whose back faces the camera.
-def build(quads):  # quads: (corners counter-clockwise seen from the front, normal, material)
+def build(quads):  # quads: (corners counter-clockwise seen from the front, normal, material[, tangent])
     data, meshes, views2, accessors2 = b"", [], [], []
-    for corners, normal, material in quads:
+    for corners, normal, material, *tangent in quads:
         start = len(data)
         data += b"".join(struct.pack("<3f", *c) for c in corners)
         data += b"".join(struct.pack("<3f", *normal) for _ in corners)
@@ -129,8 +130,13 @@ def build(quads):  # quads: (corners counter-clockwise seen from the front, norm
                        {"bufferView": base + 1, "count": 4, "type": "VEC3", "componentType": 5126},
                        {"bufferView": base + 2, "count": 4, "type": "VEC2", "componentType": 5126},
                        {"bufferView": base + 3, "count": 6, "type": "SCALAR", "componentType": 5123}]
-        meshes.append({"primitives": [{"attributes": {"POSITION": a, "NORMAL": a + 1, "TEXCOORD_0": a + 2}, "indices": a + 3,
-                                       "material": material}]})
+        attributes = {"POSITION": a, "NORMAL": a + 1, "TEXCOORD_0": a + 2}
+        if tangent:
+            views2.append({"buffer": 0, "byteOffset": len(data), "byteLength": 64})
+            data += b"".join(struct.pack("<4f", *tangent[0]) for _ in corners)
+            attributes["TANGENT"] = len(accessors2)
+            accessors2.append({"bufferView": len(views2) - 1, "count": 4, "type": "VEC4", "componentType": 5126})
+        meshes.append({"primitives": [{"attributes": attributes, "indices": a + 3, "material": material}]})
     return data, meshes, views2, accessors2
 
 
@@ -145,7 +151,8 @@ metal_rough = png(8, 8, [[(0, 70, 255, 255) if (x // 2 + y // 2) % 2 == 0 else (
 glow = png(8, 8, [[(255, 255, 255, 255) if x % 4 < 2 else (40, 40, 40, 255) for x in range(8)] for y in range(8)])
 occluded_bands = png(8, 8, [[(255, 0, 0, 255) if y % 4 < 2 else (0, 0, 0, 255) for x in range(8)] for y in range(8)])
 surfaces_blob, surface_meshes, surface_views, surface_accessors = build([
-    ([(-2, 0, 2), (2, 0, 2), (2, 0, -2), (-2, 0, -2)], (0, 1, 0), 0),             # floor, facing up
+    # floor, facing up, with a TANGENT frame turned a quarter from its texture coordinates' and mirrored
+    ([(-2, 0, 2), (2, 0, 2), (2, 0, -2), (-2, 0, -2)], (0, 1, 0), 0, (0, 0, 1, -1)),
     ([(-1, 0.3, -1.5), (1, 0.3, -1.5), (1, 1.3, -1.5), (-1, 1.3, -1.5)], (0, 0, 1), 1),  # emissive panel, facing the camera
     ([(0.6, 0.6, 1.0), (-0.6, 0.6, 1.0), (-0.6, 1.8, 1.0), (0.6, 1.8, 1.0)], (0, 0, -1), 2),  # single-sided, facing away
 ])
@@ -163,7 +170,7 @@ surfaces = {
     "materials": [
         {"name": "bumped metal and plastic",
          "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1.0], "metallicRoughnessTexture": {"index": 0}},
-         "normalTexture": {"index": 1, "scale": 1.0}, "occlusionTexture": {"index": 3, "strength": 0.7}},
+         "normalTexture": {"index": 1, "scale": 1.0}, "occlusionTexture": {"index": 3, "strength": 0.9}},
         {"name": "glowing panel", "emissiveFactor": [1.0, 0.8, 0.5], "emissiveTexture": {"index": 2},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2.0}},
          "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.05, 0.05, 1.0], "metallicFactor": 0.0}},
@@ -180,6 +187,9 @@ write("textured_surfaces.gltf", surfaces)
 bad = json.loads(json.dumps(surfaces))
 bad["materials"][0]["occlusionTexture"]["strength"] = 1.5
 write("bad_occlusion_strength.gltf", bad)
+bad = json.loads(json.dumps(surfaces))
+bad["accessors"][bad["meshes"][0]["primitives"][0]["attributes"]["TANGENT"]]["count"] = 3
+write("bad_tangent_count.gltf", bad)
 
 
 # rough_pane.gltf: a thin transmissive pane (KHR_materials_transmission without a volume) over a
