@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <glm/gtc/packing.hpp>
 #include <iterator>
 #include <utility>
 
@@ -70,6 +71,15 @@ std::vector<graph::ParamDecl> photon_path_params() {
                     1e9,
                     {},
                     "exact paths: seed of the Fresnel choices (reflect or transmit), deterministic per photon"});
+  params.push_back({"hybrid_reflections",
+                    graph::ParamType::float_,
+                    0.25,
+                    0.0,
+                    1.0,
+                    {},
+                    "hybrid with fresnel: the share of photons on a trusted path whose Fresnel reflection (off the entry, or back "
+                    "inside at the exit) is traced exactly from there, its power divided by the share; 0 weights the reflections "
+                    "away as image space does (faster, and loses their light)"});
   return params;
 }
 
@@ -156,7 +166,8 @@ void RayQueryScene::bind_textures(const graph::PassContext& ctx, const vk::Pipel
 void ExactPaths::setup(graph::PassSetup& setup) {
   RayQueryScene::setup(setup);
   using Kind = graph::PassSetup::CounterKind;
-  // The order of caustics/photon.glsl's EXACT_* constants (the retraced ones in refraction.glsl's EXIT_* order).
+  // The order of caustics/photon.glsl's EXACT_* constants (the retraced ones in refraction.glsl's EXIT_* order, then
+  // RETRACED_NO_LANDING and RETRACED_REFLECTION).
   first_counter_ = add_consecutive_counters(setup, {{"photons.exact", Kind::count},
                                                     {"photons.escaped", Kind::count},
                                                     {"photons.trapped", Kind::count},
@@ -166,6 +177,8 @@ void ExactPaths::setup(graph::PassSetup& setup) {
                                                     {"photons.retraced.empty_back", Kind::count},
                                                     {"photons.retraced.off_surface", Kind::count},
                                                     {"photons.retraced.multiple_refractors", Kind::count},
+                                                    {"photons.retraced.no_landing", Kind::count},
+                                                    {"photons.retraced.reflection", Kind::count},
                                                     {"caustic.flux_escaped", Kind::sum},
                                                     {"caustic.flux_trapped", Kind::sum},
                                                     {"caustic.flux_off_map", Kind::sum},
@@ -175,7 +188,7 @@ void ExactPaths::setup(graph::PassSetup& setup) {
 ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
   const auto& p = ctx.params();
   return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, ctx.scene().scene().ray_epsilon(),
-          p["hybrid_tolerance"].get<float>()};
+          glm::packHalf2x16(glm::vec2(p["hybrid_tolerance"].get<float>(), p["hybrid_reflections"].get<float>()))};
 }
 
 std::vector<graph::PortDecl> refraction_inputs() {

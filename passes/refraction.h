@@ -62,7 +62,9 @@ struct ExactPathPush {
   uint32_t seed;
   uint32_t counters;  // first of the consecutive exact-path counter slots
   float epsilon;      // ray offset off a surface, scaled to the scene
-  float hybrid_tolerance;
+  // hybrid_tolerance and hybrid_reflections as two halves (glm::packHalf2x16): the adaptive pass's
+  // push constants are at the 128 bytes every device allows.
+  uint32_t hybrid_packed;
 };
 
 // A photon pass's exact paths: the ray-query scene where traced, and the counters always, so that

@@ -54,7 +54,7 @@ layout(push_constant) uniform Params {
   uint exact_seed;
   uint exact_counters;
   float exact_epsilon;
-  float hybrid_tolerance;
+  uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
   uint band;  // caustics/photon.glsl: BAND_WHITE, or the colour band traced
 } params;
 

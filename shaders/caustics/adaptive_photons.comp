@@ -50,7 +50,18 @@ void splat_at(ivec2 texel, uint level, vec3 power) {
   }
 }
 
+// A photon's side path (the hybrid's Fresnel reflection, photon.glsl) is one sample for every photon
+// of the last level that the photon stands for: splatted over a block as many finest texels wide as
+// its grid is coarser than the last level's.
+void output_side_path(Photon ph) {
+  if (!ph.side_landed) return;
+  splat_at(ph.side_texel, min(params.splat_levels - 1u, params.max_level - params.level), ph.side_power);
+  count(SPLATTED);
+  add_sum(FLUX, channel_mean(ph.side_power));
+}
+
 void output_photon(Photon ph, uint level) {
+  output_side_path(ph);
   if (!ph.hit) {
     count(MISS);
     return;
@@ -210,11 +221,13 @@ void main() {
         count(ph[k].tir ? TIR : MISS);
         add_sum(ENTERING, ph[k].entering);
         add_sum(DROPPED, channel_mean(ph[k].power));
+        output_side_path(ph[k]);
       }
       count(CONVERGED);
     } else if (params.level >= params.converge_level && converged) {
       vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
       splat_footprint(middle, high - low, power);
+      for (uint k = 0u; k < 4u; ++k) output_side_path(ph[k]);
       count(CONVERGED);
       count(SPLATTED);
       add_sum(FLUX, channel_mean(power));

@@ -4,7 +4,8 @@
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
 // back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search_steps,
 // search_distance, light, fresnel (see refraction.glsl) and band, and the exact-path fields
-// exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_tolerance.
+// exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and
+// hybrid_reflections as two halves: the push constants have no room for another word).
 //
 // With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query or
 // hybrid), photons can also be traced exactly through the scene's acceleration structures: every
@@ -18,8 +19,10 @@
 // Exact-path counters, at consecutive slots from params.exact_counters (passes/refraction.cpp,
 // add_exact_path_counters, names them in this order).
 const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_MAP = 3u, EXACT_REFLECTED_OUTSIDE = 4u;
-const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order
-const uint EXACT_FLUX_ESCAPED = 9u, EXACT_FLUX_TRAPPED = 10u, EXACT_FLUX_OFF_MAP = 11u, EXACT_FLUX_ABSORBED = 12u;
+const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order,
+const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that meets no receiver in the light's depth map,
+const uint RETRACED_REFLECTION = 10u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
+const uint EXACT_FLUX_ESCAPED = 11u, EXACT_FLUX_TRAPPED = 12u, EXACT_FLUX_OFF_MAP = 13u, EXACT_FLUX_ABSORBED = 14u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (params.band), each with
@@ -51,6 +54,22 @@ struct Photon {
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
   bool exact;      // traced with ray queries: absorption and every loss are already counted
   bool random;     // its path drew random numbers (Fresnel choices, rough facets)
+  // The hybrid's Fresnel reflection split off an image-space path (below): traced exactly, it
+  // lands at side_texel with side_power when side_landed. It draws its own random numbers, which
+  // do not touch the photon's own path, so the adaptive traversals decide on that path alone.
+  bool side_landed;
+  ivec2 side_texel;
+  vec3 side_power;
+};
+
+// Where an exact path starts: at the light, or where the hybrid splits a Fresnel reflection off an
+// image-space path (on the entry, outside; at the exit, inside `inside` after `interfaces` of them).
+struct ExactStart {
+  vec3 origin;
+  vec3 direction;
+  int inside;
+  uint interfaces;
+  uint rng;
 };
 
 // Lands a photon at `uv` on the light's image plane: its caustic-map texel.
@@ -74,14 +93,15 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
 }
 
 #ifdef CAUSTICA_RAY_QUERY
-// The photon's whole path from the light, exact. Sets hit, entering, power, landed, texel, landing;
-// what does not land is counted by where it went (escaped, trapped, off the map, absorbed).
-void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 direction, vec2 uv) {
+// The photon's path from `start` (its whole path from the light, or the rest of one), exact. Sets
+// hit, entering, power, landed, texel, landing; what does not land is counted by where it went
+// (escaped, trapped, off the map, absorbed).
+void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
   ph.exact = true;
-  uint rng = photon_rng(uv);
-  vec3 origin = eye;
-  int inside = -1;  // the refractor the photon travels in
-  uint interfaces = 0u;
+  uint rng = start.rng;
+  vec3 origin = start.origin, direction = start.direction;
+  int inside = start.inside;  // the refractor the photon travels in
+  uint interfaces = start.interfaces;
   for (;;) {
     SurfaceHit h = trace_surface(origin, direction, interfaces == 0u ? 0.0 : params.exact_epsilon);
     if (!h.hit) {
@@ -141,14 +161,17 @@ void trace_photon_exact(inout Photon ph, LightData light, vec3 eye, vec3 directi
 }
 #endif
 
+// What trace_photon does after the image-space part: nothing more, trace the photon exactly from
+// the light instead (distance modes hybrid and material), or trace the Fresnel reflection split off
+// its path (hybrid) from `start`. The caller traces, so that the exact tracer, which the compiler
+// inlines, is in the shader once (each copy of it added tens of seconds to lavapipe's first
+// compile under the sanitizers).
+const uint IMAGE_SPACE_DONE = 0u, TRACE_FROM_LIGHT = 1u, TRACE_SIDE_PATH = 2u;
+
 // The image-space part of trace_photon: through the light-view refractor buffers to the receiver.
-// True where the photon is to be traced exactly instead (distance modes hybrid and material): the
-// caller then traces it from the light, so that the exact tracer, which the compiler inlines, is
-// in the shader once (each copy of it added tens of seconds to lavapipe's first compile under
-// the sanitizers).
-bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin) {
+uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin, inout ExactStart start) {
   vec4 front = texture(front_tex, uv);
-  if (front.y <= 0.0) return false;
+  if (front.y <= 0.0) return IMAGE_SPACE_DONE;
   ObjectData object = objects[uint(front.w)];
   float receiver = texture(receiver_depth, uv).r;
   float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
@@ -159,12 +182,12 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   if (params.distance_mode == DISTANCE_MATERIAL &&
       (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 || transmission_roughness(object) > 0.0 ||
        crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
-    return true;
+    return TRACE_FROM_LIGHT;
   }
 #endif
   // An opaque surface nearer the light than the refractor takes the photon first: direct light, not
   // a caustic (the light-view refractor buffers are drawn without the opaque geometry).
-  if (receiver_distance < front.y * (1.0 - 1e-4)) return false;
+  if (receiver_distance < front.y * (1.0 - 1e-4)) return IMAGE_SPACE_DONE;
   ph.hit = true;
   ph.entering = channel_mean(ph.power);
   vec3 p1 = eye + direction * front.y;
@@ -184,7 +207,7 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
       // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
       uint rng = photon_rng(uv);
       if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
-        return true;
+        return TRACE_FROM_LIGHT;
       }
       reflect_near = reflect_far = 0.0;
     }
@@ -204,11 +227,11 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
       }
       vec2 landing;
       if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS) land_on_map(ph, landing);
-      return false;
+      return IMAGE_SPACE_DONE;
     }
     // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
     if (receiver < 1.0) land_on_map(ph, uv);
-    return false;
+    return IMAGE_SPACE_DONE;
   }
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
@@ -218,7 +241,7 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
   uint reason = EXIT_TRUSTED;
 #ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
+  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), unpackHalf2x16(params.hybrid_packed).x);
 #endif
   // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
   // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
@@ -233,18 +256,48 @@ bool image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     }
     if (reason != EXIT_TRUSTED) {
       exact_count(RETRACED_FIRST + reason - EXIT_TIR);
-      return true;
+      return TRACE_FROM_LIGHT;
+    }
+    // The light's depth map holds only what the light sees: an exit ray that meets none of it may
+    // still land (on a receiver hidden from the light, or the refractor again) or leave the map.
+    if (!lands) {
+      exact_count(RETRACED_NO_LANDING);
+      return TRACE_FROM_LIGHT;
     }
   }
 #endif
   if (path.tir) {
     ph.tir = true;
-    return false;
+    return IMAGE_SPACE_DONE;
   }
+  vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
+  uint next = IMAGE_SPACE_DONE;
+#ifdef CAUSTICA_RAY_QUERY
+  // The Fresnel reflections that image space cannot follow (off the entry, or back inside at the
+  // exit, where at n = 2.4 a fifth of the light turns) land too: the path keeps its transmitted
+  // share, and one random choice picks which reflection, if any, to trace exactly with the rest of
+  // the power, each with its probability times the share `hybrid_reflections` of photons that
+  // trace one, and its power divided by that share (so the map's expectation stays the same).
+  float share = unpackHalf2x16(params.hybrid_packed).y;
+  if (params.distance_mode == DISTANCE_HYBRID && params.fresnel != 0u && share > 0.0) {
+    float reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
+    float choice = next_uniform(rng) / share;
+    if (choice < reflect_in) {
+      exact_count(EXACT_REFLECTED_OUTSIDE);
+      start = ExactStart(p1, path.entry_reflection, -1, 1u, rng);
+      ph.side_power = ph.power / share;
+      next = TRACE_SIDE_PATH;
+    } else if (choice < reflect_in + reflect_out) {
+      start = ExactStart(path.exit_point, path.exit_reflection, int(front.w), 2u, rng);
+      ph.side_power = inside_power / share;
+      next = TRACE_SIDE_PATH;
+    }
+  }
+#endif
+  ph.power = inside_power;
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
-  ph.power *= exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
   if (lands) land_on_map(ph, landing);
-  return false;
+  return next;
 }
 
 // The photon through the centre of `uv` on the light's image plane, standing for a square of side
@@ -260,6 +313,9 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.landing = vec2(0.0);
   ph.exact = false;
   ph.random = false;
+  ph.side_landed = false;
+  ph.side_texel = ivec2(0);
+  ph.side_power = vec3(0.0);
   // A directional light's photon starts on the plane through its position and travels along the
   // axis, carrying irradiance times its square (`texel` is then in world units); a spot's leaves
   // the light through the image plane at distance 1.
@@ -275,14 +331,31 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
   ph.power = params.band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(params.band)));
   if (emitted <= 0.0) return ph;
+  ExactStart start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
 #ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_RAY_QUERY || image_space_photon(ph, light, uv, eye, direction, origin)) {
-    ph.hit = false;
-    ph.entering = 0.0;
-    trace_photon_exact(ph, light, eye, direction, uv);
+  uint next = params.distance_mode == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
+  if (next != IMAGE_SPACE_DONE) {
+    Photon traced = ph;
+    if (next == TRACE_FROM_LIGHT) {
+      traced.hit = false;
+      traced.entering = 0.0;
+    } else {  // the side path, from where it splits off: the photon is counted as entering already
+      exact_count(EXACT_TRACED);
+      exact_count(RETRACED_REFLECTION);
+      traced.power = ph.side_power;
+      traced.landed = false;
+    }
+    trace_photon_exact(traced, light, start);
+    if (next == TRACE_FROM_LIGHT) {
+      ph = traced;
+    } else {
+      ph.side_landed = traced.landed;
+      ph.side_texel = traced.texel;
+      ph.side_power = traced.power;
+    }
   }
 #else
-  image_space_photon(ph, light, uv, eye, direction, origin);
+  image_space_photon(ph, light, uv, eye, direction, origin, start);
 #endif
   return ph;
 }

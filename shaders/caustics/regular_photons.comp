@@ -27,7 +27,7 @@ layout(push_constant) uniform Params {
   uint exact_seed;
   uint exact_counters;
   float exact_epsilon;
-  float hybrid_tolerance;
+  uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
   uint band;  // caustics/photon.glsl: BAND_WHITE, or the colour band traced
 } params;
 
@@ -57,6 +57,11 @@ void main() {
         splat(ph.texel, ph.power);
         count(1);
         add_sum(0, channel_mean(ph.power));
+      }
+      if (ph.side_landed) {  // the hybrid's Fresnel reflection, split off the photon's path (photon.glsl)
+        splat(ph.side_texel, ph.side_power);
+        count(1);
+        add_sum(0, channel_mean(ph.side_power));
       }
     }
   }

@@ -284,6 +284,8 @@ struct TwoInterfaces {
   float reflectance_in;
   float transmit_out;   // 1 - Fresnel reflectance at the exit; 1 when no back surface was found
   bool tir;             // the exit met total internal reflection; exit_direction is then the reflection
+  vec3 entry_reflection;  // unit: the Fresnel reflection off the entry (outside the refractor)
+  vec3 exit_reflection;   // unit: the Fresnel reflection back inside at the exit (where it transmits)
   // What the hybrid tracer asks before trusting the estimate: whether the estimated exit point lands
   // on a back surface in the image, how far from it (along the view ray), and whose it is.
   bool back_found;
@@ -302,6 +304,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   float cos_i = -dot(v, m1);
   r.reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
   vec3 t1 = on_side(refract(v, m1, 1.0 / ior), n1, false);
+  r.entry_reflection = on_side(reflect(v, m1), n1, true);
 
   // Distance to the back surface.
   vec4 back_here = texture(back_tex, pixel_uv);
@@ -317,6 +320,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   r.distance = d;
   r.exit_point = p1 + t1 * d;
   r.exit_direction = t1;
+  r.exit_reflection = t1;
   r.transmit_out = 1.0;
   r.tir = false;
   r.back_found = false;
@@ -351,6 +355,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       } else {
         r.transmit_out = 1.0 - fresnel_dielectric(-dot(t1, m2), ior, 1.0);
         r.exit_direction = on_side(t2, inward, false);
+        r.exit_reflection = normalize(on_side(reflect(t1, m2), inward, true));
       }
     }
   }
