@@ -280,6 +280,36 @@ TEST(ExactPaths, FresnelChoicesAreDeterministicPerSeed) {
   EXPECT_NE(first, other);
 }
 
+// A workgroup queues its photons' exact paths and traces them side by side (photon.glsl,
+// finish_photon): each photon must get its own path's result back, the same in every run, however
+// the invocations interleave. The adaptive traversal's decisions and both maps' counters are
+// compared across two runs of each hybrid (when a queue was refilled before every photon had
+// taken its result, the adaptive counts changed from run to run).
+TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
+  auto scene = test::load_bundled_scene("three_refractors");
+  const std::vector<std::string> counters{"photons.processed", "photons.exact", "photons.retraced.tir", "photons.retraced.no_landing",
+                                          "photons.retraced.reflection", "photons.splatted", "photons.converged"};
+  const std::vector<std::pair<const char*, std::vector<std::string>>> runs{{"caustics_adaptive_hybrid", {"grid=1024"}},
+                                                                           {"caustics_raytraced", {"distance=hybrid", "grid=512"}}};
+  for (const auto& [graph, sets] : runs) {
+    auto first = e.render(graph, scene, sets, {"caustics"});
+    const double first_flux = map_flux(e.executor.read_image("caustics"));
+    auto again = e.render(graph, scene, sets, {"caustics"});
+    const double again_flux = map_flux(e.executor.read_image("caustics"));
+    std::printf("%s: %.0f photons processed, %.0f traced exactly; map flux %.6f and %.6f\n", graph, first.counters.at("photons.processed"),
+                first.counters.at("photons.exact"), first_flux, again_flux);
+    EXPECT_GT(first.counters.at("photons.exact"), 0.0) << graph;
+    for (const auto& name : counters) {
+      if (first.counters.count(name)) {
+        EXPECT_EQ(first.counters.at(name), again.counters.at(name)) << graph << " " << name;
+      }
+    }
+    EXPECT_NEAR(again_flux, first_flux, 1e-5 * first_flux) << graph;  // float atomics add in any order
+  }
+}
+
 // The hybrid keeps the image-space estimate where it can be trusted and re-traces the rest: on the
 // ball lens, the estimate's false total internal reflection near the rim is re-traced, so the
 // hybrid lands (nearly) the exact lens's flux where image space alone loses about 22%.

@@ -126,52 +126,67 @@ void refine(uvec2 cluster) {
 }
 
 
+// Traces the four photons of `cluster` (when `tracing`; every invocation of the workgroup calls this
+// together, finish_photon's queue of exact paths being the workgroup's).
+void trace_cluster(inout Photon ph[4], uvec2 cluster, uint side, float texel, bool tracing, LightData light) {
+  for (uint k = 0u; k < 4u; ++k) {
+    uint next = IMAGE_SPACE_DONE;
+    ExactStart start = ExactStart(vec3(0.0), vec3(0.0), -1, 0u, 0u);
+    uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
+    if (tracing) ph[k] = begin_photon(light, (vec2(p) + 0.5) / float(side), texel, next, start);
+    finish_photon(ph[k], next, start, light);
+  }
+}
+
+shared uint any_second_look;
+
 void main() {
+  begin_exact_jobs();  // before begin_group_totals' barrier
+  if (gl_LocalInvocationIndex == 0u) any_second_look = 0u;
   begin_group_totals();
   uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
   uint clusters_here = params.level == 0u ? params.batch_count : min(counts[params.level], params.list_capacity);
-  if (index < clusters_here) {
-    uvec2 cluster;
-    if (params.level == 0u) {
-      uint start = params.batch_first + index;
-      cluster = uvec2(start % START_CLUSTERS_SIDE, start / START_CLUSTERS_SIDE);
-    } else {
-      uint packed = clusters[(params.level % 2u) * params.list_capacity + index];
-      cluster = uvec2(packed & 0xFFFFu, packed >> 16);
-    }
-    LightData light = frame.lights[params.light];
-    uint side = 64u << params.level;
+  bool has_cluster = index < clusters_here;
+  uvec2 cluster = uvec2(0u);
+  if (has_cluster && params.level == 0u) {
+    uint start = params.batch_first + index;
+    cluster = uvec2(start % START_CLUSTERS_SIDE, start / START_CLUSTERS_SIDE);
+  } else if (has_cluster) {
+    uint packed = clusters[(params.level % 2u) * params.list_capacity + index];
+    cluster = uvec2(packed & 0xFFFFu, packed >> 16);
+  }
+  LightData light = frame.lights[params.light];
+  uint side = 64u << params.level;
+  float texel = 2.0 * light.clip.z / float(side);
+  Photon ph[4];
 #ifdef HIERARCHICAL
-    if (!covered(cluster)) {
-      // skipped: no photon of it is traced
-    } else if (params.level < params.max_level) {
-      refine(cluster);
-    } else {
-      float texel = 2.0 * light.clip.z / float(side);
-      Photon ph[4];
-      for (uint k = 0u; k < 4u; ++k) {
-        uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
-        ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
-      }
-      uint level = footprint_level(ph);
-      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-      count_n(PROCESSED, 4u);
-      count_n(PROCESSED_LEVEL, 4u);
-    }
+  // Skipped where no refractor is under the cluster: no photon of it is traced.
+  bool covers = has_cluster && covered(cluster);
+  if (covers && params.level < params.max_level) refine(cluster);
+  bool last = covers && params.level == params.max_level;
+  trace_cluster(ph, cluster, side, texel, last, light);
+  if (last) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+    count_n(PROCESSED, 4u);
+    count_n(PROCESSED_LEVEL, 4u);
+  }
 #else
-    float texel = 2.0 * light.clip.z / float(side);
-    Photon ph[4];
-    bool any_hit, all_lost, converged;
-    vec2 low, high, middle;
-    // A cluster decided before the last level (converged, or lost) by photons whose paths drew
-    // random numbers (Fresnel choices, rough facets) would be biased by those very draws: all four
-    // happening to land together splats its whole power, all four happening to be lost drops it
-    // (at n = 2.4 the hybrid kept 0.81 of the reference's energy so). Such a cluster's photons are
-    // traced once more with their second set of numbers (photon_stream 1), and those, each splatted
-    // where it lands, are its estimate, independent of the decision. A loop, not a second call:
-    // each call of trace_photon inlines the exact tracer, which lavapipe compiles slowly.
-    for (uint stream = 0u; stream < 2u; ++stream) {
-      photon_stream = stream;
+  bool any_hit = false, all_lost = true, converged = false, second_look = false;
+  vec2 low, high, middle;
+  // A cluster decided before the last level (converged, or lost) by photons whose paths drew
+  // random numbers (Fresnel choices, rough facets) would be biased by those very draws: all four
+  // happening to land together splats its whole power, all four happening to be lost drops it
+  // (at n = 2.4 the hybrid kept 0.81 of the reference's energy so). Such a cluster's photons are
+  // traced once more with their second set of numbers (photon_stream 1), and those, each splatted
+  // where it lands, are its estimate, independent of the decision. A loop, not a second call:
+  // each call of trace_cluster inlines the exact tracer, which lavapipe compiles slowly.
+  bool tracing = has_cluster;
+  for (uint stream = 0u; stream < 2u; ++stream) {
+    photon_stream = stream;
+    trace_cluster(ph, cluster, side, texel, tracing, light);
+    if (tracing) {
+      second_look = stream == 1u;
       any_hit = false;
       bool all_same_texel = true, all_landed = true, any_random = false;
       all_lost = true;
@@ -179,8 +194,6 @@ void main() {
       high = vec2(-1e30);
       middle = vec2(0.0);
       for (uint k = 0u; k < 4u; ++k) {
-        uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
-        ph[k] = trace_photon(light, (vec2(p) + 0.5) / float(side), texel);
         any_hit = any_hit || ph[k].hit;
         all_same_texel = all_same_texel && ph[k].landed && ph[k].texel == ph[0].texel;
         all_lost = all_lost && ph[k].hit && !ph[k].landed;
@@ -192,50 +205,57 @@ void main() {
       }
       count_n(PROCESSED, 4u);
       count_n(PROCESSED_LEVEL, 4u);
-      if (stream == 1u) break;
       // The paper's test: all four in one texel. Within a texel: their landing points closer than
       // converge_spread texels on both axes, wherever the texel edges fall; a cluster that
       // straddles an edge then converges too, instead of refining to the last level.
-      converged = params.converge_spread > 0.0 ? all_landed && all(lessThan(high - low, vec2(params.converge_spread))) : all_same_texel;
-      converged = converged && cells_on_refractor(cluster, side);
-      bool early = any_hit && params.level < params.max_level && params.level >= params.converge_level && (all_lost || converged);
-      if (!(early && any_random)) break;
-    }
-    if (photon_stream == 1u) {
-      uint level = footprint_level(ph);
-      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-      count(CONVERGED);
-    } else if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
-      // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
-      // the photon spacing): look closer instead of losing it.
-      refine(cluster);
-    } else if (!any_hit) {
-      count_n(MISS, 4u);
-    } else if (params.level == params.max_level) {
-      uint level = footprint_level(ph);
-      for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-    } else if (params.level >= params.converge_level && all_lost) {
-      // Converged to nothing: all four met a refractor and none reached a receiver (total internal
-      // reflection or an exit ray that leaves the light's view); their power is dropped as one.
-      for (uint k = 0u; k < 4u; ++k) {
-        count(ph[k].tir ? TIR : MISS);
-        add_sum(ENTERING, ph[k].entering);
-        add_sum(DROPPED, channel_mean(ph[k].power));
-        output_side_path(ph[k]);
+      if (stream == 0u) {
+        converged = params.converge_spread > 0.0 ? all_landed && all(lessThan(high - low, vec2(params.converge_spread))) : all_same_texel;
+        converged = converged && cells_on_refractor(cluster, side);
+        bool early = any_hit && params.level < params.max_level && params.level >= params.converge_level && (all_lost || converged);
+        tracing = early && any_random;
+        if (tracing) atomicOr(any_second_look, 1u);
       }
-      count(CONVERGED);
-    } else if (params.level >= params.converge_level && converged) {
-      vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
-      splat_footprint(middle, high - low, power);
-      for (uint k = 0u; k < 4u; ++k) output_side_path(ph[k]);
-      count(CONVERGED);
-      count(SPLATTED);
-      add_sum(FLUX, channel_mean(power));
-      add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
-    } else {
-      refine(cluster);
     }
-#endif
+    if (stream == 1u) break;
+    barrier();  // any_second_look is the workgroup's: all take the second look together, or none
+    if (any_second_look == 0u) break;
   }
+  if (!has_cluster) {
+    // nothing to decide
+  } else if (second_look) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+    count(CONVERGED);
+  } else if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
+    // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
+    // the photon spacing): look closer instead of losing it.
+    refine(cluster);
+  } else if (!any_hit) {
+    count_n(MISS, 4u);
+  } else if (params.level == params.max_level) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+  } else if (params.level >= params.converge_level && all_lost) {
+    // Converged to nothing: all four met a refractor and none reached a receiver (total internal
+    // reflection or an exit ray that leaves the light's view); their power is dropped as one.
+    for (uint k = 0u; k < 4u; ++k) {
+      count(ph[k].tir ? TIR : MISS);
+      add_sum(ENTERING, ph[k].entering);
+      add_sum(DROPPED, channel_mean(ph[k].power));
+      output_side_path(ph[k]);
+    }
+    count(CONVERGED);
+  } else if (params.level >= params.converge_level && converged) {
+    vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
+    splat_footprint(middle, high - low, power);
+    for (uint k = 0u; k < 4u; ++k) output_side_path(ph[k]);
+    count(CONVERGED);
+    count(SPLATTED);
+    add_sum(FLUX, channel_mean(power));
+    add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
+  } else {
+    refine(cluster);
+  }
+#endif
   end_group_totals(7u, 8u, 3u);
 }

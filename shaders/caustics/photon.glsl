@@ -161,14 +161,14 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
 }
 #endif
 
-// What trace_photon does after the image-space part: nothing more, trace the photon exactly from
-// the light instead (distance modes hybrid and material), or trace the Fresnel reflection split off
-// its path (hybrid) from `start`. The caller traces, so that the exact tracer, which the compiler
-// inlines, is in the shader once (each copy of it added tens of seconds to lavapipe's first
-// compile under the sanitizers).
+// What a photon needs after its image-space part: nothing more, an exact trace from the light
+// instead (distance modes hybrid and material), or an exact trace of the Fresnel reflection split
+// off its path (hybrid) from `start`. finish_photon traces, and it alone, so that the exact tracer,
+// which the compiler inlines, is in the shader once (each copy of it added tens of seconds to
+// lavapipe's first compile under the sanitizers).
 const uint IMAGE_SPACE_DONE = 0u, TRACE_FROM_LIGHT = 1u, TRACE_SIDE_PATH = 2u;
 
-// The image-space part of trace_photon: through the light-view refractor buffers to the receiver.
+// The image-space part of begin_photon: through the light-view refractor buffers to the receiver.
 uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin, inout ExactStart start) {
   vec4 front = texture(front_tex, uv);
   if (front.y <= 0.0) return IMAGE_SPACE_DONE;
@@ -302,8 +302,10 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
 
 // The photon through the centre of `uv` on the light's image plane, standing for a square of side
 // `texel` (in units of the image plane at distance 1): its power is the light's intensity times
-// that square's solid angle, texel^2 cos^3 of its angle to the axis, times the spot cone.
-Photon trace_photon(LightData light, vec2 uv, float texel) {
+// that square's solid angle, texel^2 cos^3 of its angle to the axis, times the spot cone. This is
+// its image-space part; `next` says what exact tracing is left to do from `start`, which
+// finish_photon (below) does for the whole workgroup at once.
+Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out ExactStart start) {
   Photon ph;
   ph.hit = false;
   ph.tir = false;
@@ -316,6 +318,7 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   ph.side_landed = false;
   ph.side_texel = ivec2(0);
   ph.side_power = vec3(0.0);
+  next = IMAGE_SPACE_DONE;
   // A directional light's photon starts on the plane through its position and travels along the
   // axis, carrying irradiance times its square (`texel` is then in world units); a spot's leaves
   // the light through the image plane at distance 1.
@@ -330,34 +333,114 @@ Photon trace_photon(LightData light, vec2 uv, float texel) {
   float cone = spot_cone(light, direction);
   float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
   ph.power = params.band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(params.band)));
+  start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
   if (emitted <= 0.0) return ph;
-  ExactStart start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
 #ifdef CAUSTICA_RAY_QUERY
-  uint next = params.distance_mode == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
-  if (next != IMAGE_SPACE_DONE) {
-    Photon traced = ph;
-    if (next == TRACE_FROM_LIGHT) {
-      traced.hit = false;
-      traced.entering = 0.0;
-    } else {  // the side path, from where it splits off: the photon is counted as entering already
-      exact_count(EXACT_TRACED);
-      exact_count(RETRACED_REFLECTION);
-      traced.power = ph.side_power;
-      traced.landed = false;
-    }
-    trace_photon_exact(traced, light, start);
-    if (next == TRACE_FROM_LIGHT) {
-      ph = traced;
-    } else {
-      ph.side_landed = traced.landed;
-      ph.side_texel = traced.texel;
-      ph.side_power = traced.power;
-    }
-  }
+  next = params.distance_mode == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
 #else
   image_space_photon(ph, light, uv, eye, direction, origin, start);
 #endif
   return ph;
+}
+
+#ifdef CAUSTICA_RAY_QUERY
+// Exact tracing is tens of times the cost of image space, and it is needed by few photons, spread
+// over the grid. Traced where each photon is, every SIMD group that holds one such photon waits for
+// it (lavapipe runs 8 invocations in lockstep, a GPU 32 or 64), so the hybrid paid nearly the
+// ray-query tracer's price. Instead, finish_photon queues a workgroup's exact paths in shared memory
+// and its first invocations trace them side by side, one each; every invocation then takes its own
+// result back. At most one path per invocation per call, so one round serves a workgroup of
+// EXACT_JOBS invocations.
+const uint EXACT_JOBS = 64u;
+struct ExactJob {
+  vec3 origin;  // in: where the path starts
+  int inside;
+  vec3 direction;
+  uint interfaces;
+  vec3 power;   // in: as it starts; out: as it lands
+  uint rng;
+  vec2 landing;  // out, in caustic-map texels
+  float entering;
+  uint flags;    // in and out: EXACT_JOB_HIT, EXACT_JOB_RANDOM; out: EXACT_JOB_LANDED
+};
+const uint EXACT_JOB_HIT = 1u, EXACT_JOB_RANDOM = 2u, EXACT_JOB_LANDED = 4u;
+// Two queues, used by alternate calls, so that a call's queue is not refilled before every invocation
+// has taken its result from it, and its count is reset while the other queue fills (finish_photon).
+shared ExactJob exact_jobs[2][EXACT_JOBS];
+shared uint exact_job_count[2];
+uint exact_job_parity = 0u;
+#endif
+
+// Zeroes the queue's counts: the kernel calls it before its first barrier.
+void begin_exact_jobs() {
+#ifdef CAUSTICA_RAY_QUERY
+  if (gl_LocalInvocationIndex < 2u) exact_job_count[gl_LocalInvocationIndex] = 0u;
+#endif
+}
+
+// Does the exact work begin_photon left (`next`, from `start`) and merges what it found into ph:
+// the photon's whole path traced from the light, or the side path split off it. Every invocation of
+// the workgroup must call it together (it holds barriers), each with at most one photon, or
+// IMAGE_SPACE_DONE.
+void finish_photon(inout Photon ph, uint next, ExactStart start, LightData light) {
+#ifdef CAUSTICA_RAY_QUERY
+  uint parity = exact_job_parity;
+  exact_job_parity ^= 1u;
+  uint slot = EXACT_JOBS;
+  if (next != IMAGE_SPACE_DONE) {
+    slot = atomicAdd(exact_job_count[parity], 1u);
+    vec3 power = ph.power;
+    uint flags = ph.random ? EXACT_JOB_RANDOM : 0u;
+    float entering = ph.entering;
+    if (next == TRACE_FROM_LIGHT) {
+      entering = 0.0;
+    } else {  // the side path, from where it splits off: the photon is counted as entering already
+      exact_count(EXACT_TRACED);
+      exact_count(RETRACED_REFLECTION);
+      power = ph.side_power;
+      flags |= EXACT_JOB_HIT;
+    }
+    exact_jobs[parity][slot] = ExactJob(start.origin, start.inside, start.direction, start.interfaces, power, start.rng, vec2(0.0), entering, flags);
+  }
+  barrier();
+  // The other queue's call is over: every invocation has taken its result from it.
+  if (gl_LocalInvocationIndex == 0u) exact_job_count[parity ^ 1u] = 0u;
+  if (gl_LocalInvocationIndex < exact_job_count[parity]) {
+    ExactJob job = exact_jobs[parity][gl_LocalInvocationIndex];
+    Photon traced;
+    traced.power = job.power;
+    traced.entering = job.entering;
+    traced.hit = (job.flags & EXACT_JOB_HIT) != 0u;
+    traced.random = (job.flags & EXACT_JOB_RANDOM) != 0u;
+    traced.landed = false;
+    traced.landing = vec2(0.0);
+    trace_photon_exact(traced, light, ExactStart(job.origin, job.direction, job.inside, job.interfaces, job.rng));
+    job.power = traced.power;
+    job.entering = traced.entering;
+    job.landing = traced.landing;
+    job.flags = (traced.hit ? EXACT_JOB_HIT : 0u) | (traced.random ? EXACT_JOB_RANDOM : 0u) | (traced.landed ? EXACT_JOB_LANDED : 0u);
+    exact_jobs[parity][gl_LocalInvocationIndex] = job;
+  }
+  barrier();
+  if (slot == EXACT_JOBS) return;
+  ExactJob done = exact_jobs[parity][slot];
+  bool landed = (done.flags & EXACT_JOB_LANDED) != 0u;
+  ivec2 texel = clamp(ivec2(done.landing), ivec2(0), imageSize(caustic_map).xy - 1);
+  if (next == TRACE_FROM_LIGHT) {
+    ph.exact = true;
+    ph.power = done.power;
+    ph.entering = done.entering;
+    ph.hit = (done.flags & EXACT_JOB_HIT) != 0u;
+    ph.random = (done.flags & EXACT_JOB_RANDOM) != 0u;
+    ph.landed = landed;
+    ph.landing = done.landing;
+    ph.texel = texel;
+  } else {
+    ph.side_landed = landed;
+    ph.side_texel = texel;
+    ph.side_power = done.power;
+  }
+#endif
 }
 
 // The caustic map has a layer per colour channel (image atomics are single-channel). A colour

@@ -1,6 +1,6 @@
 #version 460
 // Regular caustic map: one photon per texel of an N x N grid over the light's image plane, each
-// traced by trace_photon() (caustics/photon.glsl) and splatted into the caustic-map texel it lands in.
+// traced by begin_photon() and finish_photon() (caustics/photon.glsl) and splatted into the caustic-map texel it lands in.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -37,12 +37,19 @@ layout(push_constant) uniform Params {
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
+  begin_exact_jobs();  // before begin_group_totals' barrier
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy;
-  if (all(lessThan(id, uvec2(params.grid)))) {
+  bool in_grid = all(lessThan(id, uvec2(params.grid)));
+  LightData light = frame.lights[params.light];
+  uint next = IMAGE_SPACE_DONE;
+  ExactStart start;
+  Photon ph;
+  if (in_grid) ph = begin_photon(light, (vec2(id) + 0.5) / float(params.grid), 2.0 * light.clip.z / float(params.grid), next, start);
+  finish_photon(ph, next, start, light);
+  if (in_grid) {
     count(0);
     count(4);
-    Photon ph = trace_photon(frame.lights[params.light], (vec2(id) + 0.5) / float(params.grid), 2.0 * frame.lights[params.light].clip.z / float(params.grid));
     if (!ph.hit) {
       count(2);  // misses every refractor: direct light, not a caustic
     } else {
