@@ -289,8 +289,9 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");
-  const std::vector<std::string> counters{"photons.processed", "photons.exact", "photons.retraced.tir", "photons.retraced.no_landing",
-                                          "photons.retraced.reflection", "photons.splatted", "photons.converged"};
+  const std::vector<std::string> counters{
+      "photons.processed",           "photons.exact",    "photons.retraced.tir", "photons.retraced.no_landing",
+      "photons.retraced.reflection", "photons.splatted", "photons.converged"};
   const std::vector<std::pair<const char*, std::vector<std::string>>> runs{{"caustics_adaptive_hybrid", {"grid=1024"}},
                                                                            {"caustics_raytraced", {"distance=hybrid", "grid=512"}}};
   for (const auto& [graph, sets] : runs) {
@@ -423,10 +424,10 @@ TEST(ExactPaths, TheSearchFollowsTotalInternalReflectionInside) {
   auto scene = test::load_bundled_scene("bunny_plane");
   auto estimate = e.render("caustics_adaptive", scene, {"distance=dv_dn"}, {});
   auto search = e.render("caustics_adaptive", scene, {"distance=search"}, {});
-  std::printf("dropped as total internal reflection: d_V/d_N %.0f photons, %.0f pixels; search %.0f photons, %.0f pixels; flux %.4f -> %.4f\n",
-              estimate.counters.at("photons.dropped_tir"), estimate.counters.at("refraction.tir_pixels"),
-              search.counters.at("photons.dropped_tir"), search.counters.at("refraction.tir_pixels"), estimate.counters.at("caustic.flux"),
-              search.counters.at("caustic.flux"));
+  std::printf(
+      "dropped as total internal reflection: d_V/d_N %.0f photons, %.0f pixels; search %.0f photons, %.0f pixels; flux %.4f -> %.4f\n",
+      estimate.counters.at("photons.dropped_tir"), estimate.counters.at("refraction.tir_pixels"), search.counters.at("photons.dropped_tir"),
+      search.counters.at("refraction.tir_pixels"), estimate.counters.at("caustic.flux"), search.counters.at("caustic.flux"));
   EXPECT_LT(search.counters.at("photons.dropped_tir"), 0.75 * estimate.counters.at("photons.dropped_tir"));
   EXPECT_LT(search.counters.at("refraction.tir_pixels"), 0.6 * estimate.counters.at("refraction.tir_pixels"));
   EXPECT_GT(search.counters.at("caustic.flux"), 1.08 * estimate.counters.at("caustic.flux"));
