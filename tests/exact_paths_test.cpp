@@ -64,6 +64,14 @@ double map_flux(const io::ImageData& map) {
   return total;
 }
 
+// The flux of the caustic map that `graph` renders (its frame, counters included, into *frame when given).
+double rendered_flux(test::SceneEngine& e, const std::string& graph_name, std::shared_ptr<const scene::Scene> scene,
+                     const std::vector<std::string>& sets, graph::FrameResult* frame = nullptr) {
+  auto result = e.render(graph_name, std::move(scene), sets, {"caustics"});
+  if (frame) *frame = std::move(result);
+  return map_flux(e.executor.read_image("caustics"));
+}
+
 // A glass ball under a quad cut into a checker by its alpha MASK (tests/data/mask_over_lens.json):
 // only the light through the holes reaches the ball. The ray-query tracer passes the holes (its
 // candidate hits are tested against the mask's texture) and lands the photon reference's caustic
@@ -83,10 +91,8 @@ TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
   auto opaque = std::make_shared<scene::Scene>(*scene);
   for (auto& o : opaque->objects) o.material.alpha_mode = scene::AlphaMode::opaque;
   const double reference_opaque = map_flux(reference::trace_photon_reference(*opaque, options).caustic_map);
-  e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
-  const double traced = map_flux(e.executor.read_image("caustics"));
-  e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
-  const double regular = map_flux(e.executor.read_image("caustics"));
+  const double traced = rendered_flux(e, "caustics_raytraced", scene, {"fresnel=false", "grid=1024"});
+  const double regular = rendered_flux(e, "caustics_regular", scene, {"fresnel=false", "grid=1024"});
   std::printf("caustic flux under the masked quad: reference %.5f (%.5f with the mask opaque), ray query %.4f, regular %.4f of it\n",
               reference, reference_opaque, traced / reference, regular / reference);
   ASSERT_GT(reference, 0.0);
@@ -103,12 +109,10 @@ TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto ball = test::load_bundled_scene("sphere_plane");
-  e.render("caustics_raytraced", ball, {"distance=ray_query", "grid=1024"}, {"caustics"});
-  const double exact = map_flux(e.executor.read_image("caustics"));
-  auto by_material = e.render("caustics_raytraced", ball, {"distance=material", "grid=1024"}, {"caustics"});
-  const double chosen = map_flux(e.executor.read_image("caustics"));
-  e.render("caustics_raytraced", ball, {"distance=dv_dn", "grid=1024"}, {"caustics"});
-  const double image_space = map_flux(e.executor.read_image("caustics"));
+  const double exact = rendered_flux(e, "caustics_raytraced", ball, {"distance=ray_query", "grid=1024"});
+  graph::FrameResult by_material;
+  const double chosen = rendered_flux(e, "caustics_raytraced", ball, {"distance=material", "grid=1024"}, &by_material);
+  const double image_space = rendered_flux(e, "caustics_raytraced", ball, {"distance=dv_dn", "grid=1024"});
   std::printf("ball lens: material %.5f, ray query %.5f, image space %.5f\n", chosen, exact, image_space);
   EXPECT_NEAR(chosen / exact, 1.0, 1e-4);
   EXPECT_LT(image_space / exact, 0.9);  // what the choice avoids
@@ -181,10 +185,8 @@ TEST(ExactPaths, AdaptiveMaterialModeKeepsTheThinWallsFresnelWeights) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto panes = test::load_bundled_scene("thin_panes");
-  e.render("caustics_raytraced", panes, {"distance=ray_query", "grid=2048"}, {"caustics"});
-  const double exact = map_flux(e.executor.read_image("caustics"));
-  e.render("caustics_adaptive_hybrid", panes, {"distance=material", "grid=2048"}, {"caustics"});
-  const double adaptive = map_flux(e.executor.read_image("caustics"));
+  const double exact = rendered_flux(e, "caustics_raytraced", panes, {"distance=ray_query", "grid=2048"});
+  const double adaptive = rendered_flux(e, "caustics_adaptive_hybrid", panes, {"distance=material", "grid=2048"});
   std::printf("thin panes, Fresnel on: adaptive material %.5f of the ray-query map\n", adaptive / exact);
   EXPECT_NEAR(adaptive / exact, 1.0, 0.01);
 }
@@ -200,10 +202,8 @@ TEST(ExactPaths, AdaptiveTraversalsDoNotEndClustersOnRandomDraws) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("stability/high_index");
-  e.render("caustics_raytraced", scene, {"distance=hybrid", "grid=2048"}, {"caustics"});
-  const double regular = map_flux(e.executor.read_image("caustics"));
-  e.render("caustics_adaptive_hybrid", scene, {"grid=2048"}, {"caustics"});
-  const double adaptive = map_flux(e.executor.read_image("caustics"));
+  const double regular = rendered_flux(e, "caustics_raytraced", scene, {"distance=hybrid", "grid=2048"});
+  const double adaptive = rendered_flux(e, "caustics_adaptive_hybrid", scene, {"grid=2048"});
   std::printf("n = 2.4: adaptive hybrid %.4f of the regular grid's hybrid map\n", adaptive / regular);
   EXPECT_GT(adaptive / regular, 0.92);
   EXPECT_LT(adaptive / regular, 1.02);
@@ -219,14 +219,14 @@ TEST(ExactPaths, HybridTracesTheFresnelReflectionsImageSpaceCannotFollow) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");
-  e.render("caustics_raytraced", scene, {"distance=ray_query", "grid=512"}, {"caustics"});
-  const double exact = map_flux(e.executor.read_image("caustics"));
+  const double exact = rendered_flux(e, "caustics_raytraced", scene, {"distance=ray_query", "grid=512"});
   double kept[3];
   const char* shares[] = {"0", "0.25", "1"};
   for (int i = 0; i < 3; ++i) {
-    auto frame = e.render("caustics_raytraced", scene, {"distance=hybrid", "grid=512", std::string("hybrid_reflections=") + shares[i]},
-                          {"caustics"});
-    kept[i] = map_flux(e.executor.read_image("caustics")) / exact;
+    graph::FrameResult frame;
+    kept[i] = rendered_flux(e, "caustics_raytraced", scene, {"distance=hybrid", "grid=512", std::string("hybrid_reflections=") + shares[i]},
+                            &frame) /
+              exact;
     const double reasons =
         sum_of(frame, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
                        "photons.retraced.multiple_refractors", "photons.retraced.no_landing", "photons.retraced.reflection"});
@@ -294,20 +294,19 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
       "photons.retraced.reflection", "photons.splatted", "photons.converged"};
   const std::vector<std::pair<const char*, std::vector<std::string>>> runs{{"caustics_adaptive_hybrid", {"grid=1024"}},
                                                                            {"caustics_raytraced", {"distance=hybrid", "grid=512"}}};
-  for (const auto& [graph, sets] : runs) {
-    auto first = e.render(graph, scene, sets, {"caustics"});
-    const double first_flux = map_flux(e.executor.read_image("caustics"));
-    auto again = e.render(graph, scene, sets, {"caustics"});
-    const double again_flux = map_flux(e.executor.read_image("caustics"));
-    std::printf("%s: %.0f photons processed, %.0f traced exactly; map flux %.6f and %.6f\n", graph, first.counters.at("photons.processed"),
-                first.counters.at("photons.exact"), first_flux, again_flux);
-    EXPECT_GT(first.counters.at("photons.exact"), 0.0) << graph;
+  for (const auto& [graph_name, sets] : runs) {
+    graph::FrameResult first, again;
+    const double first_flux = rendered_flux(e, graph_name, scene, sets, &first),
+                 again_flux = rendered_flux(e, graph_name, scene, sets, &again);
+    std::printf("%s: %.0f photons processed, %.0f traced exactly; map flux %.6f and %.6f\n", graph_name,
+                first.counters.at("photons.processed"), first.counters.at("photons.exact"), first_flux, again_flux);
+    EXPECT_GT(first.counters.at("photons.exact"), 0.0) << graph_name;
     for (const auto& name : counters) {
       if (first.counters.count(name)) {
-        EXPECT_EQ(first.counters.at(name), again.counters.at(name)) << graph << " " << name;
+        EXPECT_EQ(first.counters.at(name), again.counters.at(name)) << graph_name << " " << name;
       }
     }
-    EXPECT_NEAR(again_flux, first_flux, 1e-5 * first_flux) << graph;  // float atomics add in any order
+    EXPECT_NEAR(again_flux, first_flux, 1e-5 * first_flux) << graph_name;  // float atomics add in any order
   }
 }
 

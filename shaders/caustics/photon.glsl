@@ -52,7 +52,6 @@ struct Photon {
   bool landed;     // reached a receiver at `texel` of the caustic map
   ivec2 texel;
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
-  bool exact;      // traced with ray queries: absorption and every loss are already counted
   bool random;     // its path drew random numbers (Fresnel choices, rough facets)
   // The hybrid's Fresnel reflection split off an image-space path (below): traced exactly, it
   // lands at side_texel with side_power when side_landed. It draws its own random numbers, which
@@ -97,7 +96,6 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
 // hit, entering, power, landed, texel, landing; what does not land is counted by where it went
 // (escaped, trapped, off the map, absorbed).
 void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
-  ph.exact = true;
   uint rng = start.rng;
   vec3 origin = start.origin, direction = start.direction;
   int inside = start.inside;  // the refractor the photon travels in
@@ -313,7 +311,6 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   ph.entering = 0.0;
   ph.texel = ivec2(0);
   ph.landing = vec2(0.0);
-  ph.exact = false;
   ph.random = false;
   ph.side_landed = false;
   ph.side_texel = ivec2(0);
@@ -427,7 +424,6 @@ void finish_photon(inout Photon ph, uint next, ExactStart start, LightData light
   bool landed = (done.flags & EXACT_JOB_LANDED) != 0u;
   ivec2 texel = clamp(ivec2(done.landing), ivec2(0), imageSize(caustic_map).xy - 1);
   if (next == TRACE_FROM_LIGHT) {
-    ph.exact = true;
     ph.power = done.power;
     ph.entering = done.entering;
     ph.hit = (done.flags & EXACT_JOB_HIT) != 0u;
