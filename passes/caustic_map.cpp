@@ -24,11 +24,13 @@ class CausticMapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     if (!setup.vk().float_atomics()) {
-      throw DeviceError(setup.vk().device_name() + " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
+      throw DeviceError(setup.vk().device_name() +
+                        " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
                         "(VK_EXT_shader_atomic_float), which caustic_map splats photons with");
     }
     using Kind = graph::PassSetup::CounterKind;
-    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir", "photons.processed.level0"};
+    const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir",
+                            "photons.processed.level0"};
     const char* sums[] = {"caustic.flux", "caustic.flux_entering", "caustic.flux_dropped"};
     for (int i = 0; i < 5; ++i) slots_[i] = setup.add_counter(counts[i]);
     for (int i = 0; i < 3; ++i) slots_[5 + i] = setup.add_counter(sums[i], Kind::sum);
@@ -39,15 +41,19 @@ class CausticMapPass final : public graph::Pass {
     batches_slot_ = setup.add_counter("photons.batches");
     exact_.setup(setup);
     clear_ = make_caustic_clear_pipeline(setup);
-    photons_ = vk::make_compute_pipeline(
-        setup.vk(),
-        {"regular_photons",
-         exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
-         sizeof(PhotonPush), exact_.texture_array()},
-        setup.shaders().compile("caustics/regular_photons.comp", exact_.defines()));
+    const vk::PipelineDesc layout{
+        "regular_photons",
+        exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
+        sizeof(PhotonPush), exact_.texture_array()};
+    photons_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile("caustics/regular_photons.comp", exact_.defines()));
+    // Image space traces a dispersive scene's three colour bands in one dispatch (regular_photons.comp).
+    if (!exact_.traced()) {
+      photons_band_loop_ = vk::make_compute_pipeline(setup.vk(), layout,
+                                                     setup.shaders().compile("caustics/regular_photons.comp", {{"PHOTON_BAND_LOOP", "1"}}));
+    }
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -66,22 +72,24 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    const std::vector<uint32_t> bands = photon_bands(ctx.scene().scene());
+    const bool band_loop = photons_band_loop_.pipeline && ctx.scene().scene().disperses();
+    const vk::Pipeline& photons = band_loop ? photons_band_loop_ : photons_;
+    const std::vector<uint32_t> bands = band_loop ? std::vector<uint32_t>{kWhiteBand} : photon_bands(ctx.scene().scene());
     ctx.set_counter(batches_slot_, static_cast<uint32_t>(bands.size()));
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons_.pipeline.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons.pipeline.get());
     vk::DescriptorWriter writer = photon_descriptors(ctx);
     exact_.bind(ctx, writer);
-    writer.push(ctx.vk(), cmd, photons_);
-    exact_.bind_textures(ctx, photons_);
+    writer.push(ctx.vk(), cmd, photons);
+    exact_.bind_textures(ctx, photons);
     for (uint32_t band : bands) {  // the bands add into one map; atomics need no order between them
       push.band = band;
-      vkCmdPushConstants(cmd, photons_.layout.get(), photons_.stages, 0, sizeof(push), &push);
+      vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
       vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
     }
   }
 
  private:
-  vk::Pipeline clear_, photons_;
+  vk::Pipeline clear_, photons_, photons_band_loop_;
   ExactPaths exact_;
   uint32_t slots_[8] = {};
   uint32_t batches_slot_ = 0;

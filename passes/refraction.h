@@ -90,7 +90,7 @@ vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
 
 // The colour bands a photon pass traces each photon in: kWhiteBand alone (one path carries every
 // channel), or, when a refractor disperses light (KHR_materials_dispersion), red, green and blue,
-// each with its own index of refraction (caustics/photon.glsl, params.band).
+// each with its own index of refraction (caustics/photon.glsl, photon_band).
 inline constexpr uint32_t kWhiteBand = 3;
 std::vector<uint32_t> photon_bands(const scene::Scene& scene);
 // Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible

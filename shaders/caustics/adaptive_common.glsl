@@ -55,7 +55,7 @@ layout(push_constant) uniform Params {
   uint exact_counters;
   float exact_epsilon;
   uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
-  uint band;  // caustics/photon.glsl: BAND_WHITE, or the colour band traced
+  uint band;  // caustics/photon.glsl: BAND_WHITE or the colour band traced (unused with PHOTON_BAND_LOOP)
 } params;
 
 // Whether any light-view texel under a cluster's footprint at params.level shows a refractor: one

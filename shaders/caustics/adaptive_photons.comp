@@ -138,6 +138,17 @@ void trace_cluster(inout Photon ph[4], uvec2 cluster, uint side, float texel, bo
   }
 }
 
+// HIERARCHICAL: the last level's photons, traced and output.
+void trace_last_level(inout Photon ph[4], uvec2 cluster, uint side, float texel, bool last, LightData light) {
+  trace_cluster(ph, cluster, side, texel, last, light);
+  if (last) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+    count_n(PROCESSED, 4u);
+    count_n(PROCESSED_LEVEL, 4u);
+  }
+}
+
 shared uint any_second_look;
 
 void main() {
@@ -164,14 +175,20 @@ void main() {
   bool covers = has_cluster && covered(cluster);
   if (covers && params.level < params.max_level) refine(cluster);
   bool last = covers && params.level == params.max_level;
-  trace_cluster(ph, cluster, side, texel, last, light);
-  if (last) {
-    uint level = footprint_level(ph);
-    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-    count_n(PROCESSED, 4u);
-    count_n(PROCESSED_LEVEL, 4u);
+#ifdef PHOTON_BAND_LOOP
+  // The traversal does not look at photons, so it is the same for every colour band: with a
+  // dispersive refractor the last level traces its photons once per band (a variant of its own, as
+  // in regular_photons.comp).
+  for (uint band = 0u; band < 3u; ++band) {
+    photon_band = band;
+    trace_last_level(ph, cluster, side, texel, last, light);
   }
 #else
+  photon_band = params.band;
+  trace_last_level(ph, cluster, side, texel, last, light);
+#endif
+#else
+  photon_band = params.band;  // the traversal follows one band's photons
   bool any_hit = false, all_lost = true, converged = false, second_look = false;
   vec2 low, high, middle;
   // A cluster decided before the last level (converged, or lost) by photons whose paths drew

@@ -3,7 +3,7 @@
 // One photon from a spot light through the light-view refractor buffers to the receivers, shared by
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
 // back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search_steps,
-// search_distance, light, fresnel (see refraction.glsl) and band, and the exact-path fields
+// search_distance, light, fresnel (see refraction.glsl), and the exact-path fields
 // exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and
 // hybrid_reflections as two halves: the push constants have no room for another word).
 //
@@ -25,9 +25,11 @@ const uint RETRACED_REFLECTION = 10u;  // and one for a Fresnel reflection split
 const uint EXACT_FLUX_ESCAPED = 11u, EXACT_FLUX_TRAPPED = 12u, EXACT_FLUX_OFF_MAP = 13u, EXACT_FLUX_ABSORBED = 14u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
-// dispersive refractor, the pass traces every photon once per colour band (params.band), each with
-// that band's index of refraction (refraction.glsl's band_ior) and its power in that channel only.
+// dispersive refractor, the pass traces every photon once per colour band (photon_band, which the
+// kernel sets before begin_photon), each with that band's index of refraction (refraction.glsl's
+// band_ior) and its power in that channel only.
 // Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
+uint photon_band = BAND_WHITE;
 float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
 void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
 
@@ -136,7 +138,7 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
     vec3 m = microfacet_normal(n, direction, roughness, rng);
     bool entering = inside < 0;
     bool thin = thin_walled(object);
-    float ior = band_ior(object, params.band);
+    float ior = band_ior(object, photon_band);
     vec3 transmitted = thin ? through_thin(direction, m, n) : refract(direction, m, entering ? 1.0 / ior : ior);
     bool total_internal = dot(transmitted, transmitted) == 0.0;
     float reflectance = total_internal ? 1.0 : 0.0;
@@ -190,7 +192,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   ph.entering = channel_mean(ph.power);
   vec3 p1 = eye + direction * front.y;
   if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
-    float ior = band_ior(object, params.band);
+    float ior = band_ior(object, photon_band);
     vec4 back = texture(back_tex, uv);
     bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
     float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
@@ -233,7 +235,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   }
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, params.band), uv,
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, photon_band), uv,
                                               transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
@@ -329,7 +331,7 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   if (!directional) origin = perspective_origin(eye);
   float cone = spot_cone(light, direction);
   float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
-  ph.power = params.band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(params.band)));
+  ph.power = photon_band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(photon_band)));
   start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
   if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
