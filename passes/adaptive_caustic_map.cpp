@@ -128,13 +128,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         sizeof(AdaptivePush), exact_.texture_array()};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
-    photons_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", exact_.defines(defines)));
-    // The hierarchical traversal traces a dispersive scene's three colour bands in one pass, in
-    // image space (adaptive_photons.comp); the adaptive one follows each band's photons.
-    if (hierarchical_ && !exact_.traced()) {
-      defines["PHOTON_BAND_LOOP"] = "1";
-      photons_band_loop_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_photons.comp", defines));
-    }
+    // The hierarchical traversal does not look at its photons, so in image space its last level can
+    // trace every colour band in one pass; the adaptive one follows each band's photons.
+    photons_.build(setup, layout, "caustics/adaptive_photons.comp", exact_.defines(defines), hierarchical_ && !exact_.traced());
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
@@ -157,9 +153,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    const bool band_loop = photons_band_loop_.pipeline && ctx.scene().scene().disperses();
-    const vk::Pipeline& photons = band_loop ? photons_band_loop_ : photons_;
-    const std::vector<uint32_t> bands = band_loop ? std::vector<uint32_t>{kWhiteBand} : photon_bands(ctx.scene().scene());
+    const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
+    const vk::Pipeline& photons = passes.pipeline;
+    const std::vector<uint32_t>& bands = passes.bands;
     ctx.set_counter(batches_slot_, batches * static_cast<uint32_t>(bands.size()));
     // The caustic map (level 0) and the coarser levels start at zero, after the previous frame's
     // combine read them.
@@ -272,7 +268,8 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   bool hierarchical_;
   bool uses_coverage_ = false;
   float converge_spread_ = 0.0f;
-  vk::Pipeline photons_, photons_band_loop_, args_, combine_, coverage_pipeline_, levels_, clear_;
+  vk::Pipeline args_, combine_, coverage_pipeline_, levels_, clear_;
+  PhotonKernel photons_;
   vk::Buffer lists_, control_, coverage_, pyramid_;
   ExactPaths exact_;
   uint32_t max_level_ = 0, converge_level_ = 0, capacity_ = 0, starts_per_batch_ = 1, light_size_log2_ = 0, splat_levels_ = 1;

@@ -48,12 +48,7 @@ class CausticMapPass final : public graph::Pass {
                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
         sizeof(PhotonPush), exact_.texture_array()};
-    photons_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile("caustics/regular_photons.comp", exact_.defines()));
-    // Image space traces a dispersive scene's three colour bands in one dispatch (regular_photons.comp).
-    if (!exact_.traced()) {
-      photons_band_loop_ = vk::make_compute_pipeline(setup.vk(), layout,
-                                                     setup.shaders().compile("caustics/regular_photons.comp", {{"PHOTON_BAND_LOOP", "1"}}));
-    }
+    photons_.build(setup, layout, "caustics/regular_photons.comp", exact_.defines(), !exact_.traced());
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -72,16 +67,15 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    const bool band_loop = photons_band_loop_.pipeline && ctx.scene().scene().disperses();
-    const vk::Pipeline& photons = band_loop ? photons_band_loop_ : photons_;
-    const std::vector<uint32_t> bands = band_loop ? std::vector<uint32_t>{kWhiteBand} : photon_bands(ctx.scene().scene());
-    ctx.set_counter(batches_slot_, static_cast<uint32_t>(bands.size()));
+    const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
+    const vk::Pipeline& photons = passes.pipeline;
+    ctx.set_counter(batches_slot_, static_cast<uint32_t>(passes.bands.size()));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons.pipeline.get());
     vk::DescriptorWriter writer = photon_descriptors(ctx);
     exact_.bind(ctx, writer);
     writer.push(ctx.vk(), cmd, photons);
     exact_.bind_textures(ctx, photons);
-    for (uint32_t band : bands) {  // the bands add into one map; atomics need no order between them
+    for (uint32_t band : passes.bands) {  // the bands add into one map; atomics need no order between them
       push.band = band;
       vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
       vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
@@ -89,7 +83,8 @@ class CausticMapPass final : public graph::Pass {
   }
 
  private:
-  vk::Pipeline clear_, photons_, photons_band_loop_;
+  vk::Pipeline clear_;
+  PhotonKernel photons_;
   ExactPaths exact_;
   uint32_t slots_[8] = {};
   uint32_t batches_slot_ = 0;

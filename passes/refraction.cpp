@@ -239,8 +239,21 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-std::vector<uint32_t> photon_bands(const scene::Scene& scene) {
-  return scene.disperses() ? std::vector<uint32_t>{0, 1, 2} : std::vector<uint32_t>{kWhiteBand};
+void PhotonKernel::build(graph::PassSetup& setup, const vk::PipelineDesc& layout, const std::string& shader, const shader::Defines& defines,
+                         bool band_loop) {
+  white_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile(shader, defines));
+  band_loop_ = {};
+  if (band_loop) {
+    shader::Defines loop = defines;
+    loop["PHOTON_BAND_LOOP"] = "1";
+    band_loop_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile(shader, loop));
+  }
+}
+
+PhotonKernel::Passes PhotonKernel::passes(const scene::Scene& scene) const {
+  if (!scene.disperses()) return {white_, {kWhiteBand}};
+  if (band_loop_.pipeline) return {band_loop_, {kWhiteBand}};  // the kernel loops over the bands
+  return {white_, {0, 1, 2}};
 }
 
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {

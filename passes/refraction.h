@@ -88,11 +88,27 @@ std::vector<graph::PortDecl> photon_ports();
 // caustic map, counters as uint and as float.
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
 
-// The colour bands a photon pass traces each photon in: kWhiteBand alone (one path carries every
-// channel), or, when a refractor disperses light (KHR_materials_dispersion), red, green and blue,
-// each with its own index of refraction (caustics/photon.glsl, photon_band).
+// A photon pass's kernel. Photons are white (kWhiteBand: one path carries every channel), or, when
+// a refractor disperses light (KHR_materials_dispersion), traced once per colour band, red, green
+// and blue (0, 1, 2), each with its own index of refraction (caustics/photon.glsl, photon_band).
+// Where `band_loop` is asked for (image space), a variant (PHOTON_BAND_LOOP) traces the three bands
+// in one pass over the grid; the white kernel must not carry that loop, which slowed white photons
+// on lavapipe (docs/caustics.md). Elsewhere each band is a dispatch of the white kernel.
 inline constexpr uint32_t kWhiteBand = 3;
-std::vector<uint32_t> photon_bands(const scene::Scene& scene);
+class PhotonKernel {
+ public:
+  void build(graph::PassSetup& setup, const vk::PipelineDesc& layout, const std::string& shader, const shader::Defines& defines,
+             bool band_loop);
+  // What to dispatch for `scene`: the pipeline, and the push constant `band` of each pass over the grid.
+  struct Passes {
+    const vk::Pipeline& pipeline;
+    std::vector<uint32_t> bands;
+  };
+  Passes passes(const scene::Scene& scene) const;
+
+ private:
+  vk::Pipeline white_, band_loop_;
+};
 // Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible
 // to the compute shaders that follow.
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup);
