@@ -18,6 +18,7 @@ class DeferredRefractionPass final : public graph::Pass {
                                                        {name + ".retraced.off_surface", Kind::count},
                                                        {name + ".retraced.multiple_refractors", Kind::count},
                                                        {name + ".retraced.off_screen", Kind::count},
+                                                       {name + ".retraced.refractor_ahead", Kind::count},
                                                        {name + ".trapped_pixels", Kind::count}});
     exact_.setup(setup);
     shading_.setup(setup, graph::format_info(setup.resource("color").format).vk, &exact_);

@@ -167,7 +167,7 @@ void ExactPaths::setup(graph::PassSetup& setup) {
   RayQueryScene::setup(setup);
   using Kind = graph::PassSetup::CounterKind;
   // The order of caustics/photon.glsl's EXACT_* constants (the retraced ones in refraction.glsl's EXIT_* order, then
-  // RETRACED_NO_LANDING and RETRACED_REFLECTION).
+  // RETRACED_NO_LANDING, RETRACED_REFRACTOR_AHEAD and RETRACED_REFLECTION).
   first_counter_ = add_consecutive_counters(setup, {{"photons.exact", Kind::count},
                                                     {"photons.escaped", Kind::count},
                                                     {"photons.trapped", Kind::count},
@@ -178,6 +178,7 @@ void ExactPaths::setup(graph::PassSetup& setup) {
                                                     {"photons.retraced.off_surface", Kind::count},
                                                     {"photons.retraced.multiple_refractors", Kind::count},
                                                     {"photons.retraced.no_landing", Kind::count},
+                                                    {"photons.retraced.refractor_ahead", Kind::count},
                                                     {"photons.retraced.reflection", Kind::count},
                                                     {"caustic.flux_escaped", Kind::sum},
                                                     {"caustic.flux_trapped", Kind::sum},

@@ -20,9 +20,10 @@
 // add_exact_path_counters, names them in this order).
 const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_MAP = 3u, EXACT_REFLECTED_OUTSIDE = 4u;
 const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order,
-const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that meets no receiver in the light's depth map,
-const uint RETRACED_REFLECTION = 10u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
-const uint EXACT_FLUX_ESCAPED = 11u, EXACT_FLUX_TRAPPED = 12u, EXACT_FLUX_OFF_MAP = 13u, EXACT_FLUX_ABSORBED = 14u;
+const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that lands nowhere on the caustic map,
+const uint RETRACED_REFRACTOR_AHEAD = 10u;  // one for a trusted exit ray that meets a refractor,
+const uint RETRACED_REFLECTION = 11u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
+const uint EXACT_FLUX_ESCAPED = 12u, EXACT_FLUX_TRAPPED = 13u, EXACT_FLUX_OFF_MAP = 14u, EXACT_FLUX_ABSORBED = 15u;
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (photon_band, which the
@@ -238,34 +239,48 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, photon_band), uv,
                                               transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
-  // trusted; one counter per reason (the first that applies). An untrusted photon is not marched.
-  uint reason = EXIT_TRUSTED;
-#ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_HYBRID) reason = untrusted_exit(path, front.w, texture(back_tex, uv), unpackHalf2x16(params.hybrid_packed).x);
-#endif
-  // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
-  // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
+  // trusted; one counter per reason (the first that applies).
   vec2 landing;
-  bool lands = reason == EXIT_TRUSTED && !path.tir &&
-               march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
+  bool lands = false;
 #ifdef CAUSTICA_RAY_QUERY
   if (params.distance_mode == DISTANCE_HYBRID) {
-    if (lands &&
-        crosses_other_refractor(path.exit_point, world_from_depth(light.inv_view_proj, landing, texture(receiver_depth, landing).r), uint(front.w))) {
-      reason = EXIT_MULTIPLE;
-    }
+    float tolerance = unpackHalf2x16(params.hybrid_packed).x;
+    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), tolerance);
     if (reason != EXIT_TRUSTED) {
       exact_count(RETRACED_FIRST + reason - EXIT_TIR);
       return TRACE_FROM_LIGHT;
     }
-    // The light's depth map holds only what the light sees: an exit ray that meets none of it may
-    // still land (on a receiver hidden from the light, or the refractor again) or leave the map.
-    if (!lands) {
+    // A trusted path's exit ray is traced exactly: image space sees one refractor layer, so an exit
+    // ray that meets a refractor again (its own, another fold of a concave one, or another one)
+    // cannot be followed there, and the receiver march lands a photon only to the light map's
+    // precision. The exit point may lie inside the surface it leaves, by up to the tolerance.
+    vec3 exit_from = path.exit_point;
+    SurfaceHit h = trace_exit_ray(exit_from, path.exit_direction, uint(front.w), tolerance * path.distance + params.exact_epsilon, params.exact_epsilon);
+    if (h.hit && objects[h.object].albedo_refractor.a >= 0.5) {
+      exact_count(RETRACED_REFRACTOR_AHEAD);
+      return TRACE_FROM_LIGHT;
+    }
+    // One that lands nowhere on the map leaves the refractor where image space is least sure of it
+    // (near its outline, bent the most): re-traced, which measured better than trusting it.
+    float depth;
+    vec3 ground = exit_from + path.exit_direction * h.t;
+    if (!h.hit || !project_with(light.view_proj, ground, landing, depth) || any(greaterThanEqual(landing, vec2(1.0)))) {
       exact_count(RETRACED_NO_LANDING);
       return TRACE_FROM_LIGHT;
     }
-  }
+    // Another refractor's bounds on the way: the estimated ray may just miss what the true one meets.
+    if (crosses_other_refractor(path.exit_point, ground, uint(front.w))) {
+      exact_count(RETRACED_FIRST + EXIT_MULTIPLE - EXIT_TIR);
+      return TRACE_FROM_LIGHT;
+    }
+    lands = true;
+  } else
 #endif
+  {
+    // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
+    // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
+    lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
+  }
   if (path.tir) {
     ph.tir = true;
     return IMAGE_SPACE_DONE;

@@ -32,10 +32,14 @@ layout(location = 0) out vec4 out_color;
 
 #ifdef CAUSTICA_RAY_QUERY
 // The hybrid's image-space answer, or the reason it is not trusted: untrusted_exit's, or, for the
-// exit ray, CAMERA_OFF_SCREEN when it leaves the image (the search cannot say what it meets) and
-// EXIT_MULTIPLE when it may cross another refractor on the way to the background. An untrusted
-// pixel is traced whole: tracing only its exit ray from the estimated exit point, which need not
-// lie on the surface, was measured to be far worse (docs/exact_paths.md).
+// exit ray (traced exactly), CAMERA_REFRACTOR_AHEAD when it meets a refractor (its own again, or
+// another), which one image-space layer cannot follow; CAMERA_OFF_SCREEN when the camera does not
+// see what it meets (or it meets nothing): such rays leave near the outline, where the estimate is
+// least sure, and re-tracing them measured better than shading what they meet; and EXIT_MULTIPLE
+// when it passes another refractor's bounds (measured better than trusting the estimated ray's near
+// misses). A trusted exit ray sees the lit image where the camera sees its hit. An untrusted pixel is traced whole: tracing
+// only its exit ray from the estimated exit point, which need not lie on the surface, was measured
+// to be far worse (docs/exact_paths.md).
 uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
   ObjectData object = objects[uint(front.w)];
   vec3 eye = frame.camera_position.xyz;
@@ -55,9 +59,14 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
                                                   transmission_roughness(object), rng);
       uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
       if (reason != EXIT_TRUSTED) return reason;
+      vec3 exit_from = path.exit_point;
+      SurfaceHit h = trace_exit_ray(exit_from, path.exit_direction, uint(front.w), params.hybrid_tolerance * path.distance + params.exact_epsilon,
+                                    params.exact_epsilon);
+      if (h.hit && objects[h.object].albedo_refractor.a >= 0.5) return CAMERA_REFRACTOR_AHEAD;
       vec2 behind_uv;
-      if (march_depth(depth_tex, frame.view_proj, path.exit_point, path.exit_direction, behind_uv) != MARCH_HIT) return CAMERA_OFF_SCREEN;
-      vec3 behind = world_from_depth(frame.inv_view_proj, behind_uv, texture(depth_tex, behind_uv).r);
+      vec3 behind = exit_from + path.exit_direction * h.t;
+      if (!h.hit || !seen_on_screen(behind, behind_uv)) return CAMERA_OFF_SCREEN;
+      // Another refractor's bounds on the way: the estimated ray may just miss what the true one meets.
       if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
       vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
       if (band == BAND_WHITE) radiance += seen;

@@ -549,23 +549,26 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
 // Exact camera paths (distance ray_query, and hybrid where the image-space exit is not trusted).
 // Needs params.exact_max_interfaces, exact_epsilon and exact_counters: consecutive counter slots
 // for the pixels traced exactly, the hybrid's reasons (EXIT_TIR .. EXIT_MULTIPLE, then
-// CAMERA_OFF_SCREEN) and the rays trapped inside after exact_max_interfaces interfaces.
-const uint CAMERA_EXACT = 0u, CAMERA_OFF_SCREEN = 5u, CAMERA_TRAPPED = 6u;
+// CAMERA_OFF_SCREEN, CAMERA_REFRACTOR_AHEAD) and the rays trapped inside after exact_max_interfaces
+// interfaces.
+const uint CAMERA_EXACT = 0u, CAMERA_OFF_SCREEN = 5u, CAMERA_REFRACTOR_AHEAD = 6u, CAMERA_TRAPPED = 7u;
 void camera_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 
-// Direct light at an opaque point an exact path reached: the lit background where the camera sees
-// that very point (it carries the frame's shadow map and caustics); elsewhere (off screen, or
-// hidden behind opaque geometry) scene/lighting.frag's model with an exact shadow ray for the first
-// spot light, as the ray-traced reference does, and no caustic.
-vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
-  vec3 eye = frame.camera_position.xyz;
-  vec2 uv;
+// Whether the camera sees the very point p (at `uv`): on screen and not hidden behind opaque geometry.
+bool seen_on_screen(vec3 p, out vec2 uv) {
   float depth;
-  if (project_to_screen(p, uv, depth)) {
-    vec3 seen = world_from_depth(frame.inv_view_proj, uv, texture(depth_tex, uv).r);
-    if (distance(seen, p) <= 0.01 * distance(p, eye) + 4.0 * params.exact_epsilon) return texture(background_tex, uv).rgb;
-  }
-  return lambert(p, n, albedo, true);
+  if (!project_to_screen(p, uv, depth)) return false;
+  vec3 seen = world_from_depth(frame.inv_view_proj, uv, texture(depth_tex, uv).r);
+  return distance(seen, p) <= 0.01 * distance(p, frame.camera_position.xyz) + 4.0 * params.exact_epsilon;
+}
+
+// Direct light at an opaque point an exact path reached: the lit background where the camera sees
+// that very point (it carries the frame's shadow map and caustics); elsewhere scene/lighting.frag's
+// model with an exact shadow ray for the first spot light, as the ray-traced reference does, and no
+// caustic.
+vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
+  vec2 uv;
+  return seen_on_screen(p, uv) ? texture(background_tex, uv).rgb : lambert(p, n, albedo, true);
 }
 
 // Radiance along a camera ray traced through every interface, as the ray-traced reference does:

@@ -59,6 +59,19 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
   return h;
 }
 
+// The surface that the exit ray of an image-space path through refractor `own` meets. The estimated
+// exit point `origin` may lie inside the surface it leaves, by up to `slack` along the ray: a first
+// hit that leaves `own` within it is that surface, and the ray goes on from there (`origin` becomes
+// where the returned hit's distance is measured from).
+SurfaceHit trace_exit_ray(inout vec3 origin, vec3 direction, uint own, float slack, float t_min) {
+  SurfaceHit h = trace_surface(origin, direction, t_min);
+  if (h.hit && h.object == own && dot(h.normal, direction) > 0.0 && h.t <= slack) {
+    origin += direction * h.t;
+    h = trace_surface(origin, direction, t_min);
+  }
+  return h;
+}
+
 // A refractor's transmission roughness where a ray meets it: per texel where its material has a
 // metallic-roughness texture (roughnessFactor times its green channel, at the full-resolution
 // level, as the Embree references read it); the image-space methods take the object's mean
