@@ -227,10 +227,9 @@ TEST(ExactPaths, HybridTracesTheFresnelReflectionsImageSpaceCannotFollow) {
     kept[i] = rendered_flux(e, "caustics_raytraced", scene, {"distance=hybrid", "grid=512", std::string("hybrid_reflections=") + shares[i]},
                             &frame) /
               exact;
-    const double reasons =
-        sum_of(frame, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
-                       "photons.retraced.multiple_refractors", "photons.retraced.no_landing", "photons.retraced.refractor_ahead",
-                       "photons.retraced.reflection"});
+    const double reasons = sum_of(frame, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
+                                          "photons.retraced.multiple_refractors", "photons.retraced.no_landing",
+                                          "photons.retraced.refractor_ahead", "photons.retraced.reflection"});
     std::printf("hybrid_reflections %s: %.4f of the ray-query map's flux; %.0f reflections traced, %.0f photons traced exactly\n",
                 shares[i], kept[i], frame.counters.at("photons.retraced.reflection"), frame.counters.at("photons.exact"));
     // A re-traced photon whose exact path misses the refractor (past its silhouette) is not exact.
@@ -290,9 +289,14 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");
-  const std::vector<std::string> counters{
-      "photons.processed",           "photons.exact",    "photons.retraced.tir", "photons.retraced.no_landing", "photons.retraced.refractor_ahead",
-      "photons.retraced.reflection", "photons.splatted", "photons.converged"};
+  const std::vector<std::string> counters{"photons.processed",
+                                          "photons.exact",
+                                          "photons.retraced.tir",
+                                          "photons.retraced.no_landing",
+                                          "photons.retraced.refractor_ahead",
+                                          "photons.retraced.reflection",
+                                          "photons.splatted",
+                                          "photons.converged"};
   const std::vector<std::pair<const char*, std::vector<std::string>>> runs{{"caustics_adaptive_hybrid", {"grid=1024"}},
                                                                            {"caustics_raytraced", {"distance=hybrid", "grid=512"}}};
   for (const auto& [graph_name, sets] : runs) {
@@ -321,9 +325,9 @@ TEST(ExactPaths, HybridRetracesWhereTheEstimateFails) {
   const test::ExactLens lens = test::exact_ball_lens(*scene, {0.5});
   auto image_space = e.render("caustics_adaptive", scene, {"fresnel=false"}, {});
   auto hybrid = e.render("caustics_adaptive_hybrid", scene, {"fresnel=false"}, {});
-  const double retraced = sum_of(hybrid, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
-                                          "photons.retraced.multiple_refractors", "photons.retraced.no_landing",
-                                          "photons.retraced.refractor_ahead"});
+  const double retraced =
+      sum_of(hybrid, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
+                      "photons.retraced.multiple_refractors", "photons.retraced.no_landing", "photons.retraced.refractor_ahead"});
   const double exact_landed = lens.landed * test::flux_into_ball(*scene);
   std::printf(
       "landed: image space %.4f, hybrid %.4f, exact %.4f; re-traced %.0f of %.0f photons (tir %.0f, empty back %.0f, off surface %.0f)\n",
@@ -417,16 +421,16 @@ TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
     const CameraRun hybrid = camera_refraction(e, "refraction_hybrid", scene, reference);
     const CameraRun search = camera_refraction(e, "refraction_deferred", scene, reference, {"distance=search"});
     const auto& c = hybrid.frame.counters;
-    const double reasons =
-        sum_of(hybrid.frame, {"refraction.retraced.tir", "refraction.retraced.empty_back", "refraction.retraced.off_surface",
-                              "refraction.retraced.multiple_refractors", "refraction.retraced.off_screen",
-                              "refraction.retraced.refractor_ahead"});
+    const double reasons = sum_of(
+        hybrid.frame, {"refraction.retraced.tir", "refraction.retraced.empty_back", "refraction.retraced.off_surface",
+                       "refraction.retraced.multiple_refractors", "refraction.retraced.off_screen", "refraction.retraced.refractor_ahead"});
     std::printf(
         "%-16s relative L1: hybrid %.4f, ray query %.4f, search %.4f; traced %.0f of %.0f pixels (tir %.0f, empty back %.0f, off "
         "surface %.0f, other refractor %.0f, off screen %.0f, refractor ahead %.0f)\n",
         name, hybrid.error, exact.error, search.error, c.at("refraction.exact_pixels"), exact.frame.counters.at("refraction.exact_pixels"),
         c.at("refraction.retraced.tir"), c.at("refraction.retraced.empty_back"), c.at("refraction.retraced.off_surface"),
-        c.at("refraction.retraced.multiple_refractors"), c.at("refraction.retraced.off_screen"), c.at("refraction.retraced.refractor_ahead"));
+        c.at("refraction.retraced.multiple_refractors"), c.at("refraction.retraced.off_screen"),
+        c.at("refraction.retraced.refractor_ahead"));
     EXPECT_EQ(reasons, c.at("refraction.exact_pixels")) << name;  // every traced pixel has exactly one reason
     EXPECT_LT(hybrid.error, 2.5 * exact.error) << name;
     EXPECT_LT(hybrid.error, search.error) << name;
