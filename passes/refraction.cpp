@@ -134,8 +134,14 @@ uint32_t add_consecutive_counters(graph::PassSetup& setup,
   return first;
 }
 
+void RayQueryScene::setup(const graph::PassSetup& setup) {
+  traced_ = traces_exact_paths(setup.pass().params);
+  hybrid_ = setup.pass().params.value("distance", std::string()) == "hybrid";
+}
+
 shader::Defines RayQueryScene::defines(shader::Defines defines) const {
   if (traced_) defines["CAUSTICA_RAY_QUERY"] = "1";
+  if (hybrid_) defines["CAUSTICA_HYBRID"] = "1";
   return defines;
 }
 

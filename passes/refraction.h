@@ -36,13 +36,17 @@ extern const char* const kCameraRayQueryAlternative;
 uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names);
 
 // What a pass that traces exact paths needs where its parameters ask for them: the shader variant
-// (CAUSTICA_RAY_QUERY) and bindings 14 (the scene's top-level acceleration structure) and 15 (its
-// triangles), as shaders/scene/ray_query.glsl declares them.
+// (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid) and bindings 14 (the scene's
+// top-level acceleration structure) and 15 (its triangles), as shaders/scene/ray_query.glsl declares
+// them.
 class RayQueryScene {
  public:
-  void setup(const graph::PassSetup& setup) { traced_ = traces_exact_paths(setup.pass().params); }
+  void setup(const graph::PassSetup& setup);
   bool traced() const { return traced_; }
-  // CAUSTICA_RAY_QUERY when traced.
+  // CAUSTICA_RAY_QUERY when traced; CAUSTICA_HYBRID too for the hybrid, whose checks, traced exit
+  // rays and side paths the other exact kernels must not carry: lavapipe compiles a kernel within its
+  // first frame, and each inlined ray query lengthens that (under AddressSanitizer the ray-query photon
+  // kernel with the hybrid's code in it took a test's first frame past the 120 s limit).
   shader::Defines defines(shader::Defines defines = {}) const;
   // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
   std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
@@ -53,7 +57,7 @@ class RayQueryScene {
   void bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const;
 
  private:
-  bool traced_ = false;
+  bool traced_ = false, hybrid_ = false;
 };
 
 // Mirrors the exact-path fields at the end of the photon shaders' push constants.

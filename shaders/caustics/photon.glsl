@@ -7,8 +7,8 @@
 // exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and
 // hybrid_reflections as two halves: the push constants have no room for another word).
 //
-// With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query or
-// hybrid), photons can also be traced exactly through the scene's acceleration structures: every
+// With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query, hybrid
+// or material; CAUSTICA_HYBRID too for hybrid), photons can also be traced exactly through the scene's acceleration structures: every
 // interface, Fresnel reflection or transmission chosen by a deterministic random number, total
 // internal reflection followed, absorption, up to exact_max_interfaces refractor interfaces.
 #extension GL_EXT_shader_atomic_float : require
@@ -242,8 +242,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // trusted; one counter per reason (the first that applies).
   vec2 landing;
   bool lands = false;
-#ifdef CAUSTICA_RAY_QUERY
-  if (params.distance_mode == DISTANCE_HYBRID) {
+#ifdef CAUSTICA_HYBRID
+  {
     float tolerance = unpackHalf2x16(params.hybrid_packed).x;
     uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), tolerance);
     if (reason != EXIT_TRUSTED) {
@@ -274,27 +274,26 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
       return TRACE_FROM_LIGHT;
     }
     lands = true;
-  } else
-#endif
-  {
-    // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
-    // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
-    lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
   }
+#else
+  // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
+  // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
+  lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
+#endif
   if (path.tir) {
     ph.tir = true;
     return IMAGE_SPACE_DONE;
   }
   vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
   uint next = IMAGE_SPACE_DONE;
-#ifdef CAUSTICA_RAY_QUERY
+#ifdef CAUSTICA_HYBRID
   // The Fresnel reflections that image space cannot follow (off the entry, or back inside at the
   // exit, where at n = 2.4 a fifth of the light turns) land too: the path keeps its transmitted
   // share, and one random choice picks which reflection, if any, to trace exactly with the rest of
   // the power, each with its probability times the share `hybrid_reflections` of photons that
   // trace one, and its power divided by that share (so the map's expectation stays the same).
   float share = unpackHalf2x16(params.hybrid_packed).y;
-  if (params.distance_mode == DISTANCE_HYBRID && params.fresnel != 0u && share > 0.0) {
+  if (params.fresnel != 0u && share > 0.0) {
     float reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
     float choice = next_uniform(rng) / share;
     if (choice < reflect_in) {

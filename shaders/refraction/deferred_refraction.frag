@@ -1,8 +1,8 @@
 #version 460
 // Deferred refraction: one full-screen pass over the refractor buffers; each pixel is shaded once,
 // for the nearest refractor surface only. Compiled with CAUSTICA_RAY_QUERY when the pass's
-// `distance` is ray_query (every pixel traced exactly) or hybrid (the image-space search, traced
-// exactly where it cannot be trusted).
+// `distance` is ray_query (every pixel traced exactly), material, or hybrid (the image-space search,
+// traced exactly where it cannot be trusted; CAUSTICA_HYBRID too).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
@@ -30,7 +30,7 @@ layout(push_constant) uniform Params {
 
 layout(location = 0) out vec4 out_color;
 
-#ifdef CAUSTICA_RAY_QUERY
+#ifdef CAUSTICA_HYBRID
 // The hybrid's image-space answer, or the reason it is not trusted: untrusted_exit's, or, for the
 // exit ray (traced exactly), CAMERA_REFRACTOR_AHEAD when it meets a refractor (its own again, or
 // another), which one image-space layer cannot follow; CAMERA_OFF_SCREEN when the camera does not
@@ -108,8 +108,11 @@ void main() {
   if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {
     vec3 radiance;
     uint reason = EXIT_TRUSTED;
-    if (params.distance_mode == DISTANCE_HYBRID) reason = hybrid_radiance(p1, front, uv, radiance);
-    if (params.distance_mode != DISTANCE_HYBRID || reason != EXIT_TRUSTED) {
+#ifdef CAUSTICA_HYBRID
+    reason = hybrid_radiance(p1, front, uv, radiance);
+    if (reason != EXIT_TRUSTED)
+#endif
+    {
       camera_count(CAMERA_EXACT);
       if (reason != EXIT_TRUSTED) camera_count(reason);
       radiance = trace_camera_exact(eye, ray, uv);

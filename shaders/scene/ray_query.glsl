@@ -62,12 +62,18 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
 // The surface that the exit ray of an image-space path through refractor `own` meets. The estimated
 // exit point `origin` may lie inside the surface it leaves, by up to `slack` along the ray: a first
 // hit that leaves `own` within it is that surface, and the ray goes on from there (`origin` becomes
-// where the returned hit's distance is measured from).
+// where the returned hit's distance is measured from). One call site of trace_surface, in a loop of
+// at most two rounds, because every inlined copy of it lengthens lavapipe's shader compile, which
+// under the sanitizers happens inside the first frame's time limit.
 SurfaceHit trace_exit_ray(inout vec3 origin, vec3 direction, uint own, float slack, float t_min) {
-  SurfaceHit h = trace_surface(origin, direction, t_min);
-  if (h.hit && h.object == own && dot(h.normal, direction) > 0.0 && h.t <= slack) {
-    origin += direction * h.t;
+  SurfaceHit h;
+  for (bool passing = true; passing;) {
     h = trace_surface(origin, direction, t_min);
+    passing = h.hit && h.object == own && dot(h.normal, direction) > 0.0 && h.t <= slack;
+    if (passing) {
+      origin += direction * h.t;
+      slack = -1.0;  // once
+    }
   }
   return h;
 }
