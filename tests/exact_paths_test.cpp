@@ -196,8 +196,9 @@ TEST(ExactPaths, AdaptiveMaterialModeKeepsTheThinWallsFresnelWeights) {
 // cluster can all be lost, or all land together, by chance, and ending the cluster then (dropping
 // it, or splatting their whole power) biased the adaptive hybrid's map to 0.87 of the regular
 // grid's with the same distance mode (2048^2, when it did). With a second look at such clusters,
-// with independent numbers, it keeps more than 0.92 of it (0.95 when this was written; what is
-// left is the image-space part's own cluster decisions).
+// with independent numbers, it kept 0.945 of it; the rest was the rule that drops a cluster whose
+// four photons are all lost, which paths that reflect inside a faceted refractor do not follow
+// (adaptive_photons.comp, lost_for_good): without it for them, 0.99 or more.
 TEST(ExactPaths, AdaptiveTraversalsDoNotEndClustersOnRandomDraws) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
@@ -205,7 +206,7 @@ TEST(ExactPaths, AdaptiveTraversalsDoNotEndClustersOnRandomDraws) {
   const double regular = rendered_flux(e, "caustics_raytraced", scene, {"distance=hybrid", "grid=2048"});
   const double adaptive = rendered_flux(e, "caustics_adaptive_hybrid", scene, {"grid=2048"});
   std::printf("n = 2.4: adaptive hybrid %.4f of the regular grid's hybrid map\n", adaptive / regular);
-  EXPECT_GT(adaptive / regular, 0.92);
+  EXPECT_GT(adaptive / regular, 0.98);
   EXPECT_LT(adaptive / regular, 1.02);
 }
 

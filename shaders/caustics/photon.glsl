@@ -56,6 +56,7 @@ struct Photon {
   ivec2 texel;
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
   bool random;     // its path drew random numbers (Fresnel choices, rough facets)
+  bool bounced;    // its exact path reflected inside a refractor
   // The hybrid's Fresnel reflection split off an image-space path (below): traced exactly, it
   // lands at side_texel with side_power when side_landed. It draws its own random numbers, which
   // do not touch the photon's own path, so the adaptive traversals decide on that path alone.
@@ -148,6 +149,7 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
     origin = p;
     if (reflectance > 0.0 && next_uniform(rng) < reflectance) {
       if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
+      ph.bounced = ph.bounced || !entering;
       direction = on_side(reflect(direction, m), n, true);
     } else {
       if (entering) {  // past the surface only caustic_transmittance() goes on; the rest is diffuse
@@ -328,6 +330,7 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   ph.texel = ivec2(0);
   ph.landing = vec2(0.0);
   ph.random = false;
+  ph.bounced = false;
   ph.side_landed = false;
   ph.side_texel = ivec2(0);
   ph.side_power = vec3(0.0);
@@ -374,9 +377,9 @@ struct ExactJob {
   uint rng;
   vec2 landing;  // out, in caustic-map texels
   float entering;
-  uint flags;    // in and out: EXACT_JOB_HIT, EXACT_JOB_RANDOM; out: EXACT_JOB_LANDED
+  uint flags;    // in and out: EXACT_JOB_HIT, EXACT_JOB_RANDOM; out: EXACT_JOB_LANDED, EXACT_JOB_BOUNCED
 };
-const uint EXACT_JOB_HIT = 1u, EXACT_JOB_RANDOM = 2u, EXACT_JOB_LANDED = 4u;
+const uint EXACT_JOB_HIT = 1u, EXACT_JOB_RANDOM = 2u, EXACT_JOB_LANDED = 4u, EXACT_JOB_BOUNCED = 8u;
 // Two queues, used by alternate calls, so that a call's queue is not refilled before every invocation
 // has taken its result from it, and its count is reset while the other queue fills (finish_photon).
 shared ExactJob exact_jobs[2][EXACT_JOBS];
@@ -425,13 +428,15 @@ void finish_photon(inout Photon ph, uint next, ExactStart start, LightData light
     traced.entering = job.entering;
     traced.hit = (job.flags & EXACT_JOB_HIT) != 0u;
     traced.random = (job.flags & EXACT_JOB_RANDOM) != 0u;
+    traced.bounced = false;
     traced.landed = false;
     traced.landing = vec2(0.0);
     trace_photon_exact(traced, light, ExactStart(job.origin, job.direction, job.inside, job.interfaces, job.rng));
     job.power = traced.power;
     job.entering = traced.entering;
     job.landing = traced.landing;
-    job.flags = (traced.hit ? EXACT_JOB_HIT : 0u) | (traced.random ? EXACT_JOB_RANDOM : 0u) | (traced.landed ? EXACT_JOB_LANDED : 0u);
+    job.flags = (traced.hit ? EXACT_JOB_HIT : 0u) | (traced.random ? EXACT_JOB_RANDOM : 0u) | (traced.landed ? EXACT_JOB_LANDED : 0u) |
+                (traced.bounced ? EXACT_JOB_BOUNCED : 0u);
     exact_jobs[parity][gl_LocalInvocationIndex] = job;
   }
   barrier();
@@ -444,6 +449,7 @@ void finish_photon(inout Photon ph, uint next, ExactStart start, LightData light
     ph.entering = done.entering;
     ph.hit = (done.flags & EXACT_JOB_HIT) != 0u;
     ph.random = (done.flags & EXACT_JOB_RANDOM) != 0u;
+    ph.bounced = (done.flags & EXACT_JOB_BOUNCED) != 0u;
     ph.landed = landed;
     ph.landing = done.landing;
     ph.texel = texel;
