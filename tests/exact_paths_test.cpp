@@ -370,9 +370,11 @@ TEST(ExactPaths, HybridRetracesWhereTheEstimateFails) {
 // again (an ear, the body). The hybrid traces each trusted path's exit ray exactly, lands it where
 // it meets a receiver and re-traces it from the light where it meets a refractor. Against the
 // ray-query tracer's map of the same photons (the paths they share are the same paths, so what
-// differs is the image-space part's error), measured at 512^2: relative L1 0.187 and energy 1.000;
-// with the exit ray marched through the light's depth map instead, 0.239 and 1.015 (the light the
-// bunny would have caught again landed as if it were not there).
+// differs is the image-space part's error), measured at 512^2: relative L1 0.140 and energy 0.995
+// (0.187 and 1.000 when the search read the nearest texel's normal; against 2e7 reference photons
+// the energy is 0.995, 1.001 and 0.998 at 512^2, 1024^2 and 2048^2); with the exit ray marched
+// through the light's depth map instead, 0.239 and 1.015 (the light the bunny would have caught
+// again landed as if it were not there).
 TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
@@ -384,8 +386,8 @@ TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
   std::printf("bunny, hybrid against the ray-query map: relative L1 %.4f, energy %.4f; %.0f exit rays met the bunny again\n", c.relative_l1,
               c.energy_ratio, hybrid.counters.at("photons.retraced.refractor_ahead"));
   EXPECT_GT(hybrid.counters.at("photons.retraced.refractor_ahead"), 0.0);
-  EXPECT_NEAR(c.energy_ratio, 1.0, 0.005);
-  EXPECT_LT(c.relative_l1, 0.21);
+  EXPECT_NEAR(c.energy_ratio, 1.0, 0.01);
+  EXPECT_LT(c.relative_l1, 0.17);
 }
 
 namespace {
@@ -431,11 +433,14 @@ TEST(ExactPaths, RayQueryRefractionMatchesTheRayTracedReference) {
 }
 
 // The camera hybrid searches in image space and traces a pixel exactly only where the search cannot
-// be trusted, with one counter per reason, and stays within 2.5 times the exact tracer's error: on
-// the ball lens it traces well under all of the refractor's pixels (measured 1772 of 3830: the exit
+// be trusted, with one counter per reason, and stays within 1.5 times the exact tracer's error: on
+// the ball lens it traces well under all of the refractor's pixels (measured 1746 of 3830: the exit
 // rays whose hit the camera does not see); with three refractors, the exit rays that meet another
 // refractor (invisible to one image-space layer), traced exactly, or pass its bounds are traced,
-// which takes the error from the search's 0.32 to 0.023 (exact: 0.018).
+// which takes the error from the search's 0.30 to 0.018 (exact: 0.018). Measured when the search
+// began to blend the back surface's normals (refraction.glsl, smooth_normal): hybrid against exact
+// 1.04x on the ball lens, 1.01x with three refractors, 1.32x on the bunny; with the nearest
+// normal, 1.78x, 1.27x and 1.40x.
 TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
@@ -457,13 +462,12 @@ TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
         c.at("refraction.retraced.multiple_refractors"), c.at("refraction.retraced.off_screen"),
         c.at("refraction.retraced.refractor_ahead"));
     EXPECT_EQ(reasons, c.at("refraction.exact_pixels")) << name;  // every traced pixel has exactly one reason
-    EXPECT_LT(hybrid.error, 2.5 * exact.error) << name;
+    EXPECT_LT(hybrid.error, 1.5 * exact.error) << name;
     EXPECT_LT(hybrid.error, search.error) << name;
     if (std::string(name) == "sphere_plane") {
       EXPECT_LT(c.at("refraction.exact_pixels"), 0.6 * exact.frame.counters.at("refraction.exact_pixels")) << name;
     } else if (std::string(name) == "bunny_plane") {
       EXPECT_GT(c.at("refraction.retraced.refractor_ahead"), 0.0) << name;
-      EXPECT_LT(hybrid.error, 1.5 * exact.error) << name;
     } else {
       EXPECT_GT(c.at("refraction.retraced.refractor_ahead"), 0.0) << name;
       EXPECT_GT(c.at("refraction.retraced.multiple_refractors"), 0.0) << name;

@@ -238,7 +238,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   }
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, unpack_normal(front.x), front.y, front.z, band_ior(object, photon_band), uv,
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, band_ior(object, photon_band), uv,
                                               transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies).
