@@ -439,7 +439,7 @@ TEST(ExactPaths, RayQueryRefractionMatchesTheRayTracedReference) {
 // refractor (invisible to one image-space layer), traced exactly, or pass its bounds are traced,
 // which takes the error from the search's 0.30 to 0.018 (exact: 0.018). Measured when the search
 // began to blend the back surface's normals (refraction.glsl, smooth_normal): hybrid against exact
-// 1.04x on the ball lens, 1.01x with three refractors, 1.32x on the bunny; with the nearest
+// 1.04x on the ball lens, 1.01x with three refractors, 1.27x on the bunny; with the nearest
 // normal, 1.78x, 1.27x and 1.40x.
 TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
   test::SceneEngine e;
