@@ -22,6 +22,8 @@ const uint DISTANCE_SEARCH = 4u;
 // Chosen from the material met first: exact paths (ray queries) through a solid refractor, image
 // space through a thin wall, where image space sees the exact path.
 const uint DISTANCE_MATERIAL = 5u;
+// The modes that find the exit by the image-space search rather than estimate it.
+bool exit_searched() { return params.distance_mode == DISTANCE_SEARCH || params.distance_mode == DISTANCE_HYBRID; }
 
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
@@ -133,28 +135,43 @@ uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
   uint found = MARCH_MISS;
   vec2 outline_uv = vec2(0.0);
   float ray_depth;
-  for (uint i = 1u; i <= params.search_steps; ++i) {
-    float t = min(step_length * float(i), t_end);
-    if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) break;
-    bool behind = behind_stored_depth(depth_image, uv, ray_depth);
-    if (behind && in_front_before) {
-      float lo = t_before, hi = t;
-      for (int b = 0; b < 6; ++b) {
-        float mid = 0.5 * (lo + hi);
-        if (project_with(view_proj, origin + direction * mid, uv, ray_depth) && behind_stored_depth(depth_image, uv, ray_depth)) hi = mid;
-        else lo = mid;
+  // Each round steps to the next place where the ray passes behind a stored surface, then bisects
+  // there: in rounds rather than inside the stepping loop, so that invocations in lockstep, which
+  // get there at different steps, bisect together rather than once per step that one of them
+  // stopped at.
+  uint i = 1u;
+  bool more = params.search_steps > 0u;
+  while (more) {
+    float lo = 0.0, hi = 0.0;
+    bool bracketed = false;
+    while (more && !bracketed) {
+      float t = min(step_length * float(i), t_end);
+      ++i;
+      if (!project_with(view_proj, origin + direction * t, uv, ray_depth)) {
+        more = false;
+        break;
       }
-      vec3 on_ray = origin + direction * hi;
-      project_with(view_proj, on_ray, uv, ray_depth);
-      if (distance(on_ray, world_from_depth(inverse(view_proj), uv, texture(depth_image, uv).r)) <= step_length) return MARCH_HIT;
-      if (found == MARCH_MISS) {
-        found = MARCH_HIDDEN;
-        outline_uv = uv;
-      }
+      bool behind = behind_stored_depth(depth_image, uv, ray_depth);
+      bracketed = behind && in_front_before;
+      lo = t_before;
+      hi = t;
+      in_front_before = !behind;
+      t_before = t;
+      more = t < t_end && i <= params.search_steps;
     }
-    in_front_before = !behind;
-    t_before = t;
-    if (t >= t_end) break;
+    if (!bracketed) break;
+    for (int b = 0; b < 6; ++b) {
+      float mid = 0.5 * (lo + hi);
+      if (project_with(view_proj, origin + direction * mid, uv, ray_depth) && behind_stored_depth(depth_image, uv, ray_depth)) hi = mid;
+      else lo = mid;
+    }
+    vec3 on_ray = origin + direction * hi;
+    project_with(view_proj, on_ray, uv, ray_depth);
+    if (distance(on_ray, world_from_depth(inverse(view_proj), uv, texture(depth_image, uv).r)) <= step_length) return MARCH_HIT;
+    if (found == MARCH_MISS) {
+      found = MARCH_HIDDEN;
+      outline_uv = uv;
+    }
   }
   uv = outline_uv;
   return found;
@@ -184,8 +201,7 @@ vec3 smooth_normal(sampler2D surfaces, vec2 uv, vec4 here) {
 // thousandths either way while the adaptive traversal needed a quarter more photons for it (the
 // bunny at 8192^2: 2.39% of the regular grid instead of 1.90%; docs/refraction.md).
 vec3 buffer_normal(sampler2D surfaces, vec2 uv, vec4 here) {
-  bool searched = params.distance_mode == DISTANCE_SEARCH || params.distance_mode == DISTANCE_HYBRID;
-  return searched ? smooth_normal(surfaces, uv, here) : unpack_normal(here.x);
+  return exit_searched() ? smooth_normal(surfaces, uv, here) : unpack_normal(here.x);
 }
 
 // The searches below march a signed gap along a ray: negative before the crossing they look for,
@@ -235,43 +251,44 @@ float crossing_estimate(float lo, float gap_lo, bool lo_valid, float hi, float g
 }
 
 // The crossing's distance along `direction` from `origin` within d_max (false when there is none):
-// linear steps, then refinement.
+// linear steps to bracket it, then refinement. The refinement follows the stepping loop rather than
+// sitting inside it: invocations that run in lockstep (8 on lavapipe, 32 or 64 on a GPU) bracket their
+// crossings at different steps, and inside the loop each of those steps ran the refinement again.
 bool find_crossing(uint kind, mat4 view_proj, ViewOrigin eye, vec3 origin, vec3 direction, float d_max, out float t_cross) {
-  float lo = 0.0, gap_lo = 0.0;
-  bool lo_valid = false;
-  for (int i = 1; i <= EXIT_SEARCH_STEPS; ++i) {
-    float hi = d_max * float(i) / float(EXIT_SEARCH_STEPS);
-    bool hi_valid;
-    float gap_hi = exit_gap(kind, view_proj, eye, origin + direction * hi, hi_valid);
-    if (hi_valid && gap_hi < 0.0) {
+  float lo = 0.0, gap_lo = 0.0, hi = 0.0, gap_hi = 0.0;
+  bool lo_valid = false, hi_valid = false, bracketed = false;
+  for (int i = 1; i <= EXIT_SEARCH_STEPS && !bracketed; ++i) {
+    hi = d_max * float(i) / float(EXIT_SEARCH_STEPS);
+    gap_hi = exit_gap(kind, view_proj, eye, origin + direction * hi, hi_valid);
+    bracketed = !hi_valid || gap_hi >= 0.0;
+    if (!bracketed) {
       lo = hi;
       gap_lo = gap_hi;
       lo_valid = true;
-      continue;
     }
-    int kept = 0;  // which end stayed last time: -1 lo, +1 hi (Illinois halves a twice-kept end's gap)
-    for (int r = 0; r < EXIT_REFINEMENTS; ++r) {
-      float t = clamp(crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid), lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
-      bool valid;
-      float gap = exit_gap(kind, view_proj, eye, origin + direction * t, valid);
-      if (valid && gap < 0.0) {
-        lo = t;
-        gap_lo = gap;
-        lo_valid = true;
-        if (kept == 1) gap_hi *= 0.5;
-        kept = 1;
-      } else {
-        hi = t;
-        gap_hi = gap;
-        hi_valid = valid;
-        if (kept == -1) gap_lo *= 0.5;
-        kept = -1;
-      }
-    }
-    t_cross = crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid);
-    return true;
   }
-  return false;
+  if (!bracketed) return false;
+  int kept = 0;  // which end stayed last time: -1 lo, +1 hi (Illinois halves a twice-kept end's gap)
+  for (int r = 0; r < EXIT_REFINEMENTS; ++r) {
+    float t = clamp(crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid), lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+    bool valid;
+    float gap = exit_gap(kind, view_proj, eye, origin + direction * t, valid);
+    if (valid && gap < 0.0) {
+      lo = t;
+      gap_lo = gap;
+      lo_valid = true;
+      if (kept == 1) gap_hi *= 0.5;
+      kept = 1;
+    } else {
+      hi = t;
+      gap_hi = gap;
+      hi_valid = valid;
+      if (kept == -1) gap_lo *= 0.5;
+      kept = -1;
+    }
+  }
+  t_cross = crossing_estimate(lo, gap_lo, lo_valid, hi, gap_hi, hi_valid);
+  return true;
 }
 
 // The distance along t1 from p1 to where the ray crosses the back surface, within d_max; the
@@ -344,7 +361,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
     float w = theta_i > 1e-4 ? theta_t / theta_i : 1.0;
     d = w * dv + (1.0 - w) * dn;
   }
-  if (params.distance_mode == DISTANCE_HYBRID || params.distance_mode == DISTANCE_SEARCH) d = search_exit(view_proj, eye, p1, t1, d, 2.0 * max(max(dv, dn), d) + 1e-4);
+  if (exit_searched()) d = search_exit(view_proj, eye, p1, t1, d, 2.0 * max(max(dv, dn), d) + 1e-4);
   r.distance = d;
   r.exit_point = p1 + t1 * d;
   r.exit_direction = t1;
