@@ -199,6 +199,21 @@ class ExactScene {
     return m.roughness * sample(object, m.metallic_roughness_texture, hit).g;
   }
 
+  // A refractor's tint and transmission where a ray meets it: per texel where its material has a
+  // base colour or a transmission texture (the factor times the texture, as the engine's exact
+  // paths read them; its image-space methods take the textures' means, Material::tint and
+  // ::transmission).
+  glm::vec3 tint(const RayHit& hit) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::Material& m = object.material;
+    return m.base_color_texture.used() ? m.tint_factor * glm::vec3(sample(object, m.base_color_texture, hit)) : m.tint;
+  }
+  float transmission(const RayHit& hit) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::Material& m = object.material;
+    return m.transmission_texture.used() ? m.transmission_factor * sample(object, m.transmission_texture, hit).r : m.transmission;
+  }
+
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;
     const uint32_t* tri = &mesh.indices[3 * hit.triangle];

@@ -115,10 +115,10 @@ class PhotonTracer {
       if (glm::dot(n, direction) > 0) n = -n;
       const float ior = band < 0 ? object.material.ior : band_iors_[hit->geometry][band];
       const glm::vec3 m = microfacet_normal(n, direction, exact_.transmission_roughness(*hit), random);
-      // Past the surface's Fresnel reflection only caustic_transmittance() of the power goes on; the
-      // rest is reflected diffusely (not a caustic) and counted with the absorbed.
+      // Past the surface's Fresnel reflection only the transmitted share of the power goes on, tinted;
+      // the rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {
-        const Power kept = power * Power(object.material.caustic_transmittance());
+        const Power kept = power * Power(exact_.transmission(*hit) * exact_.tint(*hit));
         acc.totals.absorbed += mean(power - kept);
         power = kept;
       };

@@ -125,13 +125,15 @@ class Tracer {
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, facet), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
-      if (m.transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
+      const glm::vec3 tint = exact_.tint(*hit);
+      const float transmission = exact_.transmission(*hit);
+      if (transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
         SurfacePoint diffuse;
         diffuse.normal = n;
-        diffuse.base = m.tint;
-        radiance += throughput * (1.0f - m.transmission) * shade_opaque(p, diffuse, direction);
+        diffuse.base = tint;
+        radiance += throughput * (1.0f - transmission) * shade_opaque(p, diffuse, direction);
       }
-      throughput *= m.transmission * m.tint;
+      throughput *= transmission * tint;
       origin = p;
       if (m.thin) {  // a thin wall: the ray goes on, unbent where it is smooth
         direction = through_thin(direction, facet, n);

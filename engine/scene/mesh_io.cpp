@@ -480,9 +480,10 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
       if (info.Has("texCoord")) transmission_texture.texCoord = info.Get("texCoord").GetNumberAsInt();
       if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
         transmission_texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
-      // Refraction and caustics take one transmission per object: the texture's mean (red channel).
-      const TextureRef ref = textures.reference(transmission_texture, info_at, false);
-      m.transmission *= textures.mean(ref.texture).r;
+      // Per texel on exact paths; the image-space methods take the texture's mean (red channel).
+      m.transmission_factor = m.transmission;
+      m.transmission_texture = textures.reference(transmission_texture, info_at, false);
+      m.transmission *= textures.mean(m.transmission_texture.texture).r;
     }
   }
   if (const auto* i = ext("KHR_materials_ior")) {
@@ -524,8 +525,9 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     }
   }
   if (m.refractor && m.base_color_texture.used()) {
-    // Refraction and caustics tint per object: a textured refractor's tint is its texture's mean
-    // colour times the factor (MASK coverage still cuts per texel).
+    // Per texel on exact paths; the image-space methods tint with the texture's mean colour times
+    // the factor (MASK coverage still cuts per texel in every method).
+    m.tint_factor = m.tint;
     m.tint *= glm::vec3(textures.mean(m.base_color_texture.texture));
   }
   if (m.alpha_mode == AlphaMode::blend && !m.refractor) {
@@ -536,7 +538,8 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
       m.refractor = true;
       m.thin = true;
       m.ior = 1.0f;
-      m.transmission = 1.0f - coverage;
+      m.transmission = 1.0f - coverage;  // the texture's mean coverage in every method
+      m.tint_factor = m.albedo;
       m.tint = m.albedo * (m.base_color_texture.used() ? glm::vec3(textures.mean(m.base_color_texture.texture)) : glm::vec3(1.0f));
     }
   }

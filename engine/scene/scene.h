@@ -69,6 +69,14 @@ struct Material {
   // The share of a photon's power that passes the surface (after Fresnel), per colour channel of
   // the caustic map: transmission times the tint.
   glm::vec3 caustic_transmittance() const { return transmission * tint; }
+  // Where a ray meets the surface (the exact paths and the references) tint and transmission are
+  // per texel: tint_factor times baseColorTexture's rgb, transmission_factor times
+  // transmissionTexture's red, each where its texture is used. `tint` and `transmission` hold the
+  // same with each texture's mean, which the image-space methods take (their refractor buffers
+  // carry an object index, not texture coordinates).
+  glm::vec3 tint_factor{1.0f};
+  float transmission_factor = 1.0f;
+  TextureRef transmission_texture;
 
   // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
   TextureRef base_color_texture;

@@ -152,8 +152,9 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
       ph.bounced = ph.bounced || !entering;
       direction = on_side(reflect(direction, m), n, true);
     } else {
-      if (entering) {  // past the surface only caustic_transmittance() goes on; the rest is diffuse
-        vec3 kept = ph.power * caustic_transmittance(object);
+      if (entering) {  // past the surface only the transmitted share goes on, tinted; the rest is diffuse
+        vec4 tint_transmission = tint_transmission_at(h);
+        vec3 kept = ph.power * tint_transmission.a * tint_transmission.rgb;
         exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
         ph.power = kept;
       }
@@ -179,11 +180,11 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   float receiver = texture(receiver_depth, uv).r;
   float receiver_distance = receiver < 1.0 ? view_distance(origin, world_from_depth(light.inv_view_proj, uv, receiver)) : 1e30;
 #ifdef CAUSTICA_RAY_QUERY
-  // Chosen from the material: image space where it sees the exact path (a smooth thin wall without a
-  // mask, with no other refractor between it and the receiver), exact paths for the rest; the exact
-  // tracer meets the opaque occluders itself.
+  // Chosen from the material: image space where it sees the exact path (image_space_is_exact, with
+  // no other refractor between it and the receiver), exact paths for the rest; the exact tracer
+  // meets the opaque occluders itself.
   if (params.distance_mode == DISTANCE_MATERIAL &&
-      (!thin_walled(object) || object.alpha_cutoff.y >= 0.0 || transmission_roughness(object) > 0.0 ||
+      (!image_space_is_exact(object) ||
        crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
     return TRACE_FROM_LIGHT;
   }

@@ -44,6 +44,9 @@ struct ObjectData {
   vec4 metallic_roughness;             // x metallic, y roughness; z: 1 for glTF's metallic-roughness BRDF, 0 Lambertian;
                                        // w: a refractor's transmission roughness (0: specular)
   TextureSlot occlusion;               // red: ambient occlusion, applied with alpha_cutoff.w's strength
+  TextureSlot transmission_map;        // red: multiplies tint_transmission_factors.a (refractors)
+  vec4 tint_transmission_factors;      // tint_transmission before the base colour's and the transmission texture's
+                                       // means: the exact paths read those textures per texel instead
 };
 
 struct LightData {

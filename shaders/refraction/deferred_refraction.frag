@@ -99,10 +99,10 @@ void main() {
   }
 #ifdef CAUSTICA_RAY_QUERY
   ObjectData front_object = objects[uint(front.w)];
-  // DISTANCE_MATERIAL's choice, as for photons: image space through a smooth thin wall without a
-  // mask, unless another refractor lies between it and the background there.
+  // DISTANCE_MATERIAL's choice, as for photons: image space where it is exact, unless another
+  // refractor lies between it and the background there.
   bool exact_material = params.distance_mode == DISTANCE_MATERIAL &&
-                        (!thin_walled(front_object) || front_object.alpha_cutoff.y >= 0.0 || transmission_roughness(front_object) > 0.0 ||
+                        (!image_space_is_exact(front_object) ||
                          crosses_other_refractor(p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance,
                                                  uint(front.w)));
   if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {

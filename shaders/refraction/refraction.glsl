@@ -461,6 +461,13 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
 
 // A thin-walled refractor (glTF transmission without a volume): light passes it without bending.
 bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
+// Where image space sees the exact path through a refractor (DISTANCE_MATERIAL's choice): a smooth
+// thin wall without a mask, whose tint and transmission are the same all over (image space reads
+// one per object: the textures' means).
+bool image_space_is_exact(ObjectData object) {
+  return thin_walled(object) && object.alpha_cutoff.y < 0.0 && transmission_roughness(object) == 0.0 && object.base_color.row_u.w < 0.0 &&
+         object.transmission_map.row_u.w < 0.0;
+}
 // Whether a ray that met a thin-walled object's near wall at `front` (a refractor-buffer texel)
 // meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
 // pane one (its back texel is then the near wall again, or empty).
@@ -657,9 +664,9 @@ vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, i
       float reflectance = fresnel_dielectric(-dot(direction, m), 1.0, ior);
       radiance += throughput * reflectance * frame.sky_ambient.rgb;
       throughput *= 1.0 - reflectance;
-      float transmission = object.tint_transmission.a;
-      if (transmission < 1.0) radiance += throughput * (1.0 - transmission) * shade_exit_hit(p, n, object.tint_transmission.rgb);
-      throughput *= transmission * object.tint_transmission.rgb;
+      vec4 tint_transmission = tint_transmission_at(h);
+      if (tint_transmission.a < 1.0) radiance += throughput * (1.0 - tint_transmission.a) * shade_exit_hit(p, n, tint_transmission.rgb);
+      throughput *= tint_transmission.a * tint_transmission.rgb;
       if (thin_walled(object)) {  // through a thin wall, unbent where it is smooth
         direction = through_thin(direction, m, n);
         continue;

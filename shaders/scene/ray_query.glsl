@@ -86,7 +86,19 @@ float roughness_at(SurfaceHit h) {
   ObjectData object = objects[h.object];
   TextureSlot map = object.metallic_roughness_map;
   if (object.metallic_roughness.w <= 0.0 || map.row_u.w < 0.0) return object.metallic_roughness.w;
-  return object.metallic_roughness.y * textureLod(scene_textures[nonuniformEXT(int(map.row_u.w))], slot_uv(map, h.texcoords), 0.0).g;
+  return object.metallic_roughness.y * sample_slot_at_full_resolution(map, h.texcoords).g;
+}
+
+// A refractor's tint (rgb) and transmission (a) where a ray meets it: per texel where its material
+// has a base colour or a transmission texture (the factor times the texture, at the full-resolution
+// level, as the Embree references read them); the image-space methods take the textures' means,
+// which is what tint_transmission holds.
+vec4 tint_transmission_at(SurfaceHit h) {
+  ObjectData object = objects[h.object];
+  vec4 result = object.tint_transmission;
+  if (object.base_color.row_u.w >= 0.0) result.rgb = object.tint_transmission_factors.rgb * sample_slot_at_full_resolution(object.base_color, h.texcoords).rgb;
+  if (object.transmission_map.row_u.w >= 0.0) result.a = object.tint_transmission_factors.a * sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r;
+  return result;
 }
 
 // Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).

@@ -27,11 +27,13 @@ bool cut_out(ObjectData object, vec4 texcoords) {
 
 // The same at the full-resolution level, for stages without derivatives (ray queries in compute
 // and full-screen shaders), as the Embree references sample it.
+vec4 sample_slot_at_full_resolution(TextureSlot slot, vec4 texcoords) {
+  return textureLod(scene_textures[nonuniformEXT(int(slot.row_u.w))], slot_uv(slot, texcoords), 0.0);
+}
 bool cut_out_at_full_resolution(ObjectData object, vec4 texcoords) {
   if (object.alpha_cutoff.y < 0.0) return false;
   float alpha = object.alpha_cutoff.x;
-  if (object.base_color.row_u.w >= 0.0)
-    alpha *= textureLod(scene_textures[nonuniformEXT(int(object.base_color.row_u.w))], slot_uv(object.base_color, texcoords), 0.0).a;
+  if (object.base_color.row_u.w >= 0.0) alpha *= sample_slot_at_full_resolution(object.base_color, texcoords).a;
   return alpha < object.alpha_cutoff.y;
 }
 

@@ -5,7 +5,7 @@ quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK),
 straight above, and a camera. Everything is embedded, so the file stands alone.
 Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf,
 bad_tangent_count.gltf), and textured_surfaces.gltf
-and rough_pane.gltf (below).
+rough_pane.gltf and tinted_pane.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
 
@@ -225,3 +225,20 @@ pane = {
     "accessors": pane_accessors,
 }
 write("rough_pane.gltf", pane)
+
+
+# tinted_pane.gltf: the same smooth thin pane, whose base colour texture is red on its -x half and
+# blue on its +x half, and whose transmission texture lets all the light through the -x half and a
+# quarter of it through the +x half: light passes unbent, so the floor under each half gets that
+# half's colour and share (one tint and transmission for the whole pane would give both halves
+# the same).
+tinted = json.loads(json.dumps(pane))
+tinted["extensionsUsed"] = ["KHR_lights_punctual", "KHR_materials_transmission"]
+tinted["materials"][1] = {
+    "name": "two-tone pane", "doubleSided": True,
+    "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.0},
+    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0, "transmissionTexture": {"index": 1}}}}
+tinted["textures"] = [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}]
+tinted["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 40, 40, 255), (40, 40, 255, 255)]]))},
+                    {"uri": data_uri("image/png", png(2, 1, [[(255, 0, 0, 255), (64, 0, 0, 255)]]))}]
+write("tinted_pane.gltf", tinted)
