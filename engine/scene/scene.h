@@ -66,9 +66,6 @@ struct Material {
   // The index in each colour band: red at the C line (656.27 nm), green at d (587.56 nm), blue at F
   // (486.13 nm), on the two-term Cauchy curve n = A + B / lambda^2 the specification gives.
   glm::vec3 band_iors() const;
-  // The share of a photon's power that passes the surface (after Fresnel), per colour channel of
-  // the caustic map: transmission times the tint.
-  glm::vec3 caustic_transmittance() const { return transmission * tint; }
   // Where a ray meets the surface (the exact paths and the references) tint and transmission are
   // per texel: tint_factor times baseColorTexture's rgb, transmission_factor times
   // transmissionTexture's red, each where its texture is used. `tint` and `transmission` hold the

@@ -484,7 +484,8 @@ float band_ior(ObjectData object, uint band) {
 }
 
 // The share of a photon's power past a refractor's surface (after Fresnel), per colour channel of
-// the caustic map: the transmission factor times the tint (scene::Material::caustic_transmittance).
+// the caustic map, as image space takes it: the transmission times the tint, each with its
+// texture's mean (the exact paths read them per texel: tint_transmission_at).
 vec3 caustic_transmittance(ObjectData object) { return object.tint_transmission.a * object.tint_transmission.rgb; }
 
 #ifndef REFRACTION_NO_CAMERA
