@@ -203,15 +203,15 @@ class ExactScene {
   // base colour or a transmission texture (the factor times the texture, as the engine's exact
   // paths read them; its image-space methods take the textures' means, Material::tint and
   // ::transmission).
-  glm::vec3 tint(const RayHit& hit) const {
+  struct Transmittance {
+    glm::vec3 tint;
+    float transmission;
+  };
+  Transmittance transmittance(const RayHit& hit) const {
     const scene::Object& object = scene_.objects[hit.geometry];
     const scene::Material& m = object.material;
-    return m.base_color_texture.used() ? m.tint_factor * glm::vec3(sample(object, m.base_color_texture, hit)) : m.tint;
-  }
-  float transmission(const RayHit& hit) const {
-    const scene::Object& object = scene_.objects[hit.geometry];
-    const scene::Material& m = object.material;
-    return m.transmission_texture.used() ? m.transmission_factor * sample(object, m.transmission_texture, hit).r : m.transmission;
+    return {m.base_color_texture.used() ? m.tint_factor * glm::vec3(sample(object, m.base_color_texture, hit)) : m.tint,
+            m.transmission_texture.used() ? m.transmission_factor * sample(object, m.transmission_texture, hit).r : m.transmission};
   }
 
   glm::vec3 smooth_normal(const RayHit& hit) const {

@@ -118,7 +118,8 @@ class PhotonTracer {
       // Past the surface's Fresnel reflection only the transmitted share of the power goes on, tinted;
       // the rest is reflected diffusely (not a caustic) and counted with the absorbed.
       auto transmit = [&] {
-        const Power kept = power * Power(exact_.transmission(*hit) * exact_.tint(*hit));
+        const ExactScene::Transmittance passing = exact_.transmittance(*hit);
+        const Power kept = power * Power(passing.transmission * passing.tint);
         acc.totals.absorbed += mean(power - kept);
         power = kept;
       };

@@ -125,8 +125,7 @@ class Tracer {
       const float reflect_in = fresnel_dielectric(-glm::dot(direction, facet), 1.0f, ior);
       radiance += throughput * reflect_in * scene_.sky;
       throughput *= 1.0f - reflect_in;
-      const glm::vec3 tint = exact_.tint(*hit);
-      const float transmission = exact_.transmission(*hit);
+      const auto [tint, transmission] = exact_.transmittance(*hit);
       if (transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
         SurfacePoint diffuse;
         diffuse.normal = n;
