@@ -120,17 +120,20 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                                0, setup.pass().name + " multi-resolution caustic map");
     const vk::PipelineDesc layout{
         hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
-        exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}),
+        front_tint_bindings(
+            setup,
+            exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE})),
         sizeof(AdaptivePush), exact_.texture_array()};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     // The hierarchical traversal does not look at its photons, so in image space its last level can
     // trace every colour band in one pass; the adaptive one follows each band's photons.
-    photons_.build(setup, layout, "caustics/adaptive_photons.comp", exact_.defines(defines), hierarchical_ && !exact_.traced());
+    photons_.build(setup, layout, "caustics/adaptive_photons.comp", front_tint_defines(setup, exact_.defines(defines)),
+                   hierarchical_ && !exact_.traced());
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));

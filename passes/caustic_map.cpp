@@ -43,12 +43,13 @@ class CausticMapPass final : public graph::Pass {
     clear_ = make_caustic_clear_pipeline(setup);
     const vk::PipelineDesc layout{
         "regular_photons",
-        exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}),
+        front_tint_bindings(
+            setup, exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER})),
         sizeof(PhotonPush), exact_.texture_array()};
-    photons_.build(setup, layout, "caustics/regular_photons.comp", exact_.defines(), !exact_.traced());
+    photons_.build(setup, layout, "caustics/regular_photons.comp", front_tint_defines(setup, exact_.defines()), !exact_.traced());
   }
 
   void execute(graph::PassContext& ctx) override {

@@ -1,6 +1,7 @@
 // deferred_refraction: one full-screen pass over refractor_buffers' front and back surfaces.
 #include "builtin_passes.h"
 #include "refraction.h"
+#include "refractor_buffers.h"
 
 namespace caustica::passes {
 namespace {
@@ -49,6 +50,7 @@ graph::PassTypeDecl deferred_refraction_pass_type() {
   };
   ports.push_back(surfaces("front", "refractor front surfaces (refractor_buffers)"));
   ports.push_back(surfaces("back", "refractor back surfaces (refractor_buffers)"));
+  ports.push_back(RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "frame"));
   ports.push_back({"color",
                    PortAccess::write,
                    ResourceKind::image,

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "refractor_buffers.h"
 
 namespace caustica::passes {
 
@@ -198,6 +199,22 @@ ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
           glm::packHalf2x16(glm::vec2(p["hybrid_tolerance"].get<float>(), p["hybrid_reflections"].get<float>()))};
 }
 
+std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings) {
+  if (!setup.bound("front_tint")) return bindings;
+  bindings.resize(16, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);  // declared and left unwritten where a pass does not use them
+  bindings.push_back(VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
+  return bindings;
+}
+
+shader::Defines front_tint_defines(const graph::PassSetup& setup, shader::Defines defines) {
+  if (setup.bound("front_tint")) defines["REFRACTOR_TINT"] = "1";
+  return defines;
+}
+
+void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
+  if (ctx.bound("front_tint")) writer.sampled_image(16, ctx.view("front_tint"), ctx.nearest_sampler());
+}
+
 std::vector<graph::PortDecl> refraction_inputs() {
   using namespace graph;
   return {{"background", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "radiance behind the refractors"},
@@ -228,7 +245,8 @@ std::vector<graph::PortDecl> photon_ports() {
            "",
            "flux per texel, in the light's image plane: r32f with a layer per colour channel (\"layers\": 3)",
            false,
-           3}};
+           3},
+          RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "light")};
 }
 
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {
@@ -271,6 +289,7 @@ vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
       .storage_image(6, ctx.view("caustic_map"))
       .storage_buffer(7, ctx.counter_buffer())
       .storage_buffer(8, ctx.counter_buffer());
+  bind_front_tint(ctx, writer);
   return writer;
 }
 
@@ -298,6 +317,7 @@ void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeli
       .sampled_image(6, back, ctx.nearest_sampler())
       .storage_buffer(7, ctx.counter_buffer());
   if (exact) exact->bind(ctx, writer);
+  bind_front_tint(ctx, writer);
   writer.push(ctx.vk(), ctx.cmd(), pipeline);
   if (exact) exact->bind_textures(ctx, pipeline);
 }
@@ -330,11 +350,13 @@ void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color, c
                                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-  refract_ = vk::make_fullscreen_pipeline(
-      setup.vk(),
-      {"deferred_refraction", exact ? exact->bindings(bindings) : bindings, sizeof(RefractionPush), exact ? exact->texture_array() : 0},
-      setup.shaders().compile("common/fullscreen.vert"),
-      setup.shaders().compile("refraction/deferred_refraction.frag", exact ? exact->defines() : shader::Defines{}), {color});
+  refract_ = vk::make_fullscreen_pipeline(setup.vk(),
+                                          {"deferred_refraction", front_tint_bindings(setup, exact ? exact->bindings(bindings) : bindings),
+                                           sizeof(RefractionPush), exact ? exact->texture_array() : 0},
+                                          setup.shaders().compile("common/fullscreen.vert"),
+                                          setup.shaders().compile("refraction/deferred_refraction.frag",
+                                                                  front_tint_defines(setup, exact ? exact->defines() : shader::Defines{})),
+                                          {color});
   copy_ = make_copy_pipeline(setup, color);
 }
 

@@ -82,6 +82,13 @@ class ExactPaths : public RayQueryScene {
   uint32_t first_counter_ = 0;
 };
 
+// The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:
+// binding 16 of its shaders (shaders/refraction/refraction.glsl, at_front_texel), padded as
+// RayQueryScene::bindings pads, and their REFRACTOR_TINT variant.
+std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings);
+shader::Defines front_tint_defines(const graph::PassSetup& setup, shader::Defines defines = {});
+void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
+
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
 
@@ -89,7 +96,7 @@ std::vector<graph::PortDecl> refraction_inputs();
 // caustic map (flux per texel) out.
 std::vector<graph::PortDecl> photon_ports();
 // Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
-// caustic map, counters as uint and as float.
+// caustic map, counters as uint and as float, and the front tint where bound.
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
 
 // A photon pass's kernel. Photons are white (kWhiteBand: one path carries every channel), or, when
@@ -122,8 +129,8 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent);
-// Scene bindings plus the refraction shader's: background, depth, front, back, counters, and the
-// ray-query scene where `exact` traces.
+// Scene bindings plus the refraction shader's: background, depth, front, back, counters, the
+// ray-query scene where `exact` traces, and the front tint where the pass has it bound.
 void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
                                  VkImageView back, const RayQueryScene* exact = nullptr);
 

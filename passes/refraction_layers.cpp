@@ -69,15 +69,17 @@ class RefractionLayersPass final : public graph::Pass {
     for (uint32_t i = 0; i < layers; ++i) {
       if (i > 0) {
         // The previous layer's surfaces were sampled and its depth written: both are reused.
-        to_attachment(cmd, ctx.image("front"));
-        to_attachment(cmd, ctx.image("back"));
+        for (const char* surface : {"front", "back", "front_tint"}) {
+          if (ctx.bound(surface)) to_attachment(cmd, ctx.image(surface));
+        }
         for (const char* depth : {"front_depth", "back_depth"}) {
           if (ctx.bound(depth)) wait_for_depth_writes(cmd, ctx.image(depth));
         }
       }
       surfaces_.record(ctx, view, scene.object(order[i]), RefractorSurfaces::targets(ctx));
-      to_sampled(cmd, ctx.image("front"));
-      to_sampled(cmd, ctx.image("back"));
+      for (const char* surface : {"front", "back", "front_tint"}) {
+        if (ctx.bound(surface)) to_sampled(cmd, ctx.image(surface));
+      }
 
       const std::string& target = ping_pong[(layers - 1 - i) % 2];
       const std::string& previous = ping_pong[(layers - i) % 2];
@@ -87,8 +89,9 @@ class RefractionLayersPass final : public graph::Pass {
                       screen_rect(scene.scene(), view.view_proj, {order[i]}, extent));
     }
     // Leave every port in the layout the plan expects after this pass.
-    to_attachment(cmd, ctx.image("front"));
-    to_attachment(cmd, ctx.image("back"));
+    for (const char* surface : {"front", "back", "front_tint"}) {
+      if (ctx.bound(surface)) to_attachment(cmd, ctx.image(surface));
+    }
     make("background", kAttachment);
   }
 
@@ -125,8 +128,10 @@ graph::PassTypeDecl refraction_layers_pass_type() {
                    "the background with every refractor composited, back to front"});
   ports.push_back(scratch("front", Format::rgba32f, PortUsage::color_attachment, "one refractor's front surface, reused per layer"));
   ports.push_back(scratch("back", Format::rgba32f, PortUsage::color_attachment, "one refractor's back surface, reused per layer"));
+  ports.push_back(RefractorSurfaces::front_tint_port(PortAccess::write, PortUsage::color_attachment, "frame"));
   for (auto& port : ports)
-    port.also_sampled = port.name == "background" || port.name == "front" || port.name == "back" || port.name == "color";
+    port.also_sampled =
+        port.name == "background" || port.name == "front" || port.name == "back" || port.name == "color" || port.name == "front_tint";
   ports.push_back(scratch("front_depth", Format::d32f, PortUsage::depth_attachment, "depth for the front-surface draw"));
   ports.push_back(RefractorSurfaces::back_depth_port("frame"));
   PassTypeDecl decl{"refraction_layers",

@@ -1,6 +1,7 @@
 // refractor_buffers: front and back surfaces of the refractors from the camera or a light, in one
 // pass (two draws with opposite culling). Each texel: packed outward normal, distance from the eye,
-// d_N, object index; distance 0 where there is no refractor.
+// d_N, object index; distance 0 where there is no refractor. Optionally the front surfaces' tint
+// and transmission (front_tint).
 #include "refractor_buffers.h"
 
 #include "builtin_passes.h"
@@ -8,19 +9,42 @@
 namespace caustica::passes {
 
 void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front, const std::string& front_depth) {
+  const bool tinted = setup.bound("front_tint");
   for (int kind = 0; kind < 3; ++kind) {
+    const bool front_draw = kind != 1;
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource(front).format).vk};
+    if (tinted && front_draw) state.color_formats.push_back(graph::format_info(setup.resource("front_tint").format).vk);
     state.depth_format = graph::format_info(setup.resource(front_depth).format).vk;
     state.cull = kind == 0 ? VK_CULL_MODE_BACK_BIT : kind == 1 ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_NONE;
     const char* names[] = {"refractor_front", "refractor_back", "refractor_thin"};
-    pipelines_[kind] = make_scene_pipeline(setup, names[kind], "scene/refractor.frag", state);
+    shader::Defines defines;
+    if (tinted && front_draw) defines["REFRACTOR_TINT"] = "1";
+    pipelines_[kind] = make_scene_pipeline(setup, names[kind], "scene/refractor.frag", state, {}, sizeof(DrawPush), defines);
   }
 }
 
 RefractorSurfaces::Targets RefractorSurfaces::targets(graph::PassContext& ctx) {
-  return {ctx.extent("front"),     ctx.view("front"),        ctx.view("back"),
-          ctx.view("front_depth"), ctx.image("front_depth"), ctx.bound("back_depth") ? ctx.view("back_depth") : VK_NULL_HANDLE};
+  return {ctx.extent("front"),
+          ctx.view("front"),
+          ctx.view("back"),
+          ctx.view("front_depth"),
+          ctx.image("front_depth"),
+          ctx.bound("back_depth") ? ctx.view("back_depth") : VK_NULL_HANDLE,
+          ctx.bound("front_tint") ? ctx.view("front_tint") : VK_NULL_HANDLE};
+}
+
+graph::PortDecl RefractorSurfaces::front_tint_port(graph::PortAccess access, graph::PortUsage usage, const char* extent_group) {
+  using namespace graph;
+  return PortDecl{"front_tint",
+                  access,
+                  ResourceKind::image,
+                  usage,
+                  {Format::rgba8_srgb, Format::rgba8, Format::rgba16f},
+                  true,
+                  extent_group,
+                  "optional: the front surfaces' tint (rgb) and transmission (a) per texel, from the refractors' textures; "
+                  "without it image space takes each material's means"};
 }
 
 graph::PortDecl RefractorSurfaces::back_depth_port(const char* extent_group) {
@@ -40,8 +64,9 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
     const scene::DrawRange drawn = back || !back_only ? range : scene::DrawRange{};  // back_only: the front is only cleared
     const bool shared_depth = back && targets.back_depth == VK_NULL_HANDLE;
     if (shared_depth) wait_for_depth_writes(cmd, targets.front_depth_image);
-    begin_rendering(cmd, targets.extent, {{back ? targets.back : targets.front}},
-                    Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
+    std::vector<Attachment> colors{{back ? targets.back : targets.front}};
+    if (!back && targets.front_tint != VK_NULL_HANDLE) colors.push_back({targets.front_tint});
+    begin_rendering(cmd, targets.extent, colors, Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
     // A thin wall is one surface, seen from either side: the front draw takes its nearest face
     // whichever way it faces; the back draw, as for solids, the nearest back face (a closed thin
     // object's far wall, or a one-sided pane seen from behind, again).
@@ -92,7 +117,8 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
       "Nearest front and nearest back surfaces of all refractors from the camera or a light: packed outward normal, "
       "distance from the eye, d_N and object index per texel (distance 0: no refractor).",
       PassQueue::graphics,
-      {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), RefractorSurfaces::back_depth_port("view")},
+      {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), RefractorSurfaces::back_depth_port("view"),
+       RefractorSurfaces::front_tint_port(PortAccess::write, PortUsage::color_attachment, "view")},
       [] {
         auto params = view_params();
         params.push_back({"faces",

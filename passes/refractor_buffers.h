@@ -12,11 +12,16 @@ class RefractorSurfaces {
     VkImageView front, back, front_depth;
     VkImage front_depth_image;
     VkImageView back_depth;  // VK_NULL_HANDLE: the back draw clears and reuses front_depth
+    VkImageView front_tint;  // VK_NULL_HANDLE: not drawn (the optional front_tint port unbound)
   };
-  // The pass's ports front, back, front_depth and (optional) back_depth.
+  // The pass's ports front, back, front_depth and (optional) back_depth and front_tint.
   static Targets targets(graph::PassContext& ctx);
   // The optional back_depth port: without it the two draws share one depth image.
   static graph::PortDecl back_depth_port(const char* extent_group);
+  // The optional front_tint port: the front surface's tint (rgb) and transmission (a) per texel,
+  // from the material's textures, for the image-space methods to read (without it they take each
+  // material's means).
+  static graph::PortDecl front_tint_port(graph::PortAccess access, graph::PortUsage usage, const char* extent_group);
   // `front` and `front_depth` name ports whose formats the pipelines are built for.
   void setup(graph::PassSetup& setup, const std::string& front, const std::string& front_depth);
   // Clears the targets and draws `range` into them from `view`.

@@ -683,43 +683,57 @@ TEST(Caustics, RoughnessIsReadPerTexelOnTheExactPaths) {
   EXPECT_NEAR(traced.y, reference.y, 0.08 * reference.y);
 }
 
-// Tint and transmission are read per texel where the exact paths meet a surface:
+// Tint and transmission are read per texel where light meets a surface, in every method:
 // tests/data/gltf/tinted_pane.gltf is a smooth thin pane whose base colour texture is red on its
 // -x half and blue on its +x half, and whose transmission texture passes all the light through the
-// -x half and a quarter through the +x half. Light passes unbent, so the floor under each half is
-// lit in that half's colour, the +x half with a quarter of the flux (both tints have the same
-// channel mean). One tint and transmission per pane (the textures' means, which image space takes:
-// docs/gltf.md) would light both halves alike. Checked in the photon reference, in the exact
-// tracer and in material mode (which traces such a pane exactly, since image space cannot read its
-// textures), each half's flux per channel within 5% of the reference's.
-TEST(Caustics, TintAndTransmissionAreReadPerTexelOnTheExactPaths) {
+// -x half and a quarter through the +x half; blend_pane.gltf is the same pane as alphaMode BLEND,
+// red and a quarter covered on the -x half, blue and three quarters covered on the +x half (so it
+// passes three quarters and a quarter). Light passes unbent, so the floor under each half is lit in
+// that half's colour and share. One tint and transmission per pane (the textures' means, which
+// image space took before its refractor buffers carried them: front_tint) would light both halves
+// alike. Checked in the photon reference, the exact tracer (as is and in material mode) and the
+// image-space maps (the default adaptive graph and the regular one), each half's flux per channel
+// within 5% of the reference's.
+TEST(Caustics, TintAndTransmissionAreReadPerTexelInEveryMethod) {
   Engine e;
-  const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf/tinted_pane.gltf").string();
-  auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
-  auto halves = [&](const io::ImageData& map) {
-    std::array<glm::dvec3, 2> flux{glm::dvec3(0.0), glm::dvec3(0.0)};  // under the -x half, under the +x half
-    test::for_each_floor_point(*scene, map, [&](const glm::dvec3& floor, const glm::dvec3& rgb) {
-      if (std::abs(floor.z) > 0.9 || std::abs(floor.x) < 0.1 || std::abs(floor.x) > 0.9) return;
-      flux[floor.x < 0.0 ? 0 : 1] += rgb;
-    });
-    return flux;
+  struct Case {
+    const char* file;
+    double share;  // the +x half's flux over the -x half's
   };
-  auto mean = [](const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; };
-  reference::PhotonOptions options;
-  options.photons = 4'000'000;
-  const auto reference = halves(reference::trace_photon_reference(*scene, options).caustic_map);
-  EXPECT_GT(reference[0].x, 10.0 * reference[0].z);
-  EXPECT_GT(reference[1].z, 10.0 * reference[1].x);
-  EXPECT_NEAR(mean(reference[1]) / mean(reference[0]), 0.25, 0.02);
-  for (const auto& sets : {std::vector<std::string>{"grid=2048"}, std::vector<std::string>{"grid=2048", "distance=material"}}) {
-    e.render("caustics_raytraced", scene, sets);
-    const auto traced = halves(e.executor.read_image("caustics"));
-    std::printf("tinted pane (%s): -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n",
-                sets.back().c_str(), traced[0].x, traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x,
-                reference[0].y, reference[0].z, reference[1].x, reference[1].y, reference[1].z);
-    for (int half = 0; half < 2; ++half) {
-      for (int c = 0; c < 3; c += 2)
-        EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c] + 0.01 * mean(reference[0])) << sets.back();
+  for (const Case& pane : {Case{"tinted_pane.gltf", 0.25}, Case{"blend_pane.gltf", 1.0 / 3.0}}) {
+    const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf" / pane.file).string();
+    auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
+    auto halves = [&](const io::ImageData& map) {
+      std::array<glm::dvec3, 2> flux{glm::dvec3(0.0), glm::dvec3(0.0)};  // under the -x half, under the +x half
+      test::for_each_floor_point(*scene, map, [&](const glm::dvec3& floor, const glm::dvec3& rgb) {
+        if (std::abs(floor.z) > 0.9 || std::abs(floor.x) < 0.1 || std::abs(floor.x) > 0.9) return;
+        flux[floor.x < 0.0 ? 0 : 1] += rgb;
+      });
+      return flux;
+    };
+    auto mean = [](const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; };
+    reference::PhotonOptions options;
+    options.photons = 4'000'000;
+    const auto reference = halves(reference::trace_photon_reference(*scene, options).caustic_map);
+    EXPECT_GT(reference[0].x, 10.0 * reference[0].z) << pane.file;
+    EXPECT_GT(reference[1].z, 10.0 * reference[1].x) << pane.file;
+    EXPECT_NEAR(mean(reference[1]) / mean(reference[0]), pane.share, 0.02) << pane.file;
+    struct Run {
+      const char* graph;
+      std::vector<std::string> sets;
+    };
+    for (const Run& run : {Run{"caustics_raytraced", {"grid=2048"}}, Run{"caustics_raytraced", {"grid=2048", "distance=material"}},
+                           Run{"caustics_adaptive", {}}, Run{"caustics_regular", {"grid=1024"}}}) {
+      e.render(run.graph, scene, run.sets);
+      const auto map = halves(e.executor.read_image("caustics"));
+      const std::string what = std::string(pane.file) + ", " + run.graph + " " + (run.sets.empty() ? "" : run.sets.back());
+      std::printf("%s: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", what.c_str(), map[0].x,
+                  map[0].y, map[0].z, map[1].x, map[1].y, map[1].z, reference[0].x, reference[0].y, reference[0].z, reference[1].x,
+                  reference[1].y, reference[1].z);
+      for (int half = 0; half < 2; ++half) {
+        for (int c = 0; c < 3; c += 2)
+          EXPECT_NEAR(map[half][c], reference[half][c], 0.05 * reference[half][c] + 0.01 * mean(reference[0])) << what;
+      }
     }
   }
 }

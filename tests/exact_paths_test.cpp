@@ -433,6 +433,26 @@ TEST(ExactPaths, RayQueryRefractionMatchesTheRayTracedReference) {
   }
 }
 
+// The camera sees a textured pane's tint and transmission per pixel in image space too: the
+// refractor buffers carry them (front_tint) for deferred refraction and for each layer of the
+// multi-layer pass. Through tests/data/gltf/tinted_pane.gltf and blend_pane.gltf (caustics_test,
+// TintAndTransmissionAreReadPerTexelInEveryMethod) a thin wall bends nothing, so image space sees
+// the exact path and lands on the ray-traced reference but for the lit image's shadow map; with
+// each pane's means it would show both halves purple.
+TEST(ExactPaths, ImageSpaceRefractionReadsTintAndTransmissionPerPixel) {
+  test::SceneEngine e;
+  for (const char* pane : {"tinted_pane.gltf", "blend_pane.gltf"}) {
+    const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf" / pane).string();
+    auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
+    const auto reference = reference::render_refraction_reference(*scene, e.width, e.height);
+    for (const char* graph : {"refraction_deferred", "refraction_multilayer"}) {
+      const CameraRun run = camera_refraction(e, graph, scene, reference);
+      std::printf("%s, %s: relative L1 %.4f\n", pane, graph, run.error);
+      EXPECT_LT(run.error, 0.05) << pane << ", " << graph;
+    }
+  }
+}
+
 // The camera hybrid searches in image space and traces a pixel exactly only where the search cannot
 // be trusted, with one counter per reason, and stays within 1.5 times the exact tracer's error: on
 // the ball lens it traces well under all of the refractor's pixels (measured 1746 of 3830: the exit

@@ -409,8 +409,9 @@ class Compiler {
         }
       }
       // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
-      // unbound, so the pass skips the work and the resource takes no memory.
-      if (outputs && port->optional && !wanted(resource_name)) continue;
+      // unbound, so the pass skips the work and the resource takes no memory; one the pass samples
+      // itself (scratch, such as refraction_layers' front_tint) is bound wherever it is connected.
+      if (outputs && port->optional && !port->also_sampled && !wanted(resource_name)) continue;
       node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
     }
   }
@@ -928,7 +929,8 @@ class Compiler {
       for (const auto& r : plan_.resources) {
         if (r.used()) largest.push_back(&r);
       }
-      std::sort(largest.begin(), largest.end(), [](auto* a, auto* b) { return a->memory.size > b->memory.size; });
+      // Ties in the plan's (name) order, so that the message does not depend on the sort.
+      std::stable_sort(largest.begin(), largest.end(), [](auto* a, auto* b) { return a->memory.size > b->memory.size; });
       std::string names;
       for (size_t i = 0; i < std::min<size_t>(3, largest.size()); ++i) {
         names += std::string(i ? ", " : "") + "'" + largest[i]->name + "' " + mib(largest[i]->memory.size);

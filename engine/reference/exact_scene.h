@@ -200,9 +200,8 @@ class ExactScene {
   }
 
   // A refractor's tint and transmission where a ray meets it: per texel where its material has a
-  // base colour or a transmission texture (the factor times the texture, as the engine's exact
-  // paths read them; its image-space methods take the textures' means, Material::tint and
-  // ::transmission).
+  // base colour or a transmission texture (the factor times the texture, and a BLEND surface's
+  // uncovered share, as the engine's shaders read them: tint_transmission_from).
   struct Transmittance {
     glm::vec3 tint;
     float transmission;
@@ -210,8 +209,14 @@ class ExactScene {
   Transmittance transmittance(const RayHit& hit) const {
     const scene::Object& object = scene_.objects[hit.geometry];
     const scene::Material& m = object.material;
-    return {m.base_color_texture.used() ? m.tint_factor * glm::vec3(sample(object, m.base_color_texture, hit)) : m.tint,
-            m.transmission_texture.used() ? m.transmission_factor * sample(object, m.transmission_texture, hit).r : m.transmission};
+    Transmittance result{m.tint, m.transmission};
+    if (m.base_color_texture.used()) {
+      const glm::vec4 base_color = sample(object, m.base_color_texture, hit);
+      result.tint = m.tint_factor * glm::vec3(base_color);
+      if (m.coverage_transmits) result.transmission = 1.0f - m.alpha * base_color.a;
+    }
+    if (m.transmission_texture.used()) result.transmission = m.transmission_factor * sample(object, m.transmission_texture, hit).r;
+    return result;
   }
 
   glm::vec3 smooth_normal(const RayHit& hit) const {

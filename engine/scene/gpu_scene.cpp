@@ -53,7 +53,11 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
         {glm::vec4(m.albedo, m.refractor ? 1.0f : 0.0f), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
          glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread()),
          texture_slot(m.base_color_texture),
-         glm::vec4(m.alpha, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f, m.double_sided ? 0.0f : 1.0f, m.occlusion_strength),
+         glm::vec4(m.alpha,
+                   m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff
+                   : m.coverage_transmits          ? -2.0f
+                                                   : -1.0f,
+                   m.double_sided ? 0.0f : 1.0f, m.occlusion_strength),
          texture_slot(m.metallic_roughness_texture), texture_slot(m.normal_texture), texture_slot(m.emissive_texture),
          glm::vec4(m.emissive, m.normal_scale),
          glm::vec4(m.metallic, m.roughness, m.metallic_roughness ? 1.0f : 0.0f, m.refractor ? m.transmission_roughness : 0.0f),

@@ -525,8 +525,8 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
     }
   }
   if (m.refractor && m.base_color_texture.used()) {
-    // Per texel on exact paths; the image-space methods tint with the texture's mean colour times
-    // the factor (MASK coverage still cuts per texel in every method).
+    // Per texel where a method reads the texture (docs/gltf.md); `tint` keeps the texture's mean
+    // colour times the factor for a graph whose image-space passes do not.
     m.tint_factor = m.tint;
     m.tint *= glm::vec3(textures.mean(m.base_color_texture.texture));
   }
@@ -538,7 +538,8 @@ Material gltf_material(const tinygltf::Model& model, int index, const std::strin
       m.refractor = true;
       m.thin = true;
       m.ior = 1.0f;
-      m.transmission = 1.0f - coverage;  // the texture's mean coverage in every method
+      m.coverage_transmits = true;
+      m.transmission = 1.0f - coverage;  // with the texture's mean coverage; per texel where a method reads the texture
       m.tint_factor = m.albedo;
       m.tint = m.albedo * (m.base_color_texture.used() ? glm::vec3(textures.mean(m.base_color_texture.texture)) : glm::vec3(1.0f));
     }

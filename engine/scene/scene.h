@@ -69,8 +69,8 @@ struct Material {
   // Where a ray meets the surface (the exact paths and the references) tint and transmission are
   // per texel: tint_factor times baseColorTexture's rgb, transmission_factor times
   // transmissionTexture's red, each where its texture is used. `tint` and `transmission` hold the
-  // same with each texture's mean, which the image-space methods take (their refractor buffers
-  // carry an object index, not texture coordinates).
+  // same with each texture's mean, which image space takes where a graph does not bind the
+  // refractor buffers' front_tint (docs/gltf.md).
   glm::vec3 tint_factor{1.0f};
   float transmission_factor = 1.0f;
   TextureRef transmission_texture;
@@ -96,6 +96,9 @@ struct Material {
   float alpha = 1.0f;  // baseColorFactor's alpha
   AlphaMode alpha_mode = AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
+  // BLEND drawn as a thin wall (docs/gltf.md): its transmission is the uncovered share, 1 - alpha
+  // times the base colour texture's alpha where it has one (per texel where the method reads it).
+  bool coverage_transmits = false;
   // glTF's doubleSided: false culls the back faces of opaque surfaces in the camera's view (they
   // still cast shadows, as the engine's shadow maps draw both sides). Scene-file materials are.
   bool double_sided = true;

@@ -216,8 +216,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
       reflect_near = reflect_far = 0.0;
     }
 #endif
-    ph.power *= (1.0 - reflect_near) * caustic_transmittance(object);
-    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);
+    ph.power *= (1.0 - reflect_near) * caustic_transmittance(at_front_texel(object, uv));
+    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);  // the far wall: means
     float roughness = transmission_roughness(object);
     ph.random = roughness > 0.0;
     if (roughness > 0.0) {  // scattered by each wall (at the far wall's texel here), it lands where it meets a receiver
@@ -287,7 +287,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     ph.tir = true;
     return IMAGE_SPACE_DONE;
   }
-  vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(object);
+  vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(at_front_texel(object, uv));
   uint next = IMAGE_SPACE_DONE;
 #ifdef CAUSTICA_HYBRID
   // The Fresnel reflections that image space cannot follow (off the entry, or back inside at the

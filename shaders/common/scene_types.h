@@ -35,7 +35,8 @@ struct ObjectData {
   vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor
   vec4 bounds_max_spread;     // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
   TextureSlot base_color;     // multiplies albedo_refractor.rgb and alpha_cutoff.x
-  vec4 alpha_cutoff;          // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -1 unless MASK;
+  vec4 alpha_cutoff;          // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -2 for a BLEND
+                              // surface drawn as a thin wall (Material::coverage_transmits), else -1;
                               // z: 1 when single-sided (the camera's view culls its back faces); w: occlusion strength
   TextureSlot metallic_roughness_map;  // b scales metallic, g roughness
   TextureSlot normal;                  // tangent-space normal map
@@ -46,7 +47,7 @@ struct ObjectData {
   TextureSlot occlusion;               // red: ambient occlusion, applied with alpha_cutoff.w's strength
   TextureSlot transmission_map;        // red: multiplies tint_transmission_factors.a (refractors)
   vec4 tint_transmission_factors;      // tint_transmission before the base colour's and the transmission texture's
-                                       // means: the exact paths read those textures per texel instead
+                                       // means (which a graph without front_tint takes): textures.glsl reads them per texel
 };
 
 struct LightData {

@@ -1,6 +1,6 @@
 #version 460
 // Deferred refraction: one full-screen pass over the refractor buffers; each pixel is shaded once,
-// for the nearest refractor surface only. Compiled with CAUSTICA_RAY_QUERY when the pass's
+// for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT). Compiled with CAUSTICA_RAY_QUERY when the pass's
 // `distance` is ray_query (every pixel traced exactly), material, or hybrid (the image-space search,
 // traced exactly where it cannot be trusted; CAUSTICA_HYBRID too).
 #extension GL_GOOGLE_include_directive : require
@@ -41,7 +41,7 @@ layout(location = 0) out vec4 out_color;
 // only its exit ray from the estimated exit point, which need not lie on the surface, was measured
 // to be far worse (docs/exact_paths.md).
 uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
-  ObjectData object = objects[uint(front.w)];
+  ObjectData object = at_front_texel(objects[uint(front.w)], uv);
   vec3 eye = frame.camera_position.xyz;
   vec3 n1 = unpack_normal(front.x);
   if (thin_walled(object)) {  // image space sees a thin wall's path exactly
@@ -121,5 +121,5 @@ void main() {
     return;
   }
 #endif
-  out_color = vec4(refracted_radiance(p1, unpack_normal(front.x), front.y, front.z, uint(front.w), uv), 1.0);
+  out_color = vec4(refracted_radiance(p1, unpack_normal(front.x), front.y, front.z, uint(front.w), at_front_texel(objects[uint(front.w)], uv), uv), 1.0);
 }

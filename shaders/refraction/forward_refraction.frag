@@ -39,5 +39,7 @@ void main() {
   if (texture(depth_tex, uv).r < gl_FragCoord.z) discard;  // behind opaque geometry
   if (cut_out(objects[object_index], texcoords)) discard;   // MASK: no surface here
   float front_distance = distance(world_position, frame.camera_position.xyz);
-  out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, uv), 1.0);
+  ObjectData object = objects[object_index];
+  object.tint_transmission = tint_transmission_filtered(object, texcoords);  // per fragment
+  out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, object, uv), 1.0);
 }

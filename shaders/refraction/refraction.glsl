@@ -484,9 +484,25 @@ float band_ior(ObjectData object, uint band) {
 }
 
 // The share of a photon's power past a refractor's surface (after Fresnel), per colour channel of
-// the caustic map, as image space takes it: the transmission times the tint, each with its
-// texture's mean (the exact paths read them per texel: tint_transmission_at).
+// the caustic map: the transmission times the tint (per texel where at_front_texel or the exact
+// paths' tint_transmission_at gave them).
 vec3 caustic_transmittance(ObjectData object) { return object.tint_transmission.a * object.tint_transmission.rgb; }
+
+#ifdef REFRACTION_FRONT_TEX
+#ifdef REFRACTOR_TINT
+layout(set = 0, binding = 16) uniform sampler2D front_tint_tex;
+#endif
+// The refractor seen at texel uv of the front refractor buffer, with its tint and transmission
+// there where its textures vary them and the buffers carry them (the front_tint port, compiled in
+// as REFRACTOR_TINT); else with its materials' means. The surface met first is the one whose
+// tint counts: a thin object's far wall keeps the means.
+ObjectData at_front_texel(ObjectData object, vec2 uv) {
+#ifdef REFRACTOR_TINT
+  if (transmittance_varies(object)) object.tint_transmission = texture(front_tint_tex, uv);
+#endif
+  return object;
+}
+#endif
 
 #ifndef REFRACTION_NO_CAMERA
 #ifdef CAUSTICA_RAY_QUERY
@@ -568,16 +584,16 @@ vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pix
       d = through_thin(d, m2, n2);
     }
     vec3 through = roughness > 0.0 ? background_along(far_wall ? p2 : p1, d) : texture(background_tex, pixel_uv).rgb;
-    if (far_wall) through = refractor_surface(object, reflect_far, p2, n2, through);
+    if (far_wall) through = refractor_surface(objects[uint(front.w)], reflect_far, p2, n2, through);  // the far wall: means
     radiance += refractor_surface(object, fresnel_dielectric(-dot(v, m1), 1.0, ior), p1, n1, through);
   }
   return radiance / float(samples);
 }
 
-// Radiance seen through a refractor whose front surface is at p1 with outward normal n1; a
-// dispersive one is refracted once per colour band, each band giving its own channel.
-vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, vec2 pixel_uv) {
-  ObjectData object = objects[object_index];
+// Radiance seen through a refractor whose front surface is at p1 with outward normal n1 (`object`:
+// objects[object_index] with its tint and transmission at p1); a dispersive one is refracted once
+// per colour band, each band giving its own channel.
+vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint object_index, ObjectData object, vec2 pixel_uv) {
   if (thin_walled(object)) return through_thin_wall(object, p1, n1, vec4(0.0, front_distance, 0.0, float(object_index)), pixel_uv);
   vec3 facing = dot(normalize(p1 - frame.camera_position.xyz), n1) > 0.0 ? -n1 : n1;
   vec3 radiance = vec3(0.0);

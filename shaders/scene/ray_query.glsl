@@ -91,14 +91,14 @@ float roughness_at(SurfaceHit h) {
 
 // A refractor's tint (rgb) and transmission (a) where a ray meets it: per texel where its material
 // has a base colour or a transmission texture (the factor times the texture, at the full-resolution
-// level, as the Embree references read them); the image-space methods take the textures' means,
-// which is what tint_transmission holds.
+// level, as the Embree references read them; the image-space methods read the refractor buffers'
+// front_tint, drawn with the textures filtered).
 vec4 tint_transmission_at(SurfaceHit h) {
   ObjectData object = objects[h.object];
-  vec4 result = object.tint_transmission;
-  if (object.base_color.row_u.w >= 0.0) result.rgb = object.tint_transmission_factors.rgb * sample_slot_at_full_resolution(object.base_color, h.texcoords).rgb;
-  if (object.transmission_map.row_u.w >= 0.0) result.a = object.tint_transmission_factors.a * sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r;
-  return result;
+  if (!transmittance_varies(object)) return object.tint_transmission;
+  vec4 base_color = object.base_color.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.base_color, h.texcoords) : vec4(1.0);
+  float transmission = object.transmission_map.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r : 1.0;
+  return tint_transmission_from(object, base_color, transmission);
 }
 
 // Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).

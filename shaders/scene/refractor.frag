@@ -1,7 +1,9 @@
 #version 460
 // Refractor surfaces, front or back faces depending on the pipeline's culling: the outward normal,
 // the distance from the eye (along the axis for an orthographic view), d_N, and the object, in one
-// rgba32f texel. MASK materials cut out where their coverage is below the cutoff.
+// rgba32f texel. MASK materials cut out where their coverage is below the cutoff. With
+// REFRACTOR_TINT (the pass's optional tint port bound) also the surface's tint and transmission, so
+// that image space reads textured refractors per texel (tint_transmission_filtered).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
@@ -19,9 +21,15 @@ layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;
 layout(location = 0) out vec4 out_surface;
+#ifdef REFRACTOR_TINT
+layout(location = 1) out vec4 out_tint_transmission;
+#endif
 
 void main() {
   if (cut_out(objects[object_index], texcoords)) discard;  // MASK: no surface here
   float from_eye = draw.axis.w > 0.5 ? dot(world_position - draw.eye.xyz, draw.axis.xyz) : distance(world_position, draw.eye.xyz);
   out_surface = vec4(pack_normal(normalize(world_normal)), from_eye, normal_distance, float(object_index));
+#ifdef REFRACTOR_TINT
+  out_tint_transmission = tint_transmission_filtered(objects[object_index], texcoords);
+#endif
 }

@@ -8,6 +8,10 @@
 #define SCENE_VERTICES layout(set = 0, binding = 1, std430) readonly buffer VertexBlock { Vertex vertices[]; };
 #define SCENE_OBJECTS layout(set = 0, binding = 2, std430) readonly buffer ObjectBlock { ObjectData objects[]; };
 
+// A refractor's tint and transmission vary over its surface where it has a base colour or a
+// transmission texture (scene/textures.glsl, tint_transmission_from).
+bool transmittance_varies(ObjectData object) { return object.base_color.row_u.w >= 0.0 || object.transmission_map.row_u.w >= 0.0; }
+
 // Octahedral unit-vector encoding in two snorm16 values packed into one float's bits.
 vec2 oct_wrap(vec2 v) { return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }
 float pack_normal(vec3 n) {

@@ -37,4 +37,22 @@ bool cut_out_at_full_resolution(ObjectData object, vec4 texcoords) {
   return alpha < object.alpha_cutoff.y;
 }
 
+// A BLEND surface drawn as a thin wall: its transmission is its uncovered share, 1 - alpha.
+bool coverage_transmits(ObjectData object) { return object.alpha_cutoff.y < -1.5; }
+// Both, given the base colour and transmission textures' texels where the surface is met (the
+// textures' means, which tint_transmission holds, where it has neither).
+vec4 tint_transmission_from(ObjectData object, vec4 base_color_texel, float transmission_texel) {
+  vec4 result = object.tint_transmission;
+  if (object.base_color.row_u.w >= 0.0) {
+    result.rgb = object.tint_transmission_factors.rgb * base_color_texel.rgb;
+    if (coverage_transmits(object)) result.a = 1.0 - object.alpha_cutoff.x * base_color_texel.a;
+  }
+  if (object.transmission_map.row_u.w >= 0.0) result.a = object.tint_transmission_factors.a * transmission_texel;
+  return result;
+}
+// Filtered over the mip chain (fragment shaders: the refractor buffers' tint, forward refraction).
+vec4 tint_transmission_filtered(ObjectData object, vec4 texcoords) {
+  return tint_transmission_from(object, sample_slot(object.base_color, texcoords, vec4(1.0)), sample_slot(object.transmission_map, texcoords, vec4(1.0)).r);
+}
+
 #endif

@@ -5,7 +5,7 @@ quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK),
 straight above, and a camera. Everything is embedded, so the file stands alone.
 Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf,
 bad_tangent_count.gltf), and textured_surfaces.gltf
-rough_pane.gltf and tinted_pane.gltf (below).
+rough_pane.gltf, tinted_pane.gltf and blend_pane.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
 
@@ -242,3 +242,18 @@ tinted["textures"] = [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}]
 tinted["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 40, 40, 255), (40, 40, 255, 255)]]))},
                     {"uri": data_uri("image/png", png(2, 1, [[(255, 0, 0, 255), (64, 0, 0, 255)]]))}]
 write("tinted_pane.gltf", tinted)
+
+
+# blend_pane.gltf: the same pane as alphaMode BLEND (no transmission extension), red and a quarter
+# covered on its -x half, blue and three quarters covered on its +x half: drawn as a thin wall that
+# passes the uncovered share, it lets three quarters of the light through the -x half, red, and a
+# quarter through the +x half, blue (one coverage for the whole pane, its mean, would pass half
+# through both).
+blended = json.loads(json.dumps(pane))
+blended["extensionsUsed"] = ["KHR_lights_punctual"]
+blended["materials"][1] = {
+    "name": "two-tone blended pane", "doubleSided": True, "alphaMode": "BLEND",
+    "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.0}}
+blended["textures"] = [{"sampler": 0, "source": 0}]
+blended["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 40, 40, 64), (40, 40, 255, 191)]]))}]
+write("blend_pane.gltf", blended)
