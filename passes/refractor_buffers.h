@@ -29,6 +29,9 @@ class RefractorSurfaces {
 
  private:
   vk::Pipeline pipelines_[3];  // front faces, back faces, thin-walled refractors' front (no culling)
+  // With front_tint bound: the front and thin pipelines that also draw it, used where the scene
+  // has a refractor whose tint varies (the others never read it: at_front_texel).
+  vk::Pipeline tinted_[2];
 };
 
 }  // namespace caustica::passes

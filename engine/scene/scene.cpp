@@ -81,6 +81,12 @@ bool Scene::disperses() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
 }
 
+bool Scene::tints_per_texel() const {
+  return std::any_of(objects.begin(), objects.end(), [](const Object& o) {
+    return o.material.refractor && (o.material.base_color_texture.used() || o.material.transmission_texture.used());
+  });
+}
+
 size_t Scene::refractor_count() const {
   return static_cast<size_t>(std::count_if(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor; }));
 }

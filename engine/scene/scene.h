@@ -169,6 +169,9 @@ struct Scene {
   size_t triangle_count() const;
   // Whether a refractor disperses light: light is then traced once per colour band.
   bool disperses() const;
+  // Whether a refractor's tint or transmission varies over its surface (a base colour or a
+  // transmission texture): only then do the refractor buffers draw their front_tint.
+  bool tints_per_texel() const;
   // How far a ray starts off the surface it leaves: 1e-4 of the largest object's diagonal, at least
   // 1e-4. The exact tracers (Embree and ray queries) share it.
   float ray_epsilon() const;
