@@ -1,4 +1,4 @@
-// Every bundled graph on every bundled scene (the stability suite's included), on lavapipe with validation and synchronization
+// Every bundled graph on every bundled scene (the stability suite's included, and a textured pane), on lavapipe with validation and synchronization
 // validation: each must render without a validation message, without NaN or Inf in its output,
 // and with its first output written. Small frames and small photon grids keep it quick; the
 // shapes of the work (passes, barriers, aliasing, batches) are the same as at full size.
@@ -33,6 +33,8 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
   auto scenes = bundled("scenes");
   const auto stability = bundled("scenes/stability");
   scenes.insert(scenes.end(), stability.begin(), stability.end());
+  // A refractor whose tint varies over it: the refractor buffers draw their front_tint too.
+  scenes.push_back(std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf/tinted_pane.gltf");
   ASSERT_GE(graphs.size(), 9u);
   ASSERT_GE(scenes.size(), 14u);
   int renders = 0;
