@@ -3,15 +3,17 @@
 # ray-query caustic graph, beside the Embree reference picture lit by a photon-reference caustic
 # map, and each graph's caustic map (and the ray-query graph's with distance=material) against
 # that map (energy ratio, relative L1).
-#   tools/gallery.sh [CAUSTICA] [SAMPLES_DIR] [PHOTONS]
+#   tools/gallery.sh [CAUSTICA] [SAMPLES_DIR] [PHOTONS] [ONLY]
 # CAUSTICA defaults to build/release/caustica, SAMPLES_DIR to ../shared/gltf-samples (the Khronos
-# transmission samples; skipped when absent), PHOTONS to 2e7. Writes docs/gallery/*.png and prints
-# the table that docs/gallery.md quotes.
+# transmission samples; skipped when absent), PHOTONS to 2e7; ONLY, a comma-separated list of asset
+# names, renders those alone. Writes docs/gallery/*.png and prints the table that docs/gallery.md
+# quotes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${1:-build/release/caustica}")
 samples=${2:-../shared/gltf-samples}
 photons=${3:-2e7}
+only=${4:-}
 out=docs/gallery
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -22,7 +24,8 @@ for sample in TransmissionTest AttenuationTest TransmissionRoughnessTest; do
   [ -f "$samples/$sample.glb" ] && assets+=("$sample|$samples/$sample.glb")
 done
 assets+=("thin_panes|scenes/thin_panes.json" "sphere_sun|scenes/sphere_sun.json" "glass_cube|tests/data/gltf/cube_camera_spot.gltf"
-  "dragon|scenes/dragon.json" "rainbow_lens|scenes/rainbow_lens.json" "mask_over_lens|tests/data/mask_over_lens.json")
+  "dragon|scenes/dragon.json" "rainbow_lens|scenes/rainbow_lens.json" "mask_over_lens|tests/data/mask_over_lens.json"
+  "tinted_pane|tests/data/gltf/tinted_pane.gltf" "blend_pane|tests/data/gltf/blend_pane.gltf" "rough_pane|tests/data/gltf/rough_pane.gltf")
 
 energy() {  # A B -> "energy_ratio relative_l1"
   "$bin" compare "$1" "$2" --json | python3 -c 'import json, sys; d = json.load(sys.stdin); print("%.3f %.3f" % (d["energy_ratio"], d["relative_l1"]))'
@@ -35,6 +38,7 @@ energy() {  # A B -> "energy_ratio relative_l1"
 for entry in "${assets[@]}"; do
   name=${entry%%|*}
   scene=${entry#*|}
+  [ -n "$only" ] && [[ ",$only," != *",$name,"* ]] && continue
   echo "== $name ($scene)" >&2
   "$bin" render --scene "$scene" --size 640x360 --out "$out/$name.png" --dump "caustics=$work/$name.default.exr" >&2
   "$bin" render --scene "$scene" --graph graphs/caustics_raytraced.json --size 640x360 --out "$out/${name}_raytraced.png" \
