@@ -1,7 +1,8 @@
-// Every bundled graph on every bundled scene (the stability suite's included, and a textured pane), on lavapipe with validation and synchronization
-// validation: each must render without a validation message, without NaN or Inf in its output,
-// and with its first output written. Small frames and small photon grids keep it quick; the
-// shapes of the work (passes, barriers, aliasing, batches) are the same as at full size.
+// Every bundled graph on every bundled scene (the stability suite's included, and a textured
+// pane), on lavapipe with validation and synchronization validation: each must render without a
+// validation message, without NaN or Inf in its output, and with its first output written. Small
+// frames and small photon grids keep it quick; the shapes of the work (passes, barriers, aliasing,
+// batches) are the same as at full size.
 #include <gtest/gtest.h>
 
 #include <cmath>
