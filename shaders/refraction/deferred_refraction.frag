@@ -1,8 +1,9 @@
 #version 460
 // Deferred refraction: one full-screen pass over the refractor buffers; each pixel is shaded once,
-// for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT). Compiled with CAUSTICA_RAY_QUERY when the pass's
-// `distance` is ray_query (every pixel traced exactly), material, or hybrid (the image-space search,
-// traced exactly where it cannot be trusted; CAUSTICA_HYBRID too).
+// for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT).
+// Compiled with CAUSTICA_RAY_QUERY when the pass's `distance` is ray_query (every pixel traced
+// exactly), material, or hybrid (the image-space search, traced exactly where it cannot be
+// trusted; CAUSTICA_HYBRID too).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
