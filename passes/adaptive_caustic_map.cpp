@@ -132,7 +132,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
     // The hierarchical traversal does not look at its photons, so in image space its last level can
     // trace every colour band in one pass; the adaptive one follows each band's photons.
-    photons_.build(setup, layout, "caustics/adaptive_photons.comp", front_tint_defines(setup, exact_.defines(defines)),
+    photons_.build(setup, layout, "caustics/adaptive_photons.comp", refraction_defines(setup, exact_.defines(defines)),
                    hierarchical_ && !exact_.traced());
     if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
     args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));

@@ -49,7 +49,7 @@ class CausticMapPass final : public graph::Pass {
                                     VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER})),
         sizeof(PhotonPush), exact_.texture_array()};
-    photons_.build(setup, layout, "caustics/regular_photons.comp", front_tint_defines(setup, exact_.defines()), !exact_.traced());
+    photons_.build(setup, layout, "caustics/regular_photons.comp", refraction_defines(setup, exact_.defines()), !exact_.traced());
   }
 
   void execute(graph::PassContext& ctx) override {

@@ -33,9 +33,21 @@ std::vector<graph::ParamDecl> refraction_params() {
            "whatever it meets in the scene, however large"}};
 }
 
+std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> params) {
+  params.push_back({"search_bounces",
+                    graph::ParamType::int_,
+                    3,
+                    0.0,
+                    8.0,
+                    {},
+                    "search: total internal reflections followed inside a refractor, each found by another search (Davis and Wyman "
+                    "2007); light still inside after them is dropped, as d_V and d_V/d_N drop it at the first"});
+  return params;
+}
+
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
   using graph::ParamType;
-  auto params = refraction_params();
+  auto params = with_search_bounces(refraction_params());
   params[0].choices = {"dv", "dv_dn", "search", "ray_query", "hybrid", "material"};
   params[0].description =
       "where " + what +
@@ -206,8 +218,9 @@ std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup,
   return bindings;
 }
 
-shader::Defines front_tint_defines(const graph::PassSetup& setup, shader::Defines defines) {
+shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines) {
   if (setup.bound("front_tint")) defines["REFRACTOR_TINT"] = "1";
+  defines["SEARCH_TIR_BOUNCES"] = std::to_string(setup.pass().params.at("search_bounces").get<int>());
   return defines;
 }
 
@@ -355,7 +368,7 @@ void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color, c
                                            sizeof(RefractionPush), exact ? exact->texture_array() : 0},
                                           setup.shaders().compile("common/fullscreen.vert"),
                                           setup.shaders().compile("refraction/deferred_refraction.frag",
-                                                                  front_tint_defines(setup, exact ? exact->defines() : shader::Defines{})),
+                                                                  refraction_defines(setup, exact ? exact->defines() : shader::Defines{})),
                                           {color});
   copy_ = make_copy_pipeline(setup, color);
 }

@@ -19,8 +19,12 @@ struct RefractionPush {
 
 // The image-space passes' `distance` (dv, dv_dn, search) and the background search's parameters.
 std::vector<graph::ParamDecl> refraction_params();
+// `params` with search_bounces, for the passes whose search follows total internal reflection
+// inside (those that read the refractors' front surfaces too: refraction_defines).
+std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> params);
 // The ladder of ways to find where a ray leaves a refractor, for the passes that also trace exact
-// paths: refraction_params() with ray_query and hybrid, max_interfaces and hybrid_tolerance.
+// paths: refraction_params() with search_bounces, ray_query and hybrid, max_interfaces and
+// hybrid_tolerance.
 // `what` names the rays ("a photon", "a camera ray") in the description.
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
 // The photon passes': exact_path_params() and the seed of their Fresnel choices.
@@ -84,9 +88,11 @@ class ExactPaths : public RayQueryScene {
 
 // The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:
 // binding 16 of its shaders (shaders/refraction/refraction.glsl, at_front_texel), padded as
-// RayQueryScene::bindings pads, and their REFRACTOR_TINT variant.
+// RayQueryScene::bindings pads.
 std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings);
-shader::Defines front_tint_defines(const graph::PassSetup& setup, shader::Defines defines = {});
+// The defines of a pass's refraction shaders that its setup decides: REFRACTOR_TINT where front_tint
+// is bound, and SEARCH_TIR_BOUNCES from search_bounces (a constant, so that 0 leaves no loop).
+shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines = {});
 void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
 
 // The ports every refraction pass reads: the image behind the refractors and its depth.

@@ -139,7 +139,7 @@ graph::PassTypeDecl refraction_layers_pass_type() {
                     "layer refracts the result of the layers behind it. Counters <pass>.layers and <pass>.tir_pixels.",
                     PassQueue::graphics,
                     ports,
-                    refraction_params(),
+                    with_search_bounces(refraction_params()),
                     false,
                     [] { return std::make_unique<RefractionLayersPass>(); }};
   decl.needs_scene = true;

@@ -300,8 +300,12 @@ float search_exit(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 t1, float d, flo
 
 #ifdef REFRACTION_FRONT_TEX
 // Total internal reflection followed inside by the search (Davis and Wyman 2007), where the
-// including shader has the refractor's front surfaces too (front_tex): at most this many bounces.
-const int SEARCH_TIR_BOUNCES = 3;
+// including shader has the refractor's front surfaces too (front_tex): at most SEARCH_TIR_BOUNCES
+// bounces, which every pass defines from its search_bounces parameter (passes/refraction.h,
+// refraction_defines); the fallback, that parameter's default, serves a compile without a pass.
+#ifndef SEARCH_TIR_BOUNCES
+#define SEARCH_TIR_BOUNCES 3
+#endif
 
 // From p inside the refractor along `direction`: the distance to where the ray leaves it and the
 // outward normal of the surface it leaves through, the front or the back one; false when it does
