@@ -72,7 +72,7 @@ const char* kScenes[] = {"sphere_plane", "bunny_plane", "two_refractors", "three
 
 // Every refraction graph on every bundled scene renders without a validation message and without
 // NaN or Inf. The forward and deferred graphs share the shading code; they differ in where the front surface comes from (a
-// rasterized fragment, or the refractor buffer with its normal packed in 16 + 15 bits). The stated
+// rasterized fragment, or the refractor buffer with its normal packed in one float's bits). The stated
 // tolerance: mean luminance difference under 0.2%, and under 0.5% of pixels off by more than 5%.
 TEST(Refraction, ForwardMatchesDeferredOnEveryScene) {
   Engine e;

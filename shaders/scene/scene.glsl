@@ -20,18 +20,18 @@ bool transmittance_varies(ObjectData object) { return object.base_color.row_u.w 
 // texels). x takes the low 16 bits (unorm); y the high 16, as an index into the 65024 patterns
 // whose exponent field is neither 0 nor 255: [128, 32639] (positive floats) and [32896, 65407]
 // (negative ones).
-const uint NORMAL_Y_RUN = 32512u, NORMAL_Y_LEVELS = 2u * NORMAL_Y_RUN - 1u;
+const uint NORMAL_Y_POSITIVE = 128u, NORMAL_Y_NEGATIVE = 32896u, NORMAL_Y_RUN = 32512u, NORMAL_Y_LEVELS = 2u * NORMAL_Y_RUN - 1u;
 vec2 oct_wrap(vec2 v) { return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }
 float pack_normal(vec3 n) {
   n /= abs(n.x) + abs(n.y) + abs(n.z);
   vec2 e = clamp(0.5 * (n.z >= 0.0 ? n.xy : oct_wrap(n.xy)) + 0.5, 0.0, 1.0);
   uint x = uint(round(e.x * 65535.0)), y = uint(round(e.y * float(NORMAL_Y_LEVELS)));
-  uint high = y < NORMAL_Y_RUN ? 128u + y : 32896u + (y - NORMAL_Y_RUN);
+  uint high = y < NORMAL_Y_RUN ? NORMAL_Y_POSITIVE + y : NORMAL_Y_NEGATIVE + (y - NORMAL_Y_RUN);
   return uintBitsToFloat(x | (high << 16));
 }
 vec3 unpack_normal(float packed) {
   uint bits = floatBitsToUint(packed), high = bits >> 16;
-  uint y = high < 32768u ? high - 128u : high - 32896u + NORMAL_Y_RUN;
+  uint y = high < NORMAL_Y_NEGATIVE ? high - NORMAL_Y_POSITIVE : high - NORMAL_Y_NEGATIVE + NORMAL_Y_RUN;
   vec2 e = vec2(float(bits & 0xFFFFu) / 65535.0, float(y) / float(NORMAL_Y_LEVELS)) * 2.0 - 1.0;
   vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
   if (n.z < 0.0) n.xy = oct_wrap(n.xy);
