@@ -3,6 +3,7 @@
 // on scenes, for the device tests; any validation message fails the test that owns it.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <set>
 #include <string>
@@ -40,6 +41,21 @@ struct SceneEngine {
 
 inline std::shared_ptr<scene::Scene> load_bundled_scene(const std::string& name) {
   return std::make_shared<scene::Scene>(scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()));
+}
+
+// How far image `a` lies from `b`: the sum of the colour channels' absolute differences over the sum
+// of b's absolute colour values (alpha left out: a caustic map's is 1 everywhere). A GPU adds a
+// texel's photons in whatever order its atomics land, so two maps of the same photons agree to
+// float rounding, not bit for bit (lavapipe's order happens to be fixed).
+inline double relative_difference(const io::ImageData& a, const io::ImageData& b) {
+  EXPECT_EQ(a.rgba.size(), b.rgba.size());
+  double difference = 0, total = 0;
+  for (size_t i = 0; i < std::min(a.rgba.size(), b.rgba.size()); ++i) {
+    if (i % 4 == 3) continue;
+    difference += std::abs(static_cast<double>(a.rgba[i]) - static_cast<double>(b.rgba[i]));
+    total += std::abs(static_cast<double>(b.rgba[i]));
+  }
+  return total > 0 ? difference / total : difference;
 }
 
 }  // namespace caustica::test
