@@ -491,6 +491,22 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   fs::remove_all(dir);
 }
 
+// bench accuracy draws its chart last, after what can be an hour on lavapipe: an interpreter without
+// matplotlib (CAUSTICA_PYTHON chooses it) stops it before any work, exit 3, the package named,
+// nothing written.
+TEST(Cli, AccuracyBenchmarkWithoutMatplotlibStopsBeforeItStarts) {
+  fs::path dir = scratch("no_matplotlib");
+  ::setenv("CAUSTICA_PYTHON", "/bin/false", 1);
+  const CliRun bench =
+      run("bench accuracy --scenes sphere_plane --graphs caustics_adaptive --grids 64 --reference-photons 1e5 --out acc", dir);
+  ::unsetenv("CAUSTICA_PYTHON");
+  EXPECT_EQ(bench.code, 3) << bench.output;
+  EXPECT_NE(bench.output.find("python3-matplotlib"), std::string::npos) << bench.output;
+  EXPECT_EQ(bench.output.find("reference photons"), std::string::npos) << bench.output;
+  EXPECT_FALSE(fs::exists(dir / "acc"));
+  fs::remove_all(dir);
+}
+
 // A device without ray queries (masked with CAUSTICA_NO_RAY_QUERY) still runs every image-space
 // graph, and refuses a graph that traces exact paths, in validate and before rendering: exit 1, the
 // pass, the missing extension and the graph to use instead named, nothing written.

@@ -41,6 +41,13 @@ std::string graph_path(const std::string& name) {
   return bundled_path("graphs", name);
 }
 
+// The interpreter that draws the accuracy chart: CAUSTICA_PYTHON, else Debian's, where
+// python3-matplotlib installs, even when another python3 comes first on PATH.
+std::string chart_python() {
+  if (const char* env = std::getenv("CAUSTICA_PYTHON"); env && *env) return env;
+  return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+}
+
 }  // namespace
 
 // Loading a model or scene: the host's part (parsing, decoding the textures materials use, normals,
@@ -414,6 +421,12 @@ int cmd_bench_accuracy(Args& args) {
   }
   const std::filesystem::path plot_script = data_dir() / "tools" / "plot_accuracy.py";
   if (!std::filesystem::is_regular_file(plot_script)) throw InputError(plot_script.string() + ": the chart script is missing");
+  // The chart is drawn last, after what can be an hour on lavapipe: a missing matplotlib is found now.
+  const std::string python = chart_python();
+  if (std::system(("'" + python + "' -c 'import matplotlib' > /dev/null 2>&1").c_str()) != 0) {
+    throw std::runtime_error("the chart needs matplotlib, which " + python +
+                             " cannot import (Debian: python3-matplotlib; CAUSTICA_PYTHON names another interpreter)");
+  }
   std::filesystem::create_directories(out_dir);
   const std::filesystem::path dir(out_dir);
 
@@ -521,10 +534,8 @@ int cmd_bench_accuracy(Args& args) {
                                 "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
                                 table);
   const std::filesystem::path partial = dir / ".speed_accuracy.partial.png";
-  // Debian's interpreter, where python3-matplotlib installs, even when another python3 comes first on PATH.
-  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string command =
-      python + " '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
+      "'" + python + "' '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
   if (std::system(command.c_str()) != 0) {
     std::filesystem::remove(partial);
     throw std::runtime_error("drawing the chart failed: " + command + " (Debian: python3-matplotlib)");
@@ -739,7 +750,8 @@ int cmd_bench(Args& args) {
       "graphs, the max-error one also with converge_test=same_texel (the paper's test), the adaptive hybrid with distance=search and as\n"
       "it is, caustics_raytraced, refraction_forward, refraction_deferred, refraction_raytraced, refraction_hybrid (graphs\n"
       "that need ray queries are skipped, with a note, on a device without them). A graph is NAME or\n"
-      "NAME:PARAM=VALUE[:PARAM=VALUE...].\n\n"
+      "NAME:PARAM=VALUE[:PARAM=VALUE...]. The chart is drawn by /usr/bin/python3 with matplotlib, or by the interpreter\n"
+      "that CAUSTICA_PYTHON names; one that cannot import matplotlib stops the benchmark before it starts.\n\n"
       "       caustica bench stability [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR] [--validate]\n\n"
       "stability: where each caustic method breaks. Every case (ball lens; bunny with the light moving; n = 2.4; grazing\n"
       "light; torus; stacked refractors; a refractor smaller than the start grid's spacing; one filling the light's view;\n"
