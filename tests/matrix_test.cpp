@@ -47,8 +47,15 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
       graph::Executor executor(vk, shaders, passes::builtin_registry());
       executor.set_scene(scene);
       const uint32_t before = vk.validation_messages();
-      executor.configure(graph, 96, 64);
-      executor.run_frame(true);
+      // A graph this device refuses (one that needs ray queries, on a GPU without them) fails here
+      // and the rest still run, so that one run shows every other graph's messages too.
+      try {
+        executor.configure(graph, 96, 64);
+        executor.run_frame(true);
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << graph_file.filename() << " on " << scene_file.filename() << ": " << e.what();
+        continue;
+      }
       const io::ImageData out = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
       size_t bad = 0;
       for (float v : out.rgba) bad += std::isfinite(v) ? 0 : 1;
