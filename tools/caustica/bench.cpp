@@ -41,6 +41,13 @@ std::string graph_path(const std::string& name) {
   return bundled_path("graphs", name);
 }
 
+// `s` as one word of a POSIX shell command line, whatever it holds (a folder named "it's", say).
+std::string shell_word(const std::string& s) {
+  std::string word = "'";
+  for (char c : s) word += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return word + "'";
+}
+
 // The interpreter that draws the accuracy chart: CAUSTICA_PYTHON, else Debian's, where
 // python3-matplotlib installs, even when another python3 comes first on PATH.
 std::string chart_python() {
@@ -423,7 +430,7 @@ int cmd_bench_accuracy(Args& args) {
   if (!std::filesystem::is_regular_file(plot_script)) throw InputError(plot_script.string() + ": the chart script is missing");
   // The chart is drawn last, after what can be an hour on lavapipe: a missing matplotlib is found now.
   const std::string python = chart_python();
-  if (std::system(("'" + python + "' -c 'import matplotlib' > /dev/null 2>&1").c_str()) != 0) {
+  if (std::system((shell_word(python) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) != 0) {
     throw std::runtime_error("the chart needs matplotlib, which " + python +
                              " cannot import (Debian: python3-matplotlib; CAUSTICA_PYTHON names another interpreter)");
   }
@@ -534,8 +541,8 @@ int cmd_bench_accuracy(Args& args) {
                                 "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
                                 table);
   const std::filesystem::path partial = dir / ".speed_accuracy.partial.png";
-  const std::string command =
-      "'" + python + "' '" + plot_script.string() + "' '" + (dir / "results.csv").string() + "' '" + partial.string() + "'";
+  const std::string command = shell_word(python) + " " + shell_word(plot_script.string()) + " " +
+                              shell_word((dir / "results.csv").string()) + " " + shell_word(partial.string());
   if (std::system(command.c_str()) != 0) {
     std::filesystem::remove(partial);
     throw std::runtime_error("drawing the chart failed: " + command + " (Debian: python3-matplotlib)");
