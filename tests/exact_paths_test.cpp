@@ -343,13 +343,13 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
 
 // The hybrid keeps the image-space estimate where it can be trusted and re-traces the rest: on the
 // ball lens, the estimate's false total internal reflection near the rim is re-traced, so the
-// hybrid lands (nearly) the exact lens's flux where image space alone loses about 22%.
+// hybrid lands (nearly) the exact lens's flux where the d_V/d_N estimate alone loses about 22%.
 TEST(ExactPaths, HybridRetracesWhereTheEstimateFails) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("sphere_plane");
   const test::ExactLens lens = test::exact_ball_lens(*scene, {0.5});
-  auto image_space = e.render("caustics_adaptive", scene, {"fresnel=false"}, {});
+  auto image_space = e.render("caustics_adaptive", scene, {"fresnel=false", "distance=dv_dn"}, {});
   auto hybrid = e.render("caustics_adaptive_hybrid", scene, {"fresnel=false"}, {});
   const double retraced =
       sum_of(hybrid, {"photons.retraced.tir", "photons.retraced.empty_back", "photons.retraced.off_surface",
@@ -501,14 +501,15 @@ TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
 // bunny, where many rays meet it at the exit, d_V/d_N drops 33,547 photons and marks 1,796 camera
 // pixels as total internal reflection; the search without following dropped 35,853 and 1,654, with
 // following 20,982 and 768 (measured when written), and lands 15% more flux. search_bounces (3 by
-// default) sets how many bounces: with 0 the search drops them at the first, as d_V/d_N does
-// (34,943 photons and 1,645 pixels; 11% less flux than with 3).
+// default in the passes; caustics_adaptive.json's default is 0, for the photon count) sets how many
+// bounces: with 0 the search drops them at the first, as d_V/d_N does (34,943 photons and 1,645
+// pixels; 11% less flux than with 3).
 TEST(ExactPaths, TheSearchFollowsTotalInternalReflectionInside) {
   test::SceneEngine e;
   auto scene = test::load_bundled_scene("bunny_plane");
   auto estimate = e.render("caustics_adaptive", scene, {"distance=dv_dn"}, {});
   auto unfollowed = e.render("caustics_adaptive", scene, {"distance=search", "search_bounces=0"}, {});
-  auto search = e.render("caustics_adaptive", scene, {"distance=search"}, {});
+  auto search = e.render("caustics_adaptive", scene, {"distance=search", "search_bounces=3"}, {});
   EXPECT_GT(unfollowed.counters.at("photons.dropped_tir"), 1.3 * search.counters.at("photons.dropped_tir"));
   EXPECT_GT(unfollowed.counters.at("refraction.tir_pixels"), 1.5 * search.counters.at("refraction.tir_pixels"));
   EXPECT_LT(unfollowed.counters.at("caustic.flux"), 0.95 * search.counters.at("caustic.flux"));

@@ -360,6 +360,7 @@ int cmd_bench_accuracy(Args& args) {
                                   "caustics_adaptive_maxerror",
                                   "caustics_adaptive_maxerror:converge_test=same_texel",
                                   "caustics_adaptive",
+                                  "caustics_adaptive:distance=dv_dn",
                                   "caustics_adaptive_hybrid:distance=search",
                                   "caustics_adaptive_hybrid",
                                   "caustics_raytraced",
