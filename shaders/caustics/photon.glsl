@@ -57,6 +57,7 @@ struct Photon {
   vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
   bool random;     // its path drew random numbers (Fresnel choices, rough facets)
   bool bounced;    // its exact path reflected inside a refractor
+  bool followed;   // its image-space search followed total internal reflection inside
   // The hybrid's Fresnel reflection split off an image-space path (below): traced exactly, it
   // lands at side_texel with side_power when side_landed. It draws its own random numbers, which
   // do not touch the photon's own path, so the adaptive traversals decide on that path alone.
@@ -283,6 +284,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
   lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
 #endif
+  ph.followed = path.followed;
   if (path.tir) {
     ph.tir = true;
     return IMAGE_SPACE_DONE;
@@ -332,6 +334,7 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   ph.landing = vec2(0.0);
   ph.random = false;
   ph.bounced = false;
+  ph.followed = false;
   ph.side_landed = false;
   ph.side_texel = ivec2(0);
   ph.side_power = vec3(0.0);

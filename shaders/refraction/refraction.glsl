@@ -333,6 +333,7 @@ struct TwoInterfaces {
   float reflectance_in;
   float transmit_out;   // 1 - Fresnel reflectance at the exit; 1 when no back surface was found
   bool tir;             // the exit met total internal reflection; exit_direction is then the reflection
+  bool followed;        // the search followed total internal reflection inside
   vec3 entry_reflection;  // unit: the Fresnel reflection off the entry (outside the refractor)
   vec3 exit_reflection;   // unit: the Fresnel reflection back inside at the exit (where it transmits)
   // What the hybrid tracer asks before trusting the estimate: whether the estimated exit point lands
@@ -372,6 +373,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   r.exit_reflection = t1;
   r.transmit_out = 1.0;
   r.tir = false;
+  r.followed = false;
   r.back_found = false;
   r.back_offset = 0.0;
   r.back_object = -1.0;
@@ -416,6 +418,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       float t;
       vec3 n_out;
       if (!leave_refractor(view_proj, eye, r.exit_point, r.exit_direction, d_max, t, n_out)) break;
+      r.followed = true;
       r.exit_point += r.exit_direction * t;
       r.distance += t;
       vec3 inward = dot(r.exit_direction, n_out) > 0.0 ? -n_out : n_out;
