@@ -160,11 +160,8 @@ TEST(Caustics, AdaptiveMapsKeepTheEnergyWithFewerPhotons) {
   Engine e;
   auto scene = load("sphere_plane");
   const double exact = flux_into_ball(*scene);
-  const std::vector<std::string> search_exit{"distance=search", "search_bounces=1"};
   auto regular_estimate = e.render("caustics_regular", scene, {"fresnel=false", "grid=2048", "distance=dv_dn"});
-  std::vector<std::string> regular_search_sets{"fresnel=false", "grid=2048"};
-  regular_search_sets.insert(regular_search_sets.end(), search_exit.begin(), search_exit.end());
-  auto regular_search = e.render("caustics_regular", scene, regular_search_sets);
+  auto regular_search = e.render("caustics_regular", scene, {"fresnel=false", "grid=2048", "distance=search", "search_bounces=1"});
   std::map<std::string, double> processed_by;
   for (const std::string graph :
        {"caustics_adaptive_maxlevel", "caustics_adaptive_maxerror", "caustics_adaptive", "caustics_adaptive_maxerror:paper"}) {

@@ -501,9 +501,9 @@ TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
 // bunny, where many rays meet it at the exit, d_V/d_N drops 33,547 photons and marks 1,796 camera
 // pixels as total internal reflection; the search without following dropped 35,853 and 1,654, with
 // following 20,982 and 768 (measured when written), and lands 15% more flux. search_bounces (3 by
-// default in the passes; caustics_adaptive.json's default is 1) sets how many
-// bounces: with 0 the search drops them at the first, as d_V/d_N does (34,943 photons and 1,645
-// pixels; 11% less flux than with 3).
+// default in the passes, 1 in caustics_adaptive.json) sets how many bounces: with 0 the search
+// drops them at the first, as d_V/d_N does (34,943 photons and 1,645 pixels; 11% less flux than
+// with 3).
 TEST(ExactPaths, TheSearchFollowsTotalInternalReflectionInside) {
   test::SceneEngine e;
   auto scene = test::load_bundled_scene("bunny_plane");

@@ -161,20 +161,9 @@ shared uint any_second_look;
 // counts as lost at its first exit, as with no bounce followed: where such light lands is
 // scattered, and deciding on it refined the bunny's clusters to 21% more photons for a map no
 // better than splatting it coarsely (docs/caustics.md). The traversal decides on first exits only;
-// what a followed reflection lands is output by output_followed.
+// what a followed reflection lands is output where its cluster ends (main, below).
 bool lost_for_good(Photon ph) {
   return ph.hit && (!ph.landed || ph.followed) && !ph.bounced;
-}
-
-// Light that a followed reflection lands, from a cluster that ends before the last level: one
-// sample, with no neighbours to size its footprint, so splatted at the map's coarsest level. At the
-// side paths' level (as wide as the cluster's grid is coarse) the default graph flickered 0.0996
-// along the stability suite's moving light, against the reference's own 0.064; at the coarsest,
-// 0.0765, and the bunny's error at 512^2 fell from 0.291 to 0.271.
-void output_followed(Photon ph) {
-  splat_at(ph.texel, params.splat_levels - 1u, ph.power);
-  count(SPLATTED);
-  add_sum(FLUX, channel_mean(ph.power));
 }
 
 void main() {
@@ -281,16 +270,20 @@ void main() {
   } else if (params.level >= params.converge_level && all_lost) {
     // Converged to nothing: all four met a refractor and none reached a receiver from its first
     // exit (total internal reflection or an exit ray that leaves the light's view); their power is
-    // dropped as one, but for what a followed reflection landed.
+    // dropped as one, but for what a followed reflection landed: one sample with no neighbours to
+    // size its footprint, so splatted at the map's coarsest level. At the side paths' level (as
+    // wide as the cluster's grid is coarse) the default graph flickered 0.0996 along the stability
+    // suite's moving light, against the reference's own 0.064; at the coarsest, 0.0765, and the
+    // bunny's error at 512^2 fell from 0.291 to 0.271.
     for (uint k = 0u; k < 4u; ++k) {
-      add_sum(ENTERING, ph[k].entering);
-      output_side_path(ph[k]);
       if (ph[k].followed && ph[k].landed) {
-        output_followed(ph[k]);
-      } else {
-        count(ph[k].tir ? TIR : MISS);
-        add_sum(DROPPED, channel_mean(ph[k].power));
+        output_photon(ph[k], params.splat_levels - 1u);
+        continue;
       }
+      count(ph[k].tir ? TIR : MISS);
+      add_sum(ENTERING, ph[k].entering);
+      add_sum(DROPPED, channel_mean(ph[k].power));
+      output_side_path(ph[k]);
     }
     count(CONVERGED);
   } else if (params.level >= params.converge_level && converged) {
