@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -68,6 +69,54 @@ TEST(NormalDistance, IsTheChordThroughTheObject) {
     const glm::vec3 n = glm::abs(box.normals[i]);
     EXPECT_NEAR(b[i], glm::dot(n, glm::vec3(1, 2, 3)), 1e-4f) << "vertex " << i;
   }
+}
+
+// The hybrids land what leaves a convex solid in image space (its exit ray cannot meet it again), so
+// the test must say no to anything light could meet twice: a concave surface, an open one, two
+// bodies in one mesh, a dent, a mesh wound inside out.
+TEST(Convexity, OnlyClosedConvexBodiesAreConvexSolids) {
+  EXPECT_TRUE(is_convex_solid(make_sphere(1.0f, 64, 32)));  // its seam's ends differ by float rounding: welded
+  EXPECT_TRUE(is_convex_solid(make_sphere(0.5f, 8, 4)));
+  EXPECT_TRUE(is_convex_solid(make_box(glm::vec3(1.0f, 0.02f, 3.0f))));  // coplanar triangles, split vertices
+  EXPECT_FALSE(is_convex_solid(make_torus(1.0f, 0.3f, 32, 16)));
+  EXPECT_FALSE(is_convex_solid(make_plane(2.0f, 2.0f)));
+  EXPECT_FALSE(is_convex_solid(load_mesh_file("/usr/share/glmark2/models/bunny.obj")[0].mesh));
+
+  Mesh open = make_sphere(1.0f, 32, 16);
+  open.indices.resize(open.indices.size() - 3);
+  EXPECT_FALSE(is_convex_solid(open)) << "a triangle missing";
+
+  Mesh two = make_sphere(1.0f, 32, 16);
+  const auto count = static_cast<uint32_t>(two.positions.size());
+  const size_t index_count = two.indices.size();
+  for (uint32_t i = 0; i < count; ++i) two.positions.push_back(two.positions[i] + glm::vec3(3.0f, 0.0f, 0.0f));
+  for (size_t i = 0; i < index_count; ++i) two.indices.push_back(two.indices[i] + count);
+  EXPECT_FALSE(is_convex_solid(two)) << "two spheres";
+
+  Mesh dented = make_sphere(1.0f, 32, 16);
+  dented.positions[8 * 33 + 10] *= 0.9f;  // stack 8 (the equator), slice 10: one vertex, no seam copy
+  EXPECT_FALSE(is_convex_solid(dented)) << "a dent";
+
+  Mesh inside_out = make_sphere(1.0f, 32, 16);
+  for (size_t t = 0; t < inside_out.indices.size(); t += 3) std::swap(inside_out.indices[t + 1], inside_out.indices[t + 2]);
+  EXPECT_FALSE(is_convex_solid(inside_out)) << "wound inside out";
+}
+
+// Scenes flag their solid refractors' convexity when they load (the hybrids read it on the device).
+TEST(Convexity, ScenesFlagTheirConvexRefractors) {
+  auto convex_of = [](const char* file) {
+    std::map<std::string, bool> out;
+    for (const auto& o : load_scene_file((kSource / "scenes" / file).string()).objects) {
+      if (o.material.refractor) out[o.name] = o.convex;
+    }
+    return out;
+  };
+  EXPECT_EQ(convex_of("sphere_plane.json"), (std::map<std::string, bool>{{"ball", true}}));
+  EXPECT_EQ(convex_of("three_refractors.json"), (std::map<std::string, bool>{{"sphere", true}, {"slab", true}, {"box", true}}));
+  EXPECT_EQ(convex_of("torus.json").begin()->second, false);
+  EXPECT_EQ(convex_of("bunny_plane.json").begin()->second, false);
+  // Thin walls are not solids: light passes them unbent, image space sees their path exactly.
+  for (const auto& [name, convex] : convex_of("thin_panes.json")) EXPECT_FALSE(convex) << name;
 }
 
 TEST(MeshFiles, LoadTheStanfordModelsDebianShips) {

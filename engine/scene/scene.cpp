@@ -264,6 +264,7 @@ void finish_object(Object& o, const glm::mat4& transform) {
     o.bounds_max = glm::max(o.bounds_max, p);
   }
   if (o.material.refractor) o.mesh.normal_distance = normal_distances(o.mesh);
+  o.convex = o.material.refractor && !o.material.thin && is_convex_solid(o.mesh);
 }
 
 }  // namespace

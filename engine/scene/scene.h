@@ -122,6 +122,9 @@ struct Object {
   Mesh mesh;
   Material material;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+  // A solid refractor whose mesh bounds a convex body (is_convex_solid): light that leaves it cannot
+  // meet it again, so the hybrids land its exit rays in image space instead of tracing them.
+  bool convex = false;
   glm::vec3 center() const { return 0.5f * (bounds_min + bounds_max); }
 };
 
@@ -241,5 +244,9 @@ Mesh make_torus(float major_radius, float minor_radius, int segments = 64, int s
 // d_N: for every vertex, the distance from it along -normal to where the ray leaves the mesh; 0
 // where it never does (open meshes). Ray cast with Embree.
 std::vector<float> normal_distances(const Mesh& mesh);
+
+// Whether the mesh bounds a convex solid: closed (after welding vertices closer than 1e-5 of its
+// size), consistently wound counter-clockwise from outside, connected, and convex at every edge.
+bool is_convex_solid(const Mesh& mesh);
 
 }  // namespace caustica::scene

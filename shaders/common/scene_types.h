@@ -29,7 +29,7 @@ struct TextureSlot {
 };
 
 struct ObjectData {
-  vec4 albedo_refractor;      // rgb albedo, a: 1 for refractors
+  vec4 albedo_refractor;      // rgb albedo, a: 0 opaque, 1 a refractor, 2 a convex solid refractor (Object::convex)
   vec4 absorption_ior;        // rgb absorption per unit length, a: index of refraction
   vec4 tint_transmission;     // rgb: colour of transmitted light, a: transmission factor (refractors)
   vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor

@@ -468,6 +468,10 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
 
 // A thin-walled refractor (glTF transmission without a volume): light passes it without bending.
 bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
+
+// A solid refractor whose mesh bounds a convex body (engine/scene/convexity.cpp): a ray that leaves
+// it cannot meet it again.
+bool convex_solid(ObjectData object) { return object.albedo_refractor.a > 1.5; }
 // Where image space sees the exact path through a refractor (DISTANCE_MATERIAL's choice): a smooth
 // thin wall without a mask, whose tint and transmission are the same all over (image space reads
 // one per object: the textures' means).

@@ -1,0 +1,131 @@
+// Whether a mesh bounds a convex solid, so that a ray leaving it cannot meet it again. A closed,
+// connected surface that is convex at every edge bounds a convex body (Tietze's theorem for an
+// embedded surface); a check of every vertex against a sample of the face planes then rules out a
+// surface that only seems so because it overlaps itself.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+#include "scene/scene.h"
+
+namespace caustica::scene {
+
+namespace {
+
+// One index per distinct position: vertices closer than `tolerance` are one (split vertices at
+// creases and texture seams, and a primitive's seam, whose ends differ by float rounding). Cells of
+// the tolerance's size are hashed, and the 27 around a position are searched.
+struct Welded {
+  std::vector<uint32_t> index;     // per position: its welded vertex
+  std::vector<uint32_t> position;  // per welded vertex: its first position
+};
+
+Welded weld(const std::vector<glm::vec3>& positions, float tolerance) {
+  auto cell_of = [&](const glm::vec3& p) { return glm::ivec3(glm::floor(p / tolerance)); };
+  auto key = [](glm::ivec3 c) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(c.x)) * 73856093u) ^
+           (static_cast<uint64_t>(static_cast<uint32_t>(c.y)) * 19349663u) ^
+           (static_cast<uint64_t>(static_cast<uint32_t>(c.z)) * 83492791u);
+  };
+  std::unordered_multimap<uint64_t, uint32_t> cells;  // cell -> welded vertex
+  Welded w{std::vector<uint32_t>(positions.size()), {}};
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const glm::ivec3 cell = cell_of(positions[i]);
+    int64_t found = -1;
+    for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
+        for (int dx = -1; dx <= 1 && found < 0; ++dx) {
+          auto [from, to] = cells.equal_range(key(cell + glm::ivec3(dx, dy, dz)));
+          for (auto it = from; it != to; ++it) {
+            if (glm::length(positions[w.position[it->second]] - positions[i]) <= tolerance) {
+              found = it->second;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (found < 0) {
+      found = static_cast<int64_t>(w.position.size());
+      w.position.push_back(static_cast<uint32_t>(i));
+      cells.emplace(key(cell), static_cast<uint32_t>(found));
+    }
+    w.index[i] = static_cast<uint32_t>(found);
+  }
+  return w;
+}
+
+uint32_t root_of(std::vector<uint32_t>& parent, uint32_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+bool is_convex_solid(const Mesh& mesh) {
+  if (mesh.positions.empty() || mesh.indices.size() < 12) return false;
+  glm::vec3 lo = mesh.positions[0], hi = mesh.positions[0];
+  for (const auto& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float size = glm::length(hi - lo);
+  if (!(size > 0.0f)) return false;
+  const float tolerance = 1e-5f * size;
+  const Welded welded = weld(mesh.positions, tolerance);
+
+  struct Face {
+    uint32_t v[3];
+    glm::vec3 normal;  // unit, outward for counter-clockwise winding
+    glm::vec3 point;
+  };
+  std::vector<Face> faces;
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    Face f{{welded.index[mesh.indices[t]], welded.index[mesh.indices[t + 1]], welded.index[mesh.indices[t + 2]]},
+           {},
+           mesh.positions[mesh.indices[t]]};
+    if (f.v[0] == f.v[1] || f.v[1] == f.v[2] || f.v[0] == f.v[2]) continue;  // collapsed by the weld: no area
+    const glm::vec3 n = glm::cross(mesh.positions[mesh.indices[t + 1]] - f.point, mesh.positions[mesh.indices[t + 2]] - f.point);
+    if (!(glm::length(n) > 0.0f)) continue;
+    f.normal = glm::normalize(n);
+    faces.push_back(f);
+  }
+  if (faces.size() < 4) return false;
+
+  // Closed and consistently wound: every directed edge once, and its reverse once.
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> edge_face;
+  for (uint32_t i = 0; i < faces.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (!edge_face.emplace(std::pair{faces[i].v[k], faces[i].v[(k + 1) % 3]}, i).second) return false;
+    }
+  }
+  std::vector<uint32_t> parent(faces.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const auto& [edge, i] : edge_face) {
+    auto twin = edge_face.find({edge.second, edge.first});
+    if (twin == edge_face.end()) return false;  // an open edge
+    const Face& other = faces[twin->second];
+    // Convex at the edge: the neighbour's far vertex is not in front of this face's plane.
+    for (uint32_t v : other.v) {
+      if (v == edge.first || v == edge.second) continue;
+      if (glm::dot(faces[i].normal, mesh.positions[welded.position[v]] - faces[i].point) > tolerance) return false;
+    }
+    parent[root_of(parent, i)] = root_of(parent, twin->second);
+  }
+  const uint32_t component = root_of(parent, 0);
+  for (uint32_t i = 0; i < faces.size(); ++i) {
+    if (root_of(parent, i) != component) return false;  // two separate bodies
+  }
+
+  const size_t stride = std::max<size_t>(1, faces.size() / 64);
+  for (size_t i = 0; i < faces.size(); i += stride) {
+    for (const auto& p : mesh.positions) {
+      if (glm::dot(faces[i].normal, p - faces[i].point) > tolerance) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace caustica::scene
