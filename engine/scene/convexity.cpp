@@ -16,14 +16,15 @@ namespace {
 
 // One index per distinct position: vertices closer than `tolerance` are one (split vertices at
 // creases and texture seams, and a primitive's seam, whose ends differ by float rounding). Cells of
-// the tolerance's size are hashed, and the 27 around a position are searched.
+// the tolerance's size, counted from the corner `low` of the bounds (so that the counts stay within
+// an int wherever the mesh lies), are hashed, and the 27 around a position are searched.
 struct Welded {
   std::vector<uint32_t> index;     // per position: its welded vertex
   std::vector<uint32_t> position;  // per welded vertex: its first position
 };
 
-Welded weld(const std::vector<glm::vec3>& positions, float tolerance) {
-  auto cell_of = [&](const glm::vec3& p) { return glm::ivec3(glm::floor(p / tolerance)); };
+Welded weld(const std::vector<glm::vec3>& positions, glm::vec3 low, float tolerance) {
+  auto cell_of = [&](const glm::vec3& p) { return glm::ivec3(glm::floor((p - low) / tolerance)); };
   auto key = [](glm::ivec3 c) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(c.x)) * 73856093u) ^
            (static_cast<uint64_t>(static_cast<uint32_t>(c.y)) * 19349663u) ^
@@ -72,9 +73,9 @@ bool is_convex_solid(const Mesh& mesh) {
     hi = glm::max(hi, p);
   }
   const float size = glm::length(hi - lo);
-  if (!(size > 0.0f)) return false;
+  if (!(size > 0.0f) || !std::isfinite(size)) return false;
   const float tolerance = 1e-5f * size;
-  const Welded welded = weld(mesh.positions, tolerance);
+  const Welded welded = weld(mesh.positions, lo, tolerance);
 
   struct Face {
     uint32_t v[3];
