@@ -391,14 +391,14 @@ TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
   EXPECT_LT(c.relative_l1, 0.17);
 }
 
-// Light that leaves a convex solid cannot meet it again (scene/convexity.cpp), so the hybrid lands
-// it with the receiver march rather than a ray query per photon; another refractor on its way still
-// sends it back to the light (its bounds are crossed). On the stacked refractors (a ball, a slab
-// and a box, all convex) no exit ray is traced, so none can meet a refractor (with every exit ray
-// traced, 203 met one; 2,305 crossed another's bounds, 2,507 now), and the map stays as close to
-// the ray-query tracer's of the same photons: measured at 512^2, energy 0.9933 and relative L1
-// 0.1514 (0.9933 and 0.1517 with the exit rays traced).
-TEST(ExactPaths, HybridLandsWhatLeavesAConvexRefractorInImageSpace) {
+// Light that leaves a convex solid cannot meet it again (scene/convexity.cpp), so the hybrid traces
+// its exit ray against the receivers alone, past every refractor's structure; another refractor on
+// its way still sends it back to the light, since its bounds are crossed. On the stacked refractors
+// (a ball, a slab and a box, all convex) no exit ray can then meet a refractor (203 did when they
+// were traced against everything; 2,507 cross another's bounds, 2,305 did), and the map is the
+// same: against the ray-query tracer's of the same photons at 512^2, energy 0.9933 and relative L1
+// 0.1517 either way.
+TEST(ExactPaths, HybridTracesConvexRefractorsExitRaysPastTheRefractors) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");

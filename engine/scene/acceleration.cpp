@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include "common/scene_types.h"  // the instance masks the shaders ask for
 #include "core/error.h"
 #include "scene/bvh_order.h"
 
@@ -159,7 +160,7 @@ AccelerationStructures::AccelerationStructures(vk::Context& vk, const Scene& sce
     instance = {};
     instance.transform.matrix[0][0] = instance.transform.matrix[1][1] = instance.transform.matrix[2][2] = 1.0f;
     instance.instanceCustomIndex = geometries[g].first_triangle;
-    instance.mask = 0xFF;
+    instance.mask = scene.objects[geometries[g].object].material.refractor ? CAUSTICA_REFRACTOR_INSTANCES : CAUSTICA_RECEIVER_INSTANCES;
     instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
     instance.accelerationStructureReference = vk.rt.address(vk.device(), &address);
   }

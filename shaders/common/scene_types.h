@@ -12,6 +12,11 @@ using uint = uint32_t;
 #endif
 
 #define CAUSTICA_MAX_LIGHTS 8
+// Instance masks of the top-level acceleration structure (engine/scene/acceleration.cpp): a ray
+// query that takes CAUSTICA_RECEIVER_INSTANCES alone passes through every refractor.
+#define CAUSTICA_RECEIVER_INSTANCES 0x01u
+#define CAUSTICA_REFRACTOR_INSTANCES 0x02u
+#define CAUSTICA_ALL_INSTANCES 0xFFu
 #define CAUSTICA_MAX_TEXTURES 128  // the scene's texture array (set 1); unused slots hold a white texel
 
 struct Vertex {

@@ -468,10 +468,6 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
 
 // A thin-walled refractor (glTF transmission without a volume): light passes it without bending.
 bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
-
-// A solid refractor whose mesh bounds a convex body (engine/scene/convexity.cpp): a ray that leaves
-// it cannot meet it again.
-bool convex_solid(ObjectData object) { return object.albedo_refractor.a > 1.5; }
 // Where image space sees the exact path through a refractor (DISTANCE_MATERIAL's choice): a smooth
 // thin wall without a mask, whose tint and transmission are the same all over (image space reads
 // one per object: the textures' means).
@@ -664,7 +660,7 @@ vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, i
   uint interfaces = 0u;
   float t_min = 0.0;
   for (;;) {
-    SurfaceHit h = trace_surface(origin, direction, t_min);
+    SurfaceHit h = trace_surface(origin, direction, t_min, CAUSTICA_ALL_INSTANCES);
     t_min = params.exact_epsilon;
     if (!h.hit) return inside < 0 ? radiance + throughput * frame.sky_ambient.rgb : radiance;
     if (inside >= 0) throughput *= exp(-objects[inside].absorption_ior.rgb * h.t);

@@ -34,9 +34,10 @@ void confirm_if_covered(rayQueryEXT query) {
   if (!cut_out_at_full_resolution(objects[uint(v0.normal_object.w + 0.5)], texcoords)) rayQueryConfirmIntersectionEXT(query);
 }
 
-SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
+// The nearest surface along a ray among the instances of mask `instances` (scene_types.h).
+SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min, uint instances) {
   rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsNoneEXT, 0xFFu, origin, t_min, direction, 1e30);
+  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsNoneEXT, instances, origin, t_min, direction, 1e30);
   while (rayQueryProceedEXT(query)) confirm_if_covered(query);
   SurfaceHit h;
   h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
@@ -62,13 +63,16 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min) {
 // The surface that the exit ray of an image-space path through refractor `own` meets. The estimated
 // exit point `origin` may lie inside the surface it leaves, by up to `slack` along the ray: a first
 // hit that leaves `own` within it is that surface, and the ray goes on from there (`origin` becomes
-// where the returned hit's distance is measured from). One call site of trace_surface, in a loop of
-// at most two rounds, because every inlined copy of it lengthens lavapipe's shader compile, which
-// under the sanitizers happens inside the first frame's time limit.
+// where the returned hit's distance is measured from). A ray that leaves a convex solid cannot meet
+// it again: it asks for the receivers alone (CAUSTICA_RECEIVER_INSTANCES), which passes by every
+// refractor's structure, and the caller checks the other refractors' bounds. One call site of
+// trace_surface, in a loop of at most two rounds, because every inlined copy of it lengthens
+// lavapipe's shader compile, which under the sanitizers happens inside the first frame's time limit.
 SurfaceHit trace_exit_ray(inout vec3 origin, vec3 direction, uint own, float slack, float t_min) {
+  uint instances = convex_solid(objects[own]) ? CAUSTICA_RECEIVER_INSTANCES : CAUSTICA_ALL_INSTANCES;
   SurfaceHit h;
   for (bool passing = true; passing;) {
-    h = trace_surface(origin, direction, t_min);
+    h = trace_surface(origin, direction, t_min, instances);
     passing = h.hit && h.object == own && dot(h.normal, direction) > 0.0 && h.t <= slack;
     if (passing) {
       origin += direction * h.t;

@@ -12,6 +12,10 @@
 // transmission texture (scene/textures.glsl, tint_transmission_from).
 bool transmittance_varies(ObjectData object) { return object.base_color.row_u.w >= 0.0 || object.transmission_map.row_u.w >= 0.0; }
 
+// A solid refractor whose mesh bounds a convex body (engine/scene/convexity.cpp): a ray that leaves
+// it cannot meet it again.
+bool convex_solid(ObjectData object) { return object.albedo_refractor.a > 1.5; }
+
 // Octahedral unit-vector encoding stored in one float's bits (a refractor buffer's first channel).
 // The bits always form a normal, finite float (exponent field 1 to 254): a colour attachment and
 // a sampled fetch need not keep a NaN's payload or a denormal (Vulkan lets implementations quiet
