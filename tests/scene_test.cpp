@@ -71,9 +71,9 @@ TEST(NormalDistance, IsTheChordThroughTheObject) {
   }
 }
 
-// The hybrids land what leaves a convex solid in image space (its exit ray cannot meet it again), so
-// the test must say no to anything light could meet twice: a concave surface, an open one, two
-// bodies in one mesh, a dent, a mesh wound inside out.
+// The hybrids trace what leaves a convex solid past every refractor (its exit ray cannot meet it
+// again), so the test must say no to anything light could meet twice: a concave surface, an open
+// one, two bodies in one mesh, a dent, a mesh wound inside out.
 TEST(Convexity, OnlyClosedConvexBodiesAreConvexSolids) {
   EXPECT_TRUE(is_convex_solid(make_sphere(1.0f, 64, 32)));  // its seam's ends differ by float rounding: welded
   EXPECT_TRUE(is_convex_solid(make_sphere(0.5f, 8, 4)));

@@ -123,7 +123,7 @@ struct Object {
   Material material;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
   // A solid refractor whose mesh bounds a convex body (is_convex_solid): light that leaves it cannot
-  // meet it again, so the hybrids land its exit rays in image space instead of tracing them.
+  // meet it again, so the hybrids trace its exit rays past every refractor (shaders/scene/ray_query.glsl).
   bool convex = false;
   glm::vec3 center() const { return 0.5f * (bounds_min + bounds_max); }
 };
