@@ -20,11 +20,12 @@ def main():
         sys.exit("usage: plot_accuracy.py RESULTS.csv OUT.png")
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
-    fig, (caustics, refraction) = plt.subplots(1, 2, figsize=(13, 5.5))
-    # One colour per method, one marker and line style per scene.
+    # The legends go under the panels, where they cover no curve (a default run draws 18 caustic curves).
+    fig, (caustics, refraction) = plt.subplots(1, 2, figsize=(15, 9), gridspec_kw={"width_ratios": [3, 2]})
+    # One colour per method (20 before one repeats), one marker and line style per scene.
     methods = sorted({r["method"] for r in rows})
     scenes = sorted({r["scene"] for r in rows})
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colours = plt.get_cmap("tab20").colors
     styles = [("o", "-"), ("s", "--"), ("D", ":"), ("^", "-.")]
     curves = {}
     for row in rows:
@@ -49,7 +50,7 @@ def main():
         axes.set_ylabel("relative L1 error against the reference")
         axes.grid(True, which="both", alpha=0.3)
         if axes.lines:
-            axes.legend(fontsize=7)
+            axes.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
     fig.tight_layout()
     fig.savefig(sys.argv[2], dpi=110)
 
