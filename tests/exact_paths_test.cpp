@@ -376,14 +376,29 @@ TEST(ExactPaths, HybridRetracesWhereTheEstimateFails) {
 // the energy is 0.995, 1.001 and 0.998 at 512^2, 1024^2 and 2048^2); with the exit ray marched
 // through the light's depth map instead, 0.239 and 1.015 (the light the bunny would have caught
 // again landed as if it were not there).
-TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
-  test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
-  auto scene = test::load_bundled_scene("bunny_plane");
+namespace {
+
+// The regular-grid hybrid's map at 512^2 against the ray-query tracer's of the same photons (the
+// paths they share are the same paths, so what differs is the image-space part's error).
+struct HybridAgainstExact {
+  graph::FrameResult hybrid;
+  reference::ImageComparison c;
+};
+
+HybridAgainstExact hybrid_against_ray_query(test::SceneEngine& e, const char* scene_name) {
+  auto scene = test::load_bundled_scene(scene_name);
   e.render("caustics_raytraced", scene, {"distance=ray_query", "grid=512"}, {"caustics"});
   const io::ImageData exact = e.executor.read_image("caustics");
   auto hybrid = e.render("caustics_raytraced", scene, {"distance=hybrid", "grid=512"}, {"caustics"});
-  const auto c = reference::compare_images(e.executor.read_image("caustics"), exact, 1.5);
+  return {std::move(hybrid), reference::compare_images(e.executor.read_image("caustics"), exact, 1.5)};
+}
+
+}  // namespace
+
+TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
+  const auto [hybrid, c] = hybrid_against_ray_query(e, "bunny_plane");
   std::printf("bunny, hybrid against the ray-query map: relative L1 %.4f, energy %.4f; %.0f exit rays met the bunny again\n", c.relative_l1,
               c.energy_ratio, hybrid.counters.at("photons.retraced.refractor_ahead"));
   EXPECT_GT(hybrid.counters.at("photons.retraced.refractor_ahead"), 0.0);
@@ -401,11 +416,7 @@ TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
 TEST(ExactPaths, HybridTracesConvexRefractorsExitRaysPastTheRefractors) {
   test::SceneEngine e;
   ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
-  auto scene = test::load_bundled_scene("three_refractors");
-  e.render("caustics_raytraced", scene, {"distance=ray_query", "grid=512"}, {"caustics"});
-  const io::ImageData exact = e.executor.read_image("caustics");
-  auto hybrid = e.render("caustics_raytraced", scene, {"distance=hybrid", "grid=512"}, {"caustics"});
-  const auto c = reference::compare_images(e.executor.read_image("caustics"), exact, 1.5);
+  const auto [hybrid, c] = hybrid_against_ray_query(e, "three_refractors");
   std::printf(
       "stacked refractors, hybrid against the ray-query map: relative L1 %.4f, energy %.4f; exit rays that met a refractor %.0f, "
       "that crossed another's bounds %.0f\n",

@@ -67,11 +67,7 @@ uint32_t root_of(std::vector<uint32_t>& parent, uint32_t i) {
 
 bool is_convex_solid(const Mesh& mesh) {
   if (mesh.positions.empty() || mesh.indices.size() < 12) return false;
-  glm::vec3 lo = mesh.positions[0], hi = mesh.positions[0];
-  for (const auto& p : mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  const auto [lo, hi] = mesh_bounds(mesh);
   const float size = glm::length(hi - lo);
   if (!(size > 0.0f) || !std::isfinite(size)) return false;
   const float tolerance = 1e-5f * size;

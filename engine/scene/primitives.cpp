@@ -81,16 +81,22 @@ Mesh make_torus(float major_radius, float minor_radius, int segments, int sides)
   return m;
 }
 
-std::vector<float> normal_distances(const Mesh& mesh) {
-  reference::RayScene rays;
-  rays.add_mesh(mesh.positions, mesh.indices);
-  rays.commit();
-  std::vector<float> out(mesh.positions.size(), 0.0f);
+std::pair<glm::vec3, glm::vec3> mesh_bounds(const Mesh& mesh) {
+  if (mesh.positions.empty()) return {glm::vec3(0.0f), glm::vec3(0.0f)};
   glm::vec3 lo = mesh.positions[0], hi = mesh.positions[0];
   for (const auto& p : mesh.positions) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
+  return {lo, hi};
+}
+
+std::vector<float> normal_distances(const Mesh& mesh) {
+  reference::RayScene rays;
+  rays.add_mesh(mesh.positions, mesh.indices);
+  rays.commit();
+  std::vector<float> out(mesh.positions.size(), 0.0f);
+  const auto [lo, hi] = mesh_bounds(mesh);
   // Skip the triangles around the vertex itself: start a small fraction of the mesh's size inside.
   const float epsilon = 1e-4f * glm::length(hi - lo);
   for (size_t i = 0; i < mesh.positions.size(); ++i) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <glm/gtc/matrix_transform.hpp>
+#include <tuple>
 
 #include "core/paths.h"
 #include "io/json_reader.h"
@@ -258,11 +259,7 @@ void finish_object(Object& o, const glm::mat4& transform) {
   if (glm::determinant(glm::mat3(transform)) < 0) {
     for (size_t t = 0; t + 2 < o.mesh.indices.size(); t += 3) std::swap(o.mesh.indices[t + 1], o.mesh.indices[t + 2]);
   }
-  o.bounds_min = o.bounds_max = o.mesh.positions.front();
-  for (const auto& p : o.mesh.positions) {
-    o.bounds_min = glm::min(o.bounds_min, p);
-    o.bounds_max = glm::max(o.bounds_max, p);
-  }
+  std::tie(o.bounds_min, o.bounds_max) = mesh_bounds(o.mesh);
   if (o.material.refractor) o.mesh.normal_distance = normal_distances(o.mesh);
   o.convex = o.material.refractor && !o.material.thin && is_convex_solid(o.mesh);
 }

@@ -241,6 +241,9 @@ Mesh make_plane(float width, float depth);
 Mesh make_box(glm::vec3 size);
 Mesh make_torus(float major_radius, float minor_radius, int segments = 64, int sides = 32);
 
+// The corners of the box around a mesh's positions (a mesh with none: both zero).
+std::pair<glm::vec3, glm::vec3> mesh_bounds(const Mesh& mesh);
+
 // d_N: for every vertex, the distance from it along -normal to where the ray leaves the mesh; 0
 // where it never does (open meshes). Ray cast with Embree.
 std::vector<float> normal_distances(const Mesh& mesh);

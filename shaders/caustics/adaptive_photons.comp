@@ -227,9 +227,10 @@ void main() {
       middle = vec2(0.0);
       for (uint k = 0u; k < 4u; ++k) {
         any_hit = any_hit || ph[k].hit;
-        all_same_texel = all_same_texel && ph[k].landed && !ph[k].followed && ph[k].texel == ph[0].texel;
+        bool landed_from_first_exit = ph[k].landed && !ph[k].followed;  // what the traversal decides on (lost_for_good)
+        all_same_texel = all_same_texel && landed_from_first_exit && ph[k].texel == ph[0].texel;
         all_lost = all_lost && lost_for_good(ph[k]);
-        all_landed = all_landed && ph[k].landed && !ph[k].followed;
+        all_landed = all_landed && landed_from_first_exit;
         any_random = any_random || ph[k].random;
         low = min(low, ph[k].landing);
         high = max(high, ph[k].landing);
