@@ -15,8 +15,11 @@ function(caustica_target_defaults target)
 endfunction()
 
 # Sanitizers are global so that static libraries and the executables linking them agree.
+# -O1, as the sanitizers' own documentation advises: at -O0 the host-side work of the suite (the
+# editor model's edits, the photon reference, image comparisons) ran 10 to 40 times slower than in
+# Release; assertions stay on (the build type is Debug).
 if(CAUSTICA_SANITIZE)
-  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_compile_options(-O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
 endif()
 

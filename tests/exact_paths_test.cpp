@@ -332,10 +332,10 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
     std::printf("%s: %.0f photons processed, %.0f traced exactly; map flux %.6f and %.6f\n", graph_name,
                 first.counters.at("photons.processed"), first.counters.at("photons.exact"), first_flux, again_flux);
     EXPECT_GT(first.counters.at("photons.exact"), 0.0) << graph_name;
+    // Every counter is reported by both graphs (a missing one fails rather than being skipped).
     for (const auto& name : counters) {
-      if (first.counters.count(name)) {
-        EXPECT_EQ(first.counters.at(name), again.counters.at(name)) << graph_name << " " << name;
-      }
+      ASSERT_TRUE(first.counters.count(name) && again.counters.count(name)) << graph_name << " does not report " << name;
+      EXPECT_EQ(first.counters.at(name), again.counters.at(name)) << graph_name << " " << name;
     }
     EXPECT_NEAR(again_flux, first_flux, 1e-5 * first_flux) << graph_name;  // float atomics add in any order
   }

@@ -55,6 +55,8 @@ inline double relative_difference(const io::ImageData& a, const io::ImageData& b
     difference += std::abs(static_cast<double>(a.rgba[i]) - static_cast<double>(b.rgba[i]));
     total += std::abs(static_cast<double>(b.rgba[i]));
   }
+  // Two empty maps would agree perfectly: a comparison against nothing is a failure.
+  EXPECT_GT(total, 0.0) << "relative_difference: the reference image is empty";
   return total > 0 ? difference / total : difference;
 }
 

@@ -53,8 +53,13 @@ StabilityRun run_stability() {
   StabilityRun run;
   const fs::path dir = fs::temp_directory_path() / ("caustica_stability_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string command = "'" CAUSTICA_BIN "' bench stability --grid 512 --caustic-size 256 --reference-photons 4e6 --frames 1 --validate --out '" +
-                              dir.string() + "'";
+#ifdef CAUSTICA_SMALL_RENDERS
+  const char* size = "--grid 128 --caustic-size 64 --reference-photons 2e5";
+#else
+  const char* size = "--grid 512 --caustic-size 256 --reference-photons 4e6";
+#endif
+  const std::string command =
+      "'" CAUSTICA_BIN "' bench stability " + std::string(size) + " --frames 1 --validate --out '" + dir.string() + "'";
   run.exit_code = std::system(command.c_str());
   std::ifstream csv(dir / "stability.csv");
   std::string header;
@@ -91,6 +96,20 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
     SCOPED_TRACE("NoNanOrInfAnywhere");
     for (const auto& r : run.rows) EXPECT_EQ(r["nonfinite"], 0.0) << r.case_name << ", " << r.method;
   }
+  {
+    SCOPED_TRACE("NoRefractorNoCausticNoPhotons");
+    const auto rows = run.of_case("no refractor");
+    ASSERT_EQ(rows.size(), kMethods);
+    for (const auto& r : rows) {
+      EXPECT_EQ(r["photons_processed"], 0.0) << r.method;
+      EXPECT_EQ(r["relative_l1"], 0.0) << r.method;
+    }
+  }
+#ifdef CAUSTICA_SMALL_RENDERS
+  // Under the sanitizers the run is small: it checks memory safety on every case and method's path.
+  // The numbers below are stated for the full size, which the Release run asserts.
+  return;
+#endif
   // A method may lose energy, never create it. The reference is itself a sample: its landed flux
   // is uncertain by about 1 / sqrt(photons landed), allowed three times over, plus 1% for the
   // engine's grid sampling of the silhouette.
@@ -156,10 +175,12 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
       EXPECT_LT(r["shape_l1"], 0.06) << r.method;
     }
   }
-  // The exact paths close the energy gap: the ray-query tracer lands 0.95 to 1.02 of the
-  // reference's flux in every case with a refractor (at least 0.9 on the tiny refractor, whose
-  // silhouette a 512^2 grid samples coarsely; measured 0.925, and 0.978 at n = 2.4), and the
-  // hybrid's exact re-traces lose no energy against the image-space adaptive hybrid.
+  // The exact paths close the energy gap (docs/exact_paths.md's targets): the ray-query tracer
+  // lands 0.95 to 1.02 of the reference's flux in every case with a refractor, and the adaptive
+  // hybrid with exact re-traces 0.95 to 1.05. The tiny refractor is the exception for both: a 512^2
+  // grid samples its silhouette coarsely (measured 0.925 and 0.825), so there they must land at
+  // least 0.9 and 0.8. The hybrid's re-traces also lose no energy against the image-space adaptive
+  // hybrid.
   {
     SCOPED_TRACE("ExactPathsKeepTheEnergy");
     std::map<std::string, double> image_space;
@@ -169,25 +190,19 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
     size_t exact_rows = 0;
     for (const auto& r : run.rows) {
       if (r.case_name == "no refractor") continue;
+      const bool tiny = r.case_name == "tiny refractor";
       if (r.method == "ray query") {
         ++exact_rows;
-        EXPECT_GE(r["energy_ratio"], r.case_name == "tiny refractor" ? 0.9 : 0.95) << r.case_name;
+        EXPECT_GE(r["energy_ratio"], tiny ? 0.9 : 0.95) << r.case_name;
         EXPECT_LE(r["energy_ratio"], 1.02) << r.case_name;
       }
       if (r.method == "adaptive hybrid with exact re-trace") {
         ++exact_rows;
+        EXPECT_GE(r["energy_ratio"], tiny ? 0.8 : 0.95) << r.case_name;
+        EXPECT_LE(r["energy_ratio"], 1.05) << r.case_name;
         EXPECT_GE(r["energy_ratio"], image_space.at(r.case_name) - 0.005) << r.case_name;
       }
     }
     EXPECT_EQ(exact_rows, 2u * 10u);
-  }
-  {
-    SCOPED_TRACE("NoRefractorNoCausticNoPhotons");
-    const auto rows = run.of_case("no refractor");
-    ASSERT_EQ(rows.size(), kMethods);
-    for (const auto& r : rows) {
-      EXPECT_EQ(r["photons_processed"], 0.0) << r.method;
-      EXPECT_EQ(r["relative_l1"], 0.0) << r.method;
-    }
   }
 }

@@ -10,6 +10,20 @@ jobs="${CAUSTICA_JOBS:-2}"
 
 bash tools/install-deps.sh
 
+phases=()
+started=$SECONDS
+phase_done() {  # phase_done NAME: records how long the phase since the previous one took
+  phases+=("$(printf '%5d s  %s' $((SECONDS - started)) "$1")")
+  started=$SECONDS
+}
+run_tests() {  # run_tests BUILD_DIR: the whole suite, then its ten slowest tests (ctest's own timings)
+  local status=0
+  ctest --test-dir "$1" --output-on-failure -j "$jobs" || status=$?
+  echo "slowest tests in $1:"
+  awk '/^---/ {exit} NF == 3 {printf "%8.1f s  %s\n", $3, $1}' "$1/Testing/Temporary/CTestCostData.txt" | sort -rn | head -n 10
+  return "$status"
+}
+
 build() {  # build DIR [cmake options...]
   local dir="$1"
   shift
@@ -24,16 +38,25 @@ case "$mode" in
     echo "wrote $(pwd)/caustica.png"
     ;;
   test)
+    # The tiers and their times: docs/testing.md.
+    phase_done "install"
     build build/release -DCMAKE_BUILD_TYPE=Release
-    ctest --test-dir build/release --output-on-failure -j "$jobs"
-    # The same suite under AddressSanitizer and UndefinedBehaviorSanitizer. Leak checking is off
-    # because Mesa's LLVM JIT keeps allocations until exit that LeakSanitizer reports as leaks.
+    phase_done "Release build"
+    run_tests build/release
+    phase_done "Release tests (full size)"
+    # The same suite under AddressSanitizer and UndefinedBehaviorSanitizer, the render loops small
+    # (tests/CMakeLists.txt). Leak checking is off because Mesa's LLVM JIT keeps allocations until
+    # exit that LeakSanitizer reports as leaks.
     build build/asan -DCMAKE_BUILD_TYPE=Debug -DCAUSTICA_SANITIZE=ON
-    ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      ctest --test-dir build/asan --output-on-failure -j "$jobs"
+    phase_done "ASan/UBSan build"
+    ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 run_tests build/asan
+    phase_done "ASan/UBSan tests"
     # Graph and scene loading under libFuzzer (clang, ASan, UBSan): a fixed seed and input count,
     # so the run is the same every time; tests/fuzz/run.sh SECONDS explores further.
     tests/fuzz/run.sh --ci
+    phase_done "fuzz build and run"
+    echo "tools/setup.sh test: every phase passed"
+    printf '%s\n' "${phases[@]}"
     ;;
   *)
     echo "usage: tools/setup.sh [render|test]" >&2
