@@ -172,6 +172,42 @@ TEST(MeshFiles, GltfMaterialsBecomeRefractors) {
 
 // KHR_materials_transmission without a volume, or with thicknessFactor 0, is a thin wall; the
 // transmission factor is kept as it is.
+// KHR_texture_transform as its definition gives it (uv' = translation * rotation * scale * uv),
+// checked on the texels that chosen texture coordinates reach, worked out by hand: on
+// tests/data/gltf/texture_transform.gltf's 4 x 4 texture (texel (x, y) is (40 + 60 x, 40 + 60 y,
+// 10), NEAREST, REPEAT). The extension's own example (offset [0, 1], rotation pi/2, scale 0.5)
+// maps (u, v) to (0.5 v, 1 - 0.5 u): the lower left quadrant, turned; the other material maps it to
+// (2 u + 0.25, 2 v). A rotation of the other sign, or the scale applied after the offset, reaches
+// other texels. The Embree reference uses the same matrix, so this is what pins it.
+TEST(MeshFiles, TextureTransformsReachTheTexelsTheExtensionDefines) {
+  const Scene s = load_model_scene((kSource / "tests/data/gltf/texture_transform.gltf").string(), false);
+  ASSERT_EQ(s.objects.size(), 2u);
+  struct Probe {
+    glm::vec2 uv;
+    int x, y;  // the texel it must reach
+  };
+  auto check = [&](const char* which, const Object& object, std::initializer_list<Probe> probes) {
+    const TextureRef& ref = object.material.base_color_texture;
+    ASSERT_TRUE(ref.used()) << which;
+    const Texture& texture = s.textures.at(static_cast<size_t>(ref.texture));
+    ASSERT_EQ(texture.width, 4u);
+    for (const auto& probe : probes) {
+      const glm::vec4 got = texture.sample(glm::vec2(ref.transform * glm::vec3(probe.uv, 1.0f)));
+      const glm::vec3 want(srgb_byte_to_linear(static_cast<uint8_t>(40 + 60 * probe.x)),
+                           srgb_byte_to_linear(static_cast<uint8_t>(40 + 60 * probe.y)), srgb_byte_to_linear(10));
+      EXPECT_NEAR(got.r, want.r, 1e-6f) << which << " at uv (" << probe.uv.x << ", " << probe.uv.y << ")";
+      EXPECT_NEAR(got.g, want.g, 1e-6f) << which << " at uv (" << probe.uv.x << ", " << probe.uv.y << ")";
+      EXPECT_NEAR(got.b, want.b, 1e-6f) << which;
+    }
+  };
+  const bool floor_first = s.objects[0].bounds_max.y < 0.5f;
+  const Object& floor = s.objects[floor_first ? 0 : 1];
+  const Object& pane = s.objects[floor_first ? 1 : 0];
+  check("the extension's example", floor,
+        {{{0.1f, 0.1f}, 0, 3}, {{0.9f, 0.1f}, 0, 2}, {{0.1f, 0.9f}, 1, 3}, {{0.9f, 0.9f}, 1, 2}, {{0.3f, 0.7f}, 1, 3}});
+  check("offset and scale", pane, {{{0.1f, 0.2f}, 1, 1}, {{0.45f, 0.3f}, 0, 2}, {{0.3f, 0.05f}, 3, 0}});
+}
+
 TEST(MeshFiles, GltfTransmissionWithoutThicknessIsThinWalled) {
   const std::string buffer = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=";
   for (const char* volume : {"", R"(, "KHR_materials_volume": {})", R"(, "KHR_materials_volume": {"thicknessFactor": 0})",

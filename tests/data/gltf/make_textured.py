@@ -257,3 +257,24 @@ blended["materials"][1] = {
 blended["textures"] = [{"sampler": 0, "source": 0}]
 blended["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 40, 40, 64), (40, 40, 255, 191)]]))}]
 write("blend_pane.gltf", blended)
+
+
+# texture_transform.gltf: KHR_texture_transform's own example (offset [0, 1], rotation pi/2, scale
+# [0.5, 0.5]: "only the lower left quadrant of the source image, rotated clockwise 90 degrees") on a
+# 4 x 4 texture whose texel (x, y) is (40 + 60 x, 40 + 60 y, 10), sampled NEAREST with REPEAT, on
+# the floor of the rough pane's scene; a second material takes offset [0.25, 0] and scale [2, 2]
+# without rotation. scene_test checks the texels that chosen texture coordinates reach against
+# values worked out by hand from the extension's definition.
+transformed = json.loads(json.dumps(pane))
+transformed["extensionsUsed"] = ["KHR_lights_punctual", "KHR_texture_transform"]
+transformed["materials"] = [
+    {"name": "the extension's example",
+     "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+         "offset": [0, 1], "rotation": math.pi / 2, "scale": [0.5, 0.5]}}}}},
+    {"name": "offset and scale",
+     "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+         "offset": [0.25, 0], "scale": [2, 2]}}}}}]
+transformed["textures"] = [{"sampler": 0, "source": 0}]
+transformed["samplers"] = [{"magFilter": 9728, "minFilter": 9728, "wrapS": 10497, "wrapT": 10497}]
+transformed["images"] = [{"uri": data_uri("image/png", png(4, 4, [[(40 + 60 * x, 40 + 60 * y, 10, 255) for x in range(4)] for y in range(4)]))}]
+write("texture_transform.gltf", transformed)
