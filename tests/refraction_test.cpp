@@ -7,6 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <string>
+#include <utility>
 
 #include "reference/refraction_reference.h"
 #include "scene_engine.h"
@@ -444,25 +447,26 @@ TEST(Refraction, DispersionSplitsTheViewByColourBand) {
   const auto reference_clear = reference::render_refraction_reference(*clear, kWidth, kHeight);
   struct Case {
     const char* graph;
-    double at_most;     // of the undispersed picture's error; 0: not asked (below)
+    double at_most;     // of the undispersed picture's error
+    double max_error;   // against the dispersed reference: under twice the error measured when written
     double min_cosine;  // between what dispersion changes in the picture and in the reference's
   };
   // The image-space exit estimate's own error at the rim, where the bands part, is far larger than
   // the bands' parting, so their picture with dispersion is no nearer the dispersed reference than
-  // without (0.1157 against 0.1154); what is asked of them is that the change dispersion makes goes
-  // the reference's way.
-  for (auto [graph, at_most, min_cosine] :
-       {Case{"refraction_raytraced", 0.5, 0.8}, Case{"refraction_hybrid", 0.8, 0.5}, Case{"refraction_deferred", 0.0, 0.05},
-        Case{"refraction_forward", 0.0, 0.05}, Case{"refraction_multilayer", 0.0, 0.05}}) {
+  // without (0.1159 against 0.1157 deferred, 0.1149 both forward): dispersion may cost them at most
+  // 1% of that error, the error itself is bounded, and the change dispersion makes must go the
+  // reference's way (cosine 0.13 to 0.18). The exact paths: 0.0047 and 0.0049 against 0.0144, cosine 0.90.
+  for (auto [graph, at_most, max_error, min_cosine] :
+       {Case{"refraction_raytraced", 0.5, 0.009, 0.8}, Case{"refraction_hybrid", 0.8, 0.009, 0.5}, Case{"refraction_deferred", 1.01, 0.2, 0.1},
+        Case{"refraction_forward", 1.01, 0.2, 0.1}, Case{"refraction_multilayer", 1.01, 0.2, 0.1}}) {
     const auto [error_with, error_without, cosine] =
         agreement(e.render(graph, dispersed).refracted, e.render(graph, clear).refracted, reference, reference_clear);
     std::printf(
         "dispersion %-22s per-channel relative L1 against the dispersed reference: %.4f dispersed, %.4f not; cosine of the "
         "changes %.4f\n",
         graph, error_with, error_without, cosine);
-    if (at_most > 0.0) {
-      EXPECT_LT(error_with, at_most * error_without) << graph;
-    }
+    EXPECT_LT(error_with, at_most * error_without) << graph;
+    EXPECT_LT(error_with, max_error) << graph;
     EXPECT_GT(cosine, min_cosine) << graph;
   }
 }
@@ -475,13 +479,19 @@ TEST(Refraction, DispersionSplitsTheViewByColourBand) {
 // between the two changes, per channel and pixel: 0.76 to 0.88 with exact paths, whose 8 paths per
 // pixel are noisier than the reference's 64; in image space only 0.10 on the bunny, whose exit
 // estimate's own error moves the blurred picture elsewhere, 0.88 on the panes).
+//
+// The error itself is bounded too, under twice what was measured when written (bunny: exact paths
+// 0.197 and 0.196, image space 0.281; panes: every method 0.118).
 TEST(Refraction, RoughGlassBlursTheViewThroughIt) {
   Engine e;
   struct Case {
     const char* graph;
     double at_most;  // of the smooth picture's error against the rough reference
     double min_cosine;
+    bool exact;  // traces every pixel's path (else image space)
   };
+  const std::map<std::pair<std::string, bool>, double> max_error{
+      {{"glass_bunny", true}, 0.3}, {{"glass_bunny", false}, 0.4}, {{"thin_panes", true}, 0.17}, {{"thin_panes", false}, 0.17}};
   for (const char* name : {"glass_bunny", "thin_panes"}) {
     auto smooth = test::load_bundled_scene(name);
     auto rough = test::load_bundled_scene(name);
@@ -490,14 +500,16 @@ TEST(Refraction, RoughGlassBlursTheViewThroughIt) {
     }
     const auto reference = reference::render_refraction_reference(*rough, kWidth, kHeight);
     const auto reference_smooth = reference::render_refraction_reference(*smooth, kWidth, kHeight);
-    for (auto [graph, at_most, min_cosine] :
-         {Case{"refraction_raytraced", 0.55, 0.6}, Case{"refraction_hybrid", 0.55, 0.5}, Case{"refraction_deferred", 0.7, 0.05},
-          Case{"refraction_forward", 0.7, 0.05}, Case{"refraction_multilayer", 0.7, 0.05}}) {
+    for (auto [graph, at_most, min_cosine, exact] :
+         {Case{"refraction_raytraced", 0.55, 0.6, true}, Case{"refraction_hybrid", 0.55, 0.5, true},
+          Case{"refraction_deferred", 0.7, 0.05, false}, Case{"refraction_forward", 0.7, 0.05, false},
+          Case{"refraction_multilayer", 0.7, 0.05, false}}) {
       const auto [error_with, error_without, cosine] =
           agreement(e.render(graph, rough).refracted, e.render(graph, smooth).refracted, reference, reference_smooth);
       std::printf("rough glass %-12s %-22s relative L1 against the rough reference: %.4f rough, %.4f smooth; cosine of the changes %.4f\n",
                   name, graph, error_with, error_without, cosine);
       EXPECT_LT(error_with, at_most * error_without) << name << " " << graph;
+      EXPECT_LT(error_with, max_error.at({name, exact})) << name << " " << graph;
       EXPECT_GT(cosine, min_cosine) << name << " " << graph;
     }
   }
