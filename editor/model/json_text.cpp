@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 #include <vector>
 
 namespace caustica::editor {
@@ -22,7 +23,8 @@ struct TextNode {
 // The text is known to be valid JSON (it parsed), so the scanner only finds boundaries.
 class Scanner {
  public:
-  explicit Scanner(std::string_view text) : t_(text) {}
+  // nlohmann and the engine's loader skip a UTF-8 byte order mark; it stays in the text before the value.
+  explicit Scanner(std::string_view text) : t_(text), i_(text.starts_with("\xEF\xBB\xBF") ? 3 : 0) {}
 
   TextNode value() {
     skip_space();
@@ -76,7 +78,7 @@ class Scanner {
   }
 
   std::string_view t_;
-  size_t i_ = 0;
+  size_t i_;
 };
 
 class Writer {
@@ -125,8 +127,14 @@ class Writer {
   // Which old member each new member continues: the same key (objects) or an equal value (arrays,
   // in order) anchors a pair; between anchors, the rest pair up by position (a changed value, a
   // renamed key); a new member with no partner is written fresh, an old one with none is dropped.
+  // An array that kept its length was edited in place: pairing by value there would pair an element
+  // set to a later one's value with that one and rewrite those in between.
   static std::vector<int> match(const ordered_json& value, const ordered_json& old, const TextNode& node) {
     std::vector<int> partner(value.size(), -1);
+    if (value.is_array() && value.size() == node.members.size()) {
+      std::iota(partner.begin(), partner.end(), 0);
+      return partner;
+    }
     std::vector<bool> used(node.members.size(), false);
     size_t next_old = 0, j = 0;
     for (auto it = value.begin(); it != value.end(); ++it, ++j) {
@@ -163,11 +171,17 @@ class Writer {
     return partner;
   }
 
-  // The whitespace before old member k (its separator without the comma).
-  std::string lead(const TextNode& node, size_t k) const {
+  // The separator before old member k, for a new member that is first or not: a kept comma stays where
+  // its author put it (a space may come before it); the front has none, and the old first member has
+  // none of its own when it moves on.
+  std::string lead(const TextNode& node, size_t k, bool first) const {
     const size_t from = k == 0 ? node.begin + 1 : node.members[k - 1].end;
     std::string text(t_.substr(from, node.members[k].key_begin - from));
-    if (const size_t comma = text.find(','); comma != std::string::npos) text.erase(comma, 1);
+    const size_t comma = text.find(',');
+    if (first && comma != std::string::npos)
+      text.erase(comma, 1);
+    else if (!first && comma == std::string::npos)
+      text.insert(0, ",");
     return text;
   }
 
@@ -176,20 +190,18 @@ class Writer {
     const std::vector<int> partner = match(value, old, node);
     const TextNode& first = node.members.front();
     const std::string colon(object ? t_.substr(first.key_end, first.begin - first.key_end) : std::string_view());
-    const std::string new_lead = lead(node, node.members.size() - 1);
     out += object ? '{' : '[';
     size_t j = 0;
     for (auto it = value.begin(); it != value.end(); ++it, ++j) {
-      if (j > 0) out += ',';
       if (partner[j] < 0) {
-        out += new_lead;
+        out += lead(node, node.members.size() - 1, j == 0);
         if (object) out += ordered_json(it.key()).dump() + colon;
         fresh(*it, depth + 1, out);
         continue;
       }
       const auto k = static_cast<size_t>(partner[j]);
       const TextNode& m = node.members[k];
-      out += lead(node, k);
+      out += lead(node, k, j == 0);
       if (object) {
         out += m.key == it.key() ? std::string(t_.substr(m.key_begin, m.key_end - m.key_begin)) : ordered_json(it.key()).dump();
         out += t_.substr(m.key_end, m.begin - m.key_end);

@@ -558,8 +558,9 @@ namespace {
 
 struct StabilityCase {
   const char* label;
-  const char* scene;
+  const char* scene;  // its last path component names the case for --cases
   bool moving_light = false;  // also measure flicker along a light path
+  std::string name() const { return std::filesystem::path(scene).filename().string(); }
 };
 
 const StabilityCase kStabilityCases[] = {
@@ -592,9 +593,19 @@ int cmd_bench_stability(Args& args) {
   double blur = 1.5;
   bool validate = false;
   std::string out_dir, device;
+  std::vector<StabilityCase> cases(std::begin(kStabilityCases), std::end(kStabilityCases));
   while (!args.done()) {
     std::string a = args.take();
-    if (a == "--grid")
+    if (a == "--cases") {
+      std::vector<std::string> known;
+      for (const auto& c : kStabilityCases) known.push_back(c.name());
+      cases.clear();
+      for (const auto& name : parse_names(a, args.value(a))) {
+        const auto found = std::find(known.begin(), known.end(), name);
+        if (found == known.end()) throw UsageError("--cases: no case '" + name + "'" + did_you_mean(name, known) + "; see --help");
+        cases.push_back(kStabilityCases[found - known.begin()]);
+      }
+    } else if (a == "--grid")
       grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
     else if (a == "--caustic-size")
       caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
@@ -609,7 +620,7 @@ int cmd_bench_stability(Args& args) {
     else if (a == "--validate")
       validate = true;
     else
-      unknown_option(a, {"--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
+      unknown_option(a, {"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
   }
   struct Method {
     const char* label;
@@ -638,7 +649,7 @@ int cmd_bench_stability(Args& args) {
   const glm::vec3 shift(1e-4f, 0.0f, 0.0f);
   constexpr int kPathSteps = 6;
   const glm::vec3 step(0.02f, 0.0f, 0.0f);
-  for (const auto& c : kStabilityCases) {
+  for (const auto& c : cases) {
     const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
     reference::PhotonOptions options;
     options.photons = reference_photons;
@@ -762,7 +773,8 @@ int cmd_bench(Args& args) {
       "NAME:PARAM=VALUE[:PARAM=VALUE...]. The chart is drawn with matplotlib by /usr/bin/python3 (python3 on PATH where\n"
       "there is none), or by the interpreter that CAUSTICA_PYTHON names; one that cannot import matplotlib stops the\n"
       "benchmark before it starts.\n\n"
-      "       caustica bench stability [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR] [--validate]\n\n"
+      "       caustica bench stability [--cases A,B] [--grid G] [--caustic-size N] [--frames N] [--reference-photons N] [--out DIR]\n"
+      "                                [--validate]\n\n"
       "stability: where each caustic method breaks. Every case (ball lens; bunny with the light moving; n = 2.4; grazing\n"
       "light; torus; stacked refractors; a refractor smaller than the start grid's spacing; one filling the light's view;\n"
       "the light close to it; n = 1; no refractor) x every method (the hybrid also without coverage seeding, and the\n"
@@ -770,7 +782,9 @@ int cmd_bench(Args& args) {
       "skipped on a device without ray queries) at one grid\n"
       "(default 2048): error, energy ratio and shape error against the photon reference (default 2e7), NaN/Inf count,\n"
       "photons, caustic-pass time, the change after moving the light by 1e-4 (and the reference's own change), and the\n"
-      "flicker along a light path against the reference's own. DIR/stability.csv and DIR/README.md.\n\n"
+      "flicker along a light path against the reference's own. DIR/stability.csv and DIR/README.md. --cases runs some of\n"
+      "the cases, named by their scenes: sphere_plane, bunny_plane, high_index, grazing_light, torus, three_refractors,\n"
+      "tiny_refractor, filling_refractor, close_light, index_one, no_refractor.\n\n"
       "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
       "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
       "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
