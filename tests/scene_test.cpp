@@ -102,12 +102,12 @@ TEST(Convexity, OnlyClosedConvexBodiesAreConvexSolids) {
   EXPECT_FALSE(is_convex_solid(inside_out)) << "wound inside out";
 }
 
-// Scenes flag their solid refractors' convexity when they load (the hybrids read it on the device).
+// Scenes' solid refractors are convex or not as their meshes are (the hybrids read it on the device).
 TEST(Convexity, ScenesFlagTheirConvexRefractors) {
   auto convex_of = [](const char* file) {
     std::map<std::string, bool> out;
     for (const auto& o : load_scene_file((kSource / "scenes" / file).string()).objects) {
-      if (o.material.refractor) out[o.name] = o.convex;
+      if (o.material.refractor) out[o.name] = is_convex_refractor(o);
     }
     return out;
   };
@@ -117,6 +117,19 @@ TEST(Convexity, ScenesFlagTheirConvexRefractors) {
   EXPECT_EQ(convex_of("bunny_plane.json").begin()->second, false);
   // Thin walls are not solids: light passes them unbent, image space sees their path exactly.
   for (const auto& [name, convex] : convex_of("thin_panes.json")) EXPECT_FALSE(convex) << name;
+}
+
+// Convexity is derived from the mesh when asked, never cached at load: a ball dented after loading
+// (tests change meshes so) is not taken for the convex ball it was.
+TEST(Convexity, AMeshChangedAfterLoadingIsJudgedAsItIsNow) {
+  Scene scene = load_scene_file((kSource / "scenes/sphere_plane.json").string());
+  auto ball = std::find_if(scene.objects.begin(), scene.objects.end(), [](const Object& o) { return o.material.refractor; });
+  ASSERT_NE(ball, scene.objects.end());
+  EXPECT_TRUE(is_convex_refractor(*ball));
+  const glm::vec3 center = ball->center();
+  glm::vec3& vertex = ball->mesh.positions[ball->mesh.indices[ball->mesh.indices.size() / 2]];
+  vertex = center + 0.8f * (vertex - center);
+  EXPECT_FALSE(is_convex_refractor(*ball));
 }
 
 TEST(MeshFiles, LoadTheStanfordModelsDebianShips) {

@@ -1,7 +1,7 @@
 // Whether a mesh bounds a convex solid, so that a ray leaving it cannot meet it again. A closed,
 // connected surface that is convex at every edge bounds a convex body (Tietze's theorem for an
-// embedded surface); a check of every vertex against a sample of the face planes then rules out a
-// surface that only seems so because it overlaps itself.
+// embedded surface); a check of every vertex against every face plane then rules out a surface that
+// only seems so because it overlaps itself.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -56,6 +56,49 @@ Welded weld(const std::vector<glm::vec3>& positions, glm::vec3 low, float tolera
     w.index[i] = static_cast<uint32_t>(found);
   }
   return w;
+}
+
+// Vertices in clusters of nearby ones, each with a bounding sphere, so that a plane can clear a
+// whole cluster at once: split at the median of the longest axis until a cluster is small.
+struct Cluster {
+  glm::vec3 center;
+  float radius;
+  size_t first, count;  // into VertexClusters::order
+};
+struct VertexClusters {
+  std::vector<uint32_t> order;  // vertex indices, each cluster's contiguous
+  std::vector<Cluster> clusters;
+};
+
+void split_clusters(const std::vector<glm::vec3>& positions, size_t first, size_t count, VertexClusters& out) {
+  auto begin = out.order.begin() + static_cast<std::ptrdiff_t>(first);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it) {
+    lo = glm::min(lo, positions[*it]);
+    hi = glm::max(hi, positions[*it]);
+  }
+  constexpr size_t kLeaf = 32;
+  if (count <= kLeaf) {
+    const glm::vec3 center = 0.5f * (lo + hi);
+    float radius = 0.0f;
+    for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it) radius = std::max(radius, glm::length(positions[*it] - center));
+    out.clusters.push_back({center, radius, first, count});
+    return;
+  }
+  const glm::vec3 extent = hi - lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  const size_t half = count / 2;
+  std::nth_element(begin, begin + static_cast<std::ptrdiff_t>(half), begin + static_cast<std::ptrdiff_t>(count),
+                   [&](uint32_t a, uint32_t b) { return positions[a][axis] < positions[b][axis]; });
+  split_clusters(positions, first, half, out);
+  split_clusters(positions, first + half, count - half, out);
+}
+
+VertexClusters cluster_vertices(const std::vector<glm::vec3>& positions) {
+  VertexClusters out;
+  for (uint32_t i = 0; i < positions.size(); ++i) out.order.push_back(i);
+  split_clusters(positions, 0, positions.size(), out);
+  return out;
 }
 
 uint32_t root_of(std::vector<uint32_t>& parent, uint32_t i) {
@@ -116,13 +159,22 @@ bool is_convex_solid(const Mesh& mesh) {
     if (root_of(parent, i) != component) return false;  // two separate bodies
   }
 
-  const size_t stride = std::max<size_t>(1, faces.size() / 64);
-  for (size_t i = 0; i < faces.size(); i += stride) {
-    for (const auto& p : mesh.positions) {
-      if (glm::dot(faces[i].normal, p - faces[i].point) > tolerance) return false;
+  // Every vertex behind every face's plane. A cluster whose bounding sphere lies behind the plane
+  // needs no vertex looked at: on a convex mesh only the clusters the plane touches do.
+  const VertexClusters clusters = cluster_vertices(mesh.positions);
+  for (const Face& f : faces) {
+    for (const Cluster& c : clusters.clusters) {
+      if (glm::dot(f.normal, c.center - f.point) + c.radius <= tolerance) continue;
+      for (size_t k = c.first; k < c.first + c.count; ++k) {
+        if (glm::dot(f.normal, mesh.positions[clusters.order[k]] - f.point) > tolerance) return false;
+      }
     }
   }
   return true;
+}
+
+bool is_convex_refractor(const Object& object) {
+  return object.material.refractor && !object.material.thin && is_convex_solid(object.mesh);
 }
 
 }  // namespace caustica::scene

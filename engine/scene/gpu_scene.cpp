@@ -49,7 +49,7 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
   refractors_.index_count += thin_refractors_.index_count;
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
-    const float refractor_kind = !m.refractor ? 0.0f : object.convex && !m.thin ? 2.0f : 1.0f;  // scene_types.h
+    const float refractor_kind = !m.refractor ? 0.0f : is_convex_refractor(object) ? 2.0f : 1.0f;  // scene_types.h
     objects.push_back(
         {glm::vec4(m.albedo, refractor_kind), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
          glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread()),

@@ -261,7 +261,6 @@ void finish_object(Object& o, const glm::mat4& transform) {
   }
   std::tie(o.bounds_min, o.bounds_max) = mesh_bounds(o.mesh);
   if (o.material.refractor) o.mesh.normal_distance = normal_distances(o.mesh);
-  o.convex = o.material.refractor && !o.material.thin && is_convex_solid(o.mesh);
 }
 
 }  // namespace

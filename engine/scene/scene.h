@@ -122,9 +122,6 @@ struct Object {
   Mesh mesh;
   Material material;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
-  // A solid refractor whose mesh bounds a convex body (is_convex_solid): light that leaves it cannot
-  // meet it again, so the hybrids trace its exit rays past every refractor (shaders/scene/ray_query.glsl).
-  bool convex = false;
   glm::vec3 center() const { return 0.5f * (bounds_min + bounds_max); }
 };
 
@@ -251,5 +248,11 @@ std::vector<float> normal_distances(const Mesh& mesh);
 // Whether the mesh bounds a convex solid: closed (after welding vertices closer than 1e-5 of its
 // size), consistently wound counter-clockwise from outside, connected, and convex at every edge.
 bool is_convex_solid(const Mesh& mesh);
+
+// A solid refractor whose mesh bounds a convex body: light that leaves it cannot meet it again, so
+// the hybrids trace its exit rays past every refractor (shaders/scene/ray_query.glsl). Derived from
+// the mesh whenever asked (the scene's upload asks), so that a mesh changed after loading is never
+// taken for the convex one it was.
+bool is_convex_refractor(const Object& object);
 
 }  // namespace caustica::scene

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "vk/pipeline.h"
 
 namespace caustica::vk {
 
@@ -303,6 +304,7 @@ Context::Context(const ContextOptions& options)
     check(created, "vkCreateDevice");
   }
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  pipelines_ = std::make_unique<PipelineCache>();
   push_descriptor_set = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
   begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
   end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
@@ -318,6 +320,7 @@ Context::Context(const ContextOptions& options)
 }
 
 Context::~Context() {
+  pipelines_.reset();  // queues their destruction, which wait_idle() runs
   wait_idle();
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));

@@ -6,12 +6,15 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "vk/owned.h"
 
 namespace caustica::vk {
+
+class PipelineCache;
 
 struct ContextOptions {
   std::string device_name;  // substring of the device name; empty picks lavapipe, else the first 1.3 device
@@ -59,6 +62,8 @@ class Context {
   VkPhysicalDevice physical_device() const { return physical_; }
   VkDevice device() const { return device_; }
   VkQueue queue() const { return queue_; }
+  // The pipelines made on this device, for reuse (vk/pipeline.h).
+  PipelineCache& pipelines() { return *pipelines_; }
   uint32_t queue_family() const { return queue_family_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   const std::string& device_name() const { return device_name_; }
@@ -114,6 +119,7 @@ class Context {
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
+  std::unique_ptr<PipelineCache> pipelines_;
   uint32_t queue_family_ = 0;
   uint32_t timestamp_valid_bits_ = 0;
   bool float_atomics_ = false;

@@ -4,6 +4,7 @@
 // No code outside this header and Context calls vkDestroy*/vkFree* directly.
 #include <vulkan/vulkan.h>
 
+#include <memory>
 #include <utility>
 
 namespace caustica::vk {
@@ -63,5 +64,20 @@ using OwnedRenderPass = Owned<VkRenderPass, vkDestroyRenderPass>;
 using OwnedFramebuffer = Owned<VkFramebuffer, vkDestroyFramebuffer>;
 using OwnedDescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
 using OwnedSwapchain = Owned<VkSwapchainKHR, vkDestroySwapchainKHR>;
+
+// An owned object that several holders share (a pipeline the process reuses): destroyed, deferred
+// as an Owned one is, when the last holder lets it go.
+template <typename O>
+class Shared {
+ public:
+  Shared() = default;
+  explicit Shared(O owned) : owned_(std::make_shared<O>(std::move(owned))) {}
+  auto get() const { return owned_ ? owned_->get() : decltype(std::declval<const O&>().get()){}; }
+  explicit operator bool() const { return owned_ && static_cast<bool>(*owned_); }
+  bool shared_elsewhere() const { return owned_.use_count() > 1; }
+
+ private:
+  std::shared_ptr<O> owned_;
+};
 
 }  // namespace caustica::vk

@@ -1,5 +1,7 @@
 #include "vk/pipeline.h"
 
+#include <type_traits>
+
 namespace caustica::vk {
 namespace {
 
@@ -12,6 +14,33 @@ OwnedShaderModule make_module(Context& vk, const std::vector<uint32_t>& spirv) {
   return OwnedShaderModule(vk, module);
 }
 
+// Everything that makes two pipelines the same, as bytes.
+class Key {
+ public:
+  explicit Key(const char* kind, const PipelineDesc& desc) : text_(kind) {
+    *this << desc.name << desc.bindings << desc.push_constant_bytes << desc.texture_array;
+  }
+  Key& operator<<(const std::string& s) { return bytes(s.data(), s.size()) << '\0'; }
+  template <typename T>
+  Key& operator<<(const std::vector<T>& v) {
+    *this << v.size();
+    return bytes(v.data(), v.size() * sizeof(T));
+  }
+  template <typename T>
+  Key& operator<<(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    return bytes(&value, sizeof(T));
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  Key& bytes(const void* data, size_t size) {
+    text_.append(static_cast<const char*>(data), size);
+    return *this;
+  }
+  std::string text_;
+};
+
 void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stages, Pipeline& out) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (uint32_t i = 0; i < desc.bindings.size(); ++i) bindings.push_back({i, desc.bindings[i], 1, stages, nullptr});
@@ -21,11 +50,11 @@ void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stage
   set_info.pBindings = bindings.data();
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   check(vkCreateDescriptorSetLayout(vk.device(), &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
-  out.set_layout = OwnedSetLayout(vk, set_layout);
+  out.set_layout = Shared(OwnedSetLayout(vk, set_layout));
 
   std::vector<VkDescriptorSetLayout> sets{set_layout};
   if (desc.texture_array > 0) {
-    out.texture_set_layout = texture_array_layout(vk, desc.texture_array);
+    out.texture_set_layout = Shared(texture_array_layout(vk, desc.texture_array));
     sets.push_back(out.texture_set_layout.get());
   }
   VkPushConstantRange range{stages, 0, desc.push_constant_bytes};
@@ -36,7 +65,7 @@ void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stage
   layout_info.pPushConstantRanges = &range;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   check(vkCreatePipelineLayout(vk.device(), &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
-  out.layout = OwnedPipelineLayout(vk, layout);
+  out.layout = Shared(OwnedPipelineLayout(vk, layout));
   out.stages = stages;
 }
 
@@ -53,6 +82,9 @@ OwnedSetLayout texture_array_layout(Context& vk, uint32_t count) {
 }
 
 Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv) {
+  Key key("compute", desc);
+  key << spirv;
+  if (const Pipeline* made = vk.pipelines().find(key.text())) return *made;
   Pipeline out;
   out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   make_layout(vk, desc, VK_SHADER_STAGE_COMPUTE_BIT, out);
@@ -62,9 +94,9 @@ Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std:
   info.layout = out.layout.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
   check(vkCreateComputePipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateComputePipelines");
-  out.pipeline = OwnedPipeline(vk, pipeline);
+  out.pipeline = Shared(OwnedPipeline(vk, pipeline));
   vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
-  return out;
+  return vk.pipelines().insert(key.text(), std::move(out));
 }
 
 Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
@@ -76,6 +108,10 @@ Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const s
 
 Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
                                 const std::vector<uint32_t>& fragment_spirv, const RasterState& state) {
+  Key key("graphics", desc);
+  key << vertex_spirv << fragment_spirv << state.color_formats << state.depth_format << state.depth_write << state.depth_compare
+      << state.cull;
+  if (const Pipeline* made = vk.pipelines().find(key.text())) return *made;
   const std::vector<VkFormat>& color_formats = state.color_formats;
   Pipeline out;
   out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -130,9 +166,19 @@ Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std
   info.layout = out.layout.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
   check(vkCreateGraphicsPipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateGraphicsPipelines");
-  out.pipeline = OwnedPipeline(vk, pipeline);
+  out.pipeline = Shared(OwnedPipeline(vk, pipeline));
   vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
-  return out;
+  return vk.pipelines().insert(key.text(), std::move(out));
+}
+
+const Pipeline* PipelineCache::find(const std::string& key) const {
+  const auto found = pipelines_.find(key);
+  return found == pipelines_.end() ? nullptr : &found->second;
+}
+
+const Pipeline& PipelineCache::insert(const std::string& key, Pipeline pipeline) {
+  if (pipelines_.size() >= kKeep) std::erase_if(pipelines_, [](const auto& entry) { return !entry.second.pipeline.shared_elsewhere(); });
+  return pipelines_.insert_or_assign(key, std::move(pipeline)).first->second;
 }
 
 DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view, VkSampler sampler) {

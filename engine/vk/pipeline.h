@@ -3,6 +3,7 @@
 // A pipeline that samples the scene's textures also has set 1, an array of them that the scene
 // writes once (vk::texture_array_layout).
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "vk/context.h"
@@ -16,13 +17,30 @@ struct PipelineDesc {
   uint32_t texture_array = 0;  // > 0: set 1 is an array of this many combined image samplers
 };
 
+// Copies share their objects: the process keeps the pipelines it made (PipelineCache) and hands
+// the same ones to every pass that asks for an identical pipeline.
 struct Pipeline {
-  OwnedSetLayout set_layout;
-  OwnedSetLayout texture_set_layout;  // when PipelineDesc::texture_array
-  OwnedPipelineLayout layout;
-  OwnedPipeline pipeline;
+  Shared<OwnedSetLayout> set_layout;
+  Shared<OwnedSetLayout> texture_set_layout;  // when PipelineDesc::texture_array
+  Shared<OwnedPipelineLayout> layout;
+  Shared<OwnedPipeline> pipeline;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   VkShaderStageFlags stages = 0;
+};
+
+// The pipelines a Context has made, by everything that defines them (kind, layout, SPIR-V, fixed
+// state, name). An executor that compiles a graph again (another scene or size, an edit elsewhere
+// in the graph, the test matrix) gets its unchanged pipelines back instead of having the driver
+// compile them again: lavapipe compiles each with LLVM, most of a graph's set-up time. Pipelines no
+// pass holds any more are let go once the cache passes kKeep entries.
+class PipelineCache {
+ public:
+  const Pipeline* find(const std::string& key) const;
+  const Pipeline& insert(const std::string& key, Pipeline pipeline);
+
+ private:
+  static constexpr size_t kKeep = 256;
+  std::unordered_map<std::string, Pipeline> pipelines_;
 };
 
 // Fixed-function state of a graphics pipeline drawn with dynamic rendering; viewport and scissor
