@@ -606,16 +606,24 @@ TEST(JsonText, UnchangedValuesKeepTheirBytes) {
   }
 }
 
+namespace {
+
+// Sets the value at `pointer` in `text` and checks that the text written changed there alone.
+void expect_setting_rewrites_only_it(const std::string& text, const std::string& pointer, const ordered_json& replacement) {
+  ordered_json value = ordered_json::parse(text);
+  value[ordered_json::json_pointer(pointer)] = replacement;
+  const std::string written = editor::write_preserving(value, text);
+  Rewrites rewrites(text, written);
+  rewrites.replaced(pointer, pointer, replacement);
+  EXPECT_TRUE(rewrites.check()) << written;
+}
+
+}  // namespace
+
 // An array element set to the value of a later element keeps its place: pairing it with that
 // element's text would write the elements in between afresh.
 TEST(JsonText, AnArrayElementSetToALaterElementsValueKeepsTheOthersBytes) {
-  const std::string text = "{\"a\": [1, 2.50, 3]}";
-  ordered_json value = ordered_json::parse(text);
-  value["a"][0] = 3;
-  const std::string written = editor::write_preserving(value, text);
-  Rewrites rewrites(text, written);
-  rewrites.replaced("/a/0", "/a/0", 3);
-  EXPECT_TRUE(rewrites.check()) << written;
+  expect_setting_rewrites_only_it("{\"a\": [1, 2.50, 3]}", "/a/0", 3);
   // Through the model: a position written on one line by its author, moved to where x equals the old y.
   GraphModel model(file_text(graphs_dir() / "core_demo.json"), "core_demo.json", registry());
   model.set_position("pattern", 120, 40);
@@ -631,13 +639,7 @@ TEST(JsonText, AnArrayElementSetToALaterElementsValueKeepsTheOthersBytes) {
 // A container with a changed member keeps each kept member's separator as it was, so a space its
 // author put before a comma stays before it.
 TEST(JsonText, SpaceBeforeACommaStaysWhereItWas) {
-  const std::string text = "  {\"b\" :1,\"a\":[ 1,2 ,3],\n\t\"c\": {\"x\": 1.50}}  \n";
-  ordered_json value = ordered_json::parse(text);
-  value["a"][2] = 4;
-  const std::string written = editor::write_preserving(value, text);
-  Rewrites rewrites(text, written);
-  rewrites.replaced("/a/2", "/a/2", 4);
-  EXPECT_TRUE(rewrites.check()) << written;
+  expect_setting_rewrites_only_it("  {\"b\" :1,\"a\":[ 1,2 ,3],\n\t\"c\": {\"x\": 1.50}}  \n", "/a/2", 4);
 }
 
 TEST(JsonText, AnEditChangesOnlyWhatWasEdited) {
