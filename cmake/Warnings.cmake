@@ -22,9 +22,10 @@ function(caustica_target_defaults target)
   endif()
 endfunction()
 
-# Sanitizers are global so that static libraries and the executables linking them agree.
+# Sanitizers are global so that static libraries and the executables linking them agree. Line tables
+# (-g1) are all that their stack traces need; full debug information made the build a fifth slower.
 if(CAUSTICA_SANITIZE)
-  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined -g1)
   add_link_options(-fsanitize=address,undefined)
 endif()
 

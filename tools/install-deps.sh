@@ -14,7 +14,7 @@ packages=(
   glslang-dev glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libdraco-dev libmeshoptimizer-dev
   libglfw3-dev libimgui-dev xvfb xdotool
-  libopenimageio-dev openimageio-tools
+  libopenexr-dev libstb-dev openimageio-tools
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
   clang libclang-rt-14-dev

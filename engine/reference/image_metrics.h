@@ -1,6 +1,6 @@
 #pragma once
 // How far an engine image is from a reference image (docs/accuracy.md): the caustic metrics on a
-// matched blur, and OpenImageIO's per-pixel comparison of the images as they are.
+// matched blur, and the per-value differences of the images as they are.
 #include <cstdint>
 
 #include "io/image_io.h"
@@ -16,7 +16,8 @@ struct ImageComparison {
   // The same L1 with each image divided by its own sum (0 to 2): where the energy goes, whatever
   // its total, so that a method losing flux evenly is told apart from one putting it elsewhere.
   double shape_l1 = 0;
-  // OpenImageIO's ImageBufAlgo::compare on the unblurred colour channels.
+  // On the unblurred colour values: mean and root-mean-square of |A - B|, the largest |A - B|, and
+  // the peak signal-to-noise ratio 20 log10(1 / rms) in dB, taking 1 as the peak.
   double mean_error = 0, rms_error = 0, psnr = 0, max_error = 0;
   uint64_t nonfinite_a = 0, nonfinite_b = 0;  // NaN or Inf values (counted as 0 in the sums)
 };

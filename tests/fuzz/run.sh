@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 jobs="${CAUSTICA_JOBS:-2}"
 CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_FUZZ=ON -DCAUSTICA_BUILD_TESTS=OFF \
-  -DCAUSTICA_WERROR=ON > /dev/null
+  -DCAUSTICA_WERROR=ON -DCMAKE_UNITY_BUILD=ON > /dev/null
 cmake --build build/fuzz -j "$jobs" --target fuzz_graph fuzz_scene fuzz_model
 if [ "${1:-}" = "--ci" ]; then
   limits=(-seed=1 -runs=100000)
