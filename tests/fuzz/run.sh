@@ -15,13 +15,26 @@ if [ "${1:-}" = "--ci" ]; then
 else
   limits=(-max_total_time="${1:-300}")
 fi
-for target in graph scene model; do
+# Each target runs on one core: up to CAUSTICA_JOBS of them at once, the longest (model) first,
+# so that the other two share the second core while it runs. Each one's output is shown when it ends.
+fuzz_one() {  # fuzz_one TARGET: runs it, prints its last lines, exits with its status
+  local target="$1" scratch status=0
   scratch="$(mktemp -d)"
-  echo "fuzz_$target: ${limits[*]}"
   # Artifacts (a crashing input) land in build/fuzz so that a failure can be reproduced.
   build/fuzz/tests/fuzz/fuzz_$target "$scratch" "tests/fuzz/corpus/$target" "${limits[@]}" -max_len=8192 -timeout=20 \
-    -artifact_prefix=build/fuzz/crash-$target- -print_final_stats=1 2>&1 | tail -n 12
-  status=${PIPESTATUS[0]}
+    -artifact_prefix=build/fuzz/crash-$target- -print_final_stats=1 > "build/fuzz/$target.log" 2>&1 || status=$?
   rm -rf "$scratch"
-  [ "$status" -eq 0 ] || { echo "fuzz_$target failed (status $status); the input is in build/fuzz/crash-$target-*" >&2; exit 1; }
+  echo "fuzz_$target: ${limits[*]}"
+  tail -n 12 "build/fuzz/$target.log"
+  [ "$status" -eq 0 ] || echo "fuzz_$target failed (status $status); the input is in build/fuzz/crash-$target-*" >&2
+  return "$status"
+}
+pids=()
+for target in model graph scene; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  fuzz_one "$target" &
+  pids+=($!)
 done
+failed=0
+for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+[ "$failed" -eq 0 ] || exit 1
