@@ -11,7 +11,7 @@
 
 #include "builtin_passes.h"
 #include "core/error.h"
-#include "refraction.h"
+#include "photon_kernel.h"
 
 namespace caustica::passes {
 namespace {

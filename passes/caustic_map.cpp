@@ -3,7 +3,7 @@
 // flux per texel, which lighting projects back onto the receivers.
 #include "builtin_passes.h"
 #include "core/error.h"
-#include "refraction.h"
+#include "photon_kernel.h"
 
 namespace caustica::passes {
 namespace {

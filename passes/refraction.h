@@ -27,8 +27,6 @@ std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> 
 // hybrid_tolerance.
 // `what` names the rays ("a photon", "a camera ray") in the description.
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
-// The photon passes': exact_path_params() and the seed of their Fresnel choices.
-std::vector<graph::ParamDecl> photon_path_params();
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters = 0);
 // Whether a pass with these parameters traces with ray queries (PassTypeDecl::uses_ray_queries).
 bool traces_exact_paths(const nlohmann::json& params);
@@ -64,28 +62,6 @@ class RayQueryScene {
   bool traced_ = false, hybrid_ = false;
 };
 
-// Mirrors the exact-path fields at the end of the photon shaders' push constants.
-struct ExactPathPush {
-  uint32_t max_interfaces;
-  uint32_t seed;
-  uint32_t counters;  // first of the consecutive exact-path counter slots
-  float epsilon;      // ray offset off a surface, scaled to the scene
-  // hybrid_tolerance and hybrid_reflections as two halves (glm::packHalf2x16): the adaptive pass's
-  // push constants are at the 128 bytes every device allows.
-  uint32_t hybrid_packed;
-};
-
-// A photon pass's exact paths: the ray-query scene where traced, and the counters always, so that
-// every method reports the same names.
-class ExactPaths : public RayQueryScene {
- public:
-  void setup(graph::PassSetup& setup);
-  ExactPathPush push(const graph::PassContext& ctx) const;
-
- private:
-  uint32_t first_counter_ = 0;
-};
-
 // The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:
 // binding 16 of its shaders (shaders/refraction/refraction.glsl, at_front_texel), padded as
 // RayQueryScene::bindings pads.
@@ -97,39 +73,6 @@ void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer
 
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();
-
-// The ports of every caustic method: the light-view refractor surfaces and receiver depth in, the
-// caustic map (flux per texel) out.
-std::vector<graph::PortDecl> photon_ports();
-// Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
-// caustic map, counters as uint and as float, and the front tint where bound.
-vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
-
-// A photon pass's kernel. Photons are white (kWhiteBand: one path carries every channel), or, when
-// a refractor disperses light (KHR_materials_dispersion), traced once per colour band, red, green
-// and blue (0, 1, 2), each with its own index of refraction (caustics/photon.glsl, photon_band).
-// Where `band_loop` is asked for (image space), a variant (PHOTON_BAND_LOOP) traces the three bands
-// in one pass over the grid; the white kernel must not carry that loop, which slowed white photons
-// on lavapipe (docs/caustics.md). Elsewhere each band is a dispatch of the white kernel.
-inline constexpr uint32_t kWhiteBand = 3;
-class PhotonKernel {
- public:
-  void build(graph::PassSetup& setup, const vk::PipelineDesc& layout, const std::string& shader, const shader::Defines& defines,
-             bool band_loop);
-  // What to dispatch for `scene`: the pipeline, and the push constant `band` of each pass over the grid.
-  struct Passes {
-    const vk::Pipeline& pipeline;
-    std::vector<uint32_t> bands;
-  };
-  Passes passes(const scene::Scene& scene) const;
-
- private:
-  vk::Pipeline white_, band_loop_;
-};
-// Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible
-// to the compute shaders that follow.
-vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup);
-void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear);
 
 // A full-screen copy of a sampled image into a colour attachment.
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);

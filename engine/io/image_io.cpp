@@ -96,7 +96,9 @@ ImageData read_stb(const std::string& path) {
   check_size(path, width, height);
   ImageData image = sized(width, height);
   const size_t count = size_t{image.width} * image.height * 4;
-  auto failed = [&] { return InputError(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "corrupt file")); };
+  auto failed = [&] {
+    return InputError(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "corrupt file"));
+  };
   if (stbi_is_hdr(path.c_str())) {
     std::unique_ptr<float, StbFree> pixels(stbi_loadf(path.c_str(), &width, &height, &channels, 4));
     if (!pixels) throw failed();
@@ -127,9 +129,12 @@ float half_to_float(uint16_t half) {
   const uint32_t exponent = (half >> 10) & 0x1F;
   const uint32_t mantissa = half & 0x3FF;
   float magnitude;
-  if (exponent == 0) magnitude = std::ldexp(static_cast<float>(mantissa), -24);
-  else if (exponent == 31) magnitude = mantissa ? NAN : INFINITY;
-  else magnitude = std::ldexp(static_cast<float>(mantissa | 0x400), static_cast<int>(exponent) - 25);
+  if (exponent == 0)
+    magnitude = std::ldexp(static_cast<float>(mantissa), -24);
+  else if (exponent == 31)
+    magnitude = mantissa ? NAN : INFINITY;
+  else
+    magnitude = std::ldexp(static_cast<float>(mantissa | 0x400), static_cast<int>(exponent) - 25);
   uint32_t bits;
   std::memcpy(&bits, &magnitude, 4);
   bits |= sign;

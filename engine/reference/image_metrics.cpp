@@ -66,7 +66,8 @@ ImageComparison compare_images(const io::ImageData& a, const io::ImageData& b, d
   double absolute = 0, squared = 0;
   for (size_t i = 0; i < a.rgba.size(); ++i) {
     if (i % 4 == 3) continue;
-    const double va = std::isfinite(a.rgba[i]) ? static_cast<double>(a.rgba[i]) : 0.0, vb = std::isfinite(b.rgba[i]) ? static_cast<double>(b.rgba[i]) : 0.0;
+    const double va = std::isfinite(a.rgba[i]) ? static_cast<double>(a.rgba[i]) : 0.0,
+                 vb = std::isfinite(b.rgba[i]) ? static_cast<double>(b.rgba[i]) : 0.0;
     const double d = std::abs(va - vb);
     absolute += d;
     squared += d * d;

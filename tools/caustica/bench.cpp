@@ -558,7 +558,7 @@ namespace {
 
 struct StabilityCase {
   const char* label;
-  const char* scene;  // its last path component names the case for --cases
+  const char* scene;          // its last path component names the case for --cases
   bool moving_light = false;  // also measure flicker along a light path
   std::string name() const { return std::filesystem::path(scene).filename().string(); }
 };

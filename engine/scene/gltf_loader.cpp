@@ -1,0 +1,648 @@
+// glTF 2.0 through tinygltf: the scene's nodes, meshes, materials, cameras and lights, with the
+// ratified extensions docs/gltf.md lists.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <limits>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <type_traits>
+
+#include "core/error.h"
+#include "io/json_reader.h"
+#include "scene/gltf_compression.h"
+#include "scene/mesh_formats.h"
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>  // the implementation is Debian's libtinygltf
+
+namespace caustica::scene::formats {
+namespace {
+
+glm::mat4 node_matrix(const tinygltf::Node& node) {
+  if (node.matrix.size() == 16) return glm::make_mat4(std::vector<float>(node.matrix.begin(), node.matrix.end()).data());
+  glm::mat4 m(1.0f);
+  if (node.translation.size() == 3) m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4) {
+    m *= glm::mat4_cast(glm::quat(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                                  static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2])));
+  }
+  if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+  return m;
+}
+
+// One component as a number. Normalized integers map to [0, 1] or [-1, 1] as the specification
+// says (KHR_mesh_quantization stores positions and normals this way); others keep their value.
+double read_component(const unsigned char* q, int type, bool normalized) {
+  auto load = [q](auto v) {
+    std::memcpy(&v, q, sizeof v);
+    return v;
+  };
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return static_cast<double>(load(0.0f));
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load(uint32_t{0});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return normalized ? load(uint16_t{0}) / 65535.0 : load(uint16_t{0});
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? std::max(load(int16_t{0}) / 32767.0, -1.0) : load(int16_t{0});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? load(uint8_t{0}) / 255.0 : load(uint8_t{0});
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? std::max(load(int8_t{0}) / 127.0, -1.0) : load(int8_t{0});
+    default: return std::nan("");
+  }
+}
+
+// Where `count` elements of `element` bytes, `stride` apart, lie in a buffer view; checked.
+const unsigned char* view_data(const tinygltf::Model& model, int view_index, size_t offset, size_t count, size_t element, size_t stride,
+                               const std::string& what, const std::string& path) {
+  if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size()) fail(path, 0, what + " has no valid buffer view");
+  const auto& view = model.bufferViews[static_cast<size_t>(view_index)];
+  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) fail(path, 0, "a buffer view names a missing buffer");
+  const auto& buffer = model.buffers[static_cast<size_t>(view.buffer)].data;
+  if (view.byteOffset + view.byteLength > buffer.size()) fail(path, 0, what + ": its buffer view is longer than its buffer");
+  if (count > 0 && (offset + (count - 1) * stride + element > view.byteLength)) fail(path, 0, what + " reads past the end of its buffer");
+  return buffer.data() + view.byteOffset + offset;
+}
+
+// Reads accessor `index` as `components` numbers per element: any component type, normalized or
+// not, from a buffer view or (none given) zeros, with its sparse substitutions applied.
+template <typename T>
+std::vector<T> read_accessor(const tinygltf::Model& model, int index, int components, const std::string& path) {
+  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
+    fail(path, 0, "accessor " + std::to_string(index) + " does not exist");
+  const auto& accessor = model.accessors[static_cast<size_t>(index)];
+  const std::string what = "accessor " + std::to_string(index);
+  if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)) != components) fail(path, 0, what + " has the wrong type");
+  const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.componentType));
+  if (component_size <= 0) fail(path, 0, what + " has an unknown component type");
+  if (accessor.count > (size_t{1} << 28)) fail(path, 0, what + " has " + std::to_string(accessor.count) + " elements, more than 2^28");
+  const size_t element = static_cast<size_t>(component_size) * static_cast<size_t>(components);
+  std::vector<double> values(accessor.count * static_cast<size_t>(components), 0.0);
+  auto read_elements = [&](const unsigned char* data, size_t stride, size_t count, auto&& target) {
+    for (size_t i = 0; i < count; ++i) {
+      for (int c = 0; c < components; ++c) {
+        target(i, c,
+               read_component(data + i * stride + static_cast<size_t>(c * component_size), accessor.componentType, accessor.normalized));
+      }
+    }
+  };
+  if (accessor.bufferView >= 0) {
+    if (static_cast<size_t>(accessor.bufferView) >= model.bufferViews.size()) fail(path, 0, what + " has no valid buffer view");
+    const int stride = accessor.ByteStride(model.bufferViews[static_cast<size_t>(accessor.bufferView)]);
+    if (stride <= 0 || static_cast<size_t>(stride) < element)
+      fail(path, 0, what + ": its buffer view's byteStride does not fit its elements");
+    const auto step = static_cast<size_t>(stride);
+    const unsigned char* data = view_data(model, accessor.bufferView, accessor.byteOffset, accessor.count, element, step, what, path);
+    read_elements(data, step, accessor.count,
+                  [&](size_t i, int c, double v) { values[i * static_cast<size_t>(components) + static_cast<size_t>(c)] = v; });
+  }
+  if (accessor.sparse.isSparse) {
+    const auto count = static_cast<size_t>(std::max(accessor.sparse.count, 0));
+    const int index_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.sparse.indices.componentType));
+    if (index_size <= 0 || count > accessor.count) fail(path, 0, what + " has invalid sparse indices");
+    const unsigned char* indices =
+        view_data(model, accessor.sparse.indices.bufferView, static_cast<size_t>(accessor.sparse.indices.byteOffset), count,
+                  static_cast<size_t>(index_size), static_cast<size_t>(index_size), what + "'s sparse indices", path);
+    const unsigned char* data = view_data(model, accessor.sparse.values.bufferView, static_cast<size_t>(accessor.sparse.values.byteOffset),
+                                          count, element, element, what + "'s sparse values", path);
+    for (size_t k = 0; k < count; ++k) {
+      const double target = read_component(indices + k * static_cast<size_t>(index_size), accessor.sparse.indices.componentType, false);
+      if (!(target >= 0 && target < static_cast<double>(accessor.count))) fail(path, 0, what + " has a sparse index out of range");
+      for (int c = 0; c < components; ++c) {
+        values[static_cast<size_t>(target) * static_cast<size_t>(components) + static_cast<size_t>(c)] =
+            read_component(data + k * element + static_cast<size_t>(c * component_size), accessor.componentType, accessor.normalized);
+      }
+    }
+  }
+  std::vector<T> out;
+  out.reserve(values.size());
+  for (double v : values) {
+    if (!std::isfinite(v) || (std::is_unsigned_v<T> && v < 0))
+      fail(path, 0, what + " holds a value that is not a finite number" + (std::is_unsigned_v<T> ? " of 0 or more" : ""));
+    out.push_back(static_cast<T>(v));
+  }
+  return out;
+}
+
+// The textures a file's materials use, each decoded when a material first names it, so that an
+// image no material reads is never decoded. One entry per glTF texture and colour space.
+class TextureTable {
+ public:
+  TextureTable(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
+
+  // `info` is at JSON pointer `at`; `srgb` for colour data.
+  TextureRef reference(const tinygltf::TextureInfo& info, const std::string& at, bool srgb) {
+    TextureRef ref;
+    if (info.index < 0) return ref;
+    if (static_cast<size_t>(info.index) >= model_.textures.size())
+      fail(path_, 0, at + "/index: texture " + std::to_string(info.index) + " does not exist");
+    ref.texcoord = info.texCoord;
+    if (const auto t = info.extensions.find("KHR_texture_transform"); t != info.extensions.end()) {
+      read_transform(t->second, at + "/extensions/KHR_texture_transform", ref);
+    }
+    if (ref.texcoord < 0 || ref.texcoord > 1)
+      fail(path_, 0, at + "/texCoord: TEXCOORD_" + std::to_string(ref.texcoord) + " is not read (caustica reads sets 0 and 1)");
+    const auto key = std::make_pair(info.index, srgb);
+    if (const auto found = index_.find(key); found != index_.end()) {
+      ref.texture = found->second;
+    } else {
+      ref.texture = static_cast<int>(textures_.size());
+      textures_.push_back(decode(info.index, srgb));
+      index_[key] = ref.texture;
+    }
+    return ref;
+  }
+
+  std::vector<Texture> take() { return std::move(textures_); }
+
+  // The mean linear value of texture `index` over its texels.
+  glm::vec4 mean(int index) const {
+    const Texture& t = textures_[static_cast<size_t>(index)];
+    glm::dvec4 sum(0.0);
+    for (uint32_t y = 0; y < t.height; ++y) {
+      for (uint32_t x = 0; x < t.width; ++x) {
+        sum += glm::dvec4(t.sample((glm::vec2(x, y) + 0.5f) / glm::vec2(static_cast<float>(t.width), static_cast<float>(t.height))));
+      }
+    }
+    return glm::vec4(sum / std::max(1.0, static_cast<double>(t.width) * t.height));
+  }
+
+ private:
+  // KHR_texture_transform: uv' = translation * rotation * scale * uv, as the extension defines it.
+  void read_transform(const tinygltf::Value& v, const std::string& at, TextureRef& ref) const {
+    auto pair = [&](const char* key, glm::vec2 fallback) {
+      if (!v.Has(key)) return fallback;
+      const auto& a = v.Get(key);
+      if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+        fail(path_, 0, at + "/" + key + ": needs 2 numbers");
+      const glm::vec2 out(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
+      if (!std::isfinite(out.x) || !std::isfinite(out.y)) fail(path_, 0, at + "/" + key + ": must be finite numbers");
+      return out;
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+    float rotation = 0.0f;
+    if (v.Has("rotation")) {
+      if (!v.Get("rotation").IsNumber() || !std::isfinite(v.Get("rotation").GetNumberAsDouble()))
+        fail(path_, 0, at + "/rotation: must be a finite number");
+      rotation = static_cast<float>(v.Get("rotation").GetNumberAsDouble());
+    }
+    if (v.Has("texCoord")) {
+      if (!v.Get("texCoord").IsInt()) fail(path_, 0, at + "/texCoord: must be an integer");
+      ref.texcoord = v.Get("texCoord").GetNumberAsInt();
+    }
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const glm::mat3 translate(glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(offset, 1));
+    const glm::mat3 rotate(glm::vec3(c, -s, 0), glm::vec3(s, c, 0), glm::vec3(0, 0, 1));
+    const glm::mat3 stretch(glm::vec3(scale.x, 0, 0), glm::vec3(0, scale.y, 0), glm::vec3(0, 0, 1));
+    ref.transform = translate * rotate * stretch;
+  }
+
+  Texture decode(int index, bool srgb) const {
+    const std::string at = "/textures/" + std::to_string(index);
+    const auto& texture = model_.textures[static_cast<size_t>(index)];
+    if (texture.source < 0 || static_cast<size_t>(texture.source) >= model_.images.size()) {
+      fail(path_, 0,
+           at +
+               "/source: " + (texture.source < 0 ? std::string("missing") : "image " + std::to_string(texture.source) + " does not exist") +
+               " (caustica decodes PNG and JPEG images, not KHR_texture_basisu or EXT_texture_webp)");
+    }
+    const auto& image = model_.images[static_cast<size_t>(texture.source)];
+    const std::string image_at = "/images/" + std::to_string(texture.source);
+    Texture out;
+    out.name = path_ + ": " + at;
+    out.srgb = srgb;
+    tinygltf::Image decoded;
+    std::string error, warning;
+    if (image.image.empty() || image.image.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
+        !tinygltf::LoadImageData(&decoded, texture.source, &error, &warning, 0, 0, image.image.data(), static_cast<int>(image.image.size()),
+                                 nullptr)) {
+      fail(path_, 0,
+           image_at + ": cannot decode the image" + (image.uri.empty() || image.uri.rfind("data:", 0) == 0 ? "" : " '" + image.uri + "'") +
+               " (caustica decodes PNG and JPEG)");
+    }
+    if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) || decoded.width <= 0 || decoded.height <= 0)
+      fail(path_, 0, image_at + ": the image decodes to a layout caustica does not read");
+    out.width = static_cast<uint32_t>(decoded.width);
+    out.height = static_cast<uint32_t>(decoded.height);
+    const size_t values = size_t{out.width} * out.height * 4;
+    out.rgba.resize(values);
+    if (decoded.bits == 8) {
+      std::memcpy(out.rgba.data(), decoded.image.data(), values);
+    } else {  // 16 bits: the high byte (host order, as stb_image gives them)
+      for (size_t i = 0; i < values; ++i) {
+        uint16_t v = 0;
+        std::memcpy(&v, decoded.image.data() + 2 * i, 2);
+        out.rgba[i] = static_cast<uint8_t>(v >> 8);
+      }
+    }
+    if (texture.sampler >= 0) {
+      if (static_cast<size_t>(texture.sampler) >= model_.samplers.size())
+        fail(path_, 0, at + "/sampler: sampler " + std::to_string(texture.sampler) + " does not exist");
+      const auto& sampler = model_.samplers[static_cast<size_t>(texture.sampler)];
+      const std::string sampler_at = "/samplers/" + std::to_string(texture.sampler);
+      auto wrap = [&](int mode, const char* key) {
+        switch (mode) {
+          case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::repeat;
+          case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::clamp;
+          case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::mirror;
+          default: fail(path_, 0, sampler_at + "/" + key + ": " + std::to_string(mode) + " is not a wrap mode (10497, 33071 or 33648)");
+        }
+      };
+      out.wrap_u = wrap(sampler.wrapS, "wrapS");
+      out.wrap_v = wrap(sampler.wrapT, "wrapT");
+      if (sampler.magFilter != -1 && sampler.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+          sampler.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
+        fail(path_, 0, sampler_at + "/magFilter: " + std::to_string(sampler.magFilter) + " is not a filter (9728 or 9729)");
+      out.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    return out;
+  }
+
+  const tinygltf::Model& model_;
+  std::string path_;
+  std::map<std::pair<int, bool>, int> index_;
+  std::vector<Texture> textures_;
+};
+
+// A material as the specification and its ratified extensions give it; a value outside their
+// ranges or of the wrong type is an error naming its JSON pointer. `from` is the pointer of the
+// primitive's "material" (for a missing one).
+Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path, TextureTable& textures) {
+  Material m;
+  if (index < 0) {  // the specification's default material: opaque, base colour white, metal 1, roughness 1
+    m.albedo = glm::vec3(1.0f);
+    m.metallic_roughness = true;
+    m.double_sided = false;
+    return m;
+  }
+  if (static_cast<size_t>(index) >= model.materials.size()) fail(path, 0, from + ": material " + std::to_string(index) + " does not exist");
+  const auto& mat = model.materials[static_cast<size_t>(index)];
+  const std::string at = "/materials/" + std::to_string(index);
+  auto in_unit = [&](double v, const std::string& pointer) {
+    if (!(v >= 0.0 && v <= 1.0)) fail(path, 0, pointer + ": " + JsonReader::format_number(v) + " is outside [0, 1]");
+    return v;
+  };
+  const auto& base = mat.pbrMetallicRoughness.baseColorFactor;
+  if (base.size() != 4) fail(path, 0, at + "/pbrMetallicRoughness/baseColorFactor: needs 4 numbers");
+  for (size_t c = 0; c < 4; ++c) in_unit(base[c], at + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c));
+  m.albedo = glm::vec3(base[0], base[1], base[2]);
+  m.alpha = static_cast<float>(base[3]);
+  m.base_color_texture = textures.reference(mat.pbrMetallicRoughness.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", true);
+  m.double_sided = mat.doubleSided;
+  m.metallic_roughness = true;
+  m.metallic = static_cast<float>(in_unit(mat.pbrMetallicRoughness.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor"));
+  m.roughness = static_cast<float>(in_unit(mat.pbrMetallicRoughness.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor"));
+  m.metallic_roughness_texture =
+      textures.reference(mat.pbrMetallicRoughness.metallicRoughnessTexture, at + "/pbrMetallicRoughness/metallicRoughnessTexture", false);
+  tinygltf::TextureInfo normal;  // a normalTextureInfo: textureInfo and a scale
+  normal.index = mat.normalTexture.index;
+  normal.texCoord = mat.normalTexture.texCoord;
+  normal.extensions = mat.normalTexture.extensions;
+  m.normal_texture = textures.reference(normal, at + "/normalTexture", false);
+  if (!std::isfinite(mat.normalTexture.scale)) fail(path, 0, at + "/normalTexture/scale: must be a finite number");
+  m.normal_scale = static_cast<float>(mat.normalTexture.scale);
+  if (mat.emissiveFactor.size() != 3) fail(path, 0, at + "/emissiveFactor: needs 3 numbers");
+  for (int c = 0; c < 3; ++c)
+    m.emissive[c] = static_cast<float>(in_unit(mat.emissiveFactor[static_cast<size_t>(c)], at + "/emissiveFactor/" + std::to_string(c)));
+  m.emissive_texture = textures.reference(mat.emissiveTexture, at + "/emissiveTexture", true);
+  tinygltf::TextureInfo occlusion;  // an occlusionTextureInfo: textureInfo and a strength
+  occlusion.index = mat.occlusionTexture.index;
+  occlusion.texCoord = mat.occlusionTexture.texCoord;
+  occlusion.extensions = mat.occlusionTexture.extensions;
+  m.occlusion_texture = textures.reference(occlusion, at + "/occlusionTexture", false);
+  m.occlusion_strength = static_cast<float>(in_unit(mat.occlusionTexture.strength, at + "/occlusionTexture/strength"));
+  if (mat.alphaMode == "MASK") {
+    m.alpha_mode = AlphaMode::mask;
+  } else if (mat.alphaMode == "BLEND") {
+    m.alpha_mode = AlphaMode::blend;
+  } else if (mat.alphaMode != "OPAQUE") {
+    fail(path, 0, at + "/alphaMode: '" + mat.alphaMode + "' is not OPAQUE, MASK or BLEND");
+  }
+  if (!(mat.alphaCutoff >= 0.0) || !std::isfinite(mat.alphaCutoff))
+    fail(path, 0, at + "/alphaCutoff: " + JsonReader::format_number(mat.alphaCutoff) + " must be 0 or more");
+  m.alpha_cutoff = static_cast<float>(mat.alphaCutoff);
+  auto ext = [&](const char* name) -> const tinygltf::Value* {
+    auto it = mat.extensions.find(name);
+    return it == mat.extensions.end() ? nullptr : &it->second;
+  };
+  auto number = [&](const tinygltf::Value& v, const char* extension, const char* key, double fallback) {
+    if (!v.Has(key)) return fallback;
+    const std::string pointer = at + "/extensions/" + extension + "/" + key;
+    if (!v.Get(key).IsNumber()) fail(path, 0, pointer + ": must be a number");
+    const double value = v.Get(key).GetNumberAsDouble();
+    if (!std::isfinite(value)) fail(path, 0, pointer + ": must be a finite number");
+    return value;
+  };
+  if (const auto* t = ext("KHR_materials_transmission")) {
+    const double factor = in_unit(number(*t, "KHR_materials_transmission", "transmissionFactor", 0.0),
+                                  at + "/extensions/KHR_materials_transmission/transmissionFactor");
+    m.refractor = factor > 0.0;
+    m.transmission = static_cast<float>(factor);
+    m.tint = m.albedo;  // the specification tints transmitted light with the base colour
+    m.thin = true;      // until a volume with a thickness says otherwise
+    // The specification's transmission is as rough as the surface's reflection; refraction and
+    // caustics take one roughness per object: the factor times the texture's mean (green channel).
+    m.transmission_roughness =
+        m.roughness * (m.metallic_roughness_texture.used() ? textures.mean(m.metallic_roughness_texture.texture).g : 1.0f);
+    tinygltf::TextureInfo transmission_texture;
+    if (t->Has("transmissionTexture")) {
+      const auto& info = t->Get("transmissionTexture");
+      const std::string info_at = at + "/extensions/KHR_materials_transmission/transmissionTexture";
+      if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) fail(path, 0, info_at + ": needs an integer \"index\"");
+      transmission_texture.index = info.Get("index").GetNumberAsInt();
+      if (info.Has("texCoord")) transmission_texture.texCoord = info.Get("texCoord").GetNumberAsInt();
+      if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+        transmission_texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
+      // Per texel on exact paths; the image-space methods take the texture's mean (red channel).
+      m.transmission_factor = m.transmission;
+      m.transmission_texture = textures.reference(transmission_texture, info_at, false);
+      m.transmission *= textures.mean(m.transmission_texture.texture).r;
+    }
+  }
+  if (const auto* i = ext("KHR_materials_ior")) {
+    const double ior = number(*i, "KHR_materials_ior", "ior", 1.5);
+    if (ior < 1.0 || ior > 4.0) {
+      fail(path, 0,
+           at + "/extensions/KHR_materials_ior/ior: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
+    }
+    m.ior = static_cast<float>(ior);
+  }
+  if (const auto* e = ext("KHR_materials_emissive_strength")) {
+    const double strength = number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+    if (strength < 0.0) fail(path, 0, at + "/extensions/KHR_materials_emissive_strength/emissiveStrength: must be 0 or more");
+    m.emissive *= static_cast<float>(strength);
+  }
+  if (const auto* d = ext("KHR_materials_dispersion")) {
+    const double dispersion = number(*d, "KHR_materials_dispersion", "dispersion", 0.0);
+    if (dispersion < 0.0) fail(path, 0, at + "/extensions/KHR_materials_dispersion/dispersion: must be 0 or more");
+    m.dispersion = static_cast<float>(dispersion);
+  }
+  if (const auto* v = ext("KHR_materials_volume")) {
+    const std::string volume = at + "/extensions/KHR_materials_volume";
+    const double thickness = number(*v, "KHR_materials_volume", "thicknessFactor", 0.0);
+    if (thickness < 0.0) fail(path, 0, volume + "/thicknessFactor: must be 0 or more");
+    m.thin = thickness == 0.0;  // the specification: a thickness of 0 is a thin wall
+    const double distance = number(*v, "KHR_materials_volume", "attenuationDistance", std::numeric_limits<double>::infinity());
+    if (!(distance > 0.0)) fail(path, 0, volume + "/attenuationDistance: must be above 0");
+    glm::dvec3 color(1.0);
+    if (v->Has("attenuationColor")) {
+      const auto& c = v->Get("attenuationColor");
+      if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, volume + "/attenuationColor: needs 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!c.Get(k).IsNumber()) fail(path, 0, volume + "/attenuationColor/" + std::to_string(k) + ": must be a number");
+        color[k] = in_unit(c.Get(k).GetNumberAsDouble(), volume + "/attenuationColor/" + std::to_string(k));
+      }
+    }
+    if (std::isfinite(distance)) {
+      for (int k = 0; k < 3; ++k)
+        m.absorption[k] = static_cast<float>(-std::log(std::max(color[k], 1e-6)) / distance);  // colour reached after `distance`
+    }
+  }
+  if (m.refractor && m.base_color_texture.used()) {
+    // Per texel where a method reads the texture (docs/gltf.md); `tint` keeps the texture's mean
+    // colour times the factor for a graph whose image-space passes do not.
+    m.tint_factor = m.tint;
+    m.tint *= glm::vec3(textures.mean(m.base_color_texture.texture));
+  }
+  if (m.alpha_mode == AlphaMode::blend && !m.refractor) {
+    // BLEND: drawn as a thin wall that passes the uncovered share 1 - alpha of the light unbent,
+    // tinted by the base colour, and reflects the rest diffusely; no sorting is needed (docs/gltf.md).
+    const float coverage = m.alpha * (m.base_color_texture.used() ? textures.mean(m.base_color_texture.texture).a : 1.0f);
+    if (coverage < 1.0f) {
+      m.refractor = true;
+      m.thin = true;
+      m.ior = 1.0f;
+      m.coverage_transmits = true;
+      m.transmission = 1.0f - coverage;  // with the texture's mean coverage; per texel where a method reads the texture
+      m.tint_factor = m.albedo;
+      m.tint = m.albedo * (m.base_color_texture.used() ? glm::vec3(textures.mean(m.base_color_texture.texture)) : glm::vec3(1.0f));
+    }
+  }
+  return m;
+}
+
+// The extensions whose content caustica reads: a file that requires any other is refused.
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission",     "KHR_materials_ior",          "KHR_materials_volume",
+                                                  "KHR_materials_dispersion",       "KHR_lights_punctual",        "KHR_mesh_quantization",
+                                                  "EXT_meshopt_compression",        "KHR_draco_mesh_compression", "KHR_texture_transform",
+                                                  "KHR_materials_emissive_strength"};
+
+// TEXCOORD_0 and TEXCOORD_1, when the primitive has either, into mesh.texcoords.
+void read_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
+                    Mesh& mesh, const std::string& pointer, const std::string& path) {
+  for (int set = 0; set < 2; ++set) {
+    const std::string name = "TEXCOORD_" + std::to_string(set);
+    const auto attribute = prim.attributes.find(name);
+    if (attribute == prim.attributes.end()) continue;
+    const auto uv =
+        draco && !draco->texcoords[set].empty() ? draco->texcoords[set] : read_accessor<float>(model, attribute->second, 2, path);
+    if (uv.size() / 2 != mesh.positions.size())
+      fail(path, 0,
+           pointer + "/attributes/" + name + ": " + std::to_string(uv.size() / 2) + " coordinates for " +
+               std::to_string(mesh.positions.size()) + " positions");
+    mesh.texcoords.resize(mesh.positions.size(), glm::vec4(0.0f));
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      mesh.texcoords[i][2 * set] = uv[2 * i];
+      mesh.texcoords[i][2 * set + 1] = uv[2 * i + 1];
+    }
+  }
+}
+
+// TANGENT, when the primitive has it, into mesh.tangents, carried by the node's transform `world`.
+void read_tangents(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
+                   const glm::mat4& world, Mesh& mesh, const std::string& pointer, const std::string& path) {
+  const auto attribute = prim.attributes.find("TANGENT");
+  if (attribute == prim.attributes.end()) return;
+  const auto t = draco && !draco->tangents.empty() ? draco->tangents : read_accessor<float>(model, attribute->second, 4, path);
+  if (t.size() / 4 != mesh.positions.size())
+    fail(path, 0,
+         pointer + "/attributes/TANGENT: " + std::to_string(t.size() / 4) + " tangents for " + std::to_string(mesh.positions.size()) +
+             " positions");
+  mesh.tangents.reserve(mesh.positions.size());
+  for (size_t i = 0; i + 3 < t.size(); i += 4) mesh.tangents.push_back(carry_tangent(world, glm::vec4(t[i], t[i + 1], t[i + 2], t[i + 3])));
+}
+
+// Images are kept as their encoded bytes: TextureTable decodes the ones a material uses.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
+                        void*) {
+  image->image.assign(bytes, bytes + std::max(size, 0));
+  image->as_is = true;
+  return true;
+}
+
+}  // namespace
+
+ModelFile load_gltf(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keep_encoded_image, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  const bool binary = std::filesystem::path(path).extension() == ".glb";
+  std::vector<unsigned char> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, 0, "cannot open the file");
+    in.seekg(0, std::ios::end);
+    const auto size = static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0));
+    if (size > kMaxMeshFileBytes) fail(path, 0, "the file is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB");
+    in.seekg(0);
+    bytes.resize(size);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) fail(path, 0, "cannot read the file");
+  }
+  // tinygltf reads the GLB container without looking at its version; version 1 was a different format.
+  if (binary && bytes.size() >= 8 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    uint32_t version = 0;
+    std::memcpy(&version, bytes.data() + 4, 4);
+    if (version != 2) fail(path, 0, "binary glTF version " + std::to_string(version) + ": only version 2 is supported");
+  }
+  const gltf::PreparedFile prepared = gltf::prepare(std::move(bytes), binary);
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  const auto& data = prepared.bytes;
+  const bool ok = binary
+                      ? loader.LoadBinaryFromMemory(&model, &error, &warning, data.data(), static_cast<unsigned int>(data.size()), base_dir)
+                      : loader.LoadASCIIFromString(&model, &error, &warning, reinterpret_cast<const char*>(data.data()),
+                                                   static_cast<unsigned int>(data.size()), base_dir);
+  if (!ok) {
+    while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
+    fail(path, 0, "not a valid glTF file: " + (error.empty() ? std::string("tinygltf gave no reason") : error));
+  }
+  if (model.asset.version.rfind("2.", 0) != 0) {
+    fail(path, 0, "/asset/version: '" + model.asset.version + "' is not a glTF version caustica reads (2.x)");
+  }
+  for (const auto& required : model.extensionsRequired) {
+    if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
+      fail(path, 0,
+           "requires the extension " + required +
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, _dispersion, KHR_lights_punctual, "
+               "KHR_materials_emissive_strength, KHR_mesh_quantization, EXT_meshopt_compression, KHR_draco_mesh_compression and "
+               "KHR_texture_transform)");
+    }
+  }
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const std::string& uri = model.images[i].uri;
+    if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
+    std::string decoded;  // a URI: %XX escapes
+    for (size_t k = 0; k < uri.size(); ++k) {
+      if (uri[k] == '%' && k + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[k + 1])) &&
+          std::isxdigit(static_cast<unsigned char>(uri[k + 2]))) {
+        decoded += static_cast<char>(std::stoi(uri.substr(k + 1, 2), nullptr, 16));
+        k += 2;
+      } else {
+        decoded += uri[k];
+      }
+    }
+    const auto file = std::filesystem::path(path).parent_path() / decoded;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      fail(path, 0, "image " + std::to_string(i) + ": cannot read '" + uri + "' (" + file.string() + ")");
+  }
+  gltf::decode_meshopt(model, prepared, path);
+  ModelFile out;
+  TextureTable textures(model, path);
+  std::vector<MeshPart>& parts = out.parts;
+  std::vector<int> visiting;  // guards against node cycles, which the spec forbids
+  std::function<void(int, const glm::mat4&)> visit = [&](int node_index, const glm::mat4& parent) {
+    if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size())
+      fail(path, 0, "node " + std::to_string(node_index) + " does not exist");
+    if (std::find(visiting.begin(), visiting.end(), node_index) != visiting.end())
+      fail(path, 0, "node " + std::to_string(node_index) + " is its own ancestor");
+    visiting.push_back(node_index);
+    const auto& node = model.nodes[static_cast<size_t>(node_index)];
+    const glm::mat4 world = parent * node_matrix(node);
+    const glm::vec3 origin(world[3]);
+    const glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));  // cameras and lights look down -Z
+    if (node.camera >= 0 && !out.camera && static_cast<size_t>(node.camera) < model.cameras.size()) {
+      const auto& camera = model.cameras[static_cast<size_t>(node.camera)];
+      View view;
+      view.position = origin;
+      view.target = origin + forward;
+      if (camera.type == "perspective") {
+        view.fov_y_degrees = static_cast<float>(glm::degrees(camera.perspective.yfov));
+        if (camera.perspective.znear > 0) view.near_plane = static_cast<float>(camera.perspective.znear);
+        if (camera.perspective.zfar > camera.perspective.znear) view.far_plane = static_cast<float>(camera.perspective.zfar);
+      }
+      out.camera = view;
+      out.camera_is_orthographic = camera.type == "orthographic";
+    }
+    if (const auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
+      const int index = ext->second.Get("light").GetNumberAsInt();
+      if (index < 0 || static_cast<size_t>(index) >= model.lights.size())
+        fail(path, 0, "node " + std::to_string(node_index) + " names a missing light");
+      const auto& l = model.lights[static_cast<size_t>(index)];
+      ModelLight light;
+      light.type = l.type;
+      light.position = origin;
+      light.direction = forward;
+      light.intensity = static_cast<float>(l.intensity);
+      if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+      light.cone_degrees = static_cast<float>(glm::degrees(2.0 * l.spot.outerConeAngle));
+      out.lights.push_back(light);
+    }
+    if (node.mesh >= 0) {
+      if (static_cast<size_t>(node.mesh) >= model.meshes.size())
+        fail(path, 0, "node " + std::to_string(node_index) + " names a missing mesh");
+      const auto& mesh = model.meshes[static_cast<size_t>(node.mesh)];
+      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+      for (const auto& prim : mesh.primitives) {
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;  // points and lines do not refract
+        auto position = prim.attributes.find("POSITION");
+        if (position == prim.attributes.end()) fail(path, 0, "a primitive of mesh '" + mesh.name + "' has no POSITION");
+        MeshPart part;
+        part.name = mesh.name;
+        const auto primitive_index = static_cast<size_t>(&prim - mesh.primitives.data());
+        const std::string pointer = "/meshes/" + std::to_string(node.mesh) + "/primitives/" + std::to_string(primitive_index);
+        std::optional<gltf::DracoGeometry> draco;
+        if (prim.extensions.count("KHR_draco_mesh_compression")) {
+          const auto indices = prepared.draco_indices.find({static_cast<size_t>(node.mesh), primitive_index});
+          draco = gltf::decode_draco(model, prim, indices == prepared.draco_indices.end() ? -1 : indices->second, pointer, path);
+        }
+        const auto p = draco ? draco->positions : read_accessor<float>(model, position->second, 3, path);
+        for (size_t i = 0; i + 2 < p.size(); i += 3)
+          part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
+        auto normal = prim.attributes.find("NORMAL");
+        if (normal != prim.attributes.end()) {
+          const auto n = draco && !draco->normals.empty() ? draco->normals : read_accessor<float>(model, normal->second, 3, path);
+          if (n.size() != p.size()) fail(path, 0, "NORMAL and POSITION of mesh '" + mesh.name + "' differ in count");
+          for (size_t i = 0; i + 2 < n.size(); i += 3) {
+            glm::vec3 v = normal_matrix * glm::vec3(n[i], n[i + 1], n[i + 2]);
+            float len = glm::length(v);
+            part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
+          }
+          // The specification ignores tangents where the normals are computed, so only here.
+          read_tangents(model, prim, draco, world, part.mesh, pointer, path);
+        }
+        if (draco) {
+          part.mesh.indices = draco->indices;
+        } else if (prim.indices >= 0) {
+          part.mesh.indices = read_accessor<uint32_t>(model, prim.indices, 1, path);
+        } else {
+          for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
+        }
+        part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
+        part.material = gltf_material(model, prim.material, pointer + "/material", path, textures);
+        read_texcoords(model, prim, draco, part.mesh, pointer, path);
+        parts.push_back(std::move(part));
+      }
+    }
+    for (int child : node.children) visit(child, world);
+    visiting.pop_back();
+  };
+  if (model.scenes.empty()) {
+    for (size_t n = 0; n < model.nodes.size(); ++n) visit(static_cast<int>(n), glm::mat4(1.0f));
+  } else {
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (static_cast<size_t>(scene) >= model.scenes.size()) fail(path, 0, "the default scene does not exist");
+    for (int root : model.scenes[static_cast<size_t>(scene)].nodes) visit(root, glm::mat4(1.0f));
+  }
+  if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
+  out.textures = textures.take();
+  out.images = model.images.size();
+  return out;
+}
+
+}  // namespace caustica::scene::formats
