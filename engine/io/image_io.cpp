@@ -31,6 +31,10 @@ void check_size(const std::string& path, long width, long height) {
   }
 }
 
+// An EXR's channels in ImageData's order, each a float at a stride of four.
+constexpr const char* kChannels[] = {"R", "G", "B", "A"};
+constexpr size_t kPixelBytes = 4 * sizeof(float);
+
 ImageData sized(long width, long height) {
   ImageData image;
   image.width = static_cast<uint32_t>(width);
@@ -44,13 +48,11 @@ void write_exr(const std::string& path, const ImageData& image) {
   Imf::Header header(static_cast<int>(image.width), static_cast<int>(image.height));
   header.compression() = Imf::ZIP_COMPRESSION;
   Imf::FrameBuffer frame;
-  const char* names[] = {"R", "G", "B", "A"};
-  const size_t pixel = 4 * sizeof(float), row = pixel * image.width;
   for (size_t c = 0; c < 4; ++c) {
-    header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+    header.channels().insert(kChannels[c], Imf::Channel(Imf::FLOAT));
     // OpenEXR's slices take a writable pointer for reading and writing alike; nothing is written here.
     char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgba.data() + c));
-    frame.insert(names[c], Imf::Slice(Imf::FLOAT, base, pixel, row));
+    frame.insert(kChannels[c], Imf::Slice(Imf::FLOAT, base, kPixelBytes, kPixelBytes * image.width));
   }
   Imf::OutputFile file(path.c_str(), header);
   file.setFrameBuffer(frame);
@@ -67,11 +69,9 @@ ImageData read_exr(const std::string& path) {
   const Imf::ChannelList& channels = file.header().channels();
   const bool grey = channels.findChannel("R") == nullptr && channels.findChannel("Y") != nullptr;
   Imf::FrameBuffer frame;
-  const char* names[] = {"R", "G", "B", "A"};
-  const size_t pixel = 4 * sizeof(float), row = pixel * image.width;
   for (size_t c = 0; c < (grey ? 1 : 4); ++c) {
-    const char* name = grey ? "Y" : names[c];
-    frame.insert(name, Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, window, pixel, row, 1, 1, c == 3 ? 1.0 : 0.0));
+    frame.insert(grey ? "Y" : kChannels[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, window, kPixelBytes,
+                                                             kPixelBytes * image.width, 1, 1, c == 3 ? 1.0 : 0.0));
   }
   file.setFrameBuffer(frame);
   file.readPixels(window.min.y, window.max.y);

@@ -678,15 +678,17 @@ int cmd_bench_stability(Args& args) {
         continue;
       }
       graph::Executor executor(vk, shaders, passes::builtin_registry());
-      auto render = [&](std::shared_ptr<const scene::Scene> s) {
+      auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
         executor.set_scene(std::move(s));
         executor.configure(g, width, height, {"caustics"});
+      };
+      auto render = [&](std::shared_ptr<const scene::Scene> s) {
+        prepare(std::move(s));
         return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
       };
       // The moved lights' maps are compared, not timed: one frame each, without the warm-up.
       auto render_untimed = [&](std::shared_ptr<const scene::Scene> s) {
-        executor.set_scene(std::move(s));
-        executor.configure(g, width, height, {"caustics"});
+        prepare(std::move(s));
         executor.run_frame(true);
       };
       // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
