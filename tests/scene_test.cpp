@@ -93,10 +93,9 @@ TEST(Convexity, OnlyClosedConvexBodiesAreConvexSolids) {
   for (size_t i = 0; i < index_count; ++i) two.indices.push_back(two.indices[i] + count);
   EXPECT_FALSE(is_convex_solid(two)) << "two spheres";
 
-  // Closed, and convex at every edge of each part: what breaks it is a small box (12 of 4,108
-  // faces) that stands out of the sphere near (1, 0, 0), its corners outside the planes of a
-  // handful of the sphere's faces. 64 faces sampled would miss all of those about 5 times in 6;
-  // every face's plane against every vertex does not.
+  // Closed, and convex at every edge of each part, the two parts overlapping: a small box that
+  // stands out of the sphere near (1, 0, 0). Only the global check (every vertex against every
+  // face's plane) can refuse it; the edge checks all pass.
   auto merged = [](Mesh base, const Mesh& part, glm::vec3 offset) {
     const auto first = static_cast<uint32_t>(base.positions.size());
     for (const auto& p : part.positions) base.positions.push_back(p + offset);
