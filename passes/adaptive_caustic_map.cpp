@@ -23,7 +23,7 @@ constexpr uint32_t kMaxLevels = 16;
 
 struct AdaptivePush {
   uint32_t distance_mode;
-  uint32_t search_steps;
+  uint32_t search;
   float search_distance;
   uint32_t light;
   uint32_t fresnel;
@@ -169,7 +169,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode,
-                      shared.search_steps,
+                      shared.search,
                       shared.search_distance,
                       p["light"].get<uint32_t>(),
                       p["fresnel"].get<bool>() ? 1u : 0u,

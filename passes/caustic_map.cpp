@@ -10,7 +10,7 @@ namespace {
 
 struct PhotonPush {
   uint32_t distance_mode;
-  uint32_t search_steps;
+  uint32_t search;
   float search_distance;
   uint32_t light;
   uint32_t grid;
@@ -59,7 +59,7 @@ class CausticMapPass final : public graph::Pass {
     const auto& p = ctx.params();
     const RefractionPush shared = refraction_push(ctx, 0);
     PhotonPush push{shared.distance_mode,
-                    shared.search_steps,
+                    shared.search,
                     shared.search_distance,
                     p["light"].get<uint32_t>(),
                     p["grid"].get<uint32_t>(),

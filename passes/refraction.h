@@ -7,7 +7,7 @@ namespace caustica::passes {
 
 struct RefractionPush {
   uint32_t distance_mode;  // the order of refraction.glsl's DISTANCE_* constants
-  uint32_t search_steps;
+  uint32_t search;  // pack_search(search_steps, search_bounces)
   float search_distance;
   uint32_t tir_counter;
   // Exact camera paths (deferred_refraction with distance ray_query or hybrid).
@@ -28,6 +28,9 @@ std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> 
 // `what` names the rays ("a photon", "a camera ray") in the description.
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters = 0);
+// The search's steps (at most 512) in the low 16 bits, the followed total internal reflections above
+// (shaders/refraction/refraction.glsl, search_steps and search_tir_bounces).
+uint32_t pack_search(uint32_t steps, uint32_t tir_bounces);
 // Whether a pass with these parameters traces with ray queries (PassTypeDecl::uses_ray_queries).
 bool traces_exact_paths(const nlohmann::json& params);
 extern const char* const kPhotonRayQueryAlternative;
@@ -67,7 +70,7 @@ class RayQueryScene {
 // RayQueryScene::bindings pads.
 std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings);
 // The defines of a pass's refraction shaders that its setup decides: REFRACTOR_TINT where front_tint
-// is bound, and SEARCH_TIR_BOUNCES from search_bounces (a constant, so that 0 leaves no loop).
+// is bound.
 shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines = {});
 void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
 

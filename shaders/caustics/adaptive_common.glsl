@@ -32,7 +32,7 @@ const uint GROUP = 64u;
 
 layout(push_constant) uniform Params {
   uint distance_mode;
-  uint search_steps;
+  uint search;  // refraction.glsl: search_steps() and search_tir_bounces()
   float search_distance;
   uint light;
   uint fresnel;

@@ -2,7 +2,7 @@
 #define CAUSTICA_PHOTON_GLSL
 // One photon from a spot light through the light-view refractor buffers to the receivers, shared by
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
-// back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search_steps,
+// back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search (search_steps()),
 // search_distance, light, fresnel (see refraction.glsl), and the exact-path fields
 // exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and
 // hybrid_reflections as two halves: the push constants have no room for another word).

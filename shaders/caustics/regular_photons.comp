@@ -21,7 +21,7 @@ layout(set = 0, binding = 8, std430) buffer SumBlock { float sums[]; };  // the 
 
 layout(push_constant) uniform Params {
   uint distance_mode;
-  uint search_steps;
+  uint search;  // refraction.glsl: search_steps() and search_tir_bounces()
   float search_distance;
   uint light;
   uint grid;

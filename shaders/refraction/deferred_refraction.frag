@@ -17,7 +17,7 @@ layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 // passes/refraction.h, RefractionPush.
 layout(push_constant) uniform Params {
   uint distance_mode;
-  uint search_steps;
+  uint search;  // refraction.glsl: search_steps() and search_tir_bounces()
   float search_distance;
   uint tir_counter;
   uint exact_max_interfaces;

@@ -16,7 +16,7 @@ layout(push_constant) uniform Params {
   vec4 eye;
   vec4 axis;  // passes/scene_draw.h's DrawPush; unused here
   uint distance_mode;
-  uint search_steps;
+  uint search;  // refraction.glsl: search_steps() and search_tir_bounces()
   float search_distance;
   uint tir_counter;
   uint exact_max_interfaces;  // the rest of passes/refraction.h's RefractionPush, unused here

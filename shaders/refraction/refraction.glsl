@@ -5,7 +5,7 @@
 //
 // Needs, declared by the including shader: `frame` (SCENE_FRAME), `objects` (SCENE_OBJECTS),
 // back_tex (the refractor's back surfaces, as written by refractor.frag), `params` with
-// distance_mode, search_steps, search_distance; and for camera passes (unless
+// distance_mode, search (search_steps()), search_distance; and for camera passes (unless
 // REFRACTION_NO_CAMERA is defined) background_tex (the image behind the refractor), depth_tex (its
 // depth) and a `counters` buffer with params.tir_counter.
 #include "scene/scene.glsl"
@@ -24,6 +24,11 @@ const uint DISTANCE_SEARCH = 4u;
 const uint DISTANCE_MATERIAL = 5u;
 // The modes that find the exit by the image-space search rather than estimate it.
 bool exit_searched() { return params.distance_mode == DISTANCE_SEARCH || params.distance_mode == DISTANCE_HYBRID; }
+// params.search, packed by passes/refraction.h's pack_search: the background search's steps, and
+// the total internal reflections that the search follows inside (search_bounces). A push constant
+// rather than a define, so that a change of either reuses the compiled pipeline.
+uint search_steps() { return params.search & 0xffffu; }
+int search_tir_bounces() { return int(params.search >> 16u); }
 
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
@@ -128,7 +133,7 @@ const uint MARCH_HIDDEN = 2u;  // no surface, but the ray slipped behind one's o
 // or, failing one, the first outline it slipped behind (MARCH_HIDDEN): where the image sees
 // whatever hides the rest of the ray.
 uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
-  float step_length = params.search_distance / float(params.search_steps);
+  float step_length = params.search_distance / float(search_steps());
   float t_end = length_in_view(view_proj, origin, direction, params.search_distance);
   float t_before = 0.0;
   bool in_front_before = true;
@@ -140,7 +145,7 @@ uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
   // get there at different steps, bisect together rather than once per step that one of them
   // stopped at.
   uint i = 1u;
-  bool more = params.search_steps > 0u;
+  bool more = search_steps() > 0u;
   while (more) {
     float lo = 0.0, hi = 0.0;
     bool bracketed = false;
@@ -157,7 +162,7 @@ uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direct
       hi = t;
       in_front_before = !behind;
       t_before = t;
-      more = t < t_end && i <= params.search_steps;
+      more = t < t_end && i <= search_steps();
     }
     if (!bracketed) break;
     for (int b = 0; b < 6; ++b) {
@@ -300,12 +305,8 @@ float search_exit(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 t1, float d, flo
 
 #ifdef REFRACTION_FRONT_TEX
 // Total internal reflection followed inside by the search (Davis and Wyman 2007), where the
-// including shader has the refractor's front surfaces too (front_tex): at most SEARCH_TIR_BOUNCES
-// bounces, which every pass defines from its search_bounces parameter (passes/refraction.h,
-// refraction_defines); the fallback, that parameter's default, serves a compile without a pass.
-#ifndef SEARCH_TIR_BOUNCES
-#define SEARCH_TIR_BOUNCES 3
-#endif
+// including shader has the refractor's front surfaces too (front_tex): at most search_tir_bounces()
+// bounces, the pass's search_bounces parameter.
 
 // From p inside the refractor along `direction`: the distance to where the ray leaves it and the
 // outward normal of the surface it leaves through, the front or the back one; false when it does
@@ -414,7 +415,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   // The search follows total internal reflection inside; the hybrid traces such paths exactly.
   if (params.distance_mode == DISTANCE_SEARCH && r.tir) {
     float d_max = 2.0 * max(max(dv, dn), d) + 1e-4;
-    for (int bounce = 0; bounce < SEARCH_TIR_BOUNCES && r.tir; ++bounce) {
+    for (int bounce = 0; bounce < search_tir_bounces() && r.tir; ++bounce) {
       float t;
       vec3 n_out;
       if (!leave_refractor(view_proj, eye, r.exit_point, r.exit_direction, d_max, t, n_out)) break;
