@@ -17,6 +17,7 @@ graph::PassTypeDecl refraction_layers_pass_type();
 graph::PassTypeDecl caustic_map_pass_type();
 graph::PassTypeDecl adaptive_caustic_map_pass_type();
 graph::PassTypeDecl hierarchical_caustic_map_pass_type();
+graph::PassTypeDecl accumulate_pass_type();
 
 // Every pass type the engine ships, registered under its type name.
 const graph::PassRegistry& builtin_registry();

@@ -18,7 +18,9 @@ struct PhotonPush {
   uint32_t counter_slot[8];
   ExactPathPush exact;
   uint32_t band;
+  float jitter[2];  // where in its grid cell each photon starts (photon_grid_jitter)
 };
+static_assert(sizeof(PhotonPush) == 88, "shaders/caustics/regular_photons.comp's Params: jitter (a vec2) at 80");
 
 class CausticMapPass final : public graph::Pass {
  public:
@@ -68,6 +70,9 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
+    const glm::vec2 jitter = photon_grid_jitter(p["jitter"].get<bool>() ? ctx.frame().since_reset : 0);
+    push.jitter[0] = jitter.x;
+    push.jitter[1] = jitter.y;
     const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
     const vk::Pipeline& photons = passes.pipeline;
     ctx.set_counter(batches_slot_, static_cast<uint32_t>(passes.bands.size()));
@@ -99,6 +104,15 @@ graph::PassTypeDecl caustic_map_pass_type() {
   params.push_back({"grid", ParamType::int_, 512, 16.0, 16384.0, {}, "photons per side of the grid over the light's image plane"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
   params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  params.push_back({"jitter",
+                    ParamType::bool_,
+                    false,
+                    {},
+                    {},
+                    {},
+                    "move each photon within its grid cell from frame to frame (an R2 sequence, the centre first) instead of "
+                    "starting it at the centre: successive maps sample different photons, and an accumulate pass averages them "
+                    "into the map of a finer grid"});
   PassTypeDecl decl{
       "caustic_map",
       "Regular caustic map: an N x N photon grid over the light's image plane, each photon refracted through two interfaces and "

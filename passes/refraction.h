@@ -7,7 +7,7 @@ namespace caustica::passes {
 
 struct RefractionPush {
   uint32_t distance_mode;  // the order of refraction.glsl's DISTANCE_* constants
-  uint32_t search;  // pack_search(search_steps, search_bounces)
+  uint32_t search;         // pack_search(search_steps, search_bounces)
   float search_distance;
   uint32_t tir_counter;
   // Exact camera paths (deferred_refraction with distance ray_query or hybrid).

@@ -77,6 +77,8 @@ struct Executor::Realized {
   vk::OwnedQueryPool queries;
   uint32_t query_count = 0;
   bool read_back_done = false;
+  FrameInfo frame;               // the next frame to run
+  uint64_t light_space_key = 0;  // the scene's, as of the last frame
 };
 
 // ---- PassSetup / PassContext --------------------------------------------------------------------
@@ -108,6 +110,7 @@ VkSampler PassContext::linear_sampler() const { return executor_.realized_->line
 VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
 VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
 void PassContext::set_counter(uint32_t counter, double value) const { executor_.realized_->host_counters[counter] = value; }
+const FrameInfo& PassContext::frame() const { return executor_.realized_->frame; }
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
   return *executor_.scene_;
@@ -348,6 +351,10 @@ FrameResult Executor::run_frame(bool read_back) {
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
+  if (const uint64_t key = scene_ ? scene_->light_space_key() : 0; key != real.light_space_key) {
+    real.light_space_key = key;
+    real.frame.since_reset = 0;
+  }
   real.host_counters.clear();
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
@@ -467,6 +474,9 @@ FrameResult Executor::run_frame(bool read_back) {
   }
   result.counter_passes = real.counter_passes;
   real.read_back_done = read_back;
+  result.frame = real.frame;
+  ++real.frame.index;
+  ++real.frame.since_reset;
   return result;
 }
 

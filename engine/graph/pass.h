@@ -14,6 +14,16 @@ namespace caustica::graph {
 
 class Executor;
 
+// Which frame is being recorded: its index since the plan was set up, and since light-space history
+// was last reset (a new plan, or a change of what scene::GpuScene::light_space_key covers: geometry,
+// materials, textures, lights; not the camera). Passes that vary from frame to frame (a jittered
+// photon grid) and passes that keep history (accumulate) follow since_reset, so that the first frame
+// after a change is the first frame of a fresh render.
+struct FrameInfo {
+  uint64_t index = 0;
+  uint64_t since_reset = 0;
+};
+
 class PassSetup {
  public:
   PassSetup(Executor& executor, const PlannedPass& pass) : executor_(executor), pass_(pass) {}
@@ -54,6 +64,7 @@ class PassContext {
   // A counter whose value the pass knows while recording (layers, batches): reported as it is,
   // without a device write. No shader may add to it.
   void set_counter(uint32_t counter, double value) const;
+  const FrameInfo& frame() const;
 
  private:
   Executor& executor_;

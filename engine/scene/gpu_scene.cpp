@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <string_view>
 
 namespace caustica::scene {
 namespace {
@@ -12,6 +14,13 @@ gpu::TextureSlot texture_slot(const TextureRef& ref) {
   const glm::mat3& m = ref.transform;
   return {glm::vec4(m[0][0], m[1][0], m[2][0], static_cast<float>(ref.texture)),
           glm::vec4(m[0][1], m[1][1], m[2][1], static_cast<float>(ref.texcoord))};
+}
+
+// Folds `count` plain structs (no padding: the gpu:: types are vec4-aligned) into `key`.
+template <typename T>
+uint64_t fold_bytes(uint64_t key, const T* data, size_t count) {
+  const uint64_t bytes = std::hash<std::string_view>{}(std::string_view(reinterpret_cast<const char*>(data), count * sizeof(T)));
+  return key ^ (bytes + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2));
 }
 
 }  // namespace
@@ -70,6 +79,9 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
       vk::make_static_buffer(vk, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "scene indices");
   objects_ = vk::make_static_buffer(vk, objects.data(), objects.size() * sizeof(gpu::ObjectData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "scene objects");
+  content_key_ = fold_bytes(fold_bytes(fold_bytes(0, vertices.data(), vertices.size()), indices.data(), indices.size()), objects.data(),
+                            objects.size());
+  for (const Texture& texture : scene_->textures) content_key_ = fold_bytes(content_key_, texture.rgba.data(), texture.rgba.size());
   frame_ = vk::make_buffer(vk, sizeof(gpu::FrameData), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "scene frame data");
 }
@@ -123,6 +135,7 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
                        directional ? light.extent : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
+  light_space_key_ = fold_bytes(fold_bytes(content_key_, &f.light_count, 1), f.lights, f.light_count);
 }
 
 }  // namespace caustica::scene

@@ -48,6 +48,9 @@ class GpuScene {
 
   // Writes camera and light data for an output of this size; call before recording a frame.
   void update_frame(uint32_t width, uint32_t height);
+  // A hash of what results in a light's space depend on (geometry, materials, textures and, as of the
+  // last update_frame(), the lights) and not of the camera: what accumulated caustic maps are reset by.
+  uint64_t light_space_key() const { return light_space_key_; }
   const gpu::FrameData& frame_data() const { return frame_data_; }
 
  private:
@@ -60,6 +63,8 @@ class GpuScene {
   DrawRange opaque_, refractors_, thin_refractors_;
   std::vector<DrawRange> ranges_;
   gpu::FrameData frame_data_{};
+  uint64_t content_key_ = 0;  // geometry, materials and textures, as uploaded
+  uint64_t light_space_key_ = 0;
 };
 
 }  // namespace caustica::scene

@@ -36,6 +36,7 @@ layout(push_constant) uniform Params {
   float exact_epsilon;
   uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
   uint band;  // caustics/photon.glsl: BAND_WHITE or the colour band traced (unused with PHOTON_BAND_LOOP)
+  vec2 jitter;  // where in its grid cell each photon starts: (0.5, 0.5) the centre
 } params;
 
 #include "caustics/photon.glsl"
@@ -50,7 +51,7 @@ bool trace_and_splat(uvec2 id, bool in_grid, bool tracing, LightData light) {
   uint next = IMAGE_SPACE_DONE;
   ExactStart start;
   Photon ph;
-  if (tracing) ph = begin_photon(light, (vec2(id) + 0.5) / float(params.grid), 2.0 * light.clip.z / float(params.grid), next, start);
+  if (tracing) ph = begin_photon(light, (vec2(id) + params.jitter) / float(params.grid), 2.0 * light.clip.z / float(params.grid), next, start);
   finish_photon(ph, next, start, light);
   if (!in_grid) return false;
   count(0);

@@ -28,6 +28,8 @@ struct RenderOptions {
   uint32_t width = 1280;
   uint32_t height = 720;
   uint32_t frames = 1;
+  bool accumulate = false;  // --accumulate: the frames are for the graph's accumulate passes
+  uint64_t seconds = 0;     // --seconds: run frames until this long has passed instead
   std::vector<std::string> sets;
   std::vector<std::pair<std::string, std::string>> dumps;
   std::string device;

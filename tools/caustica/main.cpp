@@ -66,6 +66,9 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
   --no-stage            with a model file: no floor
   --size WxH            output size (default 1280x720)
   --frames N            frames to run (default 1; timings are medians over frames 2..N)
+  --accumulate N        N frames of a graph with an accumulate pass (graphs/caustics_progressive.json):
+                        the image and --dump show the mean of the N frames' caustic maps
+  --seconds S           run frames until S seconds have passed (an accumulating graph converges)
   --set NAME=VALUE      override a graph parameter (repeatable)
   --stats FILE.json     per-pass GPU/CPU times, frame times, memory and counters
   --dump RES=FILE.exr   write an image resource as it stood at the end of the last frame (repeatable;
@@ -78,8 +81,9 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
 
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
-  const std::vector<std::string> known = {"--graph", "--scene", "--out",    "--size",     "--frames",       "--set",
-                                          "--stats", "--dump",  "--device", "--validate", "--memory-limit", "--no-stage"};
+  const std::vector<std::string> known = {"--graph", "--scene", "--out",  "--size",   "--frames",   "--accumulate",   "--seconds",
+                                          "--set",   "--stats", "--dump", "--device", "--validate", "--memory-limit", "--no-stage"};
+  std::vector<std::string> counts;  // --frames, --accumulate, --seconds: one says how long to run
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--graph")
@@ -99,9 +103,14 @@ RenderOptions parse_render(Args& args, bool trace) {
       o.device = args.value(a);
     else if (a == "--validate")
       o.validate = true;
-    else if (a == "--frames")
+    else if (a == "--frames" || a == "--accumulate") {
       o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100000));
-    else if (a == "--memory-limit")
+      o.accumulate = a == "--accumulate";
+      counts.push_back(a);
+    } else if (a == "--seconds") {
+      o.seconds = parse_uint(a, args.value(a), 1, 86400);
+      counts.push_back(a);
+    } else if (a == "--memory-limit")
       o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
     else if (a == "--size") {
       parse_size(args.value(a), o.width, o.height);
@@ -114,6 +123,7 @@ RenderOptions parse_render(Args& args, bool trace) {
       unknown_option(a, known);
     }
   }
+  if (counts.size() > 1) throw UsageError(counts[0] + " and " + counts[1] + " both say how long to run: give one of them");
   if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
   if (o.scene.empty()) o.scene = (data_dir() / kDefaultScene).string();
   if (trace && o.trace.empty()) throw UsageError("trace needs --out FILE.json");
@@ -151,6 +161,12 @@ int run_render(const RenderOptions& o, bool trace) {
   executor.set_scene(scene);
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& warning : executor.plan().warnings) std::cerr << "caustica: warning: " << warning << "\n";
+  const auto& planned = executor.plan().passes;
+  if (o.accumulate && std::none_of(planned.begin(), planned.end(), [](const graph::PlannedPass& p) { return p.type == "accumulate"; })) {
+    throw InputError(o.graph +
+                     ": --accumulate needs an accumulate pass that runs on this scene (graphs/caustics_progressive.json has "
+                     "one); --frames N runs frames without averaging them");
+  }
   for (const auto& [resource, file] : o.dumps) {
     const int index = executor.plan().find_resource(executor.plan().resolve(resource));
     if (index < 0) {
@@ -174,13 +190,20 @@ int run_render(const RenderOptions& o, bool trace) {
     run.acceleration_bytes = acceleration->bytes();
     run.acceleration_build_ms = acceleration->sort_ms() + acceleration->build_ms();
   }
-  const bool show_progress = o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
-  ProgressLine progress("frame", o.frames);
+  const bool timed = o.seconds > 0;
+  const bool show_progress = timed || o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
+  ProgressLine progress(timed ? "second" : "frame", timed ? o.seconds : o.frames);
   const auto start = std::chrono::steady_clock::now();
-  for (uint32_t f = 0; f < o.frames; ++f) {
-    run.frame_start_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    run.frames.push_back(executor.run_frame(f + 1 == o.frames));
-    if (show_progress) progress.update(f + 1);
+  const auto elapsed_ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };
+  for (uint32_t f = 0;; ++f) {
+    const double started = elapsed_ms();
+    // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
+    const double last_ms = run.frames.empty() ? 0.0 : started - run.frame_start_ms.back();
+    const bool last = timed ? started + last_ms >= 1000.0 * static_cast<double>(o.seconds) : f + 1 == o.frames;
+    run.frame_start_ms.push_back(started);
+    run.frames.push_back(executor.run_frame(last));
+    if (show_progress) progress.update(timed ? std::min<uint64_t>(o.seconds, static_cast<uint64_t>(elapsed_ms() / 1000.0)) : f + 1);
+    if (last) break;
   }
 
   if (!trace) {
@@ -193,8 +216,8 @@ int run_render(const RenderOptions& o, bool trace) {
 
   const auto& frame = run.frames.back();
   std::fprintf(stderr, "%s: %ux%u, %u frame%s on %s, last frame GPU %.2f ms, CPU %.2f ms -> %s\n", executor.plan().graph_name.c_str(),
-               o.width, o.height, o.frames, o.frames == 1 ? "" : "s", run.device.c_str(), frame.gpu_ms, frame.cpu_ms,
-               trace ? o.trace.c_str() : o.out.c_str());
+               o.width, o.height, static_cast<uint32_t>(run.frames.size()), run.frames.size() == 1 ? "" : "s", run.device.c_str(),
+               frame.gpu_ms, frame.cpu_ms, trace ? o.trace.c_str() : o.out.c_str());
   if (vk.validation_messages() > 0) {
     std::fprintf(stderr, "caustica: %u validation message%s (see above)\n", vk.validation_messages(),
                  vk.validation_messages() == 1 ? "" : "s");
@@ -229,7 +252,8 @@ int cmd_trace(Args& args) {
 
 int cmd_validate(Args& args) {
   if (args.wants_help() || args.done()) {
-    std::cout << "usage: caustica validate FILE... [--scene S [--no-stage]]\n\nChecks graphs and scenes without a device: a graph is loaded and compiled at\n"
+    std::cout << "usage: caustica validate FILE... [--scene S [--no-stage]]\n\nChecks graphs and scenes without a device: a graph is "
+                 "loaded and compiled at\n"
                  "1280x720 against the built-in pass types (as for a scene with one refractor, one light and two\n"
                  "objects; with --scene S, as for that scene, which is checked too, and the plan's warnings are\n"
                  "printed, e.g. passes that draw from a point light's view); a scene (a file with \"camera\" or \"objects\") is loaded\n"

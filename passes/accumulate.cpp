@@ -1,0 +1,111 @@
+// accumulate: the running mean of an image over frames (Falcor's AccumulatePass, for light-space
+// maps): an image whose every frame is an independent estimate of the same answer, a jittered
+// photon grid's caustic map, converges to the mean of many. The sum is history the pass keeps: reset
+// on a new plan (a changed graph, parameter or size) and on any change of the scene that
+// light-space results depend on (graph::FrameInfo::since_reset), not by a moving camera.
+#include <algorithm>
+
+#include "builtin_passes.h"
+#include "graph/pass.h"
+#include "vk/buffer.h"
+#include "vk/pipeline.h"
+
+namespace caustica::passes {
+namespace {
+
+struct AccumulatePush {
+  uint32_t size[2];
+  uint32_t layers;
+  uint32_t frames;
+  uint32_t mode;  // shaders/core/accumulate.comp's MODE_*
+};
+constexpr uint32_t kModeStart = 0, kModeAdd = 1, kModeHold = 2;
+constexpr uint32_t kLayers = 3;
+
+class AccumulatePass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    const graph::PlannedResource& source = setup.resource("source");
+    sums_ = vk::make_buffer(setup.vk(), uint64_t{source.width} * source.height * kLayers * 2 * sizeof(float),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " sums");
+    pipeline_ = vk::make_compute_pipeline(
+        setup.vk(),
+        {"accumulate",
+         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         sizeof(AccumulatePush)},
+        setup.shaders().compile("core/accumulate.comp"));
+    frames_slot_ = setup.add_counter(setup.pass().name + ".frames");
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    if (ctx.frame().since_reset == 0) frames_ = 0;
+    const auto max_frames = ctx.params()["max_frames"].get<uint32_t>();
+    const uint32_t mode = frames_ == 0 ? kModeStart : frames_ < max_frames ? kModeAdd : kModeHold;
+    if (mode != kModeHold) ++frames_;
+    ctx.set_counter(frames_slot_, frames_);
+
+    const VkExtent2D extent = ctx.extent("source");
+    const AccumulatePush push{{extent.width, extent.height}, kLayers, frames_, mode};
+    VkCommandBuffer cmd = ctx.cmd();
+    // The previous frame's sums, written in an earlier submission.
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
+    vk::DescriptorWriter()
+        .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
+        .storage_image(1, ctx.view("average"))
+        .storage_buffer(2, sums_.get())
+        .push(ctx.vk(), cmd, pipeline_);
+    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, kLayers);
+  }
+
+ private:
+  vk::Pipeline pipeline_;
+  vk::Buffer sums_;
+  uint32_t frames_slot_ = 0;
+  uint32_t frames_ = 0;  // in the sum
+};
+
+}  // namespace
+
+graph::PassTypeDecl accumulate_pass_type() {
+  using namespace graph;
+  return {"accumulate",
+          "Compute pass: the running mean of a caustic map (r32f, a layer per colour channel) over the frames since the last "
+          "reset, summed in fp32 with Kahan's compensation. Resets on a new plan (graph, parameters, size) and when the "
+          "lights, the geometry or the materials change, not when the camera moves. Counter <pass>.frames: the frames in the "
+          "mean.",
+          PassQueue::compute,
+          {{"source",
+            PortAccess::read,
+            ResourceKind::image,
+            PortUsage::sampled,
+            {Format::r32f},
+            false,
+            "maps",
+            "this frame's estimate, e.g. a caustic_map with jitter on",
+            false,
+            kLayers},
+           {"average",
+            PortAccess::write,
+            ResourceKind::image,
+            PortUsage::storage,
+            {Format::r32f},
+            false,
+            "maps",
+            "the mean of the frames since the last reset, same extent and layers",
+            false,
+            kLayers}},
+          {{"max_frames",
+            ParamType::int_,
+            1024,
+            1.0,
+            1048576.0,
+            {},
+            "frames averaged; after them the mean holds still (the sources still run every frame)"}},
+          false,
+          [] { return std::make_unique<AccumulatePass>(); }};
+}
+
+}  // namespace caustica::passes

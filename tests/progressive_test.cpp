@@ -1,0 +1,92 @@
+// Progressive caustics (graphs/caustics_progressive.json): a jittered photon grid averaged over
+// frames by an accumulate pass, and the history's reset rules.
+#include <gtest/gtest.h>
+
+#include "scene_engine.h"
+
+namespace caustica {
+namespace {
+
+using test::load_bundled_scene;
+using test::relative_difference;
+using test::SceneEngine;
+
+// A small light map and photon grid keep each frame to milliseconds on lavapipe.
+const std::vector<std::string> kSmall = {"caustic_size=128", "light_size=256", "shadow_size=256"};
+
+std::vector<std::string> with(std::vector<std::string> sets, const std::vector<std::string>& more) {
+  sets.insert(sets.end(), more.begin(), more.end());
+  return sets;
+}
+
+// Runs `frames` frames of the graph on `scene` and returns the caustic map the lighting saw. The
+// plan is set up anew (a fresh mean) unless `go_on`, which keeps it and its history.
+io::ImageData accumulated(SceneEngine& e, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets, uint32_t frames,
+                          double* counted = nullptr, bool go_on = false) {
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+  graph::apply_overrides(graph, sets);
+  e.executor.set_scene(std::move(scene));
+  if (!go_on) e.executor.invalidate();
+  e.executor.configure(graph, e.width, e.height, {"caustics"});
+  graph::FrameResult last;
+  for (uint32_t f = 0; f < frames; ++f) last = e.executor.run_frame(f + 1 == frames);
+  if (counted) *counted = last.counters.at("accumulate.frames");
+  return e.executor.read_image("caustics");
+}
+
+// 16 frames of a 128^2 grid against one frame of the 512^2 grid (the same photon count): the mean
+// must come far closer to it than any single frame, and only because the grid moves: with the
+// jitter off every frame repeats the first.
+TEST(Progressive, JitteredMapsAverageToTheMapOfAFinerGrid) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  e.render("caustics_regular", scene, with(kSmall, {"grid=512"}), {"caustics"});
+  const io::ImageData reference = e.executor.read_image("caustics");
+  const double one = relative_difference(accumulated(e, scene, with(kSmall, {"grid=128"}), 1), reference);
+  double frames = 0;
+  const double mean = relative_difference(accumulated(e, scene, with(kSmall, {"grid=128"}), 16, &frames), reference);
+  const double unjittered = relative_difference(accumulated(e, scene, with(kSmall, {"grid=128", "jitter=false"}), 16), reference);
+  std::printf("against the 512^2 map: one 128^2 frame %.4f, the mean of 16 jittered %.4f, of 16 unjittered %.4f\n", one, mean, unjittered);
+  EXPECT_EQ(frames, 16.0);
+  EXPECT_LT(mean, 0.35 * one);
+  EXPECT_GT(unjittered, 0.9 * one);
+}
+
+// The mean survives a camera move (the map is in the light's space) and restarts when the light
+// moves, its first frame then equal to a fresh render of the new state; max_frames holds it still.
+TEST(Progressive, ALightChangeRestartsTheMeanAndACameraMoveDoesNot) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  const auto sets = with(kSmall, {"grid=64"});
+  double frames = 0;
+  accumulated(e, scene, sets, 8, &frames);
+  EXPECT_EQ(frames, 8.0);
+
+  auto moved_camera = std::make_shared<scene::Scene>(*scene);
+  moved_camera->camera.position += glm::vec3(0.5f, 0.2f, 0.0f);
+  accumulated(e, moved_camera, sets, 1, &frames, true);
+  EXPECT_EQ(frames, 9.0) << "a camera move reset the light-space mean";
+
+  auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
+  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  const io::ImageData after_move = accumulated(e, moved_light, sets, 1, &frames, true);
+  EXPECT_EQ(frames, 1.0) << "a light move kept the old mean";
+  SceneEngine fresh;
+  EXPECT_LT(relative_difference(after_move, accumulated(fresh, moved_light, sets, 1)), 1e-6);
+
+  accumulated(e, moved_light, with(sets, {"max_frames=3"}), 5, &frames);
+  EXPECT_EQ(frames, 3.0);
+}
+
+// The same frames give the same mean in another run (a GPU's atomics may add a texel's photons in
+// another order: equal to float rounding).
+TEST(Progressive, FramesRepeatRunToRun) {
+  auto scene = load_bundled_scene("sphere_plane");
+  const auto sets = with(kSmall, {"grid=64"});
+  SceneEngine a, b;
+  const io::ImageData first = accumulated(a, scene, sets, 8);
+  EXPECT_LT(relative_difference(accumulated(b, scene, sets, 8), first), 1e-6);
+}
+
+}  // namespace
+}  // namespace caustica
