@@ -3,8 +3,6 @@
 // photon grid's caustic map, converges to the mean of many. The sum is history the pass keeps: reset
 // on a new plan (a changed graph, parameter or size) and on any change of the scene that
 // light-space results depend on (graph::FrameInfo::since_reset), not by a moving camera.
-#include <algorithm>
-
 #include "builtin_passes.h"
 #include "graph/pass.h"
 #include "vk/buffer.h"

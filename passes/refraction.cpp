@@ -43,10 +43,6 @@ std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> 
   return params;
 }
 
-uint32_t pack_search(uint32_t steps, uint32_t tir_bounces) {
-  return steps | tir_bounces << 16;
-}
-
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
   using graph::ParamType;
   auto params = with_search_bounces(refraction_params());
@@ -97,7 +93,7 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
                         : distance == "search"    ? 4u
                                                   : 5u;  // material
   return {mode,
-          pack_search(p["search_steps"].get<uint32_t>(), p.value("search_bounces", 0u)),
+          p["search_steps"].get<uint32_t>() | p.value("search_bounces", 0u) << 16,
           search_distance(ctx),
           tir_counter,
           p.value("max_interfaces", 1u),

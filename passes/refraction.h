@@ -7,7 +7,9 @@ namespace caustica::passes {
 
 struct RefractionPush {
   uint32_t distance_mode;  // the order of refraction.glsl's DISTANCE_* constants
-  uint32_t search;         // pack_search(search_steps, search_bounces)
+  // search_steps (at most 512) in the low 16 bits, search_bounces above (refraction.glsl's
+  // search_steps() and search_tir_bounces()): a push constant, so a change reuses the pipeline.
+  uint32_t search;
   float search_distance;
   uint32_t tir_counter;
   // Exact camera paths (deferred_refraction with distance ray_query or hybrid).
@@ -28,9 +30,6 @@ std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> 
 // `what` names the rays ("a photon", "a camera ray") in the description.
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters = 0);
-// The search's steps (at most 512) in the low 16 bits, the followed total internal reflections above
-// (shaders/refraction/refraction.glsl, search_steps and search_tir_bounces).
-uint32_t pack_search(uint32_t steps, uint32_t tir_bounces);
 // Whether a pass with these parameters traces with ray queries (PassTypeDecl::uses_ray_queries).
 bool traces_exact_paths(const nlohmann::json& params);
 extern const char* const kPhotonRayQueryAlternative;

@@ -24,7 +24,7 @@ const uint DISTANCE_SEARCH = 4u;
 const uint DISTANCE_MATERIAL = 5u;
 // The modes that find the exit by the image-space search rather than estimate it.
 bool exit_searched() { return params.distance_mode == DISTANCE_SEARCH || params.distance_mode == DISTANCE_HYBRID; }
-// params.search, packed by passes/refraction.h's pack_search: the background search's steps, and
+// params.search, packed as passes/refraction.h's RefractionPush says: the background search's steps, and
 // the total internal reflections that the search follows inside (search_bounces). A push constant
 // rather than a define, so that a change of either reuses the compiled pipeline.
 uint search_steps() { return params.search & 0xffffu; }
