@@ -1,4 +1,4 @@
-// deferred_refraction: one full-screen pass over refractor_buffers' front and back surfaces.
+// deferred_refraction: one compute pass over refractor_buffers' front and back surfaces.
 #include "builtin_passes.h"
 #include "refraction.h"
 #include "refractor_buffers.h"
@@ -22,7 +22,7 @@ class DeferredRefractionPass final : public graph::Pass {
                                                        {name + ".retraced.refractor_ahead", Kind::count},
                                                        {name + ".trapped_pixels", Kind::count}});
     exact_.setup(setup);
-    shading_.setup(setup, graph::format_info(setup.resource("color").format).vk, &exact_);
+    shading_.setup(setup, setup.resource("color").format, &exact_);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -54,18 +54,18 @@ graph::PassTypeDecl deferred_refraction_pass_type() {
   ports.push_back({"color",
                    PortAccess::write,
                    ResourceKind::image,
-                   PortUsage::color_attachment,
+                   PortUsage::storage,
                    {Format::rgba16f, Format::rgba32f},
                    false,
                    "frame",
                    "the background with the refractors composited"});
   PassTypeDecl decl{"deferred_refraction",
-                    "Full-screen refraction from G-buffer-like refractor surfaces, every pixel shaded once: in image space through two "
+                    "Compute pass: refraction from G-buffer-like refractor surfaces, every pixel shaded once: in image space through two "
                     "interfaces (Wyman 2005; distance dv, dv_dn, search), or exact with ray queries (ray_query: every interface of every "
                     "refractor; hybrid: the search, traced exactly where it cannot be trusted). Counters <pass>.tir_pixels (total internal "
                     "reflection at the back surface), <pass>.exact_pixels (traced exactly), <pass>.retraced.<reason> (hybrid), "
                     "<pass>.trapped_pixels (still inside after max_interfaces).",
-                    PassQueue::graphics,
+                    PassQueue::compute,
                     ports,
                     exact_path_params("a camera ray"),
                     false,

@@ -50,7 +50,7 @@ class ForwardRefractionPass final : public graph::Pass {
       if (parts[part].index_count == 0) continue;
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_[part].pipeline.get());
       // Binding 5 (front) is unread here: the back buffer fills it to keep the deferred pass's layout.
-      push_refraction_descriptors(ctx, refract_[part], ctx.view("background"), ctx.view("back"), ctx.view("back"));
+      refraction_descriptors(ctx, ctx.view("background"), ctx.view("back"), ctx.view("back")).push(ctx.vk(), cmd, refract_[part]);
       bind_scene_textures(ctx, cmd, refract_[part]);
       vkCmdPushConstants(cmd, refract_[part].layout.get(), refract_[part].stages, 0, sizeof(push), &push);
       draw_range(cmd, ctx.scene(), parts[part]);

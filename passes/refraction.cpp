@@ -196,8 +196,8 @@ void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImag
   vkCmdEndRendering(cmd);
 }
 
-void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
-                                 VkImageView back, const RayQueryScene* exact) {
+vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, VkImageView background, VkImageView front, VkImageView back,
+                                           const RayQueryScene* exact) {
   vk::DescriptorWriter writer = scene_descriptors(ctx);
   writer.sampled_image(3, background, ctx.linear_sampler())
       .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
@@ -206,8 +206,7 @@ void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeli
       .storage_buffer(7, ctx.counter_buffer());
   if (exact) exact->bind(ctx, writer);
   bind_front_tint(ctx, writer);
-  writer.push(ctx.vk(), ctx.cmd(), pipeline);
-  if (exact) exact->bind_textures(ctx, pipeline);
+  return writer;
 }
 
 VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent) {
@@ -232,53 +231,41 @@ VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, cons
   return {{x0, y0}, {static_cast<uint32_t>(x1 - x0), static_cast<uint32_t>(y1 - y0)}};
 }
 
-void DeferredRefractionShading::setup(graph::PassSetup& setup, VkFormat color, const RayQueryScene* exact) {
+namespace {
+// shaders/refraction/deferred_refraction.comp's push block.
+struct DeferredRefractionPush {
+  RefractionPush refraction;
+  int32_t rect[4];  // x0, y0, x1, y1
+};
+}  // namespace
+
+void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact) {
   exact_ = exact;
+  const shader::Defines out_format{{"OUT_FORMAT", graph::format_info(target).glsl_qualifier}};
   std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-  refract_ = vk::make_fullscreen_pipeline(setup.vk(),
-                                          {"deferred_refraction", front_tint_bindings(setup, exact ? exact->bindings(bindings) : bindings),
-                                           sizeof(RefractionPush), exact ? exact->texture_array() : 0},
-                                          setup.shaders().compile("common/fullscreen.vert"),
-                                          setup.shaders().compile("refraction/deferred_refraction.frag",
-                                                                  refraction_defines(setup, exact ? exact->defines() : shader::Defines{})),
-                                          {color});
-  copy_ = make_copy_pipeline(setup, color);
+                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+  refract_ = vk::make_compute_pipeline(
+      setup.vk(),
+      {"deferred_refraction", front_tint_bindings(setup, exact ? exact->bindings(bindings) : bindings), sizeof(DeferredRefractionPush),
+       exact ? exact->texture_array() : 0},
+      setup.shaders().compile("refraction/deferred_refraction.comp", refraction_defines(setup, exact ? exact->defines(out_format) : out_format)));
 }
 
 void DeferredRefractionShading::record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front,
                                        VkImageView back, VkImageView target, VkExtent2D extent, VkRect2D rect) const {
   VkCommandBuffer cmd = ctx.cmd();
-  begin_rendering(cmd, extent, {{target, VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
-  // Up to four bands around the rectangle get the copy.
-  const int32_t x0 = rect.offset.x, y0 = rect.offset.y;
-  const int32_t x1 = x0 + static_cast<int32_t>(rect.extent.width), y1 = y0 + static_cast<int32_t>(rect.extent.height);
-  const auto w = static_cast<int32_t>(extent.width), h = static_cast<int32_t>(extent.height);
-  const VkRect2D bands[4] = {{{0, 0}, {extent.width, static_cast<uint32_t>(y0)}},
-                             {{0, y1}, {extent.width, static_cast<uint32_t>(h - y1)}},
-                             {{0, y0}, {static_cast<uint32_t>(x0), rect.extent.height}},
-                             {{x1, y0}, {static_cast<uint32_t>(w - x1), rect.extent.height}}};
-  bool copy_bound = false;
-  for (const VkRect2D& band : bands) {
-    if (band.extent.width == 0 || band.extent.height == 0) continue;
-    if (!copy_bound) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_.pipeline.get());
-      vk::DescriptorWriter().sampled_image(0, background, ctx.nearest_sampler()).push(ctx.vk(), cmd, copy_);
-      copy_bound = true;
-    }
-    vkCmdSetScissor(cmd, 0, 1, &band);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-  }
-  if (rect.extent.width > 0 && rect.extent.height > 0) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_.pipeline.get());
-    push_refraction_descriptors(ctx, refract_, background, front, back, exact_);
-    vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(push), &push);
-    vkCmdSetScissor(cmd, 0, 1, &rect);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-  }
-  vkCmdEndRendering(cmd);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, refract_.pipeline.get());
+  vk::DescriptorWriter writer = refraction_descriptors(ctx, background, front, back, exact_);
+  writer.storage_image(8, target).push(ctx.vk(), cmd, refract_);
+  if (exact_) exact_->bind_textures(ctx, refract_);
+  const DeferredRefractionPush shading{push,
+                                       {rect.offset.x, rect.offset.y, rect.offset.x + static_cast<int32_t>(rect.extent.width),
+                                        rect.offset.y + static_cast<int32_t>(rect.extent.height)}};
+  vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(shading), &shading);
+  vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
 }
 
 }  // namespace caustica::passes

@@ -81,27 +81,27 @@ vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent);
 // Scene bindings plus the refraction shader's: background, depth, front, back, counters, the
-// ray-query scene where `exact` traces, and the front tint where the pass has it bound.
-void push_refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background, VkImageView front,
-                                 VkImageView back, const RayQueryScene* exact = nullptr);
+// ray-query scene where `exact` traces, and the front tint where the pass has it bound; the caller
+// adds its own and pushes them.
+vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, VkImageView background, VkImageView front, VkImageView back,
+                                            const RayQueryScene* exact = nullptr);
 
 // The screen rectangle, one pixel wider on each side, that covers the bounding boxes of `objects`
 // seen by `view_proj`; the whole extent when any box reaches behind the eye.
 VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent);
 
-// Deferred refraction shading over a target: the refraction shader inside the refractors' screen
-// rectangle, a plain copy of the background outside it, so that pixels that cannot show a
-// refractor cost a copy and not a refraction lookup. With `exact` (which must outlive it) the
-// shader traces exact camera paths where that pass's parameters ask for them.
+// Deferred refraction shading over a storage image (general layout), one compute dispatch: the
+// refraction shader inside the refractors' screen rectangle, a plain copy of the background outside
+// it, so that pixels that cannot show a refractor cost a copy and not a refraction lookup. With
+// `exact` (which must outlive it) the shader traces exact camera paths where that pass's parameters
+// ask for them.
 class DeferredRefractionShading {
  public:
-  void setup(graph::PassSetup& setup, VkFormat color, const RayQueryScene* exact = nullptr);
+  void setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact = nullptr);
   void record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front, VkImageView back,
               VkImageView target, VkExtent2D extent, VkRect2D rect) const;
-  const vk::Pipeline& copy() const { return copy_; }
-
  private:
-  vk::Pipeline refract_, copy_;
+  vk::Pipeline refract_;
   const RayQueryScene* exact_ = nullptr;
 };
 

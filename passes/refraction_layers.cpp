@@ -1,6 +1,6 @@
 // refraction_layers: multi-layer deferred refraction. One layer per refractor, sorted back to front
 // from the camera every frame; each layer draws that refractor's surfaces, then refracts the
-// previous layer's result (the background for the farthest) in a full-screen pass. `color` and the
+// previous layer's result (the background for the farthest) in a compute pass. `color` and the
 // background ping-pong so that the last layer lands in `color`: the background is only read by the
 // farthest layer, so reusing it saves a frame-sized image at the graph's peak of memory.
 #include <map>
@@ -12,19 +12,21 @@
 namespace caustica::passes {
 namespace {
 
-constexpr auto kColorOut = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-constexpr auto kFragment = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-constexpr auto kAttachment = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-constexpr auto kSampled = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+// How the pass uses an image at a point in its recording: the layout, and the stage and access that
+// a transition out of it waits for, or into it makes wait.
+struct Use {
+  VkImageLayout layout;
+  VkPipelineStageFlags2 stage;
+  VkAccessFlags2 access;
+};
+constexpr Use kAttachmentWrite{VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                               VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT};
+constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
+constexpr Use kStorageWrite{VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 
-void to_sampled(VkCommandBuffer cmd, VkImage image) {
-  image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, kAttachment, kSampled, kColorOut, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, kFragment,
-                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-}
-void to_attachment(VkCommandBuffer cmd, VkImage image) {
-  image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, kSampled, kAttachment, kFragment, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, kColorOut,
-                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-}
+struct CopyPush {  // shaders/common/copy.comp's
+  int32_t size[2];
+};
 
 class RefractionLayersPass final : public graph::Pass {
  public:
@@ -32,8 +34,11 @@ class RefractionLayersPass final : public graph::Pass {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
     layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
     surfaces_.setup(setup, "front", "front_depth");
-    const VkFormat color = graph::format_info(setup.resource("color").format).vk;
+    const graph::Format color = setup.resource("color").format;
     shading_.setup(setup, color);
+    copy_ = vk::make_compute_pipeline(
+        setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(CopyPush)},
+        setup.shaders().compile("common/copy.comp", {{"OUT_FORMAT", graph::format_info(color).glsl_qualifier}}));
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -42,62 +47,66 @@ class RefractionLayersPass final : public graph::Pass {
     const auto& scene = ctx.scene();
     const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.scene().camera.position);
     ctx.set_counter(layers_counter_, static_cast<double>(order.size()));
-    if (order.empty()) {  // no refractor, no layer: the background passes through
-      to_sampled(cmd, ctx.image("background"));
-      record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
-      to_attachment(cmd, ctx.image("background"));
-      return;
-    }
     const SceneView view = camera_view(ctx, extent);
     const RefractionPush push = refraction_push(ctx, tir_counter_);
-    // Both start and end as attachments (the plan's layout); in between each is wherever the
-    // last layer left it.
-    std::map<std::string, VkImageLayout> layout{{"color", kAttachment}, {"background", kAttachment}};
-    auto make = [&](const std::string& name, VkImageLayout wanted) {
-      if (layout[name] == wanted) return;
-      (wanted == kSampled ? to_sampled : to_attachment)(cmd, ctx.image(name));
-      layout[name] = wanted;
+    // Every port starts and ends in the plan's layout for it; in between each is wherever the last
+    // layer left it.
+    std::map<std::string, Use> state{{"color", kStorageWrite}, {"background", kStorageWrite}};
+    for (const char* surface : {"front", "back", "front_tint"}) state[surface] = kAttachmentWrite;
+    auto make = [&](const std::string& name, const Use& wanted) {
+      Use& current = state.at(name);
+      if (current.layout == wanted.layout) return;
+      image_barrier(cmd, ctx.image(name), VK_IMAGE_ASPECT_COLOR_BIT, current.layout, wanted.layout, current.stage, current.access, wanted.stage,
+                    wanted.access);
+      current = wanted;
+    };
+    auto make_surfaces = [&](const Use& wanted) {
+      for (const char* surface : {"front", "back", "front_tint"}) {
+        if (ctx.bound(surface)) make(surface, wanted);
+      }
     };
     const std::string ping_pong[2] = {"color", "background"};
     const auto layers = static_cast<uint32_t>(order.size());
     // Layer i writes ping_pong[(layers - 1 - i) % 2], so the last writes color. With an even count
-    // the farthest layer would write the background it reads: it reads a copy in color instead.
+    // the farthest layer would write the background it reads: it reads a copy in color instead
+    // (with no refractor at all, that copy is the result).
     if (layers % 2 == 0) {
-      make("background", kSampled);
-      record_copy(ctx, shading_.copy(), ctx.view("background"), ctx.view("color"), extent);
+      make("background", kSampledRead);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_.pipeline.get());
+      vk::DescriptorWriter()
+          .sampled_image(0, ctx.view("background"), ctx.nearest_sampler())
+          .storage_image(1, ctx.view("color"))
+          .push(ctx.vk(), cmd, copy_);
+      const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
+      vkCmdPushConstants(cmd, copy_.layout.get(), copy_.stages, 0, sizeof(size), &size);
+      vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
     }
     for (uint32_t i = 0; i < layers; ++i) {
       if (i > 0) {
         // The previous layer's surfaces were sampled and its depth written: both are reused.
-        for (const char* surface : {"front", "back", "front_tint"}) {
-          if (ctx.bound(surface)) to_attachment(cmd, ctx.image(surface));
-        }
+        make_surfaces(kAttachmentWrite);
         for (const char* depth : {"front_depth", "back_depth"}) {
           if (ctx.bound(depth)) wait_for_depth_writes(cmd, ctx.image(depth));
         }
       }
       surfaces_.record(ctx, view, scene.object(order[i]), RefractorSurfaces::targets(ctx));
-      for (const char* surface : {"front", "back", "front_tint"}) {
-        if (ctx.bound(surface)) to_sampled(cmd, ctx.image(surface));
-      }
+      make_surfaces(kSampledRead);
 
       const std::string& target = ping_pong[(layers - 1 - i) % 2];
       const std::string& previous = ping_pong[(layers - i) % 2];
-      make(previous, kSampled);
-      make(target, kAttachment);
+      make(previous, kSampledRead);
+      make(target, kStorageWrite);
       shading_.record(ctx, push, ctx.view(previous), ctx.view("front"), ctx.view("back"), ctx.view(target), extent,
                       screen_rect(scene.scene(), view.view_proj, {order[i]}, extent));
     }
-    // Leave every port in the layout the plan expects after this pass.
-    for (const char* surface : {"front", "back", "front_tint"}) {
-      if (ctx.bound(surface)) to_attachment(cmd, ctx.image(surface));
-    }
-    make("background", kAttachment);
+    make_surfaces(kAttachmentWrite);
+    make("background", kStorageWrite);
   }
 
  private:
   RefractorSurfaces surfaces_;
   DeferredRefractionShading shading_;
+  vk::Pipeline copy_;
   uint32_t tir_counter_ = 0, layers_counter_ = 0;
 };
 
@@ -109,7 +118,7 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   ports[0] = {"background",
               PortAccess::read_write,
               ResourceKind::image,
-              PortUsage::color_attachment,
+              PortUsage::storage,
               {Format::rgba16f},
               false,
               "frame",
@@ -121,7 +130,7 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   ports.push_back({"color",
                    PortAccess::write,
                    ResourceKind::image,
-                   PortUsage::color_attachment,
+                   PortUsage::storage,
                    {Format::rgba16f},
                    false,
                    "frame",
@@ -137,7 +146,9 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   PassTypeDecl decl{"refraction_layers",
                     "Multi-layer deferred refraction: one layer per refractor, sorted back to front from the camera each frame; each "
                     "layer refracts the result of the layers behind it. Counters <pass>.layers and <pass>.tir_pixels.",
-                    PassQueue::graphics,
+                    // Every shader access to its ports is in its compute dispatches; the surfaces
+                    // are drawn into attachments.
+                    PassQueue::compute,
                     ports,
                     with_search_bounces(refraction_params()),
                     false,

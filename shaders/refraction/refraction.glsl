@@ -668,46 +668,61 @@ vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, i
     vec3 p = origin + direction * h.t;
     vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
     ObjectData object = objects[h.object];
-    if (object.albedo_refractor.a < 0.5) return radiance + throughput * shade_exit_hit(p, n, object.albedo_refractor.rgb);
-    if (interfaces == params.exact_max_interfaces) {
-      camera_count(CAMERA_TRAPPED);
-      return radiance;
-    }
-    ++interfaces;
-    if (band == BAND_WHITE && !thin_walled(object) && disperses(object)) {
-      dispersed = true;
-      return vec3(0.0);
-    }
-    float ior = band_ior(object, band);
-    float roughness = roughness_at(h);
-    rough = rough || roughness > 0.0;
-    vec3 m = microfacet_normal(n, direction, roughness, rng);
-    origin = p;
-    if (inside < 0) {
-      // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
-      // `transmission` passes tinted, the remainder is reflected diffusely (shadowed exactly here).
-      float reflectance = fresnel_dielectric(-dot(direction, m), 1.0, ior);
-      radiance += throughput * reflectance * frame.sky_ambient.rgb;
-      throughput *= 1.0 - reflectance;
-      vec4 tint_transmission = tint_transmission_at(h);
-      if (tint_transmission.a < 1.0) radiance += throughput * (1.0 - tint_transmission.a) * shade_exit_hit(p, n, tint_transmission.rgb);
-      throughput *= tint_transmission.a * tint_transmission.rgb;
-      if (thin_walled(object)) {  // through a thin wall, unbent where it is smooth
-        direction = through_thin(direction, m, n);
-        continue;
-      }
-      direction = on_side(normalize(refract(direction, m, 1.0 / ior)), n, false);
-      inside = int(h.object);
+    // What the path sees diffusely here, shaded once below: the opaque surface that ends it, or a
+    // refractor's diffusely reflected share at its entry. One call site of shade_exit_hit, whose
+    // exact shadow ray is a ray query: lavapipe inlines every call, and each copy of a ray query
+    // lengthens its compile by seconds.
+    vec3 shade_weight = vec3(0.0), shade_albedo = vec3(0.0);
+    bool ends = object.albedo_refractor.a < 0.5;
+    if (ends) {
+      shade_weight = throughput;
+      shade_albedo = object.albedo_refractor.rgb;
     } else {
-      vec3 out_direction = refract(direction, m, ior);
-      if (dot(out_direction, out_direction) == 0.0) {
-        direction = on_side(reflect(direction, m), n, true);
+      if (interfaces == params.exact_max_interfaces) {
+        camera_count(CAMERA_TRAPPED);
+        return radiance;
+      }
+      ++interfaces;
+      if (band == BAND_WHITE && !thin_walled(object) && disperses(object)) {
+        dispersed = true;
+        return vec3(0.0);
+      }
+      float ior = band_ior(object, band);
+      float roughness = roughness_at(h);
+      rough = rough || roughness > 0.0;
+      vec3 m = microfacet_normal(n, direction, roughness, rng);
+      origin = p;
+      if (inside < 0) {
+        // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
+        // `transmission` passes tinted, the remainder is reflected diffusely (shadowed exactly here).
+        float reflectance = fresnel_dielectric(-dot(direction, m), 1.0, ior);
+        radiance += throughput * reflectance * frame.sky_ambient.rgb;
+        throughput *= 1.0 - reflectance;
+        vec4 tint_transmission = tint_transmission_at(h);
+        if (tint_transmission.a < 1.0) {
+          shade_weight = throughput * (1.0 - tint_transmission.a);
+          shade_albedo = tint_transmission.rgb;
+        }
+        throughput *= tint_transmission.a * tint_transmission.rgb;
+        if (thin_walled(object)) {  // through a thin wall, unbent where it is smooth
+          direction = through_thin(direction, m, n);
+        } else {
+          direction = on_side(normalize(refract(direction, m, 1.0 / ior)), n, false);
+          inside = int(h.object);
+        }
       } else {
-        throughput *= 1.0 - fresnel_dielectric(-dot(direction, m), ior, 1.0);
-        direction = on_side(normalize(out_direction), n, false);
-        inside = -1;
+        vec3 out_direction = refract(direction, m, ior);
+        if (dot(out_direction, out_direction) == 0.0) {
+          direction = on_side(reflect(direction, m), n, true);
+        } else {
+          throughput *= 1.0 - fresnel_dielectric(-dot(direction, m), ior, 1.0);
+          direction = on_side(normalize(out_direction), n, false);
+          inside = -1;
+        }
       }
     }
+    if (any(greaterThan(shade_weight, vec3(0.0)))) radiance += shade_weight * shade_exit_hit(p, n, shade_albedo);
+    if (ends) return radiance;
   }
 }
 
@@ -718,10 +733,22 @@ vec3 trace_camera_exact(vec3 origin, vec3 direction, vec2 pixel_uv) {
   bool rough = false;
   vec3 sum = vec3(0.0);
   for (uint s = 0u; s < CAMERA_ROUGH_SAMPLES; ++s) {
+    // The white ray, then, where it met a dispersive refractor, each band's: one call site of
+    // trace_camera_band, for the reason given at shade_exit_hit's.
     bool dispersed = false;
-    vec3 radiance = trace_camera_band(origin, direction, BAND_WHITE, rng, dispersed, rough);
-    if (dispersed) {
-      for (uint band = 0u; band < 3u; ++band) radiance[band] = trace_camera_band(origin, direction, band, rng, dispersed, rough)[band];
+    vec3 radiance = vec3(0.0);
+    for (uint band = BAND_WHITE;;) {
+      vec3 seen = trace_camera_band(origin, direction, band, rng, dispersed, rough);
+      if (band == BAND_WHITE) {
+        if (!dispersed) {
+          radiance = seen;
+          break;
+        }
+        band = 0u;
+      } else {
+        radiance[band] = seen[band];
+        if (++band == 3u) break;
+      }
     }
     sum += radiance;
     if (!rough) return sum;

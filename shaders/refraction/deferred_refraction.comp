@@ -1,6 +1,10 @@
 #version 460
-// Deferred refraction: one full-screen pass over the refractor buffers; each pixel is shaded once,
+// Deferred refraction: one compute dispatch over the refractor buffers; each pixel is shaded once,
 // for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT).
+// Pixels outside `rect` (the refractors' screen rectangle) copy the background. A compute shader
+// rather than a full-screen triangle because llvmpipe (lavapipe) compiles every fragment shader
+// twice, for whole tiles and for tiles on a triangle's edge: this kernel, the project's largest,
+// is compiled once. OUT_FORMAT is the target's storage format qualifier, set by the pass.
 // Compiled with CAUSTICA_RAY_QUERY when the pass's `distance` is ray_query (every pixel traced
 // exactly), material, or hybrid (the image-space search, traced exactly where it cannot be
 // trusted; CAUSTICA_HYBRID too).
@@ -13,8 +17,10 @@ layout(set = 0, binding = 4) uniform sampler2D depth_tex;
 layout(set = 0, binding = 5) uniform sampler2D front_tex;
 layout(set = 0, binding = 6) uniform sampler2D back_tex;
 layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
+layout(set = 0, binding = 8, OUT_FORMAT) uniform writeonly image2D out_color;
+layout(local_size_x = 8, local_size_y = 8) in;
 
-// passes/refraction.h, RefractionPush.
+// passes/refraction.cpp, DeferredRefractionPush: RefractionPush, then the rectangle.
 layout(push_constant) uniform Params {
   uint distance_mode;
   uint search;  // refraction.glsl: search_steps() and search_tir_bounces()
@@ -24,12 +30,11 @@ layout(push_constant) uniform Params {
   float exact_epsilon;
   float hybrid_tolerance;
   uint exact_counters;
+  ivec4 rect;  // x0, y0, x1, y1: pixels in [x0, x1) x [y0, y1) are refracted
 } params;
 
 #define REFRACTION_FRONT_TEX
 #include "refraction/refraction.glsl"
-
-layout(location = 0) out vec4 out_color;
 
 #ifdef CAUSTICA_HYBRID
 // The hybrid's image-space answer, or the reason it is not trusted: untrusted_exit's, or, for the
@@ -79,14 +84,9 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
 }
 #endif
 
-void main() {
-  vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
-  vec4 front = texelFetch(front_tex, ivec2(gl_FragCoord.xy), 0);
-  vec3 background = texture(background_tex, uv).rgb;
-  if (front.y <= 0.0) {
-    out_color = vec4(background, 1.0);
-    return;
-  }
+vec3 shade(ivec2 pixel, vec2 uv, vec3 background) {
+  vec4 front = texelFetch(front_tex, pixel, 0);
+  if (front.y <= 0.0) return background;
   vec3 eye = frame.camera_position.xyz;
   vec3 ray = normalize(world_from_depth(frame.inv_view_proj, uv, 0.5) - eye);
   vec3 p1 = eye + ray * front.y;
@@ -94,10 +94,7 @@ void main() {
   vec2 ignored_uv;
   float front_depth;
   project_to_screen(p1, ignored_uv, front_depth);
-  if (opaque_depth < front_depth) {  // an opaque surface in front of the refractor
-    out_color = vec4(background, 1.0);
-    return;
-  }
+  if (opaque_depth < front_depth) return background;  // an opaque surface in front of the refractor
 #ifdef CAUSTICA_RAY_QUERY
   ObjectData front_object = objects[uint(front.w)];
   // DISTANCE_MATERIAL's choice, as for photons: image space where it is exact, unless another
@@ -118,9 +115,17 @@ void main() {
       if (reason != EXIT_TRUSTED) camera_count(reason);
       radiance = trace_camera_exact(eye, ray, uv);
     }
-    out_color = vec4(radiance, 1.0);
-    return;
+    return radiance;
   }
 #endif
-  out_color = vec4(refracted_radiance(p1, unpack_normal(front.x), front.y, front.z, uint(front.w), at_front_texel(objects[uint(front.w)], uv), uv), 1.0);
+  return refracted_radiance(p1, unpack_normal(front.x), front.y, front.z, uint(front.w), at_front_texel(objects[uint(front.w)], uv), uv);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, ivec2(frame.sizes.xy)))) return;
+  vec2 uv = (vec2(pixel) + 0.5) * frame.sizes.zw;
+  vec3 background = texture(background_tex, uv).rgb;
+  bool inside = all(greaterThanEqual(pixel, params.rect.xy)) && all(lessThan(pixel, params.rect.zw));
+  imageStore(out_color, pixel, vec4(inside ? shade(pixel, uv, background) : background, 1.0));
 }
