@@ -102,6 +102,44 @@ TEST(Convexity, OnlyClosedConvexBodiesAreConvexSolids) {
   EXPECT_FALSE(is_convex_solid(inside_out)) << "wound inside out";
 }
 
+namespace {
+
+// A prism over the polygon that visits the corners of a regular heptagon `step` at a time: step 1
+// is the convex heptagonal prism, step 2 the prism over the star {7/2}, which turns the same way at
+// every corner but goes round twice. Each cap is a fan about its centre, wound counter-clockwise seen
+// from outside like the sides.
+Mesh star_prism(int step) {
+  Mesh m;
+  constexpr int kCorners = 7;
+  for (float y : {-0.5f, 0.5f}) {
+    for (int k = 0; k < kCorners; ++k) {
+      const float angle = 2.0f * 3.14159265f * static_cast<float>(k * step % kCorners) / kCorners;
+      m.positions.emplace_back(std::cos(angle), y, -std::sin(angle));  // counter-clockwise seen from +y
+    }
+  }
+  const auto bottom_centre = static_cast<uint32_t>(m.positions.size());
+  m.positions.emplace_back(0.0f, -0.5f, 0.0f);
+  m.positions.emplace_back(0.0f, 0.5f, 0.0f);
+  for (uint32_t k = 0; k < kCorners; ++k) {
+    const uint32_t next = (k + 1) % kCorners;
+    const uint32_t b0 = k, b1 = next, t0 = kCorners + k, t1 = kCorners + next;
+    m.indices.insert(m.indices.end(), {b0, b1, t1, b0, t1, t0});    // the side, facing out
+    m.indices.insert(m.indices.end(), {bottom_centre + 1, t0, t1});  // the top cap, facing +y
+    m.indices.insert(m.indices.end(), {bottom_centre, b1, b0});      // the bottom cap, facing -y
+  }
+  m.normals.assign(m.positions.size(), glm::vec3(0.0f, 1.0f, 0.0f));
+  return m;
+}
+
+}  // namespace
+
+// Closed, wound consistently, connected and convex at every edge, yet not convex: the star prism
+// overlaps itself, which only the check of every vertex against every face's plane sees.
+TEST(Convexity, ASurfaceConvexAtEveryEdgeThatOverlapsItselfIsNotConvex) {
+  EXPECT_TRUE(is_convex_solid(star_prism(1))) << "the heptagonal prism, built the same way";
+  EXPECT_FALSE(is_convex_solid(star_prism(2))) << "the prism over the star {7/2}";
+}
+
 // Scenes' solid refractors are convex or not as their meshes are (the hybrids read it on the device).
 TEST(Convexity, ScenesFlagTheirConvexRefractors) {
   auto convex_of = [](const char* file) {

@@ -9,6 +9,9 @@
 // exactly), material, or hybrid (the image-space search, traced exactly where it cannot be
 // trusted; CAUSTICA_HYBRID too).
 #extension GL_GOOGLE_include_directive : require
+#ifndef OUT_FORMAT
+#define OUT_FORMAT rgba16f
+#endif
 #include "scene/scene.glsl"
 SCENE_FRAME
 SCENE_OBJECTS
