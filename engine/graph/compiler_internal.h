@@ -1,0 +1,93 @@
+#pragma once
+// The graph compiler's own parts, shared by the files of its phases and included by nothing else
+// (not installed): compiler.cpp runs the phases in order (Compiler::run); compiler_resolve.cpp
+// decides the enabled passes and fallbacks, sizes the resources and binds the passes' ports;
+// compiler_order.cpp builds the dependency edges, refuses cycles, culls and orders the passes;
+// compiler_memory.cpp computes lifetimes and usage and places transient memory (aliasing);
+// compiler_barriers.cpp records the barriers.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "graph/compiler.h"
+#include "graph/expression.h"
+
+namespace caustica::graph::compiler_internal {
+
+std::string mib(uint64_t bytes);
+
+struct Binding {
+  const PortDecl* port;
+  uint32_t resource;
+  std::string pointer;
+};
+
+class Compiler {
+ public:
+  Compiler(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options)
+      : graph_(graph), registry_(registry), options_(options) {}
+
+  Plan run();
+
+ private:
+  const GraphDesc& graph_;
+  const PassRegistry& registry_;
+  const CompileOptions& options_;
+  Plan plan_;
+
+  // Per pass of the graph file (index = file order); disabled passes keep a slot with decl == nullptr.
+  struct Node {
+    const PassDesc* desc = nullptr;
+    const PassTypeDecl* decl = nullptr;
+    nlohmann::json params;
+    std::vector<Binding> bindings;
+    std::vector<uint32_t> successors;
+    std::vector<uint32_t> predecessors;
+  };
+  std::vector<Node> nodes_;
+  std::vector<std::vector<uint32_t>> writers_;  // per resource, node indices
+  std::vector<std::vector<uint32_t>> readers_;
+  std::vector<bool> enabled_;                    // per pass of the file
+  std::map<std::string, std::string> redirect_;  // resource no enabled pass writes -> its fallback
+  std::vector<uint32_t> order_;                  // node indices in execution order
+
+  // compiler_resolve.cpp: enabled passes and fallbacks, parameters and expressions, resource sizes,
+  // pass types, parameters and bindings.
+  std::string redirected(const std::string& name) const;
+  void decide_enabled_and_fallbacks();
+  std::vector<std::string> resource_names_of_file() const;
+  ExpressionScope scope() const;
+  double evaluate(const std::string& text, const std::string& pointer) const;
+  uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const;
+  void size_resources();
+  std::vector<std::string> resource_names() const;
+  nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const;
+  void bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs);
+  bool wanted(const std::string& resource) const;
+  void check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const;
+  void resolve_passes();
+
+  // compiler_order.cpp: dependencies, cycles, writer order, culling and the execution order.
+  int node_index(std::string_view name) const;
+  void add_edge(uint32_t from, uint32_t to);
+  void build_edges();
+  void find_cycle() const;
+  bool reaches(uint32_t from, uint32_t to) const;
+  void check_writer_order() const;
+  std::vector<uint32_t> least_memory_order(const std::vector<bool>& live) const;
+  void cull_and_order();
+
+  // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.
+  void compute_lifetimes_and_usage();
+  void check_extent_groups() const;
+  uint64_t place_in_order(const std::vector<uint32_t>& order, bool tightest);
+  void place_memory();
+
+  // compiler_barriers.cpp: barriers and each resource's final state.
+  bool memory_overlaps(const PlannedResource& a, const PlannedResource& b) const;
+  void record_barriers();
+};
+
+}  // namespace caustica::graph::compiler_internal

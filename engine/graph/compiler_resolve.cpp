@@ -1,0 +1,343 @@
+// The graph compiler's first phases (compiler_internal.h): which passes are enabled and where the
+// resources no enabled pass writes fall back to, the resources' sizes from their expressions, and
+// each enabled pass's type, parameters and port bindings, checked against its declaration.
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/suggest.h"
+#include "graph/compiler_internal.h"
+#include "graph/expression.h"
+#include "io/json_reader.h"
+
+namespace caustica::graph::compiler_internal {
+
+// ---- enabled passes and fallbacks -----------------------------------------------------------
+
+std::string Compiler::redirected(const std::string& name) const {
+  auto it = redirect_.find(name);
+  return it == redirect_.end() ? name : it->second;
+}
+
+void Compiler::decide_enabled_and_fallbacks() {
+  std::set<std::string> written;
+  for (const auto& pass : graph_.passes) {
+    const bool on = evaluate(pass.enabled, pass.pointer + "/enabled") != 0.0;
+    enabled_.push_back(on);
+    if (!on) {
+      plan_.disabled.push_back(pass.name);
+      continue;
+    }
+    for (const auto& [port, resource] : pass.outputs) written.insert(resource);
+  }
+  for (const auto& r : graph_.resources) {
+    if (r.fallback_to_nothing && !written.count(r.name)) {
+      redirect_[r.name] = "";
+      plan_.fallbacks[r.name] = "";
+      continue;
+    }
+    if (r.fallback.empty() || written.count(r.name)) continue;
+    // Follow the chain to a resource that is written (or has no fallback of its own).
+    std::string target = r.name;
+    std::vector<std::string> chain{target};
+    while (true) {
+      const ResourceDesc* d = graph_.find_resource(target);
+      if (d->fallback.empty() || written.count(target)) break;
+      const ResourceDesc* next = graph_.find_resource(d->fallback);
+      if (!next) {
+        throw graph_.error(d->pointer + "/fallback", "fallback '" + d->fallback + "' of '" + d->name + "' is not a resource of this graph" +
+                                                         did_you_mean(d->fallback, resource_names_of_file()));
+      }
+      if (next->kind != d->kind || (d->kind == ResourceKind::image && next->format != d->format)) {
+        throw graph_.error(d->pointer + "/fallback", "fallback '" + next->name + "' of '" + d->name + "' must have the same " +
+                                                         (next->kind != d->kind ? "type" : "format"));
+      }
+      if (std::find(chain.begin(), chain.end(), next->name) != chain.end()) {
+        std::string cycle;
+        for (const auto& c : chain) cycle += c + " -> ";
+        throw graph_.error(d->pointer + "/fallback", "fallback cycle: " + cycle + next->name);
+      }
+      target = next->name;
+      chain.push_back(target);
+    }
+    if (target != r.name) {
+      redirect_[r.name] = target;
+      plan_.fallbacks[r.name] = target;
+    }
+  }
+}
+
+std::vector<std::string> Compiler::resource_names_of_file() const {
+  std::vector<std::string> names;
+  for (const auto& r : graph_.resources) names.push_back(r.name);
+  return names;
+}
+
+// ---- parameters and expressions -------------------------------------------------------------
+
+ExpressionScope Compiler::scope() const {
+  ExpressionScope s;
+  s.known_names = {"output.width", "output.height"};
+  for (const auto& [name, value] : options_.scene_values) s.known_names.push_back(name);
+  for (const auto& p : graph_.parameters) {
+    if (p.decl.type != ParamType::choice) s.known_names.push_back(p.decl.name);
+  }
+  s.lookup = [this](std::string_view name) -> std::optional<double> {
+    if (name == "output.width") return options_.output_width;
+    if (name == "output.height") return options_.output_height;
+    if (auto it = options_.scene_values.find(std::string(name)); it != options_.scene_values.end()) return it->second;
+    const GraphParameter* p = graph_.find_parameter(name);
+    if (!p || p->decl.type == ParamType::choice) return std::nullopt;
+    if (p->value.is_boolean()) return p->value.get<bool>() ? 1.0 : 0.0;
+    return p->value.get<double>();
+  };
+  return s;
+}
+
+// Every value an expression gives is finite: the sizes, counts and flags computed from it are
+// converted to integers, which is undefined for NaN and infinities.
+double Compiler::evaluate(const std::string& text, const std::string& pointer) const {
+  double v = 0;
+  try {
+    v = evaluate_expression(text, scope());
+  } catch (const std::invalid_argument& e) {
+    throw graph_.error(pointer, e.what());
+  }
+  if (!std::isfinite(v))
+    throw graph_.error(pointer, "\"" + text + "\" evaluates to " + JsonReader::format_number(v) + ", not a finite number");
+  return v;
+}
+
+uint32_t Compiler::extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const {
+  double v = std::floor(evaluate(text, pointer));
+  if (v < 1) {
+    throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " + JsonReader::format_number(v) +
+                                    "; it must be at least 1");
+  }
+  if (v > options_.limits.max_image_dimension_2d) {
+    throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " + JsonReader::format_number(v) +
+                                    ", above the device limit of " + std::to_string(options_.limits.max_image_dimension_2d) +
+                                    " (maxImageDimension2D)");
+  }
+  return static_cast<uint32_t>(v);
+}
+
+void Compiler::size_resources() {
+  for (const auto& desc : graph_.resources) {
+    PlannedResource r;
+    r.name = desc.name;
+    r.pointer = desc.pointer;
+    r.kind = desc.kind;
+    r.format = desc.format;
+    if (desc.kind == ResourceKind::image) {
+      r.width = extent(desc.width, desc.pointer + "/width", "width", desc.name);
+      r.height = extent(desc.height, desc.pointer + "/height", "height", desc.name);
+      double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips"));
+      uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
+      if (mips < 1 || mips > max_mips) {
+        throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) + " mip levels; a " +
+                                                       std::to_string(r.width) + "x" + std::to_string(r.height) + " image has 1 to " +
+                                                       std::to_string(max_mips));
+      }
+      r.mips = static_cast<uint32_t>(mips);
+      double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers"));
+      if (layers < 1 || layers > kMaxImageLayers) {
+        throw graph_.error(desc.pointer + "/layers", "'" + desc.name + "' asks for " + JsonReader::format_number(layers) +
+                                                         " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
+      }
+      r.layers = static_cast<uint32_t>(layers);
+      if (r.layers > 1 && r.format != Format::r32f) {
+        throw graph_.error(desc.pointer + "/layers",
+                           "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f images can have layers");
+      }
+    } else {
+      double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
+      if (bytes < 4) {
+        throw graph_.error(desc.pointer + "/size", "the size of buffer '" + desc.name + "' evaluates to " +
+                                                       JsonReader::format_number(bytes) + " bytes; it must be at least 4");
+      }
+      if (bytes > static_cast<double>(options_.limits.max_buffer_size)) {
+        throw graph_.error(desc.pointer + "/size", "buffer '" + desc.name + "' would be " +
+                                                       JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
+                                                       ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
+      }
+      r.buffer_size = static_cast<uint64_t>(bytes);
+    }
+    plan_.resources.push_back(std::move(r));
+  }
+  for (size_t i = 0; i < graph_.outputs.size(); ++i) {
+    int index = plan_.find_resource(redirected(graph_.outputs[i]));
+    std::string pointer = "/outputs/" + std::to_string(i);
+    if (index < 0) {
+      throw graph_.error(pointer, "output '" + graph_.outputs[i] + "' is not a resource of this graph" +
+                                      did_you_mean(graph_.outputs[i], resource_names()));
+    }
+    auto& r = plan_.resources[static_cast<size_t>(index)];
+    if (r.kind != ResourceKind::image) throw graph_.error(pointer, "output '" + r.name + "' is a buffer; outputs are images");
+    if (r.output) throw graph_.error(pointer, "output '" + r.name + "' is listed twice");
+    r.output = true;
+    r.transient = false;
+    plan_.outputs.push_back(static_cast<uint32_t>(index));
+  }
+  for (const auto& name : options_.retained) {
+    if (auto it = redirect_.find(name); it != redirect_.end() && it->second.empty()) continue;  // nothing writes it for this scene
+    int index = plan_.find_resource(redirected(name));
+    if (index < 0) {
+      throw InputError(graph_.doc.path() + ": no resource named '" + name + "' to keep" + did_you_mean(name, resource_names()));
+    }
+    plan_.resources[static_cast<size_t>(index)].transient = false;
+  }
+}
+
+std::vector<std::string> Compiler::resource_names() const {
+  std::vector<std::string> names;
+  for (const auto& r : graph_.resources) names.push_back(r.name);
+  return names;
+}
+
+nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const {
+  std::vector<std::string> declared;
+  for (const auto& p : decl.params) declared.push_back(p.name);
+  std::vector<std::string> graph_params;
+  for (const auto& p : graph_.parameters) graph_params.push_back(p.decl.name);
+
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [key, raw] : pass.params.items()) {
+    std::string pointer = json_pointer_append(pass.pointer + "/params", key);
+    const ParamDecl* param = decl.find_param(key);
+    if (!param) {
+      throw graph_.error(pointer, "pass type '" + decl.type + "' has no parameter '" + key + "'" + did_you_mean(key, declared));
+    }
+    nlohmann::json value = raw;
+    std::string via;
+    if (raw.is_string() && raw.get<std::string>().starts_with('$')) {
+      std::string name = raw.get<std::string>().substr(1);
+      const GraphParameter* gp = graph_.find_parameter(name);
+      if (!gp) throw graph_.error(pointer, "no graph parameter '" + name + "'" + did_you_mean(name, graph_params));
+      value = gp->value;
+      via = " (through graph parameter '" + name + "')";
+    }
+    std::string problem = check_param_value(*param, value);
+    if (!problem.empty()) throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' " + problem + via);
+    out[key] = value;
+  }
+  for (const auto& p : decl.params) {
+    if (!out.contains(p.name)) out[p.name] = p.default_value;
+  }
+  return out;
+}
+
+void Compiler::bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs) {
+  const PassDesc& pass = *node.desc;
+  const PassTypeDecl& decl = *node.decl;
+  const char* section_name = outputs ? "outputs" : "inputs";
+  std::vector<std::string> port_names;
+  for (const auto& p : decl.ports) port_names.push_back(p.name);
+  for (const auto& [port_name, resource_name] : section) {
+    std::string pointer = json_pointer_append(pass.pointer + "/" + section_name, port_name);
+    const PortDecl* port = decl.find_port(port_name);
+    if (!port) {
+      throw graph_.error(pointer, "pass type '" + decl.type + "' has no port '" + port_name + "'" + did_you_mean(port_name, port_names));
+    }
+    bool port_writes = port->access != PortAccess::read;
+    if (port_writes != outputs) {
+      throw graph_.error(pointer, std::string("port '") + port_name + "' of pass type '" + decl.type + "' is an " +
+                                      (port_writes ? "output" : "input") + "; list it under \"" + (port_writes ? "outputs" : "inputs") +
+                                      "\"");
+    }
+    const std::string source = outputs ? resource_name : redirected(resource_name);
+    if (source.empty()) {  // "fallback": null and nothing writes it
+      if (port->optional) continue;
+      throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
+                                      "', which no enabled pass writes and whose fallback is null; only optional inputs may");
+    }
+    int index = plan_.find_resource(source);
+    if (index < 0) {
+      throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
+    }
+    const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
+    if (r.kind != port->kind) {
+      throw graph_.error(pointer, "port '" + port_name + "' of pass '" + pass.name + "' takes " +
+                                      (port->kind == ResourceKind::image ? "an image" : "a buffer") + ", but '" + r.name + "' is " +
+                                      (r.kind == ResourceKind::image ? "an image" : "a buffer"));
+    }
+    if (r.kind == ResourceKind::image) check_format(*port, r, pass, pointer);
+    for (const auto& other : node.bindings) {
+      if (other.resource == static_cast<uint32_t>(index)) {
+        throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name + "' and '" +
+                                        port_name + "'); use one read_write port instead");
+      }
+    }
+    // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
+    // unbound, so the pass skips the work and the resource takes no memory; one the pass samples
+    // itself (scratch, such as refraction_layers' front_tint) is bound wherever it is connected.
+    if (outputs && port->optional && !port->also_sampled && !wanted(resource_name)) continue;
+    node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
+  }
+}
+
+// Whether an enabled pass reads `resource`, it is a graph output, or it is kept (--dump, the viewer).
+bool Compiler::wanted(const std::string& resource) const {
+  if (std::count(graph_.outputs.begin(), graph_.outputs.end(), resource) || options_.retained.count(resource)) return true;
+  for (size_t i = 0; i < graph_.passes.size(); ++i) {
+    if (!enabled_[i]) continue;
+    for (const auto& [port, read] : graph_.passes[i].inputs) {
+      if (read == resource) return true;
+    }
+  }
+  return false;
+}
+
+void Compiler::check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const {
+  const FormatInfo& info = format_info(r.format);
+  if (!port.formats.empty() && std::find(port.formats.begin(), port.formats.end(), r.format) == port.formats.end()) {
+    std::string accepted;
+    for (Format f : port.formats) accepted += std::string(accepted.empty() ? "" : ", ") + format_info(f).name;
+    throw graph_.error(pointer, "format mismatch: port '" + port.name + "' of pass '" + pass.name + "' accepts " + accepted + ", but '" +
+                                    r.name + "' is " + info.name);
+  }
+  if (port.kind == ResourceKind::image && r.layers != port.layers) {
+    throw graph_.error(pointer, "layer mismatch: port '" + port.name + "' of pass '" + pass.name + "' takes an image of " +
+                                    std::to_string(port.layers) + (port.layers == 1 ? " layer" : " array layers") + ", but '" + r.name +
+                                    "' has " + std::to_string(r.layers) + " (its \"layers\")");
+  }
+  if (port.usage == PortUsage::storage && std::string_view(info.glsl_qualifier).empty()) {
+    throw graph_.error(pointer, "'" + r.name + "' (" + info.name + ") cannot be a storage image (port '" + port.name + "')");
+  }
+  if (port.usage == PortUsage::color_attachment && info.depth) {
+    throw graph_.error(pointer, "'" + r.name + "' is a depth format and cannot be a color attachment (port '" + port.name + "')");
+  }
+  if (port.usage == PortUsage::depth_attachment && !info.depth) {
+    throw graph_.error(pointer, "'" + r.name + "' (" + info.name + ") is not a depth format (port '" + port.name + "')");
+  }
+}
+
+void Compiler::resolve_passes() {
+  std::vector<std::string> type_names = registry_.names();
+  nodes_.resize(graph_.passes.size());
+  for (size_t i = 0; i < graph_.passes.size(); ++i) {
+    const PassDesc& pass = graph_.passes[i];
+    Node& node = nodes_[i];
+    node.desc = &pass;
+    const PassTypeDecl* decl = registry_.find(pass.type);
+    if (!decl) {
+      throw graph_.error(pass.pointer + "/type", "unknown pass type '" + pass.type + "'" + did_you_mean(pass.type, type_names));
+    }
+    if (!enabled_[i]) continue;
+    node.decl = decl;
+    node.params = resolve_params(pass, *decl);
+    bind_section(node, pass.inputs, false);
+    bind_section(node, pass.outputs, true);
+    for (const auto& port : decl->ports) {
+      if (port.optional) continue;
+      bool bound = std::any_of(node.bindings.begin(), node.bindings.end(), [&](const Binding& b) { return b.port == &port; });
+      if (!bound) {
+        bool input = port.access == PortAccess::read;
+        throw graph_.error(pass.pointer, std::string(input ? "input" : "output") + " '" + port.name + "' of pass '" + pass.name +
+                                             "' (type " + decl->type + ") is not connected");
+      }
+    }
+  }
+}
+
+}  // namespace caustica::graph::compiler_internal

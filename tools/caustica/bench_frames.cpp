@@ -1,0 +1,262 @@
+// caustica bench load, refraction and photons: loading a scene, deferred against forward refraction,
+// and the paper's table of photons processed per method.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <unistd.h>
+
+#include "bench_common.h"
+#include "builtin_passes.h"
+#include "core/paths.h"
+#include "io/image_io.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+
+namespace caustica::cli::bench {
+
+// Loading a model or scene: the host's part (parsing, decoding the textures materials use, normals,
+// d_N) and the device's (buffers, texture upload with their mip chains), median over runs.
+int cmd_bench_load(Args& args) {
+  std::string file, device;
+  uint32_t runs = 5;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene")
+      file = args.value(a);
+    else if (a == "--runs")
+      runs = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--device")
+      device = args.value(a);
+    else
+      unknown_option(a, {"--scene", "--runs", "--device"});
+  }
+  if (file.empty()) throw UsageError("bench load needs --scene FILE (a scene or a model file)");
+  vk::Context vk(device_options(device, false));
+  std::vector<double> host_ms, device_ms;
+  std::shared_ptr<const scene::Scene> scene;
+  uint64_t texture_bytes = 0;
+  for (uint32_t run = 0; run < runs; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    scene = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
+    const auto loaded = std::chrono::steady_clock::now();
+    {
+      scene::GpuScene on_device(vk, scene);
+      texture_bytes = on_device.texture_bytes();
+    }
+    const auto uploaded = std::chrono::steady_clock::now();
+    host_ms.push_back(std::chrono::duration<double, std::milli>(loaded - start).count());
+    device_ms.push_back(std::chrono::duration<double, std::milli>(uploaded - loaded).count());
+    vk.wait_idle();
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  std::printf("%s: %zu triangles, %zu of %zu images decoded (%.1f MiB of textures on the device with their mips)\n", file.c_str(),
+              scene->triangle_count(), scene->textures.size(), scene->file_images, static_cast<double>(texture_bytes) / (1 << 20));
+  std::printf("median of %u runs: host %.0f ms (parse, decode, normals, d_N), device %.0f ms (upload), total %.0f ms\n", runs,
+              median(host_ms), median(device_ms), median(host_ms) + median(device_ms));
+  return 0;
+}
+
+// Deferred against forward refraction: the same scene through both graphs, frames interleaved so
+// that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
+int cmd_bench_refraction(Args& args) {
+  std::vector<std::string> scenes;
+  uint32_t width = 1280, height = 720, frames = 7;
+  std::vector<uint32_t> sphere_details;
+  std::string device, csv;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene")
+      scenes.push_back(args.value(a));
+    else if (a == "--size")
+      parse_size(args.value(a), width, height);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000));
+    else if (a == "--sphere-detail")
+      sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--csv")
+      csv = args.value(a);
+    else
+      unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
+  }
+  if (!csv.empty()) io::check_output_file(csv);
+  struct Case {
+    std::string label;
+    std::shared_ptr<const scene::Scene> scene;
+  };
+  std::vector<Case> cases;
+  for (const auto& file : scenes) {
+    auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(file));
+    cases.push_back({s->name, s});
+  }
+  for (uint32_t detail : sphere_details) {
+    // The ball-lens scene with its sphere tessellated more or less finely: triangle count alone varies.
+    scene::Scene s = scene::load_scene_file((data_dir() / "scenes/sphere_plane.json").string());
+    for (auto& o : s.objects) {
+      if (!o.material.refractor) continue;
+      const glm::vec3 centre = o.center();
+      const float radius = 0.5f * (o.bounds_max.y - o.bounds_min.y);
+      o.mesh = scene::make_sphere(radius, static_cast<int>(detail), static_cast<int>(std::max(2u, detail / 2)));
+      for (auto& p : o.mesh.positions) p += centre;
+      o.mesh.normal_distance = scene::normal_distances(o.mesh);
+    }
+    cases.push_back({"sphere, detail " + std::to_string(detail), std::make_shared<const scene::Scene>(std::move(s))});
+  }
+  if (cases.empty()) {  // the bundled ball lens and bunny
+    for (const char* name : {"sphere_plane", "bunny_plane"}) {
+      auto s = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(name)));
+      cases.push_back({s->name, s});
+    }
+  }
+
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
+  std::string table =
+      "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | "
+      "deferred frame |\n|---|---|---|---|---|---|---|\n";
+  std::string rows_csv = "scene,refractor_triangles,forward_refraction_ms,deferred_refraction_ms,forward_frame_ms,deferred_frame_ms\n";
+  for (const auto& c : cases) {
+    std::unique_ptr<graph::Executor> executors[2];
+    for (int g = 0; g < 2; ++g) {
+      executors[g] = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executors[g]->set_scene(c.scene);
+      executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
+    }
+    std::vector<double> refraction[2], frame[2];
+    ProgressLine progress(c.label + ": frames", frames + 2);
+    for (uint32_t f = 0; f < frames + 2; ++f) {
+      for (int g = 0; g < 2; ++g) {
+        auto result = executors[g]->run_frame(false);
+        if (f < 2) continue;  // pipelines compile on first use on lavapipe
+        double ms = 0;
+        for (const auto& p : result.passes) {
+          if (p.name == "refractors" || p.name == "refraction") ms += p.gpu_ms;
+        }
+        refraction[g].push_back(ms);
+        frame[g].push_back(result.gpu_ms);
+      }
+      progress.update(f + 1);
+    }
+    size_t triangles = 0;
+    for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
+    const double fw = median(refraction[0]), df = median(refraction[1]);
+    char row[512];
+    std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df,
+                  df / fw, median(frame[0]), median(frame[1]));
+    table += row;
+    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
+    rows_csv += row;
+  }
+  std::cout << "device: " << vk.device_name() << ", " << width << "x" << height << ", median of " << frames << " frames after 2 warm-up\n\n"
+            << table;
+  if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
+  return 0;
+}
+
+// The paper's table: photons processed per method and effective grid on one scene, with the GPU
+// time of the caustic pass, one run.
+int cmd_bench_photons(Args& args) {
+  std::string scene_file = (data_dir() / kBenchScene).string(), out_dir, device;
+  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
+  uint32_t frames = 3, regular_max = 16384;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--scene")
+      scene_file = args.value(a);
+    else if (a == "--out")
+      out_dir = args.value(a);
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--regular-max")
+      regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
+    else if (a == "--grids") {
+      grids = parse_powers_of_two(a, args.value(a), 64, 65536);
+    } else {
+      unknown_option(a, {"--scene", "--grids", "--frames", "--regular-max", "--out", "--device"});
+    }
+  }
+  auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  struct Method {
+    const char* name;
+    const char* graph;
+    const char* set;  // a parameter override, or ""
+  };
+  const Method methods[] = {{"regular", "caustics_regular", ""},
+                            {"hierarchical", "caustics_hierarchical", ""},
+                            {"adaptive_max_level", "caustics_adaptive_maxlevel", ""},
+                            {"adaptive_max_error", "caustics_adaptive_maxerror", ""},
+                            {"adaptive_max_error_same_texel", "caustics_adaptive_maxerror", "converge_test=same_texel"},
+                            {"adaptive_hybrid", "caustics_adaptive", ""}};
+  std::string csv = "grid,method,processed,gpu_ms\n";
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  const std::string header =
+      "| photon grid | regular | hierarchical | adaptive, max level | adaptive, max error | adaptive, max error with the paper's "
+      "same-texel "
+      "test | adaptive, hybrid "
+      "|\n|---|---|---|---|---|---|---|\n";
+  std::string table = header, times = header;
+  for (uint32_t grid : grids) {
+    std::string row = "| " + std::to_string(grid) + "^2 |", time_row = row;
+    for (const auto& m : methods) {
+      if (std::string(m.name) == "regular" && grid > regular_max) {
+        row += " n/a |";
+        time_row += " n/a |";
+        continue;
+      }
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      executor.set_scene(scene);
+      auto g = graph::load_graph_file((data_dir() / "graphs" / (std::string(m.graph) + ".json")).string());
+      std::vector<std::string> sets{"grid=" + std::to_string(grid)};
+      if (*m.set) sets.emplace_back(m.set);
+      graph::apply_overrides(g, sets);
+      executor.configure(g, 640, 360);
+      executor.run_frame(false);  // pipelines compile on first use
+      std::vector<double> ms;
+      double processed = 0;
+      for (uint32_t f = 0; f < frames; ++f) {
+        auto result = executor.run_frame(false);
+        for (const auto& p : result.passes) {
+          if (p.name == "caustics") ms.push_back(p.gpu_ms);
+        }
+        processed = result.counters.count("photons.processed") ? result.counters.at("photons.processed") : 0;
+      }
+      char cell[128];
+      std::snprintf(cell, sizeof(cell), " %.0f |", processed);
+      row += cell;
+      std::snprintf(cell, sizeof(cell), " %.2f ms |", median(ms));
+      time_row += cell;
+      std::snprintf(cell, sizeof(cell), "%u,%s,%.0f,%.4f\n", grid, m.name, processed, median(ms));
+      csv += cell;
+      // On a terminal each grid's line is rewritten in place; in a log every method gets its own.
+      std::fprintf(stderr, "%s%u^2 %s: %.0f photons, %.2f ms%s", terminal ? "\r" : "", grid, m.name, processed, median(ms),
+                   terminal ? "          " : "\n");
+    }
+    if (terminal) std::fprintf(stderr, "\n");
+    table += row + "\n";
+    times += time_row + "\n";
+  }
+  std::cout << "scene " << scene->name << ", device " << vk.device_name() << ", median of " << frames
+            << " frames after one warm-up; GPU time of the caustic pass only\n\nphotons processed:\n\n"
+            << table << "\ncaustic pass GPU time:\n\n"
+            << times;
+  if (!out_dir.empty()) {
+    std::filesystem::create_directories(out_dir);
+    io::write_text_atomically((std::filesystem::path(out_dir) / "photons.csv").string(), csv);
+  }
+  return 0;
+}
+
+}  // namespace caustica::cli::bench

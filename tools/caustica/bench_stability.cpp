@@ -1,0 +1,226 @@
+// caustica bench stability: where each caustic method breaks (docs/stability.md).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "bench_common.h"
+#include "builtin_passes.h"
+#include "core/paths.h"
+#include "core/suggest.h"
+#include "io/image_io.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
+#include "scene/scene.h"
+
+namespace caustica::cli::bench {
+
+namespace {
+
+struct StabilityCase {
+  const char* label;
+  const char* scene;          // its last path component names the case for --cases
+  bool moving_light = false;  // also measure flicker along a light path
+  std::string name() const { return std::filesystem::path(scene).filename().string(); }
+};
+
+const StabilityCase kStabilityCases[] = {
+    {"ball lens", "sphere_plane"},
+    {"bunny with the light moving", "bunny_plane", true},
+    {"high index (n = 2.4)", "stability/high_index"},
+    {"grazing light", "stability/grazing_light"},
+    {"torus (four interfaces)", "torus"},
+    {"stacked refractors", "three_refractors"},
+    {"tiny refractor", "stability/tiny_refractor"},
+    {"refractor filling the view", "stability/filling_refractor"},
+    {"light close to the refractor", "stability/close_light"},
+    {"n = 1", "stability/index_one"},
+    {"no refractor", "no_refractor"},
+};
+
+std::shared_ptr<const scene::Scene> with_light_moved(const scene::Scene& scene, glm::vec3 offset) {
+  auto moved = std::make_shared<scene::Scene>(scene);
+  moved->lights.front().view.position += offset;
+  return moved;
+}
+
+}  // namespace
+
+// Where each caustic method breaks: every case of kStabilityCases x every method, against the
+// photon reference; docs/stability.md reports a run.
+int cmd_bench_stability(Args& args) {
+  uint32_t grid = 2048, caustic_size = 512, frames = 3, width = 320, height = 180;
+  uint64_t reference_photons = 20'000'000;
+  double blur = 1.5;
+  bool validate = false;
+  std::string out_dir, device;
+  std::vector<StabilityCase> cases(std::begin(kStabilityCases), std::end(kStabilityCases));
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--cases") {
+      std::vector<std::string> known;
+      for (const auto& c : kStabilityCases) known.push_back(c.name());
+      cases.clear();
+      for (const auto& name : parse_names(a, args.value(a))) {
+        const auto found = std::find(known.begin(), known.end(), name);
+        if (found == known.end()) throw UsageError("--cases: no case '" + name + "'" + did_you_mean(name, known) + "; see --help");
+        cases.push_back(kStabilityCases[found - known.begin()]);
+      }
+    } else if (a == "--grid")
+      grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
+    else if (a == "--caustic-size")
+      caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+    else if (a == "--reference-photons")
+      reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+    else if (a == "--out")
+      out_dir = args.value(a);
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--validate")
+      validate = true;
+    else
+      unknown_option(a, {"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
+  }
+  struct Method {
+    const char* label;
+    const char* graph;
+    const char* extra;  // a --set beyond grid and caustic_size, or null
+  };
+  const Method methods[] = {{"regular", "caustics_regular", nullptr},
+                            {"hierarchical", "caustics_hierarchical", nullptr},
+                            {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
+                            {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
+                            {"adaptive hybrid", "caustics_adaptive", nullptr},
+                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"},
+                            {"adaptive hybrid with search", "caustics_adaptive_hybrid", "distance=search"},
+                            {"adaptive hybrid with exact re-trace", "caustics_adaptive_hybrid", nullptr},
+                            {"ray query", "caustics_raytraced", nullptr}};
+  if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+  vk::Context vk(device_options(device, validate));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  std::string csv =
+      "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_"
+      "flicker,reference_landed_photons,reference_shift_l1\n";
+  std::string table =
+      "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 (reference) | flicker "
+      "(reference) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
+  const glm::vec3 shift(1e-4f, 0.0f, 0.0f);
+  constexpr int kPathSteps = 6;
+  const glm::vec3 step(0.02f, 0.0f, 0.0f);
+  for (const auto& c : cases) {
+    const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
+    reference::PhotonOptions options;
+    options.photons = reference_photons;
+    options.map_size = caustic_size;
+    auto reference_map = [&](const scene::Scene& s) { return reference::trace_photon_reference(s, options).caustic_map; };
+    const auto traced = reference::trace_photon_reference(*scene, options);
+    const io::ImageData& reference = traced.caustic_map;
+    // The exact answer's own sensitivity to the tiny move, sampled like the reference: where paths
+    // bounce many times (n = 2.4) it is large, and a method that follows them can be no calmer.
+    const double reference_shift = reference::compare_images(reference_map(*with_light_moved(*scene, shift)), reference, blur).relative_l1;
+    std::vector<io::ImageData> reference_path;
+    double reference_flicker = 0;
+    if (c.moving_light) {
+      reference_path.push_back(reference);  // the path's first position is the light's own
+      for (int i = 1; i < kPathSteps; ++i) reference_path.push_back(reference_map(*with_light_moved(*scene, step * float(i))));
+      for (int i = 1; i < kPathSteps; ++i)
+        reference_flicker += reference::compare_images(reference_path[i], reference_path[i - 1], blur).relative_l1 / (kPathSteps - 1);
+    }
+    for (const auto& m : methods) {
+      graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
+      std::vector<std::string> sets{"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)};
+      if (m.extra) sets.emplace_back(m.extra);
+      graph::apply_overrides(g, sets);
+      if (!runs_on(vk, g)) {
+        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(),
+                     vk.ray_queries().missing.c_str());
+        continue;
+      }
+      graph::Executor executor(vk, shaders, passes::builtin_registry());
+      auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
+        executor.set_scene(std::move(s));
+        executor.configure(g, width, height, {"caustics"});
+      };
+      auto render = [&](std::shared_ptr<const scene::Scene> s) {
+        prepare(std::move(s));
+        return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
+      };
+      // The moved lights' maps are compared, not timed: one frame each, without the warm-up.
+      auto render_untimed = [&](std::shared_ptr<const scene::Scene> s) {
+        prepare(std::move(s));
+        executor.run_frame(true);
+      };
+      // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
+      // never exists: an empty map, which is the right answer.
+      auto caustic_map = [&] {
+        const int index = executor.plan().find_resource("caustics");
+        if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
+        io::ImageData empty;
+        empty.width = empty.height = caustic_size;
+        empty.rgba.assign(size_t{caustic_size} * caustic_size * 4, 0.0f);
+        return empty;
+      };
+      const Timings t = render(scene);
+      const io::ImageData map = caustic_map();
+      const io::ImageData frame = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
+      uint64_t nonfinite = 0;
+      for (const auto* image : {&map, &frame}) {
+        for (float v : image->rgba) nonfinite += std::isfinite(v) ? 0 : 1;
+      }
+      for (const auto& [name, value] : t.last.counters) nonfinite += std::isfinite(value) ? 0 : 1;
+      const auto accuracy = reference::compare_images(map, reference, blur);
+      render_untimed(with_light_moved(*scene, shift));
+      const auto shifted = reference::compare_images(caustic_map(), map, blur);
+      double flicker = 0;
+      if (c.moving_light) {
+        io::ImageData previous = map;
+        for (int i = 1; i < kPathSteps; ++i) {
+          render_untimed(with_light_moved(*scene, step * float(i)));
+          io::ImageData current = caustic_map();
+          flicker += reference::compare_images(current, previous, blur).relative_l1 / (kPathSteps - 1);
+          previous = std::move(current);
+        }
+      }
+      const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
+      char line[768];
+      std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu,%.6f\n", c.label, m.label,
+                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
+                    t.method_ms, shifted.relative_l1, shifted.energy_ratio, flicker, reference_flicker,
+                    static_cast<unsigned long long>(traced.totals.landed_photons), reference_shift);
+      csv += line;
+      char flicker_cell[64] = "-";
+      if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", flicker, reference_flicker);
+      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %.2f | %.5f (%.5f) | %s |\n", c.label, m.label,
+                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
+                    t.method_ms, shifted.relative_l1, reference_shift, flicker_cell);
+      table += line;
+      std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1,
+                   accuracy.energy_ratio, static_cast<unsigned long long>(nonfinite));
+    }
+  }
+  char config[512];
+  std::snprintf(
+      config, sizeof(config),
+      "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, median of %u frames after one warm-up; reference %llu photons "
+      "(Fresnel on); metrics after a Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
+      vk.device_name().c_str(), grid, caustic_size, width, height, frames, static_cast<unsigned long long>(reference_photons), blur,
+      kPathSteps);
+  std::cout << config << "\n\n" << table;
+  if (!out_dir.empty()) {
+    const std::filesystem::path dir(out_dir);
+    io::write_text_atomically((dir / "stability.csv").string(), csv);
+    io::write_text_atomically((dir / "README.md").string(), "# caustica bench stability\n\n" + std::string(config) + "\n\n" + table);
+  }
+  if (vk.validation_messages() > 0) {
+    std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk.validation_messages());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace caustica::cli::bench
