@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <tuple>
 
+#include "common/scene_types.h"  // the bands' lines, which the shaders use too
 #include "core/paths.h"
 #include "io/json_reader.h"
 
@@ -13,7 +14,7 @@ namespace caustica::scene {
 
 glm::vec3 Material::band_iors() const {
   // n(lambda) = n_d + (n_F - n_C) (1/lambda^2 - 1/lambda_d^2) / (1/lambda_F^2 - 1/lambda_C^2)
-  constexpr double kC = 656.27, kD = 587.56, kF = 486.13;
+  constexpr double kC = CAUSTICA_LINE_C_NM, kD = CAUSTICA_LINE_D_NM, kF = CAUSTICA_LINE_F_NM;
   const auto inv2 = [](double nm) { return 1.0 / (nm * nm); };
   const double per_spread = 1.0 / (inv2(kF) - inv2(kC));
   const double spread = double(ior_spread());

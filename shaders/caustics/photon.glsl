@@ -37,6 +37,9 @@ void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], chan
 #ifdef CAUSTICA_RAY_QUERY
 #include "scene/ray_query.glsl"
 #endif
+#ifdef CAUSTICA_HYBRID
+#include "refraction/hybrid.glsl"
+#endif
 
 // The random numbers of the photon through `uv` (its position on the light's image plane), in the
 // order its Fresnel choices and rough surfaces draw them: the same on every device and in every run.
@@ -185,8 +188,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // no other refractor between it and the receiver), exact paths for the rest; the exact tracer
   // meets the opaque occluders itself.
   if (params.distance_mode == DISTANCE_MATERIAL &&
-      (!image_space_is_exact(object) ||
-       crosses_other_refractor(eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance), uint(front.w)))) {
+      material_traces_exactly(uint(front.w), eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance))) {
     return TRACE_FROM_LIGHT;
   }
 #endif
@@ -248,28 +250,19 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   bool lands = false;
 #ifdef CAUSTICA_HYBRID
   {
-    float tolerance = unpackHalf2x16(params.hybrid_packed).x;
-    uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), tolerance);
+    // A trusted path's exit ray is traced exactly: image space sees one refractor layer, and the
+    // receiver march lands a photon only to the light map's precision.
+    bool hit;
+    vec3 ground;
+    uint reason = hybrid_exit_ray(path, front, texture(back_tex, uv), unpackHalf2x16(params.hybrid_packed).x, hit, ground);
     if (reason != EXIT_TRUSTED) {
-      exact_count(RETRACED_FIRST + reason - EXIT_TIR);
-      return TRACE_FROM_LIGHT;
-    }
-    // A trusted path's exit ray is traced exactly: image space sees one refractor layer, so an exit
-    // ray that meets a refractor again (its own, another fold of a concave one, or another one)
-    // cannot be followed there, and the receiver march lands a photon only to the light map's
-    // precision. The exit point may lie inside the surface it leaves, by up to the tolerance.
-    // From a convex solid it asks for the receivers alone (trace_exit_ray).
-    vec3 exit_from = path.exit_point;
-    SurfaceHit h = trace_exit_ray(exit_from, path.exit_direction, uint(front.w), tolerance * path.distance + params.exact_epsilon, params.exact_epsilon);
-    if (h.hit && objects[h.object].albedo_refractor.a >= 0.5) {
-      exact_count(RETRACED_REFRACTOR_AHEAD);
+      exact_count(reason == EXIT_REFRACTOR_AHEAD ? RETRACED_REFRACTOR_AHEAD : RETRACED_FIRST + reason - EXIT_TIR);
       return TRACE_FROM_LIGHT;
     }
     // One that lands nowhere on the map leaves the refractor where image space is least sure of it
     // (near its outline, bent the most): re-traced, which measured better than trusting it.
     float depth;
-    vec3 ground = exit_from + path.exit_direction * h.t;
-    if (!h.hit || !project_with(light.view_proj, ground, landing, depth) || any(greaterThanEqual(landing, vec2(1.0)))) {
+    if (!hit || !project_with(light.view_proj, ground, landing, depth) || any(greaterThanEqual(landing, vec2(1.0)))) {
       exact_count(RETRACED_NO_LANDING);
       return TRACE_FROM_LIGHT;
     }

@@ -18,6 +18,12 @@ using uint = uint32_t;
 #define CAUSTICA_REFRACTOR_INSTANCES 0x02u
 #define CAUSTICA_ALL_INSTANCES 0xFFu
 #define CAUSTICA_MAX_TEXTURES 128  // the scene's texture array (set 1); unused slots hold a white texel
+// Colour bands of a dispersive material (KHR_materials_dispersion): red, green and blue refract with
+// the index at the Fraunhofer C, d and F lines, in nm. scene::Material::band_iors and refraction.glsl's
+// band_ior both place the bands from these.
+#define CAUSTICA_LINE_C_NM 656.27
+#define CAUSTICA_LINE_D_NM 587.56
+#define CAUSTICA_LINE_F_NM 486.13
 
 struct Vertex {
   vec4 position_dn;   // xyz world position, w: d_N (distance through the object along -normal)

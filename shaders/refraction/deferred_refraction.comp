@@ -38,6 +38,9 @@ layout(push_constant) uniform Params {
 
 #define REFRACTION_FRONT_TEX
 #include "refraction/refraction.glsl"
+#ifdef CAUSTICA_HYBRID
+#include "refraction/hybrid.glsl"
+#endif
 
 #ifdef CAUSTICA_HYBRID
 // The hybrid's image-space answer, or the reason it is not trusted: untrusted_exit's, or, for the
@@ -66,15 +69,12 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
     for (uint band = first; band <= last; ++band) {
       TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, band_ior(object, band), uv,
                                                   transmission_roughness(object), rng);
-      uint reason = untrusted_exit(path, front.w, texture(back_tex, uv), params.hybrid_tolerance);
-      if (reason != EXIT_TRUSTED) return reason;
-      vec3 exit_from = path.exit_point;
-      SurfaceHit h = trace_exit_ray(exit_from, path.exit_direction, uint(front.w), params.hybrid_tolerance * path.distance + params.exact_epsilon,
-                                    params.exact_epsilon);
-      if (h.hit && objects[h.object].albedo_refractor.a >= 0.5) return CAMERA_REFRACTOR_AHEAD;
+      bool hit;
+      vec3 behind;
+      uint reason = hybrid_exit_ray(path, front, texture(back_tex, uv), params.hybrid_tolerance, hit, behind);
+      if (reason != EXIT_TRUSTED) return reason == EXIT_REFRACTOR_AHEAD ? CAMERA_REFRACTOR_AHEAD : reason;
       vec2 behind_uv;
-      vec3 behind = exit_from + path.exit_direction * h.t;
-      if (!h.hit || !seen_on_screen(behind, behind_uv)) return CAMERA_OFF_SCREEN;
+      if (!hit || !seen_on_screen(behind, behind_uv)) return CAMERA_OFF_SCREEN;
       // Another refractor's bounds on the way: the estimated ray may just miss what the true one meets.
       if (crosses_other_refractor(path.exit_point, behind, uint(front.w))) return EXIT_MULTIPLE;
       vec3 seen = through_refractor(path, object, p1, dot(p1 - eye, n1) > 0.0 ? -n1 : n1, texture(background_tex, behind_uv).rgb);
@@ -99,13 +99,9 @@ vec3 shade(ivec2 pixel, vec2 uv, vec3 background) {
   project_to_screen(p1, ignored_uv, front_depth);
   if (opaque_depth < front_depth) return background;  // an opaque surface in front of the refractor
 #ifdef CAUSTICA_RAY_QUERY
-  ObjectData front_object = objects[uint(front.w)];
-  // DISTANCE_MATERIAL's choice, as for photons: image space where it is exact, unless another
-  // refractor lies between it and the background there.
-  bool exact_material = params.distance_mode == DISTANCE_MATERIAL &&
-                        (!image_space_is_exact(front_object) ||
-                         crosses_other_refractor(p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance,
-                                                 uint(front.w)));
+  bool exact_material =
+      params.distance_mode == DISTANCE_MATERIAL &&
+      material_traces_exactly(uint(front.w), p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance);
   if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {
     vec3 radiance;
     uint reason = EXIT_TRUSTED;

@@ -476,6 +476,12 @@ bool image_space_is_exact(ObjectData object) {
   return thin_walled(object) && object.alpha_cutoff.y < 0.0 && transmission_roughness(object) == 0.0 && object.base_color.row_u.w < 0.0 &&
          object.transmission_map.row_u.w < 0.0;
 }
+// DISTANCE_MATERIAL's choice, the same for photons and camera rays: a path that meets refractor `own`
+// at `entry` and would reach what lies behind it at `behind` is traced exactly unless image space
+// sees its exact path there and no other refractor lies between.
+bool material_traces_exactly(uint own, vec3 entry, vec3 behind) {
+  return !image_space_is_exact(objects[own]) || crosses_other_refractor(entry, behind, own);
+}
 // Whether a ray that met a thin-walled object's near wall at `front` (a refractor-buffer texel)
 // meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
 // pane one (its back texel is then the near wall again, or empty).
@@ -483,9 +489,11 @@ bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-
 // Colour bands (KHR_materials_dispersion): BAND_WHITE is one path for every channel with the index
 // n_d; bands 0, 1, 2 (red, green, blue) refract with the index of the C, d and F lines. Where each
 // band's index lies, in units of n_F - n_C above n_d: (1/lambda^2 - 1/lambda_d^2) / (1/lambda_F^2 -
-// 1/lambda_C^2) (scene::Material::band_iors).
+// 1/lambda_C^2), from the lines in common/scene_types.h (as scene::Material::band_iors).
 const uint BAND_WHITE = 3u;
-const vec3 BAND_SPREAD = vec3(-0.300993, 0.0, 0.699007);
+const float BAND_INV2_C = 1.0 / (CAUSTICA_LINE_C_NM * CAUSTICA_LINE_C_NM), BAND_INV2_D = 1.0 / (CAUSTICA_LINE_D_NM * CAUSTICA_LINE_D_NM),
+            BAND_INV2_F = 1.0 / (CAUSTICA_LINE_F_NM * CAUSTICA_LINE_F_NM);
+const vec3 BAND_SPREAD = (vec3(BAND_INV2_C, BAND_INV2_D, BAND_INV2_F) - BAND_INV2_D) / (BAND_INV2_F - BAND_INV2_C);
 bool disperses(ObjectData object) { return object.bounds_max_spread.w > 0.0; }
 float band_ior(ObjectData object, uint band) {
   return band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[band] * object.bounds_max_spread.w;
