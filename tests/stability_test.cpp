@@ -60,7 +60,7 @@ StabilityRun run_stability() {
   const char* size = "--grid 512 --caustic-size 256 --reference-photons 4e6";
 #endif
   const std::string command =
-      "'" CAUSTICA_BIN "' bench stability " + std::string(size) + " --frames 1 --validate --out '" + dir.string() + "'";
+      "'" CAUSTICA_BIN "' bench stability " + std::string(size) + " --frames 0 --validate --out '" + dir.string() + "'";
   run.exit_code = std::system(command.c_str());
   std::ifstream csv(dir / "stability.csv");
   std::string header;

@@ -73,7 +73,7 @@ int cmd_bench_stability(Args& args) {
     else if (a == "--caustic-size")
       caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
     else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 0, 100));
     else if (a == "--reference-photons")
       reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
     else if (a == "--out")
@@ -146,9 +146,14 @@ int cmd_bench_stability(Args& args) {
         executor.set_scene(std::move(s));
         executor.configure(g, width, height, {"caustics"});
       };
+      // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
       auto render = [&](std::shared_ptr<const scene::Scene> s) {
         prepare(std::move(s));
-        return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
+        if (frames > 0) return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
+        Timings untimed;
+        untimed.method_ms = untimed.frame_ms = std::nan("");
+        untimed.last = executor.run_frame(true);
+        return untimed;
       };
       // The moved lights' maps are compared, not timed: one frame each, without the warm-up.
       auto render_untimed = [&](std::shared_ptr<const scene::Scene> s) {
@@ -195,21 +200,24 @@ int cmd_bench_stability(Args& args) {
       csv += line;
       char flicker_cell[64] = "-";
       if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", flicker, reference_flicker);
-      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %.2f | %.5f (%.5f) | %s |\n", c.label, m.label,
+      char ms_cell[32] = "-";
+      if (frames > 0) std::snprintf(ms_cell, sizeof(ms_cell), "%.2f", t.method_ms);
+      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %s | %.5f (%.5f) | %s |\n", c.label, m.label,
                     accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
-                    t.method_ms, shifted.relative_l1, reference_shift, flicker_cell);
+                    ms_cell, shifted.relative_l1, reference_shift, flicker_cell);
       table += line;
       std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1,
                    accuracy.energy_ratio, static_cast<unsigned long long>(nonfinite));
     }
   }
+  char timing[64] = "one frame, untimed";
+  if (frames > 0) std::snprintf(timing, sizeof(timing), "median of %u frames after one warm-up", frames);
   char config[512];
-  std::snprintf(
-      config, sizeof(config),
-      "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, median of %u frames after one warm-up; reference %llu photons "
-      "(Fresnel on); metrics after a Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
-      vk.device_name().c_str(), grid, caustic_size, width, height, frames, static_cast<unsigned long long>(reference_photons), blur,
-      kPathSteps);
+  std::snprintf(config, sizeof(config),
+                "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, %s; reference %llu photons (Fresnel on); metrics after a "
+                "Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
+                vk.device_name().c_str(), grid, caustic_size, width, height, timing, static_cast<unsigned long long>(reference_photons),
+                blur, kPathSteps);
   std::cout << config << "\n\n" << table;
   if (!out_dir.empty()) {
     const std::filesystem::path dir(out_dir);
