@@ -237,6 +237,9 @@ struct DeferredRefractionPush {
   RefractionPush refraction;
   int32_t rect[4];  // x0, y0, x1, y1
 };
+struct CopyPush {  // shaders/common/copy.comp's
+  int32_t size[2];
+};
 }  // namespace
 
 void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact) {
@@ -252,11 +255,19 @@ void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format tar
       {"deferred_refraction", front_tint_bindings(setup, exact ? exact->bindings(bindings) : bindings), sizeof(DeferredRefractionPush),
        exact ? exact->texture_array() : 0},
       setup.shaders().compile("refraction/deferred_refraction.comp", refraction_defines(setup, exact ? exact->defines(out_format) : out_format)));
+  copy_ = vk::make_compute_pipeline(
+      setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(CopyPush)},
+      setup.shaders().compile("common/copy.comp", out_format));
 }
 
 void DeferredRefractionShading::record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front,
                                        VkImageView back, VkImageView target, VkExtent2D extent, VkRect2D rect) const {
+  copy(ctx, background, target, extent);
+  if (rect.extent.width == 0 || rect.extent.height == 0) return;
   VkCommandBuffer cmd = ctx.cmd();
+  // The refracted pixels overwrite the copy's.
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, refract_.pipeline.get());
   vk::DescriptorWriter writer = refraction_descriptors(ctx, background, front, back, exact_);
   writer.storage_image(8, target).push(ctx.vk(), cmd, refract_);
@@ -265,6 +276,15 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
                                        {rect.offset.x, rect.offset.y, rect.offset.x + static_cast<int32_t>(rect.extent.width),
                                         rect.offset.y + static_cast<int32_t>(rect.extent.height)}};
   vkCmdPushConstants(cmd, refract_.layout.get(), refract_.stages, 0, sizeof(shading), &shading);
+  vkCmdDispatch(cmd, (rect.extent.width + 7) / 8, (rect.extent.height + 7) / 8, 1);
+}
+
+void DeferredRefractionShading::copy(const graph::PassContext& ctx, VkImageView source, VkImageView target, VkExtent2D extent) const {
+  VkCommandBuffer cmd = ctx.cmd();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_.pipeline.get());
+  vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target).push(ctx.vk(), cmd, copy_);
+  const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
+  vkCmdPushConstants(cmd, copy_.layout.get(), copy_.stages, 0, sizeof(size), &size);
   vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
 }
 

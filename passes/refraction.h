@@ -90,18 +90,21 @@ vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, VkIma
 // seen by `view_proj`; the whole extent when any box reaches behind the eye.
 VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, const std::vector<uint32_t>& objects, VkExtent2D extent);
 
-// Deferred refraction shading over a storage image (general layout), one compute dispatch: the
-// refraction shader inside the refractors' screen rectangle, a plain copy of the background outside
-// it, so that pixels that cannot show a refractor cost a copy and not a refraction lookup. With
-// `exact` (which must outlive it) the shader traces exact camera paths where that pass's parameters
-// ask for them.
+// Deferred refraction shading over a storage image (general layout), in compute: a plain copy of
+// the background over the whole target, then the refraction shader over the refractors' screen
+// rectangle alone, so that pixels that cannot show a refractor cost a copy and not a refraction
+// lookup. With `exact` (which must outlive it) the shader traces exact camera paths where that
+// pass's parameters ask for them.
 class DeferredRefractionShading {
  public:
   void setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact = nullptr);
   void record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front, VkImageView back,
               VkImageView target, VkExtent2D extent, VkRect2D rect) const;
+  // `source` copied into `target` (general layout), the same extent.
+  void copy(const graph::PassContext& ctx, VkImageView source, VkImageView target, VkExtent2D extent) const;
+
  private:
-  vk::Pipeline refract_;
+  vk::Pipeline refract_, copy_;
   const RayQueryScene* exact_ = nullptr;
 };
 

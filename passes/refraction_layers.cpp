@@ -24,21 +24,13 @@ constexpr Use kAttachmentWrite{VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPE
 constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
 constexpr Use kStorageWrite{VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 
-struct CopyPush {  // shaders/common/copy.comp's
-  int32_t size[2];
-};
-
 class RefractionLayersPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
     layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
     surfaces_.setup(setup, "front", "front_depth");
-    const graph::Format color = setup.resource("color").format;
-    shading_.setup(setup, color);
-    copy_ = vk::make_compute_pipeline(
-        setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(CopyPush)},
-        setup.shaders().compile("common/copy.comp", {{"OUT_FORMAT", graph::format_info(color).glsl_qualifier}}));
+    shading_.setup(setup, setup.resource("color").format);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -72,14 +64,7 @@ class RefractionLayersPass final : public graph::Pass {
     // (with no refractor at all, that copy is the result).
     if (layers % 2 == 0) {
       make("background", kSampledRead);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_.pipeline.get());
-      vk::DescriptorWriter()
-          .sampled_image(0, ctx.view("background"), ctx.nearest_sampler())
-          .storage_image(1, ctx.view("color"))
-          .push(ctx.vk(), cmd, copy_);
-      const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
-      vkCmdPushConstants(cmd, copy_.layout.get(), copy_.stages, 0, sizeof(size), &size);
-      vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+      shading_.copy(ctx, ctx.view("background"), ctx.view("color"), extent);
     }
     for (uint32_t i = 0; i < layers; ++i) {
       if (i > 0) {
@@ -106,7 +91,6 @@ class RefractionLayersPass final : public graph::Pass {
  private:
   RefractorSurfaces surfaces_;
   DeferredRefractionShading shading_;
-  vk::Pipeline copy_;
   uint32_t tir_counter_ = 0, layers_counter_ = 0;
 };
 

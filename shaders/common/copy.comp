@@ -1,7 +1,7 @@
 #version 460
-// An image copied into a storage image of the same extent (refraction_layers: the background that
-// an even count of layers starts from, or, with no refractor, the result). OUT_FORMAT is the
-// target's storage format qualifier, set by the pass.
+// An image copied into a storage image of the same extent (deferred refraction: the background
+// under the refractors' rectangle, and in refraction_layers the background that an even count of
+// layers starts from). OUT_FORMAT is the target's storage format qualifier, set by the pass.
 #ifndef OUT_FORMAT
 #define OUT_FORMAT rgba16f
 #endif

@@ -1,10 +1,11 @@
 #version 460
 // Deferred refraction: one compute dispatch over the refractor buffers; each pixel is shaded once,
 // for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT).
-// Pixels outside `rect` (the refractors' screen rectangle) copy the background. A compute shader
-// rather than a full-screen triangle because llvmpipe (lavapipe) compiles every fragment shader
-// twice, for whole tiles and for tiles on a triangle's edge: this kernel, the project's largest,
-// is compiled once. OUT_FORMAT is the target's storage format qualifier, set by the pass.
+// Dispatched over `rect` (the refractors' screen rectangle) alone, after the pass has copied the
+// background over the whole target (common/copy.comp): pixels that cannot show a refractor cost a
+// copy, not this kernel. A compute shader rather than a full-screen triangle because llvmpipe
+// (lavapipe) compiles every fragment shader twice, for whole tiles and for tiles on a triangle's
+// edge. OUT_FORMAT is the target's storage format qualifier, set by the pass.
 // Compiled with CAUSTICA_RAY_QUERY when the pass's `distance` is ray_query (every pixel traced
 // exactly), material, or hybrid (the image-space search, traced exactly where it cannot be
 // trusted; CAUSTICA_HYBRID too).
@@ -33,7 +34,7 @@ layout(push_constant) uniform Params {
   float exact_epsilon;
   float hybrid_tolerance;
   uint exact_counters;
-  ivec4 rect;  // x0, y0, x1, y1: pixels in [x0, x1) x [y0, y1) are refracted
+  ivec4 rect;  // x0, y0, x1, y1: the dispatch covers [x0, x1) x [y0, y1) from (x0, y0)
 } params;
 
 #define REFRACTION_FRONT_TEX
@@ -121,10 +122,8 @@ vec3 shade(ivec2 pixel, vec2 uv, vec3 background) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, ivec2(frame.sizes.xy)))) return;
+  ivec2 pixel = params.rect.xy + ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, params.rect.zw))) return;
   vec2 uv = (vec2(pixel) + 0.5) * frame.sizes.zw;
-  vec3 background = texture(background_tex, uv).rgb;
-  bool inside = all(greaterThanEqual(pixel, params.rect.xy)) && all(lessThan(pixel, params.rect.zw));
-  imageStore(out_color, pixel, vec4(inside ? shade(pixel, uv, background) : background, 1.0));
+  imageStore(out_color, pixel, vec4(shade(pixel, uv, texture(background_tex, uv).rgb), 1.0));
 }
