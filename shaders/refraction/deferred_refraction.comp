@@ -1,11 +1,12 @@
 #version 460
-// Deferred refraction: one compute dispatch over the refractor buffers; each pixel is shaded once,
-// for the nearest refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT).
-// Dispatched over `rect` (the refractors' screen rectangle) alone, after the pass has copied the
-// background over the whole target (common/copy.comp): pixels that cannot show a refractor cost a
-// copy, not this kernel. A compute shader rather than a full-screen triangle because llvmpipe
-// (lavapipe) compiles every fragment shader twice, for whole tiles and for tiles on a triangle's
-// edge. OUT_FORMAT is the target's storage format qualifier, set by the pass.
+// Deferred refraction over the refractor buffers; each pixel is shaded once, for the nearest
+// refractor surface only (its tint and transmission per pixel with REFRACTOR_TINT). Dispatched over
+// `rect` (the refractors' screen rectangle) alone, after the pass has copied the background over the
+// whole target (common/copy.comp): pixels that cannot show a refractor cost a copy, not this kernel.
+// A compute shader because llvmpipe (lavapipe) compiles a fragment shader twice, for whole tiles and
+// for tiles on a triangle's edge (10.5 s of the ray-query variant's cold compile); it runs slower
+// there than the fragment version did (docs/testing.md). OUT_FORMAT is the target's storage format
+// qualifier, set by the pass.
 // Compiled with CAUSTICA_RAY_QUERY when the pass's `distance` is ray_query (every pixel traced
 // exactly), material, or hybrid (the image-space search, traced exactly where it cannot be
 // trusted; CAUSTICA_HYBRID too).
