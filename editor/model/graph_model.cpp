@@ -78,27 +78,32 @@ GraphModel GraphModel::open(const std::string& path, const graph::PassRegistry& 
 }
 
 GraphModel::GraphModel(std::string text, std::string path, const graph::PassRegistry& registry)
-    : registry_(&registry), path_(std::move(path)), base_text_(std::move(text)) {
+    : registry_(&registry), path_(std::move(path)), base_(std::move(text)) {
   // The engine's parser first: its messages name the line, and it refuses what nlohmann accepts
   // (duplicate keys).
-  JsonDocument::parse(base_text_, path_);
-  doc_ = saved_ = ordered_json::parse(base_text_);
-  validate(doc_);
+  JsonDocument::parse(base_.original(), path_);
+  doc_ = saved_ = ordered_json::parse(base_.original());
+  text_ = validate(doc_);
 }
 
 graph::GraphDesc GraphModel::desc() const {
   return graph::load_graph(JsonDocument::parse(text(), path_));
 }
 
-std::string GraphModel::text() const {
-  return write_preserving(doc_, base_text_);
-}
-
-void GraphModel::validate(const ordered_json& doc) const {
-  const graph::GraphDesc graph = graph::load_graph(JsonDocument::parse(write_preserving(doc, base_text_), path_));
+std::string GraphModel::validate(const ordered_json& doc) const {
+  std::string text = base_.write(doc);
+  const graph::GraphDesc graph = graph::load_graph(JsonDocument::parse(text, path_));
   graph::CompileOptions options;
   options.scene_values = graph::typical_scene_values();
   graph::compile_graph(graph, *registry_, options);
+  return text;
+}
+
+void GraphModel::commit(const std::string& label, ordered_json doc, std::string text) {
+  undo_.push_back({std::move(doc_), std::move(text_), label});
+  redo_.clear();
+  doc_ = std::move(doc);
+  text_ = std::move(text);
 }
 
 template <class Change>
@@ -106,10 +111,8 @@ void GraphModel::apply(const std::string& label, Change&& change) {
   ordered_json next = doc_;
   change(next);
   if (next == doc_) return;  // nothing to undo
-  validate(next);
-  undo_.push_back({std::move(doc_), label});
-  redo_.clear();
-  doc_ = std::move(next);
+  std::string text = validate(next);
+  commit(label, std::move(next), std::move(text));
 }
 
 ordered_json& GraphModel::pass_json(ordered_json& doc, const std::string& pass) const {
@@ -239,15 +242,14 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
       if (!out.empty()) candidate["outputs"] = out;
       for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
       next["passes"].push_back(candidate);
+      std::string text;
       try {
-        validate(next);
+        text = validate(next);
       } catch (const InputError& e) {
         if (first_error.empty()) first_error = e.what();
         return false;
       }
-      undo_.push_back({std::move(doc_), "add pass " + name});
-      redo_.clear();
-      doc_ = std::move(next);
+      commit("add pass " + name, std::move(next), std::move(text));
       return true;
     }
     for (const auto& r : candidates[i]) {
@@ -469,8 +471,9 @@ void GraphModel::set_position(const std::string& pass, float x, float y) {
 // Moves the newest step of `from` onto `to`, swapping it with the current document.
 bool GraphModel::step(std::vector<Step>& from, std::vector<Step>& to) {
   if (from.empty()) return false;
-  to.push_back({std::move(doc_), from.back().label});
+  to.push_back({std::move(doc_), std::move(text_), from.back().label});
   doc_ = std::move(from.back().doc);
+  text_ = std::move(from.back().text);
   from.pop_back();
   return true;
 }
@@ -484,7 +487,7 @@ bool GraphModel::redo() {
 
 bool GraphModel::changed_on_disk() const {
   try {
-    return read_text_file(path_, JsonDocument::kMaxBytes) != base_text_;
+    return read_text_file(path_, JsonDocument::kMaxBytes) != base_.original();
   } catch (const InputError&) {
     return true;  // deleted or unreadable
   }
@@ -492,17 +495,15 @@ bool GraphModel::changed_on_disk() const {
 
 void GraphModel::save(bool overwrite) {
   if (!overwrite && changed_on_disk()) throw InputError(path_ + ": changed on disk since it was opened or last saved; not overwritten");
-  const std::string out = text();
-  io::write_text_atomically(path_, out);
-  base_text_ = out;
+  io::write_text_atomically(path_, text_);
+  base_ = PreservingWriter(text_);
   saved_ = doc_;
 }
 
 void GraphModel::save_as(const std::string& path) {
-  const std::string out = text();
-  io::write_text_atomically(path, out);
+  io::write_text_atomically(path, text_);
   path_ = path;
-  base_text_ = out;
+  base_ = PreservingWriter(text_);
   saved_ = doc_;
 }
 

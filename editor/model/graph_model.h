@@ -10,6 +10,7 @@
 
 #include "graph/graph_desc.h"
 #include "graph/pass_type.h"
+#include "model/json_text.h"
 
 namespace caustica::editor {
 
@@ -25,7 +26,7 @@ class GraphModel {
   // The current graph as the engine loads it.
   graph::GraphDesc desc() const;
   // What save() writes: the text as loaded with the edits applied.
-  std::string text() const;
+  const std::string& text() const { return text_; }
   // Whether the graph differs from the file as opened or last saved.
   bool modified() const { return doc_ != saved_; }
 
@@ -86,12 +87,15 @@ class GraphModel {
  private:
   struct Step {
     nlohmann::ordered_json doc;
+    std::string text;  // as text() was then, so that an undo after a save restores those bytes
     std::string label;
   };
   template <class Change>
   void apply(const std::string& label, Change&& change);
-  // Throws the validator's InputError unless `doc` is a valid graph.
-  void validate(const nlohmann::ordered_json& doc) const;
+  // Throws the validator's InputError unless `doc` is a valid graph; returns its text.
+  std::string validate(const nlohmann::ordered_json& doc) const;
+  // Makes `doc` (with its text) the current graph, the one before it an undo step.
+  void commit(const std::string& label, nlohmann::ordered_json doc, std::string text);
   nlohmann::ordered_json& pass_json(nlohmann::ordered_json& doc, const std::string& pass) const;
   // doc[section][name]; throws InputError naming the missing `what` (with a suggestion).
   nlohmann::ordered_json& member(nlohmann::ordered_json& doc, const char* section, const std::string& name, const char* what) const;
@@ -101,8 +105,9 @@ class GraphModel {
 
   const graph::PassRegistry* registry_;
   std::string path_;
-  std::string base_text_;  // the file as opened or last saved: what text() preserves
+  PreservingWriter base_;  // the file as opened or last saved: what text() preserves
   nlohmann::ordered_json doc_, saved_;
+  std::string text_;
   std::vector<Step> undo_, redo_;
 };
 

@@ -6,7 +6,8 @@
 #include <vector>
 
 namespace caustica::editor {
-namespace {
+// Named rather than anonymous: PreservingWriter::Original, declared in the header, holds these.
+namespace json_text_parts {
 
 using nlohmann::ordered_json;
 
@@ -218,16 +219,39 @@ class Writer {
   char indent_char_ = ' ';
 };
 
-}  // namespace
+}  // namespace json_text_parts
+
+using json_text_parts::ordered_json;
+
+struct PreservingWriter::Original {
+  explicit Original(std::string text_in)
+      : text(std::move(text_in)),
+        value(ordered_json::parse(text, nullptr, false)),
+        root(value.is_discarded() ? json_text_parts::TextNode{} : json_text_parts::Scanner(text).value()),
+        writer(text) {}
+  std::string text;
+  ordered_json value;
+  json_text_parts::TextNode root;
+  json_text_parts::Writer writer;
+};
+
+PreservingWriter::PreservingWriter(std::string original) : original_(std::make_shared<const Original>(std::move(original))) {}
+
+const std::string& PreservingWriter::original() const {
+  return original_->text;
+}
+
+std::string PreservingWriter::write(const ordered_json& value) const {
+  const Original& o = *original_;
+  if (o.value.is_discarded()) return value.dump(2) + "\n";
+  std::string out = o.text.substr(0, o.root.begin);
+  o.writer.emit(value, &o.value, &o.root, 0, out);
+  out += o.text.substr(o.root.end);
+  return out;
+}
 
 std::string write_preserving(const ordered_json& value, std::string_view original) {
-  const ordered_json old = ordered_json::parse(original, nullptr, false);
-  if (old.is_discarded()) return value.dump(2) + "\n";
-  const TextNode root = Scanner(original).value();
-  std::string out(original.substr(0, root.begin));
-  Writer(original).emit(value, &old, &root, 0, out);
-  out += original.substr(root.end);
-  return out;
+  return PreservingWriter(std::string(original)).write(value);
 }
 
 }  // namespace caustica::editor
