@@ -381,6 +381,7 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
       [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
@@ -401,6 +402,7 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
       [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;

@@ -45,16 +45,24 @@ class BoxBlurPass final : public graph::Pass {
 
 graph::PassTypeDecl box_blur_pass_type() {
   using namespace graph;
-  return {"box_blur",
-          "Compute pass: a box filter along one axis, edges clamped; two of them make a separable blur.",
-          PassQueue::compute,
-          {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "image to filter"},
-           {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f}, false, "frame",
-            "filtered image, same extent"}},
-          {{"radius", ParamType::int_, 2, 0.0, 64.0, {}, "texels on each side"},
-           {"axis", ParamType::choice, "x", {}, {}, {"x", "y"}, "filter direction"}},
-          false,
-          [] { return std::make_unique<BoxBlurPass>(); }};
+  PassTypeDecl decl{"box_blur",
+                    "Compute pass: a box filter along one axis, edges clamped; two of them make a separable blur.",
+                    PassQueue::compute,
+                    {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "image to filter"},
+                     {"target",
+                      PortAccess::write,
+                      ResourceKind::image,
+                      PortUsage::storage,
+                      {Format::rgba16f, Format::rgba32f},
+                      false,
+                      "frame",
+                      "filtered image, same extent"}},
+                    {{"radius", ParamType::int_, 2, 0.0, 64.0, {}, "texels on each side"},
+                     {"axis", ParamType::choice, "x", {}, {}, {"x", "y"}, "filter direction"}},
+                    false,
+                    [] { return std::make_unique<BoxBlurPass>(); }};
+  decl.depends_on = [](const nlohmann::json&) { return 0u; };  // its input and parameters alone
+  return decl;
 }
 
 }  // namespace caustica::passes

@@ -125,6 +125,10 @@ graph::PassTypeDecl caustic_map_pass_type() {
       [] { return std::make_unique<CausticMapPass>(); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
+  // A jittered grid moves every frame (the progressive graph).
+  decl.depends_on = [](const nlohmann::json& resolved) {
+    return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
+  };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;

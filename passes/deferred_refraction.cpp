@@ -71,6 +71,7 @@ graph::PassTypeDecl deferred_refraction_pass_type() {
                     false,
                     [] { return std::make_unique<DeferredRefractionPass>(); }};
   decl.needs_scene = true;
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kCameraRayQueryAlternative;
   return decl;

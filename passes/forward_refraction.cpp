@@ -83,6 +83,7 @@ graph::PassTypeDecl forward_refraction_pass_type() {
                     false,
                     [] { return std::make_unique<ForwardRefractionPass>(); }};
   decl.needs_scene = true;
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
   return decl;
 }
 

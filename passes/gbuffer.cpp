@@ -77,6 +77,7 @@ graph::PassTypeDecl gbuffer_pass_type() {
       false,
       [] { return std::make_unique<GBufferPass>(); }};
   decl.needs_scene = true;
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnCamera; };
   return decl;
 }
 

@@ -108,6 +108,7 @@ graph::PassTypeDecl lighting_pass_type() {
       false,
       [] { return std::make_unique<LightingPass>(); }};
   decl.needs_scene = true;
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
   return decl;
 }
 

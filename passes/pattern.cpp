@@ -18,9 +18,9 @@ class PatternPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     const auto& target = setup.resource("color");
-    pipeline_ = vk::make_fullscreen_pipeline(setup.vk(), {"pattern", {}, sizeof(PatternParams)},
-                                             setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("core/pattern.frag"),
-                                             {graph::format_info(target.format).vk});
+    pipeline_ =
+        vk::make_fullscreen_pipeline(setup.vk(), {"pattern", {}, sizeof(PatternParams)}, setup.shaders().compile("common/fullscreen.vert"),
+                                     setup.shaders().compile("core/pattern.frag"), {graph::format_info(target.format).vk});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -61,18 +61,26 @@ class PatternPass final : public graph::Pass {
 
 graph::PassTypeDecl pattern_pass_type() {
   using namespace graph;
-  return {"pattern",
-          "Full-screen pass: an analytic HDR test pattern (stripes and a Gaussian sun brighter than 1).",
-          PassQueue::graphics,
-          {{"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false, "",
-            "the pattern, linear HDR"}},
-          {{"frequency", ParamType::float_, 4.0, 0.0, 256.0, {}, "stripes across the image"},
-           {"sun_x", ParamType::float_, 0.7, -1.0, 2.0, {}, "sun centre, 0..1 across"},
-           {"sun_y", ParamType::float_, 0.3, -1.0, 2.0, {}, "sun centre, 0..1 down"},
-           {"sun_intensity", ParamType::float_, 6.0, 0.0, 1000.0, {}, "peak added radiance of the sun"},
-           {"sun_radius", ParamType::float_, 0.08, 0.001, 10.0, {}, "Gaussian radius of the sun, in image widths"}},
-          false,
-          [] { return std::make_unique<PatternPass>(); }};
+  PassTypeDecl decl{"pattern",
+                    "Full-screen pass: an analytic HDR test pattern (stripes and a Gaussian sun brighter than 1).",
+                    PassQueue::graphics,
+                    {{"color",
+                      PortAccess::write,
+                      ResourceKind::image,
+                      PortUsage::color_attachment,
+                      {Format::rgba16f, Format::rgba32f},
+                      false,
+                      "",
+                      "the pattern, linear HDR"}},
+                    {{"frequency", ParamType::float_, 4.0, 0.0, 256.0, {}, "stripes across the image"},
+                     {"sun_x", ParamType::float_, 0.7, -1.0, 2.0, {}, "sun centre, 0..1 across"},
+                     {"sun_y", ParamType::float_, 0.3, -1.0, 2.0, {}, "sun centre, 0..1 down"},
+                     {"sun_intensity", ParamType::float_, 6.0, 0.0, 1000.0, {}, "peak added radiance of the sun"},
+                     {"sun_radius", ParamType::float_, 0.08, 0.001, 10.0, {}, "Gaussian radius of the sun, in image widths"}},
+                    false,
+                    [] { return std::make_unique<PatternPass>(); }};
+  decl.depends_on = [](const nlohmann::json&) { return 0u; };  // its input and parameters alone
+  return decl;
 }
 
 }  // namespace caustica::passes

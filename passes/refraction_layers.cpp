@@ -138,6 +138,7 @@ graph::PassTypeDecl refraction_layers_pass_type() {
                     false,
                     [] { return std::make_unique<RefractionLayersPass>(); }};
   decl.needs_scene = true;
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
   return decl;
 }
 

@@ -136,6 +136,9 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
       [] { return std::make_unique<RefractorBuffersPass>(); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json& params) { return params.value("view", "camera") == "light"; };
+  decl.depends_on = [](const nlohmann::json& params) {
+    return kDependsOnGeometry | (params.value("view", "camera") == "light" ? kDependsOnLights : kDependsOnCamera);
+  };
   return decl;
 }
 

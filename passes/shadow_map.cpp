@@ -47,6 +47,7 @@ graph::PassTypeDecl shadow_map_pass_type() {
                     [] { return std::make_unique<ShadowMapPass>(); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
+  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
   return decl;
 }
 

@@ -16,19 +16,18 @@ class TonemapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     bright_counter_ = setup.add_counter("tonemap.bright_pixels");
-    pipeline_ = vk::make_compute_pipeline(setup.vk(),
-                                          {"tonemap",
-                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                           sizeof(TonemapParams)},
-                                          setup.shaders().compile("core/tonemap.comp"));
+    pipeline_ = vk::make_compute_pipeline(
+        setup.vk(),
+        {"tonemap",
+         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         sizeof(TonemapParams)},
+        setup.shaders().compile("core/tonemap.comp"));
   }
 
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("target");
-    TonemapParams params{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)},
-                         ctx.params()["exposure"].get<float>(),
-                         bright_counter_};
+    TonemapParams params{
+        {static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}, ctx.params()["exposure"].get<float>(), bright_counter_};
     VkCommandBuffer cmd = ctx.cmd();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
     vk::DescriptorWriter()
@@ -49,14 +48,17 @@ class TonemapPass final : public graph::Pass {
 
 graph::PassTypeDecl tonemap_pass_type() {
   using namespace graph;
-  return {"tonemap",
-          "Compute pass: exposure, 1 - exp(-x) tonemap, sRGB encode into an 8-bit image. Counter tonemap.bright_pixels.",
-          PassQueue::compute,
-          {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "linear HDR"},
-           {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba8}, false, "frame", "display-ready"}},
-          {{"exposure", ParamType::float_, 1.0, 0.0, 1000.0, {}, "multiplies the HDR input"}},
-          false,
-          [] { return std::make_unique<TonemapPass>(); }};
+  PassTypeDecl decl{
+      "tonemap",
+      "Compute pass: exposure, 1 - exp(-x) tonemap, sRGB encode into an 8-bit image. Counter tonemap.bright_pixels.",
+      PassQueue::compute,
+      {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "linear HDR"},
+       {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba8}, false, "frame", "display-ready"}},
+      {{"exposure", ParamType::float_, 1.0, 0.0, 1000.0, {}, "multiplies the HDR input"}},
+      false,
+      [] { return std::make_unique<TonemapPass>(); }};
+  decl.depends_on = [](const nlohmann::json&) { return 0u; };  // its input and parameters alone
+  return decl;
 }
 
 }  // namespace caustica::passes

@@ -588,3 +588,48 @@ TEST(Compiler, FallbackAndEnabledErrorsNameTheProblem) {
   // Without a scene, expressions about it are unknown names.
   EXPECT_NE(compile_error(scene_dependent()).find("scene.refractors"), std::string::npos);
 }
+
+// What each pass depends on: its own scene parts and its inputs' writers'; a pass that rewrites an
+// earlier pass's result (read_write) makes that pass run whenever it does. With reuse on, what
+// reusable passes write is kept, and a kept image's first barrier starts from the layout the last
+// frame left it in instead of discarding it.
+TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
+  const nlohmann::json graph = {{"resources", {{"lit", image()}, {"filtered", image()}, {"viewed", image()}, {"out", image()}}},
+                                {"passes",
+                                 {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+                                  {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}}}, {"outputs", {{"color", "viewed"}}}},
+                                  {{"name", "f"}, {"type", "filter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "filtered"}}}},
+                                  {{"name", "mix"}, {"type", "blend"}, {"inputs", {{"a", "filtered"}, {"b", "viewed"}}}, {"outputs", {{"color", "out"}}}}}},
+                                {"outputs", {"out"}}};
+  auto depends = [](const Plan& plan, const std::string& pass) {
+    for (const auto& p : plan.passes) {
+      if (p.name == pass) return dependency_names(p.depends);
+    }
+    return std::vector<std::string>{"(no pass " + pass + ")"};
+  };
+  const Plan plain = compile(graph);
+  EXPECT_EQ(depends(plain, "light"), (std::vector<std::string>{"geometry", "lights"}));
+  EXPECT_EQ(depends(plain, "f"), (std::vector<std::string>{"geometry", "lights"}));
+  EXPECT_EQ(depends(plain, "camera"), (std::vector<std::string>{"camera"}));
+  EXPECT_EQ(depends(plain, "mix"), (std::vector<std::string>{"geometry", "lights", "camera"}));
+  const auto lit = static_cast<size_t>(plain.find_resource("lit"));
+  EXPECT_TRUE(plain.resources[lit].transient);
+  EXPECT_FALSE(plain.reuses_unchanged_passes);
+
+  CompileOptions reuse;
+  reuse.reuse_unchanged_passes = true;
+  const Plan reused = compile(graph, reuse);
+  for (const char* name : {"lit", "filtered", "viewed"}) EXPECT_FALSE(reused.resources[static_cast<size_t>(reused.find_resource(name))].transient) << name;
+  const PlannedBarrier& first = reused.passes[0].barriers.at(0);
+  ASSERT_EQ(reused.resources[first.resource].name, reused.passes[0].name == "light" ? "lit" : "viewed");
+  EXPECT_EQ(first.old_layout, reused.resources[first.resource].final_state.layout);
+  EXPECT_NE(first.old_layout, VK_IMAGE_LAYOUT_UNDEFINED);
+
+  nlohmann::json rewritten = graph;
+  rewritten["passes"].push_back({{"name", "add"}, {"type", "accumulate"}, {"outputs", {{"target", "lit"}}}, {"after", {"light"}}});
+  const Plan accumulating = compile(rewritten, reuse);
+  EXPECT_EQ(depends(accumulating, "light"), (std::vector<std::string>{"geometry", "lights", "frame"}));
+  for (const char* name : {"lit", "filtered"}) {
+    EXPECT_TRUE(accumulating.resources[static_cast<size_t>(accumulating.find_resource(name))].transient) << name << " is rewritten every frame";
+  }
+}

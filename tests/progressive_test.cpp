@@ -115,5 +115,59 @@ TEST(Progressive, FramesRepeatRunToRun) {
   EXPECT_LT(relative_difference(accumulated(b, scene, sets, 8), first), 1e-6);
 }
 
+// With reuse on (the viewer's setting), a frame runs only the passes whose scene parts changed:
+// after a camera move those that see the camera, after a light move the light's passes too, with
+// nothing changed none; and each such frame is the picture a fresh render of that state gives. The
+// skipped caustic pass's counters are reported as it last set them.
+TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
+  SceneEngine e;
+  e.executor.set_reuse_unchanged_passes(true);
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
+  graph::apply_overrides(graph, with(kSmall, {"grid=256"}));
+  std::set<std::string> ran;
+  auto frame = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> scene) {
+    engine.executor.set_scene(std::move(scene));
+    engine.executor.configure(graph, engine.width, engine.height, {"caustics"});
+    const graph::FrameResult result = engine.executor.run_frame(true);
+    ran.clear();
+    for (const auto& pass : result.passes) {
+      if (pass.ran) ran.insert(pass.name);
+    }
+    return result;
+  };
+  // A fresh engine (without reuse) renders each state for comparison.
+  auto expect_fresh = [&](const std::shared_ptr<const scene::Scene>& scene, const char* state) {
+    SceneEngine fresh;
+    const std::set<std::string> ran_here = ran;
+    frame(fresh, scene);
+    for (const char* image : {"ldr", "caustics"}) {
+      EXPECT_LT(relative_difference(e.executor.read_image(image), fresh.executor.read_image(image)), 1e-6) << image << " after " << state;
+    }
+    ran = ran_here;
+  };
+  auto scene = load_bundled_scene("sphere_plane");
+  const graph::FrameResult first = frame(e, scene);
+  EXPECT_EQ(ran.size(), first.passes.size()) << "the first frame skipped a pass";
+
+  auto moved_camera = std::make_shared<scene::Scene>(*scene);
+  moved_camera->camera.position += glm::vec3(0.5f, 0.2f, 0.0f);
+  frame(e, moved_camera);
+  EXPECT_EQ(ran, (std::set<std::string>{"gbuffer", "lighting", "refraction", "tonemap"})) << "after a camera move";
+  expect_fresh(moved_camera, "a camera move");
+
+  auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
+  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  const graph::FrameResult lit = frame(e, moved_light);
+  EXPECT_EQ(ran.size(), first.passes.size() - 1) << "after a light move";
+  EXPECT_EQ(ran.count("gbuffer"), 0u) << "the G-buffer does not see the light";
+  expect_fresh(moved_light, "a light move");
+
+  const graph::FrameResult still = frame(e, moved_light);
+  EXPECT_TRUE(ran.empty()) << "a frame with nothing changed ran " << *ran.begin();
+  expect_fresh(moved_light, "a frame with nothing changed");
+  EXPECT_GT(lit.counters.at("caustic.flux"), 0.0);
+  EXPECT_EQ(still.counters.at("caustic.flux"), lit.counters.at("caustic.flux"));
+}
+
 }  // namespace
 }  // namespace caustica

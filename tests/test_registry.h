@@ -14,18 +14,28 @@ inline graph::PassRegistry make_test_registry() {
   auto sampled_in = [](std::string name, bool optional = false) {
     return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, optional, "", ""};
   };
-  registry.add({"source", "writes an image", PassQueue::graphics, {color_out("color")},
-                {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, "brightness"}, {"mode", ParamType::choice, "a", {}, {}, {"a", "b"}, ""}},
-                false, nullptr});
-  registry.add({"filter", "reads one image, writes another of the same size", PassQueue::compute,
-                {sampled_in("source"),
-                 {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f, Format::rgba8}, false, "", ""}},
-                {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, ""}}, false, nullptr});
-  registry.add({"blend", "two inputs into one output of the same extent", PassQueue::graphics,
-                {{"a", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
-                 {"b", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
-                 color_out("color")},
-                {}, false, nullptr});
+  // Mode "a" draws from a light's view, "b" from the camera's (for the dependency tests).
+  PassTypeDecl source{"source", "writes an image", PassQueue::graphics, {color_out("color")},
+                      {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, "brightness"}, {"mode", ParamType::choice, "a", {}, {}, {"a", "b"}, ""}},
+                      false, nullptr};
+  source.depends_on = [](const nlohmann::json& params) {
+    return params.value("mode", "a") == "a" ? kDependsOnGeometry | kDependsOnLights : kDependsOnCamera;
+  };
+  registry.add(source);
+  auto inputs_alone = [](const nlohmann::json&) { return 0u; };
+  PassTypeDecl filter{"filter", "reads one image, writes another of the same size", PassQueue::compute,
+                      {sampled_in("source"),
+                       {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f, Format::rgba8}, false, "", ""}},
+                      {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, ""}}, false, nullptr};
+  filter.depends_on = inputs_alone;
+  registry.add(filter);
+  PassTypeDecl blend{"blend", "two inputs into one output of the same extent", PassQueue::graphics,
+                     {{"a", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
+                      {"b", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
+                      color_out("color")},
+                     {}, false, nullptr};
+  blend.depends_on = inputs_alone;
+  registry.add(blend);
   registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
                 {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
   registry.add({"report", "reads an image and reports on it (side effect)", PassQueue::compute, {sampled_in("source")}, {}, true, nullptr});

@@ -24,7 +24,11 @@ void frame_panel(const graph::FrameResult& frame, const graph::Plan& plan, std::
       if (history.size() > 120) history.erase(history.begin());
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(p.name.c_str());
+      if (p.ran) {
+        ImGui::TextUnformatted(p.name.c_str());
+      } else {
+        ImGui::TextDisabled("%s (reused)", p.name.c_str());  // nothing it depends on changed
+      }
       ImGui::TableNextColumn();
       ImGui::Text("%7.2f", p.gpu_ms);
       ImGui::TableNextColumn();

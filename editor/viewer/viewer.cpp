@@ -65,6 +65,8 @@ class Viewer::Impl {
         executor_(vk_, shaders_, passes::builtin_registry()) {
     inspector_.inspected = o.inspect;
     inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
+    // While only the camera moves, the light's passes keep their last results (issue 40).
+    executor_.set_reuse_unchanged_passes(true);
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
     vk_.adopt_surface(surface);
@@ -329,7 +331,7 @@ class Viewer::Impl {
     }
     if (changed) {
       session_.scene = std::make_shared<const scene::Scene>(std::move(moved));
-      executor_.set_scene(session_.scene);
+      executor_.set_view(session_.scene);
     }
   }
 

@@ -42,10 +42,12 @@ Plan Compiler::run() {
   find_cycle();
   check_writer_order();
   cull_and_order();
+  find_dependencies();
   compute_lifetimes_and_usage();
   check_extent_groups();
   place_memory();
   record_barriers();
+  keep_reused_contents();
   return std::move(plan_);
 }
 

@@ -28,6 +28,9 @@ struct CompileOptions {
   uint64_t memory_limit_bytes = 1536ull << 20;  // the engine's own limit; lavapipe enforces none
   std::set<std::string> retained;               // resources kept whole to the end of the frame (--dump)
   bool alias = true;                            // share memory between disjoint lifetimes
+  // Keep what passes that do not depend on the frame write, so that the executor can skip them
+  // while their dependencies are unchanged (the viewer and editor; benchmarks measure every pass).
+  bool reuse_unchanged_passes = false;
   MemoryRequirementsFn memory_requirements = estimate_memory_requirements;
   // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects"): a
   // pass's "enabled" can depend on it. Empty when there is no scene.

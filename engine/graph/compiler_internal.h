@@ -79,6 +79,10 @@ class Compiler {
   std::vector<uint32_t> least_memory_order(const std::vector<bool>& live) const;
   void cull_and_order();
 
+  // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
+  void find_dependencies();
+  void keep_reused_contents();
+
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.
   void compute_lifetimes_and_usage();
   void check_extent_groups() const;

@@ -14,7 +14,35 @@ namespace {
 constexpr uint32_t kMaxCounters = 256;
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Back from where `to_transfer` took the read-back images: what a plan that reuses passes expects
+// them to be in at the next frame's start.
+std::vector<PlannedBarrier> back_from_transfer(const Plan& plan, const std::vector<PlannedBarrier>& to_transfer) {
+  std::vector<PlannedBarrier> back;
+  for (const PlannedBarrier& b : to_transfer) {
+    if (plan.resources[b.resource].kind != ResourceKind::image) continue;
+    back.push_back({b.resource, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, b.new_layout, b.old_layout, false});
+  }
+  return back;
+}
+
+// A plan that reuses passes starts each frame's kept images from the layout the last frame left
+// them in (compiler_dependencies.cpp): before the first frame, that layout.
+std::vector<PlannedBarrier> kept_images_to_final_layouts(const Plan& plan) {
+  std::vector<PlannedBarrier> barriers;
+  for (uint32_t r = 0; r < plan.resources.size(); ++r) {
+    const PlannedResource& res = plan.resources[r];
+    if (!res.used() || res.transient || res.kind != ResourceKind::image) continue;
+    barriers.push_back({r, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                        VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, res.final_state.layout,
+                        false});
+  }
+  return barriers;
+}
 
 VkImageCreateInfo image_info(const PlannedResource& r) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
@@ -68,7 +96,7 @@ struct Executor::Realized {
   std::vector<bool> counter_is_sum;
   std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  vk::Buffer counters;  // host-visible, uint32 each
+  vk::Buffer counters;                       // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
   vk::OwnedCommandPool pool;
@@ -79,13 +107,23 @@ struct Executor::Realized {
   bool read_back_done = false;
   FrameInfo frame;               // the next frame to run
   uint64_t light_space_key = 0;  // the scene's, as of the last frame
+  // Plans that reuse unchanged passes: per pass, the scene parts' key when it last ran; and each
+  // counter's last value, reported again while its pass is skipped.
+  std::vector<std::optional<uint64_t>> ran_with;
+  std::map<std::string, double> last_counters;
 };
 
 // ---- PassSetup / PassContext --------------------------------------------------------------------
 
-vk::Context& PassSetup::vk() const { return executor_.vk_; }
-shader::ShaderCompiler& PassSetup::shaders() const { return executor_.shaders_; }
-const PlannedResource& PassSetup::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
+vk::Context& PassSetup::vk() const {
+  return executor_.vk_;
+}
+shader::ShaderCompiler& PassSetup::shaders() const {
+  return executor_.shaders_;
+}
+const PlannedResource& PassSetup::resource(const std::string& port) const {
+  return executor_.plan_->resources[pass_.ports.at(port)];
+}
 uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   auto& names = executor_.realized_->counter_names;
   executor_.realized_->counter_passes.emplace(name, pass_.name);
@@ -97,20 +135,40 @@ uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   return static_cast<uint32_t>(names.size() - 1);
 }
 
-vk::Context& PassContext::vk() const { return executor_.vk_; }
-const PlannedResource& PassContext::resource(const std::string& port) const { return executor_.plan_->resources[pass_.ports.at(port)]; }
-VkImage PassContext::image(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].image.get(); }
-VkImageView PassContext::view(const std::string& port) const { return executor_.realized_->images[pass_.ports.at(port)].view.get(); }
-VkBuffer PassContext::buffer(const std::string& port) const { return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get(); }
+vk::Context& PassContext::vk() const {
+  return executor_.vk_;
+}
+const PlannedResource& PassContext::resource(const std::string& port) const {
+  return executor_.plan_->resources[pass_.ports.at(port)];
+}
+VkImage PassContext::image(const std::string& port) const {
+  return executor_.realized_->images[pass_.ports.at(port)].image.get();
+}
+VkImageView PassContext::view(const std::string& port) const {
+  return executor_.realized_->images[pass_.ports.at(port)].view.get();
+}
+VkBuffer PassContext::buffer(const std::string& port) const {
+  return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get();
+}
 VkExtent2D PassContext::extent(const std::string& port) const {
   const auto& r = resource(port);
   return {r.width, r.height};
 }
-VkSampler PassContext::linear_sampler() const { return executor_.realized_->linear.get(); }
-VkSampler PassContext::nearest_sampler() const { return executor_.realized_->nearest.get(); }
-VkBuffer PassContext::counter_buffer() const { return executor_.realized_->counters.get(); }
-void PassContext::set_counter(uint32_t counter, double value) const { executor_.realized_->host_counters[counter] = value; }
-const FrameInfo& PassContext::frame() const { return executor_.realized_->frame; }
+VkSampler PassContext::linear_sampler() const {
+  return executor_.realized_->linear.get();
+}
+VkSampler PassContext::nearest_sampler() const {
+  return executor_.realized_->nearest.get();
+}
+VkBuffer PassContext::counter_buffer() const {
+  return executor_.realized_->counters.get();
+}
+void PassContext::set_counter(uint32_t counter, double value) const {
+  executor_.realized_->host_counters[counter] = value;
+}
+const FrameInfo& PassContext::frame() const {
+  return executor_.realized_->frame;
+}
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
   return *executor_.scene_;
@@ -121,10 +179,17 @@ const scene::GpuScene& PassContext::scene() const {
 Executor::Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry)
     : vk_(vk), shaders_(shaders), registry_(registry) {}
 
-
 void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
   scene_.reset();  // its buffers are destroyed once the GPU is done with them
   if (scene) scene_ = std::make_unique<scene::GpuScene>(vk_, std::move(scene));
+}
+
+void Executor::set_view(std::shared_ptr<const scene::Scene> scene) {
+  if (scene_) {
+    scene_->replace_view(std::move(scene));
+  } else {
+    set_scene(std::move(scene));
+  }
 }
 
 Executor::~Executor() {
@@ -164,8 +229,8 @@ CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const 
 
 bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained,
                          uint64_t memory_limit_bytes) {
-  std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) +
-                    "\n" + std::to_string(memory_limit_bytes);
+  std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) + "\n" +
+                    std::to_string(memory_limit_bytes) + (reuse_unchanged_passes_ ? "\nreuse" : "");
   for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
   for (const auto& r : retained) key += "\nretain " + r;
   const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
@@ -178,6 +243,7 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
   options.retained = retained;
   options.memory_limit_bytes = memory_limit_bytes;
   options.scene_values = scene_values;
+  options.reuse_unchanged_passes = reuse_unchanged_passes_;
   Plan plan = compile_graph(graph, registry_, options);
   for (const auto& pass : plan.passes) {
     if (pass.decl->needs_scene && !scene_) {
@@ -265,11 +331,13 @@ void Executor::realize_passes_and_resources() {
     rb.resource = i;
     rb.bytes = res.kind == ResourceKind::image ? uint64_t{res.width} * res.height * res.layers * format_info(res.format).bytes_per_texel
                                                : res.buffer_size;
-    rb.buffer = vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    rb.buffer =
+        vk::make_buffer(vk_, rb.bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, host, "readback " + res.name, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     real.readbacks.push_back(std::move(rb));
   }
-  real.counters = vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                  host, "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  real.counters =
+      vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, host,
+                      "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 
   for (VkFilter filter : {VK_FILTER_LINEAR, VK_FILTER_NEAREST}) {
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -381,21 +449,32 @@ FrameResult Executor::run_frame(bool read_back) {
   counters_dep.pMemoryBarriers = &counters_ready;
   vkCmdPipelineBarrier2(cmd, &counters_dep);
 
+  if (p.reuses_unchanged_passes && real.frame.index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
   const uint32_t frame_begin = stamp();
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
+  std::set<std::string> skipped;
+  real.ran_with.resize(p.passes.size());
   for (size_t i = 0; i < p.passes.size(); ++i) {
     const PlannedPass& pass = p.passes[i];
     const auto pass_start = Clock::now();
     vk_.begin_label(cmd, pass.name);
     uint32_t start = stamp();  // a pass's barriers count as part of its cost
     record_barriers(cmd, pass.barriers);
-    PassContext context(*this, pass, cmd);
-    real.passes[i]->execute(context);
+    const uint64_t key =
+        scene_ ? scene_->parts_key(pass.depends & kDependsOnGeometry, pass.depends & kDependsOnLights, pass.depends & kDependsOnCamera) : 0;
+    const bool run = !pass.reusable(p.reuses_unchanged_passes) || real.ran_with[i] != key;
+    if (run) {
+      PassContext context(*this, pass, cmd);
+      real.passes[i]->execute(context);
+      real.ran_with[i] = key;
+    } else {
+      skipped.insert(pass.name);
+    }
     uint32_t end = stamp();
     vk_.end_label(cmd);
     pass_stamps.emplace_back(start, end);
-    result.passes.push_back({pass.name, 0, ms_since(pass_start),
-                             0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count()});
+    result.passes.push_back(
+        {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count(), run});
   }
   const uint32_t frame_end = stamp();
 
@@ -421,6 +500,8 @@ FrameResult Executor::run_frame(bool read_back) {
         vkCmdCopyBuffer(cmd, real.buffers[rb.resource].buffer.get(), rb.buffer.get(), 1, &copy);
       }
     }
+    // A skipped pass leaves its images as the last frame did: back where the plan expects them.
+    if (p.reuses_unchanged_passes) record_barriers(cmd, back_from_transfer(p, to_transfer));
     vk_.end_label(cmd);
   }
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
@@ -459,6 +540,11 @@ FrameResult Executor::run_frame(bool read_back) {
     result.passes[i].gpu_start_ms = elapsed(frame_begin, pass_stamps[i].first);
   }
   for (size_t c = 0; c < real.counter_names.size(); ++c) {
+    const std::string& name = real.counter_names[c];
+    if (skipped.count(real.counter_passes[name])) {
+      result.counters[name] = real.last_counters[name];
+      continue;
+    }
     if (auto host = real.host_counters.find(static_cast<uint32_t>(c)); host != real.host_counters.end()) {
       result.counters[real.counter_names[c]] = host->second;
       continue;
@@ -475,6 +561,7 @@ FrameResult Executor::run_frame(bool read_back) {
     }
   }
   result.counter_passes = real.counter_passes;
+  real.last_counters = result.counters;
   real.read_back_done = read_back;
   result.frame = real.frame;
   ++real.frame.index;
@@ -484,13 +571,15 @@ FrameResult Executor::run_frame(bool read_back) {
 
 FrameImage Executor::frame_image(const std::string& name) const {
   const int index = plan_->find_resource(plan_->resolve(name));
-  if (index < 0 || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image || plan_->resources[static_cast<size_t>(index)].transient ||
-      !plan_->resources[static_cast<size_t>(index)].used()) {
+  if (index < 0 || plan_->resources[static_cast<size_t>(index)].kind != ResourceKind::image ||
+      plan_->resources[static_cast<size_t>(index)].transient || !plan_->resources[static_cast<size_t>(index)].used()) {
     throw InputError("'" + name + "' is not an image output or a retained image of graph " + plan_->graph_path);
   }
   const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
-  // A frame that read back left every read-back image ready for a copy.
-  const VkImageLayout layout = realized_->read_back_done ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : res.final_state.layout;
+  // A frame that read back left every read-back image ready for a copy (unless the plan reuses
+  // passes: then back in its final layout).
+  const VkImageLayout layout = realized_->read_back_done && !plan_->reuses_unchanged_passes ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
+                                                                                             : res.final_state.layout;
   return {realized_->images[static_cast<size_t>(index)].image.get(), layout, res.format, {res.width, res.height}};
 }
 
@@ -529,10 +618,21 @@ io::ImageData Executor::read_image(const std::string& name) const {
       case Format::rgba8_srgb:
         for (int c = 0; c < 4; ++c) out[c] = static_cast<float>(in[c]) / 255.0f;
         break;
-      case Format::rgba16f: for (int c = 0; c < 4; ++c) out[c] = f16(c); break;
-      case Format::rgba32f: for (int c = 0; c < 4; ++c) out[c] = f32(c); break;
-      case Format::r16f: out[0] = out[1] = out[2] = f16(0); out[3] = 1; break;
-      case Format::rg16f: out[0] = f16(0); out[1] = f16(1); out[3] = 1; break;
+      case Format::rgba16f:
+        for (int c = 0; c < 4; ++c) out[c] = f16(c);
+        break;
+      case Format::rgba32f:
+        for (int c = 0; c < 4; ++c) out[c] = f32(c);
+        break;
+      case Format::r16f:
+        out[0] = out[1] = out[2] = f16(0);
+        out[3] = 1;
+        break;
+      case Format::rg16f:
+        out[0] = f16(0);
+        out[1] = f16(1);
+        out[3] = 1;
+        break;
       case Format::r32f:
       case Format::d32f:
         if (res.layers > 1) {  // layer k is channel k (see kMaxImageLayers; only r32f has layers)
@@ -545,7 +645,11 @@ io::ImageData Executor::read_image(const std::string& name) const {
         out[0] = out[1] = out[2] = f32(0);
         out[3] = 1;
         break;
-      case Format::rg32f: out[0] = f32(0); out[1] = f32(1); out[3] = 1; break;
+      case Format::rg32f:
+        out[0] = f32(0);
+        out[1] = f32(1);
+        out[3] = 1;
+        break;
       case Format::r32ui: {
         uint32_t v;
         std::memcpy(&v, in, 4);

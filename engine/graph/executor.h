@@ -21,6 +21,9 @@ struct PassTiming {
   double cpu_ms = 0;
   double gpu_start_ms = 0;  // from the frame's first timestamp
   double cpu_start_ms = 0;  // from the start of recording
+  // False when the pass was skipped: a plan that reuses unchanged passes, and nothing it depends
+  // on changed since it last ran (its barriers were recorded, its work not).
+  bool ran = true;
 };
 
 // An output or retained image as the last frame left it, for commands recorded after the frame in
@@ -54,9 +57,18 @@ class Executor {
   bool configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained = {},
                  uint64_t memory_limit_bytes = CompileOptions{}.memory_limit_bytes);
 
+  // Plans compiled from now on keep what passes that do not depend on the frame write, and
+  // run_frame() skips such a pass while nothing it depends on changed since it last ran
+  // (CompileOptions::reuse_unchanged_passes): for the viewer and the editor. Off by default, so
+  // that rendering and benchmarks run and time every pass every frame.
+  void set_reuse_unchanged_passes(bool reuse) { reuse_unchanged_passes_ = reuse; }
+
   // The scene that passes draw; kept across configure() calls. Uploads it now.
   void set_scene(std::shared_ptr<const scene::Scene> scene);
   const scene::GpuScene* scene() const { return scene_.get(); }
+  // The scene set last with another camera or other lights and nothing else changed: kept on the
+  // device as it is (set_scene() uploads everything again).
+  void set_view(std::shared_ptr<const scene::Scene> scene);
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().
@@ -91,6 +103,7 @@ class Executor {
   std::unique_ptr<scene::GpuScene> scene_;
   std::string configured_key_;
   uint32_t compile_count_ = 0;
+  bool reuse_unchanged_passes_ = false;
 };
 
 }  // namespace caustica::graph

@@ -20,6 +20,15 @@ const ParamDecl* PassTypeDecl::find_param(std::string_view name) const {
   return nullptr;
 }
 
+std::vector<std::string> dependency_names(uint32_t dependencies) {
+  std::vector<std::string> names;
+  for (const auto& [bit, name] : {std::pair{kDependsOnGeometry, "geometry"}, std::pair{kDependsOnLights, "lights"},
+                                  std::pair{kDependsOnCamera, "camera"}, std::pair{kDependsOnFrame, "frame"}}) {
+    if (dependencies & bit) names.emplace_back(name);
+  }
+  return names;
+}
+
 std::string_view param_type_name(ParamType type) {
   switch (type) {
     case ParamType::float_: return "float";

@@ -27,10 +27,24 @@ enum class PortUsage {
   depth_attachment,  // depth image rendered to or tested against
   transfer_src,
   transfer_dst,
-  uniform,           // uniform buffer
-  indirect,          // indirect dispatch or draw arguments
+  uniform,   // uniform buffer
+  indirect,  // indirect dispatch or draw arguments
 };
 enum class PassQueue { graphics, compute, transfer };
+
+// What a pass's result depends on besides its inputs and parameters. A plan compiled with
+// CompileOptions::reuse_unchanged_passes keeps the outputs of passes that do not depend on the
+// frame, and the executor skips such a pass while none of the scene parts it depends on (directly
+// or through its inputs) changed since it last ran: the light's view while only the camera moves.
+enum SceneDependency : uint32_t {
+  kDependsOnGeometry = 1u << 0,  // meshes, transforms, materials, textures
+  kDependsOnLights = 1u << 1,
+  kDependsOnCamera = 1u << 2,  // the camera, the sky and the output size
+  kDependsOnFrame = 1u << 3,   // differs every frame (a jittered grid, history): never skipped
+};
+inline constexpr uint32_t kDependsOnScene = kDependsOnGeometry | kDependsOnLights | kDependsOnCamera;
+// "geometry", "lights", "camera", "frame": for plans, traces and messages.
+std::vector<std::string> dependency_names(uint32_t dependencies);
 
 struct PortDecl {
   std::string name;
@@ -78,6 +92,9 @@ struct PassTypeDecl {
   // 0): only spot and directional lights have one, so with a point light the plan warns that the pass
   // contributes nothing (Plan::warnings). Unset: never.
   std::function<bool(const nlohmann::json& params)> uses_light_view;
+  // What the pass, with these parameters, depends on besides its inputs (SceneDependency bits).
+  // Unset: the frame, so a pass type that does not say is never skipped.
+  std::function<uint32_t(const nlohmann::json& params)> depends_on;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

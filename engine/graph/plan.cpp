@@ -91,12 +91,16 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["warnings"] = plan.warnings;
   out["disabled"] = plan.disabled;
   out["fallbacks"] = plan.fallbacks;
+  out["reuses_unchanged_passes"] = plan.reuses_unchanged_passes;
   out["passes"] = json::array();
   for (const auto& p : plan.passes) {
     json pass;
     pass["name"] = p.name;
     pass["type"] = p.type;
     pass["params"] = json::parse(p.params.dump());
+    // What its result depends on besides parameters (its inputs' dependencies included), and whether
+    // a plan that reuses unchanged passes may skip it.
+    pass["depends_on"] = dependency_names(p.depends);
     pass["ports"] = json::object();
     for (const auto& [port, r] : p.ports) pass["ports"][port] = plan.resources[r].name;
     pass["barriers"] = json::array();

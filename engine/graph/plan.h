@@ -76,6 +76,11 @@ struct PlannedPass {
   nlohmann::json params;                  // every declared parameter, resolved
   std::map<std::string, uint32_t> ports;  // bound port -> resource index
   std::vector<PlannedBarrier> barriers;   // recorded before the pass
+  // SceneDependency bits: its own and its inputs' writers', and those of any later pass that
+  // rewrites what it wrote (which needs it to run first). Without kDependsOnFrame in a plan that
+  // reuses unchanged passes, it runs only when one of these changed.
+  uint32_t depends = kDependsOnFrame;
+  bool reusable(bool plan_reuses) const { return plan_reuses && !(depends & kDependsOnFrame); }
 };
 
 struct MemoryBlock {
@@ -93,8 +98,8 @@ struct Plan {
   std::vector<std::string> culled;               // enabled passes that reach no output and have no side effect
   std::vector<std::string> disabled;             // passes whose "enabled" is 0 for this scene and these parameters
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
-  std::vector<std::string> warnings;             // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
-  std::vector<std::string> ray_query_passes;     // passes that trace with ray queries: the scene's acceleration structures are built
+  std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
+  std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built
   std::vector<PlannedResource> resources;
   std::vector<MemoryBlock> blocks;
   std::vector<uint32_t> outputs;  // resource indices, in the graph's order
@@ -103,6 +108,9 @@ struct Plan {
   // The most transient bytes alive at once over the order: no placement can use less.
   uint64_t transient_bytes_lifetime_bound = 0;
   uint64_t persistent_bytes = 0;
+  // Compiled with CompileOptions::reuse_unchanged_passes: what the reusable passes write is kept
+  // from frame to frame (persistent), so that the executor may skip them.
+  bool reuses_unchanged_passes = false;
 
   int find_resource(std::string_view name) const;
   // `name`, or the resource read in its place when it fell back.

@@ -1,9 +1,11 @@
 #include "scene/gpu_scene.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <iterator>
 #include <string_view>
 
 namespace caustica::scene {
@@ -86,6 +88,11 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
                            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "scene frame data");
 }
 
+void GpuScene::replace_view(std::shared_ptr<const Scene> scene) {
+  assert(scene->objects.size() == scene_->objects.size() && scene->textures.size() == scene_->textures.size());
+  scene_ = std::move(scene);
+}
+
 const AccelerationStructures& GpuScene::acceleration() {
   if (!acceleration_) acceleration_ = std::make_unique<AccelerationStructures>(vk_, *scene_, vertex_base_);
   return *acceleration_;
@@ -135,7 +142,15 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
                        directional ? light.extent : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
+  lights_key_ = fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count);
   light_space_key_ = fold_bytes(fold_bytes(content_key_, &f.light_count, 1), f.lights, f.light_count);
+  const glm::vec4 camera[] = {f.view_proj[0], f.view_proj[1], f.view_proj[2], f.view_proj[3], f.camera_position, f.sky_ambient, f.sizes};
+  camera_key_ = fold_bytes(0, camera, std::size(camera));
+}
+
+uint64_t GpuScene::parts_key(bool geometry, bool lights, bool camera) const {
+  const uint64_t parts[] = {geometry ? content_key_ : 0, lights ? lights_key_ : 0, camera ? camera_key_ : 0};
+  return fold_bytes(0, parts, std::size(parts));
 }
 
 }  // namespace caustica::scene

@@ -24,6 +24,9 @@ class GpuScene {
   GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene);
 
   const Scene& scene() const { return *scene_; }
+  // The same objects and textures seen with another camera or other lights (a viewer's move):
+  // nothing is uploaded again. `scene` must differ from scene() in nothing else.
+  void replace_view(std::shared_ptr<const Scene> scene);
   VkBuffer vertices() const { return vertices_.get(); }
   VkBuffer indices() const { return indices_.get(); }
   VkBuffer objects() const { return objects_.get(); }
@@ -51,6 +54,10 @@ class GpuScene {
   // A hash of what results in a light's space depend on (geometry, materials, textures and, as of the
   // last update_frame(), the lights) and not of the camera: what accumulated caustic maps are reset by.
   uint64_t light_space_key() const { return light_space_key_; }
+  // A hash of the chosen parts as of the last update_frame(): geometry (with materials and
+  // textures), lights, camera (with the sky and the output size). What a pass that depends on just
+  // those parts is skipped by while it does not change.
+  uint64_t parts_key(bool geometry, bool lights, bool camera) const;
   const gpu::FrameData& frame_data() const { return frame_data_; }
 
  private:
@@ -65,6 +72,7 @@ class GpuScene {
   gpu::FrameData frame_data_{};
   uint64_t content_key_ = 0;  // geometry, materials and textures, as uploaded
   uint64_t light_space_key_ = 0;
+  uint64_t lights_key_ = 0, camera_key_ = 0;
 };
 
 }  // namespace caustica::scene
