@@ -23,6 +23,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "scene_draw.h"
+#include "viewer/frame_log.h"
 #include "viewer/frame_panel.h"
 #include "viewer/hot_reload.h"
 #include "viewer/inspector.h"
@@ -66,7 +67,7 @@ class Viewer::Impl {
     inspector_.inspected = o.inspect;
     inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
     // While only the camera moves, the light's passes keep their last results (issue 40).
-    executor_.set_reuse_unchanged_passes(true);
+    executor_.set_reuse_unchanged_passes(o.reuse);
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
     vk_.adopt_surface(surface);
@@ -129,6 +130,8 @@ class Viewer::Impl {
       last_frame = clock::now();
       redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
+      if (!options_.stats.empty())
+        log_.add(std::chrono::duration<double, std::milli>(clock::now() - last_frame).count(), last_result_, moved_);
       if (owner_.after_frame) owner_.after_frame();
       ++frame;
       ++frames_drawn_;
@@ -136,6 +139,10 @@ class Viewer::Impl {
     }
     vk_.wait_idle();
     std::fprintf(stderr, "view: %llu frames drawn\n", static_cast<unsigned long long>(frames_drawn_));
+    if (!options_.stats.empty()) {
+      log_.write(options_.stats);
+      std::fprintf(stderr, "view: frame log %s\n", options_.stats.c_str());
+    }
     if (vk_.validation_messages() > 0) {
       std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk_.validation_messages());
       return 3;
@@ -290,6 +297,16 @@ class Viewer::Impl {
     ImGuiIO& io = ImGui::GetIO();
     scene::Scene moved = *session_.scene;
     bool changed = false;
+    if (options_.orbit_degrees != 0.0f) {
+      const glm::vec3 offset = moved.camera.position - moved.camera.target;
+      const float turn = glm::radians(options_.orbit_degrees), c = std::cos(turn), s = std::sin(turn);
+      moved.camera.position = moved.camera.target + glm::vec3(c * offset.x + s * offset.z, offset.y, -s * offset.x + c * offset.z);
+      changed = true;
+    }
+    if (options_.move_light != 0.0f && !moved.lights.empty()) {
+      moved.lights.front().view.position.x += options_.move_light;
+      changed = true;
+    }
     if (!io.WantCaptureMouse && (ImGui::IsMouseDragging(ImGuiMouseButton_Left) || io.MouseWheel != 0.0f)) {
       // Orbit: yaw and pitch of the camera's offset from its target, distance by the wheel.
       glm::vec3 offset = moved.camera.position - moved.camera.target;
@@ -333,6 +350,7 @@ class Viewer::Impl {
       session_.scene = std::make_shared<const scene::Scene>(std::move(moved));
       executor_.set_view(session_.scene);
     }
+    moved_ = changed;
   }
 
   void draw_ui(const graph::FrameResult& frame, const io::ImageData& inspected) {
@@ -408,6 +426,7 @@ class Viewer::Impl {
     const bool read_back =
         !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
     const graph::FrameResult frame = executor_.run_frame(read_back);
+    last_result_ = frame;
     const uint32_t compiled = executor_.compile_count();
     const graph::FrameImage output_image = executor_.frame_image(output);
     const io::ImageData image = read_back ? executor_.read_image(output) : io::ImageData{};
@@ -596,6 +615,9 @@ class Viewer::Impl {
   bool panels_hidden_ = false, continuous_ = false;
   int redraw_frames_ = 0;
   uint64_t frames_drawn_ = 0;
+  FrameLog log_;
+  graph::FrameResult last_result_;
+  bool moved_ = false;  // the camera or a light changed before the last frame
   uint32_t screenshots_ = 0;
   std::string pending_screenshot_;
 };

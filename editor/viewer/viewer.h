@@ -26,6 +26,10 @@ struct ViewerOptions {
   bool watch_graph_file = true;  // reload the graph when its file changes (the editor owns it instead)
   bool parameter_panel = true;   // the graph parameters' panel with its save button
   bool stage = true;             // a model file as the scene gets a floor
+  std::string stats;             // --stats: every frame's times and passes, written at exit (frame_log.h)
+  float orbit_degrees = 0.0f;    // --orbit: turn the camera about its target by this much each frame
+  float move_light = 0.0f;       // --move-light: move the first light along x by this much each frame
+  bool reuse = true;             // skip passes whose dependencies are unchanged (--every-pass: off)
 };
 
 // What the help and the on-screen help say about the keys.

@@ -213,6 +213,10 @@ void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, Vk
   region.srcOffsets[1] = region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
   vkCmdBlitImage(cmd, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
                  VK_FILTER_NEAREST);
+  // Back as the frame left it: a plan that reuses passes starts its next frame from there.
+  passes::image_barrier(cmd, output.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output.layout,
+                        VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                        VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
 }
 
 bool clipped_copy(VkOffset2D place, uint32_t width, uint32_t height, VkExtent2D window, VkDeviceSize buffer_offset,

@@ -27,7 +27,8 @@ struct PassTiming {
 };
 
 // An output or retained image as the last frame left it, for commands recorded after the frame in
-// another submission (the viewer copies the output into its window this way).
+// another submission (the viewer copies the output into its window this way). Such commands leave
+// it in `layout`: a plan that reuses passes starts the next frame from it.
 struct FrameImage {
   VkImage image = VK_NULL_HANDLE;
   VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;

@@ -45,6 +45,13 @@ options:
   --no-stage            with a model file: no floor
   --continuous          render every frame even when nothing changes (for timing; key C toggles it)
   --max-fps N           frame-rate cap (default 60; 0: none)
+  --stats FILE.json     at exit, every frame's wall time (input to present), GPU and recording time,
+                        the passes that ran and those reused (unchanged since they last ran), and the
+                        median and 95th percentile of the wall time, over all frames and while moving
+  --every-pass          run every pass every frame; by default a pass whose inputs, parameters and
+                        scene parts (camera, lights, geometry) did not change keeps its last result
+  --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
+  --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --validate            Khronos validation; any message makes the command exit 3
 )";
 
@@ -90,12 +97,21 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
     o.device = args.value(a);
   else if (a == "--no-stage")
     v.stage = false;
+  else if (a == "--stats")
+    v.stats = args.value(a);
+  else if (a == "--every-pass")
+    v.reuse = false;
+  else if (a == "--orbit")
+    v.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
+  else if (a == "--move-light")
+    v.move_light = static_cast<float>(parse_number(a, args.value(a), -10, 10));
   else
     return false;
   return true;
 }
-const std::vector<std::string> kWindowFlags = {"--scene",      "--size",    "--frames",   "--screenshot", "--window-shot",
-                                               "--continuous", "--max-fps", "--validate", "--device",     "--no-stage"};
+const std::vector<std::string> kWindowFlags = {"--scene",      "--size",    "--frames",     "--screenshot", "--window-shot",
+                                               "--continuous", "--max-fps", "--validate",   "--device",     "--no-stage",
+                                               "--stats",      "--orbit",   "--move-light", "--every-pass"};
 
 // Checks what can be checked before the window opens, and fills in the defaults.
 void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
@@ -103,6 +119,7 @@ void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
   if (!v.window_shot.empty() && v.frames == 0) throw UsageError("--window-shot needs --frames N: the frame it captures");
   if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
   if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
+  if (!v.stats.empty() && !v.stats.ends_with(".json")) throw UsageError("--stats " + v.stats + ": a .json file");
   v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
   v.device = device_options(o.device, o.validate);
 }

@@ -1,0 +1,44 @@
+#include "viewer/frame_log.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "io/files.h"
+
+namespace caustica::editor {
+namespace {
+
+// The p-th percentile (0..100) by the nearest-rank rule; 0 for no values.
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<size_t>(std::ceil(p / 100.0 * static_cast<double>(values.size())));
+  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
+}
+
+}  // namespace
+
+void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving) {
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, {}, {}};
+  for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
+  entries_.push_back(std::move(entry));
+}
+
+void FrameLog::write(const std::string& path) const {
+  nlohmann::ordered_json out;
+  std::vector<double> all, moving;
+  out["frames"] = nlohmann::ordered_json::array();
+  for (const Entry& e : entries_) {
+    all.push_back(e.wall_ms);
+    if (e.moving) moving.push_back(e.wall_ms);
+    out["frames"].push_back(
+        {{"wall_ms", e.wall_ms}, {"gpu_ms", e.gpu_ms}, {"cpu_ms", e.cpu_ms}, {"moving", e.moving}, {"ran", e.ran}, {"reused", e.reused}});
+  }
+  out["summary"] = {
+      {"frames", all.size()},           {"wall_ms_median", percentile(all, 50)},           {"wall_ms_p95", percentile(all, 95)},
+      {"moving_frames", moving.size()}, {"moving_wall_ms_median", percentile(moving, 50)}, {"moving_wall_ms_p95", percentile(moving, 95)}};
+  io::write_text_atomically(path, out.dump(2) + "\n");
+}
+
+}  // namespace caustica::editor

@@ -1,0 +1,28 @@
+#pragma once
+// caustica view --stats: each frame the viewer drew, for measuring it while it moves (issue 40):
+// the frame's wall time (input to present), its GPU and recording times, and which passes ran.
+#include <string>
+#include <vector>
+
+#include "graph/executor.h"
+
+namespace caustica::editor {
+
+class FrameLog {
+ public:
+  // `moving`: the camera or a light changed before this frame (input or --orbit / --move-light).
+  void add(double wall_ms, const graph::FrameResult& frame, bool moving);
+  // JSON: every frame, and the median and 95th percentile of the wall time over all frames and
+  // over the moving ones. Written through a temporary file, so a killed viewer leaves none.
+  void write(const std::string& path) const;
+
+ private:
+  struct Entry {
+    double wall_ms, gpu_ms, cpu_ms;
+    bool moving;
+    std::vector<std::string> ran, reused;
+  };
+  std::vector<Entry> entries_;
+};
+
+}  // namespace caustica::editor
