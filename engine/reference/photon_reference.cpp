@@ -25,7 +25,7 @@ double mean(const Power& power) {
 
 struct Accumulator {
   std::vector<uint64_t> map, camera;  // three channels per texel
-  PhotonTotals totals;  // per thread in double; summed in thread order (only the printout uses them)
+  PhotonTotals totals;                // per thread in double; summed in thread order (only the printout uses them)
 };
 
 class PhotonTracer {
@@ -104,7 +104,8 @@ class PhotonTracer {
         power = kept;
       }
       if (!object.material.refractor) {
-        if (refracted) land(p, power, acc);
+        if (refracted)
+          land(p, power, acc);
         else
           acc.totals.direct += mean(power);
         return;
@@ -136,22 +137,17 @@ class PhotonTracer {
         refracted = true;
         continue;
       }
-      const float eta = entering ? 1.0f / ior : ior;
-      const glm::vec3 transmitted = glm::refract(direction, m, eta);
-      const bool total_internal = glm::dot(transmitted, transmitted) == 0.0f;
-      float reflectance = total_internal ? 1.0f : 0.0f;
-      if (options_.fresnel && !total_internal)
-        reflectance = fresnel_dielectric(-glm::dot(direction, m), entering ? 1.0f : ior, entering ? ior : 1.0f);
+      const InterfaceCrossing crossing = cross_interface(direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
       origin = p;
-      if (reflectance > 0.0f && random.uniform() < reflectance) {
+      if (crossing.reflectance > 0.0f && random.uniform() < crossing.reflectance) {
         // Reflected off the outside too: followed, since it lands on the receivers like any other
         // specular path (3.8% of the ball lens's floor flux); only the exact tracers model it.
         if (entering && !refracted) acc.totals.reflected += mean(power);
-        direction = on_side(glm::reflect(direction, m), n, true);
+        direction = crossing.reflected;
         refracted = true;
       } else {
         if (entering) transmit();
-        direction = on_side(glm::normalize(transmitted), n, false);
+        direction = crossing.transmitted;
         inside = entering ? static_cast<int>(hit->geometry) : -1;
         refracted = true;
       }
@@ -273,14 +269,16 @@ PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOp
     const glm::vec3 axis = glm::normalize(scene.camera.target - scene.camera.position);
     resolve(&Accumulator::camera, out.camera, [&](size_t i) {
       const uint32_t x = static_cast<uint32_t>(i % options.camera_width), y = static_cast<uint32_t>(i / options.camera_width);
-      const glm::vec2 ndc((float(x) + 0.5f) / float(options.camera_width) * 2 - 1, (float(y) + 0.5f) / float(options.camera_height) * 2 - 1);
+      const glm::vec2 ndc((float(x) + 0.5f) / float(options.camera_width) * 2 - 1,
+                          (float(y) + 0.5f) / float(options.camera_height) * 2 - 1);
       const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
       const glm::vec3 d = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
       const auto hit = exact.rays().intersect(scene.camera.position, d, 0.0f, std::numeric_limits<float>::infinity());
       if (!hit) return 0.0;
       const double cos_view = std::abs(double(glm::dot(hit->geometric_normal, d)));
       const double cos_axis = double(glm::dot(d, axis));
-      const double area = side * side * cos_axis * cos_axis * cos_axis * double(hit->distance) * double(hit->distance) / std::max(cos_view, 1e-6);
+      const double area =
+          side * side * cos_axis * cos_axis * cos_axis * double(hit->distance) * double(hit->distance) / std::max(cos_view, 1e-6);
       return 1.0 / area;
     });
   }

@@ -64,7 +64,9 @@ uint32_t RayScene::add_mesh(const std::vector<glm::vec3>& positions, const std::
   return id;
 }
 
-void RayScene::commit() { rtcCommitScene(impl_->scene); }
+void RayScene::commit() {
+  rtcCommitScene(impl_->scene);
+}
 
 std::optional<RayHit> RayScene::intersect(glm::vec3 origin, glm::vec3 direction, float near, float far) const {
   RTCIntersectContext context;

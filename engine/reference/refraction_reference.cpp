@@ -122,9 +122,9 @@ class Tracer {
       const float roughness = exact_.transmission_roughness(*hit);
       rough = rough || roughness > 0.0f;
       const glm::vec3 facet = microfacet_normal(n, direction, roughness, random);
-      const float reflect_in = fresnel_dielectric(-glm::dot(direction, facet), 1.0f, ior);
-      radiance += throughput * reflect_in * scene_.sky;
-      throughput *= 1.0f - reflect_in;
+      const InterfaceCrossing entry = cross_interface(direction, facet, n, 1.0f, ior);
+      radiance += throughput * entry.reflectance * scene_.sky;
+      throughput *= 1.0f - entry.reflectance;
       const auto [tint, transmission] = exact_.transmittance(*hit);
       if (transmission < 1.0f) {  // the engine shades a refractor's diffuse share as a Lambertian surface of its tint
         SurfacePoint diffuse;
@@ -138,7 +138,7 @@ class Tracer {
         direction = through_thin(direction, facet, n);
         continue;
       }
-      direction = on_side(glm::normalize(glm::refract(direction, facet, 1.0f / ior)), n, false);
+      direction = entry.transmitted;
       bool left = false;
       for (int bounce = 0; bounce < kMaxInterfaces && !left; ++bounce) {
         auto inner = rays_.intersect(origin, direction, epsilon_, std::numeric_limits<float>::infinity());
@@ -149,14 +149,14 @@ class Tracer {
         if (glm::dot(inward, direction) > 0) inward = -inward;
         const float exit_roughness = exact_.transmission_roughness(*inner);
         rough = rough || exit_roughness > 0.0f;
-        const glm::vec3 exit_facet = microfacet_normal(inward, direction, exit_roughness, random);
-        const glm::vec3 out = glm::refract(direction, exit_facet, ior);
+        const InterfaceCrossing exit =
+            cross_interface(direction, microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
         origin = p;
-        if (glm::dot(out, out) == 0.0f) {
-          direction = on_side(glm::reflect(direction, exit_facet), inward, true);  // total internal reflection
+        if (exit.total_internal()) {
+          direction = exit.reflected;
         } else {
-          throughput *= 1.0f - fresnel_dielectric(-glm::dot(direction, exit_facet), ior, 1.0f);
-          direction = on_side(glm::normalize(out), inward, false);
+          throughput *= 1.0f - exit.reflectance;
+          direction = exit.transmitted;
           left = true;
         }
       }
