@@ -46,61 +46,202 @@ std::shared_ptr<const scene::Scene> with_light_moved(const scene::Scene& scene, 
   return moved;
 }
 
-}  // namespace
-
-// Where each caustic method breaks: every case of kStabilityCases x every method, against the
-// photon reference; docs/stability.md reports a run.
-int cmd_bench_stability(Args& args) {
+struct StabilityOptions {
   uint32_t grid = 2048, caustic_size = 512, frames = 3, width = 320, height = 180;
   uint64_t reference_photons = 20'000'000;
   double blur = 1.5;
   bool validate = false;
   std::string out_dir, device;
-  std::vector<StabilityCase> cases(std::begin(kStabilityCases), std::end(kStabilityCases));
+  std::vector<StabilityCase> cases{std::begin(kStabilityCases), std::end(kStabilityCases)};
+};
+
+StabilityOptions parse_stability_options(Args& args) {
+  StabilityOptions o;
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--cases") {
       std::vector<std::string> known;
       for (const auto& c : kStabilityCases) known.push_back(c.name());
-      cases.clear();
+      o.cases.clear();
       for (const auto& name : parse_names(a, args.value(a))) {
         const auto found = std::find(known.begin(), known.end(), name);
         if (found == known.end()) throw UsageError("--cases: no case '" + name + "'" + did_you_mean(name, known) + "; see --help");
-        cases.push_back(kStabilityCases[found - known.begin()]);
+        o.cases.push_back(kStabilityCases[found - known.begin()]);
       }
     } else if (a == "--grid")
-      grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
+      o.grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
     else if (a == "--caustic-size")
-      caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
+      o.caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
     else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 0, 100));
+      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 0, 100));
     else if (a == "--reference-photons")
-      reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
+      o.reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
     else if (a == "--out")
-      out_dir = args.value(a);
+      o.out_dir = args.value(a);
     else if (a == "--device")
-      device = args.value(a);
+      o.device = args.value(a);
     else if (a == "--validate")
-      validate = true;
+      o.validate = true;
     else
       unknown_option(a, {"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
   }
-  struct Method {
-    const char* label;
-    const char* graph;
-    const char* extra;  // a --set beyond grid and caustic_size, or null
+  return o;
+}
+
+struct Method {
+  const char* label;
+  const char* graph;
+  const char* extra;  // a --set beyond grid and caustic_size, or null
+};
+const Method kStabilityMethods[] = {{"regular", "caustics_regular", nullptr},
+                                    {"hierarchical", "caustics_hierarchical", nullptr},
+                                    {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
+                                    {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
+                                    {"adaptive hybrid", "caustics_adaptive", nullptr},
+                                    {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"},
+                                    {"adaptive hybrid with search", "caustics_adaptive_hybrid", "distance=search"},
+                                    {"adaptive hybrid with exact re-trace", "caustics_adaptive_hybrid", nullptr},
+                                    {"ray query", "caustics_raytraced", nullptr}};
+
+const glm::vec3 kShift(1e-4f, 0.0f, 0.0f);  // the tiny light move
+constexpr int kPathSteps = 6;               // the moving light's positions, kStep apart
+const glm::vec3 kStep(0.02f, 0.0f, 0.0f);
+
+// A case's exact answer: its map, its sensitivity to the tiny move and, for a moving light, the
+// mean change between neighbouring positions of its path.
+struct CaseReference {
+  reference::PhotonReference traced;
+  double shift = 0, flicker = 0;
+};
+
+CaseReference trace_case_reference(const StabilityCase& c, const scene::Scene& scene, const StabilityOptions& o) {
+  reference::PhotonOptions options;
+  options.photons = o.reference_photons;
+  options.map_size = o.caustic_size;
+  auto reference_map = [&](const scene::Scene& s) { return reference::trace_photon_reference(s, options).caustic_map; };
+  CaseReference r{reference::trace_photon_reference(scene, options)};
+  const io::ImageData& reference = r.traced.caustic_map;
+  // The exact answer's own sensitivity to the tiny move, sampled like the reference: where paths
+  // bounce many times (n = 2.4) it is large, and a method that follows them can be no calmer.
+  r.shift = reference::compare_images(reference_map(*with_light_moved(scene, kShift)), reference, o.blur).relative_l1;
+  if (c.moving_light) {
+    std::vector<io::ImageData> path{reference};  // the path's first position is the light's own
+    for (int i = 1; i < kPathSteps; ++i) path.push_back(reference_map(*with_light_moved(scene, kStep * float(i))));
+    for (int i = 1; i < kPathSteps; ++i)
+      r.flicker += reference::compare_images(path[i], path[i - 1], o.blur).relative_l1 / (kPathSteps - 1);
+  }
+  return r;
+}
+
+// One method on one case: its map against the reference, its change under the tiny move and
+// along the moving light's path.
+struct MethodResult {
+  Timings timings;
+  reference::ImageComparison accuracy, shifted;
+  uint64_t nonfinite = 0;
+  double flicker = 0, processed = 0;
+};
+
+MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g, const StabilityCase& c,
+                            const std::shared_ptr<const scene::Scene>& scene, const io::ImageData& reference, const StabilityOptions& o) {
+  auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
+    executor.set_scene(std::move(s));
+    executor.configure(g, o.width, o.height, {"caustics"});
   };
-  const Method methods[] = {{"regular", "caustics_regular", nullptr},
-                            {"hierarchical", "caustics_hierarchical", nullptr},
-                            {"adaptive max-level", "caustics_adaptive_maxlevel", nullptr},
-                            {"adaptive max-error", "caustics_adaptive_maxerror", nullptr},
-                            {"adaptive hybrid", "caustics_adaptive", nullptr},
-                            {"adaptive hybrid unseeded (the paper)", "caustics_adaptive", "coverage_seeding=false"},
-                            {"adaptive hybrid with search", "caustics_adaptive_hybrid", "distance=search"},
-                            {"adaptive hybrid with exact re-trace", "caustics_adaptive_hybrid", nullptr},
-                            {"ray query", "caustics_raytraced", nullptr}};
-  if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
-  vk::Context vk(device_options(device, validate));
+  // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
+  auto render = [&](std::shared_ptr<const scene::Scene> s) {
+    prepare(std::move(s));
+    if (o.frames > 0) return time_frames(executor, o.frames, passes_of_types(g, kCausticPassTypes));
+    Timings untimed;
+    untimed.method_ms = untimed.frame_ms = std::nan("");
+    untimed.last = executor.run_frame(true);
+    return untimed;
+  };
+  // The moved lights' maps are compared, not timed: one frame each, without the warm-up.
+  auto render_untimed = [&](std::shared_ptr<const scene::Scene> s) {
+    prepare(std::move(s));
+    executor.run_frame(true);
+  };
+  // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
+  // never exists: an empty map, which is the right answer.
+  auto caustic_map = [&] {
+    const int index = executor.plan().find_resource("caustics");
+    if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
+    io::ImageData empty;
+    empty.width = empty.height = o.caustic_size;
+    empty.rgba.assign(size_t{o.caustic_size} * o.caustic_size * 4, 0.0f);
+    return empty;
+  };
+  MethodResult r;
+  r.timings = render(scene);
+  const io::ImageData map = caustic_map();
+  const io::ImageData frame = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
+  for (const auto* image : {&map, &frame}) {
+    for (float v : image->rgba) r.nonfinite += std::isfinite(v) ? 0 : 1;
+  }
+  for (const auto& [name, value] : r.timings.last.counters) r.nonfinite += std::isfinite(value) ? 0 : 1;
+  r.accuracy = reference::compare_images(map, reference, o.blur);
+  render_untimed(with_light_moved(*scene, kShift));
+  r.shifted = reference::compare_images(caustic_map(), map, o.blur);
+  if (c.moving_light) {
+    io::ImageData previous = map;
+    for (int i = 1; i < kPathSteps; ++i) {
+      render_untimed(with_light_moved(*scene, kStep * float(i)));
+      io::ImageData current = caustic_map();
+      r.flicker += reference::compare_images(current, previous, o.blur).relative_l1 / (kPathSteps - 1);
+      previous = std::move(current);
+    }
+  }
+  r.processed = r.timings.last.counters.count("photons.processed") ? r.timings.last.counters.at("photons.processed") : 0.0;
+  return r;
+}
+
+// The method's row of the CSV and of the Markdown table, and its progress line.
+void add_rows(const StabilityCase& c, const Method& m, const MethodResult& r, const CaseReference& reference, const StabilityOptions& o,
+              std::string& csv, std::string& table) {
+  char line[768];
+  std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu,%.6f\n", c.label, m.label,
+                r.accuracy.relative_l1, r.accuracy.energy_ratio, r.accuracy.shape_l1, static_cast<unsigned long long>(r.nonfinite),
+                r.processed, r.timings.method_ms, r.shifted.relative_l1, r.shifted.energy_ratio, r.flicker, reference.flicker,
+                static_cast<unsigned long long>(reference.traced.totals.landed_photons), reference.shift);
+  csv += line;
+  char flicker_cell[64] = "-";
+  if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", r.flicker, reference.flicker);
+  char ms_cell[32] = "-";
+  if (o.frames > 0) std::snprintf(ms_cell, sizeof(ms_cell), "%.2f", r.timings.method_ms);
+  std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %s | %.5f (%.5f) | %s |\n", c.label, m.label,
+                r.accuracy.relative_l1, r.accuracy.energy_ratio, r.accuracy.shape_l1, static_cast<unsigned long long>(r.nonfinite),
+                r.processed, ms_cell, r.shifted.relative_l1, reference.shift, flicker_cell);
+  table += line;
+  std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, r.accuracy.relative_l1,
+               r.accuracy.energy_ratio, static_cast<unsigned long long>(r.nonfinite));
+}
+
+void write_stability_results(const vk::Context& vk, const StabilityOptions& o, const std::string& csv, const std::string& table) {
+  char timing[64] = "one frame, untimed";
+  if (o.frames > 0) std::snprintf(timing, sizeof(timing), "median of %u frames after one warm-up", o.frames);
+  char config[512];
+  std::snprintf(config, sizeof(config),
+                "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, %s; reference %llu photons (Fresnel on); metrics after a "
+                "Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
+                vk.device_name().c_str(), o.grid, o.caustic_size, o.width, o.height, timing,
+                static_cast<unsigned long long>(o.reference_photons), o.blur, kPathSteps);
+  std::cout << config << "\n\n" << table;
+  if (!o.out_dir.empty()) {
+    const std::filesystem::path dir(o.out_dir);
+    io::write_text_atomically((dir / "stability.csv").string(), csv);
+    io::write_text_atomically((dir / "README.md").string(), "# caustica bench stability\n\n" + std::string(config) + "\n\n" + table);
+  }
+}
+
+}  // namespace
+
+// Where each caustic method breaks: every case of kStabilityCases x every method, against the
+// photon reference; docs/stability.md reports a run.
+int cmd_bench_stability(Args& args) {
+  const StabilityOptions o = parse_stability_options(args);
+  if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
+  vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   std::string csv =
       "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_"
@@ -109,31 +250,12 @@ int cmd_bench_stability(Args& args) {
       "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 (reference) | flicker "
       "(reference) |\n"
       "|---|---|---|---|---|---|---|---|---|---|\n";
-  const glm::vec3 shift(1e-4f, 0.0f, 0.0f);
-  constexpr int kPathSteps = 6;
-  const glm::vec3 step(0.02f, 0.0f, 0.0f);
-  for (const auto& c : cases) {
+  for (const auto& c : o.cases) {
     const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
-    reference::PhotonOptions options;
-    options.photons = reference_photons;
-    options.map_size = caustic_size;
-    auto reference_map = [&](const scene::Scene& s) { return reference::trace_photon_reference(s, options).caustic_map; };
-    const auto traced = reference::trace_photon_reference(*scene, options);
-    const io::ImageData& reference = traced.caustic_map;
-    // The exact answer's own sensitivity to the tiny move, sampled like the reference: where paths
-    // bounce many times (n = 2.4) it is large, and a method that follows them can be no calmer.
-    const double reference_shift = reference::compare_images(reference_map(*with_light_moved(*scene, shift)), reference, blur).relative_l1;
-    std::vector<io::ImageData> reference_path;
-    double reference_flicker = 0;
-    if (c.moving_light) {
-      reference_path.push_back(reference);  // the path's first position is the light's own
-      for (int i = 1; i < kPathSteps; ++i) reference_path.push_back(reference_map(*with_light_moved(*scene, step * float(i))));
-      for (int i = 1; i < kPathSteps; ++i)
-        reference_flicker += reference::compare_images(reference_path[i], reference_path[i - 1], blur).relative_l1 / (kPathSteps - 1);
-    }
-    for (const auto& m : methods) {
+    const CaseReference reference = trace_case_reference(c, *scene, o);
+    for (const auto& m : kStabilityMethods) {
       graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
-      std::vector<std::string> sets{"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(caustic_size)};
+      std::vector<std::string> sets{"grid=" + std::to_string(o.grid), "caustic_size=" + std::to_string(o.caustic_size)};
       if (m.extra) sets.emplace_back(m.extra);
       graph::apply_overrides(g, sets);
       if (!runs_on(vk, g)) {
@@ -142,88 +264,10 @@ int cmd_bench_stability(Args& args) {
         continue;
       }
       graph::Executor executor(vk, shaders, passes::builtin_registry());
-      auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
-        executor.set_scene(std::move(s));
-        executor.configure(g, width, height, {"caustics"});
-      };
-      // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
-      auto render = [&](std::shared_ptr<const scene::Scene> s) {
-        prepare(std::move(s));
-        if (frames > 0) return time_frames(executor, frames, passes_of_types(g, kCausticPassTypes));
-        Timings untimed;
-        untimed.method_ms = untimed.frame_ms = std::nan("");
-        untimed.last = executor.run_frame(true);
-        return untimed;
-      };
-      // The moved lights' maps are compared, not timed: one frame each, without the warm-up.
-      auto render_untimed = [&](std::shared_ptr<const scene::Scene> s) {
-        prepare(std::move(s));
-        executor.run_frame(true);
-      };
-      // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
-      // never exists: an empty map, which is the right answer.
-      auto caustic_map = [&] {
-        const int index = executor.plan().find_resource("caustics");
-        if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
-        io::ImageData empty;
-        empty.width = empty.height = caustic_size;
-        empty.rgba.assign(size_t{caustic_size} * caustic_size * 4, 0.0f);
-        return empty;
-      };
-      const Timings t = render(scene);
-      const io::ImageData map = caustic_map();
-      const io::ImageData frame = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
-      uint64_t nonfinite = 0;
-      for (const auto* image : {&map, &frame}) {
-        for (float v : image->rgba) nonfinite += std::isfinite(v) ? 0 : 1;
-      }
-      for (const auto& [name, value] : t.last.counters) nonfinite += std::isfinite(value) ? 0 : 1;
-      const auto accuracy = reference::compare_images(map, reference, blur);
-      render_untimed(with_light_moved(*scene, shift));
-      const auto shifted = reference::compare_images(caustic_map(), map, blur);
-      double flicker = 0;
-      if (c.moving_light) {
-        io::ImageData previous = map;
-        for (int i = 1; i < kPathSteps; ++i) {
-          render_untimed(with_light_moved(*scene, step * float(i)));
-          io::ImageData current = caustic_map();
-          flicker += reference::compare_images(current, previous, blur).relative_l1 / (kPathSteps - 1);
-          previous = std::move(current);
-        }
-      }
-      const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
-      char line[768];
-      std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu,%.6f\n", c.label, m.label,
-                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
-                    t.method_ms, shifted.relative_l1, shifted.energy_ratio, flicker, reference_flicker,
-                    static_cast<unsigned long long>(traced.totals.landed_photons), reference_shift);
-      csv += line;
-      char flicker_cell[64] = "-";
-      if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", flicker, reference_flicker);
-      char ms_cell[32] = "-";
-      if (frames > 0) std::snprintf(ms_cell, sizeof(ms_cell), "%.2f", t.method_ms);
-      std::snprintf(line, sizeof(line), "| %s | %s | %.4f | %.4f | %.4f | %llu | %.0f | %s | %.5f (%.5f) | %s |\n", c.label, m.label,
-                    accuracy.relative_l1, accuracy.energy_ratio, accuracy.shape_l1, static_cast<unsigned long long>(nonfinite), processed,
-                    ms_cell, shifted.relative_l1, reference_shift, flicker_cell);
-      table += line;
-      std::fprintf(stderr, "%s, %s: relative L1 %.4f, energy %.4f, %llu NaN/Inf\n", c.label, m.label, accuracy.relative_l1,
-                   accuracy.energy_ratio, static_cast<unsigned long long>(nonfinite));
+      add_rows(c, m, measure_method(executor, g, c, scene, reference.traced.caustic_map, o), reference, o, csv, table);
     }
   }
-  char timing[64] = "one frame, untimed";
-  if (frames > 0) std::snprintf(timing, sizeof(timing), "median of %u frames after one warm-up", frames);
-  char config[512];
-  std::snprintf(config, sizeof(config),
-                "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, %s; reference %llu photons (Fresnel on); metrics after a "
-                "Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
-                vk.device_name().c_str(), grid, caustic_size, width, height, timing, static_cast<unsigned long long>(reference_photons),
-                blur, kPathSteps);
-  std::cout << config << "\n\n" << table;
-  if (!out_dir.empty()) {
-    const std::filesystem::path dir(out_dir);
-    io::write_text_atomically((dir / "stability.csv").string(), csv);
-    io::write_text_atomically((dir / "README.md").string(), "# caustica bench stability\n\n" + std::string(config) + "\n\n" + table);
-  }
+  write_stability_results(vk, o, csv, table);
   if (vk.validation_messages() > 0) {
     std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk.validation_messages());
     return 3;
