@@ -40,57 +40,88 @@ void GraphEditor::draw(const graph::FrameResult& frame) {
   ImGui::End();
 }
 
+// Where the canvas lies on screen this frame, and drawing in canvas units: screen = origin +
+// (canvas + pan) * zoom. Text scales with the canvas, so that a zoomed-out graph does not overlap itself.
+struct GraphEditor::CanvasView {
+  ImDrawList* draw;
+  ImVec2 origin;
+  float pan_x, pan_y, zoom;
+  float font_size = ImGui::GetFontSize() * zoom;
+
+  ImVec2 to_screen(float x, float y) const { return ImVec2(origin.x + (x + pan_x) * zoom, origin.y + (y + pan_y) * zoom); }
+  ImVec2 to_canvas(ImVec2 p) const { return ImVec2((p.x - origin.x) / zoom - pan_x, (p.y - origin.y) / zoom - pan_y); }
+  void text_at(ImVec2 p, ImU32 colour, const std::string& t, float wrap = 0.0f) const {
+    draw->AddText(ImGui::GetFont(), font_size, p, colour, t.c_str(), nullptr, wrap);
+  }
+  ImVec2 text_size(const std::string& t) const { return ImGui::GetFont()->CalcTextSizeA(font_size, FLT_MAX, 0.0f, t.c_str()); }
+  ImVec2 port_pos(const Node& n, const std::string& port, bool output) const {
+    const auto& list = output ? n.outputs : n.inputs;
+    const auto i = static_cast<float>(std::find(list.begin(), list.end(), port) - list.begin());
+    return to_screen(n.x + (output ? kNodeWidth : 0.0f), n.y + kHeader + (i + 0.5f) * kRow);
+  }
+};
+
 void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
-  ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const ImVec2 size = ImGui::GetContentRegionAvail();
   ImGui::InvisibleButton("canvas", size,
                          ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonMiddle | ImGuiButtonFlags_MouseButtonRight);
   canvas_hovered_ = ImGui::IsItemHovered();
+  pan_and_zoom(origin);
+  if (!fitted_ && !nodes_.empty() && size.x > 1 && size.y > 1) fit_view(size);
+  const CanvasView view{ImGui::GetWindowDrawList(), origin, pan_x_, pan_y_, zoom_};
+  view.draw->PushClipRect(origin, origin + size, true);
+  port_positions_.clear();
+  draw_wires(view);
+  const Hovered hovered = draw_nodes(view, frame);
+  canvas_gestures(view, hovered);
+  view.draw->PopClipRect();
+  if (canvas_hovered_ && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+    const ImVec2 m = view.to_canvas(ImGui::GetIO().MousePos);
+    menu_x_ = m.x;
+    menu_y_ = m.y;
+    filter_[0] = '\0';
+    menu_has_keyboard_ = false;
+    ImGui::OpenPopup("add pass");
+  }
+  draw_add_menu();
+}
+
+// Middle drag pans, the wheel zooms about the mouse.
+void GraphEditor::pan_and_zoom(ImVec2 origin) {
   ImGuiIO& io = ImGui::GetIO();
-  auto to_screen = [&](float x, float y) { return ImVec2(origin.x + (x + pan_x_) * zoom_, origin.y + (y + pan_y_) * zoom_); };
-  auto to_canvas = [&](ImVec2 p) { return ImVec2((p.x - origin.x) / zoom_ - pan_x_, (p.y - origin.y) / zoom_ - pan_y_); };
   if (canvas_hovered_ && ImGui::IsMouseDragging(ImGuiMouseButton_Middle)) {
     pan_x_ += io.MouseDelta.x / zoom_;
     pan_y_ += io.MouseDelta.y / zoom_;
   }
   if (canvas_hovered_ && io.MouseWheel != 0.0f) {
-    const ImVec2 before = to_canvas(io.MousePos);
+    const ImVec2 before = CanvasView{nullptr, origin, pan_x_, pan_y_, zoom_}.to_canvas(io.MousePos);
     zoom_ = std::clamp(zoom_ * std::pow(1.1f, io.MouseWheel), 0.3f, 3.0f);
-    const ImVec2 after = to_canvas(io.MousePos);
+    const ImVec2 after = CanvasView{nullptr, origin, pan_x_, pan_y_, zoom_}.to_canvas(io.MousePos);
     pan_x_ += after.x - before.x;
     pan_y_ += after.y - before.y;
   }
-  if (!fitted_ && !nodes_.empty() && size.x > 1 && size.y > 1) {
-    // The whole graph in view, no larger than life.
-    float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
-    for (const auto& n : nodes_) {
-      x0 = std::min(x0, n.x);
-      y0 = std::min(y0, n.y);
-      x1 = std::max(x1, n.x + kNodeWidth);
-      y1 = std::max(y1, n.y + kHeader + static_cast<float>(std::max(n.inputs.size(), n.outputs.size()) + 2) * kRow);
-    }
-    zoom_ = std::clamp(std::min(size.x / (x1 - x0 + 40.0f), size.y / (y1 - y0 + 40.0f)), 0.6f, 1.0f);
-    pan_x_ = 20.0f / zoom_ - x0;
-    pan_y_ = 20.0f / zoom_ - y0;
-    fitted_ = true;
+}
+
+// The whole graph in view, no larger than life.
+void GraphEditor::fit_view(ImVec2 size) {
+  float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
+  for (const auto& n : nodes_) {
+    x0 = std::min(x0, n.x);
+    y0 = std::min(y0, n.y);
+    x1 = std::max(x1, n.x + kNodeWidth);
+    y1 = std::max(y1, n.y + kHeader + static_cast<float>(std::max(n.inputs.size(), n.outputs.size()) + 2) * kRow);
   }
-  draw->PushClipRect(origin, origin + size, true);
-  port_positions_.clear();
+  zoom_ = std::clamp(std::min(size.x / (x1 - x0 + 40.0f), size.y / (y1 - y0 + 40.0f)), 0.6f, 1.0f);
+  pan_x_ = 20.0f / zoom_ - x0;
+  pan_y_ = 20.0f / zoom_ - y0;
+  fitted_ = true;
+}
+
+// Wires: from the writer's output port to each reader's input port, labelled with the resource's
+// format and extent as compiled.
+void GraphEditor::draw_wires(const CanvasView& view) const {
   const graph::Plan& plan = viewer_.plan();
-  // Text scales with the canvas, so that a zoomed-out graph does not overlap itself.
-  const float font_size = ImGui::GetFontSize() * zoom_;
-  auto text_at = [&](ImVec2 p, ImU32 colour, const std::string& t, float wrap = 0.0f) {
-    draw->AddText(ImGui::GetFont(), font_size, p, colour, t.c_str(), nullptr, wrap);
-  };
-  auto text_size = [&](const std::string& t) { return ImGui::GetFont()->CalcTextSizeA(font_size, FLT_MAX, 0.0f, t.c_str()); };
-  auto port_pos = [&](const Node& n, const std::string& port, bool output) {
-    const auto& list = output ? n.outputs : n.inputs;
-    const auto i = static_cast<float>(std::find(list.begin(), list.end(), port) - list.begin());
-    return to_screen(n.x + (output ? kNodeWidth : 0.0f), n.y + kHeader + (i + 0.5f) * kRow);
-  };
-  // Wires: from the writer's output port to each reader's input port, labelled with the resource's
-  // format and extent as compiled.
   for (const auto& reader : nodes_) {
     for (const auto& in : reader.inputs) {
       const std::string resource = resource_of(reader.name, in);
@@ -99,25 +130,30 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
         if (&writer == &reader) continue;  // a read_write port's own binding
         for (const auto& out : writer.outputs) {
           if (resource_of(writer.name, out) != resource) continue;
-          const ImVec2 a = port_pos(writer, out, true), b = port_pos(reader, in, false);
-          const float bend = std::max(40.0f, std::abs(b.x - a.x) * 0.5f) * zoom_;
-          draw->AddBezierCubic(a, ImVec2(a.x + bend, a.y), ImVec2(b.x - bend, b.y), b, IM_COL32(200, 200, 120, 200), 2.0f);
+          const ImVec2 a = view.port_pos(writer, out, true), b = view.port_pos(reader, in, false);
+          const float bend = std::max(40.0f, std::abs(b.x - a.x) * 0.5f) * view.zoom;
+          view.draw->AddBezierCubic(a, ImVec2(a.x + bend, a.y), ImVec2(b.x - bend, b.y), b, IM_COL32(200, 200, 120, 200), 2.0f);
           std::string label = resource;
           if (const int r = plan.find_resource(resource); r >= 0) {
             const auto& pr = plan.resources[static_cast<size_t>(r)];
             label +=
                 " " + std::string(graph::format_info(pr.format).name) + " " + std::to_string(pr.width) + "x" + std::to_string(pr.height);
           }
-          const ImVec2 middle((a.x + b.x) * 0.5f - text_size(label).x * 0.5f, (a.y + b.y) * 0.5f - font_size);
-          draw->AddRectFilled(middle, middle + text_size(label), IM_COL32(20, 20, 20, 170));
-          text_at(middle, IM_COL32(220, 220, 170, 255), label);
+          const ImVec2 middle((a.x + b.x) * 0.5f - view.text_size(label).x * 0.5f, (a.y + b.y) * 0.5f - view.font_size);
+          view.draw->AddRectFilled(middle, middle + view.text_size(label), IM_COL32(20, 20, 20, 170));
+          view.text_at(middle, IM_COL32(220, 220, 170, 255), label);
         }
       }
     }
   }
-  // Nodes.
-  std::optional<PortHit> hovered_port;
-  std::string hovered_node;
+}
+
+// Each node: its box (grey when culled, outlined when selected or refused), its ports, its last
+// GPU time and first counters, its error. Returns what the mouse is over.
+GraphEditor::Hovered GraphEditor::draw_nodes(const CanvasView& view, const graph::FrameResult& frame) {
+  const graph::Plan& plan = viewer_.plan();
+  const ImGuiIO& io = ImGui::GetIO();
+  Hovered hovered;
   for (const auto& n : nodes_) {
     const bool culled = std::find(plan.culled.begin(), plan.culled.end(), n.name) != plan.culled.end() ||
                         std::none_of(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return p.name == n.name; });
@@ -138,63 +174,68 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
     const auto error = node_errors_.find(n.name);
     const float rows =
         static_cast<float>(std::max(n.inputs.size(), n.outputs.size()) + lines.size()) + (error != node_errors_.end() ? 2.0f : 0.0f);
-    const ImVec2 top = to_screen(n.x, n.y), bottom = to_screen(n.x + kNodeWidth, n.y + kHeader + rows * kRow + 4.0f);
+    const ImVec2 top = view.to_screen(n.x, n.y), bottom = view.to_screen(n.x + kNodeWidth, n.y + kHeader + rows * kRow + 4.0f);
     const bool selected = selected_.count(n.name) > 0;
-    draw->AddRectFilled(top, bottom, culled ? IM_COL32(45, 45, 45, 230) : IM_COL32(35, 45, 70, 235), 4.0f);
-    draw->AddRectFilled(top, ImVec2(bottom.x, top.y + kHeader * zoom_), culled ? IM_COL32(70, 70, 70, 255) : IM_COL32(60, 90, 150, 255),
-                        4.0f);
-    draw->AddRect(top, bottom,
-                  selected                      ? IM_COL32(255, 220, 90, 255)
-                  : error != node_errors_.end() ? IM_COL32(240, 80, 60, 255)
-                                                : IM_COL32(90, 90, 90, 255),
-                  4.0f, 0, selected ? 2.5f : 1.0f);
+    view.draw->AddRectFilled(top, bottom, culled ? IM_COL32(45, 45, 45, 230) : IM_COL32(35, 45, 70, 235), 4.0f);
+    view.draw->AddRectFilled(top, ImVec2(bottom.x, top.y + kHeader * view.zoom),
+                             culled ? IM_COL32(70, 70, 70, 255) : IM_COL32(60, 90, 150, 255), 4.0f);
+    view.draw->AddRect(top, bottom,
+                       selected                      ? IM_COL32(255, 220, 90, 255)
+                       : error != node_errors_.end() ? IM_COL32(240, 80, 60, 255)
+                                                     : IM_COL32(90, 90, 90, 255),
+                       4.0f, 0, selected ? 2.5f : 1.0f);
     const ImU32 text = culled ? IM_COL32(140, 140, 140, 255) : IM_COL32(235, 235, 235, 255);
-    text_at(ImVec2(top.x + 5 * zoom_, top.y + 3 * zoom_), text, n.name + (culled ? " (culled)" : "") + ": " + n.type);
+    view.text_at(ImVec2(top.x + 5 * view.zoom, top.y + 3 * view.zoom), text, n.name + (culled ? " (culled)" : "") + ": " + n.type);
     for (int side = 0; side < 2; ++side) {
       const auto& ports = side ? n.outputs : n.inputs;
       for (const auto& port : ports) {
-        const ImVec2 p = port_pos(n, port, side == 1);
+        const ImVec2 p = view.port_pos(n, port, side == 1);
         const bool bound = !resource_of(n.name, port).empty();
-        draw->AddCircleFilled(p, kPortRadius * zoom_, bound ? IM_COL32(200, 200, 120, 255) : IM_COL32(110, 110, 110, 255));
-        const ImVec2 label_size = text_size(port);
-        text_at(ImVec2(side ? p.x - label_size.x - 8 * zoom_ : p.x + 8 * zoom_, p.y - label_size.y * 0.5f), text, port);
+        view.draw->AddCircleFilled(p, kPortRadius * view.zoom, bound ? IM_COL32(200, 200, 120, 255) : IM_COL32(110, 110, 110, 255));
+        const ImVec2 label_size = view.text_size(port);
+        view.text_at(ImVec2(side ? p.x - label_size.x - 8 * view.zoom : p.x + 8 * view.zoom, p.y - label_size.y * 0.5f), text, port);
         const float dx = io.MousePos.x - p.x, dy = io.MousePos.y - p.y;
-        if (dx * dx + dy * dy < 64.0f) hovered_port = PortHit{n.name, port, side == 1};
+        if (dx * dx + dy * dy < 64.0f) hovered.port = PortHit{n.name, port, side == 1};
         port_positions_[n.name + "." + port] = {p.x, p.y};
       }
     }
     float y = n.y + kHeader + static_cast<float>(std::max(n.inputs.size(), n.outputs.size())) * kRow;
     for (const auto& line : lines) {
-      text_at(to_screen(n.x + 5, y), IM_COL32(150, 200, 255, 255), line);
+      view.text_at(view.to_screen(n.x + 5, y), IM_COL32(150, 200, 255, 255), line);
       y += kRow;
     }
     if (error != node_errors_.end()) {
-      text_at(to_screen(n.x + 5, y), IM_COL32(255, 110, 90, 255), error->second, (kNodeWidth - 10) * zoom_);
+      view.text_at(view.to_screen(n.x + 5, y), IM_COL32(255, 110, 90, 255), error->second, (kNodeWidth - 10) * view.zoom);
     }
-    if (io.MousePos.x >= top.x && io.MousePos.x <= bottom.x && io.MousePos.y >= top.y && io.MousePos.y <= bottom.y) hovered_node = n.name;
+    if (io.MousePos.x >= top.x && io.MousePos.x <= bottom.x && io.MousePos.y >= top.y && io.MousePos.y <= bottom.y) hovered.node = n.name;
   }
-  // Gestures: drag port to port connects, drag a node moves it, drag the background box-selects.
+  return hovered;
+}
+
+// Gestures: drag port to port connects, drag a node moves it, drag the background box-selects.
+void GraphEditor::canvas_gestures(const CanvasView& view, const Hovered& hovered) {
+  const ImGuiIO& io = ImGui::GetIO();
   if (canvas_hovered_ && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    if (hovered_port) {
-      wire_from_ = hovered_port;
-    } else if (!hovered_node.empty()) {
-      if (!io.KeyShift && !selected_.count(hovered_node)) selected_.clear();
-      selected_.insert(hovered_node);
-      if (const Node* n = node(hovered_node)) {
-        dragging_node_ = hovered_node;
-        const ImVec2 m = to_canvas(io.MousePos);
+    if (hovered.port) {
+      wire_from_ = hovered.port;
+    } else if (!hovered.node.empty()) {
+      if (!io.KeyShift && !selected_.count(hovered.node)) selected_.clear();
+      selected_.insert(hovered.node);
+      if (const Node* n = node(hovered.node)) {
+        dragging_node_ = hovered.node;
+        const ImVec2 m = view.to_canvas(io.MousePos);
         drag_dx_ = m.x - n->x;
         drag_dy_ = m.y - n->y;
       }
     } else {
       box_selecting_ = true;
-      const ImVec2 m = to_canvas(io.MousePos);
+      const ImVec2 m = view.to_canvas(io.MousePos);
       box_x0_ = m.x;
       box_y0_ = m.y;
     }
   }
   if (!dragging_node_.empty()) {
-    const ImVec2 m = to_canvas(io.MousePos);
+    const ImVec2 m = view.to_canvas(io.MousePos);
     for (auto& n : nodes_) {
       if (n.name == dragging_node_) {
         n.x = m.x - drag_dx_;
@@ -212,13 +253,14 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
   }
   if (wire_from_) {
     const Node* from = node(wire_from_->pass);
-    if (from) draw->AddLine(port_pos(*from, wire_from_->port, wire_from_->output), io.MousePos, IM_COL32(255, 255, 160, 255), 2.0f);
+    if (from)
+      view.draw->AddLine(view.port_pos(*from, wire_from_->port, wire_from_->output), io.MousePos, IM_COL32(255, 255, 160, 255), 2.0f);
     if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
       const PortHit a = *wire_from_;
       wire_from_.reset();
-      if (hovered_port && hovered_port->output != a.output) {
-        const PortHit& out = a.output ? a : *hovered_port;
-        const PortHit& in = a.output ? *hovered_port : a;
+      if (hovered.port && hovered.port->output != a.output) {
+        const PortHit& out = a.output ? a : *hovered.port;
+        const PortHit& in = a.output ? *hovered.port : a;
         const std::string resource = resource_of(out.pass, out.port);
         if (resource.empty()) {
           status_ = "output " + out.pass + "." + out.port + " is not bound to a resource";
@@ -230,8 +272,8 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
     }
   }
   if (box_selecting_) {
-    const ImVec2 m = to_canvas(io.MousePos);
-    draw->AddRect(to_screen(box_x0_, box_y0_), io.MousePos, IM_COL32(255, 220, 90, 200));
+    const ImVec2 m = view.to_canvas(io.MousePos);
+    view.draw->AddRect(view.to_screen(box_x0_, box_y0_), io.MousePos, IM_COL32(255, 220, 90, 200));
     if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
       box_selecting_ = false;
       if (!io.KeyShift) selected_.clear();
@@ -241,16 +283,6 @@ void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
       }
     }
   }
-  draw->PopClipRect();
-  if (canvas_hovered_ && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
-    const ImVec2 m = to_canvas(io.MousePos);
-    menu_x_ = m.x;
-    menu_y_ = m.y;
-    filter_[0] = '\0';
-    menu_has_keyboard_ = false;
-    ImGui::OpenPopup("add pass");
-  }
-  draw_add_menu();
 }
 
 void GraphEditor::draw_add_menu() {

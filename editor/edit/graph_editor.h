@@ -4,8 +4,11 @@
 // last GPU time and counters. Every edit goes through the graph model (editor/model), is compiled,
 // and swaps the running frame; a refused edit keeps the last good frame and shows the message on
 // the node it concerns.
+#include <imgui.h>
+
 #include <array>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -55,6 +58,17 @@ class GraphEditor {
   // edit/canvas.cpp: the editor's window, its canvas and side panel.
   void draw(const graph::FrameResult& frame);
   void draw_canvas(const graph::FrameResult& frame);
+  // The canvas's parts (edit/canvas.cpp): its view, wires, nodes and the mouse's gestures.
+  struct CanvasView;
+  struct Hovered {
+    std::optional<PortHit> port;
+    std::string node;
+  };
+  void pan_and_zoom(ImVec2 origin);
+  void fit_view(ImVec2 size);
+  void draw_wires(const CanvasView& view) const;
+  Hovered draw_nodes(const CanvasView& view, const graph::FrameResult& frame);
+  void canvas_gestures(const CanvasView& view, const Hovered& hovered);
   void draw_side_panel();
   void draw_add_menu();
   bool on_key(const WindowEvents::Key& key);
