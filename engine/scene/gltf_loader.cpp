@@ -477,30 +477,34 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
 
 }  // namespace
 
-ModelFile load_gltf(const std::string& path) {
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keep_encoded_image, nullptr);
-  tinygltf::Model model;
-  std::string error, warning;
-  const bool binary = std::filesystem::path(path).extension() == ".glb";
+namespace {
+
+std::vector<unsigned char> read_model_bytes(const std::string& path, bool binary) {
   std::vector<unsigned char> bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path, 0, "cannot open the file");
-    in.seekg(0, std::ios::end);
-    const auto size = static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0));
-    if (size > kMaxMeshFileBytes) fail(path, 0, "the file is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB");
-    in.seekg(0);
-    bytes.resize(size);
-    if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) fail(path, 0, "cannot read the file");
-  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, 0, "cannot open the file");
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0));
+  if (size > kMaxMeshFileBytes) fail(path, 0, "the file is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB");
+  in.seekg(0);
+  bytes.resize(size);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) fail(path, 0, "cannot read the file");
   // tinygltf reads the GLB container without looking at its version; version 1 was a different format.
   if (binary && bytes.size() >= 8 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
     uint32_t version = 0;
     std::memcpy(&version, bytes.data() + 4, 4);
     if (version != 2) fail(path, 0, "binary glTF version " + std::to_string(version) + ": only version 2 is supported");
   }
-  const gltf::PreparedFile prepared = gltf::prepare(std::move(bytes), binary);
+  return bytes;
+}
+
+// tinygltf's parse of the prepared file, refused where caustica cannot read it as the
+// specification says: another version, an extension it requires that caustica does not read.
+tinygltf::Model parse_model(const std::string& path, const gltf::PreparedFile& prepared, bool binary) {
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keep_encoded_image, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   const auto& data = prepared.bytes;
   const bool ok = binary
@@ -523,10 +527,15 @@ ModelFile load_gltf(const std::string& path) {
                "KHR_texture_transform)");
     }
   }
+  return model;
+}
+
+// Every image a URI names beside the file exists (a URI's %XX escapes decoded).
+void check_image_files(const tinygltf::Model& model, const std::string& path) {
   for (size_t i = 0; i < model.images.size(); ++i) {
     const std::string& uri = model.images[i].uri;
     if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
-    std::string decoded;  // a URI: %XX escapes
+    std::string decoded;
     for (size_t k = 0; k < uri.size(); ++k) {
       if (uri[k] == '%' && k + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[k + 1])) &&
           std::isxdigit(static_cast<unsigned char>(uri[k + 2]))) {
@@ -541,105 +550,143 @@ ModelFile load_gltf(const std::string& path) {
     if (!std::filesystem::is_regular_file(file, ec))
       fail(path, 0, "image " + std::to_string(i) + ": cannot read '" + uri + "' (" + file.string() + ")");
   }
-  gltf::decode_meshopt(model, prepared, path);
-  ModelFile out;
-  TextureTable textures(model, path);
-  std::vector<MeshPart>& parts = out.parts;
-  std::vector<int> visiting;  // guards against node cycles, which the spec forbids
-  std::function<void(int, const glm::mat4&)> visit = [&](int node_index, const glm::mat4& parent) {
-    if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size())
-      fail(path, 0, "node " + std::to_string(node_index) + " does not exist");
-    if (std::find(visiting.begin(), visiting.end(), node_index) != visiting.end())
-      fail(path, 0, "node " + std::to_string(node_index) + " is its own ancestor");
-    visiting.push_back(node_index);
-    const auto& node = model.nodes[static_cast<size_t>(node_index)];
+}
+
+// The nodes' contents in world space: the first camera, the punctual lights, the triangle
+// primitives with their materials.
+class NodeReader {
+ public:
+  NodeReader(const tinygltf::Model& model, const gltf::PreparedFile& prepared, const std::string& path, TextureTable& textures,
+             ModelFile& out)
+      : model_(model), prepared_(prepared), path_(path), textures_(textures), out_(out) {}
+
+  void visit(int node_index, const glm::mat4& parent) {
+    if (node_index < 0 || static_cast<size_t>(node_index) >= model_.nodes.size())
+      fail(path_, 0, "node " + std::to_string(node_index) + " does not exist");
+    if (std::find(visiting_.begin(), visiting_.end(), node_index) != visiting_.end())
+      fail(path_, 0, "node " + std::to_string(node_index) + " is its own ancestor");
+    visiting_.push_back(node_index);
+    const auto& node = model_.nodes[static_cast<size_t>(node_index)];
     const glm::mat4 world = parent * node_matrix(node);
-    const glm::vec3 origin(world[3]);
-    const glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));  // cameras and lights look down -Z
-    if (node.camera >= 0 && !out.camera && static_cast<size_t>(node.camera) < model.cameras.size()) {
-      const auto& camera = model.cameras[static_cast<size_t>(node.camera)];
-      View view;
-      view.position = origin;
-      view.target = origin + forward;
-      if (camera.type == "perspective") {
-        view.fov_y_degrees = static_cast<float>(glm::degrees(camera.perspective.yfov));
-        if (camera.perspective.znear > 0) view.near_plane = static_cast<float>(camera.perspective.znear);
-        if (camera.perspective.zfar > camera.perspective.znear) view.far_plane = static_cast<float>(camera.perspective.zfar);
-      }
-      out.camera = view;
-      out.camera_is_orthographic = camera.type == "orthographic";
-    }
-    if (const auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
-      const int index = ext->second.Get("light").GetNumberAsInt();
-      if (index < 0 || static_cast<size_t>(index) >= model.lights.size())
-        fail(path, 0, "node " + std::to_string(node_index) + " names a missing light");
-      const auto& l = model.lights[static_cast<size_t>(index)];
-      ModelLight light;
-      light.type = l.type;
-      light.position = origin;
-      light.direction = forward;
-      light.intensity = static_cast<float>(l.intensity);
-      if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
-      light.cone_degrees = static_cast<float>(glm::degrees(2.0 * l.spot.outerConeAngle));
-      out.lights.push_back(light);
-    }
+    read_camera(node, world);
+    read_light(node, node_index, world);
     if (node.mesh >= 0) {
-      if (static_cast<size_t>(node.mesh) >= model.meshes.size())
-        fail(path, 0, "node " + std::to_string(node_index) + " names a missing mesh");
-      const auto& mesh = model.meshes[static_cast<size_t>(node.mesh)];
-      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+      if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
+        fail(path_, 0, "node " + std::to_string(node_index) + " names a missing mesh");
+      const auto& mesh = model_.meshes[static_cast<size_t>(node.mesh)];
       for (const auto& prim : mesh.primitives) {
         if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;  // points and lines do not refract
-        auto position = prim.attributes.find("POSITION");
-        if (position == prim.attributes.end()) fail(path, 0, "a primitive of mesh '" + mesh.name + "' has no POSITION");
-        MeshPart part;
-        part.name = mesh.name;
-        const auto primitive_index = static_cast<size_t>(&prim - mesh.primitives.data());
-        const std::string pointer = "/meshes/" + std::to_string(node.mesh) + "/primitives/" + std::to_string(primitive_index);
-        std::optional<gltf::DracoGeometry> draco;
-        if (prim.extensions.count("KHR_draco_mesh_compression")) {
-          const auto indices = prepared.draco_indices.find({static_cast<size_t>(node.mesh), primitive_index});
-          draco = gltf::decode_draco(model, prim, indices == prepared.draco_indices.end() ? -1 : indices->second, pointer, path);
-        }
-        const auto p = draco ? draco->positions : read_accessor<float>(model, position->second, 3, path);
-        for (size_t i = 0; i + 2 < p.size(); i += 3)
-          part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
-        auto normal = prim.attributes.find("NORMAL");
-        if (normal != prim.attributes.end()) {
-          const auto n = draco && !draco->normals.empty() ? draco->normals : read_accessor<float>(model, normal->second, 3, path);
-          if (n.size() != p.size()) fail(path, 0, "NORMAL and POSITION of mesh '" + mesh.name + "' differ in count");
-          for (size_t i = 0; i + 2 < n.size(); i += 3) {
-            glm::vec3 v = normal_matrix * glm::vec3(n[i], n[i + 1], n[i + 2]);
-            float len = glm::length(v);
-            part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
-          }
-          // The specification ignores tangents where the normals are computed, so only here.
-          read_tangents(model, prim, draco, world, part.mesh, pointer, path);
-        }
-        if (draco) {
-          part.mesh.indices = draco->indices;
-        } else if (prim.indices >= 0) {
-          part.mesh.indices = read_accessor<uint32_t>(model, prim.indices, 1, path);
-        } else {
-          for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
-        }
-        part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
-        part.material = gltf_material(model, prim.material, pointer + "/material", path, textures);
-        read_texcoords(model, prim, draco, part.mesh, pointer, path);
-        parts.push_back(std::move(part));
+        out_.parts.push_back(read_primitive(node.mesh, mesh, static_cast<size_t>(&prim - mesh.primitives.data()), world));
       }
     }
     for (int child : node.children) visit(child, world);
-    visiting.pop_back();
-  };
+    visiting_.pop_back();
+  }
+
+ private:
+  // Cameras and lights look down their node's -Z.
+  static glm::vec3 forward(const glm::mat4& world) { return glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0))); }
+
+  void read_camera(const tinygltf::Node& node, const glm::mat4& world) {
+    if (node.camera < 0 || out_.camera || static_cast<size_t>(node.camera) >= model_.cameras.size()) return;
+    const auto& camera = model_.cameras[static_cast<size_t>(node.camera)];
+    View view;
+    view.position = glm::vec3(world[3]);
+    view.target = view.position + forward(world);
+    if (camera.type == "perspective") {
+      view.fov_y_degrees = static_cast<float>(glm::degrees(camera.perspective.yfov));
+      if (camera.perspective.znear > 0) view.near_plane = static_cast<float>(camera.perspective.znear);
+      if (camera.perspective.zfar > camera.perspective.znear) view.far_plane = static_cast<float>(camera.perspective.zfar);
+    }
+    out_.camera = view;
+    out_.camera_is_orthographic = camera.type == "orthographic";
+  }
+
+  void read_light(const tinygltf::Node& node, int node_index, const glm::mat4& world) {
+    const auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end() || !ext->second.Has("light")) return;
+    const int index = ext->second.Get("light").GetNumberAsInt();
+    if (index < 0 || static_cast<size_t>(index) >= model_.lights.size())
+      fail(path_, 0, "node " + std::to_string(node_index) + " names a missing light");
+    const auto& l = model_.lights[static_cast<size_t>(index)];
+    ModelLight light;
+    light.type = l.type;
+    light.position = glm::vec3(world[3]);
+    light.direction = forward(world);
+    light.intensity = static_cast<float>(l.intensity);
+    if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+    light.cone_degrees = static_cast<float>(glm::degrees(2.0 * l.spot.outerConeAngle));
+    out_.lights.push_back(light);
+  }
+
+  MeshPart read_primitive(int mesh_index, const tinygltf::Mesh& mesh, size_t primitive_index, const glm::mat4& world) const {
+    const tinygltf::Primitive& prim = mesh.primitives[primitive_index];
+    auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) fail(path_, 0, "a primitive of mesh '" + mesh.name + "' has no POSITION");
+    MeshPart part;
+    part.name = mesh.name;
+    const std::string pointer = "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index);
+    std::optional<gltf::DracoGeometry> draco;
+    if (prim.extensions.count("KHR_draco_mesh_compression")) {
+      const auto indices = prepared_.draco_indices.find({static_cast<size_t>(mesh_index), primitive_index});
+      draco = gltf::decode_draco(model_, prim, indices == prepared_.draco_indices.end() ? -1 : indices->second, pointer, path_);
+    }
+    const auto p = draco ? draco->positions : read_accessor<float>(model_, position->second, 3, path_);
+    for (size_t i = 0; i + 2 < p.size(); i += 3)
+      part.mesh.positions.push_back(glm::vec3(world * glm::vec4(p[i], p[i + 1], p[i + 2], 1.0f)));
+    auto normal = prim.attributes.find("NORMAL");
+    if (normal != prim.attributes.end()) {
+      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+      const auto n = draco && !draco->normals.empty() ? draco->normals : read_accessor<float>(model_, normal->second, 3, path_);
+      if (n.size() != p.size()) fail(path_, 0, "NORMAL and POSITION of mesh '" + mesh.name + "' differ in count");
+      for (size_t i = 0; i + 2 < n.size(); i += 3) {
+        glm::vec3 v = normal_matrix * glm::vec3(n[i], n[i + 1], n[i + 2]);
+        float len = glm::length(v);
+        part.mesh.normals.push_back(len > 0 && std::isfinite(len) ? v / len : glm::vec3(0, 1, 0));
+      }
+      // The specification ignores tangents where the normals are computed, so only here.
+      read_tangents(model_, prim, draco, world, part.mesh, pointer, path_);
+    }
+    if (draco) {
+      part.mesh.indices = draco->indices;
+    } else if (prim.indices >= 0) {
+      part.mesh.indices = read_accessor<uint32_t>(model_, prim.indices, 1, path_);
+    } else {
+      for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
+    }
+    part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
+    part.material = gltf_material(model_, prim.material, pointer + "/material", path_, textures_);
+    read_texcoords(model_, prim, draco, part.mesh, pointer, path_);
+    return part;
+  }
+
+  const tinygltf::Model& model_;
+  const gltf::PreparedFile& prepared_;
+  const std::string& path_;
+  TextureTable& textures_;
+  ModelFile& out_;
+  std::vector<int> visiting_;  // guards against node cycles, which the spec forbids
+};
+
+}  // namespace
+
+ModelFile load_gltf(const std::string& path) {
+  const bool binary = std::filesystem::path(path).extension() == ".glb";
+  const gltf::PreparedFile prepared = gltf::prepare(read_model_bytes(path, binary), binary);
+  tinygltf::Model model = parse_model(path, prepared, binary);
+  check_image_files(model, path);
+  gltf::decode_meshopt(model, prepared, path);
+  ModelFile out;
+  TextureTable textures(model, path);
+  NodeReader reader(model, prepared, path, textures, out);
   if (model.scenes.empty()) {
-    for (size_t n = 0; n < model.nodes.size(); ++n) visit(static_cast<int>(n), glm::mat4(1.0f));
+    for (size_t n = 0; n < model.nodes.size(); ++n) reader.visit(static_cast<int>(n), glm::mat4(1.0f));
   } else {
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (static_cast<size_t>(scene) >= model.scenes.size()) fail(path, 0, "the default scene does not exist");
-    for (int root : model.scenes[static_cast<size_t>(scene)].nodes) visit(root, glm::mat4(1.0f));
+    for (int root : model.scenes[static_cast<size_t>(scene)].nodes) reader.visit(root, glm::mat4(1.0f));
   }
-  if (parts.empty()) fail(path, 0, "the file has no triangle meshes");
+  if (out.parts.empty()) fail(path, 0, "the file has no triangle meshes");
   out.textures = textures.take();
   out.images = model.images.size();
   return out;
