@@ -1,8 +1,8 @@
 // accumulate: the running mean of an image over frames (Falcor's AccumulatePass, for light-space
 // maps): an image whose every frame is an independent estimate of the same answer, a jittered
 // photon grid's caustic map, converges to the mean of many. The sum is history the pass keeps: reset
-// on a new plan (a changed graph, parameter or size) and on any change of the scene that
-// light-space results depend on (graph::FrameInfo::since_reset), not by a moving camera.
+// on a new plan (a changed graph, parameter or size) and on any change of a scene part its input
+// depends on (graph::FrameInfo::since_reset): for a caustic map not a moving camera.
 #include "builtin_passes.h"
 #include "graph/pass.h"
 #include "vk/buffer.h"

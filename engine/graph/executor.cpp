@@ -105,11 +105,13 @@ struct Executor::Realized {
   vk::OwnedQueryPool queries;
   uint32_t query_count = 0;
   bool read_back_done = false;
-  FrameInfo frame;               // the next frame to run
-  uint64_t light_space_key = 0;  // the scene's, as of the last frame
-  // Plans that reuse unchanged passes: per pass, the scene parts' key when it last ran; and each
-  // counter's last value, reported again while its pass is skipped.
-  std::vector<std::optional<uint64_t>> ran_with;
+  uint64_t frame_index = 0;  // the next frame to run
+  // Per pass: its frames since the scene parts it depends on last changed (FrameInfo), and their
+  // key then; the key it last ran with (plans that reuse unchanged passes); each counter's last
+  // value, reported again while its pass is skipped.
+  std::vector<FrameInfo> pass_frames;
+  std::vector<std::optional<uint64_t>> reset_keys, ran_with;
+  const FrameInfo* recording = nullptr;  // the pass being recorded's
   std::map<std::string, double> last_counters;
 };
 
@@ -167,7 +169,7 @@ void PassContext::set_counter(uint32_t counter, double value) const {
   executor_.realized_->host_counters[counter] = value;
 }
 const FrameInfo& PassContext::frame() const {
-  return executor_.realized_->frame;
+  return *executor_.realized_->recording;
 }
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
@@ -419,10 +421,6 @@ FrameResult Executor::run_frame(bool read_back) {
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
-  if (const uint64_t key = scene_ ? scene_->light_space_key() : 0; key != real.light_space_key) {
-    real.light_space_key = key;
-    real.frame.since_reset = 0;
-  }
   real.host_counters.clear();
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
@@ -449,11 +447,13 @@ FrameResult Executor::run_frame(bool read_back) {
   counters_dep.pMemoryBarriers = &counters_ready;
   vkCmdPipelineBarrier2(cmd, &counters_dep);
 
-  if (p.reuses_unchanged_passes && real.frame.index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
+  if (p.reuses_unchanged_passes && real.frame_index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
   const uint32_t frame_begin = stamp();
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
   std::set<std::string> skipped;
   real.ran_with.resize(p.passes.size());
+  real.reset_keys.resize(p.passes.size());
+  real.pass_frames.resize(p.passes.size());
   for (size_t i = 0; i < p.passes.size(); ++i) {
     const PlannedPass& pass = p.passes[i];
     const auto pass_start = Clock::now();
@@ -462,8 +462,17 @@ FrameResult Executor::run_frame(bool read_back) {
     record_barriers(cmd, pass.barriers);
     const uint64_t key =
         scene_ ? scene_->parts_key(pass.depends & kDependsOnGeometry, pass.depends & kDependsOnLights, pass.depends & kDependsOnCamera) : 0;
+    // What a pass's history (an accumulated mean, a jitter sequence) follows: a change of anything
+    // it depends on restarts it, and nothing else does (a camera move leaves light-space history).
+    FrameInfo& pass_frame = real.pass_frames[i];
+    pass_frame.index = real.frame_index;
+    if (real.reset_keys[i] != key) {
+      real.reset_keys[i] = key;
+      pass_frame.since_reset = 0;
+    }
     const bool run = !pass.reusable(p.reuses_unchanged_passes) || real.ran_with[i] != key;
     if (run) {
+      real.recording = &pass_frame;
       PassContext context(*this, pass, cmd);
       real.passes[i]->execute(context);
       real.ran_with[i] = key;
@@ -519,7 +528,7 @@ FrameResult Executor::run_frame(bool read_back) {
   // A lost device or a hung GPU ends the frame with an error instead of waiting forever. A plan's
   // first frame gets longer: lavapipe compiles each pipeline with LLVM when it first runs, and the
   // ray-query kernels from a cold shader cache took more than two minutes (full_hybrid at 640x360).
-  const uint64_t timeout_s = real.frame.index == 0 ? 900 : 120;
+  const uint64_t timeout_s = real.frame_index == 0 ? 900 : 120;
   VkFence fence = real.fence.get();
   VkResult waited = vk_.frame_result(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, timeout_s * 1000 * 1000 * 1000));
   if (waited == VK_TIMEOUT) throw DeviceError("frame did not finish within " + std::to_string(timeout_s) + " s (VK_TIMEOUT)");
@@ -563,9 +572,9 @@ FrameResult Executor::run_frame(bool read_back) {
   result.counter_passes = real.counter_passes;
   real.last_counters = result.counters;
   real.read_back_done = read_back;
-  result.frame = real.frame;
-  ++real.frame.index;
-  ++real.frame.since_reset;
+  result.frame = {real.frame_index, real.frame_index};
+  for (FrameInfo& f : real.pass_frames) result.frame.since_reset = std::min(result.frame.since_reset, f.since_reset++);
+  ++real.frame_index;
   return result;
 }
 

@@ -14,11 +14,12 @@ namespace caustica::graph {
 
 class Executor;
 
-// Which frame is being recorded: its index since the plan was set up, and since light-space history
-// was last reset (a new plan, or a change of what scene::GpuScene::light_space_key covers: geometry,
-// materials, textures, lights; not the camera). Passes that vary from frame to frame (a jittered
-// photon grid) and passes that keep history (accumulate) follow since_reset, so that the first frame
-// after a change is the first frame of a fresh render.
+// Which frame is being recorded, as a pass sees it: its index since the plan was set up, and the
+// frames since any scene part the pass depends on (PlannedPass::depends: geometry, lights, camera,
+// directly or through its inputs) last changed, or the plan was set up. Passes that vary from
+// frame to frame (a jittered photon grid) and passes that keep history (accumulate) follow
+// since_reset, so that the first frame after such a change is the first frame of a fresh render,
+// and a change they do not depend on (the camera, for light-space history) keeps their history.
 struct FrameInfo {
   uint64_t index = 0;
   uint64_t since_reset = 0;

@@ -143,7 +143,6 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
   lights_key_ = fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count);
-  light_space_key_ = fold_bytes(fold_bytes(content_key_, &f.light_count, 1), f.lights, f.light_count);
   const glm::vec4 camera[] = {f.view_proj[0], f.view_proj[1], f.view_proj[2], f.view_proj[3], f.camera_position, f.sky_ambient, f.sizes};
   camera_key_ = fold_bytes(0, camera, std::size(camera));
 }

@@ -51,12 +51,9 @@ class GpuScene {
 
   // Writes camera and light data for an output of this size; call before recording a frame.
   void update_frame(uint32_t width, uint32_t height);
-  // A hash of what results in a light's space depend on (geometry, materials, textures and, as of the
-  // last update_frame(), the lights) and not of the camera: what accumulated caustic maps are reset by.
-  uint64_t light_space_key() const { return light_space_key_; }
   // A hash of the chosen parts as of the last update_frame(): geometry (with materials and
   // textures), lights, camera (with the sky and the output size). What a pass that depends on just
-  // those parts is skipped by while it does not change.
+  // those parts is skipped by while it does not change, and what restarts its history.
   uint64_t parts_key(bool geometry, bool lights, bool camera) const;
   const gpu::FrameData& frame_data() const { return frame_data_; }
 
@@ -71,7 +68,6 @@ class GpuScene {
   std::vector<DrawRange> ranges_;
   gpu::FrameData frame_data_{};
   uint64_t content_key_ = 0;  // geometry, materials and textures, as uploaded
-  uint64_t light_space_key_ = 0;
   uint64_t lights_key_ = 0, camera_key_ = 0;
 };
 
