@@ -19,8 +19,8 @@ double percentile(std::vector<double> values, double p) {
 
 }  // namespace
 
-void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving) {
-  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, {}, {}};
+void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider) {
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, {}, {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
@@ -32,8 +32,13 @@ void FrameLog::write(const std::string& path) const {
   for (const Entry& e : entries_) {
     all.push_back(e.wall_ms);
     if (e.moving) moving.push_back(e.wall_ms);
-    out["frames"].push_back(
-        {{"wall_ms", e.wall_ms}, {"gpu_ms", e.gpu_ms}, {"cpu_ms", e.cpu_ms}, {"moving", e.moving}, {"ran", e.ran}, {"reused", e.reused}});
+    out["frames"].push_back({{"wall_ms", e.wall_ms},
+                             {"gpu_ms", e.gpu_ms},
+                             {"cpu_ms", e.cpu_ms},
+                             {"moving", e.moving},
+                             {"divider", e.divider},
+                             {"ran", e.ran},
+                             {"reused", e.reused}});
   }
   out["summary"] = {
       {"frames", all.size()},           {"wall_ms_median", percentile(all, 50)},           {"wall_ms_p95", percentile(all, 95)},

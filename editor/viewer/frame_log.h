@@ -11,7 +11,8 @@ namespace caustica::editor {
 class FrameLog {
  public:
   // `moving`: the camera or a light changed before this frame (input or --orbit / --move-light).
-  void add(double wall_ms, const graph::FrameResult& frame, bool moving);
+  // `divider`: the frame rendered at the window's size over this (the frame budget).
+  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider);
   // JSON: every frame, and the median and 95th percentile of the wall time over all frames and
   // over the moving ones. Written through a temporary file, so a killed viewer leaves none.
   void write(const std::string& path) const;
@@ -20,6 +21,7 @@ class FrameLog {
   struct Entry {
     double wall_ms, gpu_ms, cpu_ms;
     bool moving;
+    uint32_t divider;
     std::vector<std::string> ran, reused;
   };
   std::vector<Entry> entries_;

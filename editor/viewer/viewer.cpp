@@ -130,8 +130,8 @@ class Viewer::Impl {
       last_frame = clock::now();
       redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
-      if (!options_.stats.empty())
-        log_.add(std::chrono::duration<double, std::milli>(clock::now() - last_frame).count(), last_result_, moved_);
+      last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
+      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_);
       if (owner_.after_frame) owner_.after_frame();
       ++frame;
       ++frames_drawn_;
@@ -246,13 +246,37 @@ class Viewer::Impl {
   void configure() {
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
+    const VkExtent2D size = render_size();
     try {
-      executor_.configure(edited(session_), swapchain_.extent.width, swapchain_.extent.height, retained);
+      executor_.configure(edited(session_), size.width, size.height, retained);
     } catch (const InputError&) {
       if (inspector_.inspected.empty()) throw;
       inspector_.inspected.clear();  // the inspected image left the graph: back to its output
-      executor_.configure(edited(session_), swapchain_.extent.width, swapchain_.extent.height);
+      executor_.configure(edited(session_), size.width, size.height);
     }
+  }
+
+  // The graph renders at the window's size divided by render_divider_ (the frame budget).
+  VkExtent2D render_size() const {
+    return {std::max(1u, swapchain_.extent.width / render_divider_), std::max(1u, swapchain_.extent.height / render_divider_)};
+  }
+
+  // Cycles-style: while something moves, a frame over the budget halves the rendered size for the
+  // next (to a quarter each way), blitted up to the window; the first still frame is whole again.
+  // Only where the output goes to the window by a blit (an 8-bit output, no image inspected in its
+  // place), which scales it; the host path copies pixels one to one.
+  void fit_frame_budget() {
+    const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
+    const bool can_scale =
+        blit_supported_ && out.format == graph::Format::rgba8 && !(inspector_.in_main_view && !inspector_.inspected.empty());
+    uint32_t divider = 1;
+    if (moved_ && can_scale) {
+      divider = render_divider_;
+      if (options_.budget_ms > 0 && last_wall_ms_ > options_.budget_ms && divider < 4) divider *= 2;
+    }
+    if (divider == render_divider_) return;
+    render_divider_ = divider;
+    configure();
   }
 
   void init_imgui() {
@@ -364,7 +388,11 @@ class Viewer::Impl {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextColored(session_.status_is_error ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", session_.status.c_str());
     ImGui::PopTextWrapPos();
-    ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms", frame.gpu_ms, frame.cpu_ms);
+    ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms, %.0f ms in all", frame.gpu_ms, frame.cpu_ms, last_wall_ms_);
+    if (render_divider_ > 1) {
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way (budget %.0f ms)", render_divider_,
+                         options_.budget_ms);
+    }
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
     frame_panel(frame, executor_.plan(), gpu_history_);
@@ -414,14 +442,15 @@ class Viewer::Impl {
   void draw_frame(bool last) {
     const WindowEvents events = window_.take_events();
     handle_input(events);
+    fit_frame_budget();
     // The output goes into the window on the device (a blit) when it is already display-ready
     // 8-bit at the window's size; otherwise, and for screenshots and the inspector, through a
     // read-back to the host.
     const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
     const std::string output = out.name;
     const bool main_inspected = inspector_.in_main_view && !inspector_.inspected.empty();
-    const bool blit = blit_supported_ && !main_inspected && out.format == graph::Format::rgba8 && out.width == swapchain_.extent.width &&
-                      out.height == swapchain_.extent.height;
+    const bool blit = blit_supported_ && !main_inspected && out.format == graph::Format::rgba8 && out.width == render_size().width &&
+                      out.height == render_size().height;
     const bool inspecting = !inspector_.inspected.empty() && (inspector_.open || inspector_.in_main_view);
     const bool read_back =
         !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
@@ -483,7 +512,7 @@ class Viewer::Impl {
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferImageCopy regions[2]{};
     if (blit) {
-      record_output_blit(cmd_, output_image, swapchain_.images[index]);
+      record_output_blit(cmd_, output_image, swapchain_.images[index], swapchain_.extent);
     } else {
       regions[0].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
       regions[0].imageExtent = {std::min(uploaded_width_, swapchain_.extent.width), std::min(uploaded_height_, swapchain_.extent.height),
@@ -617,7 +646,9 @@ class Viewer::Impl {
   uint64_t frames_drawn_ = 0;
   FrameLog log_;
   graph::FrameResult last_result_;
-  bool moved_ = false;  // the camera or a light changed before the last frame
+  bool moved_ = false;           // the camera or a light changed before the last frame
+  double last_wall_ms_ = 0;      // the last frame's, input to present
+  uint32_t render_divider_ = 1;  // the frame budget's: the graph renders at the window's size over this
   uint32_t screenshots_ = 0;
   std::string pending_screenshot_;
 };

@@ -204,15 +204,18 @@ bool can_blit_to_window(VkPhysicalDevice device, VkFormat window_format) {
   return (from.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT) && (to.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
 }
 
-void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target) {
+void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target, VkExtent2D target_extent) {
   passes::image_barrier(cmd, output.image, VK_IMAGE_ASPECT_COLOR_BIT, output.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
                         VK_ACCESS_2_TRANSFER_READ_BIT);
   VkImageBlit region{};
   region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.srcOffsets[1] = region.dstOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+  region.srcOffsets[1] = {static_cast<int32_t>(output.extent.width), static_cast<int32_t>(output.extent.height), 1};
+  region.dstOffsets[1] = {static_cast<int32_t>(target_extent.width), static_cast<int32_t>(target_extent.height), 1};
+  // One to one at full size; a frame rendered smaller while moving (the frame budget) is scaled up.
+  const bool same = output.extent.width == target_extent.width && output.extent.height == target_extent.height;
   vkCmdBlitImage(cmd, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
-                 VK_FILTER_NEAREST);
+                 same ? VK_FILTER_NEAREST : VK_FILTER_LINEAR);
   // Back as the frame left it: a plan that reuses passes starts its next frame from there.
   passes::image_barrier(cmd, output.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output.layout,
                         VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,

@@ -78,7 +78,7 @@ bool can_blit_to_window(VkPhysicalDevice device, VkFormat window_format);
 // The graph's output into a swapchain image (in TRANSFER_DST) on the device; the blit swaps RGBA
 // into BGRA. The executor's frame finished before this submission (run_frame waits), so the barrier
 // only makes its writes visible and brings the image into TRANSFER_SRC.
-void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target);
+void record_output_blit(VkCommandBuffer cmd, const graph::FrameImage& output, VkImage target, VkExtent2D target_extent);
 // The copy of a width x height image, `buffer_offset` into a staging buffer, to `place` in the
 // window, clipped to the window; false when nothing of it is inside.
 bool clipped_copy(VkOffset2D place, uint32_t width, uint32_t height, VkExtent2D window, VkDeviceSize buffer_offset,

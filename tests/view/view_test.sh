@@ -46,13 +46,18 @@ oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
 echo "ok: the output blitted into the window is the headless render"
 
 # 2 and 3. Hot reload, then a broken edit.
-# A scripted orbit: after the first frame only the passes that see the camera run, the light's keep
-# their results (reused); with --every-pass every pass runs every frame.
-"$bin" view --size 160x90 --frames 3 --orbit 5 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
-"$bin" view --size 160x90 --frames 3 --orbit 5 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
-python3 - "$dir/orbit.json" "$dir/every.json" <<'PY' || fail "the frame logs do not show the light's passes reused while orbiting"
+# A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
+# frame only the passes that see the camera run, the light's keep their results (reused); with
+# --every-pass every pass runs every frame.
+"$bin" view --size 160x90 --frames 3 --orbit 5 --budget 0 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
+"$bin" view --size 160x90 --frames 3 --orbit 5 --budget 0 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
+# A budget no frame meets: each moving frame halves the rendered size for the next, to a quarter.
+"$bin" view --size 160x90 --frames 4 --orbit 5 --budget 1 --stats "$dir/budget.json" --validate > "$dir/log" 2>&1 || fail "view --budget exited $?"
+python3 - "$dir/orbit.json" "$dir/every.json" "$dir/budget.json" <<'PY' || fail "the frame logs do not show the light's passes reused while orbiting, or the budget's sizes"
 import json, sys
-orbit, every = (json.load(open(f)) for f in sys.argv[1:])
+orbit, every, budget = (json.load(open(f)) for f in sys.argv[1:])
+assert [f["divider"] for f in budget["frames"]] == [1, 2, 4, 4], budget["frames"]
+assert all(f["divider"] == 1 for f in orbit["frames"] + every["frames"]), "--budget 0 lowered the size"
 assert orbit["summary"]["frames"] == 3 and orbit["summary"]["moving_frames"] == 3, orbit["summary"]
 assert not orbit["frames"][0]["reused"], orbit["frames"][0]
 for f in orbit["frames"][1:]:
@@ -60,7 +65,7 @@ for f in orbit["frames"][1:]:
 assert all(not f["reused"] for f in every["frames"]), every["frames"]
 assert all(f["wall_ms"] > 0 for f in orbit["frames"] + every["frames"])
 PY
-echo "ok: while orbiting, the light's passes are reused; --every-pass runs them all"
+echo "ok: while orbiting, the light's passes are reused; --every-pass runs them all; over the budget the size halves"
 
 wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it took
   local start=$SECONDS

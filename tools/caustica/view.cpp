@@ -50,6 +50,9 @@ options:
                         median and 95th percentile of the wall time, over all frames and while moving
   --every-pass          run every pass every frame; by default a pass whose inputs, parameters and
                         scene parts (camera, lights, geometry) did not change keeps its last result
+  --budget MS           frame-time target while the camera or a light moves (default 100; 0: off): a
+                        moving frame over it halves the rendered size for the next, down to a
+                        quarter each way, scaled up into the window; a still frame is whole again
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --validate            Khronos validation; any message makes the command exit 3
@@ -101,6 +104,8 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
     v.stats = args.value(a);
   else if (a == "--every-pass")
     v.reuse = false;
+  else if (a == "--budget")
+    v.budget_ms = parse_number(a, args.value(a), 0, 10000);
   else if (a == "--orbit")
     v.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
   else if (a == "--move-light")
@@ -111,7 +116,7 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
 }
 const std::vector<std::string> kWindowFlags = {"--scene",      "--size",    "--frames",     "--screenshot", "--window-shot",
                                                "--continuous", "--max-fps", "--validate",   "--device",     "--no-stage",
-                                               "--stats",      "--orbit",   "--move-light", "--every-pass"};
+                                               "--stats",      "--orbit",   "--move-light", "--every-pass", "--budget"};
 
 // Checks what can be checked before the window opens, and fills in the defaults.
 void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
