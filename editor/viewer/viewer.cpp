@@ -131,7 +131,7 @@ class Viewer::Impl {
       redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
-      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_);
+      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_, lowered_);
       if (owner_.after_frame) owner_.after_frame();
       ++frame;
       ++frames_drawn_;
@@ -247,12 +247,16 @@ class Viewer::Impl {
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
+    graph::GraphDesc graph = edited(session_);
+    if (lowered_) {
+      for (auto& p : graph.parameters) p.value = p.while_moving.value_or(p.value);
+    }
     try {
-      executor_.configure(edited(session_), size.width, size.height, retained);
+      executor_.configure(graph, size.width, size.height, retained);
     } catch (const InputError&) {
       if (inspector_.inspected.empty()) throw;
       inspector_.inspected.clear();  // the inspected image left the graph: back to its output
-      executor_.configure(edited(session_), size.width, size.height);
+      executor_.configure(graph, size.width, size.height);
     }
   }
 
@@ -270,12 +274,23 @@ class Viewer::Impl {
     const bool can_scale =
         blit_supported_ && out.format == graph::Format::rgba8 && !(inspector_.in_main_view && !inspector_.inspected.empty());
     uint32_t divider = 1;
+    bool lowered = false;
     if (moved_ && can_scale) {
       divider = render_divider_;
-      if (options_.budget_ms > 0 && last_wall_ms_ > options_.budget_ms && divider < 4) divider *= 2;
+      lowered = lowered_;
+      const bool over = options_.budget_ms > 0 && last_wall_ms_ > options_.budget_ms;
+      if (over && divider < 4) {
+        divider *= 2;
+      } else if (over) {
+        // A quarter of the size each way is still over: the graph's own "while_moving" values (a
+        // coarser photon grid, smaller light maps), where it declares them.
+        lowered = std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
+                              [](const auto& p) { return p.while_moving.has_value(); });
+      }
     }
-    if (divider == render_divider_) return;
+    if (divider == render_divider_ && lowered == lowered_) return;
     render_divider_ = divider;
+    lowered_ = lowered;
     configure();
   }
 
@@ -390,8 +405,8 @@ class Viewer::Impl {
     ImGui::PopTextWrapPos();
     ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms, %.0f ms in all", frame.gpu_ms, frame.cpu_ms, last_wall_ms_);
     if (render_divider_ > 1) {
-      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way (budget %.0f ms)", render_divider_,
-                         options_.budget_ms);
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way%s (budget %.0f ms)", render_divider_,
+                         lowered_ ? ", the graph's while_moving values" : "", options_.budget_ms);
     }
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
@@ -649,6 +664,7 @@ class Viewer::Impl {
   bool moved_ = false;           // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;      // the last frame's, input to present
   uint32_t render_divider_ = 1;  // the frame budget's: the graph renders at the window's size over this
+  bool lowered_ = false;         // and with the parameters' while_moving values
   uint32_t screenshots_ = 0;
   std::string pending_screenshot_;
 };

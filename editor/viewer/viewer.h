@@ -31,8 +31,8 @@ struct ViewerOptions {
   float move_light = 0.0f;       // --move-light: move the first light along x by this much each frame
   bool reuse = true;             // skip passes whose dependencies are unchanged (--every-pass: off)
   // --budget: while the camera or a light moves, a frame that took longer than this halves the
-  // rendered size (down to a quarter of the window's each way) for the next; a still frame is whole
-  // again. 0: always the window's size.
+  // rendered size (down to a quarter of the window's each way) for the next, and then takes the
+  // graph parameters' "while_moving" values; a still frame is whole again. 0: off.
   double budget_ms = 100.0;
 };
 

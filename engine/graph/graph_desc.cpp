@@ -47,7 +47,7 @@ void load_parameters(GraphDesc& graph, const Reader& read) {
     p.pointer = pointer;
     p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
     read.object(value, pointer, "a parameter");
-    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description"}, "a parameter");
+    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving"}, "a parameter");
     if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
     if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
     p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
@@ -61,7 +61,8 @@ void load_parameters(GraphDesc& graph, const Reader& read) {
     }
     if (value.contains("choices")) {
       const auto& choices = value["choices"];
-      if (!choices.is_array() || choices.empty()) throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
+      if (!choices.is_array() || choices.empty())
+        throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
       for (size_t i = 0; i < choices.size(); ++i) {
         p.decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
       }
@@ -73,6 +74,11 @@ void load_parameters(GraphDesc& graph, const Reader& read) {
     std::string problem = check_param_value(p.decl, p.decl.default_value);
     if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
     p.value = p.decl.default_value;
+    if (value.contains("while_moving")) {
+      problem = check_param_value(p.decl, value["while_moving"]);
+      if (!problem.empty()) throw graph.error(pointer + "/while_moving", "the while_moving value of parameter '" + key + "' " + problem);
+      p.while_moving = value["while_moving"];
+    }
     graph.parameters.push_back(std::move(p));
   }
 }
@@ -107,21 +113,24 @@ void load_resources(GraphDesc& graph, const Reader& read) {
       if (!value.contains("size")) throw graph.error(pointer, "buffer '" + key + "' needs a \"size\" in bytes");
       r.size = read.expression(value["size"], pointer + "/size", "\"size\"");
       for (const char* image_only : {"format", "width", "height", "mips", "layers"}) {
-        if (value.contains(image_only)) throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
+        if (value.contains(image_only))
+          throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
       }
     } else {
       throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
     }
     if (value.contains("fallback")) {
-      if (value["fallback"].is_null()) r.fallback_to_nothing = true;
-      else r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name, or null)");
+      if (value["fallback"].is_null())
+        r.fallback_to_nothing = true;
+      else
+        r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name, or null)");
     }
     graph.resources.push_back(std::move(r));
   }
 }
 
-std::map<std::string, std::string> load_bindings(const Reader& read, const nlohmann::json& pass,
-                                                 const std::string& pointer, const char* section) {
+std::map<std::string, std::string> load_bindings(const Reader& read, const nlohmann::json& pass, const std::string& pointer,
+                                                 const char* section) {
   std::map<std::string, std::string> out;
   if (!pass.contains(section)) return out;
   std::string section_pointer = pointer + "/" + section;
@@ -163,9 +172,12 @@ void load_passes(GraphDesc& graph, const Reader& read) {
     }
     if (value.contains("enabled")) {
       const auto& enabled = value["enabled"];
-      if (enabled.is_boolean()) p.enabled = enabled.get<bool>() ? "1" : "0";
-      else if (enabled.is_string()) p.enabled = enabled.get<std::string>();
-      else throw graph.error(pointer + "/enabled", "\"enabled\" must be true, false or an expression string such as \"scene.refractors\"");
+      if (enabled.is_boolean())
+        p.enabled = enabled.get<bool>() ? "1" : "0";
+      else if (enabled.is_string())
+        p.enabled = enabled.get<std::string>();
+      else
+        throw graph.error(pointer + "/enabled", "\"enabled\" must be true, false or an expression string such as \"scene.refractors\"");
     }
     graph.passes.push_back(std::move(p));
   }
@@ -195,7 +207,9 @@ GraphDesc load_graph(JsonDocument doc) {
   return graph;
 }
 
-GraphDesc load_graph_file(const std::string& path) { return load_graph(JsonDocument::load(path)); }
+GraphDesc load_graph_file(const std::string& path) {
+  return load_graph(JsonDocument::load(path));
+}
 
 void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments) {
   std::vector<std::string> known;
@@ -241,7 +255,9 @@ std::string graph_text_with_values(const GraphDesc& graph) {
   std::vector<Replacement> replacements;
   for (const auto& p : graph.parameters) {
     const std::string pointer = json_pointer_append(p.pointer, "default");
-    const nlohmann::json* in_file = graph.doc.root().contains(nlohmann::json::json_pointer(pointer)) ? &graph.doc.root().at(nlohmann::json::json_pointer(pointer)) : nullptr;
+    const nlohmann::json* in_file = graph.doc.root().contains(nlohmann::json::json_pointer(pointer))
+                                        ? &graph.doc.root().at(nlohmann::json::json_pointer(pointer))
+                                        : nullptr;
     if (!in_file || *in_file == p.value) continue;
     const SourceLocation at = graph.doc.locate(pointer);
     const size_t begin = line_starts.at(static_cast<size_t>(at.line - 1)) + static_cast<size_t>(at.column - 1);

@@ -2,6 +2,7 @@
 // A graph file as written: what the user said, with the pointer of every part for messages.
 // Structural checks happen while loading; meaning (types, ports, order) is the compiler's job.
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,10 @@ struct GraphParameter {
   ParamDecl decl;        // type, default, range, description
   nlohmann::json value;  // the default, or what --set gave
   std::string pointer;
+  // "while_moving": the value a viewer's frame budget may use while the camera or a light moves and
+  // the frame is still over its budget at a quarter of the window's size (a coarser photon grid,
+  // smaller light maps); absent: never lowered.
+  std::optional<nlohmann::json> while_moving;
 };
 
 struct ResourceDesc {
@@ -38,10 +43,10 @@ struct PassDesc {
   std::string name;
   std::string type;
   nlohmann::json params = nlohmann::json::object();  // literals or "$parameter" references
-  std::map<std::string, std::string> inputs;          // port -> resource
+  std::map<std::string, std::string> inputs;         // port -> resource
   std::map<std::string, std::string> outputs;
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
-  std::string enabled = "1";  // an expression (true/false in the file are 1/0); the pass runs when non-zero
+  std::string enabled = "1";       // an expression (true/false in the file are 1/0); the pass runs when non-zero
   std::string pointer;
 };
 

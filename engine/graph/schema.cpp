@@ -33,7 +33,8 @@ json ports_schema(const PassTypeDecl& decl, bool outputs) {
 }  // namespace
 
 json graph_schema_json(const PassRegistry& registry) {
-  json expression = {{"type", {"string", "integer"}}, {"description", "a number or an expression of output.width, output.height and graph parameters"}};
+  json expression = {{"type", {"string", "integer"}},
+                     {"description", "a number or an expression of output.width, output.height and graph parameters"}};
   json types = json::array();
   json per_type = json::array();
   for (const auto& [name, decl] : registry.types()) {
@@ -57,7 +58,11 @@ json graph_schema_json(const PassRegistry& registry) {
         {"min", {{"type", "number"}}},
         {"max", {{"type", "number"}}},
         {"choices", {{"type", "array"}, {"items", {{"type", "string"}}}}},
-        {"description", {{"type", "string"}}}}},
+        {"description", {{"type", "string"}}},
+        {"while_moving",
+         {{"description",
+           "the value a viewer's frame budget may use while the camera or a light moves and a quarter of the window's size is still "
+           "over budget"}}}}},
       {"additionalProperties", false}};
   json resource = {
       {"type", "object"},
@@ -84,7 +89,9 @@ json graph_schema_json(const PassRegistry& registry) {
                  {"inputs", {{"type", "object"}}},
                  {"outputs", {{"type", "object"}}},
                  {"after", {{"type", "array"}, {"items", {{"type", "string"}}}}},
-                 {"enabled", {{"type", {"boolean", "string"}}, {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
+                 {"enabled",
+                  {{"type", {"boolean", "string"}},
+                   {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
                  {"description", {{"type", "string"}}}}},
                {"additionalProperties", false},
                {"allOf", per_type}};

@@ -52,7 +52,9 @@ options:
                         scene parts (camera, lights, geometry) did not change keeps its last result
   --budget MS           frame-time target while the camera or a light moves (default 100; 0: off): a
                         moving frame over it halves the rendered size for the next, down to a
-                        quarter each way, scaled up into the window; a still frame is whole again
+                        quarter each way, scaled up into the window, and then uses the graph
+                        parameters' "while_moving" values (the default graph: a coarser photon
+                        grid, smaller light maps); a still frame is whole again
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --validate            Khronos validation; any message makes the command exit 3
