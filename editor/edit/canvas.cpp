@@ -159,7 +159,9 @@ GraphEditor::Hovered GraphEditor::draw_nodes(const CanvasView& view, const graph
                         std::none_of(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return p.name == n.name; });
     const auto timing = std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == n.name; });
     std::vector<std::string> lines;
-    if (timing != frame.passes.end()) {
+    if (timing != frame.passes.end() && !timing->ran) {
+      lines.emplace_back("reused (unchanged)");
+    } else if (timing != frame.passes.end()) {
       char text[64];
       std::snprintf(text, sizeof text, "GPU %.2f ms", timing->gpu_ms);
       lines.emplace_back(text);
