@@ -107,10 +107,10 @@ struct Executor::Realized {
   bool read_back_done = false;
   uint64_t frame_index = 0;  // the next frame to run
   // Per pass: its frames since the scene parts it depends on last changed (FrameInfo), and their
-  // key then; the key it last ran with (plans that reuse unchanged passes); each counter's last
-  // value, reported again while its pass is skipped.
+  // key then (a pass that reuses is skipped while it holds); each counter's last value, reported
+  // again while its pass is skipped.
   std::vector<FrameInfo> pass_frames;
-  std::vector<std::optional<uint64_t>> reset_keys, ran_with;
+  std::vector<std::optional<uint64_t>> reset_keys;
   const FrameInfo* recording = nullptr;  // the pass being recorded's
   std::map<std::string, double> last_counters;
 };
@@ -451,7 +451,6 @@ FrameResult Executor::run_frame(bool read_back) {
   const uint32_t frame_begin = stamp();
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
   std::set<std::string> skipped;
-  real.ran_with.resize(p.passes.size());
   real.reset_keys.resize(p.passes.size());
   real.pass_frames.resize(p.passes.size());
   for (size_t i = 0; i < p.passes.size(); ++i) {
@@ -466,16 +465,18 @@ FrameResult Executor::run_frame(bool read_back) {
     // it depends on restarts it, and nothing else does (a camera move leaves light-space history).
     FrameInfo& pass_frame = real.pass_frames[i];
     pass_frame.index = real.frame_index;
-    if (real.reset_keys[i] != key) {
+    // The same key decides a reusable pass's skip: it ran when its key last changed, and every
+    // frame since has left its result as it was.
+    const bool changed = real.reset_keys[i] != key;
+    if (changed) {
       real.reset_keys[i] = key;
       pass_frame.since_reset = 0;
     }
-    const bool run = !pass.reusable(p.reuses_unchanged_passes) || real.ran_with[i] != key;
+    const bool run = changed || !pass.reusable(p.reuses_unchanged_passes);
     if (run) {
       real.recording = &pass_frame;
       PassContext context(*this, pass, cmd);
       real.passes[i]->execute(context);
-      real.ran_with[i] = key;
     } else {
       skipped.insert(pass.name);
     }
