@@ -334,7 +334,12 @@ class Viewer::Impl {
   // the keyboard's own repeat, so the speed does not depend on the frame rate.
   void handle_input(const WindowEvents& events) {
     ImGuiIO& io = ImGui::GetIO();
-    scene::Scene moved = *session_.scene;
+    // What input can move: the camera and the lights. The scene (meshes, textures) is copied only
+    // when they did move, not every frame.
+    struct {
+      decltype(scene::Scene::camera) camera;
+      decltype(scene::Scene::lights) lights;
+    } moved{session_.scene->camera, session_.scene->lights};
     bool changed = false;
     if (options_.orbit_degrees != 0.0f) {
       const glm::vec3 offset = moved.camera.position - moved.camera.target;
@@ -386,7 +391,10 @@ class Viewer::Impl {
       }
     }
     if (changed) {
-      session_.scene = std::make_shared<const scene::Scene>(std::move(moved));
+      auto next = std::make_shared<scene::Scene>(*session_.scene);
+      next->camera = moved.camera;
+      next->lights = std::move(moved.lights);
+      session_.scene = std::move(next);
       executor_.set_view(session_.scene);
     }
     moved_ = changed;
