@@ -35,7 +35,7 @@ float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
 void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
 
 #ifdef CAUSTICA_RAY_QUERY
-#include "scene/ray_query.glsl"
+#include "refraction/exact_path.glsl"
 #endif
 #ifdef CAUSTICA_HYBRID
 #include "refraction/hybrid.glsl"
@@ -100,70 +100,42 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
 }
 
 #ifdef CAUSTICA_RAY_QUERY
-// The photon's path from `start` (its whole path from the light, or the rest of one), exact. Sets
-// hit, entering, power, landed, texel, landing; what does not land is counted by where it went
-// (escaped, trapped, off the map, absorbed).
+// The photon's path from `start` (its whole path from the light, or the rest of one), exact, by
+// refraction/exact_path.glsl with Fresnel choices drawn. Sets hit, entering, power, landed, texel,
+// landing; what does not land is counted by where it went (escaped, trapped, off the map, absorbed).
 void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
-  uint rng = start.rng;
-  vec3 origin = start.origin, direction = start.direction;
-  int inside = start.inside;  // the refractor the photon travels in
-  uint interfaces = start.interfaces;
+  ExactPath path = ExactPath(start.origin, start.direction, start.inside, start.interfaces, start.rng, ph.power);
   for (;;) {
-    SurfaceHit h = trace_surface(origin, direction, interfaces == 0u ? 0.0 : params.exact_epsilon, CAUSTICA_ALL_INSTANCES);
-    if (!h.hit) {
+    vec3 before = path.throughput;
+    PathEvent e = exact_path_step(path, photon_band, params.fresnel != 0u, true);
+    if (e.kind == PATH_ESCAPED) {
       if (ph.hit) {
         exact_count(EXACT_ESCAPED);
         exact_sum(EXACT_FLUX_ESCAPED, ph.power);
       }
       return;
     }
-    if (inside >= 0) {
-      vec3 kept = ph.power * exp(-objects[inside].absorption_ior.rgb * h.t);
-      exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
-      ph.power = kept;
-    }
-    vec3 p = origin + direction * h.t;
-    ObjectData object = objects[h.object];
-    if (object.albedo_refractor.a < 0.5) {
-      if (ph.hit) land_at(ph, light, p);  // else direct light, not a caustic
+    // Absorbed inside, or at an entry left to the diffuse share by the tint and transmission.
+    if (path.throughput != before) exact_sum(EXACT_FLUX_ABSORBED, before - path.throughput);
+    ph.power = path.throughput;
+    if (e.kind == PATH_OPAQUE) {
+      if (ph.hit) land_at(ph, light, e.position);  // else direct light, not a caustic
       return;
     }
     if (!ph.hit) {
       ph.hit = true;
-      ph.entering = channel_mean(ph.power);
+      ph.entering = channel_mean(before);
       exact_count(EXACT_TRACED);
     }
-    if (interfaces == params.exact_max_interfaces) {
+    if (e.kind == PATH_TRAPPED) {
       exact_count(EXACT_TRAPPED);
       exact_sum(EXACT_FLUX_TRAPPED, ph.power);
       return;
     }
-    ++interfaces;
-    vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
-    float roughness = roughness_at(h);
-    vec3 m = microfacet_normal(n, direction, roughness, rng);
-    bool entering = inside < 0;
-    bool thin = thin_walled(object);
-    float ior = band_ior(object, photon_band);
-    vec3 transmitted = thin ? through_thin(direction, m, n) : refract(direction, m, entering ? 1.0 / ior : ior);
-    bool total_internal = dot(transmitted, transmitted) == 0.0;
-    float reflectance = total_internal ? 1.0 : 0.0;
-    if (params.fresnel != 0u && !total_internal) reflectance = fresnel_dielectric(-dot(direction, m), entering ? 1.0 : ior, entering ? ior : 1.0);
-    ph.random = ph.random || roughness > 0.0 || (reflectance > 0.0 && reflectance < 1.0);
-    origin = p;
-    if (reflectance > 0.0 && next_uniform(rng) < reflectance) {
-      if (entering) exact_count(EXACT_REFLECTED_OUTSIDE);
-      ph.bounced = ph.bounced || !entering;
-      direction = on_side(reflect(direction, m), n, true);
-    } else {
-      if (entering) {  // past the surface only the transmitted share goes on, tinted; the rest is diffuse
-        vec4 tint_transmission = tint_transmission_at(h);
-        vec3 kept = ph.power * tint_transmission.a * tint_transmission.rgb;
-        exact_sum(EXACT_FLUX_ABSORBED, ph.power - kept);
-        ph.power = kept;
-      }
-      direction = on_side(normalize(transmitted), n, false);
-      if (!thin) inside = entering ? int(h.object) : -1;
+    ph.random = ph.random || e.roughness > 0.0 || (e.reflectance > 0.0 && e.reflectance < 1.0);
+    if (e.reflected) {
+      if (e.entering) exact_count(EXACT_REFLECTED_OUTSIDE);
+      ph.bounced = ph.bounced || !e.entering;
     }
   }
 }

@@ -522,7 +522,7 @@ ObjectData at_front_texel(ObjectData object, vec2 uv) {
 
 #ifndef REFRACTION_NO_CAMERA
 #ifdef CAUSTICA_RAY_QUERY
-#include "scene/ray_query.glsl"
+#include "refraction/exact_path.glsl"
 #endif
 
 // scene/lighting.frag's model at p (ambient sky and every light); with `shadowed`, and ray
@@ -656,80 +656,49 @@ vec3 shade_exit_hit(vec3 p, vec3 n, vec3 albedo) {
   return seen_on_screen(p, uv) ? texture(background_tex, uv).rgb : lambert(p, n, albedo, true);
 }
 
-// Radiance along a camera ray traced through every interface, as the ray-traced reference does:
-// at a refractor's entry the Fresnel reflection sees the sky and the rest refracts in; inside,
-// absorption and total internal reflection; at the exit the Fresnel transmittance. A ray still
-// inside after exact_max_interfaces interfaces (or lost in an open mesh) brings nothing more.
-// In colour band `band` (refracting with its index); a white ray that meets a dispersive refractor
-// stops and sets `dispersed` (trace_camera_exact below then traces each band). A rough refractor's
-// surfaces scatter the ray about microfacets drawn from `rng`, and set `rough`.
+// Radiance along a camera ray traced through every interface (refraction/exact_path.glsl, Fresnel
+// weighted), as the ray-traced reference does: at a refractor's entry the Fresnel reflection sees
+// the sky and the rest refracts in; inside, absorption and total internal reflection; at the exit
+// the Fresnel transmittance. A ray still inside after exact_max_interfaces interfaces (or lost in an
+// open mesh) brings nothing more. In colour band `band` (refracting with its index); a white ray that
+// meets a dispersive refractor stops and sets `dispersed` (trace_camera_exact below then traces each
+// band). A rough refractor's surfaces scatter the ray about microfacets drawn from `rng`, and set
+// `rough`.
 vec3 trace_camera_band(vec3 origin, vec3 direction, uint band, inout uint rng, inout bool dispersed, inout bool rough) {
-  vec3 throughput = vec3(1.0), radiance = vec3(0.0);
-  int inside = -1;
-  uint interfaces = 0u;
-  float t_min = 0.0;
+  ExactPath path = ExactPath(origin, direction, -1, 0u, rng, vec3(1.0));
+  vec3 radiance = vec3(0.0);
   for (;;) {
-    SurfaceHit h = trace_surface(origin, direction, t_min, CAUSTICA_ALL_INSTANCES);
-    t_min = params.exact_epsilon;
-    if (!h.hit) return inside < 0 ? radiance + throughput * frame.sky_ambient.rgb : radiance;
-    if (inside >= 0) throughput *= exp(-objects[inside].absorption_ior.rgb * h.t);
-    vec3 p = origin + direction * h.t;
-    vec3 n = dot(h.normal, direction) > 0.0 ? -h.normal : h.normal;
-    ObjectData object = objects[h.object];
+    vec3 before = path.throughput;
+    PathEvent e = exact_path_step(path, band, true, false);
+    rng = path.rng;
+    if (e.kind == PATH_ESCAPED) return path.inside < 0 ? radiance + path.throughput * frame.sky_ambient.rgb : radiance;
+    if (e.kind == PATH_TRAPPED) {
+      camera_count(CAMERA_TRAPPED);
+      return radiance;
+    }
+    if (e.kind == PATH_DISPERSED) {
+      dispersed = true;
+      return vec3(0.0);
+    }
     // What the path sees diffusely here, shaded once below: the opaque surface that ends it, or a
-    // refractor's diffusely reflected share at its entry. One call site of shade_exit_hit, whose
+    // refractor's diffusely reflected share at its entry (of what the Fresnel reflection, which sees
+    // the sky, left, the share `transmission` passes tinted). One call site of shade_exit_hit, whose
     // exact shadow ray is a ray query: lavapipe inlines every call, and each copy of a ray query
     // lengthens its compile by seconds.
     vec3 shade_weight = vec3(0.0), shade_albedo = vec3(0.0);
-    bool ends = object.albedo_refractor.a < 0.5;
+    bool ends = e.kind == PATH_OPAQUE;
     if (ends) {
-      shade_weight = throughput;
-      shade_albedo = object.albedo_refractor.rgb;
+      shade_weight = path.throughput;
+      shade_albedo = objects[e.object].albedo_refractor.rgb;
     } else {
-      if (interfaces == params.exact_max_interfaces) {
-        camera_count(CAMERA_TRAPPED);
-        return radiance;
-      }
-      ++interfaces;
-      if (band == BAND_WHITE && !thin_walled(object) && disperses(object)) {
-        dispersed = true;
-        return vec3(0.0);
-      }
-      float ior = band_ior(object, band);
-      float roughness = roughness_at(h);
-      rough = rough || roughness > 0.0;
-      vec3 m = microfacet_normal(n, direction, roughness, rng);
-      origin = p;
-      if (inside < 0) {
-        // Entry, as refractor_surface: the Fresnel reflection sees the sky; of the rest the share
-        // `transmission` passes tinted, the remainder is reflected diffusely (shadowed exactly here).
-        float reflectance = fresnel_dielectric(-dot(direction, m), 1.0, ior);
-        radiance += throughput * reflectance * frame.sky_ambient.rgb;
-        throughput *= 1.0 - reflectance;
-        vec4 tint_transmission = tint_transmission_at(h);
-        if (tint_transmission.a < 1.0) {
-          shade_weight = throughput * (1.0 - tint_transmission.a);
-          shade_albedo = tint_transmission.rgb;
-        }
-        throughput *= tint_transmission.a * tint_transmission.rgb;
-        if (thin_walled(object)) {  // through a thin wall, unbent where it is smooth
-          direction = through_thin(direction, m, n);
-        } else {
-          direction = on_side(normalize(refract(direction, m, 1.0 / ior)), n, false);
-          inside = int(h.object);
-        }
-      } else {
-        vec3 out_direction = refract(direction, m, ior);
-        if (dot(out_direction, out_direction) == 0.0) {
-          direction = on_side(reflect(direction, m), n, true);
-        } else {
-          throughput *= 1.0 - fresnel_dielectric(-dot(direction, m), ior, 1.0);
-          direction = on_side(normalize(out_direction), n, false);
-          inside = -1;
-        }
+      rough = rough || e.roughness > 0.0;
+      if (e.entering && !e.reflected) {  // (an entry reflects only totally, into a refractor of index below 1: followed)
+        radiance += before * e.reflectance * frame.sky_ambient.rgb;
+        shade_weight = before * (1.0 - e.reflectance) * (1.0 - e.tint_transmission.a);
+        shade_albedo = e.tint_transmission.rgb;
       }
     }
-    if (any(greaterThan(shade_weight, vec3(0.0)))) radiance += shade_weight * shade_exit_hit(p, n, shade_albedo);
+    if (any(greaterThan(shade_weight, vec3(0.0)))) radiance += shade_weight * shade_exit_hit(e.position, e.normal, shade_albedo);
     if (ends) return radiance;
   }
 }
