@@ -41,6 +41,7 @@ class AccumulatePass final : public graph::Pass {
     const uint32_t mode = frames_ == 0 ? kModeStart : frames_ < max_frames ? kModeAdd : kModeHold;
     if (mode != kModeHold) ++frames_;
     ctx.set_counter(frames_slot_, frames_);
+    if (frames_ < max_frames) ctx.still_converging();
 
     const VkExtent2D extent = ctx.extent("source");
     const AccumulatePush push{{extent.width, extent.height}, kLayers, frames_, mode};

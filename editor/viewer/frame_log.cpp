@@ -19,8 +19,8 @@ double percentile(std::vector<double> values, double p) {
 
 }  // namespace
 
-void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered) {
-  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, {}, {}};
+void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still) {
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, {}, {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
@@ -38,6 +38,8 @@ void FrameLog::write(const std::string& path) const {
                              {"moving", e.moving},
                              {"divider", e.divider},
                              {"lowered", e.lowered},
+                             {"still", e.still},
+                             {"converging", e.converging},
                              {"ran", e.ran},
                              {"reused", e.reused}});
   }

@@ -12,8 +12,8 @@ class FrameLog {
  public:
   // `moving`: the camera or a light changed before this frame (input or --orbit / --move-light).
   // `divider`: the frame rendered at the window's size over this (the frame budget); `lowered`: with
-  // the graph parameters' while_moving values.
-  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered);
+  // the graph parameters' while_moving values; `still`: with their while_still values.
+  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still);
   // JSON: every frame, and the median and 95th percentile of the wall time over all frames and
   // over the moving ones. Written through a temporary file, so a killed viewer leaves none.
   void write(const std::string& path) const;
@@ -23,7 +23,7 @@ class FrameLog {
     double wall_ms, gpu_ms, cpu_ms;
     bool moving;
     uint32_t divider;
-    bool lowered;
+    bool lowered, still, converging;
     std::vector<std::string> ran, reused;
   };
   std::vector<Entry> entries_;

@@ -131,7 +131,15 @@ class Viewer::Impl {
       redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
-      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_, lowered_);
+      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_, lowered_, still_values_);
+      // A still view refines: frames go on while a pass converges (an accumulating mean) or the
+      // graph's while_still values wait for the view to rest.
+      if (last_result_.converging || still_values_due()) redraw_frames_ = std::max(redraw_frames_, 1);
+      if (was_converging_ && !last_result_.converging) {
+        std::fprintf(stderr, "view: converged after %llu frames at rest\n",
+                     static_cast<unsigned long long>(last_result_.frame.since_reset + 1));
+      }
+      was_converging_ = last_result_.converging;
       if (owner_.after_frame) owner_.after_frame();
       ++frame;
       ++frames_drawn_;
@@ -153,6 +161,7 @@ class Viewer::Impl {
   std::string use_graph(graph::GraphDesc graph) {
     std::optional<graph::GraphDesc> previous = std::move(session_.graph);
     session_.graph = std::move(graph);
+    forget_still_values();
     try {
       configure();
     } catch (const std::exception& e) {
@@ -216,6 +225,7 @@ class Viewer::Impl {
       auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(session_.scene_file, options_.stage));
       std::optional<graph::GraphDesc> previous = std::move(session_.graph);
       session_.graph = std::move(g);
+      forget_still_values();
       try {
         executor_.set_scene(scene);
         configure();
@@ -248,8 +258,9 @@ class Viewer::Impl {
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
     graph::GraphDesc graph = edited(session_);
-    if (lowered_) {
-      for (auto& p : graph.parameters) p.value = p.while_moving.value_or(p.value);
+    for (auto& p : graph.parameters) {
+      if (lowered_ && p.while_moving) p.value = *p.while_moving;
+      if (still_values_ && p.while_still && p.value == p.decl.default_value) p.value = *p.while_still;
     }
     try {
       executor_.configure(graph, size.width, size.height, retained);
@@ -288,10 +299,38 @@ class Viewer::Impl {
                               [](const auto& p) { return p.while_moving.has_value(); });
       }
     }
-    if (divider == render_divider_ && lowered == lowered_) return;
+    const bool still_values =
+        still_values_wanted() && !moved_ &&
+        std::chrono::steady_clock::now() - last_move_ >= std::chrono::duration<double, std::milli>(options_.still_after_ms);
+    if (divider == render_divider_ && lowered == lowered_ && still_values == still_values_) return;
     render_divider_ = divider;
     lowered_ = lowered;
-    configure();
+    still_values_ = still_values;
+    try {
+      configure();
+    } catch (const std::exception& e) {
+      if (!still_values_) throw;
+      // The device cannot run the graph with them (exact photons without VK_KHR_ray_query): the
+      // values as set, until the graph changes.
+      still_values_refused_ = true;
+      still_values_ = false;
+      configure();
+      session_.report(std::string("not using the while_still values: ") + e.what(), true);
+      std::fprintf(stderr, "view: not using the while_still values: %s\n", e.what());
+    }
+  }
+
+  // The graph declares while_still values that this device has not refused.
+  bool still_values_wanted() const {
+    return session_.graph && !still_values_refused_ &&
+           std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
+                       [](const auto& p) { return p.while_still.has_value(); });
+  }
+  bool still_values_due() const { return still_values_wanted() && !still_values_; }
+  // A new graph starts with its values as set, and may try its while_still values again.
+  void forget_still_values() {
+    still_values_ = false;
+    still_values_refused_ = false;
   }
 
   void init_imgui() {
@@ -391,6 +430,7 @@ class Viewer::Impl {
       }
     }
     if (changed) {
+      last_move_ = std::chrono::steady_clock::now();
       auto next = std::make_shared<scene::Scene>(*session_.scene);
       next->camera = moved.camera;
       next->lights = std::move(moved.lights);
@@ -416,6 +456,7 @@ class Viewer::Impl {
       ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way%s (budget %.0f ms)", render_divider_,
                          lowered_ ? ", the graph's while_moving values" : "", options_.budget_ms);
     }
+    if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
     frame_panel(frame, executor_.plan(), gpu_history_);
@@ -669,10 +710,14 @@ class Viewer::Impl {
   uint64_t frames_drawn_ = 0;
   FrameLog log_;
   graph::FrameResult last_result_;
-  bool moved_ = false;           // the camera or a light changed before the last frame
-  double last_wall_ms_ = 0;      // the last frame's, input to present
-  uint32_t render_divider_ = 1;  // the frame budget's: the graph renders at the window's size over this
-  bool lowered_ = false;         // and with the parameters' while_moving values
+  bool moved_ = false;                 // the camera or a light changed before the last frame
+  double last_wall_ms_ = 0;            // the last frame's, input to present
+  uint32_t render_divider_ = 1;        // the frame budget's: the graph renders at the window's size over this
+  bool lowered_ = false;               // and with the parameters' while_moving values
+  bool still_values_ = false;          // at rest, with the parameters' while_still values
+  bool was_converging_ = false;        // the last frame had a pass converging
+  bool still_values_refused_ = false;  // the device could not run them (until the graph changes)
+  std::chrono::steady_clock::time_point last_move_ = std::chrono::steady_clock::now();
   uint32_t screenshots_ = 0;
   std::string pending_screenshot_;
 };

@@ -34,6 +34,9 @@ struct ViewerOptions {
   // rendered size (down to a quarter of the window's each way) for the next, and then takes the
   // graph parameters' "while_moving" values; a still frame is whole again. 0: off.
   double budget_ms = 100.0;
+  // --still-after: once nothing has moved for this long, the graph parameters' "while_still" values
+  // (where the user has not set them): the progressive graph's exact photons.
+  double still_after_ms = 300.0;
 };
 
 // What the help and the on-screen help say about the keys.

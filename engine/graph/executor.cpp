@@ -96,6 +96,7 @@ struct Executor::Realized {
   std::vector<bool> counter_is_sum;
   std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
+  bool converging = false;                   // and PassContext::still_converging
   vk::Buffer counters;                       // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
@@ -167,6 +168,9 @@ VkBuffer PassContext::counter_buffer() const {
 }
 void PassContext::set_counter(uint32_t counter, double value) const {
   executor_.realized_->host_counters[counter] = value;
+}
+void PassContext::still_converging() const {
+  executor_.realized_->converging = true;
 }
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
@@ -422,6 +426,7 @@ FrameResult Executor::run_frame(bool read_back) {
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
   real.host_counters.clear();
+  real.converging = false;
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -571,6 +576,7 @@ FrameResult Executor::run_frame(bool read_back) {
     }
   }
   result.counter_passes = real.counter_passes;
+  result.converging = real.converging;
   real.last_counters = result.counters;
   real.read_back_done = read_back;
   result.frame = {real.frame_index, real.frame_index};
@@ -588,8 +594,8 @@ FrameImage Executor::frame_image(const std::string& name) const {
   const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
   // A frame that read back left every read-back image ready for a copy (unless the plan reuses
   // passes: then back in its final layout).
-  const VkImageLayout layout = realized_->read_back_done && !plan_->reuses_unchanged_passes ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
-                                                                                             : res.final_state.layout;
+  const VkImageLayout layout =
+      realized_->read_back_done && !plan_->reuses_unchanged_passes ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : res.final_state.layout;
   return {realized_->images[static_cast<size_t>(index)].image.get(), layout, res.format, {res.width, res.height}};
 }
 

@@ -42,7 +42,8 @@ struct FrameResult {
   double cpu_ms = 0;                                  // recording and submission
   std::map<std::string, double> counters;             // counts are whole numbers; sums (caustic.flux) are floats
   std::map<std::string, std::string> counter_passes;  // counter -> the pass that set it up
-  FrameInfo frame;  // the frame this was; since_reset: since anything a pass depends on last changed
+  FrameInfo frame;                                    // the frame this was; since_reset: since anything a pass depends on last changed
+  bool converging = false;                            // a pass that ran would change with more frames (PassContext::still_converging)
 };
 
 class Executor {

@@ -47,7 +47,8 @@ void load_parameters(GraphDesc& graph, const Reader& read) {
     p.pointer = pointer;
     p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
     read.object(value, pointer, "a parameter");
-    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving"}, "a parameter");
+    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving", "while_still"},
+                   "a parameter");
     if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
     if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
     p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
@@ -74,10 +75,12 @@ void load_parameters(GraphDesc& graph, const Reader& read) {
     std::string problem = check_param_value(p.decl, p.decl.default_value);
     if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
     p.value = p.decl.default_value;
-    if (value.contains("while_moving")) {
-      problem = check_param_value(p.decl, value["while_moving"]);
-      if (!problem.empty()) throw graph.error(pointer + "/while_moving", "the while_moving value of parameter '" + key + "' " + problem);
-      p.while_moving = value["while_moving"];
+    for (auto [name, target] : {std::pair{"while_moving", &p.while_moving}, std::pair{"while_still", &p.while_still}}) {
+      if (!value.contains(name)) continue;
+      problem = check_param_value(p.decl, value[name]);
+      if (!problem.empty())
+        throw graph.error(pointer + "/" + name, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
+      *target = value[name];
     }
     graph.parameters.push_back(std::move(p));
   }

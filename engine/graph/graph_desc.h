@@ -20,6 +20,10 @@ struct GraphParameter {
   // the frame is still over its budget at a quarter of the window's size (a coarser photon grid,
   // smaller light maps); absent: never lowered.
   std::optional<nlohmann::json> while_moving;
+  // "while_still": the value a viewer uses once nothing has moved for a moment, where the user has
+  // not set the parameter and the device runs the graph with it (exact photons accumulating in
+  // place of image-space ones); absent: the value as set.
+  std::optional<nlohmann::json> while_still;
 };
 
 struct ResourceDesc {

@@ -66,6 +66,9 @@ class PassContext {
   // without a device write. No shader may add to it.
   void set_counter(uint32_t counter, double value) const;
   const FrameInfo& frame() const;
+  // More frames of an unchanged scene would still change this pass's result (a running mean short of
+  // its frame count): a viewer keeps drawing while any pass of the frame says so.
+  void still_converging() const;
 
  private:
   Executor& executor_;

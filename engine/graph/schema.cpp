@@ -62,7 +62,11 @@ json graph_schema_json(const PassRegistry& registry) {
         {"while_moving",
          {{"description",
            "the value a viewer's frame budget may use while the camera or a light moves and a quarter of the window's size is still "
-           "over budget"}}}}},
+           "over budget"}}},
+        {"while_still",
+         {{"description",
+           "the value a viewer uses once nothing has moved for a moment, unless the user set the parameter or the device cannot run "
+           "the graph with it"}}}}},
       {"additionalProperties", false}};
   json resource = {
       {"type", "object"},

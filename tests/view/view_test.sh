@@ -6,44 +6,53 @@
 # 3. a broken edit keeps the old graph running, shows the error with its location, and the viewer
 #    still exits 0 when closed (Ctrl-C);
 # 4. a broken shader keeps the last good pipelines, a mended one is picked up.
+#
+# Under the sanitizers (a third argument, "sanitized") every viewer run stays, and the headless
+# renders and image comparisons that check its pixels are left to the Release run: they add no
+# viewer code to what the sanitizers see, and the command-line tests run render and compare there.
 set -euo pipefail
 bin=$1
 src=$2
+sanitized=${3:-}
 DISPLAY_BASE=90 source "$(dirname "$0")/xvfb.sh"
+pixels() { [ -z "$sanitized" ]; }  # whether this run checks the viewer's pixels
 
 # 1. The screenshot is the headless render of the same graph and scene at the window's size.
 "$bin" view --size 160x90 --frames 3 --screenshot "$dir/shot.png" --validate > "$dir/log" 2>&1 || fail "view --screenshot exited $?"
-"$bin" render --size 160x90 --out "$dir/headless.png" 2> /dev/null
-"$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
-echo "ok: screenshot matches the headless render"
-
 # The resource inspector shows any image of the graph: the lit G-buffer as render --dump writes it.
 "$bin" view --size 160x90 --frames 2 --inspect lit --screenshot "$dir/lit_view.exr" --validate > "$dir/log" 2>&1 || fail "view --inspect exited $?"
-"$bin" render --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/frame.png" 2> /dev/null
-"$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
-echo "ok: the inspector shows the image --dump writes"
+if pixels; then
+  "$bin" render --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
+  "$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
+  echo "ok: screenshot matches the headless render"
+  "$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
+  echo "ok: the inspector shows the image --dump writes"
+fi
 
 # The inspector panel shows its image fitted into the window: cut out of a shot of the whole
 # window (UI included), it is the headless render scaled down to the panel's size.
 "$bin" view --size 1100x500 --frames 2 --inspect ldr --window-shot "$dir/window.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
 where=$(sed -n 's/^view: window shot .*; inspector image ldr at \([0-9]*\),\([0-9]*\) \([0-9]*\)x\([0-9]*\)$/\3x\4+\1+\2/p' "$dir/log")
 [ -n "$where" ] || fail "view did not say where the inspector's image lies"
-"$bin" render --size 1100x500 --out "$dir/full.png" 2> /dev/null
-oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
-oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
-"$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
-# The same place in a shot without the inspector shows something else (the control must differ).
 "$bin" view --size 1100x500 --frames 2 --window-shot "$dir/no_panel.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
-oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
-if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
-echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
 # Without a screenshot or the inspector the output reaches the window by a blit on the device, with
-# no read-back: right of the main panel the window shows the headless render exactly.
+# no read-back.
 grep -q "goes to the window by a blit on the device" "$dir/log" || fail "the device blit is not used: $(head -3 "$dir/log")"
-oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
-oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
-"$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
-echo "ok: the output blitted into the window is the headless render"
+if pixels; then
+  "$bin" render --size 1100x500 --out "$dir/full.png" 2> /dev/null
+  oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
+  oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
+  "$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
+  # The same place in a shot without the inspector shows something else (the control must differ).
+  oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
+  if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
+  echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
+  # Right of the main panel the blitted window shows the headless render exactly.
+  oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
+  oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
+  "$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
+  echo "ok: the output blitted into the window is the headless render"
+fi
 
 # 2 and 3. Hot reload, then a broken edit.
 # A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
@@ -69,6 +78,27 @@ assert all(f["wall_ms"] > 0 for f in orbit["frames"] + every["frames"])
 PY
 echo "ok: while orbiting, the light's passes are reused; --every-pass runs them all; over the budget the size halves"
 
+# Left still, the progressive graph takes its while_still values (exact ray-query photons) and goes
+# on drawing while its mean converges: the fourth still frame is the headless render of four
+# accumulated exact frames, and not the image-space mean's (the control). Moving, the values stay
+# as set.
+progressive="$src/graphs/caustics_progressive.json"
+"$bin" view --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
+if pixels; then
+  "$bin" render --graph "$progressive" --size 160x90 --set distance=ray_query --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
+  "$bin" render --graph "$progressive" --size 160x90 --accumulate 4 --out "$dir/image4.png" 2> /dev/null
+  "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
+  if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
+fi
+"$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
+python3 - "$dir/still.json" "$dir/moving.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
+import json, sys
+still, moving = (json.load(open(f))["frames"] for f in sys.argv[1:])
+assert all(f["still"] and f["converging"] and not f["moving"] for f in still), still
+assert all(f["moving"] and not f["still"] for f in moving), moving
+PY
+echo "ok: at rest the progressive graph accumulates exact photons (its while_still values) and keeps drawing"
+
 wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it took
   local start=$SECONDS
   for _ in $(seq $(($2 * 20))); do
@@ -78,6 +108,23 @@ wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it to
   done
   fail "no '$1' within $2 s"
 }
+
+# At rest the viewer draws on while the mean converges, and then rests: with max_frames 6 (more
+# than the few frames any change is given) it says so after the sixth still frame and then draws
+# at most those few more.
+python3 -c 'import json, sys; g = json.load(open(sys.argv[1])); g["parameters"]["max_frames"]["default"] = 6; json.dump(g, open(sys.argv[2], "w"), indent=2)' \
+  "$progressive" "$dir/prog6.json"
+"$bin" view --graph "$dir/prog6.json" --size 160x90 --still-after 0 --validate > "$dir/log" 2>&1 &
+view_pid=$!
+wait_for "view: converged after 6 frames at rest" 120 > /dev/null
+sleep 1
+kill -INT "$view_pid"
+wait "$view_pid" || fail "view of the progressive graph exited $? after Ctrl-C"
+view_pid=""
+drawn=$(sed -n 's/^view: \([0-9]*\) frames drawn$/\1/p' "$dir/log")
+[ -n "$drawn" ] && [ "$drawn" -le 10 ] || fail "the viewer did not rest after converging: ${drawn:-?} frames drawn"
+echo "ok: at rest the viewer draws until the mean has converged (6 frames), then rests ($drawn frames in all)"
+
 cp "$src/graphs/core_demo.json" "$dir/g.json"
 "$bin" view --graph "$dir/g.json" --size 160x90 --validate > "$dir/log" 2>&1 &
 view_pid=$!

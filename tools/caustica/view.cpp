@@ -55,6 +55,10 @@ options:
                         quarter each way, scaled up into the window, and then uses the graph
                         parameters' "while_moving" values (the default graph: a coarser photon
                         grid, smaller light maps); a still frame is whole again
+  --still-after MS      once nothing has moved for MS (default 300), the graph parameters'
+                        "while_still" values where they have their defaults (caustics_progressive:
+                        exact ray-query photons accumulating, on a device with VK_KHR_ray_query);
+                        while a pass converges (an accumulating mean) frames go on at rest
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --validate            Khronos validation; any message makes the command exit 3
@@ -108,6 +112,8 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
     v.reuse = false;
   else if (a == "--budget")
     v.budget_ms = parse_number(a, args.value(a), 0, 10000);
+  else if (a == "--still-after")
+    v.still_after_ms = parse_number(a, args.value(a), 0, 60000);
   else if (a == "--orbit")
     v.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
   else if (a == "--move-light")
@@ -116,9 +122,9 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
     return false;
   return true;
 }
-const std::vector<std::string> kWindowFlags = {"--scene",      "--size",    "--frames",     "--screenshot", "--window-shot",
-                                               "--continuous", "--max-fps", "--validate",   "--device",     "--no-stage",
-                                               "--stats",      "--orbit",   "--move-light", "--every-pass", "--budget"};
+const std::vector<std::string> kWindowFlags = {"--scene",      "--size",       "--frames", "--screenshot", "--window-shot", "--continuous",
+                                               "--max-fps",    "--validate",   "--device", "--no-stage",   "--stats",       "--orbit",
+                                               "--move-light", "--every-pass", "--budget", "--still-after"};
 
 // Checks what can be checked before the window opens, and fills in the defaults.
 void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
