@@ -91,11 +91,15 @@ if pixels; then
   if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
-python3 - "$dir/still.json" "$dir/moving.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
+# A device without ray queries refuses the exact photons: the values as set, and a message.
+CAUSTICA_NO_RAY_QUERY=1 "$bin" view --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
+grep -q "view: not using the while_still values: .*VK_KHR_ray_query" "$dir/log" || fail "no message that the while_still values were refused"
+python3 - "$dir/still.json" "$dir/moving.json" "$dir/refused.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
 import json, sys
-still, moving = (json.load(open(f))["frames"] for f in sys.argv[1:])
+still, moving, refused = (json.load(open(f))["frames"] for f in sys.argv[1:])
 assert all(f["still"] and f["converging"] and not f["moving"] for f in still), still
 assert all(f["moving"] and not f["still"] for f in moving), moving
+assert all(not f["still"] and f["converging"] for f in refused), refused
 PY
 echo "ok: at rest the progressive graph accumulates exact photons (its while_still values) and keeps drawing"
 
