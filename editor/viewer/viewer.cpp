@@ -279,7 +279,8 @@ class Viewer::Impl {
   // Cycles-style: while something moves, a frame over the budget halves the rendered size for the
   // next (to a quarter each way), blitted up to the window; the first still frame is whole again.
   // Only where the output goes to the window by a blit (an 8-bit output, no image inspected in its
-  // place), which scales it; the host path copies pixels one to one.
+  // place), which scales it; the host path copies pixels one to one. Once nothing has moved for
+  // --still-after, the graph's while_still values. Each change of these is a new plan.
   void fit_frame_budget() {
     const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
     const bool can_scale =
