@@ -4,7 +4,6 @@
 // only seems so because it overlaps itself.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <mutex>
 #include <numeric>
 #include <unordered_map>
@@ -82,7 +81,8 @@ void split_clusters(const std::vector<glm::vec3>& positions, size_t first, size_
   if (count <= kLeaf) {
     const glm::vec3 center = 0.5f * (lo + hi);
     float radius = 0.0f;
-    for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it) radius = std::max(radius, glm::length(positions[*it] - center));
+    for (auto it = begin; it != begin + static_cast<std::ptrdiff_t>(count); ++it)
+      radius = std::max(radius, glm::length(positions[*it] - center));
     out.clusters.push_back({center, radius, first, count});
     return;
   }
@@ -135,25 +135,37 @@ bool is_convex_solid(const Mesh& mesh) {
   }
   if (faces.size() < 4) return false;
 
-  // Closed and consistently wound: every directed edge once, and its reverse once.
-  std::map<std::pair<uint32_t, uint32_t>, uint32_t> edge_face;
+  // Closed and consistently wound: every directed edge once, and its reverse once. A sorted array
+  // rather than a map: a process that loads the 70k-triangle bunny builds this at every start.
+  struct DirectedEdge {
+    uint64_t key;  // from << 32 | to
+    uint32_t face;
+    bool operator<(const DirectedEdge& other) const { return key < other.key; }
+  };
+  auto edge_key = [](uint32_t from, uint32_t to) { return uint64_t{from} << 32 | to; };
+  std::vector<DirectedEdge> edges;
+  edges.reserve(faces.size() * 3);
   for (uint32_t i = 0; i < faces.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      if (!edge_face.emplace(std::pair{faces[i].v[k], faces[i].v[(k + 1) % 3]}, i).second) return false;
-    }
+    for (int k = 0; k < 3; ++k) edges.push_back({edge_key(faces[i].v[k], faces[i].v[(k + 1) % 3]), i});
+  }
+  std::sort(edges.begin(), edges.end());
+  for (size_t e = 1; e < edges.size(); ++e) {
+    if (edges[e].key == edges[e - 1].key) return false;  // a directed edge twice
   }
   std::vector<uint32_t> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0u);
-  for (const auto& [edge, i] : edge_face) {
-    auto twin = edge_face.find({edge.second, edge.first});
-    if (twin == edge_face.end()) return false;  // an open edge
-    const Face& other = faces[twin->second];
+  for (const DirectedEdge& edge : edges) {
+    const auto from = static_cast<uint32_t>(edge.key >> 32), to = static_cast<uint32_t>(edge.key);
+    const auto twin = std::lower_bound(edges.begin(), edges.end(), DirectedEdge{edge_key(to, from), 0});
+    if (twin == edges.end() || twin->key != edge_key(to, from)) return false;  // an open edge
+    const Face& other = faces[twin->face];
+    const Face& here = faces[edge.face];
     // Convex at the edge: the neighbour's far vertex is not in front of this face's plane.
     for (uint32_t v : other.v) {
-      if (v == edge.first || v == edge.second) continue;
-      if (glm::dot(faces[i].normal, mesh.positions[welded.position[v]] - faces[i].point) > tolerance) return false;
+      if (v == from || v == to) continue;
+      if (glm::dot(here.normal, mesh.positions[welded.position[v]] - here.point) > tolerance) return false;
     }
-    parent[root_of(parent, i)] = root_of(parent, twin->second);
+    parent[root_of(parent, edge.face)] = root_of(parent, twin->face);
   }
   const uint32_t component = root_of(parent, 0);
   for (uint32_t i = 0; i < faces.size(); ++i) {
