@@ -260,7 +260,7 @@ class Viewer::Impl {
     graph::GraphDesc graph = edited(session_);
     for (auto& p : graph.parameters) {
       if (lowered_ && p.while_moving) p.value = *p.while_moving;
-      if (still_values_ && p.while_still && p.value == p.decl.default_value) p.value = *p.while_still;
+      if (still_values_ && p.while_still && !session_.edits.count(p.decl.name)) p.value = *p.while_still;
     }
     try {
       executor_.configure(graph, size.width, size.height, retained);

@@ -21,7 +21,7 @@ struct GraphParameter {
   // smaller light maps); absent: never lowered.
   std::optional<nlohmann::json> while_moving;
   // "while_still": the value a viewer uses once nothing has moved for a moment, where the user has
-  // not set the parameter and the device runs the graph with it (exact photons accumulating in
+  // not set the parameter in its panel and the device runs the graph with it (exact photons accumulating in
   // place of image-space ones); absent: the value as set.
   std::optional<nlohmann::json> while_still;
 };

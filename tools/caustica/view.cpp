@@ -56,7 +56,7 @@ options:
                         parameters' "while_moving" values (the default graph: a coarser photon
                         grid, smaller light maps); a still frame is whole again
   --still-after MS      once nothing has moved for MS (default 300), the graph parameters'
-                        "while_still" values where they have their defaults (caustics_progressive:
+                        "while_still" values, except where set in the panel (caustics_progressive:
                         exact ray-query photons accumulating, on a device with VK_KHR_ray_query);
                         while a pass converges (an accumulating mean) frames go on at rest
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
