@@ -16,13 +16,16 @@ src=$2
 sanitized=${3:-}
 DISPLAY_BASE=90 source "$(dirname "$0")/xvfb.sh"
 pixels() { [ -z "$sanitized" ]; }  # whether this run checks the viewer's pixels
+# The sphere on its plane: every viewer feature here is the same on it, and its frames cost a
+# third of the bunny's (whose 70k triangles the light-space passes draw every frame).
+scene="$src/scenes/sphere_plane.json"
 
 # 1. The screenshot is the headless render of the same graph and scene at the window's size.
-"$bin" view --size 160x90 --frames 3 --screenshot "$dir/shot.png" --validate > "$dir/log" 2>&1 || fail "view --screenshot exited $?"
+"$bin" view --scene "$scene" --size 160x90 --frames 3 --screenshot "$dir/shot.png" --validate > "$dir/log" 2>&1 || fail "view --screenshot exited $?"
 # The resource inspector shows any image of the graph: the lit G-buffer as render --dump writes it.
-"$bin" view --size 160x90 --frames 2 --inspect lit --screenshot "$dir/lit_view.exr" --validate > "$dir/log" 2>&1 || fail "view --inspect exited $?"
+"$bin" view --scene "$scene" --size 160x90 --frames 2 --inspect lit --screenshot "$dir/lit_view.exr" --validate > "$dir/log" 2>&1 || fail "view --inspect exited $?"
 if pixels; then
-  "$bin" render --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
+  "$bin" render --scene "$scene" --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
   "$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
   echo "ok: screenshot matches the headless render"
   "$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
@@ -31,15 +34,15 @@ fi
 
 # The inspector panel shows its image fitted into the window: cut out of a shot of the whole
 # window (UI included), it is the headless render scaled down to the panel's size.
-"$bin" view --size 1100x500 --frames 2 --inspect ldr --window-shot "$dir/window.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
+"$bin" view --scene "$scene" --size 1100x500 --frames 2 --inspect ldr --window-shot "$dir/window.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
 where=$(sed -n 's/^view: window shot .*; inspector image ldr at \([0-9]*\),\([0-9]*\) \([0-9]*\)x\([0-9]*\)$/\3x\4+\1+\2/p' "$dir/log")
 [ -n "$where" ] || fail "view did not say where the inspector's image lies"
-"$bin" view --size 1100x500 --frames 2 --window-shot "$dir/no_panel.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
+"$bin" view --scene "$scene" --size 1100x500 --frames 2 --window-shot "$dir/no_panel.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
 # Without a screenshot or the inspector the output reaches the window by a blit on the device, with
 # no read-back.
 grep -q "goes to the window by a blit on the device" "$dir/log" || fail "the device blit is not used: $(head -3 "$dir/log")"
 if pixels; then
-  "$bin" render --size 1100x500 --out "$dir/full.png" 2> /dev/null
+  "$bin" render --scene "$scene" --size 1100x500 --out "$dir/full.png" 2> /dev/null
   oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
   oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
   "$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
@@ -58,11 +61,11 @@ fi
 # A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
 # frame only the passes that see the camera run, the light's keep their results (reused); with
 # --every-pass every pass runs every frame.
-"$bin" view --size 160x90 --frames 3 --orbit 5 --budget 0 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
-"$bin" view --size 160x90 --frames 3 --orbit 5 --budget 0 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
+"$bin" view --scene "$scene" --size 160x90 --frames 3 --orbit 5 --budget 0 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
+"$bin" view --scene "$scene" --size 160x90 --frames 3 --orbit 5 --budget 0 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
 # A budget no frame meets: each moving frame halves the rendered size for the next, to a quarter,
 # and then the next takes the default graph's while_moving values.
-"$bin" view --size 160x90 --frames 4 --orbit 5 --budget 1 --stats "$dir/budget.json" --validate > "$dir/log" 2>&1 || fail "view --budget exited $?"
+"$bin" view --scene "$scene" --size 160x90 --frames 4 --orbit 5 --budget 1 --stats "$dir/budget.json" --validate > "$dir/log" 2>&1 || fail "view --budget exited $?"
 python3 - "$dir/orbit.json" "$dir/every.json" "$dir/budget.json" <<'PY' || fail "the frame logs do not show the light's passes reused while orbiting, or the budget's sizes"
 import json, sys
 orbit, every, budget = (json.load(open(f)) for f in sys.argv[1:])
@@ -83,16 +86,16 @@ echo "ok: while orbiting, the light's passes are reused; --every-pass runs them 
 # accumulated exact frames, and not the image-space mean's (the control). Moving, the values stay
 # as set.
 progressive="$src/graphs/caustics_progressive.json"
-"$bin" view --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
 if pixels; then
-  "$bin" render --graph "$progressive" --size 160x90 --set distance=ray_query --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
-  "$bin" render --graph "$progressive" --size 160x90 --accumulate 4 --out "$dir/image4.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --out "$dir/image4.png" 2> /dev/null
   "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
   if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
 # A device without ray queries refuses the exact photons: the values as set, and a message.
-CAUSTICA_NO_RAY_QUERY=1 "$bin" view --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
+CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
 grep -q "view: not using the while_still values: .*VK_KHR_ray_query" "$dir/log" || fail "no message that the while_still values were refused"
 python3 - "$dir/still.json" "$dir/moving.json" "$dir/refused.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
 import json, sys
@@ -118,7 +121,7 @@ wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it to
 # at most those few more.
 python3 -c 'import json, sys; g = json.load(open(sys.argv[1])); g["parameters"]["max_frames"]["default"] = 6; json.dump(g, open(sys.argv[2], "w"), indent=2)' \
   "$progressive" "$dir/prog6.json"
-"$bin" view --graph "$dir/prog6.json" --size 160x90 --still-after 0 --validate > "$dir/log" 2>&1 &
+"$bin" view --scene "$scene" --graph "$dir/prog6.json" --size 160x90 --still-after 0 --validate > "$dir/log" 2>&1 &
 view_pid=$!
 wait_for "view: converged after 6 frames at rest" 120 > /dev/null
 sleep 1
