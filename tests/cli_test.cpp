@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -199,7 +200,7 @@ TEST(Cli, EveryCommandHasHelp) {
   }
   // The top-level help names every subcommand of bench and graph.
   const CliRun top = run("--help");
-  for (const char* sub : {"'bench refraction'", "'bench photons'", "'bench accuracy'", "'bench stability'", "'graph plan", "'graph dot",
+  for (const char* sub : {"'bench refraction'", "'bench photons'", "'bench accuracy'", "'bench stability'", "'bench convergence'", "'graph plan", "'graph dot",
                           "'graph schema'", "'graph set"}) {
     EXPECT_NE(top.output.find(sub), std::string::npos) << sub << " in\n" << top.output;
   }
@@ -490,6 +491,65 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred search,0,"), std::string::npos) << csv;
   EXPECT_GT(fs::file_size(acc / "speed_accuracy.png"), 10000u);
   EXPECT_NE(read(acc / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// bench convergence: each method's mean over the frames against the photon reference. On the ball
+// lens the ray-query mean converges toward the reference (its error after 16 frames well below its
+// first frame's, and below the d_V/d_N mean's, which keeps that estimate's bias); without ray queries
+// that method is skipped with a note and the others run.
+TEST(Cli, ConvergenceBenchmarkFollowsEachMeanTowardTheReference) {
+  fs::path dir = scratch("convergence");
+  const std::string options =
+      "bench convergence --scene sphere_plane --grid 64 --caustic-size 64 --size 64x36 --reference-photons 2e6 --frames 16 --methods ";
+  // A folder where bench accuracy wrote its results (one row of each kind here): its chart is drawn
+  // again with the convergence panel beside.
+  fs::create_directories(dir / "conv");
+  std::ofstream(dir / "conv" / "results.csv")
+      << "scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n"
+         "sphere_plane,caustics,caustics_regular,64,4096,1.5,9.0,0.3,0.8,0.2,30,0\n"
+         "sphere_plane,refraction,refraction_deferred dv_dn,0,0,2.0,9.0,0.1,nan,nan,nan,0\n";
+  const CliRun bench = run(options + "dv_dn,ray_query --out conv", dir);
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  EXPECT_GT(fs::file_size(dir / "conv" / "speed_accuracy.png"), 10000u);
+  const std::string csv = read(dir / "conv" / "convergence.csv");
+  ASSERT_EQ(csv.rfind("scene,method,frame,seconds,frame_ms,relative_l1,energy_ratio,shape_l1\n", 0), 0u) << csv;
+  std::map<std::string, std::vector<std::pair<int, double>>> errors;  // method: (frame, relative L1)
+  std::map<std::string, double> seconds;
+  std::istringstream lines(csv.substr(csv.find('\n') + 1));
+  for (std::string line; std::getline(lines, line);) {
+    std::vector<std::string> cells;
+    std::istringstream in(line);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 8u) << line;
+    EXPECT_EQ(cells[0], "sphere_plane");
+    EXPECT_GE(std::stod(cells[3]), seconds[cells[1]]) << "the clock ran backwards: " << line;
+    seconds[cells[1]] = std::stod(cells[3]);
+    errors[cells[1]].emplace_back(std::stoi(cells[2]), std::stod(cells[5]));
+  }
+  // Compared after frames 1 to 8, then four a doubling: 10, 12, 14, 16.
+  const std::vector<int> compared{1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16};
+  for (const char* method : {"dv_dn", "ray_query"}) {
+    std::vector<int> frames;
+    for (const auto& [frame, error] : errors[method]) frames.push_back(frame);
+    EXPECT_EQ(frames, compared) << method;
+  }
+  const double exact_first = errors["ray_query"].front().second, exact_last = errors["ray_query"].back().second;
+  const double estimate_last = errors["dv_dn"].back().second;
+  std::printf("ray_query relative L1 %.4f after one frame, %.4f after 16; dv_dn %.4f after 16\n", exact_first, exact_last, estimate_last);
+  EXPECT_LT(exact_last, 0.6 * exact_first);
+  EXPECT_LT(exact_last, estimate_last);
+  EXPECT_GT(fs::file_size(dir / "conv" / "convergence.png"), 10000u);
+  EXPECT_NE(read(dir / "conv" / "convergence.md").find("| ray_query | "), std::string::npos);
+
+  ::setenv("CAUSTICA_NO_RAY_QUERY", "1", 1);
+  const CliRun masked = run(options.substr(0, options.find("--frames")) + "--frames 2 --methods dv_dn,ray_query --out masked", dir);
+  ::unsetenv("CAUSTICA_NO_RAY_QUERY");
+  ASSERT_EQ(masked.code, 0) << masked.output;
+  EXPECT_NE(masked.output.find("ray_query: skipped on"), std::string::npos) << masked.output;
+  const std::string masked_csv = read(dir / "masked" / "convergence.csv");
+  EXPECT_NE(masked_csv.find("sphere_plane,dv_dn,2,"), std::string::npos) << masked_csv;
+  EXPECT_EQ(masked_csv.find("ray_query"), std::string::npos) << masked_csv;
   fs::remove_all(dir);
 }
 

@@ -1,8 +1,8 @@
 // caustica bench: refraction (deferred against forward), photons (the paper's table) and accuracy
 // (speed against accuracy against the ground truth). Run by hand; results go into docs/.
 // This file has the help and picks the benchmark: load, refraction and photons are in
-// bench_frames.cpp, accuracy and stability in bench_accuracy.cpp and bench_stability.cpp, what
-// they share in bench_common.h.
+// bench_frames.cpp, accuracy, stability and convergence in bench_accuracy.cpp, bench_stability.cpp
+// and bench_convergence.cpp, what they share in bench_common.h.
 #include <iostream>
 
 #include "bench_common.h"
@@ -18,7 +18,8 @@ int cmd_bench(Args& args) {
       "       caustica bench stability [--grid G] [--out DIR] ...\n"
       "       caustica bench load --scene FILE [--runs N]\n"
       "       caustica bench accuracy --out DIR [--scenes A,B] [--graphs G,H,...] [--grids 256,512,...] [--frames N]\n"
-      "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n\n"
+      "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n"
+      "       caustica bench convergence --out DIR [--scene NAME] [--methods A,B] [--seconds S | --frames N] ...\n\n"
       "accuracy: speed against accuracy. For every scene (bundled names or files; default sphere_plane,bunny_plane) x\n"
       "caustic graph x effective photon grid (default 256..4096; the regular map only up to --regular-max, 4096): the\n"
       "median GPU time of the caustic pass and of the frame, and the error of the caustic map against the photon\n"
@@ -46,6 +47,18 @@ int cmd_bench(Args& args) {
       "one untimed frame per method (caustic ms then nan in the CSV). --cases runs some of\n"
       "the cases, named by their scenes: sphere_plane, bunny_plane, high_index, grazing_light, torus, three_refractors,\n"
       "tiny_refractor, filling_refractor, close_light, index_one, no_refractor.\n\n"
+      "       caustica bench convergence --out DIR [--scene NAME] [--graph NAME] [--methods A,B] [--seconds S | --frames N]\n"
+      "                                  [--grid G] [--caustic-size N] [--size WxH] [--reference-photons N | --reference FILE.exr]\n"
+      "                                  [--blur SIGMA]\n\n"
+      "convergence: error against wall time while a progressive graph accumulates, as the viewer does when left still.\n"
+      "For every method (values of the graph's `distance`; default dv_dn,search,hybrid,ray_query, those that need ray\n"
+      "queries skipped on a device without them), from a fresh start after one frame that compiles its pipelines: the\n"
+      "mean caustic map against the photon reference (default 1e8 photons, or a map given with --reference, e.g. one\n"
+      "that bench accuracy wrote) after frames 1 to 8 and then about four per doubling, for --seconds (default 30) or\n"
+      "--frames. Scene default glass_bunny, graph caustics_progressive (its grid and caustic_size unless given), size\n"
+      "1280x720. Writes DIR/convergence.csv, DIR/convergence.md (time to 0.10 and 0.05), DIR/convergence.png (error\n"
+      "against seconds, log-log) and, where DIR holds bench accuracy's results.csv, speed_accuracy.png again with the\n"
+      "convergence panel beside its own.\n\n"
       "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
       "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
       "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
@@ -61,15 +74,16 @@ int cmd_bench(Args& args) {
     return 0;
   }
   if (args.done())
-    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability or load; see caustica bench --help");
+    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load; see caustica bench --help");
   std::string what = args.take();
   if (what == "refraction") return bench::cmd_bench_refraction(args);
   if (what == "photons") return bench::cmd_bench_photons(args);
   if (what == "accuracy") return bench::cmd_bench_accuracy(args);
   if (what == "stability") return bench::cmd_bench_stability(args);
   if (what == "load") return bench::cmd_bench_load(args);
+  if (what == "convergence") return bench::cmd_bench_convergence(args);
   throw UsageError("bench " + what + ": unknown benchmark" +
-                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "load"}));
+                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "convergence", "load"}));
 }
 
 }  // namespace caustica::cli

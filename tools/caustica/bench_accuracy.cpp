@@ -2,7 +2,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -20,20 +19,6 @@
 namespace caustica::cli::bench {
 
 namespace {
-
-// `s` as one word of a POSIX shell command line, whatever it holds (a folder named "it's", say).
-std::string shell_word(const std::string& s) {
-  std::string word = "'";
-  for (char c : s) word += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return word + "'";
-}
-
-// The interpreter that draws the accuracy chart: CAUSTICA_PYTHON, else Debian's, where
-// python3-matplotlib installs, even when another python3 comes first on PATH.
-std::string chart_python() {
-  if (const char* env = std::getenv("CAUSTICA_PYTHON"); env && *env) return env;
-  return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-}
 
 constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_buffers", "deferred_refraction", "forward_refraction",
                                                                      "refraction_layers"};
@@ -125,24 +110,6 @@ AccuracyGraphs load_accuracy_graphs(const std::vector<std::string>& graphs) {
     }
   }
   return loaded;
-}
-
-// What draws the chart: the script and the interpreter.
-struct Chart {
-  std::filesystem::path script;
-  std::string python;
-};
-
-Chart find_chart() {
-  const std::filesystem::path plot_script = data_dir() / "tools" / "plot_accuracy.py";
-  if (!std::filesystem::is_regular_file(plot_script)) throw InputError(plot_script.string() + ": the chart script is missing");
-  // The chart is drawn last, after what can be an hour on lavapipe: a missing matplotlib is found now.
-  const std::string python = chart_python();
-  if (std::system((shell_word(python) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) != 0) {
-    throw std::runtime_error("the chart needs matplotlib, which " + python +
-                             " cannot import (Debian: python3-matplotlib; CAUSTICA_PYTHON names another interpreter)");
-  }
-  return {plot_script, python};
 }
 
 // One run of the benchmark: what it was told, where it writes, the device, and the rows measured
@@ -272,14 +239,7 @@ struct AccuracyRun {
                                   "inputs are the same for every method) or, for refraction, refractor_buffers plus the refraction pass. "
                                   "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
                                   table);
-    const std::filesystem::path partial = dir / ".speed_accuracy.partial.png";
-    const std::string command = shell_word(chart.python) + " " + shell_word(chart.script.string()) + " " +
-                                shell_word((dir / "results.csv").string()) + " " + shell_word(partial.string());
-    if (std::system(command.c_str()) != 0) {
-      std::filesystem::remove(partial);
-      throw std::runtime_error("drawing the chart failed: " + command + " (Debian: python3-matplotlib)");
-    }
-    std::filesystem::rename(partial, dir / "speed_accuracy.png");
+    chart.draw(speed_accuracy_inputs(dir), dir / "speed_accuracy.png");
     std::cout << config << "\n\n" << table;
     std::fprintf(stderr, "bench accuracy: %s/results.csv, README.md, speed_accuracy.png\n", o.out_dir.c_str());
   }

@@ -1,11 +1,13 @@
 #pragma once
 // What the benchmarks of `caustica bench` share. bench.cpp has the help and picks the benchmark;
-// bench_frames.cpp has load, refraction and photons; bench_accuracy.cpp and bench_stability.cpp
-// the other two.
+// bench_frames.cpp has load, refraction and photons; bench_accuracy.cpp, bench_stability.cpp and
+// bench_convergence.cpp the other three.
 #include <cstdint>
+#include <filesystem>
 #include <initializer_list>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "cli.h"
 #include "graph/executor.h"
@@ -19,6 +21,7 @@ int cmd_bench_refraction(Args& args);
 int cmd_bench_photons(Args& args);
 int cmd_bench_accuracy(Args& args);
 int cmd_bench_stability(Args& args);
+int cmd_bench_convergence(Args& args);
 
 // A file (NAME.json) as given, or a bundled one by name ("bunny_plane", "stability/close_light").
 std::string bundled_path(const char* folder, const std::string& name);
@@ -41,5 +44,23 @@ Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<s
 // Whether the graph runs on this device: a graph that traces with ray queries needs them. The
 // benchmarks skip, and say so, what a device cannot run rather than fail the whole run.
 bool runs_on(const vk::Context& vk, const graph::GraphDesc& g);
+
+// What draws the charts (tools/plot_accuracy.py): the script and the interpreter.
+struct Chart {
+  std::filesystem::path script;
+  std::string python;
+  // Draws `out` from the CSV files (results.csv of bench accuracy, convergence.csv of bench
+  // convergence: a panel for each kind of row), written whole or not at all.
+  void draw(const std::vector<std::filesystem::path>& csvs, const std::filesystem::path& out) const;
+};
+
+// The chart script and an interpreter that can import matplotlib: CAUSTICA_PYTHON, else Debian's,
+// where python3-matplotlib installs, even when another python3 comes first on PATH. Throws when
+// there is none, before a benchmark's long work rather than after it.
+Chart find_chart();
+
+// What speed_accuracy.png in `dir` is drawn from: results.csv, and convergence.csv where bench
+// convergence wrote one there too (its panel then stands beside the speed-accuracy ones).
+std::vector<std::filesystem::path> speed_accuracy_inputs(const std::filesystem::path& dir);
 
 }  // namespace caustica::cli::bench

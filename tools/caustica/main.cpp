@@ -48,7 +48,7 @@ commands:
   devices    list the Vulkan devices
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's
              table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks),
-             'bench load' (loading a scene or model: host and device time)
+             'bench convergence' (error against wall time while accumulating), 'bench load' (loading a scene or model)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   edit       the graph editor: passes as nodes, resources as wires, the frame live as you edit
