@@ -19,6 +19,7 @@
 #include "builtin_passes.h"
 #include "core/paths.h"
 #include "io/image_io.h"
+#include "model/frame_budget.h"
 #include "scene/acceleration.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
@@ -131,7 +132,8 @@ class Viewer::Impl {
       redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
-      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, render_divider_, lowered_, still_values_);
+      frame_measured_ = true;
+      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_);
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
       // graph's while_still values wait for the view to rest.
       if (last_result_.converging || still_values_due()) redraw_frames_ = std::max(redraw_frames_, 1);
@@ -254,12 +256,13 @@ class Viewer::Impl {
   }
 
   void configure() {
+    budget_.new_plan();
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
     graph::GraphDesc graph = edited(session_);
     for (auto& p : graph.parameters) {
-      if (lowered_ && p.while_moving) p.value = *p.while_moving;
+      if (step_.lowered && p.while_moving) p.value = *p.while_moving;
       if (still_values_ && p.while_still && !session_.edits.count(p.decl.name)) p.value = *p.while_still;
     }
     try {
@@ -271,41 +274,32 @@ class Viewer::Impl {
     }
   }
 
-  // The graph renders at the window's size divided by render_divider_ (the frame budget).
+  // The graph renders at the window's size divided by the frame budget's divider.
   VkExtent2D render_size() const {
-    return {std::max(1u, swapchain_.extent.width / render_divider_), std::max(1u, swapchain_.extent.height / render_divider_)};
+    return {std::max(1u, swapchain_.extent.width / step_.divider), std::max(1u, swapchain_.extent.height / step_.divider)};
   }
 
-  // Cycles-style: while something moves, a frame over the budget halves the rendered size for the
-  // next (to a quarter each way), blitted up to the window; the first still frame is whole again.
-  // Only where the output goes to the window by a blit (an 8-bit output, no image inspected in its
-  // place), which scales it; the host path copies pixels one to one. Once nothing has moved for
-  // --still-after, the graph's while_still values. Each change of these is a new plan.
+  // Cycles-style (editor/model/frame_budget.h): while something moves, a frame over the budget
+  // halves the rendered size for the next (to a quarter each way), blitted up to the window, then
+  // takes the graph's while_moving values; a frame well under it goes back a step; the first still
+  // frame is whole again. Only where the output goes to the window by a blit (an 8-bit output, no
+  // image inspected in its place), which scales it; the host path copies pixels one to one. Once
+  // nothing has moved for --still-after, the graph's while_still values. Each change of these is a
+  // new plan.
   void fit_frame_budget() {
     const graph::PlannedResource& out = executor_.plan().resources[executor_.plan().outputs.front()];
     const bool can_scale =
         blit_supported_ && out.format == graph::Format::rgba8 && !(inspector_.in_main_view && !inspector_.inspected.empty());
-    uint32_t divider = 1;
-    bool lowered = false;
-    if (moved_ && can_scale) {
-      divider = render_divider_;
-      lowered = lowered_;
-      const bool over = options_.budget_ms > 0 && last_wall_ms_ > options_.budget_ms;
-      if (over && divider < 4) {
-        divider *= 2;
-      } else if (over) {
-        // A quarter of the size each way is still over: the graph's own "while_moving" values (a
-        // coarser photon grid, smaller light maps), where it declares them.
-        lowered = std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
-                              [](const auto& p) { return p.while_moving.has_value(); });
-      }
-    }
+    const bool can_lower = std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
+                                       [](const auto& p) { return p.while_moving.has_value(); });
+    // Judged on frames drawn since the last call only (none before the first).
+    const editor::FrameBudget::Step step = frame_measured_ ? budget_.next(last_wall_ms_, moved_, can_scale, can_lower) : step_;
+    frame_measured_ = false;
     const bool still_values =
         still_values_wanted() && !moved_ &&
         std::chrono::steady_clock::now() - last_move_ >= std::chrono::duration<double, std::milli>(options_.still_after_ms);
-    if (divider == render_divider_ && lowered == lowered_ && still_values == still_values_) return;
-    render_divider_ = divider;
-    lowered_ = lowered;
+    if (step == step_ && still_values == still_values_) return;
+    step_ = step;
     still_values_ = still_values;
     try {
       configure();
@@ -453,9 +447,9 @@ class Viewer::Impl {
     ImGui::TextColored(session_.status_is_error ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", session_.status.c_str());
     ImGui::PopTextWrapPos();
     ImGui::Text("frame: GPU %.2f ms, CPU %.2f ms, %.0f ms in all", frame.gpu_ms, frame.cpu_ms, last_wall_ms_);
-    if (render_divider_ > 1) {
-      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way%s (budget %.0f ms)", render_divider_,
-                         lowered_ ? ", the graph's while_moving values" : "", options_.budget_ms);
+    if (step_.divider > 1) {
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way%s (budget %.0f ms)", step_.divider,
+                         step_.lowered ? ", the graph's while_moving values" : "", options_.budget_ms);
     }
     if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     ImGui::TextDisabled("F1 help, Tab hide panels");
@@ -713,8 +707,9 @@ class Viewer::Impl {
   graph::FrameResult last_result_;
   bool moved_ = false;                 // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;            // the last frame's, input to present
-  uint32_t render_divider_ = 1;        // the frame budget's: the graph renders at the window's size over this
-  bool lowered_ = false;               // and with the parameters' while_moving values
+  bool frame_measured_ = false;        // since the frame budget last judged
+  editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
+  editor::FrameBudget::Step step_;                  // the step the plan was made for
   bool still_values_ = false;          // at rest, with the parameters' while_still values
   bool was_converging_ = false;        // the last frame had a pass converging
   bool still_values_refused_ = false;  // the device could not run them (until the graph changes)

@@ -54,7 +54,8 @@ options:
                         moving frame over it halves the rendered size for the next, down to a
                         quarter each way, scaled up into the window, and then uses the graph
                         parameters' "while_moving" values (the default graph: a coarser photon
-                        grid, smaller light maps); a still frame is whole again
+                        grid, smaller light maps); a frame well under it goes back a step when
+                        that step is predicted within the budget; a still frame is whole again
   --still-after MS      once nothing has moved for MS (default 300), the graph parameters'
                         "while_still" values, except where set in the panel (caustics_progressive:
                         exact ray-query photons accumulating, on a device with VK_KHR_ray_query);

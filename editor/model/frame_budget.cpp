@@ -1,0 +1,33 @@
+#include "frame_budget.h"
+
+namespace caustica::editor {
+
+namespace {
+// Raising is worth it only when the richer step is predicted to stay this far under the budget, so
+// that the size does not go up and down from frame to frame.
+constexpr double kRaiseMargin = 0.8;
+}  // namespace
+
+FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale, bool can_lower) {
+  const size_t before = level_;
+  if (!moving || !can_scale || budget_ms_ <= 0) {
+    level_ = 0;
+    going_down_ = false;
+  } else if (!first_at_step_) {
+    if (going_down_ && level_ > 0) cost_over_next_[level_ - 1] = last_at_step_ms_ > 0 ? last_at_step_ms_ / frame_ms : 0;
+    going_down_ = false;
+    const size_t cheapest = can_lower ? kSteps.size() - 1 : kSteps.size() - 2;
+    if (frame_ms > budget_ms_ && level_ < cheapest) {
+      ++level_;
+      going_down_ = true;
+    } else if (frame_ms <= budget_ms_ && level_ > 0 && cost_over_next_[level_ - 1] > 0 &&
+               frame_ms * cost_over_next_[level_ - 1] <= kRaiseMargin * budget_ms_) {
+      --level_;
+    }
+    last_at_step_ms_ = frame_ms;
+  }
+  first_at_step_ = level_ != before;
+  return step();
+}
+
+}  // namespace caustica::editor

@@ -1,0 +1,47 @@
+#pragma once
+// The viewer's frame budget while the view moves, Cycles-style: a frame over the budget lowers the
+// quality of the next, a frame well under it raises it again, and the first still frame is whole.
+// No window and no device here, so that its rules are tested on the CPU with made-up frame times
+// (tests/frame_budget_test.cpp); the viewer feeds it the measured ones.
+#include <array>
+#include <cstdint>
+
+namespace caustica::editor {
+
+class FrameBudget {
+ public:
+  // What a frame renders at: the window's size over `divider` each way, and with `lowered`, the
+  // graph's while_moving values.
+  struct Step {
+    uint32_t divider = 1;
+    bool lowered = false;
+    bool operator==(const Step&) const = default;
+  };
+
+  explicit FrameBudget(double budget_ms) : budget_ms_(budget_ms) {}
+
+  // The step of the next frame, after a frame that took `frame_ms` from input to present. With
+  // `moving` (the camera or a light changes in the next frame), `can_scale` (the output reaches the
+  // window by a scaling blit) and `can_lower` (the graph declares while_moving values).
+  Step next(double frame_ms, bool moving, bool can_scale, bool can_lower);
+  Step step() const { return kSteps[level_]; }
+  // The viewer made a new plan for another reason (the while_still values, an edit, a reload): the
+  // next frame measured is a first one too.
+  void new_plan() { first_at_step_ = true; }
+
+ private:
+  // From whole to cheapest: each halving of the size each way, then the while_moving values.
+  static constexpr std::array<Step, 4> kSteps{{{1, false}, {2, false}, {4, false}, {4, true}}};
+  double budget_ms_;
+  size_t level_ = 0;
+  // The frame just measured was the first at its step: a new plan, whose first frame runs every
+  // pass (the light's too) and says little about the frames after it.
+  bool first_at_step_ = true;
+  // How much slower each step was than the next cheaper one when the budget last went down to it,
+  // measured on frames after the first at each: what raising back is predicted to cost.
+  std::array<double, kSteps.size()> cost_over_next_{};
+  double last_at_step_ms_ = 0;  // the last representative frame time at the current step
+  bool going_down_ = false;     // the step was just lowered: its first representative frame sets cost_over_next_
+};
+
+}  // namespace caustica::editor

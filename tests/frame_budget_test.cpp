@@ -1,0 +1,81 @@
+// The viewer's frame budget (editor/model/frame_budget.h) on made-up frame times: down a step on
+// a frame over the budget, up again when the richer step is predicted to stay well under it, never
+// judged on the first frame of a new plan, whole again when the view stops.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "model/frame_budget.h"
+
+namespace caustica::editor {
+namespace {
+
+using Step = FrameBudget::Step;
+
+// Feeds frame times to a budget of 100 ms, the view moving throughout; returns the steps chosen.
+std::vector<Step> moving(FrameBudget& budget, const std::vector<double>& frame_ms, bool can_lower = true) {
+  std::vector<Step> steps;
+  for (double ms : frame_ms) steps.push_back(budget.next(ms, true, true, can_lower));
+  return steps;
+}
+
+constexpr Step kWhole{1, false}, kHalf{2, false}, kQuarter{4, false}, kLowered{4, true};
+
+TEST(FrameBudget, GoesDownAStepPerRepresentativeFrameOverTheBudget) {
+  FrameBudget budget(100);
+  // The first frame at each step (a new plan) decides nothing.
+  const std::vector<Step> expected{kWhole, kHalf, kHalf, kQuarter, kQuarter, kLowered, kLowered, kLowered};
+  EXPECT_EQ(moving(budget, {500, 500, 300, 200, 150, 120, 90, 70}), expected);
+}
+
+TEST(FrameBudget, GoesBackUpWhenTheRicherStepIsPredictedWellUnderTheBudget) {
+  FrameBudget budget(100);
+  moving(budget, {500, 500, 300, 200, 150, 120, 90});
+  ASSERT_EQ(budget.step(), kLowered);
+  // The while_moving values made the frame 2x cheaper (120 -> 60): at 60 a return would cost
+  // about 120, over the budget; at 30 about 60, within 0.8 of it.
+  EXPECT_EQ(moving(budget, {60, 60, 60}), (std::vector<Step>{kLowered, kLowered, kLowered}));
+  EXPECT_EQ(moving(budget, {30}), (std::vector<Step>{kQuarter}));
+  // A quarter cost 200 / 120 times the half: at 40 the half is predicted at 67 ms.
+  EXPECT_EQ(moving(budget, {45, 40}), (std::vector<Step>{kQuarter, kHalf}));
+}
+
+TEST(FrameBudget, HoldsASteadyFrameTimeWithoutGoingUpAndDown) {
+  FrameBudget budget(100);
+  // Whole frames take 150 ms, half-size ones 60: going back up would cost 150 again.
+  std::vector<double> times{150, 150, 60};
+  for (int i = 0; i < 20; ++i) times.push_back(60);
+  const std::vector<Step> steps = moving(budget, times);
+  for (size_t i = 2; i < steps.size(); ++i) EXPECT_EQ(steps[i], kHalf) << "frame " << i;
+}
+
+TEST(FrameBudget, WholeAgainWhenTheViewStops) {
+  FrameBudget budget(100);
+  moving(budget, {500, 500, 300, 200});
+  ASSERT_EQ(budget.step(), kQuarter);
+  EXPECT_EQ(budget.next(200, false, true, true), kWhole);
+}
+
+TEST(FrameBudget, StopsAtAQuarterWithoutWhileMovingValues) {
+  FrameBudget budget(100);
+  const std::vector<Step> steps = moving(budget, {500, 500, 500, 500, 500, 500, 500, 500}, false);
+  EXPECT_EQ(steps.back(), kQuarter);
+}
+
+TEST(FrameBudget, NothingChangesWithoutAScalingBlitOrABudget) {
+  FrameBudget unscaled(100);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(unscaled.next(500, true, false, true), kWhole);
+  FrameBudget unlimited(0);
+  EXPECT_EQ(moving(unlimited, {500, 500, 500, 500}), (std::vector<Step>{kWhole, kWhole, kWhole, kWhole}));
+}
+
+TEST(FrameBudget, ANewPlanForAnotherReasonIsNotJudgedOnItsFirstFrame) {
+  FrameBudget budget(100);
+  moving(budget, {50, 50});
+  budget.new_plan();  // say the while_still values were dropped when the view began to move
+  EXPECT_EQ(moving(budget, {700}), (std::vector<Step>{kWhole}));
+  EXPECT_EQ(moving(budget, {700}), (std::vector<Step>{kHalf}));
+}
+
+}  // namespace
+}  // namespace caustica::editor
