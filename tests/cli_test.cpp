@@ -200,8 +200,8 @@ TEST(Cli, EveryCommandHasHelp) {
   }
   // The top-level help names every subcommand of bench and graph.
   const CliRun top = run("--help");
-  for (const char* sub : {"'bench refraction'", "'bench photons'", "'bench accuracy'", "'bench stability'", "'bench convergence'", "'graph plan", "'graph dot",
-                          "'graph schema'", "'graph set"}) {
+  for (const char* sub : {"'bench refraction'", "'bench photons'", "'bench accuracy'", "'bench stability'", "'bench convergence'",
+                          "'graph plan", "'graph dot", "'graph schema'", "'graph set"}) {
     EXPECT_NE(top.output.find(sub), std::string::npos) << sub << " in\n" << top.output;
   }
 }

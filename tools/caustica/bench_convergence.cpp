@@ -25,7 +25,7 @@ struct ConvergenceOptions {
   std::string scene = "glass_bunny", graph = "caustics_progressive", reference_file, out_dir, device;
   std::vector<std::string> methods{"dv_dn", "search", "hybrid", "ray_query"};
   double seconds = 30;
-  uint32_t frames = 0;  // when given, instead of --seconds
+  uint32_t frames = 0;                  // when given, instead of --seconds
   uint32_t grid = 0, caustic_size = 0;  // 0: the graph's own
   uint32_t width = 1280, height = 720;
   uint64_t reference_photons = 100'000'000;
@@ -65,8 +65,8 @@ ConvergenceOptions parse_convergence_options(Args& args) {
     else if (a == "--device")
       o.device = args.value(a);
     else
-      unknown_option(a, {"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--caustic-size", "--size", "--reference-photons",
-                         "--reference", "--blur", "--out", "--device"});
+      unknown_option(a, {"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--caustic-size", "--size",
+                         "--reference-photons", "--reference", "--blur", "--out", "--device"});
   }
   if (o.out_dir.empty()) throw UsageError("bench convergence needs --out DIR");
   if (seconds_given && o.frames > 0) throw UsageError("bench convergence: give --seconds or --frames, not both");
@@ -137,7 +137,8 @@ int cmd_bench_convergence(Args& args) {
   const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(o.scene)));
   const graph::GraphDesc loaded = graph::load_graph_file(graph_path(o.graph));
   if (!loaded.find_parameter("distance") || !loaded.find_parameter("caustic_size") || passes_of_types(loaded, {"accumulate"}).empty()) {
-    throw InputError(graph_path(o.graph) + ": bench convergence needs a graph with an accumulate pass writing `caustics` and the "
+    throw InputError(graph_path(o.graph) +
+                     ": bench convergence needs a graph with an accumulate pass writing `caustics` and the "
                      "parameters `distance` and `caustic_size`, as graphs/caustics_progressive.json has");
   }
   std::vector<graph::GraphDesc> graphs;
@@ -202,7 +203,8 @@ int cmd_bench_convergence(Args& args) {
       last_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       elapsed += last_ms / 1000.0;
       if (compare) {
-        rows.push_back({method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
+        rows.push_back(
+            {method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
         std::fprintf(stderr, "%s %s: frame %u, %.2f s, relative L1 %.4f, energy %.4f\n", scene->name.c_str(), method.c_str(), frame,
                      elapsed, rows.back().error.relative_l1, rows.back().error.energy_ratio);
       }
@@ -227,7 +229,8 @@ int cmd_bench_convergence(Args& args) {
     char line[512];
     std::snprintf(line, sizeof(line), "| %s | %s | %s | %s | %.4f (%.1f s) | %s | %s | %u |\n", method.c_str(),
                   error_at(rows, method, 1).c_str(), error_at(rows, method, 10).c_str(), error_at(rows, method, 30).c_str(),
-                  end->error.relative_l1, end->seconds, time_to(rows, method, 0.10).c_str(), time_to(rows, method, 0.05).c_str(), end->frame);
+                  end->error.relative_l1, end->seconds, time_to(rows, method, 0.10).c_str(), time_to(rows, method, 0.05).c_str(),
+                  end->frame);
     table += line;
   }
   char config[1024];
