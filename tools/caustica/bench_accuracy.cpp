@@ -24,7 +24,7 @@ constexpr std::initializer_list<const char*> kRefractionPassTypes = {"refractor_
                                                                      "refraction_layers"};
 
 // What bench accuracy is told (caustica bench --help).
-struct AccuracyOptions {
+struct AccuracyOptions : ComparisonOptions {
   std::vector<std::string> scenes{"sphere_plane", "bunny_plane"};
   std::vector<std::string> graphs{"caustics_regular",
                                   "caustics_hierarchical",
@@ -41,10 +41,7 @@ struct AccuracyOptions {
                                   "refraction_raytraced",
                                   "refraction_hybrid"};
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
-  uint32_t frames = 3, regular_max = 4096, caustic_size = 512, width = 640, height = 360;
-  uint64_t reference_photons = 100'000'000;
-  double blur = 1.5;
-  std::string out_dir, device;
+  uint32_t frames = 3, regular_max = 4096;
 };
 
 AccuracyOptions parse_accuracy_options(Args& args) {
@@ -61,21 +58,11 @@ AccuracyOptions parse_accuracy_options(Args& args) {
       o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
     else if (a == "--regular-max")
       o.regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (a == "--caustic-size")
-      o.caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
-    else if (a == "--size")
-      parse_size(args.value(a), o.width, o.height);
-    else if (a == "--reference-photons")
-      o.reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
-    else if (a == "--blur")
-      o.blur = parse_number(a, args.value(a), 0, 64);
-    else if (a == "--out")
-      o.out_dir = args.value(a);
-    else if (a == "--device")
-      o.device = args.value(a);
-    else
-      unknown_option(a, {"--scenes", "--graphs", "--grids", "--frames", "--regular-max", "--caustic-size", "--size", "--reference-photons",
-                         "--blur", "--out", "--device"});
+    else if (!o.take(a, args)) {
+      std::vector<std::string> known{"--scenes", "--graphs", "--grids", "--frames", "--regular-max"};
+      known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
+      unknown_option(a, known);
+    }
   }
   if (o.out_dir.empty()) throw UsageError("bench accuracy needs --out DIR");
   return o;

@@ -68,6 +68,24 @@ bool runs_on(const vk::Context& vk, const graph::GraphDesc& g) {
   return graph::compile_graph(g, passes::builtin_registry(), options).ray_query_passes.empty();
 }
 
+bool ComparisonOptions::take(const std::string& flag, Args& args) {
+  if (flag == "--caustic-size")
+    caustic_size = static_cast<uint32_t>(parse_uint(flag, args.value(flag), 16, 8192));
+  else if (flag == "--size")
+    parse_size(args.value(flag), width, height);
+  else if (flag == "--reference-photons")
+    reference_photons = parse_uint(flag, args.value(flag), 1000, 100'000'000'000ull);
+  else if (flag == "--blur")
+    blur = parse_number(flag, args.value(flag), 0, 64);
+  else if (flag == "--out")
+    out_dir = args.value(flag);
+  else if (flag == "--device")
+    device = args.value(flag);
+  else
+    return false;
+  return true;
+}
+
 Chart find_chart() {
   const std::filesystem::path plot_script = data_dir() / "tools" / "plot_accuracy.py";
   if (!std::filesystem::is_regular_file(plot_script)) throw InputError(plot_script.string() + ": the chart script is missing");

@@ -45,6 +45,19 @@ Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<s
 // benchmarks skip, and say so, what a device cannot run rather than fail the whole run.
 bool runs_on(const vk::Context& vk, const graph::GraphDesc& g);
 
+// What bench accuracy and bench convergence are both told: the caustic map's size (bench
+// convergence: 0 for the graph's own), the frame size, the photon reference and the blur before
+// comparing, the output folder and the device.
+struct ComparisonOptions {
+  uint32_t caustic_size = 512, width = 640, height = 360;
+  uint64_t reference_photons = 100'000'000;
+  double blur = 1.5;
+  std::string out_dir, device;
+  // Takes the value of `flag` when it is one of kFlags; false for any other flag.
+  bool take(const std::string& flag, Args& args);
+  static inline const std::vector<std::string> kFlags{"--caustic-size", "--size", "--reference-photons", "--blur", "--out", "--device"};
+};
+
 // What draws the charts (tools/plot_accuracy.py): the script and the interpreter.
 struct Chart {
   std::filesystem::path script;

@@ -21,15 +21,17 @@ namespace caustica::cli::bench {
 namespace {
 
 // What bench convergence is told (caustica bench --help).
-struct ConvergenceOptions {
-  std::string scene = "glass_bunny", graph = "caustics_progressive", reference_file, out_dir, device;
+struct ConvergenceOptions : ComparisonOptions {
+  ConvergenceOptions() {  // the viewer's size, and the graph's own caustic map
+    caustic_size = 0;
+    width = 1280;
+    height = 720;
+  }
+  std::string scene = "glass_bunny", graph = "caustics_progressive", reference_file;
   std::vector<std::string> methods{"dv_dn", "search", "hybrid", "ray_query"};
   double seconds = 30;
-  uint32_t frames = 0;                  // when given, instead of --seconds
-  uint32_t grid = 0, caustic_size = 0;  // 0: the graph's own
-  uint32_t width = 1280, height = 720;
-  uint64_t reference_photons = 100'000'000;
-  double blur = 1.5;
+  uint32_t frames = 0;  // when given, instead of --seconds
+  uint32_t grid = 0;    // 0: the graph's own
 };
 
 ConvergenceOptions parse_convergence_options(Args& args) {
@@ -50,23 +52,13 @@ ConvergenceOptions parse_convergence_options(Args& args) {
       o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1'000'000));
     else if (a == "--grid")
       o.grid = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 16384));
-    else if (a == "--caustic-size")
-      o.caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
-    else if (a == "--size")
-      parse_size(args.value(a), o.width, o.height);
-    else if (a == "--reference-photons")
-      o.reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
     else if (a == "--reference")
       o.reference_file = args.value(a);
-    else if (a == "--blur")
-      o.blur = parse_number(a, args.value(a), 0, 64);
-    else if (a == "--out")
-      o.out_dir = args.value(a);
-    else if (a == "--device")
-      o.device = args.value(a);
-    else
-      unknown_option(a, {"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--caustic-size", "--size",
-                         "--reference-photons", "--reference", "--blur", "--out", "--device"});
+    else if (!o.take(a, args)) {
+      std::vector<std::string> known{"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--reference"};
+      known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
+      unknown_option(a, known);
+    }
   }
   if (o.out_dir.empty()) throw UsageError("bench convergence needs --out DIR");
   if (seconds_given && o.frames > 0) throw UsageError("bench convergence: give --seconds or --frames, not both");
