@@ -274,6 +274,33 @@ TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {
   fs::remove_all(dir);
 }
 
+// Bundled graphs and scenes are found from any folder: by the path they have in the data folder, by
+// their file name, or by their bare name; a file of that name where one runs comes first, and a
+// name found nowhere is refused naming the bundled file it stood for.
+TEST(Cli, BundledGraphsAndScenesAreFoundFromAnyFolder) {
+  fs::path dir = scratch("bundled_names");
+  const std::string small = " --size 32x18 --out ";
+  EXPECT_EQ(run("render --graph caustics_regular --scene sphere_plane --set grid=64" + small + "names.png", dir).code, 0);
+  EXPECT_EQ(run("render --graph graphs/core_demo.json" + small + "relative.png", dir).code, 0);
+  EXPECT_EQ(run("render --graph caustics_regular.json --scene stability/close_light --set grid=64" + small + "files.png", dir).code, 0);
+  EXPECT_TRUE(fs::exists(dir / "names.png") && fs::exists(dir / "relative.png") && fs::exists(dir / "files.png"));
+  const CliRun validate = run("validate caustics_regular sphere_plane", dir);
+  EXPECT_EQ(validate.code, 0) << validate.output;
+  EXPECT_NE(validate.output.find((kSource / "graphs" / "caustics_regular.json").string() + ": ok"), std::string::npos) << validate.output;
+  EXPECT_NE(validate.output.find((kSource / "scenes" / "sphere_plane.json").string() + ": ok"), std::string::npos) << validate.output;
+  EXPECT_EQ(run("graph plan core_demo", dir).code, 0);
+  // A file of the given name where one runs is that file, not the bundled one.
+  std::ofstream(dir / "core_demo.json") << "{ \"broken\": ";
+  const CliRun local = run("validate core_demo.json", dir);
+  EXPECT_EQ(local.code, 1) << local.output;
+  EXPECT_NE(local.output.find("core_demo.json:1:"), std::string::npos) << local.output;
+  const CliRun missing = run("render --graph no_such_graph" + small + "missing.png", dir);
+  EXPECT_EQ(missing.code, 1) << missing.output;
+  EXPECT_NE(missing.output.find((kSource / "graphs" / "no_such_graph.json").string() + ": cannot open"), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(dir / "missing.png"));
+  fs::remove_all(dir);
+}
+
 TEST(Cli, DefaultRenderWritesCausticaPng) {
   fs::path dir = scratch("default");
   CliRun r = run("", dir);

@@ -11,15 +11,11 @@
 
 namespace caustica::cli::bench {
 
-std::string bundled_path(const char* folder, const std::string& name) {
-  return std::filesystem::path(name).extension() == ".json" ? name : (data_dir() / folder / (name + ".json")).string();
-}
-
 std::string scene_path(const std::string& name) {
-  return bundled_path("scenes", name);
+  return find_data_file(name, "scenes");
 }
 std::string graph_path(const std::string& name) {
-  return bundled_path("graphs", name);
+  return find_data_file(name, "graphs");
 }
 
 namespace {

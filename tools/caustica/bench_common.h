@@ -23,8 +23,7 @@ int cmd_bench_accuracy(Args& args);
 int cmd_bench_stability(Args& args);
 int cmd_bench_convergence(Args& args);
 
-// A file (NAME.json) as given, or a bundled one by name ("bunny_plane", "stability/close_light").
-std::string bundled_path(const char* folder, const std::string& name);
+// A file as given, or a bundled one by name ("bunny_plane", "stability/close_light"): find_data_file.
 std::string scene_path(const std::string& name);
 std::string graph_path(const std::string& name);
 

@@ -85,6 +85,10 @@ std::vector<std::string> parse_names(const std::string& flag, const std::string&
   return names;
 }
 
+void given_once(std::set<std::string>& given, const std::string& flag) {
+  if (!given.insert(flag).second) throw UsageError(flag + " is given twice: give it once");
+}
+
 void unknown_option(const std::string& arg, const std::vector<std::string>& known) {
   throw UsageError("unknown option '" + arg + "'" + did_you_mean(arg, known) + "; see --help");
 }

@@ -3,6 +3,7 @@
 // that name the flag, device options, progress lines and medians.
 #include <chrono>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,9 @@ std::vector<uint32_t> parse_powers_of_two(const std::string& flag, const std::st
 // A comma-separated list of names, none empty.
 std::vector<std::string> parse_names(const std::string& flag, const std::string& list);
 [[noreturn]] void unknown_option(const std::string& arg, const std::vector<std::string>& known);
+// Records `flag` as given; a flag that takes one value, given again, would silently replace the
+// first, and is refused (callers leave out the repeatable ones, --set and --dump).
+void given_once(std::set<std::string>& given, const std::string& flag);
 
 // CAUSTICA_FAULT=device_lost|out_of_memory makes the device fail on purpose, so tests can check
 // that such failures end the run with exit code 3 and no output (README, "Testing error paths").

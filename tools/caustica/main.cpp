@@ -58,8 +58,10 @@ commands:
 exit codes: 0 ok, 1 invalid input, 2 usage error, 3 device or runtime failure
 )";
 
-const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/caustics_adaptive.json in the data folder)
-  --scene FILE          scene for graphs that draw one (default: scenes/glass_bunny.json); a graph
+const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (default: graphs/caustics_adaptive.json in the data folder); a
+                        bundled one also by its name from any folder (--graph caustics_regular)
+  --scene FILE          scene for graphs that draw one (default: scenes/glass_bunny.json; a bundled
+                        one also by its name, sphere_plane); a graph
                         without scene passes ignores it. A model file (.gltf, .glb, .obj, .off) is a
                         scene of its own: its camera (or one that frames it), its KHR_lights_punctual
                         lights (or a spot light placed for a caustic), and a floor under it
@@ -84,12 +86,14 @@ RenderOptions parse_render(Args& args, bool trace) {
   const std::vector<std::string> known = {"--graph", "--scene", "--out",  "--size",   "--frames",   "--accumulate",   "--seconds",
                                           "--set",   "--stats", "--dump", "--device", "--validate", "--memory-limit", "--no-stage"};
   std::vector<std::string> counts;  // --frames, --accumulate, --seconds: one says how long to run
+  std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
+    if (a != "--set" && a != "--dump") given_once(given, a);
     if (a == "--graph")
-      o.graph = args.value(a);
+      o.graph = find_data_file(args.value(a), "graphs");
     else if (a == "--scene") {
-      o.scene = args.value(a);
+      o.scene = find_data_file(args.value(a), "scenes");
       o.scene_given = true;
     } else if (a == "--no-stage")
       o.stage = false;
@@ -97,8 +101,11 @@ RenderOptions parse_render(Args& args, bool trace) {
       (trace ? o.trace : o.out) = args.value(a);
     else if (a == "--stats")
       o.stats = args.value(a);
-    else if (a == "--set")
-      o.sets.push_back(args.value(a));
+    else if (a == "--set") {
+      const std::string v = args.value(a);
+      if (v.find('=') == std::string::npos || v[0] == '=') throw UsageError("--set " + v + ": expected NAME=VALUE");
+      o.sets.push_back(v);
+    }
     else if (a == "--device")
       o.device = args.value(a);
     else if (a == "--validate")
@@ -250,6 +257,15 @@ int cmd_trace(Args& args) {
   return run_render(parse_render(args, true), true);
 }
 
+// validate takes graphs and scenes alike: a bundled one by name is either.
+std::string find_graph_or_scene(const std::string& given) {
+  for (const char* folder : {"graphs", "scenes"}) {
+    const std::string found = find_data_file(given, folder);
+    if (std::filesystem::exists(found)) return found;
+  }
+  return given;
+}
+
 int cmd_validate(Args& args) {
   if (args.wants_help() || args.done()) {
     std::cout << "usage: caustica validate FILE... [--scene S [--no-stage]]\n\nChecks graphs and scenes without a device: a graph is "
@@ -271,13 +287,13 @@ int cmd_validate(Args& args) {
   while (!args.done()) {
     const std::string a = args.take();
     if (a == "--scene")
-      scene_file = args.value(a);
+      scene_file = find_data_file(args.value(a), "scenes");
     else if (a == "--no-stage")
       stage = false;
     else if (a.rfind("--", 0) == 0)
       unknown_option(a, {"--scene", "--no-stage"});
     else
-      files.push_back(a);
+      files.push_back(find_graph_or_scene(a));
   }
   int status = 0;
   std::map<std::string, double> scene_values = graph::typical_scene_values();
@@ -388,9 +404,10 @@ int cmd_graph(Args& args) {
     throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema' or 'set'" +
                      did_you_mean(what, {"plan", "dot", "schema", "set"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
-  std::string file = args.take();
-  if (file.rfind("--", 0) == 0)
-    throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + file + " ...");
+  const std::string given = args.take();
+  if (given.rfind("--", 0) == 0)
+    throw UsageError("graph " + what + ": the FILE comes before the options, as in caustica graph " + what + " FILE " + given + " ...");
+  const std::string file = find_data_file(given, "graphs");
   RenderOptions o = parse_render(args, false);
   graph::GraphDesc graph = graph::load_graph_file(file);
   graph::apply_overrides(graph, o.sets);
@@ -465,7 +482,7 @@ int cmd_reference(Args& args) {
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--scene")
-      scene_file = args.value(a);
+      scene_file = find_data_file(args.value(a), "scenes");
     else if (a == "--out")
       out = args.value(a);
     else if (a == "--size")

@@ -88,7 +88,7 @@ options: as caustica view, and
 // The flags view and edit share; returns false for any other.
 bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::ViewerOptions& v) {
   if (a == "--scene")
-    o.scene = args.value(a);
+    o.scene = find_data_file(args.value(a), "scenes");
   else if (a == "--size")
     parse_size(args.value(a), v.width, v.height);
   else if (a == "--frames")
@@ -148,8 +148,10 @@ int cmd_edit(Args& args) {
   RenderOptions o;
   editor::ViewerOptions v;
   std::string script;
+  std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
+    if (a.starts_with("--")) given_once(given, a);
     if (window_flag(args, a, o, v)) continue;
     if (a == "--script") {
       script = args.value(a);
@@ -186,11 +188,13 @@ int cmd_view(Args& args) {
   }
   RenderOptions o;
   editor::ViewerOptions v;
+  std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
+    if (a.starts_with("--")) given_once(given, a);
     if (window_flag(args, a, o, v)) continue;
     if (a == "--graph") {
-      o.graph = args.value(a);
+      o.graph = find_data_file(args.value(a), "graphs");
     } else if (a == "--inspect") {
       v.inspect = args.value(a);
     } else {
