@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -51,30 +52,31 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
   }
 #endif
   int renders = 0;
-  std::shared_ptr<const scene::Scene> scene;
+  // One executor a scene, so that the scene is uploaded (and its acceleration structures built)
+  // once, not for every graph; each graph is a new plan on it, as a graph reloaded in the viewer is.
+  std::unique_ptr<graph::Executor> executor;
   size_t loaded = scenes.size();
   for (const auto& [scene_index, graph_index] : pairs) {
     const auto& scene_file = scenes[scene_index];
     const auto& graph_file = graphs[graph_index];
     if (scene_index != loaded) {
-      scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file.string()));
+      executor = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executor->set_scene(std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file.string())));
       loaded = scene_index;
     }
     graph::GraphDesc graph = graph::load_graph_file(graph_file.string());
     if (graph.find_parameter("grid")) graph::apply_overrides(graph, {"grid=256"});
-    graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.set_scene(scene);
     const uint32_t before = vk.validation_messages();
     // A graph this device refuses (one that needs ray queries, on a GPU without them) fails here
     // and the rest still run, so that one run shows every other graph's messages too.
     try {
-      executor.configure(graph, 96, 64);
-      executor.run_frame(true);
+      executor->configure(graph, 96, 64);
+      executor->run_frame(true);
     } catch (const std::exception& e) {
       ADD_FAILURE() << graph_file.filename() << " on " << scene_file.filename() << ": " << e.what();
       continue;
     }
-    const io::ImageData out = executor.read_image(executor.plan().resources[executor.plan().outputs.front()].name);
+    const io::ImageData out = executor->read_image(executor->plan().resources[executor->plan().outputs.front()].name);
     size_t bad = 0;
     for (float v : out.rgba) bad += std::isfinite(v) ? 0 : 1;
     EXPECT_EQ(vk.validation_messages(), before) << graph_file.filename() << " on " << scene_file.filename();
