@@ -36,7 +36,7 @@ TEST(FrameBudget, GoesBackUpWhenTheRicherStepIsPredictedWellUnderTheBudget) {
   // about 120, over the budget; at 30 about 60, within 0.8 of it.
   EXPECT_EQ(moving(budget, {60, 60, 60}), (std::vector<Step>{kLowered, kLowered, kLowered}));
   EXPECT_EQ(moving(budget, {30}), (std::vector<Step>{kQuarter}));
-  // A quarter cost 200 / 120 times the half: at 40 the half is predicted at 67 ms.
+  // The half cost 200 / 120 times the quarter: at 40 the half is predicted at 67 ms.
   EXPECT_EQ(moving(budget, {45, 40}), (std::vector<Step>{kQuarter, kHalf}));
 }
 

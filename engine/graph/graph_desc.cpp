@@ -220,7 +220,7 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
   for (const auto& assignment : assignments) {
     size_t eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0) {
-      throw InputError("--set " + assignment + ": expected name=value");
+      throw UsageError("--set " + assignment + ": expected NAME=VALUE");  // the form of the command line, not the graph
     }
     std::string name = assignment.substr(0, eq);
     std::string text = assignment.substr(eq + 1);

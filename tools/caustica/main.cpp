@@ -101,11 +101,8 @@ RenderOptions parse_render(Args& args, bool trace) {
       (trace ? o.trace : o.out) = args.value(a);
     else if (a == "--stats")
       o.stats = args.value(a);
-    else if (a == "--set") {
-      const std::string v = args.value(a);
-      if (v.find('=') == std::string::npos || v[0] == '=') throw UsageError("--set " + v + ": expected NAME=VALUE");
-      o.sets.push_back(v);
-    }
+    else if (a == "--set")
+      o.sets.push_back(args.value(a));
     else if (a == "--device")
       o.device = args.value(a);
     else if (a == "--validate")
