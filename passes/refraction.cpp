@@ -80,19 +80,24 @@ float search_distance(const graph::PassContext& ctx) {
   const auto [low, high] = ctx.scene().scene().bounds();
   return std::max(glm::length(high - low), 1e-3f);
 }
+
+
+// A pass's `distance`, numbered as shaders/refraction/refraction.glsl's DISTANCE_* constants.
+enum DistanceMode : uint32_t { kDv, kDvDn, kRayQuery, kHybrid, kSearch, kMaterial };
+DistanceMode distance_mode(const nlohmann::json& params) {
+  const std::string distance = params.value("distance", std::string());
+  return distance == "dv"          ? kDv
+         : distance == "dv_dn"     ? kDvDn
+         : distance == "ray_query" ? kRayQuery
+         : distance == "hybrid"    ? kHybrid
+         : distance == "search"    ? kSearch
+                                   : kMaterial;
+}
 }  // namespace
 
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters) {
   const auto& p = ctx.params();
-  // The order of shaders/refraction/refraction.glsl's DISTANCE_* constants.
-  const std::string distance = p["distance"].get<std::string>();
-  const uint32_t mode = distance == "dv"          ? 0u
-                        : distance == "dv_dn"     ? 1u
-                        : distance == "ray_query" ? 2u
-                        : distance == "hybrid"    ? 3u
-                        : distance == "search"    ? 4u
-                                                  : 5u;  // material
-  return {mode,
+  return {distance_mode(p),
           p["search_steps"].get<uint32_t>() | p.value("search_bounces", 0u) << 16,
           search_distance(ctx),
           tir_counter,
@@ -126,12 +131,14 @@ uint32_t add_consecutive_counters(graph::PassSetup& setup,
 
 void RayQueryScene::setup(const graph::PassSetup& setup) {
   traced_ = traces_exact_paths(setup.pass().params);
-  hybrid_ = setup.pass().params.value("distance", std::string()) == "hybrid";
+  mode_ = distance_mode(setup.pass().params);
 }
 
 shader::Defines RayQueryScene::defines(shader::Defines defines) const {
-  if (traced_) defines["CAUSTICA_RAY_QUERY"] = "1";
-  if (hybrid_) defines["CAUSTICA_HYBRID"] = "1";
+  if (!traced_) return defines;
+  defines["CAUSTICA_RAY_QUERY"] = "1";
+  if (mode_ == kHybrid) defines["CAUSTICA_HYBRID"] = "1";
+  defines["CAUSTICA_DISTANCE_MODE"] = std::to_string(mode_) + "u";
   return defines;
 }
 

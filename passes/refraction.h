@@ -47,9 +47,10 @@ class RayQueryScene {
  public:
   void setup(const graph::PassSetup& setup);
   bool traced() const { return traced_; }
-  // CAUSTICA_RAY_QUERY when traced; CAUSTICA_HYBRID too for the hybrid, whose checks, traced exit
-  // rays and side paths the other exact kernels must not carry: lavapipe compiles a kernel within its
-  // first frame, and each inlined ray query lengthens that (under AddressSanitizer the ray-query photon
+  // CAUSTICA_RAY_QUERY and the pass's one mode (CAUSTICA_DISTANCE_MODE) when traced; CAUSTICA_HYBRID
+  // too for the hybrid, whose checks, traced exit rays and side paths the other exact kernels must
+  // not carry: lavapipe compiles a kernel within its first frame, and each inlined ray query, and each
+  // mode's code that the kernel never runs, lengthens that (under AddressSanitizer the ray-query photon
   // kernel with the hybrid's code in it took a test's first frame past the 120 s limit).
   shader::Defines defines(shader::Defines defines = {}) const;
   // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
@@ -61,7 +62,8 @@ class RayQueryScene {
   void bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const;
 
  private:
-  bool traced_ = false, hybrid_ = false;
+  bool traced_ = false;
+  uint32_t mode_ = 0;  // refraction.glsl's DISTANCE_* constant
 };
 
 // The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:

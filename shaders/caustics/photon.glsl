@@ -159,7 +159,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // Chosen from the material: image space where it sees the exact path (image_space_is_exact, with
   // no other refractor between it and the receiver), exact paths for the rest; the exact tracer
   // meets the opaque occluders itself.
-  if (params.distance_mode == DISTANCE_MATERIAL &&
+  if (DISTANCE_MODE == DISTANCE_MATERIAL &&
       material_traces_exactly(uint(front.w), eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance))) {
     return TRACE_FROM_LIGHT;
   }
@@ -177,7 +177,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
     float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
 #if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
-    if (params.distance_mode == DISTANCE_MATERIAL) {
+    if (DISTANCE_MODE == DISTANCE_MATERIAL) {
       // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
       // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
       // reflects is traced exactly, and the rest pass both walls in image space at full weight.
@@ -322,7 +322,7 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
   if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
-  next = params.distance_mode == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
+  next = DISTANCE_MODE == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
 #else
   image_space_photon(ph, light, uv, eye, direction, origin, start);
 #endif

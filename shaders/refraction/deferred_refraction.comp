@@ -102,9 +102,9 @@ vec3 shade(ivec2 pixel, vec2 uv, vec3 background) {
   if (opaque_depth < front_depth) return background;  // an opaque surface in front of the refractor
 #ifdef CAUSTICA_RAY_QUERY
   bool exact_material =
-      params.distance_mode == DISTANCE_MATERIAL &&
+      DISTANCE_MODE == DISTANCE_MATERIAL &&
       material_traces_exactly(uint(front.w), p1, opaque_depth < 1.0 ? world_from_depth(frame.inv_view_proj, uv, opaque_depth) : p1 + ray * params.search_distance);
-  if (params.distance_mode == DISTANCE_RAY_QUERY || params.distance_mode == DISTANCE_HYBRID || exact_material) {
+  if (DISTANCE_MODE == DISTANCE_RAY_QUERY || DISTANCE_MODE == DISTANCE_HYBRID || exact_material) {
     vec3 radiance;
     uint reason = EXIT_TRUSTED;
 #ifdef CAUSTICA_HYBRID

@@ -22,8 +22,19 @@ const uint DISTANCE_SEARCH = 4u;
 // Chosen from the material met first: exact paths (ray queries) through a solid refractor, image
 // space through a thin wall, where image space sees the exact path.
 const uint DISTANCE_MATERIAL = 5u;
+// The pass's mode. A kernel that traces exact paths is compiled for its one mode
+// (CAUSTICA_DISTANCE_MODE, passes/refraction.cpp's RayQueryScene), so that the modes it does not run
+// are no code at all: lavapipe compiles a kernel within its first frame, and the hybrid camera
+// kernel's cold compile took 41 s with the image-space modes' code in it and 22 s without. The
+// image-space modes share one kernel and read the mode from the push constants (each of them alone
+// compiled no faster than a third of the shared kernel).
+#ifdef CAUSTICA_DISTANCE_MODE
+#define DISTANCE_MODE CAUSTICA_DISTANCE_MODE
+#else
+#define DISTANCE_MODE params.distance_mode
+#endif
 // The modes that find the exit by the image-space search rather than estimate it.
-bool exit_searched() { return params.distance_mode == DISTANCE_SEARCH || params.distance_mode == DISTANCE_HYBRID; }
+bool exit_searched() { return DISTANCE_MODE == DISTANCE_SEARCH || DISTANCE_MODE == DISTANCE_HYBRID; }
 // params.search, packed as passes/refraction.h's RefractionPush says: the background search's steps, and
 // the total internal reflections that the search follows inside (search_bounces). A push constant
 // rather than a define, so that a change of either reuses the compiled pipeline.
@@ -361,7 +372,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   vec4 back_here = texture(back_tex, pixel_uv);
   float dv = back_here.y > 0.0 ? max(back_here.y - front_distance, 0.0) : dn;
   float d = dv;
-  if (params.distance_mode != DISTANCE_DV && dn > 0.0) {
+  if (DISTANCE_MODE != DISTANCE_DV && dn > 0.0) {
     float theta_i = acos(clamp(cos_i, 0.0, 1.0));
     float theta_t = acos(clamp(-dot(t1, n1), 0.0, 1.0));
     float w = theta_i > 1e-4 ? theta_t / theta_i : 1.0;
@@ -413,7 +424,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   }
 #ifdef REFRACTION_FRONT_TEX
   // The search follows total internal reflection inside; the hybrid traces such paths exactly.
-  if (params.distance_mode == DISTANCE_SEARCH && r.tir) {
+  if (DISTANCE_MODE == DISTANCE_SEARCH && r.tir) {
     float d_max = 2.0 * max(max(dv, dn), d) + 1e-4;
     for (int bounce = 0; bounce < search_tir_bounces() && r.tir; ++bounce) {
       float t;
