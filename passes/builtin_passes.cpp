@@ -8,6 +8,7 @@ const graph::PassRegistry& builtin_registry() {
     r.add(pattern_pass_type());
     r.add(box_blur_pass_type());
     r.add(accumulate_pass_type());
+    r.add(temporal_mean_pass_type());
     r.add(tonemap_pass_type());
     r.add(gbuffer_pass_type());
     r.add(shadow_map_pass_type());

@@ -3,6 +3,7 @@
 // flux per texel, which lighting projects back onto the receivers.
 #include "builtin_passes.h"
 #include "core/error.h"
+#include "core/low_discrepancy.h"
 #include "photon_kernel.h"
 
 namespace caustica::passes {
@@ -18,7 +19,7 @@ struct PhotonPush {
   uint32_t counter_slot[8];
   ExactPathPush exact;
   uint32_t band;
-  float jitter[2];  // where in its grid cell each photon starts (photon_grid_jitter)
+  float jitter[2];  // where in its grid cell each photon starts
 };
 static_assert(sizeof(PhotonPush) == 88, "shaders/caustics/regular_photons.comp's Params: jitter (a vec2) at 80");
 
@@ -70,7 +71,10 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    const glm::vec2 jitter = photon_grid_jitter(p["jitter"].get<bool>() ? ctx.frame().since_reset : 0);
+    // Where in its grid cell each photon starts: the cell's centre on the first frame after a reset,
+    // then points that cover the cell evenly, so that the mean of successive maps (accumulate)
+    // converges to the map of a finer grid.
+    const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? ctx.frame().since_reset : 0);
     push.jitter[0] = jitter.x;
     push.jitter[1] = jitter.y;
     const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());

@@ -2,7 +2,6 @@
 
 #include <glm/gtc/packing.hpp>
 
-#include <cmath>
 
 #include "refractor_buffers.h"
 
@@ -111,14 +110,6 @@ void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& cle
   vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
   memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
-
-glm::vec2 photon_grid_jitter(uint64_t n) {
-  // The generalised golden ratio's reciprocal powers; the sequence in double so that it stays exact
-  // over millions of frames.
-  constexpr double kAlpha1 = 0.7548776662466927, kAlpha2 = 0.5698402909980532;
-  const double x = 0.5 + kAlpha1 * static_cast<double>(n), y = 0.5 + kAlpha2 * static_cast<double>(n);
-  return {static_cast<float>(x - std::floor(x)), static_cast<float>(y - std::floor(y))};
 }
 
 void PhotonKernel::build(graph::PassSetup& setup, const vk::PipelineDesc& layout, const std::string& shader, const shader::Defines& defines,

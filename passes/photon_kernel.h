@@ -60,11 +60,6 @@ class PhotonKernel {
  private:
   vk::Pipeline white_, band_loop_;
 };
-// Where in its grid cell each photon of frame `n` starts, in [0, 1)^2: the cell's centre for frame 0,
-// then the R2 sequence (Roberts 2018), whose every run of frames covers the cell evenly, so that an
-// average of successive maps (accumulate) converges to the map of a finer grid.
-glm::vec2 photon_grid_jitter(uint64_t n);
-
 // Zeroes the pass's caustic_map before photons are splatted into it, and makes the zeros visible
 // to the compute shaders that follow.
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup);

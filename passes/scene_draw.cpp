@@ -6,7 +6,8 @@ namespace caustica::passes {
 
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
   const auto& camera = ctx.scene().scene().camera;
-  return {camera.view_projection(static_cast<float>(extent.width) / static_cast<float>(extent.height)), camera.position};
+  const glm::vec2 size(static_cast<float>(extent.width), static_cast<float>(extent.height));
+  return {scene::shifted_by_pixels(camera.view_projection(size.x / size.y), ctx.frame().camera_jitter, size), camera.position};
 }
 
 SceneView light_view(const graph::PassContext& ctx, uint32_t light) {

@@ -1,6 +1,7 @@
 // CPU-only compiler tests: no device, the test registry declares pass types without device code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -632,4 +633,85 @@ TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
   for (const char* name : {"lit", "filtered"}) {
     EXPECT_TRUE(accumulating.resources[static_cast<size_t>(accumulating.find_resource(name))].transient) << name << " is rewritten every frame";
   }
+}
+
+// A history input ("NAME@previous") reads what NAME held at the end of the last frame: a resource of
+// its own, kept with its source out of aliasing, both starting each frame from the layout the last
+// one left them in; restarted by what the source's writers depend on, and the frame passed on to
+// every reader; the writers of a source that only a history input reads are kept.
+TEST(Compiler, HistoryInputsReadTheLastFramesResource) {
+  const nlohmann::json graph = {
+      {"resources", {{"lit", image()}, {"mean", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "average"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "mean@previous"}}}, {"outputs", {{"color", "mean"}}}},
+        {{"name", "show"}, {"type", "filter"}, {"inputs", {{"source", "mean"}}}, {"outputs", {{"target", "out"}}}}}},
+      {"outputs", {"out"}}};
+  const Plan plan = compile(graph);
+  const int mean = plan.find_resource("mean"), previous = plan.find_resource("mean@previous");
+  ASSERT_GE(mean, 0);
+  ASSERT_GE(previous, 0);
+  const PlannedResource& history = plan.resources[static_cast<size_t>(previous)];
+  const PlannedResource& source = plan.resources[static_cast<size_t>(mean)];
+  EXPECT_EQ(history.previous_of, static_cast<uint32_t>(mean));
+  EXPECT_FALSE(history.transient);
+  EXPECT_FALSE(source.transient) << "the source must outlive the frame";
+  EXPECT_TRUE(history.kept_across_frames && source.kept_across_frames);
+  EXPECT_TRUE(history.image_usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+  EXPECT_TRUE(source.image_usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  EXPECT_EQ(dependency_names(history.history_depends), (std::vector<std::string>{"geometry", "lights", "frame"}));
+  for (const auto& p : plan.passes) {
+    const std::vector<std::string> expected = p.name == "light" ? std::vector<std::string>{"geometry", "lights"}
+                                                                 : std::vector<std::string>{"geometry", "lights", "frame"};
+    EXPECT_EQ(dependency_names(p.depends), expected) << p.name;
+    if (p.name != "average") continue;
+    // Both start from where the last frame left them, not from "undefined".
+    for (int r : {mean, previous}) {
+      auto first = std::find_if(p.barriers.begin(), p.barriers.end(), [&](const PlannedBarrier& b) { return b.resource == static_cast<uint32_t>(r); });
+      ASSERT_NE(first, p.barriers.end()) << plan.resources[static_cast<size_t>(r)].name;
+      EXPECT_EQ(first->old_layout, plan.resources[static_cast<size_t>(r)].final_state.layout) << plan.resources[static_cast<size_t>(r)].name;
+      EXPECT_NE(first->old_layout, VK_IMAGE_LAYOUT_UNDEFINED);
+    }
+  }
+  const nlohmann::json listed = plan_to_json(plan);
+  bool reported = false;
+  for (const auto& r : listed["resources"]) {
+    if (r["name"] != "mean@previous") continue;
+    reported = true;
+    EXPECT_EQ(r["previous_of"], "mean");
+    EXPECT_EQ(r["restarts_on"], (nlohmann::json{"geometry", "lights"}));
+  }
+  EXPECT_TRUE(reported);
+
+  // A camera image's history restarts with the camera.
+  nlohmann::json camera = graph;
+  camera["passes"][0]["params"] = {{"mode", "b"}};
+  EXPECT_EQ(dependency_names(compile(camera).resources[static_cast<size_t>(previous)].history_depends),
+            (std::vector<std::string>{"camera", "frame"}));
+
+  // Only the next frame reads `kept`: its writer is needed all the same.
+  const nlohmann::json only_history = {
+      {"resources", {{"lit", image()}, {"kept", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "keep"}, {"type", "filter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "kept"}}}},
+        {{"name", "mix"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "kept@previous"}}}, {"outputs", {{"color", "out"}}}}}},
+      {"outputs", {"out"}}};
+  const Plan kept = compile(only_history);
+  EXPECT_TRUE(kept.culled.empty());
+  EXPECT_EQ(kept.passes.size(), 3u);
+
+  nlohmann::json missing = graph;
+  missing["passes"][1]["inputs"]["b"] = "maen@previous";
+  EXPECT_NE(compile_error(missing).find("'maen@previous' reads the previous frame's 'maen', which is not a resource of this graph (did you mean 'mean'?)"),
+            std::string::npos)
+      << compile_error(missing);
+  nlohmann::json written = graph;
+  written["passes"][1]["outputs"]["color"] = "mean@previous";
+  EXPECT_NE(compile_error(written).find("which passes read and do not write"), std::string::npos) << compile_error(written);
+  nlohmann::json unwritten = graph;
+  unwritten["resources"]["idle"] = image();
+  unwritten["passes"][1]["inputs"]["b"] = "idle@previous";
+  EXPECT_NE(compile_error(unwritten).find("reads 'idle@previous', the previous frame's 'idle', which no pass writes"), std::string::npos)
+      << compile_error(unwritten);
 }

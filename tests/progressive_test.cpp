@@ -2,6 +2,8 @@
 // frames by an accumulate pass, and the history's reset rules.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "scene_engine.h"
@@ -167,6 +169,149 @@ TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
   expect_fresh(moved_light, "a frame with nothing changed");
   EXPECT_GT(lit.counters.at("caustic.flux"), 0.0);
   EXPECT_EQ(still.counters.at("caustic.flux"), lit.counters.at("caustic.flux"));
+}
+
+// caustics_progressive with its lighting fed each frame's own caustic map, and the lit image
+// averaged over frames by a temporal_mean pass that reads its last result through a history input
+// (lit_mean@previous).
+graph::GraphDesc camera_mean_graph(const std::vector<std::string>& sets) {
+  const auto path = data_dir() / "graphs/caustics_progressive.json";
+  nlohmann::json graph = nlohmann::json::parse(std::ifstream(path));
+  graph["resources"]["lit_mean"] = {{"type", "image"}, {"format", "rgba32f"}};
+  for (auto& pass : graph["passes"]) {
+    if (pass["name"] == "lighting") pass["inputs"]["caustics"] = "caustics_frame";
+  }
+  graph["outputs"].push_back("lit_mean");
+  graph["passes"].push_back({{"name", "camera_mean"},
+                             {"type", "temporal_mean"},
+                             {"inputs", {{"current", "lit"}, {"previous", "lit_mean@previous"}}},
+                             {"outputs", {{"average", "lit_mean"}}}});
+  auto desc = graph::load_graph(JsonDocument::parse(graph.dump(2), path.string()));
+  graph::apply_overrides(desc, sets);
+  return desc;
+}
+
+// A history input carries a pass's result into the next frame: the camera-space mean of the lit
+// images of 8 jittered caustic maps equals the lighting of the light-space mean of those maps (the
+// lighting is linear in the caustic map; the lit image is rgba16f, so to its rounding), where any
+// one frame is far from it (with the history read as zeros every frame, the mean is an eighth of
+// one frame). A camera move and a light move each restart it (the lit image depends on both): the
+// mean is then that frame's image, after a light move a fresh render's.
+TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  const auto sets = with(kSmall, {"grid=64"});
+  const graph::GraphDesc averaged = camera_mean_graph(sets);
+  auto run = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> state, uint32_t frames, bool go_on, double* counted = nullptr) {
+    engine.executor.set_scene(std::move(state));
+    if (!go_on) engine.executor.invalidate();
+    engine.executor.configure(averaged, engine.width, engine.height, {"lit_mean", "lit"});
+    graph::FrameResult last;
+    for (uint32_t f = 0; f < frames; ++f) last = engine.executor.run_frame(f + 1 == frames);
+    if (counted) *counted = last.counters.at("camera_mean.frames");
+    return engine.executor.read_image("lit_mean");
+  };
+  double frames = 0;
+  const io::ImageData mean = run(e, scene, 8, false, &frames);
+  EXPECT_EQ(frames, 8.0);
+  const io::ImageData last_frame = e.executor.read_image("lit");
+
+  SceneEngine light_space;
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+  graph::apply_overrides(graph, sets);
+  light_space.executor.set_scene(scene);
+  light_space.executor.configure(graph, light_space.width, light_space.height, {"lit"});
+  for (uint32_t f = 0; f < 8; ++f) light_space.executor.run_frame(f == 7);
+  const io::ImageData lit_of_mean = light_space.executor.read_image("lit");
+  const double averaged_gap = relative_difference(mean, lit_of_mean), one_frame_gap = relative_difference(last_frame, lit_of_mean);
+  std::printf("sphere_plane, 8 frames: the camera-space mean %.2e from the lighting of the light-space mean, one frame %.2e\n",
+              averaged_gap, one_frame_gap);
+  EXPECT_LT(averaged_gap, 2e-3);
+  EXPECT_GT(one_frame_gap, 10 * averaged_gap);
+
+  auto moved_camera = std::make_shared<scene::Scene>(*scene);
+  moved_camera->camera.position += glm::vec3(0.5f, 0.2f, 0.0f);
+  const io::ImageData after_camera = run(e, moved_camera, 1, true, &frames);
+  EXPECT_EQ(frames, 1.0) << "a camera move kept the camera image's mean";
+  // (The caustic map's grid goes on moving: a camera move keeps light-space history.)
+  EXPECT_LT(relative_difference(after_camera, e.executor.read_image("lit")), 1e-6) << "the mean after a camera move is not this frame";
+  run(e, moved_camera, 2, true, &frames);
+  EXPECT_EQ(frames, 3.0);
+
+  auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
+  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  const io::ImageData after_light = run(e, moved_light, 1, true, &frames);
+  EXPECT_EQ(frames, 1.0) << "a light move kept the camera image's mean";
+  SceneEngine fresh;
+  EXPECT_LT(relative_difference(after_light, run(fresh, moved_light, 1, false)), 1e-6);
+}
+
+// A still camera's frames moved within their pixels and averaged (refraction_deferred's
+// still_mean) antialias the picture: after 16 frames the mean comes far closer to the same view
+// rendered at four times the size and box-filtered down (what a uniform spread over the pixel
+// averages to) than the first frame, which is unmoved and equal to the refracted image, on the
+// pixels that an edge crosses (their 4x4 block in the large render is not flat; elsewhere both
+// differ from it only by what the size itself changes); a camera move restarts it. With the jitter
+// off, the mean stays the first frame and the test fails.
+TEST(Progressive, AStillCamerasJitteredFramesAverageToASupersampledPicture) {
+  auto scene = load_bundled_scene("sphere_plane");
+  auto graph = graph::load_graph_file((data_dir() / "graphs/refraction_deferred.json").string());
+  graph::apply_overrides(graph, {"shadow_size=256"});
+  SceneEngine big;
+  big.width *= 4;
+  big.height *= 4;
+  big.render(graph, scene, {"refracted"});
+  const io::ImageData fine = big.executor.read_image("refracted");
+  const uint32_t width = fine.width / 4, height = fine.height / 4;
+  std::vector<float> supersampled(size_t{width} * height * 3, 0.0f), low(supersampled.size(), 1e30f), high(supersampled.size(), -1e30f);
+  for (uint32_t y = 0; y < fine.height; ++y) {
+    for (uint32_t x = 0; x < fine.width; ++x) {
+      for (uint32_t c = 0; c < 3; ++c) {
+        const size_t at = ((y / 4) * width + x / 4) * 3 + c;
+        const float v = fine.rgba[(size_t{y} * fine.width + x) * 4 + c];
+        supersampled[at] += v / 16.0f;
+        low[at] = std::min(low[at], v);
+        high[at] = std::max(high[at], v);
+      }
+    }
+  }
+  // Relative L1 over the edge pixels' channels.
+  size_t edges = 0;
+  auto edge_gap = [&](const io::ImageData& image) {
+    double difference = 0, total = 0;
+    edges = 0;
+    for (size_t i = 0; i < supersampled.size(); ++i) {
+      if (high[i] - low[i] < 0.1f) continue;
+      ++edges;
+      difference += std::abs(static_cast<double>(image.rgba[i / 3 * 4 + i % 3]) - static_cast<double>(supersampled[i]));
+      total += std::abs(static_cast<double>(supersampled[i]));
+    }
+    return difference / std::max(total, 1e-30);
+  };
+
+  SceneEngine e;
+  e.executor.set_scene(scene);
+  e.executor.configure(graph, e.width, e.height, {"refracted", "still_mean"});
+  const graph::FrameResult first = e.executor.run_frame(true);
+  EXPECT_EQ(first.frame.index, 0u);
+  const io::ImageData one = e.executor.read_image("still_mean");
+  EXPECT_LT(relative_difference(one, e.executor.read_image("refracted")), 1e-6) << "the first frame is not the unmoved image";
+  graph::FrameResult last;
+  for (int f = 1; f < 16; ++f) last = e.executor.run_frame(f == 15);
+  EXPECT_EQ(last.counters.at("still_mean.frames"), 16.0);
+  const double one_gap = edge_gap(one), mean_gap = edge_gap(e.executor.read_image("still_mean"));
+  std::printf("sphere_plane 320x180 against 1280x720 box-filtered, on %zu edge pixel channels: the first frame %.4f, the mean of 16 jittered frames %.4f\n",
+              edges, one_gap, mean_gap);
+  EXPECT_GT(edges, 300u);
+  EXPECT_LT(mean_gap, 0.6 * one_gap);
+
+  auto moved = std::make_shared<scene::Scene>(*scene);
+  moved->camera.position += glm::vec3(0.2f, 0.1f, 0.0f);
+  e.executor.set_view(moved);
+  const graph::FrameResult after_move = e.executor.run_frame(true);
+  EXPECT_EQ(after_move.counters.at("still_mean.frames"), 1.0);
+  EXPECT_LT(relative_difference(e.executor.read_image("still_mean"), e.executor.read_image("refracted")), 1e-6)
+      << "the first frame after a move is not the unmoved image";
 }
 
 }  // namespace

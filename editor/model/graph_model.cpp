@@ -41,6 +41,11 @@ void rename_key(ordered_json& object, const std::string& from, const std::string
   object = std::move(renamed);
 }
 
+// The resource a binding names: itself, or the one whose last frame a history input reads.
+std::string resource_of_binding(const std::string& binding) {
+  return binding.ends_with(graph::kPreviousSuffix) ? binding.substr(0, binding.size() - graph::kPreviousSuffix.size()) : binding;
+}
+
 // Every place a resource's name appears outside "resources": bindings, outputs, fallbacks.
 void for_each_resource_reference(ordered_json& doc, const std::function<void(ordered_json&)>& visit) {
   for (auto& pass : doc["passes"]) {
@@ -287,7 +292,7 @@ void GraphModel::remove_pass(const std::string& name) {
     if (doc.contains("editor") && doc["editor"].contains("positions")) doc["editor"]["positions"].erase(name);
     // Resources only this pass named go with it.
     std::set<std::string> named;
-    for_each_resource_reference(doc, [&](ordered_json& r) { named.insert(r.get<std::string>()); });
+    for_each_resource_reference(doc, [&](ordered_json& r) { named.insert(resource_of_binding(r.get<std::string>())); });
     for (const char* section : {"inputs", "outputs"}) {
       if (!removed.contains(section)) continue;
       for (const auto& [port, resource] : removed[section].items()) {
@@ -425,6 +430,7 @@ void GraphModel::rename_resource(const std::string& name, const std::string& new
     rename_key(doc["resources"], name, new_name);
     for_each_resource_reference(doc, [&](ordered_json& r) {
       if (r == name) r = new_name;
+      if (r == name + std::string(graph::kPreviousSuffix)) r = new_name + std::string(graph::kPreviousSuffix);  // its history
     });
   });
 }

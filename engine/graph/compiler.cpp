@@ -47,7 +47,7 @@ Plan Compiler::run() {
   check_extent_groups();
   place_memory();
   record_barriers();
-  keep_reused_contents();
+  keep_contents_across_frames();
   return std::move(plan_);
 }
 

@@ -65,6 +65,7 @@ class Compiler {
   std::vector<std::string> resource_names() const;
   nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const;
   void bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs);
+  uint32_t history_resource(const std::string& name, const std::string& pointer);
   bool wanted(const std::string& resource) const;
   void check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const;
   void resolve_passes();
@@ -81,7 +82,7 @@ class Compiler {
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
   void find_dependencies();
-  void keep_reused_contents();
+  void keep_contents_across_frames();
 
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.
   void compute_lifetimes_and_usage();

@@ -54,11 +54,10 @@ void Compiler::compute_lifetimes_and_usage() {
     }
   }
   for (auto& r : plan_.resources) {
-    if (r.transient) continue;  // read back after the frame
-    if (r.kind == ResourceKind::image)
-      r.image_usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    else
-      r.buffer_usage |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    if (r.transient) continue;
+    add_usage(r, PortUsage::transfer_src);  // read back after the frame
+    // A history resource is copied into from its source, or cleared, before each frame.
+    if (r.previous_of != kNoResource) add_usage(r, PortUsage::transfer_dst);
   }
 }
 

@@ -37,13 +37,16 @@ void Compiler::build_edges() {
   for (uint32_t i = 0; i < nodes_.size(); ++i) {
     if (!nodes_[i].decl) continue;
     for (const auto& b : nodes_[i].bindings) {
-      if (b.port->access != PortAccess::read || !writers_[b.resource].empty()) continue;
-      std::string why = "input '" + b.port->name + "' of pass '" + nodes_[i].desc->name + "' reads '" + plan_.resources[b.resource].name +
-                        "', which no pass writes";
+      if (b.port->access != PortAccess::read) continue;
+      const PlannedResource& read = plan_.resources[b.resource];
+      const uint32_t written = read.previous_of != kNoResource ? read.previous_of : b.resource;
+      if (!writers_[written].empty()) continue;
+      std::string why = "input '" + b.port->name + "' of pass '" + nodes_[i].desc->name + "' reads '" + read.name + "', " +
+                        (written != b.resource ? "the previous frame's '" + plan_.resources[written].name + "', " : "") + "which no pass writes";
       for (const auto& other : nodes_) {
         if (other.decl) continue;
         for (const auto& [port, resource] : other.desc->outputs) {
-          if (resource == plan_.resources[b.resource].name) why += " (pass '" + other.desc->name + "' that writes it is disabled)";
+          if (resource == plan_.resources[written].name) why += " (pass '" + other.desc->name + "' that writes it is disabled)";
         }
       }
       throw graph_.error(b.pointer, why);
@@ -262,6 +265,14 @@ void Compiler::cull_and_order() {
     uint32_t n = stack.back();
     stack.pop_back();
     for (uint32_t p : nodes_[n].predecessors) keep(p);
+    // What a history input reads was written in the last frame: its writers are needed, without
+    // an edge (they may come after the reader in the frame).
+    for (const auto& b : nodes_[n].bindings) {
+      const uint32_t source = plan_.resources[b.resource].previous_of;
+      if (source != kNoResource) {
+        for (uint32_t w : writers_[source]) keep(w);
+      }
+    }
   }
   order_ = least_memory_order(live);
   for (uint32_t i = 0; i < nodes_.size(); ++i) {
@@ -286,6 +297,7 @@ void Compiler::cull_and_order() {
       }
       plan_.ray_query_passes.push_back(pass.name);
     }
+    if (pass.decl->jitters_camera && pass.decl->jitters_camera(pass.params)) plan_.jitters_camera = true;
     if (pass.decl->uses_light_view && pass.decl->uses_light_view(pass.params)) {
       const int light = pass.params.value("light", 0);
       const auto view = options_.scene_values.find("scene.light" + std::to_string(light) + ".view");

@@ -245,15 +245,25 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
                                       (port_writes ? "output" : "input") + "; list it under \"" + (port_writes ? "outputs" : "inputs") +
                                       "\"");
     }
-    const std::string source = outputs ? resource_name : redirected(resource_name);
-    if (source.empty()) {  // "fallback": null and nothing writes it
-      if (port->optional) continue;
-      throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
-                                      "', which no enabled pass writes and whose fallback is null; only optional inputs may");
-    }
-    int index = plan_.find_resource(source);
-    if (index < 0) {
-      throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
+    int index = -1;
+    if (resource_name.ends_with(kPreviousSuffix)) {
+      if (outputs) {
+        throw graph_.error(pointer, "'" + resource_name + "' is the previous frame's '" +
+                                        resource_name.substr(0, resource_name.size() - kPreviousSuffix.size()) +
+                                        "', which passes read and do not write; bind output '" + port_name + "' to a resource");
+      }
+      index = static_cast<int>(history_resource(resource_name, pointer));
+    } else {
+      const std::string source = outputs ? resource_name : redirected(resource_name);
+      if (source.empty()) {  // "fallback": null and nothing writes it
+        if (port->optional) continue;
+        throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
+                                        "', which no enabled pass writes and whose fallback is null; only optional inputs may");
+      }
+      index = plan_.find_resource(source);
+      if (index < 0) {
+        throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
+      }
     }
     const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
     if (r.kind != port->kind) {
@@ -276,13 +286,37 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
   }
 }
 
+// The history resource `name` ("SOURCE@previous"), made on its first binding: SOURCE's kind, format
+// and extent, kept across frames with SOURCE (PlannedResource::previous_of).
+uint32_t Compiler::history_resource(const std::string& name, const std::string& pointer) {
+  if (const int made = plan_.find_resource(name); made >= 0) return static_cast<uint32_t>(made);
+  const std::string source_name = name.substr(0, name.size() - kPreviousSuffix.size());
+  const int source = plan_.find_resource(source_name);
+  if (source < 0 || redirect_.count(source_name)) {
+    throw graph_.error(pointer, "'" + name + "' reads the previous frame's '" + source_name + "', " +
+                                    (source < 0 ? "which is not a resource of this graph" + did_you_mean(source_name, resource_names())
+                                                : "which no enabled pass writes"));
+  }
+  PlannedResource history = plan_.resources[static_cast<size_t>(source)];
+  history.name = name;
+  history.pointer = pointer;
+  history.output = false;
+  history.transient = false;
+  history.kept_across_frames = true;
+  history.previous_of = static_cast<uint32_t>(source);
+  plan_.resources[static_cast<size_t>(source)].transient = false;
+  plan_.resources[static_cast<size_t>(source)].kept_across_frames = true;
+  plan_.resources.push_back(std::move(history));
+  return static_cast<uint32_t>(plan_.resources.size() - 1);
+}
+
 // Whether an enabled pass reads `resource`, it is a graph output, or it is kept (--dump, the viewer).
 bool Compiler::wanted(const std::string& resource) const {
   if (std::count(graph_.outputs.begin(), graph_.outputs.end(), resource) || options_.retained.count(resource)) return true;
   for (size_t i = 0; i < graph_.passes.size(); ++i) {
     if (!enabled_[i]) continue;
     for (const auto& [port, read] : graph_.passes[i].inputs) {
-      if (read == resource) return true;
+      if (read == resource || read == resource + std::string(kPreviousSuffix)) return true;
     }
   }
   return false;

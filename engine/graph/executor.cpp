@@ -1,11 +1,13 @@
 #include "graph/executor.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <chrono>
 #include <cstring>
 
 #include "core/error.h"
+#include "core/low_discrepancy.h"
 #include "vk/buffer.h"
 
 namespace caustica::graph {
@@ -18,25 +20,25 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Back from where `to_transfer` took the read-back images: what a plan that reuses passes expects
-// them to be in at the next frame's start.
+// Back from where `to_transfer` took the read-back images that are kept across frames: where the
+// next frame's first barriers expect them.
 std::vector<PlannedBarrier> back_from_transfer(const Plan& plan, const std::vector<PlannedBarrier>& to_transfer) {
   std::vector<PlannedBarrier> back;
   for (const PlannedBarrier& b : to_transfer) {
-    if (plan.resources[b.resource].kind != ResourceKind::image) continue;
+    if (plan.resources[b.resource].kind != ResourceKind::image || !plan.resources[b.resource].kept_across_frames) continue;
     back.push_back({b.resource, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                     VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, b.new_layout, b.old_layout, false});
   }
   return back;
 }
 
-// A plan that reuses passes starts each frame's kept images from the layout the last frame left
-// them in (compiler_dependencies.cpp): before the first frame, that layout.
+// A frame starts its kept images from the layout the last frame left them in
+// (compiler_dependencies.cpp): before the first frame, that layout.
 std::vector<PlannedBarrier> kept_images_to_final_layouts(const Plan& plan) {
   std::vector<PlannedBarrier> barriers;
   for (uint32_t r = 0; r < plan.resources.size(); ++r) {
     const PlannedResource& res = plan.resources[r];
-    if (!res.used() || res.transient || res.kind != ResourceKind::image) continue;
+    if (!res.used() || !res.kept_across_frames || res.kind != ResourceKind::image) continue;
     barriers.push_back({r, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                         VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, res.final_state.layout,
                         false});
@@ -112,6 +114,9 @@ struct Executor::Realized {
   // again while its pass is skipped.
   std::vector<FrameInfo> pass_frames;
   std::vector<std::optional<uint64_t>> reset_keys;
+  std::map<uint32_t, uint64_t> history_keys;  // per history resource: the key of its scene parts at its last restart
+  std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
+  uint64_t jittered_frames = 0;        // since then
   const FrameInfo* recording = nullptr;  // the pass being recorded's
   std::map<std::string, double> last_counters;
 };
@@ -416,6 +421,72 @@ void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBar
   vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
+void Executor::record_history(VkCommandBuffer cmd) {
+  Realized& real = *realized_;
+  const Plan& p = *plan_;
+  std::vector<PlannedBarrier> before, after;
+  std::vector<std::pair<uint32_t, bool>> fills;  // history resource, and whether it restarts (zeros) or copies
+  for (uint32_t h = 0; h < p.resources.size(); ++h) {
+    const PlannedResource& history = p.resources[h];
+    if (history.previous_of == kNoResource || !history.used()) continue;
+    const uint32_t d = history.history_depends;
+    const uint64_t key = scene_ ? scene_->parts_key(d & kDependsOnGeometry, d & kDependsOnLights, d & kDependsOnCamera) : 0;
+    const auto last = real.history_keys.find(h);
+    const bool restart = last == real.history_keys.end() || last->second != key;
+    real.history_keys[h] = key;
+    fills.emplace_back(h, restart);
+    const bool image = history.kind == ResourceKind::image;
+    const VkImageLayout dst_layout = image ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
+    const VkImageLayout src_layout = image ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
+    const AccessState& was = history.final_state;
+    // Its old contents are overwritten whole: from "undefined".
+    before.push_back({h, was.stages, was.access, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                      VK_IMAGE_LAYOUT_UNDEFINED, dst_layout, false});
+    after.push_back({h, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, dst_layout, was.layout, false});
+    if (restart) continue;
+    const AccessState& source = p.resources[history.previous_of].final_state;
+    before.push_back({history.previous_of, source.stages, source.access, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                      VK_ACCESS_2_TRANSFER_READ_BIT, source.layout, src_layout, false});
+    after.push_back({history.previous_of, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, src_layout, source.layout, false});
+  }
+  if (fills.empty()) return;
+  vk_.begin_label(cmd, "history");
+  record_barriers(cmd, before);
+  for (const auto& [h, restart] : fills) {
+    const PlannedResource& history = p.resources[h];
+    if (history.kind == ResourceKind::buffer) {
+      const VkBuffer to = real.buffers[h].buffer.get();
+      if (restart)
+        vkCmdFillBuffer(cmd, to, 0, VK_WHOLE_SIZE, 0);
+      else
+        vkCmdCopyBuffer(cmd, real.buffers[history.previous_of].buffer.get(), to, 1, std::array{VkBufferCopy{0, 0, history.buffer_size}}.data());
+      continue;
+    }
+    const VkImage to = real.images[h].image.get();
+    const VkImageAspectFlags aspect = aspect_of(history.format);
+    const VkImageSubresourceRange all{aspect, 0, history.mips, 0, history.layers};
+    if (restart && format_info(history.format).depth) {
+      const VkClearDepthStencilValue zero{};
+      vkCmdClearDepthStencilImage(cmd, to, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
+    } else if (restart) {
+      const VkClearColorValue zero{};
+      vkCmdClearColorImage(cmd, to, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
+    } else {
+      std::vector<VkImageCopy> levels;
+      for (uint32_t level = 0; level < history.mips; ++level) {
+        const VkImageSubresourceLayers layers{aspect, level, 0, history.layers};
+        levels.push_back({layers, {}, layers, {}, {std::max(1u, history.width >> level), std::max(1u, history.height >> level), 1}});
+      }
+      vkCmdCopyImage(cmd, real.images[history.previous_of].image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to,
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, static_cast<uint32_t>(levels.size()), levels.data());
+    }
+  }
+  record_barriers(cmd, after);
+  vk_.end_label(cmd);
+}
+
 FrameResult Executor::run_frame(bool read_back) {
   assert(plan_ && "configure() before run_frame()");
   Realized& real = *realized_;
@@ -425,6 +496,18 @@ FrameResult Executor::run_frame(bool read_back) {
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
+  glm::vec2 camera_jitter(0.0f);
+  if (scene_ && p.jitters_camera) {
+    // Counted from the scene's last change (the camera, a light, the geometry), so that the first
+    // frame after any change is a fresh render's.
+    const uint64_t key = scene_->parts_key(true, true, true);
+    if (real.jitter_key != key) {
+      real.jitter_key = key;
+      real.jittered_frames = 0;
+    }
+    camera_jitter = r2_point(real.jittered_frames++) - 0.5f;
+    scene_->jitter_camera(camera_jitter);
+  }
   real.host_counters.clear();
   real.converging = false;
 
@@ -452,8 +535,9 @@ FrameResult Executor::run_frame(bool read_back) {
   counters_dep.pMemoryBarriers = &counters_ready;
   vkCmdPipelineBarrier2(cmd, &counters_dep);
 
-  if (p.reuses_unchanged_passes && real.frame_index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
+  if (real.frame_index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
   const uint32_t frame_begin = stamp();
+  record_history(cmd);
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
   std::set<std::string> skipped;
   real.reset_keys.resize(p.passes.size());
@@ -470,6 +554,7 @@ FrameResult Executor::run_frame(bool read_back) {
     // it depends on restarts it, and nothing else does (a camera move leaves light-space history).
     FrameInfo& pass_frame = real.pass_frames[i];
     pass_frame.index = real.frame_index;
+    pass_frame.camera_jitter = camera_jitter;
     // The same key decides a reusable pass's skip: it ran when its key last changed, and every
     // frame since has left its result as it was.
     const bool changed = real.reset_keys[i] != key;
@@ -515,8 +600,8 @@ FrameResult Executor::run_frame(bool read_back) {
         vkCmdCopyBuffer(cmd, real.buffers[rb.resource].buffer.get(), rb.buffer.get(), 1, &copy);
       }
     }
-    // A skipped pass leaves its images as the last frame did: back where the plan expects them.
-    if (p.reuses_unchanged_passes) record_barriers(cmd, back_from_transfer(p, to_transfer));
+    // A skipped pass or a history input finds its images where the last frame left them.
+    record_barriers(cmd, back_from_transfer(p, to_transfer));
     vk_.end_label(cmd);
   }
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
@@ -592,10 +677,10 @@ FrameImage Executor::frame_image(const std::string& name) const {
     throw InputError("'" + name + "' is not an image output or a retained image of graph " + plan_->graph_path);
   }
   const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
-  // A frame that read back left every read-back image ready for a copy (unless the plan reuses
-  // passes: then back in its final layout).
+  // A frame that read back left every read-back image ready for a copy (unless it is kept across
+  // frames: then back in its final layout).
   const VkImageLayout layout =
-      realized_->read_back_done && !plan_->reuses_unchanged_passes ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : res.final_state.layout;
+      realized_->read_back_done && !res.kept_across_frames ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : res.final_state.layout;
   return {realized_->images[static_cast<size_t>(index)].image.get(), layout, res.format, {res.width, res.height}};
 }
 

@@ -96,6 +96,9 @@ class Executor {
   void realize(Plan plan);
   void realize_passes_and_resources();
   void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
+  // Before a frame's passes: each used history resource gets its source as the last frame left it,
+  // or zeros on the plan's first frame and after a change of a scene part it depends on.
+  void record_history(VkCommandBuffer cmd);
 
   vk::Context& vk_;
   shader::ShaderCompiler& shaders_;

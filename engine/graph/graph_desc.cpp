@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/suggest.h"
+#include "graph/plan.h"
 #include "io/json_reader.h"
 
 namespace caustica::graph {
@@ -139,7 +140,16 @@ std::map<std::string, std::string> load_bindings(const Reader& read, const nlohm
   std::string section_pointer = pointer + "/" + section;
   read.object(pass[section], section_pointer, section);
   for (const auto& [port, resource] : pass[section].items()) {
-    out[port] = read.name(resource, json_pointer_append(section_pointer, port), "a resource name");
+    const std::string port_pointer = json_pointer_append(section_pointer, port);
+    // "NAME@previous": resource NAME as the previous frame left it (a history input; the compiler
+    // refuses it as an output).
+    const std::string text = read.string(resource, port_pointer, "a resource name");
+    if (text.ends_with(kPreviousSuffix)) {
+      out[port] = read.name(nlohmann::json(text.substr(0, text.size() - kPreviousSuffix.size())), port_pointer, "a resource name") +
+                  std::string(kPreviousSuffix);
+    } else {
+      out[port] = read.name(resource, port_pointer, "a resource name");
+    }
   }
   return out;
 }

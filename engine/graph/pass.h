@@ -23,6 +23,10 @@ class Executor;
 struct FrameInfo {
   uint64_t index = 0;
   uint64_t since_reset = 0;
+  // Where in its pixel this frame's camera looks, in pixels from the centre: zero unless the plan
+  // jitters the camera (Plan::jitters_camera), and then zero on the first frame after the scene
+  // (camera, lights, geometry) changed.
+  glm::vec2 camera_jitter{0.0f};
 };
 
 class PassSetup {

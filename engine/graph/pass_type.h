@@ -95,6 +95,10 @@ struct PassTypeDecl {
   // What the pass, with these parameters, depends on besides its inputs (SceneDependency bits).
   // Unset: the frame, so a pass type that does not say is never skipped.
   std::function<uint32_t(const nlohmann::json& params)> depends_on;
+  // Whether the pass, with these parameters, wants the camera moved within its pixels from frame to
+  // frame while it stands still (an average of still frames that antialiases: temporal_mean). A plan
+  // with such a pass jitters the camera for every pass, which then re-draw every frame. Unset: never.
+  std::function<bool(const nlohmann::json& params)> jitters_camera;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

@@ -92,6 +92,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["disabled"] = plan.disabled;
   out["fallbacks"] = plan.fallbacks;
   out["reuses_unchanged_passes"] = plan.reuses_unchanged_passes;
+  out["jitters_camera"] = plan.jitters_camera;
   out["passes"] = json::array();
   for (const auto& p : plan.passes) {
     json pass;
@@ -139,6 +140,11 @@ nlohmann::json plan_to_json(const Plan& plan) {
       res["last_use"] = plan.passes[r.last_use].name;
       res["lifetime"] = {r.first_use, r.last_use};
       res["transient"] = r.transient;
+      if (r.previous_of != kNoResource) {
+        // The previous frame's content of this resource, and what restarts it (as all zeros).
+        res["previous_of"] = plan.resources[r.previous_of].name;
+        res["restarts_on"] = dependency_names(r.history_depends & kDependsOnScene);
+      }
       res["bytes"] = r.memory.size;
       if (r.transient) {
         res["block"] = r.block;
@@ -188,7 +194,10 @@ std::string plan_to_dot(const Plan& plan) {
     std::string label = r.name + "\n";
     label += r.kind == ResourceKind::image ? std::to_string(r.width) + "x" + std::to_string(r.height) + " " + format_info(r.format).name
                                            : std::to_string(r.buffer_size) + " B";
-    if (!r.transient) label += r.output ? "\noutput" : "\nretained";
+    if (r.previous_of != kNoResource)
+      label += "\nlast frame's " + plan.resources[r.previous_of].name;
+    else if (!r.transient)
+      label += r.output ? "\noutput" : "\nretained";
     out += "  " + quote("res:" + r.name) + " [shape=ellipse, style=filled, fillcolor=" + (r.output ? "\"#ffe5b4\"" : "\"#ffffff\"") +
            ", label=" + quote(label) + "];\n";
   }

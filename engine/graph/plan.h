@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "graph/pass_type.h"
@@ -16,6 +17,9 @@ namespace caustica::graph {
 
 inline constexpr uint32_t kNoPass = UINT32_MAX;
 inline constexpr uint32_t kNoBlock = UINT32_MAX;
+inline constexpr uint32_t kNoResource = UINT32_MAX;
+// A pass input bound to "NAME@previous" reads resource NAME as the previous frame left it.
+inline constexpr std::string_view kPreviousSuffix = "@previous";
 // Layered images hold one value per layer (an RGB caustic map: three r32f layers, because image
 // atomics are single-channel); they read back and dump with layer k as colour channel k.
 inline constexpr uint32_t kMaxImageLayers = 4;
@@ -64,6 +68,17 @@ struct PlannedResource {
   uint32_t block = kNoBlock;  // transient resources: which shared block, and where in it
   uint64_t offset = 0;
   AccessState final_state;  // after the last pass of the frame
+  // A history resource (an input bound to "NAME@previous"): resource `previous_of` as the previous
+  // frame left it, copied in before the frame's first pass (Granite's history inputs keep two
+  // images and swap them; one copy a frame keeps every barrier static in the plan). All zero on a
+  // plan's first frame and after a change of a scene part in `history_depends` (SceneDependency
+  // bits: what the writers of `previous_of` depend on), when the passes that read it restart too.
+  uint32_t previous_of = kNoResource;
+  uint32_t history_depends = 0;
+  // Its content carries from one frame to the next (a history resource and its source; in a plan
+  // that reuses unchanged passes, every non-transient image): a frame's first barrier on it starts
+  // from final_state, and the executor puts it there before the plan's first frame.
+  bool kept_across_frames = false;
 
   bool used() const { return first_use != kNoPass; }
 };
@@ -111,6 +126,9 @@ struct Plan {
   // Compiled with CompileOptions::reuse_unchanged_passes: what the reusable passes write is kept
   // from frame to frame (persistent), so that the executor may skip them.
   bool reuses_unchanged_passes = false;
+  // A pass asks for the camera to move within its pixels from frame to frame while it stands still
+  // (PassTypeDecl::jitters_camera): the passes that see the camera then depend on the frame too.
+  bool jitters_camera = false;
 
   int find_resource(std::string_view name) const;
   // `name`, or the resource read in its place when it fell back.

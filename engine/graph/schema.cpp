@@ -25,7 +25,9 @@ json ports_schema(const PassTypeDecl& decl, bool outputs) {
   json props = json::object();
   for (const auto& port : decl.ports) {
     if ((port.access != PortAccess::read) != outputs) continue;
-    props[port.name] = {{"type", "string"}, {"description", port.description}};
+    // An input may read a resource as the previous frame left it: "NAME@previous".
+    props[port.name] = {{"type", "string"},
+                        {"description", outputs ? port.description : port.description + " (a resource, or \"NAME@previous\": NAME as the last frame left it)"}};
   }
   return {{"type", "object"}, {"properties", props}, {"additionalProperties", false}};
 }

@@ -147,6 +147,21 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   camera_key_ = fold_bytes(0, camera, std::size(camera));
 }
 
+glm::mat4 shifted_by_pixels(const glm::mat4& view_proj, glm::vec2 pixels, glm::vec2 size) {
+  // A translation in clip space (times w): every point's image moves by the same pixels.
+  glm::mat4 shift(1.0f);
+  shift[3][0] = 2.0f * pixels.x / size.x;
+  shift[3][1] = 2.0f * pixels.y / size.y;
+  return shift * view_proj;
+}
+
+void GpuScene::jitter_camera(glm::vec2 pixels) {
+  gpu::FrameData& f = frame_data_;
+  f.view_proj = shifted_by_pixels(f.view_proj, pixels, glm::vec2(f.sizes));
+  f.inv_view_proj = glm::inverse(f.view_proj);
+  std::memcpy(frame_.mapped, &f, sizeof(f));
+}
+
 uint64_t GpuScene::parts_key(bool geometry, bool lights, bool camera) const {
   const uint64_t parts[] = {geometry ? content_key_ : 0, lights ? lights_key_ : 0, camera ? camera_key_ : 0};
   return fold_bytes(0, parts, std::size(parts));

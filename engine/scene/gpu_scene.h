@@ -19,6 +19,9 @@ struct DrawRange {
   uint32_t index_count = 0;
 };
 
+// `view_proj` with its image moved by `pixels` on a `size` (in pixels) target.
+glm::mat4 shifted_by_pixels(const glm::mat4& view_proj, glm::vec2 pixels, glm::vec2 size);
+
 class GpuScene {
  public:
   GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene);
@@ -51,6 +54,12 @@ class GpuScene {
 
   // Writes camera and light data for an output of this size; call before recording a frame.
   void update_frame(uint32_t width, uint32_t height);
+  // Moves the camera's image by `pixels` (each axis within half a pixel) for the frame that
+  // update_frame() set up, as a still camera's frames are moved within their pixels to be averaged
+  // (temporal_mean); passes that draw from the camera move their own projection alike
+  // (shifted_by_pixels with graph::FrameInfo::camera_jitter). The camera's key (parts_key) stays the
+  // unmoved camera's.
+  void jitter_camera(glm::vec2 pixels);
   // A hash of the chosen parts as of the last update_frame(): geometry (with materials and
   // textures), lights, camera (with the sky and the output size). What a pass that depends on just
   // those parts is skipped by while it does not change, and what restarts its history.
