@@ -18,12 +18,12 @@ struct TemporalMeanPush {
 class TemporalMeanPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    pipeline_ = vk::make_compute_pipeline(setup.vk(),
-                                          {"temporal_mean",
-                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                            VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                           sizeof(TemporalMeanPush)},
-                                          setup.shaders().compile("core/temporal_mean.comp"));
+    pipeline_ = vk::make_compute_pipeline(
+        setup.vk(),
+        {"temporal_mean",
+         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+         sizeof(TemporalMeanPush)},
+        setup.shaders().compile("core/temporal_mean.comp"));
     frames_slot_ = setup.add_counter(setup.pass().name + ".frames");
   }
 
@@ -56,31 +56,48 @@ class TemporalMeanPass final : public graph::Pass {
 
 graph::PassTypeDecl temporal_mean_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{
-      "temporal_mean",
-      "Compute pass: the running mean of a colour image over the frames since the last reset, from this frame's image and "
-      "the mean as the last frame left it (bind 'previous' to the history of 'average': \"AVERAGE@previous\"). It restarts "
-      "wherever that history does: on a new plan and when a scene part its image depends on changes. Counter "
-      "<pass>.frames: the frames in the mean.",
-      PassQueue::compute,
-      {{"current", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba16f, Format::rgba32f}, false, "frame",
-        "this frame's image"},
-       {"previous", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
-        "the mean as the last frame left it: the history of 'average' (\"AVERAGE@previous\"), all zeros after a reset"},
-       {"average", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba32f}, false, "frame",
-        "the mean of the frames since the last reset, same extent"}},
-      {{"max_frames", ParamType::int_, 64, 1.0, 1048576.0, {}, "frames averaged; after them the mean holds still"},
-       {"jitter_camera",
-        ParamType::bool_,
-        false,
-        {},
-        {},
-        {},
-        "move the camera within its pixels from frame to frame while it stands still (every pass that sees the camera "
-        "then draws every frame), so that the mean of a camera image is antialiased; the first frame after a move is "
-        "unmoved"}},
-      false,
-      [] { return std::make_unique<TemporalMeanPass>(); }};
+  PassTypeDecl decl{"temporal_mean",
+                    "Compute pass: the running mean of a colour image over the frames since the last reset, from this frame's image and "
+                    "the mean as the last frame left it (bind 'previous' to the history of 'average': \"AVERAGE@previous\"). It restarts "
+                    "wherever that history does: on a new plan and when a scene part its image depends on changes. Counter "
+                    "<pass>.frames: the frames in the mean.",
+                    PassQueue::compute,
+                    {{"current",
+                      PortAccess::read,
+                      ResourceKind::image,
+                      PortUsage::sampled,
+                      {Format::rgba16f, Format::rgba32f},
+                      false,
+                      "frame",
+                      "this frame's image"},
+                     {"previous",
+                      PortAccess::read,
+                      ResourceKind::image,
+                      PortUsage::sampled,
+                      {Format::rgba32f},
+                      false,
+                      "frame",
+                      "the mean as the last frame left it: the history of 'average' (\"AVERAGE@previous\"), all zeros after a reset"},
+                     {"average",
+                      PortAccess::write,
+                      ResourceKind::image,
+                      PortUsage::storage,
+                      {Format::rgba32f},
+                      false,
+                      "frame",
+                      "the mean of the frames since the last reset, same extent"}},
+                    {{"max_frames", ParamType::int_, 64, 1.0, 1048576.0, {}, "frames averaged; after them the mean holds still"},
+                     {"jitter_camera",
+                      ParamType::bool_,
+                      false,
+                      {},
+                      {},
+                      {},
+                      "move the camera within its pixels from frame to frame while it stands still (every pass that sees the camera "
+                      "then draws every frame), so that the mean of a camera image is antialiased; the first frame after a move is "
+                      "unmoved"}},
+                    false,
+                    [] { return std::make_unique<TemporalMeanPass>(); }};
   // Nothing of its own: its inputs bring what it depends on, and the history input the frame.
   decl.depends_on = [](const nlohmann::json&) { return 0u; };
   decl.jitters_camera = [](const nlohmann::json& params) { return params.value("jitter_camera", false); };

@@ -83,7 +83,7 @@ TEST(Caustics, EveryMethodReportsEveryCounter) {
 TEST(Caustics, DirectionalLightsCastCausticsThroughAnOrthographicMap) {
   Engine e;
   auto scene = load("sphere_sun");
-  const double irradiance = scene->lights.front().intensity;
+  const double irradiance = static_cast<double>(scene->lights.front().intensity);
   auto frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"});
   const double in = frame.counters.at("caustic.flux_entering"), splatted = frame.counters.at("caustic.flux"),
                dropped = frame.counters.at("caustic.flux_dropped");

@@ -64,7 +64,8 @@ TEST(Caustics, ThinWallsPassTheirShareOfTheLightUnbent) {
       double clear_diff = 0, tinted_diff = 0, shadow = 0;
       for (size_t i = 0; i < size_t{kWidth} * kHeight * 4; ++i) {
         if (i % 4 == 3) continue;
-        const double d = direct.rgba[i], c = clear.rgba[i], b = black.rgba[i], t = tinted.rgba[i];
+        const double d = static_cast<double>(direct.rgba[i]), c = static_cast<double>(clear.rgba[i]), b = static_cast<double>(black.rgba[i]),
+                     t = static_cast<double>(tinted.rgba[i]);
         clear_diff += std::abs(c - d);
         tinted_diff += std::abs(t - (b + k[static_cast<glm::length_t>(i % 4)] * (d - b)));
         shadow += d - b;

@@ -825,13 +825,13 @@ TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
       for (const char* section : {"inputs", "outputs"}) {
         if (!pass.contains(section)) continue;
         for (const auto& [port, resource] : pass[section].items()) {
-          count(check_edit_and_undo(model, "disconnect " + name + "." + port, [&] { model.disconnect(name, port); }));
+          count(check_edit_and_undo(model, "disconnect " + name + "." + port, [&, &port = port] { model.disconnect(name, port); }));
         }
       }
     }
     for (const auto& [resource, description] : doc["resources"].items()) {
-      EXPECT_TRUE(check_edit_and_undo(model, "rename resource " + resource, [&] { model.rename_resource(resource, resource + "_2"); }));
-      count(check_edit_and_undo(model, "remove resource " + resource, [&] { model.remove_resource(resource); }));
+      EXPECT_TRUE(check_edit_and_undo(model, "rename resource " + resource, [&, &resource = resource] { model.rename_resource(resource, resource + "_2"); }));
+      count(check_edit_and_undo(model, "remove resource " + resource, [&, &resource = resource] { model.remove_resource(resource); }));
     }
     for (const auto& type : registry().names()) {
       count(check_edit_and_undo(model, "add " + type, [&] { model.add_pass(type); }));
@@ -1126,13 +1126,13 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
   checked([&](GraphModel& m) { m.set_graph_field("description", target["description"]); });
   for (const auto& [name, declaration] : target["parameters"].items()) {
     if (!model.json()["parameters"].contains(name)) {
-      checked([&](GraphModel& m) { m.add_parameter(name, declaration); });
+      checked([&, &name = name, &declaration = declaration](GraphModel& m) { m.add_parameter(name, declaration); });
       continue;
     }
-    for (const auto& [field, value] : declaration.items()) checked([&](GraphModel& m) { m.set_parameter_field(name, field, value); });
+    for (const auto& [field, value] : declaration.items()) checked([&, &name = name, &field = field, &value = value](GraphModel& m) { m.set_parameter_field(name, field, value); });
   }
   for (const auto& [name, description] : target["resources"].items()) {
-    if (!model.json()["resources"].contains(name)) checked([&](GraphModel& m) { m.add_resource(name, description); });
+    if (!model.json()["resources"].contains(name)) checked([&, &name = name, &description = description](GraphModel& m) { m.add_resource(name, description); });
   }
   std::set<std::string> kept;
   for (const auto& pass : target["passes"]) {
@@ -1148,13 +1148,13 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
     }
     for (const char* section : {"inputs", "outputs"}) {
       const ordered_json bindings = pass.value(section, ordered_json::object());
-      for (const auto& [port, resource] : bindings.items()) checked([&](GraphModel& m) { m.connect(name, port, resource); });
+      for (const auto& [port, resource] : bindings.items()) checked([&, &port = port, &resource = resource](GraphModel& m) { m.connect(name, port, resource); });
     }
     for (const auto& r : made) {
       if (!target["resources"].contains(r)) checked([&](GraphModel& m) { m.remove_resource(r); });
     }
     const ordered_json params = pass.value("params", ordered_json::object());
-    for (const auto& [param, value] : params.items()) checked([&](GraphModel& m) { m.set_param(name, param, value); });
+    for (const auto& [param, value] : params.items()) checked([&, &param = param, &value = value](GraphModel& m) { m.set_param(name, param, value); });
     if (pass.contains("enabled")) checked([&](GraphModel& m) { m.set_enabled(name, pass["enabled"]); });
   }
   checked([&](GraphModel& m) { m.set_outputs(target["outputs"]); });
@@ -1165,11 +1165,11 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
   }
   const ordered_json parameters_now = model.json()["parameters"];
   for (const auto& [name, declaration] : parameters_now.items()) {
-    if (!target["parameters"].contains(name)) checked([&](GraphModel& m) { m.remove_parameter(name); });
+    if (!target["parameters"].contains(name)) checked([&, &name = name](GraphModel& m) { m.remove_parameter(name); });
   }
   const ordered_json resources_now = model.json()["resources"];
   for (const auto& [name, description] : resources_now.items()) {
-    if (!target["resources"].contains(name)) checked([&](GraphModel& m) { m.remove_resource(name); });
+    if (!target["resources"].contains(name)) checked([&, &name = name](GraphModel& m) { m.remove_resource(name); });
   }
   EXPECT_EQ(plan_of(model.desc()), plan_of(graph::load_graph_file((graphs_dir() / "caustics_adaptive.json").string())));
   // And every step can be undone, back to core_demo.json as it is on disk.

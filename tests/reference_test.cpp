@@ -120,7 +120,7 @@ TEST(PhotonReference, ThinWallTransmitsItsShareUnbent) {
     const auto& map = result.caustic_map;
     for (uint32_t y = 0; y < map.height; ++y) {
       for (uint32_t x = 0; x < map.width; ++x) {
-        const double v = map.rgba[(size_t{y} * map.width + x) * 4];
+        const double v = static_cast<double>(map.rgba[(size_t{y} * map.width + x) * 4]);
         sum += v;
         cx += v * (x + 0.5);
         cy += v * (y + 0.5);
@@ -142,7 +142,7 @@ TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
   options.fresnel = false;
   const auto t = reference::trace_photon_reference(scene, options).totals;
   expect_flux_accounted(t);
-  const double irradiance = scene.lights.front().intensity, extent = scene.lights.front().extent;
+  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().extent);
   std::printf("emitted %.5f (exact %.5f), entering %.5f (pi R^2 E = %.5f), landed %.5f\n", t.emitted, irradiance * 4 * extent * extent,
               t.entering, glm::pi<double>() * irradiance, t.landed);
   EXPECT_NEAR(t.emitted, irradiance * 4 * extent * extent, 1e-6 * t.emitted);

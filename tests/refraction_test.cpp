@@ -416,7 +416,7 @@ ChangeAgreement agreement(const io::ImageData& with, const io::ImageData& withou
   for (size_t i = 0; i < reference.refractor.size(); ++i) {
     if (!reference.refractor[i]) continue;
     for (size_t k = i * 4; k < i * 4 + 3; ++k) {
-      const double truth = reference.radiance.rgba[k], change = double(with.rgba[k]) - double(without.rgba[k]),
+      const double truth = static_cast<double>(reference.radiance.rgba[k]), change = double(with.rgba[k]) - double(without.rgba[k]),
                    reference_change = truth - double(reference_without.radiance.rgba[k]);
       off_with += std::abs(double(with.rgba[k]) - truth);
       off_without += std::abs(double(without.rgba[k]) - truth);

@@ -120,7 +120,8 @@ class Viewer::Impl {
       if (g_close_requested) break;
       if (window_.events.any) redraw_frames_ = std::max(redraw_frames_, kFramesAfterInput);
       if (clock::now() - last_check > std::chrono::milliseconds(250)) {
-        if (reload(false) | reload_shaders()) request_redraw();
+        const bool graph_reloaded = reload(false), shaders_reloaded = reload_shaders();  // both checked every time
+        if (graph_reloaded || shaders_reloaded) request_redraw();
         last_check = clock::now();
       }
       if (!every_frame && redraw_frames_ == 0) continue;

@@ -653,7 +653,7 @@ FrameResult Executor::run_frame(bool read_back) {
     if (real.counter_is_sum[c]) {
       float sum;
       std::memcpy(&sum, slot, sizeof(sum));  // the zero fill is 0.0f too
-      result.counters[real.counter_names[c]] = sum;
+      result.counters[real.counter_names[c]] = static_cast<double>(sum);
     } else {
       uint32_t count;
       std::memcpy(&count, slot, sizeof(count));

@@ -4,12 +4,20 @@
 # someone copies an input there on purpose (crashes found: add them as regression inputs).
 #   tests/fuzz/run.sh --ci        deterministic: 50000 inputs per target from fixed seeds (what CI runs)
 #   tests/fuzz/run.sh [SECONDS]   exploratory: SECONDS per target (default 300)
+#   --build-dir DIR (first)       the targets of a build configured with -DCAUSTICA_FUZZ=ON and clang
+#                                 instead (tools/setup.sh test: its sanitizer build)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 jobs="${CAUSTICA_JOBS:-2}"
-CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_FUZZ=ON -DCAUSTICA_BUILD_TESTS=OFF \
-  -DCAUSTICA_WERROR=ON -DCMAKE_UNITY_BUILD=ON > /dev/null
-cmake --build build/fuzz -j "$jobs" --target fuzz_graph fuzz_scene fuzz_model
+dir=build/fuzz
+if [ "${1:-}" = "--build-dir" ]; then
+  dir="${2:?--build-dir needs a folder}"
+  shift 2
+else
+  CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_FUZZ=ON \
+    -DCAUSTICA_BUILD_TESTS=OFF -DCAUSTICA_WERROR=ON -DCMAKE_UNITY_BUILD=ON > /dev/null
+fi
+cmake --build "$dir" -j "$jobs" --target fuzz_graph fuzz_scene fuzz_model
 # Each run takes one core: up to CAUSTICA_JOBS at once, the longest first. In --ci mode the model
 # target (about 45 s for its 50,000 inputs, against 13 and 8 s for the others) runs as two halves
 # with seeds 1 and 2, so that neither core waits on it alone at the end. 50,000 inputs reach all but
@@ -26,13 +34,13 @@ fuzz_one() {  # fuzz_one TARGET [SEED RUNS]: runs it, prints its last lines, exi
   local target="$1" scratch status=0 limits
   if [ $# -eq 3 ]; then limits=(-seed="$2" -runs="$3"); else limits=(-max_total_time="$seconds"); fi
   scratch="$(mktemp -d)"
-  # Artifacts (a crashing input) land in build/fuzz so that a failure can be reproduced.
-  build/fuzz/tests/fuzz/fuzz_$target "$scratch" "tests/fuzz/corpus/$target" "${limits[@]}" -max_len=8192 -timeout=20 \
-    -artifact_prefix=build/fuzz/crash-$target- -print_final_stats=1 > "build/fuzz/$target-${2:-run}.log" 2>&1 || status=$?
+  # Artifacts (a crashing input) land in the build folder so that a failure can be reproduced.
+  "$dir/tests/fuzz/fuzz_$target" "$scratch" "tests/fuzz/corpus/$target" "${limits[@]}" -max_len=8192 -timeout=20 \
+    -artifact_prefix="$dir/crash-$target-" -print_final_stats=1 > "$dir/$target-${2:-run}.log" 2>&1 || status=$?
   rm -rf "$scratch"
   echo "fuzz_$target: ${limits[*]}"
-  tail -n 12 "build/fuzz/$target-${2:-run}.log"
-  [ "$status" -eq 0 ] || echo "fuzz_$target failed (status $status); the input is in build/fuzz/crash-$target-*" >&2
+  tail -n 12 "$dir/$target-${2:-run}.log"
+  [ "$status" -eq 0 ] || echo "fuzz_$target failed (status $status); the input is in $dir/crash-$target-*" >&2
   return "$status"
 }
 pids=()
