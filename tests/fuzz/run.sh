@@ -4,23 +4,34 @@
 # someone copies an input there on purpose (crashes found: add them as regression inputs).
 #   tests/fuzz/run.sh --ci        deterministic: 50000 inputs per target from fixed seeds (what CI runs)
 #   tests/fuzz/run.sh [SECONDS]   exploratory: SECONDS per target (default 300)
-#   --build-dir DIR (first)       the targets of a build configured with -DCAUSTICA_FUZZ=ON and clang
-#                                 instead (tools/setup.sh test: its sanitizer build)
+#   --build-dir DIR               with either: the targets of a build configured with -DCAUSTICA_FUZZ=ON
+#                                 and clang instead (tools/setup.sh test: its sanitizer build)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 jobs="${CAUSTICA_JOBS:-2}"
-dir=build/fuzz
-if [ "${1:-}" = "--build-dir" ]; then
-  dir="${2:?--build-dir needs a folder}"
-  shift 2
-else
+dir=""
+args=()
+while [ $# -gt 0 ]; do
+  if [ "$1" = "--build-dir" ]; then
+    dir="${2:?--build-dir needs a folder}"
+    shift 2
+  else
+    args+=("$1")
+    shift
+  fi
+done
+set -- "${args[@]+"${args[@]}"}"
+if [ -z "$dir" ]; then
+  dir=build/fuzz
   CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_FUZZ=ON \
     -DCAUSTICA_BUILD_TESTS=OFF -DCAUSTICA_WERROR=ON -DCMAKE_UNITY_BUILD=ON > /dev/null
 fi
 cmake --build "$dir" -j "$jobs" --target fuzz_graph fuzz_scene fuzz_model
 # Each run takes one core: up to CAUSTICA_JOBS at once, the longest first. In --ci mode the model
-# target (about 45 s for its 50,000 inputs, against 13 and 8 s for the others) runs as two halves
-# with seeds 1 and 2, so that neither core waits on it alone at the end. 50,000 inputs reach all but
+# target (in the sanitizer build, whose libraries are at -O1 with assertions, 66 s for its 50,000
+# inputs against 35 and 17 s for the others) runs as two halves with seeds 1 and 2, so that neither
+# core waits on it alone at the end. (Halving the others too took 66 s against 69: each run first
+# replays the whole corpus.) 50,000 inputs reach all but
 # about 1% of the edges that 100,000 did (graph 1990 of 2007, scene 1665 of 1683, model about 3000 of
 # 3048, in the logs of a 100,000-input run), for half the time in a test command at its budget;
 # tests/fuzz/run.sh SECONDS explores further.
