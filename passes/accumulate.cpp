@@ -49,14 +49,12 @@ class AccumulatePass final : public graph::Pass {
     // The previous frame's sums, written in an earlier submission.
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
-    vk::DescriptorWriter()
-        .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
-        .storage_image(1, ctx.view("average"))
-        .storage_buffer(2, sums_.get())
-        .push(ctx.vk(), cmd, pipeline_);
-    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, kLayers);
+    vk::dispatch_over_image(ctx.vk(), cmd, pipeline_,
+                            vk::DescriptorWriter()
+                                .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
+                                .storage_image(1, ctx.view("average"))
+                                .storage_buffer(2, sums_.get()),
+                            vk::bytes_of(push), extent, kLayers);
   }
 
  private:

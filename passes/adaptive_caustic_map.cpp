@@ -247,11 +247,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     if (levels_.pipeline) {
       // The levels as splatted, before the combine below sums them in place.
       memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, levels_.pipeline.get());
-      photon_descriptors(ctx).storage_buffer(12, pyramid_.get()).storage_image(13, ctx.view("caustic_levels")).push(ctx.vk(), cmd, levels_);
-      vkCmdPushConstants(cmd, levels_.layout.get(), levels_.stages, 0, sizeof(push), &push);
-      const VkExtent2D atlas = ctx.extent("caustic_levels");
-      vkCmdDispatch(cmd, (atlas.width + 7) / 8, (atlas.height + 7) / 8, 1);
+      vk::dispatch_over_image(ctx.vk(), cmd, levels_,
+                              photon_descriptors(ctx).storage_buffer(12, pyramid_.get()).storage_image(13, ctx.view("caustic_levels")),
+                              vk::bytes_of(push), ctx.extent("caustic_levels"));
     }
     // Add the coarser levels into the map, which holds level 0; atomic adds, so the levels need
     // no order among themselves.

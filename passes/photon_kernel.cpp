@@ -105,9 +105,7 @@ vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {
 void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear) {
   VkCommandBuffer cmd = ctx.cmd();
   const VkExtent2D map = ctx.extent("caustic_map");
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clear.pipeline.get());
-  vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")).push(ctx.vk(), cmd, clear);
-  vkCmdDispatch(cmd, (map.width + 7) / 8, (map.height + 7) / 8, 1);
+  vk::dispatch_over_image(ctx.vk(), cmd, clear, vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")), {}, map);
   memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }

@@ -287,12 +287,9 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
 }
 
 void DeferredRefractionShading::copy(const graph::PassContext& ctx, VkImageView source, VkImageView target, VkExtent2D extent) const {
-  VkCommandBuffer cmd = ctx.cmd();
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, copy_.pipeline.get());
-  vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target).push(ctx.vk(), cmd, copy_);
   const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
-  vkCmdPushConstants(cmd, copy_.layout.get(), copy_.stages, 0, sizeof(size), &size);
-  vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+  vk::dispatch_over_image(ctx.vk(), ctx.cmd(), copy_, vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target),
+                          vk::bytes_of(size), extent);
 }
 
 }  // namespace caustica::passes

@@ -36,15 +36,12 @@ class TemporalMeanPass final : public graph::Pass {
 
     const VkExtent2D extent = ctx.extent("average");
     const TemporalMeanPush push{{extent.width, extent.height}, holds ? 0.0f : 1.0f / static_cast<float>(frame)};
-    VkCommandBuffer cmd = ctx.cmd();
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
-    vk::DescriptorWriter()
-        .sampled_image(0, ctx.view("current"), ctx.nearest_sampler())
-        .sampled_image(1, ctx.view("previous"), ctx.nearest_sampler())
-        .storage_image(2, ctx.view("average"))
-        .push(ctx.vk(), cmd, pipeline_);
-    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+    vk::dispatch_over_image(ctx.vk(), ctx.cmd(), pipeline_,
+                            vk::DescriptorWriter()
+                                .sampled_image(0, ctx.view("current"), ctx.nearest_sampler())
+                                .sampled_image(1, ctx.view("previous"), ctx.nearest_sampler())
+                                .storage_image(2, ctx.view("average")),
+                            vk::bytes_of(push), extent);
   }
 
  private:

@@ -28,15 +28,12 @@ class TonemapPass final : public graph::Pass {
     const VkExtent2D extent = ctx.extent("target");
     TonemapParams params{
         {static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}, ctx.params()["exposure"].get<float>(), bright_counter_};
-    VkCommandBuffer cmd = ctx.cmd();
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
-    vk::DescriptorWriter()
-        .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
-        .storage_image(1, ctx.view("target"))
-        .storage_buffer(2, ctx.counter_buffer())
-        .push(ctx.vk(), cmd, pipeline_);
-    vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
-    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+    vk::dispatch_over_image(ctx.vk(), ctx.cmd(), pipeline_,
+                            vk::DescriptorWriter()
+                                .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
+                                .storage_image(1, ctx.view("target"))
+                                .storage_buffer(2, ctx.counter_buffer()),
+                            vk::bytes_of(params), extent);
   }
 
  private:

@@ -43,7 +43,8 @@ void rename_key(ordered_json& object, const std::string& from, const std::string
 
 // The resource a binding names: itself, or the one whose last frame a history input reads.
 std::string resource_of_binding(const std::string& binding) {
-  return binding.ends_with(graph::kPreviousSuffix) ? binding.substr(0, binding.size() - graph::kPreviousSuffix.size()) : binding;
+  std::string source = graph::history_source(binding);
+  return source.empty() ? binding : source;
 }
 
 // Every place a resource's name appears outside "resources": bindings, outputs, fallbacks.
@@ -430,7 +431,7 @@ void GraphModel::rename_resource(const std::string& name, const std::string& new
     rename_key(doc["resources"], name, new_name);
     for_each_resource_reference(doc, [&](ordered_json& r) {
       if (r == name) r = new_name;
-      if (r == name + std::string(graph::kPreviousSuffix)) r = new_name + std::string(graph::kPreviousSuffix);  // its history
+      if (r == graph::history_of(name)) r = graph::history_of(new_name);
     });
   });
 }

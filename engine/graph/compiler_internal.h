@@ -65,7 +65,7 @@ class Compiler {
   std::vector<std::string> resource_names() const;
   nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const;
   void bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs);
-  uint32_t history_resource(const std::string& name, const std::string& pointer);
+  uint32_t history_resource(const std::string& name, const std::string& source_name, const std::string& pointer);
   bool wanted(const std::string& resource) const;
   void check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const;
   void resolve_passes();

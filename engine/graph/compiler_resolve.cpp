@@ -246,13 +246,12 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
                                       "\"");
     }
     int index = -1;
-    if (resource_name.ends_with(kPreviousSuffix)) {
+    if (const std::string history_of_resource = history_source(resource_name); !history_of_resource.empty()) {
       if (outputs) {
-        throw graph_.error(pointer, "'" + resource_name + "' is the previous frame's '" +
-                                        resource_name.substr(0, resource_name.size() - kPreviousSuffix.size()) +
+        throw graph_.error(pointer, "'" + resource_name + "' is the previous frame's '" + history_of_resource +
                                         "', which passes read and do not write; bind output '" + port_name + "' to a resource");
       }
-      index = static_cast<int>(history_resource(resource_name, pointer));
+      index = static_cast<int>(history_resource(resource_name, history_of_resource, pointer));
     } else {
       const std::string source = outputs ? resource_name : redirected(resource_name);
       if (source.empty()) {  // "fallback": null and nothing writes it
@@ -288,9 +287,8 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
 
 // The history resource `name` ("SOURCE@previous"), made on its first binding: SOURCE's kind, format
 // and extent, kept across frames with SOURCE (PlannedResource::previous_of).
-uint32_t Compiler::history_resource(const std::string& name, const std::string& pointer) {
+uint32_t Compiler::history_resource(const std::string& name, const std::string& source_name, const std::string& pointer) {
   if (const int made = plan_.find_resource(name); made >= 0) return static_cast<uint32_t>(made);
-  const std::string source_name = name.substr(0, name.size() - kPreviousSuffix.size());
   const int source = plan_.find_resource(source_name);
   if (source < 0 || redirect_.count(source_name)) {
     throw graph_.error(pointer, "'" + name + "' reads the previous frame's '" + source_name + "', " +
@@ -316,7 +314,7 @@ bool Compiler::wanted(const std::string& resource) const {
   for (size_t i = 0; i < graph_.passes.size(); ++i) {
     if (!enabled_[i]) continue;
     for (const auto& [port, read] : graph_.passes[i].inputs) {
-      if (read == resource || read == resource + std::string(kPreviousSuffix)) return true;
+      if (read == resource || history_source(read) == resource) return true;
     }
   }
   return false;

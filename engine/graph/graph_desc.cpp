@@ -144,9 +144,8 @@ std::map<std::string, std::string> load_bindings(const Reader& read, const nlohm
     // "NAME@previous": resource NAME as the previous frame left it (a history input; the compiler
     // refuses it as an output).
     const std::string text = read.string(resource, port_pointer, "a resource name");
-    if (text.ends_with(kPreviousSuffix)) {
-      out[port] = read.name(nlohmann::json(text.substr(0, text.size() - kPreviousSuffix.size())), port_pointer, "a resource name") +
-                  std::string(kPreviousSuffix);
+    if (const std::string source = history_source(text); !source.empty()) {
+      out[port] = history_of(read.name(nlohmann::json(source), port_pointer, "a resource name"));
     } else {
       out[port] = read.name(resource, port_pointer, "a resource name");
     }

@@ -20,6 +20,12 @@ inline constexpr uint32_t kNoBlock = UINT32_MAX;
 inline constexpr uint32_t kNoResource = UINT32_MAX;
 // A pass input bound to "NAME@previous" reads resource NAME as the previous frame left it.
 inline constexpr std::string_view kPreviousSuffix = "@previous";
+// The resource whose previous frame `binding` reads ("NAME@previous" -> "NAME"); empty when the
+// binding reads a resource as this frame has it.
+inline std::string history_source(std::string_view binding) {
+  return binding.ends_with(kPreviousSuffix) ? std::string(binding.substr(0, binding.size() - kPreviousSuffix.size())) : std::string();
+}
+inline std::string history_of(std::string_view resource) { return std::string(resource) + std::string(kPreviousSuffix); }
 // Layered images hold one value per layer (an RGB caustic map: three r32f layers, because image
 // atomics are single-channel); they read back and dump with layer k as colour channel k.
 inline constexpr uint32_t kMaxImageLayers = 4;

@@ -208,7 +208,7 @@ DescriptorWriter& DescriptorWriter::acceleration_structure(uint32_t binding, VkA
   return *this;
 }
 
-void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) {
+void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) const {
   std::vector<VkWriteDescriptorSet> writes;
   // Acceleration structures are written through a chained struct; reserved so pointers stay put.
   std::vector<VkWriteDescriptorSetAccelerationStructureKHR> structures;
@@ -232,6 +232,16 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
     writes.push_back(w);
   }
   vk.push_descriptor_set(cmd, pipeline.bind_point, pipeline.layout.get(), 0, static_cast<uint32_t>(writes.size()), writes.data());
+}
+
+void dispatch_over_image(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline, const DescriptorWriter& descriptors,
+                         std::span<const std::byte> push_constants, VkExtent2D extent, uint32_t depth) {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
+  descriptors.push(vk, cmd, pipeline);
+  if (!push_constants.empty()) {
+    vkCmdPushConstants(cmd, pipeline.layout.get(), pipeline.stages, 0, static_cast<uint32_t>(push_constants.size()), push_constants.data());
+  }
+  vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, depth);
 }
 
 }  // namespace caustica::vk

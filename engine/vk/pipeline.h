@@ -2,6 +2,8 @@
 // Pipelines with one push-descriptor set: passes push their bindings each frame and need no pools.
 // A pipeline that samples the scene's textures also has set 1, an array of them that the scene
 // writes once (vk::texture_array_layout).
+#include <cstddef>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -72,7 +74,7 @@ class DescriptorWriter {
   DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer);
   DescriptorWriter& acceleration_structure(uint32_t binding, VkAccelerationStructureKHR structure);
-  void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline);
+  void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) const;
 
  private:
   struct Item {
@@ -84,5 +86,15 @@ class DescriptorWriter {
   };
   std::vector<Item> items_;
 };
+
+// Records a compute pipeline over every texel of `extent`, `depth` layers deep, in the 8x8 groups
+// that the project's image kernels declare: binds it, then pushes its descriptors and push constants.
+void dispatch_over_image(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline, const DescriptorWriter& descriptors,
+                         std::span<const std::byte> push_constants, VkExtent2D extent, uint32_t depth = 1);
+
+template <class T>
+std::span<const std::byte> bytes_of(const T& value) {
+  return std::as_bytes(std::span<const T, 1>(&value, 1));
+}
 
 }  // namespace caustica::vk
