@@ -100,7 +100,8 @@ graph::PassTypeDecl accumulate_pass_type() {
             1.0,
             1048576.0,
             {},
-            "frames averaged; after them the mean holds still (the sources still run every frame)"}},
+            "frames averaged; after them the mean holds still (the sources still run every frame)",
+            true}},
           false,
           [] { return std::make_unique<AccumulatePass>(); }};
 }

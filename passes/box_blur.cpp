@@ -53,7 +53,7 @@ graph::PassTypeDecl box_blur_pass_type() {
                       false,
                       "frame",
                       "filtered image, same extent"}},
-                    {{"radius", ParamType::int_, 2, 0.0, 64.0, {}, "texels on each side"},
+                    {{"radius", ParamType::int_, 2, 0.0, 64.0, {}, "texels on each side", true},
                      {"axis", ParamType::choice, "x", {}, {}, {"x", "y"}, "filter direction"}},
                     false,
                     [] { return std::make_unique<BoxBlurPass>(); }};

@@ -104,7 +104,7 @@ graph::PassTypeDecl lighting_pass_type() {
         false,
         "frame",
         "lit radiance"}},
-      {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis"}},
+      {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis", true}},
       false,
       [] { return std::make_unique<LightingPass>(); }};
   decl.needs_scene = true;

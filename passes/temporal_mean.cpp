@@ -83,7 +83,7 @@ graph::PassTypeDecl temporal_mean_pass_type() {
                       false,
                       "frame",
                       "the mean of the frames since the last reset, same extent"}},
-                    {{"max_frames", ParamType::int_, 64, 1.0, 1048576.0, {}, "frames averaged; after them the mean holds still"},
+                    {{"max_frames", ParamType::int_, 64, 1.0, 1048576.0, {}, "frames averaged; after them the mean holds still", true},
                      {"jitter_camera",
                       ParamType::bool_,
                       false,

@@ -51,7 +51,7 @@ graph::PassTypeDecl tonemap_pass_type() {
       PassQueue::compute,
       {{"source", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", "linear HDR"},
        {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba8}, false, "frame", "display-ready"}},
-      {{"exposure", ParamType::float_, 1.0, 0.0, 1000.0, {}, "multiplies the HDR input"}},
+      {{"exposure", ParamType::float_, 1.0, 0.0, 1000.0, {}, "multiplies the HDR input", true}},
       false,
       [] { return std::make_unique<TonemapPass>(); }};
   decl.depends_on = [](const nlohmann::json&) { return 0u; };  // its input and parameters alone

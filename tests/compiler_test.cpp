@@ -498,6 +498,62 @@ std::optional<uint64_t> peak_bytes(const Plan& plan, const std::vector<size_t>& 
   return peak;
 }
 
+// A number may be an expression: of the output size, the scene and the graph's parameters,
+// evaluated once; and for a parameter the pass reads while recording (ParamDecl::per_frame), of the
+// frame block, which the executor evaluates before every frame: the plan keeps the first frame's
+// value, the expression and what it names, and the pass then depends on the frame.
+TEST(Compiler, ParametersMayBeExpressionsOfTheFrame) {
+  const nlohmann::json graph = {
+      {"parameters", {{"strength", {{"type", "float"}, {"default", 2.0}, {"min", 0.0}, {"max", 5.0}}}}},
+      {"resources", {{"lit", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"params", {{"gain", "strength * output.width / 64"}}}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "blur"},
+         {"type", "filter"},
+         {"params", {{"radius", "min(8, 3 + frame.since_reset / 2)"}}},
+         {"inputs", {{"source", "lit"}}},
+         {"outputs", {{"target", "out"}}}}}},
+      {"outputs", {"out"}}};
+  const Plan plan = compile(graph);
+  const PlannedPass& light = plan.passes[0];
+  const PlannedPass& blur = plan.passes[1];
+  ASSERT_EQ(blur.name, "blur");
+  EXPECT_EQ(light.params["gain"], 2.0);  // 2 * 64 / 64
+  EXPECT_TRUE(light.frame_params.empty());
+  EXPECT_EQ(dependency_names(light.depends), (std::vector<std::string>{"geometry", "lights"}));
+  EXPECT_EQ(blur.params["radius"], 3);  // the first frame's, an integer
+  EXPECT_EQ(blur.frame_params, (std::map<std::string, std::string>{{"radius", "min(8, 3 + frame.since_reset / 2)"}}));
+  EXPECT_EQ(dependency_names(blur.depends), (std::vector<std::string>{"geometry", "lights", "frame"}));
+  EXPECT_EQ(plan.expression_values.at("strength"), 2.0);
+  EXPECT_EQ(plan.expression_values.at("output.height"), 32.0);
+  EXPECT_EQ(plan_to_json(plan)["passes"][1]["frame_params"]["radius"], "min(8, 3 + frame.since_reset / 2)");
+
+  nlohmann::json rounded = graph;  // an integer parameter rounds down
+  rounded["passes"][1]["params"]["radius"] = "output.height / 5";
+  EXPECT_EQ(compile(rounded).passes[1].params["radius"], 6);
+  EXPECT_TRUE(compile(rounded).passes[1].frame_params.empty());
+
+  nlohmann::json set_up = graph;
+  set_up["passes"][0]["params"]["gain"] = "1 + frame.index";
+  EXPECT_NE(compile_error(set_up).find("/passes/0/params/gain"), std::string::npos) << compile_error(set_up);
+  EXPECT_NE(compile_error(set_up).find("parameter 'gain' of pass 'light' is fixed for a plan, so \"1 + frame.index\" cannot "
+                                       "follow the frame; no parameter of pass type 'source' can"),
+            std::string::npos)
+      << compile_error(set_up);
+  nlohmann::json misspelt = graph;
+  misspelt["passes"][1]["params"]["radius"] = "frame.since_rest";
+  EXPECT_NE(compile_error(misspelt).find("unknown name 'frame.since_rest' (did you mean 'frame.since_reset'?)"), std::string::npos)
+      << compile_error(misspelt);
+  nlohmann::json too_bright = graph;
+  too_bright["passes"][0]["params"]["gain"] = "output.width";
+  EXPECT_NE(compile_error(too_bright).find("parameter 'gain' of pass 'light' is 64, above its maximum 10 (\"output.width\")"),
+            std::string::npos)
+      << compile_error(too_bright);
+  nlohmann::json infinite = graph;
+  infinite["passes"][1]["params"]["radius"] = "1 / frame.index";
+  EXPECT_NE(compile_error(infinite).find("\"1 / frame.index\" at character 16: division by zero (at /passes/1/params/radius)"), std::string::npos) << compile_error(infinite);
+}
+
 }  // namespace
 
 // Against every order a small graph allows, tried one by one: none has a lower peak.

@@ -246,6 +246,46 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   EXPECT_LT(relative_difference(after_light, run(fresh, moved_light, 1, false)), 1e-6);
 }
 
+// A parameter that the pass reads every frame may be an expression of the frame block: a photon grid
+// growing with the frames since the last reset gives on frame k the map of a fresh render with grid
+// 64 (k + 1), and the exposure on frame k the picture of exposure k + 0.5 (the lighting reads each
+// frame's own map here); a light move restarts the grid's count (the caustic pass depends on the
+// light) and not the exposure's frame index.
+TEST(Progressive, PerFrameParametersFollowTheFrameBlock) {
+  auto graph_with = [](const nlohmann::json& grid, const nlohmann::json& exposure) {
+    const auto path = data_dir() / "graphs/caustics_progressive.json";
+    nlohmann::json file = nlohmann::json::parse(std::ifstream(path));
+    for (auto& pass : file["passes"]) {
+      if (pass["name"] == "caustics") pass["params"]["grid"] = grid;
+      if (pass["name"] == "tonemap") pass["params"]["exposure"] = exposure;
+      if (pass["name"] == "lighting") pass["inputs"]["caustics"] = "caustics_frame";
+    }
+    auto desc = graph::load_graph(JsonDocument::parse(file.dump(2), path.string()));
+    graph::apply_overrides(desc, with(kSmall, {"jitter=false"}));
+    return desc;
+  };
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  e.executor.set_scene(scene);
+  e.executor.configure(graph_with("64 * (1 + frame.since_reset)", "0.5 + frame.index"), e.width, e.height, {"caustics_frame"});
+  auto check = [&](std::shared_ptr<const scene::Scene> state, int grid, double exposure, const char* frame) {
+    e.executor.set_scene(state);
+    e.executor.run_frame(true);
+    SceneEngine fresh;
+    fresh.render(graph_with(grid, exposure), state, {"caustics_frame"});
+    EXPECT_LT(relative_difference(e.executor.read_image("caustics_frame"), fresh.executor.read_image("caustics_frame")), 1e-6)
+        << frame << ": not the map of grid " << grid;
+    EXPECT_LT(relative_difference(e.executor.read_image("ldr"), fresh.executor.read_image("ldr")), 1e-6)
+        << frame << ": not the picture of exposure " << exposure;
+  };
+  check(scene, 64, 0.5, "frame 0");
+  check(scene, 128, 1.5, "frame 1");
+  check(scene, 192, 2.5, "frame 2");
+  auto moved_light = std::make_shared<scene::Scene>(*scene);
+  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  check(moved_light, 64, 3.5, "frame 3, the light moved");
+}
+
 // A still camera's frames moved within their pixels and averaged (refraction_deferred's
 // still_mean) antialias the picture: after 16 frames the mean comes far closer to the same view
 // rendered at four times the size and box-filtered down (what a uniform spread over the pixel

@@ -26,7 +26,7 @@ inline graph::PassRegistry make_test_registry() {
   PassTypeDecl filter{"filter", "reads one image, writes another of the same size", PassQueue::compute,
                       {sampled_in("source"),
                        {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f, Format::rgba8}, false, "", ""}},
-                      {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, ""}}, false, nullptr};
+                      {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, "", true}}, false, nullptr};
   filter.depends_on = inputs_alone;
   registry.add(filter);
   PassTypeDecl blend{"blend", "two inputs into one output of the same extent", PassQueue::graphics,

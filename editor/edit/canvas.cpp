@@ -352,7 +352,8 @@ void GraphEditor::draw_side_panel() {
     const ordered_json current =
         pass.contains("params") && pass["params"].contains(d.name) ? pass["params"][d.name] : ordered_json(d.default_value);
     ImGui::PushID(d.name.c_str());
-    if (current.is_string() && current.get<std::string>().rfind('$', 0) == 0) {
+    // A graph parameter ("$name") or, for a number, an expression: shown as written.
+    if (current.is_string() && (d.type != graph::ParamType::choice || current.get<std::string>().starts_with('$'))) {
       ImGui::Text("%s = %s", d.name.c_str(), current.get<std::string>().c_str());
       ImGui::SameLine();
       if (ImGui::SmallButton("own value")) set_param(name, d.name, d.default_value);

@@ -13,6 +13,7 @@ void Compiler::find_dependencies() {
     for (uint32_t i = 0; i < order_.size(); ++i) {
       const Node& node = nodes_[order_[i]];
       uint32_t depends = node.decl->depends_on ? node.decl->depends_on(node.params) : kDependsOnFrame;
+      if (!node.frame_params.empty()) depends |= kDependsOnFrame;
       for (const auto& b : node.bindings) {
         if (b.port->access != PortAccess::write) depends |= written_from[b.resource];
       }

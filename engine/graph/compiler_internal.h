@@ -42,6 +42,7 @@ class Compiler {
     const PassDesc* desc = nullptr;
     const PassTypeDecl* decl = nullptr;
     nlohmann::json params;
+    std::map<std::string, std::string> frame_params;  // PlannedPass::frame_params
     std::vector<Binding> bindings;
     std::vector<uint32_t> successors;
     std::vector<uint32_t> predecessors;
@@ -63,7 +64,9 @@ class Compiler {
   uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const;
   void size_resources();
   std::vector<std::string> resource_names() const;
-  nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const;
+  // Every declared parameter's value (for the first frame), and in `frame_params` those that are
+  // expressions of the frame block.
+  nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl, std::map<std::string, std::string>& frame_params) const;
   void bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs);
   uint32_t history_resource(const std::string& name, const std::string& source_name, const std::string& pointer);
   bool wanted(const std::string& resource) const;

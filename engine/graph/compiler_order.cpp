@@ -287,6 +287,11 @@ void Compiler::cull_and_order() {
     pass.pointer = node.desc->pointer;
     pass.decl = node.decl;
     pass.params = node.params;
+    pass.frame_params = node.frame_params;
+    if (!pass.frame_params.empty() && plan_.expression_values.empty()) {
+      const ExpressionScope compile_time = scope();
+      for (const auto& name : compile_time.known_names) plan_.expression_values[name] = *compile_time.lookup(name);
+    }
     for (const auto& b : node.bindings) pass.ports[b.port->name] = b.resource;
     if (pass.decl->uses_ray_queries && pass.decl->uses_ray_queries(pass.params)) {
       if (!options_.ray_queries) {

@@ -195,7 +195,8 @@ std::vector<std::string> Compiler::resource_names() const {
   return names;
 }
 
-nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl& decl) const {
+nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl& decl,
+                                        std::map<std::string, std::string>& frame_params) const {
   std::vector<std::string> declared;
   for (const auto& p : decl.params) declared.push_back(p.name);
   std::vector<std::string> graph_params;
@@ -216,6 +217,37 @@ nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl
       if (!gp) throw graph_.error(pointer, "no graph parameter '" + name + "'" + did_you_mean(name, graph_params));
       value = gp->value;
       via = " (through graph parameter '" + name + "')";
+    } else if (raw.is_string() && param->type != ParamType::choice) {
+      // An expression of the output size, the scene and the graph's parameters, and for a parameter
+      // the pass reads every frame, of the frame block too: evaluated here for the first frame,
+      // and by the executor before every frame (PlannedPass::frame_params), clamped to the range.
+      const std::string text = raw.get<std::string>();
+      bool follows_frame = false;
+      ExpressionScope s = scope();
+      s.known_names.insert(s.known_names.end(), std::begin(kFrameNames), std::end(kFrameNames));
+      s.lookup = [compile_time = s.lookup, &follows_frame](std::string_view name) -> std::optional<double> {
+        if (std::find(std::begin(kFrameNames), std::end(kFrameNames), name) == std::end(kFrameNames)) return compile_time(name);
+        follows_frame = true;
+        return 0.0;
+      };
+      double number = 0;
+      try {
+        number = evaluate_expression(text, s);
+      } catch (const std::invalid_argument& e) {
+        const char* expects = param->type == ParamType::bool_ ? "true or false" : param->type == ParamType::int_ ? "an integer" : "a number";
+        throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' expects " + expects + " or an expression; " + e.what());
+      }
+      if (follows_frame && !param->per_frame) {
+        std::string per_frame;
+        for (const auto& p : decl.params) per_frame += p.per_frame ? (per_frame.empty() ? "" : ", ") + p.name : "";
+        throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' is fixed for a plan, so \"" +
+                                        text + "\" cannot follow the frame; " +
+                                        (per_frame.empty() ? "no parameter of pass type '" + decl.type + "' can"
+                                                           : "the ones of pass type '" + decl.type + "' that can: " + per_frame));
+      }
+      value = param_value_of_number(*param, number, follows_frame);
+      if (follows_frame) frame_params[key] = text;
+      via = " (\"" + text + "\")";
     }
     std::string problem = check_param_value(*param, value);
     if (!problem.empty()) throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' " + problem + via);
@@ -357,7 +389,7 @@ void Compiler::resolve_passes() {
     }
     if (!enabled_[i]) continue;
     node.decl = decl;
-    node.params = resolve_params(pass, *decl);
+    node.params = resolve_params(pass, *decl, node.frame_params);
     bind_section(node, pass.inputs, false);
     bind_section(node, pass.outputs, true);
     for (const auto& port : decl->ports) {

@@ -5,9 +5,11 @@
 #include <cassert>
 #include <chrono>
 #include <cstring>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "core/low_discrepancy.h"
+#include "graph/expression.h"
 #include "vk/buffer.h"
 
 namespace caustica::graph {
@@ -71,6 +73,29 @@ VkImageAspectFlags aspect_of(Format format) {
   return format_info(format).depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
 }
 
+// A pass's parameters with those that follow the frame evaluated for `frame`. The compiler checked
+// each expression on the first frame; a later frame's value is clamped to the declared range, and
+// one that is not finite (a division by a frame count that reached zero) keeps the first frame's.
+nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const FrameInfo& frame) {
+  ExpressionScope scope;
+  scope.lookup = [&](std::string_view name) -> std::optional<double> {
+    if (name == "frame.index") return static_cast<double>(frame.index);
+    if (name == "frame.since_reset") return static_cast<double>(frame.since_reset);
+    if (name == "frame.jitter_x") return frame.camera_jitter.x;
+    if (name == "frame.jitter_y") return frame.camera_jitter.y;
+    const auto it = plan.expression_values.find(std::string(name));
+    return it == plan.expression_values.end() ? std::nullopt : std::optional<double>(it->second);
+  };
+  nlohmann::json params = pass.params;
+  for (const auto& [name, expression] : pass.frame_params) {
+    try {
+      params[name] = param_value_of_number(*pass.decl->find_param(name), evaluate_expression(expression, scope), true);
+    } catch (const std::invalid_argument&) {  // not finite on this frame: the names and syntax were checked
+    }
+  }
+  return params;
+}
+
 }  // namespace
 
 struct Executor::RealImage {
@@ -118,6 +143,8 @@ struct Executor::Realized {
   std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
   uint64_t jittered_frames = 0;        // since then
   const FrameInfo* recording = nullptr;  // the pass being recorded's
+  const nlohmann::json* recording_params = nullptr;  // and its parameters for this frame
+  std::vector<nlohmann::json> frame_params;          // per pass with PlannedPass::frame_params
   std::map<std::string, double> last_counters;
 };
 
@@ -179,6 +206,9 @@ void PassContext::still_converging() const {
 }
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
+}
+const nlohmann::json& PassContext::params() const {
+  return *executor_.realized_->recording_params;
 }
 const scene::GpuScene& PassContext::scene() const {
   assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
@@ -565,6 +595,12 @@ FrameResult Executor::run_frame(bool read_back) {
     const bool run = changed || !pass.reusable(p.reuses_unchanged_passes);
     if (run) {
       real.recording = &pass_frame;
+      real.recording_params = &pass.params;
+      if (!pass.frame_params.empty()) {
+        real.frame_params.resize(p.passes.size());
+        real.frame_params[i] = params_for_frame(p, pass, pass_frame);
+        real.recording_params = &real.frame_params[i];
+      }
       PassContext context(*this, pass, cmd);
       real.passes[i]->execute(context);
     } else {

@@ -52,7 +52,8 @@ class PassContext {
   PassContext(Executor& executor, const PlannedPass& pass, VkCommandBuffer cmd) : executor_(executor), pass_(pass), cmd_(cmd) {}
   VkCommandBuffer cmd() const { return cmd_; }
   vk::Context& vk() const;
-  const nlohmann::json& params() const { return pass_.params; }
+  // As resolved, with the parameters that follow the frame (PlannedPass::frame_params) evaluated for this one.
+  const nlohmann::json& params() const;
   bool bound(const std::string& port) const { return pass_.ports.count(port) != 0; }
   const PlannedResource& resource(const std::string& port) const;
   VkImage image(const std::string& port) const;

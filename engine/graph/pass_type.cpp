@@ -1,5 +1,6 @@
 #include "graph/pass_type.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <sstream>
@@ -73,6 +74,15 @@ std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value
   if (decl.min && v < *decl.min) return "is " + format_number(v) + ", below its minimum " + format_number(*decl.min);
   if (decl.max && v > *decl.max) return "is " + format_number(v) + ", above its maximum " + format_number(*decl.max);
   return "";
+}
+
+nlohmann::json param_value_of_number(const ParamDecl& decl, double value, bool clamped) {
+  assert(decl.type != ParamType::choice && "a choice is a string, not the value of an expression");
+  if (decl.type == ParamType::bool_) return value != 0.0;
+  if (clamped) value = std::clamp(value, decl.min.value_or(value), decl.max.value_or(value));
+  // Within int64's range (beyond it the conversion is undefined); the range check reports the rest.
+  if (decl.type == ParamType::int_) return static_cast<int64_t>(std::floor(std::clamp(value, -9e15, 9e15)));
+  return value;
 }
 
 void PassRegistry::add(PassTypeDecl decl) {

@@ -73,7 +73,13 @@ struct ParamDecl {
   std::optional<double> max;
   std::vector<std::string> choices;  // for ParamType::choice
   std::string description;
+  // Read while the pass records each frame (not when it is set up), so a graph may make it an
+  // expression of the frame block ("frame.since_reset", kFrameNames), evaluated before every frame.
+  bool per_frame = false;
 };
+
+// The frame block that a per-frame parameter's expression may name (graph::FrameInfo).
+inline constexpr const char* kFrameNames[] = {"frame.index", "frame.since_reset", "frame.jitter_x", "frame.jitter_y"};
 
 struct PassTypeDecl {
   std::string type;
@@ -111,6 +117,10 @@ std::string_view param_type_name(ParamType type);
 
 // Checks a parameter value against its declaration; returns the reason it is wrong, or "".
 std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value);
+// The value of a numeric or boolean parameter that an expression evaluated to: an int rounded
+// down, a bool true where non-zero; `clamped` keeps it within the declared range (a per-frame
+// expression, which no check can bound for every frame).
+nlohmann::json param_value_of_number(const ParamDecl& decl, double value, bool clamped);
 
 class PassRegistry {
  public:

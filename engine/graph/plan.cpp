@@ -99,6 +99,8 @@ nlohmann::json plan_to_json(const Plan& plan) {
     pass["name"] = p.name;
     pass["type"] = p.type;
     pass["params"] = json::parse(p.params.dump());
+    // Parameters that follow the frame: their expressions (params holds the first frame's values).
+    if (!p.frame_params.empty()) pass["frame_params"] = p.frame_params;
     // What its result depends on besides parameters (its inputs' dependencies included), and whether
     // a plan that reuses unchanged passes may skip it.
     pass["depends_on"] = dependency_names(p.depends);

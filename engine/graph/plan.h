@@ -94,7 +94,10 @@ struct PlannedPass {
   std::string type;
   std::string pointer;
   const PassTypeDecl* decl = nullptr;
-  nlohmann::json params;                  // every declared parameter, resolved
+  nlohmann::json params;                  // every declared parameter, resolved (for the first frame)
+  // Parameters given as expressions of the frame block (ParamDecl::per_frame): the executor
+  // evaluates them before the pass records each frame, with Plan::expression_values.
+  std::map<std::string, std::string> frame_params;
   std::map<std::string, uint32_t> ports;  // bound port -> resource index
   std::vector<PlannedBarrier> barriers;   // recorded before the pass
   // SceneDependency bits: its own and its inputs' writers', and those of any later pass that
@@ -122,6 +125,9 @@ struct Plan {
   std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
   std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built
   std::vector<PlannedResource> resources;
+  // What the expressions of PlannedPass::frame_params name besides the frame block: the output
+  // size, the scene's values and the graph's parameters, as compiled.
+  std::map<std::string, double> expression_values;
   std::vector<MemoryBlock> blocks;
   std::vector<uint32_t> outputs;  // resource indices, in the graph's order
   uint64_t transient_bytes_aliased = 0;
