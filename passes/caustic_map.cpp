@@ -20,8 +20,10 @@ struct PhotonPush {
   ExactPathPush exact;
   uint32_t band;
   float jitter[2];  // where in its grid cell each photon starts
+  uint32_t slice_offset[2];  // this frame's slice: the cells at slice_offset + slice_side * (i, j)
+  uint32_t slice_side;
 };
-static_assert(sizeof(PhotonPush) == 88, "shaders/caustics/regular_photons.comp's Params: jitter (a vec2) at 80");
+static_assert(sizeof(PhotonPush) == 100, "shaders/caustics/regular_photons.comp's Params: jitter (a vec2) at 80, slice_side at 96");
 
 class CausticMapPass final : public graph::Pass {
  public:
@@ -77,6 +79,15 @@ class CausticMapPass final : public graph::Pass {
     const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? ctx.frame().since_reset : 0);
     push.jitter[0] = jitter.x;
     push.jitter[1] = jitter.y;
+    // One cell in slice_side x slice_side a frame, a different one each frame since the reset, so
+    // that slice_side^2 successive frames trace the whole grid once (column k mod n, each column's
+    // rows in a turned order: successive slices lie apart).
+    const uint32_t side = p["slice_side"].get<uint32_t>();
+    const uint64_t slice = ctx.frame().since_reset % (uint64_t{side} * side);
+    push.slice_offset[0] = static_cast<uint32_t>(slice % side);
+    push.slice_offset[1] = static_cast<uint32_t>((slice / side + slice) % side);
+    push.slice_side = side;
+    const uint32_t traced_side = (push.grid + side - 1) / side;
     const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
     const vk::Pipeline& photons = passes.pipeline;
     ctx.set_counter(batches_slot_, static_cast<uint32_t>(passes.bands.size()));
@@ -88,7 +99,7 @@ class CausticMapPass final : public graph::Pass {
     for (uint32_t band : passes.bands) {  // the bands add into one map; atomics need no order between them
       push.band = band;
       vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
-      vkCmdDispatch(cmd, (push.grid + 7) / 8, (push.grid + 7) / 8, 1);
+      vkCmdDispatch(cmd, (traced_side + 7) / 8, (traced_side + 7) / 8, 1);
     }
   }
 
@@ -117,6 +128,16 @@ graph::PassTypeDecl caustic_map_pass_type() {
                     "move each photon within its grid cell from frame to frame (an R2 sequence, the centre first) instead of "
                     "starting it at the centre: successive maps sample different photons, and an accumulate pass averages them "
                     "into the map of a finer grid"});
+  params.push_back({"slice_side",
+                    ParamType::int_,
+                    1,
+                    1.0,
+                    16.0,
+                    {},
+                    "trace one photon in slice_side x slice_side of the grid each frame, its power times slice_side^2, a different "
+                    "one each frame since the reset: each map costs 1/slice_side^2 of the grid's and is noisier, and the mean of "
+                    "slice_side^2 successive maps (accumulate) is the whole grid's (1: every photon every frame)",
+                    true});
   PassTypeDecl decl{
       "caustic_map",
       "Regular caustic map: an N x N photon grid over the light's image plane, each photon refracted through two interfaces and "
@@ -131,7 +152,8 @@ graph::PassTypeDecl caustic_map_pass_type() {
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
   // A jittered grid moves every frame (the progressive graph).
   decl.depends_on = [](const nlohmann::json& resolved) {
-    return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
+    return kDependsOnGeometry | kDependsOnLights |
+           (resolved.value("jitter", false) || resolved.value("slice_side", 1) > 1 ? kDependsOnFrame : 0u);
   };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;

@@ -246,6 +246,26 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   EXPECT_LT(relative_difference(after_light, run(fresh, moved_light, 1, false)), 1e-6);
 }
 
+// A sliced grid (slice_side 2): each frame traces a quarter of the grid's photons, each with four
+// times its power, another quarter each frame, so the mean of 4 frames is the whole grid's map (the
+// same photons: the grid stands still with jitter off, and exact paths draw their random numbers
+// per photon), where any one frame is far from it; so for the image-space and the exact photons.
+TEST(Progressive, SlicedFramesTraceTheWholeGridOnce) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  for (const char* distance : {"distance=dv_dn", "distance=ray_query"}) {
+    const auto sets = with(kSmall, {"grid=128", "jitter=false", distance});
+    const io::ImageData whole = accumulated(e, scene, with(sets, {"slice_side=1"}), 1);
+    const double one_slice = relative_difference(accumulated(e, scene, with(sets, {"slice_side=2"}), 1), whole);
+    double frames = 0;
+    const double four_slices = relative_difference(accumulated(e, scene, with(sets, {"slice_side=2"}), 4, &frames), whole);
+    std::printf("%s: against the whole grid's map, one quarter slice %.4f, the mean of four %.2e\n", distance, one_slice, four_slices);
+    EXPECT_EQ(frames, 4.0);
+    EXPECT_LT(four_slices, 1e-5) << distance;
+    EXPECT_GT(one_slice, 0.1) << distance;
+  }
+}
+
 // A parameter that the pass reads every frame may be an expression of the frame block: a photon grid
 // growing with the frames since the last reset gives on frame k the map of a fresh render with grid
 // 64 (k + 1), and the exposure on frame k the picture of exposure k + 0.5 (the lighting reads each

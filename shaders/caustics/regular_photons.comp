@@ -37,6 +37,10 @@ layout(push_constant) uniform Params {
   uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
   uint band;  // caustics/photon.glsl: BAND_WHITE or the colour band traced (unused with PHOTON_BAND_LOOP)
   vec2 jitter;  // where in its grid cell each photon starts: (0.5, 0.5) the centre
+  // This frame's slice of the grid: the cells slice_offset + slice_side * gl_GlobalInvocationID.xy,
+  // each photon carrying the power of slice_side^2 (passes/caustic_map.cpp).
+  uvec2 slice_offset;
+  uint slice_side;
 } params;
 
 #include "caustics/photon.glsl"
@@ -60,6 +64,10 @@ bool trace_and_splat(uvec2 id, bool in_grid, bool tracing, LightData light) {
     count(2);  // misses every refractor: direct light, not a caustic
     return false;
   }
+  const float slice_weight = float(params.slice_side * params.slice_side);
+  ph.power *= slice_weight;
+  ph.entering *= slice_weight;
+  ph.side_power *= slice_weight;
   add_sum(1, ph.entering);
   if (ph.tir) {
     count(3);
@@ -83,7 +91,7 @@ bool trace_and_splat(uvec2 id, bool in_grid, bool tracing, LightData light) {
 void main() {
   begin_exact_jobs();  // before begin_group_totals' barrier
   begin_group_totals();
-  uvec2 id = gl_GlobalInvocationID.xy;
+  uvec2 id = gl_GlobalInvocationID.xy * params.slice_side + params.slice_offset;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));
   LightData light = frame.lights[params.light];
 #ifdef PHOTON_BAND_LOOP
