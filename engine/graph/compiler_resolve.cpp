@@ -183,7 +183,11 @@ void Compiler::size_resources() {
     if (auto it = redirect_.find(name); it != redirect_.end() && it->second.empty()) continue;  // nothing writes it for this scene
     int index = plan_.find_resource(redirected(name));
     if (index < 0) {
-      throw InputError(graph_.doc.path() + ": no resource named '" + name + "' to keep" + did_you_mean(name, resource_names()));
+      std::string what_there_is = did_you_mean(name, resource_names());
+      if (what_there_is.empty()) {
+        for (const auto& r : resource_names()) what_there_is += (what_there_is.empty() ? "; its resources: " : ", ") + r;
+      }
+      throw InputError(graph_.doc.path() + ": no resource named '" + name + "' to keep" + what_there_is);
     }
     plan_.resources[static_cast<size_t>(index)].transient = false;
   }

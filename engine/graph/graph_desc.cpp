@@ -238,8 +238,20 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
       if (p.decl.name == name) target = &p;
     }
     if (!target) {
-      throw InputError("--set " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" +
-                       did_you_mean(name, known));
+      // Say what there is: a pass's own parameter of that name, or else the graph's parameters.
+      std::string what_there_is = did_you_mean(name, known);
+      for (const auto& pass : graph.passes) {
+        if (what_there_is.empty() && pass.params.contains(name)) {
+          what_there_is = "; '" + name + "' is a parameter of pass '" + pass.name + "', which only the graph file sets (" + pass.pointer +
+                          "/params/" + name + "), or a graph parameter that it names as \"$NAME\"";
+        }
+      }
+      if (what_there_is.empty()) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        what_there_is = known.empty() ? "; it has none" : "; its parameters: " + list;
+      }
+      throw InputError("--set " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" + what_there_is);
     }
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
     // A choice is a string: "--set grid=2048" means the choice "2048".
