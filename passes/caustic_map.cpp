@@ -73,20 +73,22 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    // Where in its grid cell each photon starts: the cell's centre on the first frame after a reset,
-    // then points that cover the cell evenly, so that the mean of successive maps (accumulate)
-    // converges to the map of a finer grid.
-    const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? ctx.frame().since_reset : 0);
-    push.jitter[0] = jitter.x;
-    push.jitter[1] = jitter.y;
-    // One cell in slice_side x slice_side a frame, a different one each frame since the reset, so
-    // that slice_side^2 successive frames trace the whole grid once (column k mod n, each column's
-    // rows in a turned order: successive slices lie apart).
+    // One cell in slice_side x slice_side a frame, another each frame since the reset, so that each
+    // run of slice_side^2 frames traces the whole grid once (column k mod n, each column's rows in a
+    // turned order, so that successive slices lie apart).
     const uint32_t side = p["slice_side"].get<uint32_t>();
-    const uint64_t slice = ctx.frame().since_reset % (uint64_t{side} * side);
+    const uint64_t slices = uint64_t{side} * side, since_reset = ctx.frame().since_reset, slice = since_reset % slices;
     push.slice_offset[0] = static_cast<uint32_t>(slice % side);
     push.slice_offset[1] = static_cast<uint32_t>((slice / side + slice) % side);
     push.slice_side = side;
+    // Where in its grid cell each photon starts: the cell's centre on the first run of the grid after
+    // a reset, then points that cover the cell evenly, so that the mean of successive maps
+    // (accumulate) converges to the map of a finer grid. One point per run of the grid: a run of
+    // slices is the whole grid's frame, and a cell's successive points are the sequence's own
+    // (every n^2-th point of it would cover the cell poorly: 4 R2 steps move x by 0.02).
+    const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? since_reset / slices : 0);
+    push.jitter[0] = jitter.x;
+    push.jitter[1] = jitter.y;
     const uint32_t traced_side = (push.grid + side - 1) / side;
     const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
     const vk::Pipeline& photons = passes.pipeline;

@@ -219,6 +219,14 @@ TEST(ImageMetrics, KnownAnswers) {
   EXPECT_NEAR(reference::compare_images(half, a, 0.0).energy_ratio, 0.5, 1e-12);
   EXPECT_NEAR(c.max_error, 1.0, 1e-6);
   EXPECT_NEAR(c.mean_error, 0.5, 1e-6);              // 6 of 12 colour values off by 1
+  EXPECT_NEAR(c.rms_error, std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(c.psnr, 20 * std::log10(1 / std::sqrt(0.5)), 1e-6);  // b's peak is 1
+  // A flux map's values are far below 1: the peak is the reference's, so scaling both images
+  // leaves the PSNR as it was (against a peak of 1 it would rise by 120 dB here).
+  io::ImageData dim_a = a, dim_b = b;
+  for (float& v : dim_a.rgba) v *= 1e-6f;
+  for (float& v : dim_b.rgba) v *= 1e-6f;
+  EXPECT_NEAR(reference::compare_images(dim_a, dim_b, 0.0).psnr, c.psnr, 1e-4);
   a.rgba[0] = std::nanf("");
   EXPECT_EQ(reference::compare_images(a, b, 0.0).nonfinite_a, 1u);
   // A blur wide enough spreads both to the same level: the error falls, the energy stays.

@@ -31,6 +31,9 @@ struct Session {
 
 // The session's graph with its parameter edits and switched-off passes applied.
 graph::GraphDesc edited(const Session& s);
+// Takes command-line assignments (--set NAME=VALUE, as render reads them) as the user's edits, checked
+// against the graph file.
+void set_from_command_line(Session& s, const std::vector<std::string>& assignments);
 
 // A file's modification time (the epoch's if it cannot be read).
 std::filesystem::file_time_type modified(const std::string& path);

@@ -84,6 +84,7 @@ class Viewer::Impl {
       throw DeviceError(vk_.device_name() + ": this window's images cannot be copied out (--window-shot)");
     session_.graph_file = o.graph_file;
     session_.scene_file = o.scene_file;
+    set_from_command_line(session_, o.sets);
     shader_time_ = newest_file(data_dir() / "shaders");
     reload(true);
     if (!session_.graph) throw InputError(session_.status);

@@ -37,6 +37,9 @@ struct ViewerOptions {
   // --still-after: once nothing has moved for this long, the graph parameters' "while_still" values
   // (where the user has not set them): the progressive graph's exact photons.
   double still_after_ms = 300.0;
+  // --set NAME=VALUE: graph parameters as if set in the panel (the while_moving and while_still
+  // values leave them alone).
+  std::vector<std::string> sets;
 };
 
 // What the help and the on-screen help say about the keys.

@@ -63,7 +63,7 @@ ImageComparison compare_images(const io::ImageData& a, const io::ImageData& b, d
   result.relative_l1 = sum_b != 0 ? difference / std::abs(sum_b) : (difference == 0 ? 0.0 : std::numeric_limits<double>::infinity());
   result.energy_ratio = sum_b != 0 ? sum_a / sum_b : (sum_a == 0 ? 1.0 : std::numeric_limits<double>::infinity());
   // Per colour value, unblurred; a NaN or Inf counts as 0, as in the sums above.
-  double absolute = 0, squared = 0;
+  double absolute = 0, squared = 0, peak = 0;
   for (size_t i = 0; i < a.rgba.size(); ++i) {
     if (i % 4 == 3) continue;
     const double va = std::isfinite(a.rgba[i]) ? static_cast<double>(a.rgba[i]) : 0.0,
@@ -72,11 +72,18 @@ ImageComparison compare_images(const io::ImageData& a, const io::ImageData& b, d
     absolute += d;
     squared += d * d;
     result.max_error = std::max(result.max_error, d);
+    peak = std::max(peak, vb);
   }
   const double values = 3.0 * a.width * a.height;
   result.mean_error = absolute / values;
   result.rms_error = std::sqrt(squared / values);
-  result.psnr = result.rms_error > 0 ? 20.0 * std::log10(1.0 / result.rms_error) : std::numeric_limits<double>::infinity();
+  // The peak is the reference's brightest value, not 1: a caustic map's flux per texel is far below 1,
+  // and against 1 any map of it would score a PSNR of 90 dB or more. A display image with white in
+  // it has the usual peak of 1.
+  if (result.rms_error == 0)
+    result.psnr = std::numeric_limits<double>::infinity();
+  else
+    result.psnr = peak > 0 ? 20.0 * std::log10(peak / result.rms_error) : -std::numeric_limits<double>::infinity();
   return result;
 }
 

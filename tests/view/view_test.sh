@@ -94,6 +94,16 @@ if pixels; then
   "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
   if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 fi
+# A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
+# the search, not the while_still ray queries).
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --set distance=search --screenshot "$dir/still_search.png" --validate > "$dir/log" 2>&1 || fail "view --set distance=search exited $?: $(cat "$dir/log")"
+if pixels; then
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --accumulate 4 --out "$dir/search4.png" 2> /dev/null
+  "$bin" compare "$dir/still_search.png" "$dir/search4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "view --set distance=search is not four accumulated search frames: $(cat "$dir/compare")"
+  if "$bin" compare "$dir/still_search.png" "$dir/exact4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell the search from ray queries"; fi
+fi
+"$bin" view --graph "$progressive" --size 160x90 --frames 1 --set distanse=search > "$dir/log" 2>&1 && fail "view --set with an unknown parameter exited 0"
+grep -q "has no parameter 'distanse' (did you mean 'distance'?)" "$dir/log" || fail "view --set distanse=search: $(cat "$dir/log")"
 "$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
 # A device without ray queries refuses the exact photons: the values as set, and a message.
 CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"

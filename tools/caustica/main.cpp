@@ -558,7 +558,7 @@ int cmd_compare(Args& args) {
                  "  energy_ratio   sum A / sum B on luminance (above 1: A has more energy than B)\n"
                  "  shape_l1       the same L1 with each image divided by its own sum (0 to 2): misplaced energy only\n"
                  "  mean_error, rms_error, max_error         |A - B| over the unblurred colour values\n"
-                 "  psnr                                    20 log10(1 / rms_error) in dB (peak 1)\n"
+                 "  psnr                                    20 log10(peak / rms_error) in dB, the peak B's largest colour value\n"
                  "  nonfinite_a, nonfinite_b                NaN or Inf values in each image\n\n"
                  "options:\n"
                  "  --blur SIGMA          Gaussian sigma in pixels for relative_l1 and energy_ratio (default 1.5; 0: none)\n"

@@ -17,7 +17,7 @@ namespace caustica::cli {
 namespace {
 
 const char* kViewHelp = R"(usage: caustica view [--graph FILE] [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
-                     [--window-shot F.png] [--inspect IMAGE] [--continuous] [--max-fps N]
+                     [--window-shot F.png] [--inspect IMAGE] [--set NAME=VALUE]... [--continuous] [--max-fps N]
                      [--validate] [--device NAME]
 
 Opens a window that runs the graph on the scene (defaults as for render): the compiled passes in
@@ -41,6 +41,8 @@ options:
                         with --inspect the inspected image at full size (.exr: its values as they are)
   --window-shot F.png   with --frames: write the whole window as shown, panels included, and quit
   --inspect IMAGE       open the resource inspector on one of the graph's images
+  --set NAME=VALUE      a graph parameter, as if set in the panel (repeatable; the while_moving and
+                        while_still values leave it alone)
   --scene FILE          the scene, or a model file (.gltf, .glb, .obj, .off) as render takes it
   --no-stage            with a model file: no floor
   --continuous          render every frame even when nothing changes (for timing; key C toggles it)
@@ -191,15 +193,17 @@ int cmd_view(Args& args) {
   std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
-    if (a.starts_with("--")) given_once(given, a);
+    if (a.starts_with("--") && a != "--set") given_once(given, a);
     if (window_flag(args, a, o, v)) continue;
     if (a == "--graph") {
       o.graph = find_data_file(args.value(a), "graphs");
     } else if (a == "--inspect") {
       v.inspect = args.value(a);
+    } else if (a == "--set") {
+      v.sets.push_back(args.value(a));
     } else {
       auto known = kWindowFlags;
-      known.insert(known.end(), {"--graph", "--inspect"});
+      known.insert(known.end(), {"--graph", "--inspect", "--set"});
       unknown_option(a, known);
     }
   }
