@@ -929,6 +929,21 @@ TEST(GraphModel, EachOperationRewritesOnlyTheTextOfWhatItChanges) {
   expect_changes(placed, {"add /editor/positions/blur_y"}, [](GraphModel& m) { m.set_position("blur_y", 500, 40); });
 }
 
+// The canvas's wires: from a writer's output to each input reading what it writes, and for a history
+// input ("still_mean@previous") from the writer of that resource, here the reading pass itself.
+TEST(GraphModel, WiresIncludeHistoryInputs) {
+  GraphModel model = GraphModel::open((graphs_dir() / "refraction_deferred.json").string(), registry());
+  using editor::Wire;
+  const std::vector<Wire> found = editor::wires(model.json());
+  auto has = [&](const Wire& w) { return std::find(found.begin(), found.end(), w) != found.end(); };
+  EXPECT_TRUE(has({"still_mean", "average", "still_mean", "previous", "still_mean", true}));
+  EXPECT_TRUE(has({"still_mean", "average", "tonemap", "source", "still_mean", false}));
+  for (const Wire& w : found) {
+    EXPECT_FALSE(w.writer == w.reader && !w.history) << w.writer << " wired to itself";
+    EXPECT_EQ(w.resource.find('@'), std::string::npos) << w.resource;
+  }
+}
+
 TEST(GraphModel, InvalidEditsAreRefusedWithTheValidatorsMessage) {
   GraphModel model = GraphModel::open((graphs_dir() / "core_demo.json").string(), registry());
   const std::string before = model.text();

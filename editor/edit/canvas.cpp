@@ -119,32 +119,27 @@ void GraphEditor::fit_view(ImVec2 size) {
 }
 
 // Wires: from the writer's output port to each reader's input port, labelled with the resource's
-// format and extent as compiled.
+// format and extent as compiled; a history input's wire (the last frame's resource) in blue, looping
+// below the node when a pass reads its own last result.
 void GraphEditor::draw_wires(const CanvasView& view) const {
   const graph::Plan& plan = viewer_.plan();
-  for (const auto& reader : nodes_) {
-    for (const auto& in : reader.inputs) {
-      const std::string resource = resource_of(reader.name, in);
-      if (resource.empty()) continue;
-      for (const auto& writer : nodes_) {
-        if (&writer == &reader) continue;  // a read_write port's own binding
-        for (const auto& out : writer.outputs) {
-          if (resource_of(writer.name, out) != resource) continue;
-          const ImVec2 a = view.port_pos(writer, out, true), b = view.port_pos(reader, in, false);
-          const float bend = std::max(40.0f, std::abs(b.x - a.x) * 0.5f) * view.zoom;
-          view.draw->AddBezierCubic(a, ImVec2(a.x + bend, a.y), ImVec2(b.x - bend, b.y), b, IM_COL32(200, 200, 120, 200), 2.0f);
-          std::string label = resource;
-          if (const int r = plan.find_resource(resource); r >= 0) {
-            const auto& pr = plan.resources[static_cast<size_t>(r)];
-            label +=
-                " " + std::string(graph::format_info(pr.format).name) + " " + std::to_string(pr.width) + "x" + std::to_string(pr.height);
-          }
-          const ImVec2 middle((a.x + b.x) * 0.5f - view.text_size(label).x * 0.5f, (a.y + b.y) * 0.5f - view.font_size);
-          view.draw->AddRectFilled(middle, middle + view.text_size(label), IM_COL32(20, 20, 20, 170));
-          view.text_at(middle, IM_COL32(220, 220, 170, 255), label);
-        }
-      }
+  for (const Wire& wire : wires(model_.json())) {
+    const Node* writer = node(wire.writer);
+    const Node* reader = node(wire.reader);
+    if (!writer || !reader) continue;
+    const ImVec2 a = view.port_pos(*writer, wire.output, true), b = view.port_pos(*reader, wire.input, false);
+    const float bend = std::max(40.0f, std::abs(b.x - a.x) * 0.5f) * view.zoom;
+    const float drop = writer == reader ? 60.0f * view.zoom : 0.0f;
+    view.draw->AddBezierCubic(a, ImVec2(a.x + bend, a.y + drop), ImVec2(b.x - bend, b.y + drop), b,
+                              wire.history ? IM_COL32(140, 170, 255, 220) : IM_COL32(200, 200, 120, 200), 2.0f);
+    std::string label = wire.history ? "last frame's " + wire.resource : wire.resource;
+    if (const int r = plan.find_resource(wire.resource); r >= 0) {
+      const auto& pr = plan.resources[static_cast<size_t>(r)];
+      label += " " + std::string(graph::format_info(pr.format).name) + " " + std::to_string(pr.width) + "x" + std::to_string(pr.height);
     }
+    const ImVec2 middle((a.x + b.x) * 0.5f - view.text_size(label).x * 0.5f, (a.y + b.y) * 0.5f + drop * 0.75f - view.font_size);
+    view.draw->AddRectFilled(middle, middle + view.text_size(label), IM_COL32(20, 20, 20, 170));
+    view.text_at(middle, IM_COL32(220, 220, 170, 255), label);
   }
 }
 

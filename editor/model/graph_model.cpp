@@ -514,4 +514,25 @@ void GraphModel::save_as(const std::string& path) {
   saved_ = doc_;
 }
 
+std::vector<Wire> wires(const ordered_json& graph) {
+  std::vector<Wire> found;
+  if (!graph.contains("passes")) return found;
+  for (const auto& reader : graph["passes"]) {
+    if (!reader.contains("inputs")) continue;
+    for (const auto& [input, binding] : reader["inputs"].items()) {
+      const std::string resource = resource_of_binding(binding.get<std::string>());
+      const bool history = resource != binding.get<std::string>();
+      for (const auto& writer : graph["passes"]) {
+        // A read_write port's own binding is no wire; a pass reading its own last result is one.
+        if (&writer == &reader && !history) continue;
+        if (!writer.contains("outputs")) continue;
+        for (const auto& [output, written] : writer["outputs"].items()) {
+          if (written == resource) found.push_back({writer["name"], output, reader["name"], input, resource, history});
+        }
+      }
+    }
+  }
+  return found;
+}
+
 }  // namespace caustica::editor

@@ -111,4 +111,13 @@ class GraphModel {
   std::vector<Step> undo_, redo_;
 };
 
+// A wire of the canvas: from a pass's output to an input that reads what it writes, in this frame
+// or (a history input, "NAME@previous") as the last frame left it.
+struct Wire {
+  std::string writer, output, reader, input, resource;
+  bool history = false;
+  bool operator==(const Wire&) const = default;
+};
+std::vector<Wire> wires(const nlohmann::ordered_json& graph);
+
 }  // namespace caustica::editor
