@@ -329,6 +329,15 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   EXPECT_GT(stats["memory"]["transient_bytes_unaliased"].get<uint64_t>(), 0u);
   EXPECT_GT(fs::file_size(dir / "hdr.exr"), 1000u);
   EXPECT_GT(fs::file_size(dir / "frame.exr"), 1000u);
+  // An EXR holds linear values: --out F.exr writes the tonemap's input, not its 8-bit picture, and
+  // the summary names it and every --dump file.
+  EXPECT_NE(r.output.find("-> frame.exr (linear: 'blurred', the tonemap's input), hdr -> hdr.exr"), std::string::npos) << r.output;
+  CliRun linear = run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --dump blurred=blurred.exr --out frame.exr", dir);
+  ASSERT_EQ(linear.code, 0) << linear.output;
+  EXPECT_EQ(run("compare frame.exr blurred.exr --max-l1 0", dir).code, 0);
+  CliRun display = run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --out frame.png", dir);
+  ASSERT_EQ(display.code, 0) << display.output;
+  EXPECT_NE(run("compare frame.exr frame.png --max-l1 0.01", dir).code, 0) << "the EXR holds the display values";
 
   CliRun t = run("trace " + kCoreDemo + "--validate --size 640x360 --frames 4 --out trace.json", dir);
   ASSERT_EQ(t.code, 0) << t.output;

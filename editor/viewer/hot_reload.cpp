@@ -14,7 +14,9 @@ graph::GraphDesc edited(const Session& s) {
   // The edits are JSON values (a choice among them a quoted string), checked again because a
   // reloaded file may have changed the parameter.
   for (const auto& [name, value] : s.edits) {
-    auto p = std::find_if(g.parameters.begin(), g.parameters.end(), [&](const graph::GraphParameter& gp) { return gp.decl.name == name; });
+    // An init-capture: clang 14 cannot capture a structured binding.
+    auto p = std::find_if(g.parameters.begin(), g.parameters.end(),
+                          [&name = name](const graph::GraphParameter& gp) { return gp.decl.name == name; });
     if (p == g.parameters.end()) throw InputError(s.graph_file + " has no parameter '" + name + "' any more (set in the viewer)");
     const nlohmann::json parsed = nlohmann::json::parse(value);
     if (const std::string problem = graph::check_param_value(p->decl, parsed); !problem.empty()) {

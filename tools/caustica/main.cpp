@@ -145,11 +145,25 @@ void write_json(const std::string& path, const nlohmann::json& value) {
   io::write_text_atomically(path, value.dump(2) + "\n");
 }
 
+// What --out F.exr writes: an EXR holds linear values, so where the graph's first output is the
+// tonemap pass's display-encoded 8-bit image, the tonemap's linear input; empty otherwise (the
+// output as it is).
+std::string linear_source_of_output(const graph::GraphDesc& graph, const std::string& out) {
+  if (std::filesystem::path(out).extension() != ".exr" || graph.outputs.empty()) return "";
+  for (const auto& pass : graph.passes) {
+    const auto target = pass.outputs.find("target");
+    if (pass.type == "tonemap" && target != pass.outputs.end() && target->second == graph.outputs.front()) return pass.inputs.at("source");
+  }
+  return "";
+}
+
 int run_render(const RenderOptions& o, bool trace) {
   graph::GraphDesc graph = graph::load_graph_file(o.graph);
   graph::apply_overrides(graph, o.sets);
   std::set<std::string> retained;
   for (const auto& [resource, file] : o.dumps) retained.insert(resource);
+  const std::string linear_out = trace ? "" : linear_source_of_output(graph, o.out);
+  if (!linear_out.empty()) retained.insert(linear_out);
 
   // Model no more than the graph needs: a graph without scene passes loads no scene.
   const bool needs_scene = std::any_of(graph.passes.begin(), graph.passes.end(), [](const graph::PassDesc& p) {
@@ -212,16 +226,21 @@ int run_render(const RenderOptions& o, bool trace) {
 
   if (!trace) {
     const auto& outputs = executor.plan().outputs;
-    io::write_image(o.out, executor.read_image(executor.plan().resources[outputs.front()].name));
+    io::write_image(o.out, executor.read_image(linear_out.empty() ? executor.plan().resources[outputs.front()].name : linear_out));
   }
-  for (const auto& [resource, file] : o.dumps) io::write_image(file, executor.read_image(resource));
+  std::string written = trace ? o.trace : o.out;
+  if (!linear_out.empty()) written += " (linear: '" + linear_out + "', the tonemap's input)";
+  for (const auto& [resource, file] : o.dumps) {
+    io::write_image(file, executor.read_image(resource));
+    written += ", " + resource + " -> " + file;
+  }
   if (!o.stats.empty()) write_json(o.stats, graph::stats_json(executor.plan(), run));
   if (trace) write_json(o.trace, graph::chrome_trace_json(executor.plan(), run));
 
   const auto& frame = run.frames.back();
   std::fprintf(stderr, "%s: %ux%u, %u frame%s on %s, last frame GPU %.2f ms, CPU %.2f ms -> %s\n", executor.plan().graph_name.c_str(),
                o.width, o.height, static_cast<uint32_t>(run.frames.size()), run.frames.size() == 1 ? "" : "s", run.device.c_str(),
-               frame.gpu_ms, frame.cpu_ms, trace ? o.trace.c_str() : o.out.c_str());
+               frame.gpu_ms, frame.cpu_ms, written.c_str());
   if (vk.validation_messages() > 0) {
     std::fprintf(stderr, "caustica: %u validation message%s (see above)\n", vk.validation_messages(),
                  vk.validation_messages() == 1 ? "" : "s");
@@ -234,7 +253,8 @@ int cmd_render(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica render [options]\n\nRenders frames of a graph headless and writes its first output.\n"
                  "With no options: the default graph at 1280x720 to caustica.png.\n\noptions:\n"
-                 "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float); default caustica.png\n"
+                 "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float: where the first output is a tonemap\n"
+                 "                        pass's 8-bit picture, that pass's input, before its exposure); default caustica.png\n"
               << kRenderOptionsHelp;
     return 0;
   }
