@@ -223,13 +223,13 @@ GraphDesc load_graph_file(const std::string& path) {
   return load_graph(JsonDocument::load(path));
 }
 
-void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments) {
+void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments, std::string_view command) {
   std::vector<std::string> known;
   for (const auto& p : graph.parameters) known.push_back(p.decl.name);
   for (const auto& assignment : assignments) {
     size_t eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0) {
-      throw UsageError("--set " + assignment + ": expected NAME=VALUE");  // the form of the command line, not the graph
+      throw UsageError(std::string(command) + " " + assignment + ": expected NAME=VALUE");  // the form of the command line, not the graph
     }
     std::string name = assignment.substr(0, eq);
     std::string text = assignment.substr(eq + 1);
@@ -251,13 +251,13 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
         what_there_is = known.empty() ? "; it has none" : "; its parameters: " + list;
       }
-      throw InputError("--set " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" + what_there_is);
+      throw InputError(std::string(command) + " " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" + what_there_is);
     }
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
     // A choice is a string: "--set grid=2048" means the choice "2048".
     if (value.is_discarded() || target->decl.type == ParamType::choice) value = text;
     std::string problem = check_param_value(target->decl, value);
-    if (!problem.empty()) throw InputError("--set " + assignment + ": parameter '" + name + "' " + problem);
+    if (!problem.empty()) throw InputError(std::string(command) + " " + assignment + ": parameter '" + name + "' " + problem);
     target->value = value;
   }
 }

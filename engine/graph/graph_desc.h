@@ -72,8 +72,9 @@ GraphDesc load_graph_file(const std::string& path);
 GraphDesc load_graph(JsonDocument doc);
 
 // Applies "name=value" overrides from --set; the value is parsed as JSON, or taken as a string.
-// Throws InputError for an unknown name (with a suggestion) or a value of the wrong type or range.
-void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments);
+// Throws InputError for an unknown name (with a suggestion) or a value of the wrong type or range;
+// messages begin with `command` (the flag or command that gave the assignments).
+void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments, std::string_view command = "--set");
 
 // The graph file's text with each parameter's "default" replaced by its current value (what --set
 // or the viewer changed), and nothing else touched: same keys, order, spacing and comments-free

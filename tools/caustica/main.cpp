@@ -413,7 +413,7 @@ int cmd_graph(Args& args) {
     if (sets.empty()) throw UsageError("graph set needs at least one NAME=VALUE");
     io::check_output_file(out);
     graph::GraphDesc graph = graph::load_graph_file(file);
-    graph::apply_overrides(graph, sets);
+    graph::apply_overrides(graph, sets, "graph set");
     io::write_text_atomically(out, graph::graph_text_with_values(graph));
     return 0;
   }
