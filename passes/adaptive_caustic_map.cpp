@@ -78,16 +78,15 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         std::min(log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0, log2_exact(grid));
     uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
     if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): the light-view buffers are " +
-                       std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
-                       (hierarchical_ ? "" : " (or set coverage_seeding to false)"));
+      throw setup.error("the light-view buffers are " + std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
+                        (hierarchical_ ? "" : " (or set coverage_seeding to false)"));
     }
     // Two lists of 4-byte entries. A start cluster can grow to 4^max_level clusters at the last level.
     capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
     const uint64_t per_start = uint64_t{1} << (2 * max_level_);
     if (per_start > capacity_) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer + "): grid " + std::to_string(grid) +
-                       " needs memory_mib of at least " + std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
+      throw setup.error("grid " + std::to_string(grid) + " needs memory_mib of at least " +
+                        std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
     }
     starts_per_batch_ = static_cast<uint32_t>(std::min<uint64_t>(kStartClusters, capacity_ / per_start));
 

@@ -17,8 +17,8 @@ class LightingPass final : public graph::Pass {
     has_shadow_ = setup.bound("shadow");
     has_caustics_ = setup.bound("caustics");
     if (has_caustics_ != setup.bound("caustic_depth")) {
-      throw InputError("pass '" + setup.pass().name + "' (at " + setup.pass().pointer +
-                       "): bind both \"caustics\" and \"caustic_depth\", or neither");
+      throw setup.error("bind both \"caustics\" and \"caustic_depth\", or neither (\"" +
+                        std::string(has_caustics_ ? "caustic_depth" : "caustics") + "\" is not bound)");
     }
     has_emission_ = setup.bound("emission");
     shader::Defines defines;

@@ -292,7 +292,11 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
     }
   }
   if (!plan.ray_query_passes.empty()) scene_->acceleration();
-  realize(std::move(plan));
+  try {
+    realize(std::move(plan));
+  } catch (const PassSetupError& e) {
+    throw graph.error(e.pointer(), e.what());
+  }
   configured_key_ = key;
   ++compile_count_;
   return true;
