@@ -49,6 +49,10 @@ void Compiler::build_edges() {
           if (resource == plan_.resources[written].name) why += " (pass '" + other.desc->name + "' that writes it is disabled)";
         }
       }
+      if (b.port->optional && written == b.resource) {
+        why += "; the input is optional: remove \"" + b.port->name + "\" from the pass's \"inputs\" to leave it unbound, or give resource '" +
+               read.name + "' \"fallback\": null to unbind it wherever nothing writes it";
+      }
       throw graph_.error(b.pointer, why);
     }
   }
