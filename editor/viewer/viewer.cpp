@@ -250,7 +250,8 @@ class Viewer::Impl {
     } catch (const std::exception& e) {
       session_.status = e.what();
       session_.status_is_error = true;
-      std::fprintf(stderr, "view: kept the last good files: %s\n", e.what());
+      // On the first load there is nothing to keep: the caller reports the error and exits.
+      if (!first) std::fprintf(stderr, "view: kept the last good files: %s\n", e.what());
     }
     session_.graph_time = graph_time;
     session_.scene_time = scene_time;

@@ -104,6 +104,11 @@ if pixels; then
 fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 1 --set distanse=search > "$dir/log" 2>&1 && fail "view --set with an unknown parameter exited 0"
 grep -q "has no parameter 'distanse' (did you mean 'distance'?)" "$dir/log" || fail "view --set distanse=search: $(cat "$dir/log")"
+# A graph that does not compile at the start: its message and exit 1, and no claim of last good files.
+printf '{"name": "broken", "passes": [], "outputs": []}\n' > "$dir/broken.json"
+"$bin" view --graph "$dir/broken.json" --size 160x90 --frames 1 > "$dir/log" 2>&1 && fail "view of a broken graph exited 0"
+grep -q "broken.json" "$dir/log" || fail "view of a broken graph does not name it: $(cat "$dir/log")"
+if grep -q "kept the last good" "$dir/log"; then fail "view of a broken graph claims to keep last good files: $(cat "$dir/log")"; fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
 # A device without ray queries refuses the exact photons: the values as set, and a message.
 CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
