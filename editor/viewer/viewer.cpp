@@ -218,6 +218,13 @@ class Viewer::Impl {
     return true;
   }
 
+  // "GRAPH on SCENE": the window's title and the panel's.
+  std::string shown_name() const {
+    const std::string scene_name =
+        session_.scene && !session_.scene->name.empty() ? session_.scene->name : std::filesystem::path(session_.scene_file).stem().string();
+    return executor_.plan().graph_name + " on " + scene_name;
+  }
+
   // Loads what changed on disk (everything when `first`); a failure keeps the last good version.
   // Returns whether anything changed on disk.
   bool reload(bool first) {
@@ -240,6 +247,7 @@ class Viewer::Impl {
         throw;
       }
       session_.scene = scene;
+      window_.set_title("caustica: " + shown_name());
       session_.status = first ? "loaded " + session_.graph_file : "reloaded " + session_.graph_file + " and " + session_.scene_file;
       session_.status_is_error = false;
       std::fprintf(stderr, "view: %s\n", session_.status.c_str());
@@ -445,7 +453,8 @@ class Viewer::Impl {
     const float height = std::min(700.0f, static_cast<float>(swapchain_.extent.height) - 20.0f);
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(370, height), ImGuiCond_FirstUseEver);
-    ImGui::Begin(executor_.plan().graph_name.c_str());
+    // The label shows the graph and the scene; the id after ### keeps the panel's place when they change.
+    ImGui::Begin((shown_name() + "###caustica").c_str());
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextColored(session_.status_is_error ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", session_.status.c_str());
     ImGui::PopTextWrapPos();

@@ -49,6 +49,10 @@ VkRenderPass make_render_pass(vk::Context& vk, VkFormat format) {
 
 }  // namespace
 
+void Window::set_title(const std::string& title) {
+  glfwSetWindowTitle(handle, title.c_str());
+}
+
 Window::Window(uint32_t width, uint32_t height) {
   if (!glfwInit()) throw DeviceError("cannot open a window: GLFW found no display (headless? run under xvfb-run)");
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);

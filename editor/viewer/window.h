@@ -4,6 +4,7 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
+#include <string>
 #include <vector>
 
 #include "graph/executor.h"
@@ -34,6 +35,7 @@ struct Window {
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
 
+  void set_title(const std::string& title);
   // Installs the callbacks that fill events(); call before ImGui's backend, which chains to them.
   void capture_events();
   // The events since the last call, and clears them.

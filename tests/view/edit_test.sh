@@ -63,7 +63,7 @@ printf 'set blur_x radius 9\n' > one.txt
 view_pid=$!
 for _ in $(seq 600); do grep -q "edit: set blur_x radius 9: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
 grep -q "edit: set blur_x radius 9: ok" log || fail "the script did not run"
-window=$(xdotool search --sync --name '^caustica$' | head -1)
+window=$(xdotool search --sync --name '^caustica: ' | head -1)
 xdotool key --window "$window" ctrl+z
 sleep 1
 xdotool key --window "$window" ctrl+s
@@ -82,7 +82,7 @@ view_pid=$!
 for _ in $(seq 600); do grep -q "edit: set blur_x radius 9: ok" log && break; kill -0 $view_pid || fail "edit exited"; sleep 0.1; done
 printf '\n' >> other.json
 cp other.json changed_elsewhere.json
-window=$(xdotool search --sync --name '^caustica$' | head -1)
+window=$(xdotool search --sync --name '^caustica: ' | head -1)
 xdotool key --window "$window" ctrl+s
 for _ in $(seq 600); do grep -q "changed on disk since it was opened: overwrite it?" log && break; sleep 0.1; done
 grep -q "changed on disk since it was opened: overwrite it?" log || fail "Ctrl+S did not ask before overwriting a file changed on disk"
@@ -104,7 +104,7 @@ for _ in $(seq 600); do grep -q "edit: select box_blur: ok" log && break; kill -
 from=$(sed -n 's/^edit: port blur_y.target at \([0-9]*\),\([0-9]*\)$/\1 \2/p' log)
 to=$(sed -n 's/^edit: port box_blur.source at \([0-9]*\),\([0-9]*\)$/\1 \2/p' log)
 [ -n "$from" ] && [ -n "$to" ] || fail "the ports were not drawn on the canvas"
-window=$(xdotool search --sync --name '^caustica$' | head -1)
+window=$(xdotool search --sync --name '^caustica: ' | head -1)
 xdotool mousemove --window "$window" $from
 sleep 1.5
 xdotool mousedown 1 mousemove --window "$window" $to
@@ -155,7 +155,7 @@ echo "ok: the resting viewer sleeps"
 "$bin" view --size 640x360 --continuous > log 2>&1 &
 view_pid=$!
 for _ in $(seq 600); do grep -q "view: loaded" log && break; sleep 0.1; done
-window=$(xdotool search --sync --name '^caustica$' | head -1)
+window=$(xdotool search --sync --name '^caustica: ' | head -1)
 for i in 1 2 3; do
   xdotool keydown --window "$window" p
   sleep 0.01

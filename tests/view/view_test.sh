@@ -152,6 +152,8 @@ cp "$src/graphs/core_demo.json" "$dir/g.json"
 "$bin" view --graph "$dir/g.json" --size 160x90 --validate > "$dir/log" 2>&1 &
 view_pid=$!
 wait_for "view: loaded $dir/g.json" 120 > /dev/null
+# The window's title names the graph and the scene (the default scene here).
+xdotool search --name '^caustica: core_demo on glass_bunny$' > /dev/null || fail "no window titled 'caustica: core_demo on glass_bunny'"
 sed -i 's/"default": 3,/"default": 5,/' "$dir/g.json"
 grep -q '"default": 5,' "$dir/g.json" || fail "the test's edit did not apply"
 took=$(wait_for "view: reloaded $dir/g.json" 3)
