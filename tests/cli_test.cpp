@@ -361,6 +361,33 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   fs::remove_all(dir);
 }
 
+// graph params: the graph's parameters (what --set reaches) with type, value, range and the
+// viewer's values, then each pass's, bound to a graph parameter or its own, and which follow the frame.
+TEST(Cli, GraphParamsListsWhatAGraphTakes) {
+  fs::path dir = scratch("params");
+  CliRun r = run("graph params caustics_progressive", dir);
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto line_of = [&](const std::string& start) {
+    const size_t at = r.output.find(start);
+    return at == std::string::npos ? std::string("(missing: " + start + ")") : r.output.substr(at, r.output.find('\n', at) - at);
+  };
+  EXPECT_NE(r.output.find("graph parameters of caustics_progressive (render, view, bench: --set NAME=VALUE"), std::string::npos) << r.output;
+  const std::string distance = line_of("  distance ");
+  EXPECT_NE(distance.find("choice  dv_dn"), std::string::npos) << distance;
+  EXPECT_NE(distance.find("dv|dv_dn|search|ray_query|hybrid|material"), std::string::npos) << distance;
+  EXPECT_NE(distance.find("[while still: ray_query]"), std::string::npos) << distance;
+  EXPECT_NE(line_of("  grid ").find("int     256             16 to 16384"), std::string::npos) << line_of("  grid ");
+  EXPECT_NE(r.output.find("  caustics (caustic_map)\n"), std::string::npos) << r.output;
+  const std::string pass_grid = line_of("    grid ");
+  EXPECT_NE(pass_grid.find("$grid"), std::string::npos) << pass_grid;
+  EXPECT_NE(pass_grid.find("[per frame]"), std::string::npos) << pass_grid;
+  EXPECT_NE(line_of("    seed ").find("1 (default)"), std::string::npos) << line_of("    seed ");
+  EXPECT_EQ(run("graph params", dir).code, 2);
+  CliRun missing = run("graph params no_such_graph", dir);
+  EXPECT_EQ(missing.code, 1) << missing.output;
+  fs::remove_all(dir);
+}
+
 TEST(Cli, GraphPlanAndDot) {
   CliRun plan = run("graph plan '" + (kSource / "graphs/core_demo.json").string() + "' --size 640x360");
   ASSERT_EQ(plan.code, 0) << plan.output;

@@ -370,12 +370,57 @@ int cmd_validate(Args& args) {
   return status;
 }
 
+// caustica graph params: what a graph takes, as a table a user reads before --set.
+std::string value_text(const nlohmann::json& value) {
+  return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+std::string range_text(const graph::ParamDecl& d) {
+  if (d.type == graph::ParamType::choice) {
+    std::string choices;
+    for (const auto& c : d.choices) choices += (choices.empty() ? "" : "|") + c;
+    return choices;
+  }
+  if (d.min && d.max) return JsonReader::format_number(*d.min) + " to " + JsonReader::format_number(*d.max);
+  return d.type == graph::ParamType::bool_ ? "true|false" : "";
+}
+
+void print_graph_params(const graph::GraphDesc& graph, const graph::PassRegistry& registry) {
+  auto row = [](std::string indent, const std::string& name, std::string_view type, const std::string& value, const std::string& range,
+                const std::string& note) {
+    std::printf("%s%-24s %-7s %-15s %-26s %s\n", indent.c_str(), name.c_str(), std::string(type).c_str(), value.c_str(), range.c_str(),
+                note.c_str());
+  };
+  std::printf("graph parameters of %s (render, view, bench: --set NAME=VALUE; graph set FILE NAME=VALUE):\n", graph.name.c_str());
+  if (graph.parameters.empty()) std::printf("  (none)\n");
+  for (const auto& p : graph.parameters) {
+    std::string note = p.decl.description;
+    if (p.while_moving) note += " [while moving: " + value_text(*p.while_moving) + "]";
+    if (p.while_still) note += " [while still: " + value_text(*p.while_still) + "]";
+    row("  ", p.decl.name, graph::param_type_name(p.decl.type), value_text(p.value), range_text(p.decl), note);
+  }
+  std::printf("\npass parameters (set in the graph file; \"$NAME\" follows graph parameter NAME; [per frame]: may be an "
+              "expression of frame.*):\n");
+  for (const auto& pass : graph.passes) {
+    const graph::PassTypeDecl* decl = registry.find(pass.type);
+    if (!decl || decl->params.empty()) continue;
+    std::printf("  %s (%s)\n", pass.name.c_str(), pass.type.c_str());
+    for (const auto& d : decl->params) {
+      const bool given = pass.params.contains(d.name);
+      const std::string value = given ? value_text(pass.params[d.name]) : value_text(d.default_value) + " (default)";
+      row("    ", d.name, graph::param_type_name(d.type), value, range_text(d), (d.per_frame ? "[per frame] " : "") + d.description);
+    }
+  }
+}
+
 int cmd_graph(Args& args) {
   const char* help =
       "usage: caustica graph plan FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
       "       caustica graph dot FILE [--size WxH] [--set NAME=VALUE]... [--scene S]\n"
       "       caustica graph schema      (the JSON Schema of graph files, as in graphs/schema.json)\n"
-      "       caustica graph set FILE NAME=VALUE... [--out NEW.json]\n\n"
+      "       caustica graph set FILE NAME=VALUE... [--out NEW.json]\n"
+      "       caustica graph params FILE (the graph's parameters, which --set sets, and each pass's, with types,\n"
+      "                                   values, ranges and descriptions)\n\n"
       "'set' writes parameter values into the graph file as their defaults (or into NEW.json): only those values\n"
       "change, the rest of the file stays as it was written. The viewer's Save does the same.\n\n"
       "Compiles a graph without a device and prints the plan: 'plan' as JSON (order, culled passes,\n"
@@ -390,7 +435,7 @@ int cmd_graph(Args& args) {
     std::cout << help;
     return 0;
   }
-  if (args.done()) throw UsageError("graph needs 'plan', 'dot', 'schema' or 'set'; see caustica graph --help");
+  if (args.done()) throw UsageError("graph needs 'plan', 'dot', 'schema', 'set' or 'params'; see caustica graph --help");
   std::string what = args.take();
   if (what == "schema") {
     std::cout << graph::graph_schema_json(passes::builtin_registry()).dump(2) << "\n";
@@ -417,9 +462,16 @@ int cmd_graph(Args& args) {
     io::write_text_atomically(out, graph::graph_text_with_values(graph));
     return 0;
   }
+  if (what == "params") {
+    if (args.done()) throw UsageError("graph params needs a FILE");
+    const std::string file = find_data_file(args.take(), "graphs");
+    if (!args.done()) throw UsageError("graph params takes one FILE; unexpected '" + args.take() + "'");
+    print_graph_params(graph::load_graph_file(file), passes::builtin_registry());
+    return 0;
+  }
   if (what != "plan" && what != "dot")
-    throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema' or 'set'" +
-                     did_you_mean(what, {"plan", "dot", "schema", "set"}));
+    throw UsageError("graph " + what + ": expected 'plan', 'dot', 'schema', 'set' or 'params'" +
+                     did_you_mean(what, {"plan", "dot", "schema", "set", "params"}));
   if (args.done()) throw UsageError("graph " + what + " needs a FILE");
   const std::string given = args.take();
   if (given.rfind("--", 0) == 0)
