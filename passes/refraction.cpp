@@ -288,7 +288,8 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
 
 void DeferredRefractionShading::copy(const graph::PassContext& ctx, VkImageView source, VkImageView target, VkExtent2D extent) const {
   const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
-  vk::dispatch_over_image(ctx.vk(), ctx.cmd(), copy_, vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target),
+  vk::dispatch_over_image(ctx.vk(), ctx.cmd(), copy_,
+                          vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target),
                           vk::bytes_of(size), extent);
 }
 

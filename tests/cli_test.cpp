@@ -371,7 +371,8 @@ TEST(Cli, GraphParamsListsWhatAGraphTakes) {
     const size_t at = r.output.find(start);
     return at == std::string::npos ? std::string("(missing: " + start + ")") : r.output.substr(at, r.output.find('\n', at) - at);
   };
-  EXPECT_NE(r.output.find("graph parameters of caustics_progressive (render, view, bench: --set NAME=VALUE"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("graph parameters of caustics_progressive (render, view, bench: --set NAME=VALUE"), std::string::npos)
+      << r.output;
   const std::string distance = line_of("  distance ");
   EXPECT_NE(distance.find("choice  dv_dn"), std::string::npos) << distance;
   EXPECT_NE(distance.find("dv|dv_dn|search|ray_query|hybrid|material"), std::string::npos) << distance;

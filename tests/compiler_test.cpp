@@ -551,7 +551,42 @@ TEST(Compiler, ParametersMayBeExpressionsOfTheFrame) {
       << compile_error(too_bright);
   nlohmann::json infinite = graph;
   infinite["passes"][1]["params"]["radius"] = "1 / frame.index";
-  EXPECT_NE(compile_error(infinite).find("\"1 / frame.index\" at character 16: division by zero (at /passes/1/params/radius)"), std::string::npos) << compile_error(infinite);
+  EXPECT_NE(compile_error(infinite).find("\"1 / frame.index\" at character 16: division by zero (at /passes/1/params/radius)"),
+            std::string::npos)
+      << compile_error(infinite);
+}
+
+// One run reports every independent error, a line each in the order of the file: here a pass with
+// two unknown parameters and an unknown port, and another of an unknown type; and, when loading,
+// two resources with unknown formats. A pass with a refused binding (the misspelt port) is not
+// reported again for the port it left unconnected.
+TEST(Compiler, EveryIndependentErrorIsReportedInOneRun) {
+  const nlohmann::json graph = {
+      {"resources", {{"lit", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"params", {{"gian", 2.0}, {"mood", "a"}}}, {"outputs", {{"colour", "lit"}}}},
+        {{"name", "show"}, {"type", "fliter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "out"}}}}}},
+      {"outputs", {"out"}}};
+  const std::string message = compile_error(graph);
+  // (The test's file is written with its keys sorted: "outputs" before "params".)
+  const std::vector<std::string> expected = {
+      "has no port 'colour' (did you mean 'color'?)", "has no parameter 'gian' (did you mean 'gain'?)",
+      "has no parameter 'mood' (did you mean 'mode'?)", "unknown pass type 'fliter' (did you mean 'filter'?)"};
+  size_t at = 0;
+  for (const auto& e : expected) {
+    const size_t found = message.find(e, at);
+    EXPECT_NE(found, std::string::npos) << "missing or out of order: " << e << "\n" << message;
+    if (found != std::string::npos) at = found;
+  }
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 3) << message;
+  EXPECT_EQ(message.find("not connected"), std::string::npos) << message;
+
+  nlohmann::json formats = graph;
+  formats["resources"]["lit"]["format"] = "rgba17f";
+  formats["resources"]["out"]["format"] = "rgb8";
+  const std::string load_message = compile_error(formats);
+  EXPECT_NE(load_message.find("unknown format 'rgba17f'"), std::string::npos) << load_message;
+  EXPECT_NE(load_message.find("unknown format 'rgb8'"), std::string::npos) << load_message;
 }
 
 }  // namespace

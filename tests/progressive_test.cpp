@@ -271,7 +271,8 @@ TEST(Progressive, SlicedFramesTraceTheWholeGridOnce) {
   const auto jittered = with(kSmall, {"grid=128", "jitter=true"});
   const io::ImageData two_whole = accumulated(e, scene, with(jittered, {"slice_side=1"}), 2);
   EXPECT_LT(relative_difference(accumulated(e, scene, with(jittered, {"slice_side=2"}), 8), two_whole), 1e-5);
-  EXPECT_GT(relative_difference(accumulated(e, scene, with(jittered, {"slice_side=1"}), 1), two_whole), 0.05) << "the check cannot tell one jitter from two";
+  EXPECT_GT(relative_difference(accumulated(e, scene, with(jittered, {"slice_side=1"}), 1), two_whole), 0.05)
+      << "the check cannot tell one jitter from two";
 }
 
 // A parameter that the pass reads every frame may be an expression of the frame block: a photon grid

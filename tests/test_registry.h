@@ -23,10 +23,21 @@ inline graph::PassRegistry make_test_registry() {
   };
   registry.add(source);
   auto inputs_alone = [](const nlohmann::json&) { return 0u; };
-  PassTypeDecl filter{"filter", "reads one image, writes another of the same size", PassQueue::compute,
+  PassTypeDecl filter{"filter",
+                      "reads one image, writes another of the same size",
+                      PassQueue::compute,
                       {sampled_in("source"),
-                       {"target", PortAccess::write, ResourceKind::image, PortUsage::storage, {Format::rgba16f, Format::rgba32f, Format::rgba8}, false, "", ""}},
-                      {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, "", true}}, false, nullptr};
+                       {"target",
+                        PortAccess::write,
+                        ResourceKind::image,
+                        PortUsage::storage,
+                        {Format::rgba16f, Format::rgba32f, Format::rgba8},
+                        false,
+                        "",
+                        ""}},
+                      {{"radius", ParamType::int_, 1, 0.0, 16.0, {}, "", true}},
+                      false,
+                      nullptr};
   filter.depends_on = inputs_alone;
   registry.add(filter);
   PassTypeDecl blend{"blend", "two inputs into one output of the same extent", PassQueue::graphics,

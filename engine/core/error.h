@@ -3,6 +3,7 @@
 // usage mistakes exit 2, device or runtime failures exit 3. Programmer mistakes are asserts.
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace caustica {
 
@@ -16,6 +17,47 @@ struct SourceLocation {
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// Bad input at a known place in a file (JsonDocument::error).
+class LocatedError : public InputError {
+ public:
+  LocatedError(const std::string& message, SourceLocation where) : InputError(message), where_(where) {}
+  SourceLocation where() const { return where_; }
+
+ private:
+  SourceLocation where_;
+};
+
+// The errors of an input's independent parts (a graph's passes, a pass's parameters and ports),
+// gathered so that one run reports them all, in the order of their place in the file.
+class ErrorList {
+ public:
+  static constexpr size_t kMaxReported = 20;
+
+  // Runs `part`, keeping the InputError it throws; returns whether it succeeded.
+  template <class Part>
+  bool attempt(Part&& part) {
+    try {
+      part();
+      return true;
+    } catch (const LocatedError& e) {
+      errors_.push_back({e.where(), e.what()});
+    } catch (const InputError& e) {
+      errors_.push_back({{}, e.what()});
+    }
+    return false;
+  }
+  bool empty() const { return errors_.empty(); }
+  // Throws one InputError holding every message gathered (a line each, at most kMaxReported), if any.
+  void throw_if_any();
+
+ private:
+  struct Entry {
+    SourceLocation where;
+    std::string message;
+  };
+  std::vector<Entry> errors_;
 };
 
 class UsageError : public std::runtime_error {

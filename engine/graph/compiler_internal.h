@@ -43,11 +43,14 @@ class Compiler {
     const PassTypeDecl* decl = nullptr;
     nlohmann::json params;
     std::map<std::string, std::string> frame_params;  // PlannedPass::frame_params
+    bool refused_binding = false;                     // a binding had an error: no "not connected" after it
     std::vector<Binding> bindings;
     std::vector<uint32_t> successors;
     std::vector<uint32_t> predecessors;
   };
   std::vector<Node> nodes_;
+  // The errors of independent parts (resources, passes, parameters, ports), reported together.
+  mutable ErrorList errors_;
   std::vector<std::vector<uint32_t>> writers_;  // per resource, node indices
   std::vector<std::vector<uint32_t>> readers_;
   std::vector<bool> enabled_;                    // per pass of the file

@@ -50,8 +50,9 @@ void Compiler::build_edges() {
         }
       }
       if (b.port->optional && written == b.resource) {
-        why += "; the input is optional: remove \"" + b.port->name + "\" from the pass's \"inputs\" to leave it unbound, or give resource '" +
-               read.name + "' \"fallback\": null to unbind it wherever nothing writes it";
+        why += "; the input is optional: remove \"" + b.port->name +
+               "\" from the pass's \"inputs\" to leave it unbound, or give resource '" + read.name +
+               "' \"fallback\": null to unbind it wherever nothing writes it";
       }
       throw graph_.error(b.pointer, why);
     }

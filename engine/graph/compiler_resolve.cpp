@@ -124,47 +124,50 @@ uint32_t Compiler::extent(const std::string& text, const std::string& pointer, c
 
 void Compiler::size_resources() {
   for (const auto& desc : graph_.resources) {
-    PlannedResource r;
-    r.name = desc.name;
-    r.pointer = desc.pointer;
-    r.kind = desc.kind;
-    r.format = desc.format;
-    if (desc.kind == ResourceKind::image) {
-      r.width = extent(desc.width, desc.pointer + "/width", "width", desc.name);
-      r.height = extent(desc.height, desc.pointer + "/height", "height", desc.name);
-      double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips"));
-      uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
-      if (mips < 1 || mips > max_mips) {
-        throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) + " mip levels; a " +
-                                                       std::to_string(r.width) + "x" + std::to_string(r.height) + " image has 1 to " +
-                                                       std::to_string(max_mips));
+    errors_.attempt([&] {
+      PlannedResource r;
+      r.name = desc.name;
+      r.pointer = desc.pointer;
+      r.kind = desc.kind;
+      r.format = desc.format;
+      if (desc.kind == ResourceKind::image) {
+        r.width = extent(desc.width, desc.pointer + "/width", "width", desc.name);
+        r.height = extent(desc.height, desc.pointer + "/height", "height", desc.name);
+        double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips"));
+        uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
+        if (mips < 1 || mips > max_mips) {
+          throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) + " mip levels; a " +
+                                                         std::to_string(r.width) + "x" + std::to_string(r.height) + " image has 1 to " +
+                                                         std::to_string(max_mips));
+        }
+        r.mips = static_cast<uint32_t>(mips);
+        double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers"));
+        if (layers < 1 || layers > kMaxImageLayers) {
+          throw graph_.error(desc.pointer + "/layers", "'" + desc.name + "' asks for " + JsonReader::format_number(layers) +
+                                                           " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
+        }
+        r.layers = static_cast<uint32_t>(layers);
+        if (r.layers > 1 && r.format != Format::r32f) {
+          throw graph_.error(desc.pointer + "/layers",
+                             "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f images can have layers");
+        }
+      } else {
+        double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
+        if (bytes < 4) {
+          throw graph_.error(desc.pointer + "/size", "the size of buffer '" + desc.name + "' evaluates to " +
+                                                         JsonReader::format_number(bytes) + " bytes; it must be at least 4");
+        }
+        if (bytes > static_cast<double>(options_.limits.max_buffer_size)) {
+          throw graph_.error(desc.pointer + "/size",
+                             "buffer '" + desc.name + "' would be " + JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
+                                 ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
+        }
+        r.buffer_size = static_cast<uint64_t>(bytes);
       }
-      r.mips = static_cast<uint32_t>(mips);
-      double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers"));
-      if (layers < 1 || layers > kMaxImageLayers) {
-        throw graph_.error(desc.pointer + "/layers", "'" + desc.name + "' asks for " + JsonReader::format_number(layers) +
-                                                         " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
-      }
-      r.layers = static_cast<uint32_t>(layers);
-      if (r.layers > 1 && r.format != Format::r32f) {
-        throw graph_.error(desc.pointer + "/layers",
-                           "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f images can have layers");
-      }
-    } else {
-      double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
-      if (bytes < 4) {
-        throw graph_.error(desc.pointer + "/size", "the size of buffer '" + desc.name + "' evaluates to " +
-                                                       JsonReader::format_number(bytes) + " bytes; it must be at least 4");
-      }
-      if (bytes > static_cast<double>(options_.limits.max_buffer_size)) {
-        throw graph_.error(desc.pointer + "/size", "buffer '" + desc.name + "' would be " +
-                                                       JsonReader::format_number(std::floor(bytes / 1048576.0)) + " MiB" +
-                                                       ", above the largest buffer allowed (" + mib(options_.limits.max_buffer_size) + ")");
-      }
-      r.buffer_size = static_cast<uint64_t>(bytes);
-    }
-    plan_.resources.push_back(std::move(r));
+      plan_.resources.push_back(std::move(r));
+    });
   }
+  errors_.throw_if_any();
   for (size_t i = 0; i < graph_.outputs.size(); ++i) {
     int index = plan_.find_resource(redirected(graph_.outputs[i]));
     std::string pointer = "/outputs/" + std::to_string(i);
@@ -208,54 +211,59 @@ nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl
 
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [key, raw] : pass.params.items()) {
-    std::string pointer = json_pointer_append(pass.pointer + "/params", key);
-    const ParamDecl* param = decl.find_param(key);
-    if (!param) {
-      throw graph_.error(pointer, "pass type '" + decl.type + "' has no parameter '" + key + "'" + did_you_mean(key, declared));
-    }
-    nlohmann::json value = raw;
-    std::string via;
-    if (raw.is_string() && raw.get<std::string>().starts_with('$')) {
-      std::string name = raw.get<std::string>().substr(1);
-      const GraphParameter* gp = graph_.find_parameter(name);
-      if (!gp) throw graph_.error(pointer, "no graph parameter '" + name + "'" + did_you_mean(name, graph_params));
-      value = gp->value;
-      via = " (through graph parameter '" + name + "')";
-    } else if (raw.is_string() && param->type != ParamType::choice) {
-      // An expression of the output size, the scene and the graph's parameters, and for a parameter
-      // the pass reads every frame, of the frame block too: evaluated here for the first frame,
-      // and by the executor before every frame (PlannedPass::frame_params), clamped to the range.
-      const std::string text = raw.get<std::string>();
-      bool follows_frame = false;
-      ExpressionScope s = scope();
-      s.known_names.insert(s.known_names.end(), std::begin(kFrameNames), std::end(kFrameNames));
-      s.lookup = [compile_time = s.lookup, &follows_frame](std::string_view name) -> std::optional<double> {
-        if (std::find(std::begin(kFrameNames), std::end(kFrameNames), name) == std::end(kFrameNames)) return compile_time(name);
-        follows_frame = true;
-        return 0.0;
-      };
-      double number = 0;
-      try {
-        number = evaluate_expression(text, s);
-      } catch (const std::invalid_argument& e) {
-        const char* expects = param->type == ParamType::bool_ ? "true or false" : param->type == ParamType::int_ ? "an integer" : "a number";
-        throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' expects " + expects + " or an expression; " + e.what());
+    errors_.attempt([&, &key = key, &raw = raw] {
+      std::string pointer = json_pointer_append(pass.pointer + "/params", key);
+      const ParamDecl* param = decl.find_param(key);
+      if (!param) {
+        throw graph_.error(pointer, "pass type '" + decl.type + "' has no parameter '" + key + "'" + did_you_mean(key, declared));
       }
-      if (follows_frame && !param->per_frame) {
-        std::string per_frame;
-        for (const auto& p : decl.params) per_frame += p.per_frame ? (per_frame.empty() ? "" : ", ") + p.name : "";
-        throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' is fixed for a plan, so \"" +
-                                        text + "\" cannot follow the frame; " +
-                                        (per_frame.empty() ? "no parameter of pass type '" + decl.type + "' can"
-                                                           : "the ones of pass type '" + decl.type + "' that can: " + per_frame));
+      nlohmann::json value = raw;
+      std::string via;
+      if (raw.is_string() && raw.get<std::string>().starts_with('$')) {
+        std::string name = raw.get<std::string>().substr(1);
+        const GraphParameter* gp = graph_.find_parameter(name);
+        if (!gp) throw graph_.error(pointer, "no graph parameter '" + name + "'" + did_you_mean(name, graph_params));
+        value = gp->value;
+        via = " (through graph parameter '" + name + "')";
+      } else if (raw.is_string() && param->type != ParamType::choice) {
+        // An expression of the output size, the scene and the graph's parameters, and for a parameter
+        // the pass reads every frame, of the frame block too: evaluated here for the first frame,
+        // and by the executor before every frame (PlannedPass::frame_params), clamped to the range.
+        const std::string text = raw.get<std::string>();
+        bool follows_frame = false;
+        ExpressionScope s = scope();
+        s.known_names.insert(s.known_names.end(), std::begin(kFrameNames), std::end(kFrameNames));
+        s.lookup = [compile_time = s.lookup, &follows_frame](std::string_view name) -> std::optional<double> {
+          if (std::find(std::begin(kFrameNames), std::end(kFrameNames), name) == std::end(kFrameNames)) return compile_time(name);
+          follows_frame = true;
+          return 0.0;
+        };
+        double number = 0;
+        try {
+          number = evaluate_expression(text, s);
+        } catch (const std::invalid_argument& e) {
+          const char* expects = param->type == ParamType::bool_  ? "true or false"
+                                : param->type == ParamType::int_ ? "an integer"
+                                                                 : "a number";
+          throw graph_.error(pointer,
+                             "parameter '" + key + "' of pass '" + pass.name + "' expects " + expects + " or an expression; " + e.what());
+        }
+        if (follows_frame && !param->per_frame) {
+          std::string per_frame;
+          for (const auto& p : decl.params) per_frame += p.per_frame ? (per_frame.empty() ? "" : ", ") + p.name : "";
+          throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' is fixed for a plan, so \"" + text +
+                                          "\" cannot follow the frame; " +
+                                          (per_frame.empty() ? "no parameter of pass type '" + decl.type + "' can"
+                                                             : "the ones of pass type '" + decl.type + "' that can: " + per_frame));
+        }
+        value = param_value_of_number(*param, number, follows_frame);
+        if (follows_frame) frame_params[key] = text;
+        via = " (\"" + text + "\")";
       }
-      value = param_value_of_number(*param, number, follows_frame);
-      if (follows_frame) frame_params[key] = text;
-      via = " (\"" + text + "\")";
-    }
-    std::string problem = check_param_value(*param, value);
-    if (!problem.empty()) throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' " + problem + via);
-    out[key] = value;
+      std::string problem = check_param_value(*param, value);
+      if (!problem.empty()) throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' " + problem + via);
+      out[key] = value;
+    });
   }
   for (const auto& p : decl.params) {
     if (!out.contains(p.name)) out[p.name] = p.default_value;
@@ -270,54 +278,57 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
   std::vector<std::string> port_names;
   for (const auto& p : decl.ports) port_names.push_back(p.name);
   for (const auto& [port_name, resource_name] : section) {
-    std::string pointer = json_pointer_append(pass.pointer + "/" + section_name, port_name);
-    const PortDecl* port = decl.find_port(port_name);
-    if (!port) {
-      throw graph_.error(pointer, "pass type '" + decl.type + "' has no port '" + port_name + "'" + did_you_mean(port_name, port_names));
-    }
-    bool port_writes = port->access != PortAccess::read;
-    if (port_writes != outputs) {
-      throw graph_.error(pointer, std::string("port '") + port_name + "' of pass type '" + decl.type + "' is an " +
-                                      (port_writes ? "output" : "input") + "; list it under \"" + (port_writes ? "outputs" : "inputs") +
-                                      "\"");
-    }
-    int index = -1;
-    if (const std::string history_of_resource = history_source(resource_name); !history_of_resource.empty()) {
-      if (outputs) {
-        throw graph_.error(pointer, "'" + resource_name + "' is the previous frame's '" + history_of_resource +
-                                        "', which passes read and do not write; bind output '" + port_name + "' to a resource");
+    const bool bound = errors_.attempt([&, &port_name = port_name, &resource_name = resource_name] {
+      std::string pointer = json_pointer_append(pass.pointer + "/" + section_name, port_name);
+      const PortDecl* port = decl.find_port(port_name);
+      if (!port) {
+        throw graph_.error(pointer, "pass type '" + decl.type + "' has no port '" + port_name + "'" + did_you_mean(port_name, port_names));
       }
-      index = static_cast<int>(history_resource(resource_name, history_of_resource, pointer));
-    } else {
-      const std::string source = outputs ? resource_name : redirected(resource_name);
-      if (source.empty()) {  // "fallback": null and nothing writes it
-        if (port->optional) continue;
-        throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
-                                        "', which no enabled pass writes and whose fallback is null; only optional inputs may");
+      bool port_writes = port->access != PortAccess::read;
+      if (port_writes != outputs) {
+        throw graph_.error(pointer, std::string("port '") + port_name + "' of pass type '" + decl.type + "' is an " +
+                                        (port_writes ? "output" : "input") + "; list it under \"" + (port_writes ? "outputs" : "inputs") +
+                                        "\"");
       }
-      index = plan_.find_resource(source);
-      if (index < 0) {
-        throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
+      int index = -1;
+      if (const std::string history_of_resource = history_source(resource_name); !history_of_resource.empty()) {
+        if (outputs) {
+          throw graph_.error(pointer, "'" + resource_name + "' is the previous frame's '" + history_of_resource +
+                                          "', which passes read and do not write; bind output '" + port_name + "' to a resource");
+        }
+        index = static_cast<int>(history_resource(resource_name, history_of_resource, pointer));
+      } else {
+        const std::string source = outputs ? resource_name : redirected(resource_name);
+        if (source.empty()) {  // "fallback": null and nothing writes it
+          if (port->optional) return;
+          throw graph_.error(pointer, "input '" + port_name + "' of pass '" + pass.name + "' reads '" + resource_name +
+                                          "', which no enabled pass writes and whose fallback is null; only optional inputs may");
+        }
+        index = plan_.find_resource(source);
+        if (index < 0) {
+          throw graph_.error(pointer, "no resource named '" + resource_name + "'" + did_you_mean(resource_name, resource_names()));
+        }
       }
-    }
-    const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
-    if (r.kind != port->kind) {
-      throw graph_.error(pointer, "port '" + port_name + "' of pass '" + pass.name + "' takes " +
-                                      (port->kind == ResourceKind::image ? "an image" : "a buffer") + ", but '" + r.name + "' is " +
-                                      (r.kind == ResourceKind::image ? "an image" : "a buffer"));
-    }
-    if (r.kind == ResourceKind::image) check_format(*port, r, pass, pointer);
-    for (const auto& other : node.bindings) {
-      if (other.resource == static_cast<uint32_t>(index)) {
-        throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name + "' and '" +
-                                        port_name + "'); use one read_write port instead");
+      const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
+      if (r.kind != port->kind) {
+        throw graph_.error(pointer, "port '" + port_name + "' of pass '" + pass.name + "' takes " +
+                                        (port->kind == ResourceKind::image ? "an image" : "a buffer") + ", but '" + r.name + "' is " +
+                                        (r.kind == ResourceKind::image ? "an image" : "a buffer"));
       }
-    }
-    // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
-    // unbound, so the pass skips the work and the resource takes no memory; one the pass samples
-    // itself (scratch, such as refraction_layers' front_tint) is bound wherever it is connected.
-    if (outputs && port->optional && !port->also_sampled && !wanted(resource_name)) continue;
-    node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
+      if (r.kind == ResourceKind::image) check_format(*port, r, pass, pointer);
+      for (const auto& other : node.bindings) {
+        if (other.resource == static_cast<uint32_t>(index)) {
+          throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name + "' and '" +
+                                          port_name + "'); use one read_write port instead");
+        }
+      }
+      // An optional output nobody asks for (a debug view such as the caustic-map levels) stays
+      // unbound, so the pass skips the work and the resource takes no memory; one the pass samples
+      // itself (scratch, such as refraction_layers' front_tint) is bound wherever it is connected.
+      if (outputs && port->optional && !port->also_sampled && !wanted(resource_name)) return;
+      node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
+    });
+    if (!bound) node.refused_binding = true;
   }
 }
 
@@ -383,13 +394,18 @@ void Compiler::check_format(const PortDecl& port, const PlannedResource& r, cons
 void Compiler::resolve_passes() {
   std::vector<std::string> type_names = registry_.names();
   nodes_.resize(graph_.passes.size());
+  // Every pass, and within it every parameter and port, is checked on its own: one run reports the
+  // errors of all (a pass whose type changed has several), and what follows waits for them.
   for (size_t i = 0; i < graph_.passes.size(); ++i) {
     const PassDesc& pass = graph_.passes[i];
     Node& node = nodes_[i];
     node.desc = &pass;
     const PassTypeDecl* decl = registry_.find(pass.type);
     if (!decl) {
-      throw graph_.error(pass.pointer + "/type", "unknown pass type '" + pass.type + "'" + did_you_mean(pass.type, type_names));
+      errors_.attempt([&] {
+        throw graph_.error(pass.pointer + "/type", "unknown pass type '" + pass.type + "'" + did_you_mean(pass.type, type_names));
+      });
+      continue;
     }
     if (!enabled_[i]) continue;
     node.decl = decl;
@@ -397,15 +413,19 @@ void Compiler::resolve_passes() {
     bind_section(node, pass.inputs, false);
     bind_section(node, pass.outputs, true);
     for (const auto& port : decl->ports) {
-      if (port.optional) continue;
+      // A refused binding (a misspelt port) was most likely meant for the port left unbound.
+      if (port.optional || node.refused_binding) continue;
       bool bound = std::any_of(node.bindings.begin(), node.bindings.end(), [&](const Binding& b) { return b.port == &port; });
       if (!bound) {
-        bool input = port.access == PortAccess::read;
-        throw graph_.error(pass.pointer, std::string(input ? "input" : "output") + " '" + port.name + "' of pass '" + pass.name +
-                                             "' (type " + decl->type + ") is not connected");
+        errors_.attempt([&] {
+          bool input = port.access == PortAccess::read;
+          throw graph_.error(pass.pointer, std::string(input ? "input" : "output") + " '" + port.name + "' of pass '" + pass.name +
+                                               "' (type " + decl->type + ") is not connected");
+        });
       }
     }
   }
+  errors_.throw_if_any();
 }
 
 }  // namespace caustica::graph::compiler_internal

@@ -38,98 +38,102 @@ ParamType parse_param_type(const JsonDocument& doc, const nlohmann::json& value,
   throw doc.error(pointer, "unknown parameter type '" + text + "'" + did_you_mean(text, names));
 }
 
-void load_parameters(GraphDesc& graph, const Reader& read) {
+void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("parameters")) return;
   const auto& params = read.object(root["parameters"], "/parameters", "\"parameters\"");
   for (const auto& [key, value] : params.items()) {
-    std::string pointer = json_pointer_append("/parameters", key);
-    GraphParameter p;
-    p.pointer = pointer;
-    p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
-    read.object(value, pointer, "a parameter");
-    read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving", "while_still"},
-                   "a parameter");
-    if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
-    if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
-    p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
-    for (const char* bound : {"min", "max"}) {
-      if (!value.contains(bound)) continue;
-      if (!value[bound].is_number()) throw graph.error(pointer + "/" + bound, std::string("\"") + bound + "\" must be a number");
-      (std::string(bound) == "min" ? p.decl.min : p.decl.max) = value[bound].get<double>();
-    }
-    if (p.decl.min && p.decl.max && *p.decl.min > *p.decl.max) {
-      throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
-    }
-    if (value.contains("choices")) {
-      const auto& choices = value["choices"];
-      if (!choices.is_array() || choices.empty())
-        throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
-      for (size_t i = 0; i < choices.size(); ++i) {
-        p.decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
+    errors.attempt([&, &key = key, &value = value] {
+      std::string pointer = json_pointer_append("/parameters", key);
+      GraphParameter p;
+      p.pointer = pointer;
+      p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
+      read.object(value, pointer, "a parameter");
+      read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving", "while_still"},
+                     "a parameter");
+      if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
+      if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
+      p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
+      for (const char* bound : {"min", "max"}) {
+        if (!value.contains(bound)) continue;
+        if (!value[bound].is_number()) throw graph.error(pointer + "/" + bound, std::string("\"") + bound + "\" must be a number");
+        (std::string(bound) == "min" ? p.decl.min : p.decl.max) = value[bound].get<double>();
       }
-    } else if (p.decl.type == ParamType::choice) {
-      throw graph.error(pointer, "parameter '" + key + "' of type choice needs \"choices\"");
-    }
-    if (value.contains("description")) p.decl.description = read.string(value["description"], pointer + "/description", "a description");
-    p.decl.default_value = value["default"];
-    std::string problem = check_param_value(p.decl, p.decl.default_value);
-    if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
-    p.value = p.decl.default_value;
-    for (auto [name, target] : {std::pair{"while_moving", &p.while_moving}, std::pair{"while_still", &p.while_still}}) {
-      if (!value.contains(name)) continue;
-      problem = check_param_value(p.decl, value[name]);
-      if (!problem.empty())
-        throw graph.error(pointer + "/" + name, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
-      *target = value[name];
-    }
-    graph.parameters.push_back(std::move(p));
+      if (p.decl.min && p.decl.max && *p.decl.min > *p.decl.max) {
+        throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
+      }
+      if (value.contains("choices")) {
+        const auto& choices = value["choices"];
+        if (!choices.is_array() || choices.empty())
+          throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
+        for (size_t i = 0; i < choices.size(); ++i) {
+          p.decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
+        }
+      } else if (p.decl.type == ParamType::choice) {
+        throw graph.error(pointer, "parameter '" + key + "' of type choice needs \"choices\"");
+      }
+      if (value.contains("description")) p.decl.description = read.string(value["description"], pointer + "/description", "a description");
+      p.decl.default_value = value["default"];
+      std::string problem = check_param_value(p.decl, p.decl.default_value);
+      if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
+      p.value = p.decl.default_value;
+      for (auto [name, target] : {std::pair{"while_moving", &p.while_moving}, std::pair{"while_still", &p.while_still}}) {
+        if (!value.contains(name)) continue;
+        problem = check_param_value(p.decl, value[name]);
+        if (!problem.empty())
+          throw graph.error(pointer + "/" + name, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
+        *target = value[name];
+      }
+      graph.parameters.push_back(std::move(p));
+    });
   }
 }
 
-void load_resources(GraphDesc& graph, const Reader& read) {
+void load_resources(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("resources")) throw graph.error("", "a graph needs \"resources\"");
   const auto& resources = read.object(root["resources"], "/resources", "\"resources\"");
   for (const auto& [key, value] : resources.items()) {
-    std::string pointer = json_pointer_append("/resources", key);
-    ResourceDesc r;
-    r.pointer = pointer;
-    r.name = read.name(nlohmann::json(key), pointer, "a resource name");
-    read.object(value, pointer, "a resource");
-    read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "layers", "size", "fallback", "description"},
-                   "a resource");
-    std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
-    if (type == "image") {
-      r.kind = ResourceKind::image;
-      if (!value.contains("format")) throw graph.error(pointer, "image '" + key + "' needs a \"format\"");
-      std::string format = read.string(value["format"], pointer + "/format", "\"format\"");
-      auto parsed = parse_format(format);
-      if (!parsed) throw graph.error(pointer + "/format", "unknown format '" + format + "'" + did_you_mean(format, format_names()));
-      r.format = *parsed;
-      if (value.contains("width")) r.width = read.expression(value["width"], pointer + "/width", "\"width\"");
-      if (value.contains("height")) r.height = read.expression(value["height"], pointer + "/height", "\"height\"");
-      if (value.contains("mips")) r.mips = read.expression(value["mips"], pointer + "/mips", "\"mips\"");
-      if (value.contains("layers")) r.layers = read.expression(value["layers"], pointer + "/layers", "\"layers\"");
-      if (value.contains("size")) throw graph.error(pointer + "/size", "\"size\" is for buffers; an image has \"width\" and \"height\"");
-    } else if (type == "buffer") {
-      r.kind = ResourceKind::buffer;
-      if (!value.contains("size")) throw graph.error(pointer, "buffer '" + key + "' needs a \"size\" in bytes");
-      r.size = read.expression(value["size"], pointer + "/size", "\"size\"");
-      for (const char* image_only : {"format", "width", "height", "mips", "layers"}) {
-        if (value.contains(image_only))
-          throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
+    errors.attempt([&, &key = key, &value = value] {
+      std::string pointer = json_pointer_append("/resources", key);
+      ResourceDesc r;
+      r.pointer = pointer;
+      r.name = read.name(nlohmann::json(key), pointer, "a resource name");
+      read.object(value, pointer, "a resource");
+      read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "layers", "size", "fallback", "description"},
+                     "a resource");
+      std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
+      if (type == "image") {
+        r.kind = ResourceKind::image;
+        if (!value.contains("format")) throw graph.error(pointer, "image '" + key + "' needs a \"format\"");
+        std::string format = read.string(value["format"], pointer + "/format", "\"format\"");
+        auto parsed = parse_format(format);
+        if (!parsed) throw graph.error(pointer + "/format", "unknown format '" + format + "'" + did_you_mean(format, format_names()));
+        r.format = *parsed;
+        if (value.contains("width")) r.width = read.expression(value["width"], pointer + "/width", "\"width\"");
+        if (value.contains("height")) r.height = read.expression(value["height"], pointer + "/height", "\"height\"");
+        if (value.contains("mips")) r.mips = read.expression(value["mips"], pointer + "/mips", "\"mips\"");
+        if (value.contains("layers")) r.layers = read.expression(value["layers"], pointer + "/layers", "\"layers\"");
+        if (value.contains("size")) throw graph.error(pointer + "/size", "\"size\" is for buffers; an image has \"width\" and \"height\"");
+      } else if (type == "buffer") {
+        r.kind = ResourceKind::buffer;
+        if (!value.contains("size")) throw graph.error(pointer, "buffer '" + key + "' needs a \"size\" in bytes");
+        r.size = read.expression(value["size"], pointer + "/size", "\"size\"");
+        for (const char* image_only : {"format", "width", "height", "mips", "layers"}) {
+          if (value.contains(image_only))
+            throw graph.error(pointer + "/" + image_only, std::string("\"") + image_only + "\" is for images, not buffers");
+        }
+      } else {
+        throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
       }
-    } else {
-      throw graph.error(pointer + "/type", "unknown resource type '" + type + "'" + did_you_mean(type, {"image", "buffer"}));
-    }
-    if (value.contains("fallback")) {
-      if (value["fallback"].is_null())
-        r.fallback_to_nothing = true;
-      else
-        r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name, or null)");
-    }
-    graph.resources.push_back(std::move(r));
+      if (value.contains("fallback")) {
+        if (value["fallback"].is_null())
+          r.fallback_to_nothing = true;
+        else
+          r.fallback = read.name(value["fallback"], pointer + "/fallback", "\"fallback\" (a resource name, or null)");
+      }
+      graph.resources.push_back(std::move(r));
+    });
   }
 }
 
@@ -153,7 +157,7 @@ std::map<std::string, std::string> load_bindings(const Reader& read, const nlohm
   return out;
 }
 
-void load_passes(GraphDesc& graph, const Reader& read) {
+void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("passes")) throw graph.error("", "a graph needs \"passes\"");
   const auto& passes = root["passes"];
@@ -162,36 +166,38 @@ void load_passes(GraphDesc& graph, const Reader& read) {
   if (passes.size() > 100000) throw graph.error("/passes", "more than 100000 passes");
   std::set<std::string> names;
   for (size_t i = 0; i < passes.size(); ++i) {
-    std::string pointer = "/passes/" + std::to_string(i);
-    const auto& value = read.object(passes[i], pointer, "a pass");
-    read.only_keys(value, pointer, {"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"}, "a pass");
-    PassDesc p;
-    p.pointer = pointer;
-    if (!value.contains("type")) throw graph.error(pointer, "pass needs a \"type\"");
-    p.type = read.string(value["type"], pointer + "/type", "\"type\"");
-    if (!value.contains("name")) throw graph.error(pointer, "pass needs a \"name\"");
-    p.name = read.name(value["name"], pointer + "/name", "a pass name");
-    if (!names.insert(p.name).second) throw graph.error(pointer + "/name", "two passes are named '" + p.name + "'");
-    if (value.contains("params")) p.params = read.object(value["params"], pointer + "/params", "\"params\"");
-    p.inputs = load_bindings(read, value, pointer, "inputs");
-    p.outputs = load_bindings(read, value, pointer, "outputs");
-    if (value.contains("after")) {
-      const auto& after = value["after"];
-      if (!after.is_array()) throw graph.error(pointer + "/after", "\"after\" must be an array of pass names");
-      for (size_t j = 0; j < after.size(); ++j) {
-        p.after.push_back(read.name(after[j], pointer + "/after/" + std::to_string(j), "a pass name"));
+    errors.attempt([&] {
+      std::string pointer = "/passes/" + std::to_string(i);
+      const auto& value = read.object(passes[i], pointer, "a pass");
+      read.only_keys(value, pointer, {"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"}, "a pass");
+      PassDesc p;
+      p.pointer = pointer;
+      if (!value.contains("type")) throw graph.error(pointer, "pass needs a \"type\"");
+      p.type = read.string(value["type"], pointer + "/type", "\"type\"");
+      if (!value.contains("name")) throw graph.error(pointer, "pass needs a \"name\"");
+      p.name = read.name(value["name"], pointer + "/name", "a pass name");
+      if (!names.insert(p.name).second) throw graph.error(pointer + "/name", "two passes are named '" + p.name + "'");
+      if (value.contains("params")) p.params = read.object(value["params"], pointer + "/params", "\"params\"");
+      p.inputs = load_bindings(read, value, pointer, "inputs");
+      p.outputs = load_bindings(read, value, pointer, "outputs");
+      if (value.contains("after")) {
+        const auto& after = value["after"];
+        if (!after.is_array()) throw graph.error(pointer + "/after", "\"after\" must be an array of pass names");
+        for (size_t j = 0; j < after.size(); ++j) {
+          p.after.push_back(read.name(after[j], pointer + "/after/" + std::to_string(j), "a pass name"));
+        }
       }
-    }
-    if (value.contains("enabled")) {
-      const auto& enabled = value["enabled"];
-      if (enabled.is_boolean())
-        p.enabled = enabled.get<bool>() ? "1" : "0";
-      else if (enabled.is_string())
-        p.enabled = enabled.get<std::string>();
-      else
-        throw graph.error(pointer + "/enabled", "\"enabled\" must be true, false or an expression string such as \"scene.refractors\"");
-    }
-    graph.passes.push_back(std::move(p));
+      if (value.contains("enabled")) {
+        const auto& enabled = value["enabled"];
+        if (enabled.is_boolean())
+          p.enabled = enabled.get<bool>() ? "1" : "0";
+        else if (enabled.is_string())
+          p.enabled = enabled.get<std::string>();
+        else
+          throw graph.error(pointer + "/enabled", "\"enabled\" must be true, false or an expression string such as \"scene.refractors\"");
+      }
+      graph.passes.push_back(std::move(p));
+    });
   }
 }
 
@@ -207,15 +213,20 @@ GraphDesc load_graph(JsonDocument doc) {
   if (root.contains("editor")) read.object(root["editor"], "/editor", "\"editor\"");
   graph.name = root.contains("name") ? read.name(root["name"], "/name", "the graph name") : "graph";
   if (root.contains("description")) graph.description = read.string(root["description"], "/description", "\"description\"");
-  load_parameters(graph, read);
-  load_resources(graph, read);
-  load_passes(graph, read);
-  if (!root.contains("outputs")) throw graph.error("", "a graph needs \"outputs\": the resources it produces");
-  const auto& outputs = root["outputs"];
-  if (!outputs.is_array() || outputs.empty()) throw graph.error("/outputs", "\"outputs\" must be a non-empty array of resource names");
-  for (size_t i = 0; i < outputs.size(); ++i) {
-    graph.outputs.push_back(read.name(outputs[i], "/outputs/" + std::to_string(i), "an output"));
-  }
+  // Each parameter, resource and pass is read on its own, so that one run reports all their errors.
+  ErrorList errors;
+  errors.attempt([&] { load_parameters(graph, read, errors); });
+  errors.attempt([&] { load_resources(graph, read, errors); });
+  errors.attempt([&] { load_passes(graph, read, errors); });
+  errors.attempt([&] {
+    if (!root.contains("outputs")) throw graph.error("", "a graph needs \"outputs\": the resources it produces");
+    const auto& outputs = root["outputs"];
+    if (!outputs.is_array() || outputs.empty()) throw graph.error("/outputs", "\"outputs\" must be a non-empty array of resource names");
+    for (size_t i = 0; i < outputs.size(); ++i) {
+      graph.outputs.push_back(read.name(outputs[i], "/outputs/" + std::to_string(i), "an output"));
+    }
+  });
+  errors.throw_if_any();
   return graph;
 }
 
@@ -251,7 +262,8 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
         what_there_is = known.empty() ? "; it has none" : "; its parameters: " + list;
       }
-      throw InputError(std::string(command) + " " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" + what_there_is);
+      throw InputError(std::string(command) + " " + assignment + ": graph " + graph.doc.path() + " has no parameter '" + name + "'" +
+                       what_there_is);
     }
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
     // A choice is a string: "--set grid=2048" means the choice "2048".

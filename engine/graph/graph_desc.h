@@ -65,7 +65,7 @@ struct GraphDesc {
 
   const ResourceDesc* find_resource(std::string_view name) const;
   const GraphParameter* find_parameter(std::string_view name) const;
-  InputError error(std::string_view pointer, const std::string& message) const { return doc.error(pointer, message); }
+  LocatedError error(std::string_view pointer, const std::string& message) const { return doc.error(pointer, message); }
 };
 
 GraphDesc load_graph_file(const std::string& path);

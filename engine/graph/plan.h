@@ -25,7 +25,9 @@ inline constexpr std::string_view kPreviousSuffix = "@previous";
 inline std::string history_source(std::string_view binding) {
   return binding.ends_with(kPreviousSuffix) ? std::string(binding.substr(0, binding.size() - kPreviousSuffix.size())) : std::string();
 }
-inline std::string history_of(std::string_view resource) { return std::string(resource) + std::string(kPreviousSuffix); }
+inline std::string history_of(std::string_view resource) {
+  return std::string(resource) + std::string(kPreviousSuffix);
+}
 // Layered images hold one value per layer (an RGB caustic map: three r32f layers, because image
 // atomics are single-channel); they read back and dump with layer k as colour channel k.
 inline constexpr uint32_t kMaxImageLayers = 4;
@@ -94,7 +96,7 @@ struct PlannedPass {
   std::string type;
   std::string pointer;
   const PassTypeDecl* decl = nullptr;
-  nlohmann::json params;                  // every declared parameter, resolved (for the first frame)
+  nlohmann::json params;  // every declared parameter, resolved (for the first frame)
   // Parameters given as expressions of the frame block (ParamDecl::per_frame): the executor
   // evaluates them before the pass records each frame, with Plan::expression_values.
   std::map<std::string, std::string> frame_params;

@@ -19,13 +19,14 @@ json param_schema(const ParamDecl& p) {
   if (!p.description.empty()) s["description"] = p.description;
   // Any parameter may instead name a graph parameter ("$name"), and a number or flag may be an
   // expression (of the frame block too where the pass reads it every frame).
-  json instead = p.type == ParamType::choice
-                     ? json{{"type", "string"}, {"pattern", "^\\$"}}
-                     : json{{"type", "string"},
-                            {"description", std::string("\"$name\" (a graph parameter) or an expression of output.width, output.height, the "
-                                                        "scene's values and the graph's parameters") +
-                                                (p.per_frame ? ", and of the frame: frame.index, frame.since_reset, frame.jitter_x, frame.jitter_y"
-                                                             : "")}};
+  json instead =
+      p.type == ParamType::choice
+          ? json{{"type", "string"}, {"pattern", "^\\$"}}
+          : json{{"type", "string"},
+                 {"description",
+                  std::string("\"$name\" (a graph parameter) or an expression of output.width, output.height, the "
+                              "scene's values and the graph's parameters") +
+                      (p.per_frame ? ", and of the frame: frame.index, frame.since_reset, frame.jitter_x, frame.jitter_y" : "")}};
   return {{"anyOf", json::array({s, instead})}, {"description", p.description}};
 }
 

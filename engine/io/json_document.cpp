@@ -366,9 +366,10 @@ SourceLocation JsonDocument::locate(std::string_view pointer) const {
   }
 }
 
-InputError JsonDocument::error(std::string_view pointer, const std::string& message) const {
+LocatedError JsonDocument::error(std::string_view pointer, const std::string& message) const {
   std::string where = pointer.empty() ? std::string("/") : std::string(pointer);
-  return InputError(format_location(path_, locate(pointer)) + ": " + message + " (at " + where + ")");
+  const SourceLocation location = locate(pointer);
+  return LocatedError(format_location(path_, location) + ": " + message + " (at " + where + ")", location);
 }
 
 }  // namespace caustica

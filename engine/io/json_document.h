@@ -29,7 +29,7 @@ class JsonDocument {
   SourceLocation locate(std::string_view pointer) const;
 
   // An InputError whose message starts with "file:line:col:" and ends with "(at pointer)".
-  InputError error(std::string_view pointer, const std::string& message) const;
+  LocatedError error(std::string_view pointer, const std::string& message) const;
 
  private:
   friend class JsonParser;

@@ -399,8 +399,9 @@ void print_graph_params(const graph::GraphDesc& graph, const graph::PassRegistry
     if (p.while_still) note += " [while still: " + value_text(*p.while_still) + "]";
     row("  ", p.decl.name, graph::param_type_name(p.decl.type), value_text(p.value), range_text(p.decl), note);
   }
-  std::printf("\npass parameters (set in the graph file; \"$NAME\" follows graph parameter NAME; [per frame]: may be an "
-              "expression of frame.*):\n");
+  std::printf(
+      "\npass parameters (set in the graph file; \"$NAME\" follows graph parameter NAME; [per frame]: may be an "
+      "expression of frame.*):\n");
   for (const auto& pass : graph.passes) {
     const graph::PassTypeDecl* decl = registry.find(pass.type);
     if (!decl || decl->params.empty()) continue;
