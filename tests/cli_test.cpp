@@ -343,20 +343,31 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   ASSERT_EQ(t.code, 0) << t.output;
   auto trace = nlohmann::json::parse(read(dir / "trace.json"));
   std::set<std::string> gpu_passes;
-  double gpu_sum = 0, gpu_frame = 0;
+  double frame_start = 0, frame_end = 0;
+  std::vector<std::pair<double, double>> pass_spans;
   for (const auto& ev : trace["traceEvents"]) {
     if (ev["ph"] != "X" || ev["tid"] != 1 || ev["args"]["frame"] != 3) continue;
-    if (ev["name"] == "frame 3")
-      gpu_frame = ev["dur"].get<double>();
-    else {
+    const double start = ev["ts"].get<double>(), end = start + ev["dur"].get<double>();
+    if (ev["name"] == "frame 3") {
+      frame_start = start;
+      frame_end = end;
+    } else {
       gpu_passes.insert(ev["name"].get<std::string>());
-      gpu_sum += ev["dur"].get<double>();
+      pass_spans.emplace_back(start, end);
     }
   }
   EXPECT_EQ(gpu_passes, (std::set<std::string>{"pattern", "blur_x", "blur_y", "tonemap"}));
-  // The passes fill the frame but for the barriers between them, a few microseconds each on a GPU,
-  // where this frame takes about 70 (an NVIDIA H200 measured 60.9 of 67.9 us in passes).
-  EXPECT_NEAR(gpu_sum, gpu_frame, 0.1 * gpu_frame + 20.0);
+  // The GPU track holds the passes one after the other inside their frame (timestamps, not their
+  // lengths, which a loaded CPU device stretches: an NVIDIA H200 spent 60.9 of 67.9 us in passes,
+  // lavapipe beside other work as little as 78%). Rounded to the trace's 0.001 us.
+  std::sort(pass_spans.begin(), pass_spans.end());
+  for (size_t i = 0; i < pass_spans.size(); ++i) {
+    EXPECT_GE(pass_spans[i].first, frame_start - 0.001);
+    EXPECT_LE(pass_spans[i].second, frame_end + 0.001);
+    if (i > 0) {
+      EXPECT_GE(pass_spans[i].first, pass_spans[i - 1].second - 0.001) << "passes overlap on the GPU track";
+    }
+  }
   EXPECT_EQ(trace["otherData"]["graph"], "core_demo");
   fs::remove_all(dir);
 }
