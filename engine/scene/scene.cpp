@@ -406,6 +406,9 @@ Scene load_model_scene(const std::string& path, bool stage) {
     const float distance = 1.15f * radius / std::sin(glm::radians(0.5f * scene.camera.fov_y_degrees));
     scene.camera.target = center;
     scene.camera.position = center + distance * glm::normalize(glm::vec3(0.0f, 0.45f, 1.0f));
+    // Its planes from the model's size, like the lights': a large model seen through the default
+    // 0.05 near plane got depth steps of a third of a unit on its floor, which streaked its lighting.
+    scene.camera.near_plane = 0.01f * radius;
   }
   scene.camera.near_plane = std::min(scene.camera.near_plane, 0.01f * radius);
   scene.camera.far_plane = std::max(scene.camera.far_plane, 50.0f * radius);

@@ -36,21 +36,45 @@ float linear_depth(LightData light, float depth) {
   return n * f / (f - depth * (f - n));
 }
 
+// How far a receiver at depth z (along the light's axis) lies in front of what it sees in a light-view
+// depth map before it counts as behind it: the graph's shadow_bias, plus what the map's own depth
+// values cannot tell apart at z. A perspective depth d = f (z - n) / (z (f - n)) changes by
+// dz n f / (z^2 (f - n)), and a d32f value near 1 resolves 2^-24; 16 of those steps cover the
+// rasterizer's interpolation. Without it a scene far larger than the bias, or far from the
+// origin (a model at z = -1000, 80 units across), shadows its own floor in streaks.
+float depth_bias(LightData light, float z) {
+  float n = light.clip.x, f = light.clip.y;
+  float step = light_is_directional(light) ? (f - n) : z * z * (f - n) / (n * f);
+  return params.shadow_bias + step * exp2(-20.0);
+}
+
 // Where a receiver at p with normal n looks itself up in a light-view depth map of `size` texels:
 // moved off the surface along its normal by two of that map's texels at p's distance, scaled by
 // the sine of the light's angle to the normal. At grazing light one texel of the map spans a long
 // stretch of the surface whose depth changes across it, and without the offset the surface
 // shadows itself in stripes (shadow acne); a constant bias alone would have to grow large enough
 // to detach every shadow from its caster.
-vec3 normal_offset(LightData light, vec3 p, vec3 n, float size) {
+// A texel's side at p in a light-view map of `size` texels: the view's side over its texels, times
+// the distance for a perspective one; and the cosine of the light's angle to the normal n.
+float light_texel(LightData light, vec3 p, vec3 n, float size, out float cos_theta) {
   float d2;
-  float cos_theta = clamp(dot(n, toward_light(light, p, d2)), 0.0, 1.0);
-  // A texel's side at p: the view's side over its texels, times the distance for a perspective one.
-  float texel = 2.0 * light.clip.z * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
+  cos_theta = clamp(dot(n, toward_light(light, p, d2)), 0.0, 1.0);
+  return 2.0 * light.clip.z * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
+}
+
+vec3 normal_offset(LightData light, vec3 p, vec3 n, float size) {
+  float cos_theta;
+  float texel = light_texel(light, p, n, size, cos_theta);
   return p + n * (2.0 * texel * sqrt(1.0 - cos_theta * cos_theta));
 }
 
 float shadow_factor(LightData light, vec3 p, vec3 n) {
+  // The 3x3 filter compares with the neighbouring texels, which see the receiver one texel further
+  // along; on a surface the light meets at angle theta its depth changes by texel tan(theta) there:
+  // a bias in units of the map's texels, so that it holds at any scale of the scene.
+  float cos_theta;
+  float texel = light_texel(light, p, n, float(textureSize(shadow_tex, 0).x), cos_theta);
+  float slope_bias = texel * min(sqrt(1.0 - cos_theta * cos_theta) / max(cos_theta, 1e-3), 8.0);
   p = normal_offset(light, p, n, float(textureSize(shadow_tex, 0).x));
   vec4 clip = light.view_proj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
@@ -59,13 +83,14 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
   // Outside a spot's frustum is outside its cone; outside a directional light's prism nothing that
   // casts a shadow lies (it is fitted around the scene).
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return light_is_directional(light) ? 1.0 : 0.0;
-  vec2 texel = 1.0 / vec2(textureSize(shadow_tex, 0));
+  vec2 uv_texel = 1.0 / vec2(textureSize(shadow_tex, 0));
   // The bias is a distance: a fixed bias in depth-buffer units would grow with the square of the
   // distance from the light.
-  float receiver = linear_depth(light, ndc.z) - params.shadow_bias;
+  float z = linear_depth(light, ndc.z);
+  float receiver = z - depth_bias(light, z) - slope_bias;
   float lit = 0.0;
   for (int y = -1; y <= 1; ++y)
-    for (int x = -1; x <= 1; ++x) lit += receiver <= linear_depth(light, texture(shadow_tex, uv + vec2(x, y) * texel).r) ? 1.0 : 0.0;
+    for (int x = -1; x <= 1; ++x) lit += receiver <= linear_depth(light, texture(shadow_tex, uv + vec2(x, y) * uv_texel).r) ? 1.0 : 0.0;
   return lit / 9.0;
 }
 
@@ -79,7 +104,8 @@ vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-  if (linear_depth(light, ndc.z) - params.shadow_bias > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
+  float z = linear_depth(light, ndc.z);
+  if (z - depth_bias(light, z) > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
   vec2 size = vec2(textureSize(caustics_tex, 0).xy);
   float r2;
   float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
