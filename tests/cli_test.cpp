@@ -363,11 +363,14 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   // An EXR holds linear values: --out F.exr writes the tonemap's input, not its 8-bit picture, and
   // the summary names it and every --dump file.
   EXPECT_NE(r.output.find("-> frame.exr (linear: 'blurred', the tonemap's input), hdr -> hdr.exr"), std::string::npos) << r.output;
-  CliRun linear = run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --dump blurred=blurred.exr --out frame.exr", dir);
+  // Both in one run: the picture and the linear result.
+  CliRun linear =
+      run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --dump blurred=blurred.exr --out frame.exr --out frame.png", dir);
   ASSERT_EQ(linear.code, 0) << linear.output;
   EXPECT_EQ(run("compare frame.exr blurred.exr --max-l1 0", dir).code, 0);
-  CliRun display = run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --out frame.png", dir);
+  CliRun display = run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --out display.png", dir);
   ASSERT_EQ(display.code, 0) << display.output;
+  EXPECT_EQ(run("compare frame.png display.png --max-l1 0", dir).code, 0) << "the picture written beside the EXR differs";
   EXPECT_NE(run("compare frame.exr frame.png --max-l1 0.01", dir).code, 0) << "the EXR holds the display values";
 
   CliRun t = run("trace " + kCoreDemo + "--validate --size 640x360 --frames 4 --out trace.json", dir);

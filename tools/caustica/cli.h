@@ -23,7 +23,8 @@ struct RenderOptions {
   std::string scene;
   bool scene_given = false;
   bool stage = true;  // a model file opened as a scene gets a floor (--no-stage: none)
-  std::string out = "caustica.png";
+  // --out: the picture (8-bit, .png and the like) and/or the linear result (.exr), at most one of each.
+  std::vector<std::string> outs;
   std::string stats;
   std::string trace;
   uint32_t width = 1280;

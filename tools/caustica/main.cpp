@@ -89,7 +89,7 @@ RenderOptions parse_render(Args& args, bool trace) {
   std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
-    if (a != "--set" && a != "--dump") given_once(given, a);
+    if (a != "--set" && a != "--dump" && !(a == "--out" && !trace)) given_once(given, a);
     if (a == "--graph")
       o.graph = find_data_file(args.value(a), "graphs");
     else if (a == "--scene") {
@@ -98,7 +98,10 @@ RenderOptions parse_render(Args& args, bool trace) {
     } else if (a == "--no-stage")
       o.stage = false;
     else if (a == "--out")
-      (trace ? o.trace : o.out) = args.value(a);
+      if (trace)
+        o.trace = args.value(a);
+      else
+        o.outs.push_back(args.value(a));
     else if (a == "--stats")
       o.stats = args.value(a);
     else if (a == "--set")
@@ -131,8 +134,13 @@ RenderOptions parse_render(Args& args, bool trace) {
   if (o.graph.empty()) o.graph = (data_dir() / kDefaultGraph).string();
   if (o.scene.empty()) o.scene = (data_dir() / kDefaultScene).string();
   if (trace && o.trace.empty()) throw UsageError("trace needs --out FILE.json");
+  if (!trace && o.outs.empty()) o.outs.push_back("caustica.png");
+  const auto is_exr = [](const std::string& f) { return std::filesystem::path(f).extension() == ".exr"; };
+  if (o.outs.size() > 2 || (o.outs.size() == 2 && is_exr(o.outs[0]) == is_exr(o.outs[1]))) {
+    throw UsageError("--out is given twice for the same kind of file: give one picture (.png) and one linear .exr at most");
+  }
   // A long render must not fail at the end for an output it could never have written.
-  if (!o.out.empty()) io::check_image_output(o.out);
+  for (const auto& out : o.outs) io::check_image_output(out);
   for (const auto& [resource, file] : o.dumps) io::check_image_output(file);
   for (const std::string* file : {&o.stats, &o.trace}) {
     if (!file->empty()) io::check_output_file(*file);
@@ -162,8 +170,12 @@ int run_render(const RenderOptions& o, bool trace) {
   graph::apply_overrides(graph, o.sets);
   std::set<std::string> retained;
   for (const auto& [resource, file] : o.dumps) retained.insert(resource);
-  const std::string linear_out = trace ? "" : linear_source_of_output(graph, o.out);
-  if (!linear_out.empty()) retained.insert(linear_out);
+  // Each --out with what it writes: the graph's first output, or for an .exr its linear source.
+  std::vector<std::pair<std::string, std::string>> outs;
+  for (const auto& out : o.outs) {
+    outs.emplace_back(out, linear_source_of_output(graph, out));
+    if (!outs.back().second.empty()) retained.insert(outs.back().second);
+  }
 
   // Model no more than the graph needs: a graph without scene passes loads no scene.
   const bool needs_scene = std::any_of(graph.passes.begin(), graph.passes.end(), [](const graph::PassDesc& p) {
@@ -224,12 +236,11 @@ int run_render(const RenderOptions& o, bool trace) {
     if (last) break;
   }
 
-  if (!trace) {
-    const auto& outputs = executor.plan().outputs;
-    io::write_image(o.out, executor.read_image(linear_out.empty() ? executor.plan().resources[outputs.front()].name : linear_out));
+  std::string written = trace ? o.trace : "";
+  for (const auto& [out, linear] : outs) {
+    io::write_image(out, executor.read_image(linear.empty() ? executor.plan().resources[executor.plan().outputs.front()].name : linear));
+    written += (written.empty() ? "" : ", ") + out + (linear.empty() ? "" : " (linear: '" + linear + "', the tonemap's input)");
   }
-  std::string written = trace ? o.trace : o.out;
-  if (!linear_out.empty()) written += " (linear: '" + linear_out + "', the tonemap's input)";
   for (const auto& [resource, file] : o.dumps) {
     io::write_image(file, executor.read_image(resource));
     written += ", " + resource + " -> " + file;
@@ -254,7 +265,8 @@ int cmd_render(Args& args) {
     std::cout << "usage: caustica render [options]\n\nRenders frames of a graph headless and writes its first output.\n"
                  "With no options: the default graph at 1280x720 to caustica.png.\n\noptions:\n"
                  "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float: where the first output is a tonemap\n"
-                 "                        pass's 8-bit picture, that pass's input, before its exposure); default caustica.png\n"
+                 "                        pass's 8-bit picture, that pass's input, before its exposure); default caustica.png;\n"
+                 "                        give it twice for both, one .png and one .exr\n"
               << kRenderOptionsHelp;
     return 0;
   }
