@@ -48,7 +48,6 @@ class ErrorList {
     }
     return false;
   }
-  bool empty() const { return errors_.empty(); }
   // Throws one InputError holding every message gathered (a line each, at most kMaxReported), if any.
   void throw_if_any();
 
