@@ -77,12 +77,15 @@ VkImageAspectFlags aspect_of(Format format) {
 // each expression on the first frame; a later frame's value is clamped to the declared range, and
 // one that is not finite (a division by a frame count that reached zero) keeps the first frame's.
 nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const FrameInfo& frame) {
+  // In the order of kFrameNames.
+  const double frame_values[] = {static_cast<double>(frame.index), static_cast<double>(frame.since_reset),
+                                 static_cast<double>(frame.camera_jitter.x), static_cast<double>(frame.camera_jitter.y)};
+  static_assert(sizeof(frame_values) / sizeof(double) == std::size(kFrameNames));
   ExpressionScope scope;
   scope.lookup = [&](std::string_view name) -> std::optional<double> {
-    if (name == "frame.index") return static_cast<double>(frame.index);
-    if (name == "frame.since_reset") return static_cast<double>(frame.since_reset);
-    if (name == "frame.jitter_x") return frame.camera_jitter.x;
-    if (name == "frame.jitter_y") return frame.camera_jitter.y;
+    for (size_t i = 0; i < std::size(kFrameNames); ++i) {
+      if (name == kFrameNames[i]) return frame_values[i];
+    }
     const auto it = plan.expression_values.find(std::string(name));
     return it == plan.expression_values.end() ? std::nullopt : std::optional<double>(it->second);
   };

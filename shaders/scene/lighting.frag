@@ -48,12 +48,6 @@ float depth_bias(LightData light, float z) {
   return params.shadow_bias + step * exp2(-20.0);
 }
 
-// Where a receiver at p with normal n looks itself up in a light-view depth map of `size` texels:
-// moved off the surface along its normal by two of that map's texels at p's distance, scaled by
-// the sine of the light's angle to the normal. At grazing light one texel of the map spans a long
-// stretch of the surface whose depth changes across it, and without the offset the surface
-// shadows itself in stripes (shadow acne); a constant bias alone would have to grow large enough
-// to detach every shadow from its caster.
 // A texel's side at p in a light-view map of `size` texels: the view's side over its texels, times
 // the distance for a perspective one; and the cosine of the light's angle to the normal n.
 float light_texel(LightData light, vec3 p, vec3 n, float size, out float cos_theta) {
@@ -62,9 +56,13 @@ float light_texel(LightData light, vec3 p, vec3 n, float size, out float cos_the
   return 2.0 * light.clip.z * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
 }
 
-vec3 normal_offset(LightData light, vec3 p, vec3 n, float size) {
-  float cos_theta;
-  float texel = light_texel(light, p, n, size, cos_theta);
+// Where a receiver at p with normal n looks itself up in a light-view depth map whose texel at p is
+// `texel` wide: moved off the surface along its normal by two texels, scaled by the sine of the
+// light's angle to the normal. At grazing light one texel of the map spans a long stretch of the
+// surface whose depth changes across it, and without the offset the surface shadows itself in
+// stripes (shadow acne); a constant bias alone would have to grow large enough to detach every
+// shadow from its caster.
+vec3 normal_offset(vec3 p, vec3 n, float texel, float cos_theta) {
   return p + n * (2.0 * texel * sqrt(1.0 - cos_theta * cos_theta));
 }
 
@@ -75,7 +73,7 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
   float cos_theta;
   float texel = light_texel(light, p, n, float(textureSize(shadow_tex, 0).x), cos_theta);
   float slope_bias = texel * min(sqrt(1.0 - cos_theta * cos_theta) / max(cos_theta, 1e-3), 8.0);
-  p = normal_offset(light, p, n, float(textureSize(shadow_tex, 0).x));
+  p = normal_offset(p, n, texel, cos_theta);
   vec4 clip = light.view_proj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 ndc = clip.xyz / clip.w;
@@ -99,7 +97,9 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
 // receiver depth test, like a shadow map).
 #ifdef CAUSTICS
 vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
-  vec4 clip = light.view_proj * vec4(normal_offset(light, p, n, float(textureSize(caustic_depth_tex, 0).x)), 1.0);
+  float cos_light;
+  float texel = light_texel(light, p, n, float(textureSize(caustic_depth_tex, 0).x), cos_light);
+  vec4 clip = light.view_proj * vec4(normal_offset(p, n, texel, cos_light), 1.0);
   if (clip.w <= 0.0) return vec3(0.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
