@@ -68,7 +68,7 @@ class AccumulatePass final : public graph::Pass {
 
 graph::PassTypeDecl accumulate_pass_type() {
   using namespace graph;
-  return {"accumulate",
+  PassTypeDecl decl{"accumulate",
           "Compute pass: the running mean of a caustic map (r32f, a layer per colour channel) over the frames since the last "
           "reset, summed in fp32 with Kahan's compensation. Resets on a new plan (graph, parameters, size) and when the "
           "lights, the geometry or the materials change, not when the camera moves. Counter <pass>.frames: the frames in the "
@@ -104,6 +104,8 @@ graph::PassTypeDecl accumulate_pass_type() {
             true}},
           false,
           [] { return std::make_unique<AccumulatePass>(); }};
+  decl.accumulates = true;
+  return decl;
 }
 
 }  // namespace caustica::passes

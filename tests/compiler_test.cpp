@@ -726,6 +726,55 @@ TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
   }
 }
 
+// In a plan that reuses unchanged passes, the passes that move a running result (a mean, a pass
+// reading a history input) and those that write what they read refine; the others show. They can
+// run apart only where every image a showing pass reads from a refining one is kept: the running
+// result is, a pass that changes every frame is not.
+TEST(Compiler, RefiningPassesRunApartFromThoseThatShowTheirResult) {
+  const nlohmann::json graph = {
+      {"resources", {{"lit", image()}, {"estimate", image()}, {"average", image()}, {"viewed", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "estimate"}, {"type", "filter"}, {"params", {{"radius", "frame.index % 2"}}}, {"inputs", {{"source", "lit"}}},
+         {"outputs", {{"target", "estimate"}}}},
+        {{"name", "mean"}, {"type", "mean"}, {"inputs", {{"source", "estimate"}}}, {"outputs", {{"average", "average"}}}},
+        {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}}}, {"outputs", {{"color", "viewed"}}}},
+        {{"name", "show"}, {"type", "blend"}, {"inputs", {{"a", "average"}, {"b", "viewed"}}}, {"outputs", {{"color", "out"}}}}}},
+      {"outputs", {"out"}}};
+  auto refining = [](const Plan& plan) {
+    std::vector<std::string> names;
+    for (const auto& p : plan.passes) {
+      if (p.refines) names.push_back(p.name);
+    }
+    return names;
+  };
+  EXPECT_FALSE(compile(graph).refines_apart) << "only a plan that keeps results can leave passes out of a frame";
+  CompileOptions reuse;
+  reuse.reuse_unchanged_passes = true;
+  const Plan plan = compile(graph, reuse);
+  EXPECT_TRUE(plan.refines_apart);
+  EXPECT_EQ(refining(plan), (std::vector<std::string>{"light", "estimate", "mean"}));
+  EXPECT_FALSE(plan.resources[static_cast<size_t>(plan.find_resource("average"))].transient) << "the running result is kept";
+  EXPECT_TRUE(plan.resources[static_cast<size_t>(plan.find_resource("estimate"))].transient) << "only refining passes read it";
+
+  // A showing pass that reads this frame's estimate would need it in a showing frame too.
+  nlohmann::json shows_estimate = graph;
+  shows_estimate["passes"][4]["inputs"]["b"] = "estimate";
+  EXPECT_FALSE(compile(shows_estimate, reuse).refines_apart);
+
+  // A history input makes its reader a running result: the writers of what it reads refine with it.
+  const nlohmann::json history = {
+      {"resources", {{"lit", image()}, {"mean", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "average"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "mean@previous"}}}, {"outputs", {{"color", "mean"}}}},
+        {{"name", "show"}, {"type", "filter"}, {"inputs", {{"source", "mean"}}}, {"outputs", {{"target", "out"}}}}}},
+      {"outputs", {"out"}}};
+  const Plan averaged = compile(history, reuse);
+  EXPECT_TRUE(averaged.refines_apart);
+  EXPECT_EQ(refining(averaged), (std::vector<std::string>{"light", "average"}));
+}
+
 // A history input ("NAME@previous") reads what NAME held at the end of the last frame: a resource of
 // its own, kept with its source out of aliasing, both starting each frame from the layout the last
 // one left them in; restarted by what the source's writers depend on, and the frame passed on to

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
@@ -169,6 +170,55 @@ TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
   expect_fresh(moved_light, "a frame with nothing changed");
   EXPECT_GT(lit.counters.at("caustic.flux"), 0.0);
   EXPECT_EQ(still.counters.at("caustic.flux"), lit.counters.at("caustic.flux"));
+}
+
+// The viewer at rest (FramePart): frames that only refine the mean, and now and then one that only
+// shows it, give the pictures of whole frames: after 1 whole, 3 refining and a showing frame, the
+// caustic map and the picture of 4 whole frames, and after 2 more refining and a showing one those
+// of 6. With slices (a quarter of the grid a frame), a showing frame must not move the slice on.
+TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
+  auto scene = load_bundled_scene("glass_bunny");
+  const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
+  SceneEngine apart;
+  apart.executor.set_reuse_unchanged_passes(true);
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+  graph::apply_overrides(graph, sets);
+  apart.executor.set_scene(scene);
+  apart.executor.configure(graph, apart.width, apart.height, {"caustics"});
+  ASSERT_TRUE(apart.executor.plan().refines_apart);
+  auto run = [&](graph::FramePart part, bool read_back = false) {
+    const graph::FrameResult frame = apart.executor.run_frame(read_back, part);
+    std::set<std::string> ran;
+    for (const auto& pass : frame.passes) {
+      if (pass.ran) ran.insert(pass.name);
+    }
+    return std::make_pair(frame, ran);
+  };
+  EXPECT_EQ(run(graph::FramePart::display).first.part, graph::FramePart::whole) << "a plan's first frame runs whole";
+  for (int f = 0; f < 3; ++f) {
+    const auto [frame, ran] = run(graph::FramePart::refine);
+    EXPECT_EQ(frame.part, graph::FramePart::refine);
+    EXPECT_EQ(ran, (std::set<std::string>{"caustics", "accumulate"})) << "the light's passes are reused, the camera's wait";
+  }
+  for (uint32_t frames : {4u, 6u}) {
+    const auto [shown, ran] = run(graph::FramePart::display, true);
+    EXPECT_EQ(ran, (std::set<std::string>{"lighting", "refraction", "tonemap"}));
+    EXPECT_EQ(shown.frame.since_reset + 1, frames) << "the frames in the mean shown";
+    EXPECT_TRUE(shown.converging) << "the mean goes on converging while it is only shown";
+    EXPECT_EQ(shown.counters.at("accumulate.frames"), frames);
+    SceneEngine whole;
+    accumulated(whole, scene, sets, frames);
+    for (const char* image : {"caustics", "ldr"}) {
+      EXPECT_LT(relative_difference(apart.executor.read_image(image), whole.executor.read_image(image)), 1e-6)
+          << image << " after " << frames << " frames";
+    }
+    for (int f = 0; f < 2; ++f) run(graph::FramePart::refine);
+  }
+  // A light move runs the next frame whole: the mean restarts, as a fresh render's.
+  auto moved = std::make_shared<scene::Scene>(*scene);
+  moved->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  apart.executor.set_view(moved);
+  EXPECT_EQ(run(graph::FramePart::refine).first.part, graph::FramePart::whole);
 }
 
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image

@@ -49,6 +49,11 @@ inline graph::PassRegistry make_test_registry() {
   registry.add(blend);
   registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
                 {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
+  // A running mean over frames: its output moves each frame from its own last one.
+  PassTypeDecl mean{"mean", "averages an image over frames", PassQueue::compute, {sampled_in("source"), color_out("average")}, {}, false,
+                    nullptr};
+  mean.accumulates = true;
+  registry.add(mean);
   registry.add({"report", "reads an image and reports on it (side effect)", PassQueue::compute, {sampled_in("source")}, {}, true, nullptr});
   registry.add({"splat",
                 "writes an r32f array of three layers (a colour per layer) and reads it back",

@@ -17,21 +17,23 @@ double percentile(std::vector<double> values, double p) {
   return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
 }
 
+constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::FramePart
+
 }  // namespace
 
 void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still) {
-  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, {}, {}};
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, frame.part, {}, {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
 
 void FrameLog::write(const std::string& path) const {
   nlohmann::ordered_json out;
-  std::vector<double> all, moving;
+  std::vector<double> all, moving, still;
   out["frames"] = nlohmann::ordered_json::array();
   for (const Entry& e : entries_) {
     all.push_back(e.wall_ms);
-    if (e.moving) moving.push_back(e.wall_ms);
+    (e.moving ? moving : still).push_back(e.wall_ms);
     out["frames"].push_back({{"wall_ms", e.wall_ms},
                              {"gpu_ms", e.gpu_ms},
                              {"cpu_ms", e.cpu_ms},
@@ -40,12 +42,14 @@ void FrameLog::write(const std::string& path) const {
                              {"lowered", e.lowered},
                              {"still", e.still},
                              {"converging", e.converging},
+                             {"part", kPartNames[static_cast<size_t>(e.part)]},
                              {"ran", e.ran},
                              {"reused", e.reused}});
   }
   out["summary"] = {
       {"frames", all.size()},           {"wall_ms_median", percentile(all, 50)},           {"wall_ms_p95", percentile(all, 95)},
-      {"moving_frames", moving.size()}, {"moving_wall_ms_median", percentile(moving, 50)}, {"moving_wall_ms_p95", percentile(moving, 95)}};
+      {"moving_frames", moving.size()}, {"moving_wall_ms_median", percentile(moving, 50)}, {"moving_wall_ms_p95", percentile(moving, 95)},
+      {"still_frames", still.size()},   {"still_wall_ms_median", percentile(still, 50)},   {"still_wall_ms_p95", percentile(still, 95)}};
   io::write_text_atomically(path, out.dump(2) + "\n");
 }
 

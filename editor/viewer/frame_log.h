@@ -14,8 +14,8 @@ class FrameLog {
   // `divider`: the frame rendered at the window's size over this (the frame budget); `lowered`: with
   // the graph parameters' while_moving values; `still`: with their while_still values.
   void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still);
-  // JSON: every frame, and the median and 95th percentile of the wall time over all frames and
-  // over the moving ones. Written through a temporary file, so a killed viewer leaves none.
+  // JSON: every frame, and the median and 95th percentile of the wall time over all frames, the
+  // moving ones and the still ones. Written through a temporary file, so a killed viewer leaves none.
   void write(const std::string& path) const;
 
  private:
@@ -24,6 +24,7 @@ class FrameLog {
     bool moving;
     uint32_t divider;
     bool lowered, still, converging;
+    graph::FramePart part;
     std::vector<std::string> ran, reused;
   };
   std::vector<Entry> entries_;

@@ -135,6 +135,8 @@ class Viewer::Impl {
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
       frame_measured_ = true;
+      if (last_result_.part == graph::FramePart::whole) last_whole_ms_ = last_wall_ms_;
+      if (last_result_.part != graph::FramePart::refine) last_shown_ = last_frame;
       if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_);
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
       // graph's while_still values wait for the view to rest.
@@ -326,6 +328,18 @@ class Viewer::Impl {
     }
   }
 
+  // At rest, with a plan that refines apart (an accumulating mean) whose whole frame is over the
+  // budget, frames refine the mean and every kShowInterval one shows it, as Cycles' viewport
+  // refreshes its picture between samples: the window answers input within a refining frame, and
+  // most of the time goes into the mean. A refining frame leaves the window's picture as it was.
+  graph::FramePart frame_part(bool must_show) const {
+    if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || last_whole_ms_ <= options_.budget_ms) {
+      return graph::FramePart::whole;
+    }
+    return std::chrono::steady_clock::now() - last_shown_ >= kShowInterval ? graph::FramePart::display : graph::FramePart::refine;
+  }
+  static constexpr std::chrono::milliseconds kShowInterval{500};
+
   // The graph declares while_still values that this device has not refused.
   bool still_values_wanted() const {
     return session_.graph && !still_values_refused_ &&
@@ -464,6 +478,10 @@ class Viewer::Impl {
                          step_.lowered ? ", the graph's while_moving values" : "", options_.budget_ms);
     }
     if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
+    if (frame.part != graph::FramePart::whole) {
+      ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s",
+                         static_cast<unsigned long long>(frame.frame.since_reset + 1), std::chrono::duration<double>(kShowInterval).count());
+    }
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
     frame_panel(frame, executor_.plan(), gpu_history_);
@@ -525,7 +543,8 @@ class Viewer::Impl {
     const bool inspecting = !inspector_.inspected.empty() && (inspector_.open || inspector_.in_main_view);
     const bool read_back =
         !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
-    const graph::FrameResult frame = executor_.run_frame(read_back);
+    const bool must_show = last || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty();
+    const graph::FrameResult frame = executor_.run_frame(read_back, frame_part(must_show));
     last_result_ = frame;
     const uint32_t compiled = executor_.compile_count();
     const graph::FrameImage output_image = executor_.frame_image(output);
@@ -719,6 +738,8 @@ class Viewer::Impl {
   graph::FrameResult last_result_;
   bool moved_ = false;                 // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;            // the last frame's, input to present
+  double last_whole_ms_ = 0;           // the last frame's that ran whole (graph::FramePart)
+  std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
   bool frame_measured_ = false;        // since the frame budget last judged
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
   editor::FrameBudget::Step step_;                  // the step the plan was made for

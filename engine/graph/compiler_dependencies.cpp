@@ -1,4 +1,6 @@
 // What each pass's result depends on, and what a plan that reuses unchanged passes keeps.
+#include <algorithm>
+
 #include "graph/compiler_internal.h"
 
 namespace caustica::graph::compiler_internal {
@@ -54,7 +56,54 @@ void Compiler::find_dependencies() {
       if (b.port->access != PortAccess::read) plan_.resources[b.resource].transient = false;
     }
   }
+  find_refining_passes();
   for (PlannedResource& r : plan_.resources) r.kept_across_frames |= r.kind == ResourceKind::image && !r.transient;
+}
+
+void Compiler::find_refining_passes() {
+  // A pass refines when it accumulates or when a refining pass reads what it writes (a history
+  // input reads its source's writers): latest first, so that a chain reaches its first pass.
+  auto accumulates = [&](const Node& node) {
+    return node.decl->accumulates || std::any_of(node.bindings.begin(), node.bindings.end(), [&](const auto& b) {
+             return plan_.resources[b.resource].previous_of != kNoResource;
+           });
+  };
+  std::vector<bool> read_by_refining(plan_.resources.size(), false);
+  bool any_accumulates = false;
+  for (uint32_t i = static_cast<uint32_t>(order_.size()); i-- > 0;) {
+    const Node& node = nodes_[order_[i]];
+    bool refines = accumulates(node);
+    any_accumulates |= refines;
+    for (const auto& b : node.bindings) refines |= b.port->access != PortAccess::read && read_by_refining[b.resource];
+    if (!refines) continue;
+    plan_.passes[i].refines = true;
+    for (const auto& b : node.bindings) {
+      if (b.port->access == PortAccess::write) continue;
+      read_by_refining[b.resource] = true;
+      if (const uint32_t source = plan_.resources[b.resource].previous_of; source != kNoResource) read_by_refining[source] = true;
+    }
+  }
+  if (!any_accumulates) return;
+  // The running results persist; apart they run only where what a showing pass reads from a
+  // refining one persists too (a pass that changes every frame and is read by both would otherwise
+  // have to run in both, and move on twice).
+  for (uint32_t i = 0; i < order_.size(); ++i) {
+    if (!accumulates(nodes_[order_[i]])) continue;
+    for (const auto& b : nodes_[order_[i]].bindings) {
+      if (b.port->access != PortAccess::read) plan_.resources[b.resource].transient = false;
+    }
+  }
+  std::vector<bool> written_by_refining(plan_.resources.size(), false);
+  plan_.refines_apart = true;
+  for (uint32_t i = 0; i < order_.size(); ++i) {
+    for (const auto& b : nodes_[order_[i]].bindings) {
+      if (plan_.passes[i].refines) {
+        if (b.port->access != PortAccess::read) written_by_refining[b.resource] = true;
+      } else if (b.port->access != PortAccess::write && written_by_refining[b.resource] && plan_.resources[b.resource].transient) {
+        plan_.refines_apart = false;
+      }
+    }
+  }
 }
 
 void Compiler::keep_contents_across_frames() {

@@ -88,6 +88,8 @@ class Compiler {
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
   void find_dependencies();
+  // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.
+  void find_refining_passes();
   void keep_contents_across_frames();
 
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.

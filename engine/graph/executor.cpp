@@ -126,7 +126,9 @@ struct Executor::Realized {
   std::vector<bool> counter_is_sum;
   std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  bool converging = false;                   // and PassContext::still_converging
+  // Per pass, as it last ran: whether it would change with more frames (PassContext::still_converging).
+  std::vector<bool> converging;
+  size_t recording_pass = 0;
   vk::Buffer counters;                       // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
@@ -205,7 +207,7 @@ void PassContext::set_counter(uint32_t counter, double value) const {
   executor_.realized_->host_counters[counter] = value;
 }
 void PassContext::still_converging() const {
-  executor_.realized_->converging = true;
+  executor_.realized_->converging[executor_.realized_->recording_pass] = true;
 }
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
@@ -524,7 +526,7 @@ void Executor::record_history(VkCommandBuffer cmd) {
   vk_.end_label(cmd);
 }
 
-FrameResult Executor::run_frame(bool read_back) {
+FrameResult Executor::run_frame(bool read_back, FramePart part) {
   assert(plan_ && "configure() before run_frame()");
   Realized& real = *realized_;
   const Plan& p = *plan_;
@@ -533,8 +535,22 @@ FrameResult Executor::run_frame(bool read_back) {
   const auto frame_start = Clock::now();
   const uint64_t submission = vk_.begin_submission();
   if (scene_) scene_->update_frame(p.output_width, p.output_height);
+  real.reset_keys.resize(p.passes.size());
+  real.pass_frames.resize(p.passes.size());
+  real.converging.resize(p.passes.size());
+  std::vector<uint64_t> keys(p.passes.size(), 0);
+  for (size_t i = 0; i < p.passes.size(); ++i) {
+    const uint32_t depends = p.passes[i].depends;
+    if (scene_) keys[i] = scene_->parts_key(depends & kDependsOnGeometry, depends & kDependsOnLights, depends & kDependsOnCamera);
+  }
+  auto in_part = [&](size_t i) { return part == FramePart::whole || p.passes[i].refines == (part == FramePart::refine); };
+  if (!p.refines_apart) part = FramePart::whole;
+  for (size_t i = 0; i < p.passes.size() && part != FramePart::whole; ++i) {
+    if (!in_part(i) && real.reset_keys[i] != keys[i]) part = FramePart::whole;
+  }
+  result.part = part;
   glm::vec2 camera_jitter(0.0f);
-  if (scene_ && p.jitters_camera) {
+  if (scene_ && p.jitters_camera && part != FramePart::display) {
     // Counted from the scene's last change (the camera, a light, the geometry), so that the first
     // frame after any change is a fresh render's.
     const uint64_t key = scene_->parts_key(true, true, true);
@@ -546,7 +562,6 @@ FrameResult Executor::run_frame(bool read_back) {
     scene_->jitter_camera(camera_jitter);
   }
   real.host_counters.clear();
-  real.converging = false;
 
   vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -577,16 +592,13 @@ FrameResult Executor::run_frame(bool read_back) {
   record_history(cmd);
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
   std::set<std::string> skipped;
-  real.reset_keys.resize(p.passes.size());
-  real.pass_frames.resize(p.passes.size());
   for (size_t i = 0; i < p.passes.size(); ++i) {
     const PlannedPass& pass = p.passes[i];
     const auto pass_start = Clock::now();
     vk_.begin_label(cmd, pass.name);
     uint32_t start = stamp();  // a pass's barriers count as part of its cost
     record_barriers(cmd, pass.barriers);
-    const uint64_t key =
-        scene_ ? scene_->parts_key(pass.depends & kDependsOnGeometry, pass.depends & kDependsOnLights, pass.depends & kDependsOnCamera) : 0;
+    const uint64_t key = keys[i];
     // What a pass's history (an accumulated mean, a jitter sequence) follows: a change of anything
     // it depends on restarts it, and nothing else does (a camera move leaves light-space history).
     FrameInfo& pass_frame = real.pass_frames[i];
@@ -599,9 +611,11 @@ FrameResult Executor::run_frame(bool read_back) {
       real.reset_keys[i] = key;
       pass_frame.since_reset = 0;
     }
-    const bool run = changed || !pass.reusable(p.reuses_unchanged_passes);
+    const bool run = in_part(i) && (changed || !pass.reusable(p.reuses_unchanged_passes));
     if (run) {
       real.recording = &pass_frame;
+      real.recording_pass = i;
+      real.converging[i] = false;
       real.recording_params = &pass.params;
       if (!pass.frame_params.empty()) {
         real.frame_params.resize(p.passes.size());
@@ -704,11 +718,21 @@ FrameResult Executor::run_frame(bool read_back) {
     }
   }
   result.counter_passes = real.counter_passes;
-  result.converging = real.converging;
+  result.converging = std::find(real.converging.begin(), real.converging.end(), true) != real.converging.end();
   real.last_counters = result.counters;
   real.read_back_done = read_back;
   result.frame = {real.frame_index, real.frame_index};
-  for (FrameInfo& f : real.pass_frames) result.frame.since_reset = std::min(result.frame.since_reset, f.since_reset++);
+  // A pass outside the frame's part stays where it was: the next frame it runs is its next one (a
+  // slice of a photon grid, a jitter). A frame apart counts the frames of the running results: a
+  // display frame shows them as the last refining frame left them.
+  for (size_t i = 0; i < p.passes.size(); ++i) {
+    FrameInfo& f = real.pass_frames[i];
+    if (part == FramePart::whole || p.passes[i].refines) {
+      const uint64_t shown = part == FramePart::display && f.since_reset > 0 ? f.since_reset - 1 : f.since_reset;
+      result.frame.since_reset = std::min(result.frame.since_reset, shown);
+    }
+    if (in_part(i)) ++f.since_reset;
+  }
   ++real.frame_index;
   return result;
 }

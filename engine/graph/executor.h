@@ -36,6 +36,13 @@ struct FrameImage {
   VkExtent2D extent{};
 };
 
+// Which passes a frame runs. In a plan that refines apart (Plan::refines_apart), a refine frame runs
+// the passes that move its running results (PlannedPass::refines) and a display frame the others,
+// which show those results as they stand: a still view spends most frames refining and shows the
+// result every so often. Elsewhere, and when a pass outside the part has something new to work on
+// (a change of a scene part it depends on), a frame runs whole.
+enum class FramePart { whole, refine, display };
+
 struct FrameResult {
   std::vector<PassTiming> passes;
   double gpu_ms = 0;                                  // first to last timestamp of the frame, barriers included
@@ -43,7 +50,8 @@ struct FrameResult {
   std::map<std::string, double> counters;             // counts are whole numbers; sums (caustic.flux) are floats
   std::map<std::string, std::string> counter_passes;  // counter -> the pass that set it up
   FrameInfo frame;                                    // the frame this was; since_reset: since anything a pass depends on last changed
-  bool converging = false;                            // a pass that ran would change with more frames (PassContext::still_converging)
+  bool converging = false;  // a pass would change with more frames (PassContext::still_converging), as it last ran
+  FramePart part = FramePart::whole;  // what the frame ran
 };
 
 class Executor {
@@ -74,7 +82,7 @@ class Executor {
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().
-  FrameResult run_frame(bool read_back);
+  FrameResult run_frame(bool read_back, FramePart part = FramePart::whole);
 
   io::ImageData read_image(const std::string& resource) const;
   // The image stays valid until the next configure() that compiles; the next run_frame() may

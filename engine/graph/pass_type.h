@@ -105,6 +105,11 @@ struct PassTypeDecl {
   // frame while it stands still (an average of still frames that antialiases: temporal_mean). A plan
   // with such a pass jitters the camera for every pass, which then re-draw every frame. Unset: never.
   std::function<bool(const nlohmann::json& params)> jitters_camera;
+  // Its output is a running result that each frame moves from its own last one (a mean over
+  // frames), as a pass reading a history input's is. A plan that reuses unchanged passes keeps such
+  // results, so that frames which only refine them (FramePart::refine) and frames which only show
+  // them (FramePart::display) can run apart.
+  bool accumulates = false;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

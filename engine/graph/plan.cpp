@@ -93,6 +93,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["fallbacks"] = plan.fallbacks;
   out["reuses_unchanged_passes"] = plan.reuses_unchanged_passes;
   out["jitters_camera"] = plan.jitters_camera;
+  out["refines_apart"] = plan.refines_apart;
   out["passes"] = json::array();
   for (const auto& p : plan.passes) {
     json pass;
@@ -104,6 +105,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
     // What its result depends on besides parameters (its inputs' dependencies included), and whether
     // a plan that reuses unchanged passes may skip it.
     pass["depends_on"] = dependency_names(p.depends);
+    if (plan.refines_apart) pass["refines"] = p.refines;
     pass["ports"] = json::object();
     for (const auto& [port, r] : p.ports) pass["ports"][port] = plan.resources[r].name;
     pass["barriers"] = json::array();

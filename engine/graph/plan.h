@@ -107,6 +107,9 @@ struct PlannedPass {
   // reuses unchanged passes, it runs only when one of these changed.
   uint32_t depends = kDependsOnFrame;
   bool reusable(bool plan_reuses) const { return plan_reuses && !(depends & kDependsOnFrame); }
+  // With Plan::refines_apart: the pass moves a running result or writes what such a pass reads, and
+  // runs in FramePart::refine frames; the others run in FramePart::display frames.
+  bool refines = false;
 };
 
 struct MemoryBlock {
@@ -143,6 +146,11 @@ struct Plan {
   // A pass asks for the camera to move within its pixels from frame to frame while it stands still
   // (PassTypeDecl::jitters_camera): the passes that see the camera then depend on the frame too.
   bool jitters_camera = false;
+  // In a plan that reuses unchanged passes, with a pass that accumulates (PassTypeDecl::accumulates
+  // or a history input): the passes that refine its running result can run without those that show
+  // it, every resource that the showing passes read from the refining ones being kept. The viewer
+  // at rest then refines for several frames within its budget for each frame that shows the result.
+  bool refines_apart = false;
 
   int find_resource(std::string_view name) const;
   // `name`, or the resource read in its place when it fell back.
