@@ -135,8 +135,9 @@ class Viewer::Impl {
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
       frame_measured_ = true;
-      if (last_result_.part == graph::FramePart::whole) last_whole_ms_ = last_wall_ms_;
-      if (last_result_.part != graph::FramePart::refine) last_shown_ = last_frame;
+      // A plan's first frame runs every pass and sets up pipelines: it says little about the next.
+      if (last_result_.part == graph::FramePart::whole && last_result_.frame.index > 0) last_whole_ms_ = last_wall_ms_;
+      if (last_result_.part != graph::FramePart::refine) last_shown_ = clock::now();
       if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_);
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
       // graph's while_still values wait for the view to rest.
@@ -270,6 +271,7 @@ class Viewer::Impl {
 
   void configure() {
     budget_.new_plan();
+    last_whole_ms_ = 0;
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
@@ -333,7 +335,8 @@ class Viewer::Impl {
   // refreshes its picture between samples: the window answers input within a refining frame, and
   // most of the time goes into the mean. A refining frame leaves the window's picture as it was.
   graph::FramePart frame_part(bool must_show) const {
-    if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || last_whole_ms_ <= options_.budget_ms) {
+    if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || options_.budget_ms <= 0 ||
+        last_whole_ms_ <= options_.budget_ms) {
       return graph::FramePart::whole;
     }
     return std::chrono::steady_clock::now() - last_shown_ >= kShowInterval ? graph::FramePart::display : graph::FramePart::refine;
@@ -738,7 +741,7 @@ class Viewer::Impl {
   graph::FrameResult last_result_;
   bool moved_ = false;                 // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;            // the last frame's, input to present
-  double last_whole_ms_ = 0;           // the last frame's that ran whole (graph::FramePart)
+  double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart), not its first
   std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
   bool frame_measured_ = false;        // since the frame budget last judged
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving

@@ -89,16 +89,35 @@ echo "ok: while orbiting, the light's passes are reused; --every-pass runs them 
 progressive="$src/graphs/caustics_progressive.json"
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
 if pixels; then
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
   "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --out "$dir/image4.png" 2> /dev/null
   "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
   if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 fi
+# At rest with a budget that no whole frame meets (after the plan's first two), frames refine the
+# mean (the caustic passes alone) and now and then show it (the camera's passes alone); the last
+# frame runs whole and shows the mean of every frame that refined it, as a headless render does.
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 12 --still-after 0 --budget 1 --screenshot "$dir/apart.png" --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
+refined=$(python3 - "$dir/apart.json" <<'PY'
+import json, sys
+frames = json.load(open(sys.argv[1]))["frames"]
+parts = [f["part"] for f in frames]
+assert parts[:2] == ["whole", "whole"] and parts[-1] == "whole" and "refine" in parts, parts
+for f in frames:
+    if f["part"] == "refine": assert f["ran"] == ["caustics", "accumulate"], f
+    if f["part"] == "display": assert f["ran"] == ["lighting", "refraction", "tonemap"], f
+print(sum(p != "display" for p in parts))
+PY
+) || fail "the frame log does not show refining frames apart at rest"
+if pixels; then
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate "$refined" --out "$dir/exact_apart.png" 2> /dev/null
+  "$bin" compare "$dir/apart.png" "$dir/exact_apart.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the view refining apart is not $refined accumulated frames: $(cat "$dir/compare")"
+fi
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
-# the search, not the while_still ray queries).
+# the search, not the while_still ray queries; the other while_still value, slice_side 2, holds).
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --set distance=search --screenshot "$dir/still_search.png" --validate > "$dir/log" 2>&1 || fail "view --set distance=search exited $?: $(cat "$dir/log")"
 if pixels; then
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --accumulate 4 --out "$dir/search4.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --set slice_side=2 --accumulate 4 --out "$dir/search4.png" 2> /dev/null
   "$bin" compare "$dir/still_search.png" "$dir/search4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "view --set distance=search is not four accumulated search frames: $(cat "$dir/compare")"
   if "$bin" compare "$dir/still_search.png" "$dir/exact4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell the search from ray queries"; fi
 fi
