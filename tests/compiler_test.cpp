@@ -775,6 +775,43 @@ TEST(Compiler, RefiningPassesRunApartFromThoseThatShowTheirResult) {
   EXPECT_EQ(refining(averaged), (std::vector<std::string>{"light", "average"}));
 }
 
+// A reusable pass's result key follows what it computes from: its parameters and, through what it
+// reads, its inputs' writers'; a later pass that rewrites its output makes it follow that pass too
+// (the frame leaves that pass's image). A pass that changes every frame has none.
+TEST(Compiler, ResultKeysFollowWhatAPassComputesFrom) {
+  auto graph = [](double camera_gain, double overlay_gain) {
+    return nlohmann::json{
+        {"resources", {{"lit", image()}, {"filtered", image()}, {"viewed", image()}, {"out", image()}}},
+        {"passes",
+         {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+          {{"name", "over"}, {"type", "overlay"}, {"params", {{"gain", overlay_gain}}}, {"outputs", {{"target", "lit"}}}, {"after", {"light"}}},
+          {{"name", "f"}, {"type", "filter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "filtered"}}}},
+          {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}, {"gain", camera_gain}}}, {"outputs", {{"color", "viewed"}}}},
+          {{"name", "mix"}, {"type", "blend"}, {"inputs", {{"a", "filtered"}, {"b", "viewed"}}}, {"outputs", {{"color", "out"}}}}}},
+        {"outputs", {"out"}}};
+  };
+  CompileOptions reuse;
+  reuse.reuse_unchanged_passes = true;
+  auto keys = [&](const nlohmann::json& j) {
+    std::map<std::string, uint64_t> by_name;
+    for (const auto& p : compile(j, reuse).passes) by_name[p.name] = p.result_key;
+    return by_name;
+  };
+  const auto before = keys(graph(1.0, 1.0));
+  for (const auto& [name, key] : before) EXPECT_NE(key, 0u) << name;
+  EXPECT_EQ(keys(graph(1.0, 1.0)), before) << "the same graph, the same keys";
+  const auto camera_edit = keys(graph(2.0, 1.0));
+  for (const char* same : {"light", "over", "f"}) EXPECT_EQ(camera_edit.at(same), before.at(same)) << same;
+  for (const char* changed : {"camera", "mix"}) EXPECT_NE(camera_edit.at(changed), before.at(changed)) << changed;
+  const auto overlay_edit = keys(graph(1.0, 2.0));
+  for (const char* changed : {"light", "over", "f", "mix"}) EXPECT_NE(overlay_edit.at(changed), before.at(changed)) << changed;
+  EXPECT_EQ(overlay_edit.at("camera"), before.at("camera"));
+  nlohmann::json every_frame = graph(1.0, 1.0);
+  every_frame["passes"][2]["params"] = {{"radius", "frame.index % 2"}};
+  EXPECT_EQ(keys(every_frame).at("f"), 0u);
+  EXPECT_EQ(compile(graph(1.0, 1.0)).passes[0].result_key, 0u) << "a plan that does not reuse passes carries nothing";
+}
+
 // A history input ("NAME@previous") reads what NAME held at the end of the last frame: a resource of
 // its own, kept with its source out of aliasing, both starting each frame from the layout the last
 // one left them in; restarted by what the source's writers depend on, and the frame passed on to

@@ -221,6 +221,48 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
   EXPECT_EQ(run(graph::FramePart::refine).first.part, graph::FramePart::whole);
 }
 
+// A new plan (a frame-budget step's size, an edited parameter) takes over the results of the passes
+// it did not change, as long as what they depend on holds: at another output size the light's
+// passes do not run again, after an exposure edit only the tone map runs, and each such frame is
+// the picture a fresh render of that state gives. After invalidate() (a shader reload) every pass
+// runs again.
+TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
+  SceneEngine e;
+  e.executor.set_reuse_unchanged_passes(true);
+  auto scene = load_bundled_scene("glass_bunny");
+  e.executor.set_scene(scene);
+  auto frame = [&](SceneEngine& engine, const std::vector<std::string>& sets, uint32_t width, uint32_t height) {
+    auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
+    graph::apply_overrides(graph, with(kSmall, sets));
+    engine.executor.configure(graph, width, height, {"caustics"});
+    std::set<std::string> ran;
+    for (const auto& pass : engine.executor.run_frame(true).passes) {
+      if (pass.ran) ran.insert(pass.name);
+    }
+    return ran;
+  };
+  auto expect_fresh = [&](const std::vector<std::string>& sets, uint32_t width, uint32_t height, const char* state) {
+    SceneEngine fresh;
+    fresh.executor.set_scene(scene);
+    frame(fresh, sets, width, height);
+    for (const char* image : {"ldr", "caustics"}) {
+      EXPECT_LT(relative_difference(e.executor.read_image(image), fresh.executor.read_image(image)), 1e-6) << image << " after " << state;
+    }
+  };
+  const std::set<std::string> every = frame(e, {"grid=256"}, e.width, e.height);
+  EXPECT_EQ(every.size(), e.executor.plan().passes.size());
+  const std::set<std::string> camera_passes{"gbuffer", "lighting", "refraction", "tonemap"};
+  EXPECT_EQ(frame(e, {"grid=256"}, e.width / 2, e.height / 2), camera_passes) << "at half the size";
+  expect_fresh({"grid=256"}, e.width / 2, e.height / 2, "a new size");
+  EXPECT_EQ(frame(e, {"grid=256", "exposure=2"}, e.width / 2, e.height / 2), std::set<std::string>{"tonemap"}) << "after an exposure edit";
+  expect_fresh({"grid=256", "exposure=2"}, e.width / 2, e.height / 2, "an exposure edit");
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2), (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
+      << "after a photon grid edit";
+  expect_fresh({"grid=512", "exposure=2"}, e.width / 2, e.height / 2, "a photon grid edit");
+  e.executor.invalidate();
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2), every) << "after invalidate()";
+}
+
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image
 // averaged over frames by a temporal_mean pass that reads its last result through a history input
 // (lit_mean@previous).

@@ -1,5 +1,7 @@
 // What each pass's result depends on, and what a plan that reuses unchanged passes keeps.
 #include <algorithm>
+#include <functional>
+#include <string>
 
 #include "graph/compiler_internal.h"
 
@@ -57,7 +59,46 @@ void Compiler::find_dependencies() {
     }
   }
   find_refining_passes();
+  find_result_keys();
   for (PlannedResource& r : plan_.resources) r.kept_across_frames |= r.kind == ResourceKind::image && !r.transient;
+}
+
+void Compiler::find_result_keys() {
+  // What each resource holds so far in the order: the key of its last writer and the port.
+  std::vector<std::string> content(plan_.resources.size());
+  for (uint32_t i = 0; i < order_.size(); ++i) {
+    const Node& node = nodes_[order_[i]];
+    PlannedPass& pass = plan_.passes[i];
+    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump();
+    for (const auto& b : node.bindings) {
+      const PlannedResource& r = plan_.resources[b.resource];
+      text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
+              " " + std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " + std::to_string(r.layers) +
+              " " + std::to_string(r.buffer_size);
+      if (b.port->access != PortAccess::write) text += " reads " + content[b.resource];
+    }
+    pass.result_key = std::hash<std::string>{}(text);
+    for (const auto& b : node.bindings) {
+      if (b.port->access != PortAccess::read) content[b.resource] = std::to_string(pass.result_key) + "." + b.port->name;
+    }
+  }
+  // A later pass that rewrites what a pass wrote leaves the frame's end state of it: the pass's
+  // result is carried with that pass's or not at all (as find_dependencies runs them together).
+  for (uint32_t i = static_cast<uint32_t>(order_.size()); i-- > 0;) {
+    for (const auto& b : nodes_[order_[i]].bindings) {
+      if (b.port->access == PortAccess::read) continue;
+      for (uint32_t later = i + 1; later < order_.size(); ++later) {
+        for (const auto& l : nodes_[order_[later]].bindings) {
+          if (l.resource != b.resource || l.port->access == PortAccess::read) continue;
+          plan_.passes[i].result_key = std::hash<std::string>{}(std::to_string(plan_.passes[i].result_key) + " then " +
+                                                                std::to_string(plan_.passes[later].result_key));
+        }
+      }
+    }
+  }
+  for (PlannedPass& pass : plan_.passes) {
+    if (!pass.reusable(true)) pass.result_key = 0;
+  }
 }
 
 void Compiler::find_refining_passes() {

@@ -90,6 +90,8 @@ class Compiler {
   void find_dependencies();
   // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.
   void find_refining_passes();
+  // In a plan that reuses unchanged passes: PlannedPass::result_key.
+  void find_result_keys();
   void keep_contents_across_frames();
 
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.

@@ -58,6 +58,8 @@ void Compiler::compute_lifetimes_and_usage() {
     add_usage(r, PortUsage::transfer_src);  // read back after the frame
     // A history resource is copied into from its source, or cleared, before each frame.
     if (r.previous_of != kNoResource) add_usage(r, PortUsage::transfer_dst);
+    // A result that the next plan carries over is copied from here into its own (Executor::carry_results).
+    if (plan_.reuses_unchanged_passes && r.kind == ResourceKind::image) add_usage(r, PortUsage::transfer_dst);
   }
 }
 

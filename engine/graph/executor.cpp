@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.h"
 #include "core/low_discrepancy.h"
@@ -48,6 +49,50 @@ std::vector<PlannedBarrier> kept_images_to_final_layouts(const Plan& plan) {
   return barriers;
 }
 
+VkImageAspectFlags aspect_of(Format format) {
+  return format_info(format).depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+}
+
+// A barrier on all of `res`'s image `image` (synchronization2).
+VkImageMemoryBarrier2 whole_image_barrier(VkImage image, const PlannedResource& res, VkPipelineStageFlags2 src_stages,
+                                          VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
+                                          VkImageLayout old_layout, VkImageLayout new_layout) {
+  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = src_stages;
+  barrier.srcAccessMask = src_access;
+  barrier.dstStageMask = dst_stages;
+  barrier.dstAccessMask = dst_access;
+  barrier.oldLayout = old_layout;
+  barrier.newLayout = new_layout;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
+  return barrier;
+}
+
+void pipeline_barrier(VkCommandBuffer cmd, const std::vector<VkImageMemoryBarrier2>& images,
+                      const std::vector<VkBufferMemoryBarrier2>& buffers = {}) {
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.imageMemoryBarrierCount = static_cast<uint32_t>(images.size());
+  dependency.pImageMemoryBarriers = images.data();
+  dependency.bufferMemoryBarrierCount = static_cast<uint32_t>(buffers.size());
+  dependency.pBufferMemoryBarriers = buffers.data();
+  vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+// Copies every mip level and layer of `res`'s image `from` (in TRANSFER_SRC_OPTIMAL) to `to` (in
+// TRANSFER_DST_OPTIMAL), an image of the same description.
+void copy_whole_image(VkCommandBuffer cmd, const PlannedResource& res, VkImage from, VkImage to) {
+  const VkImageAspectFlags aspect = aspect_of(res.format);
+  std::vector<VkImageCopy> levels;
+  for (uint32_t level = 0; level < res.mips; ++level) {
+    const VkImageSubresourceLayers layers{aspect, level, 0, res.layers};
+    levels.push_back({layers, {}, layers, {}, {std::max(1u, res.width >> level), std::max(1u, res.height >> level), 1}});
+  }
+  vkCmdCopyImage(cmd, from, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 static_cast<uint32_t>(levels.size()), levels.data());
+}
+
 VkImageCreateInfo image_info(const PlannedResource& r) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
@@ -67,10 +112,6 @@ VkBufferCreateInfo buffer_info(const PlannedResource& r) {
   info.size = r.buffer_size;
   info.usage = r.buffer_usage;
   return info;
-}
-
-VkImageAspectFlags aspect_of(Format format) {
-  return format_info(format).depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
 }
 
 // A pass's parameters with those that follow the frame evaluated for `frame`. The compiler checked
@@ -321,6 +362,77 @@ void Executor::realize(Plan plan) {
     plan_ = std::move(previous_plan);
     throw;
   }
+  carry_results(std::move(previous_plan), std::move(previous));
+}
+
+void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before) {
+  carried_images_.clear();
+  carried_plan_.reset();
+  carried_realized_.reset();
+  const bool carry = std::exchange(carry_results_, true);
+  if (!carry || !before || !before->reuses_unchanged_passes || !plan_->reuses_unchanged_passes) return;
+  std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
+  for (size_t j = 0; j < before->passes.size(); ++j) {
+    if (before->passes[j].result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) {
+      ran_before[before->passes[j].result_key] = j;
+    }
+  }
+  Realized& real = *realized_;
+  real.reset_keys.resize(plan_->passes.size());
+  real.pass_frames.resize(plan_->passes.size());
+  for (size_t i = 0; i < plan_->passes.size(); ++i) {
+    const PlannedPass& pass = plan_->passes[i];
+    const auto found = ran_before.find(pass.result_key);
+    if (pass.result_key == 0 || found == ran_before.end()) continue;
+    const PlannedPass& was = before->passes[found->second];
+    std::vector<std::pair<uint32_t, uint32_t>> images;
+    bool images_only = true;
+    for (const auto& [port, resource] : pass.ports) {
+      if (pass.decl->find_port(port)->access == PortAccess::read) continue;
+      images_only &= plan_->resources[resource].kind == ResourceKind::image;
+      images.emplace_back(was.ports.at(port), resource);
+    }
+    if (!images_only) continue;  // a result in a buffer is computed again
+    for (const auto& image : images) {
+      // A resource that several carried passes write (one rewriting another's) is copied once.
+      if (std::find(carried_images_.begin(), carried_images_.end(), image) == carried_images_.end()) carried_images_.push_back(image);
+    }
+    real.reset_keys[i] = realized_before->reset_keys[found->second];
+    real.pass_frames[i] = realized_before->pass_frames[found->second];
+    for (const auto& [counter, owner] : realized_before->counter_passes) {
+      if (owner == pass.name) real.last_counters[counter] = realized_before->last_counters[counter];
+    }
+  }
+  if (carried_images_.empty()) return;
+  carried_plan_ = std::move(before);
+  carried_realized_ = std::move(realized_before);
+}
+
+void Executor::record_carried(VkCommandBuffer cmd) {
+  if (carried_images_.empty()) return;
+  std::vector<VkImageMemoryBarrier2> before, after;
+  for (const auto& [from, to] : carried_images_) {
+    const PlannedResource& was = carried_plan_->resources[from];
+    const PlannedResource& res = plan_->resources[to];
+    before.push_back(whole_image_barrier(carried_realized_->images[from].image.get(), was, was.final_state.stages, was.final_state.access,
+                                         VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, was.final_state.layout,
+                                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
+    // After kept_images_to_final_layouts' transition of it; overwritten whole.
+    before.push_back(whole_image_barrier(realized_->images[to].image.get(), res, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                         VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL));
+    after.push_back(whole_image_barrier(realized_->images[to].image.get(), res, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                                        VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                        VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                        res.final_state.layout));
+  }
+  vk_.begin_label(cmd, "carried results");
+  pipeline_barrier(cmd, before);
+  for (const auto& [from, to] : carried_images_) {
+    copy_whole_image(cmd, plan_->resources[to], carried_realized_->images[from].image.get(), realized_->images[to].image.get());
+  }
+  pipeline_barrier(cmd, after);
+  vk_.end_label(cmd);
 }
 
 void Executor::realize_passes_and_resources() {
@@ -429,17 +541,8 @@ void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBar
   for (const auto& b : barriers) {
     const PlannedResource& res = plan_->resources[b.resource];
     if (res.kind == ResourceKind::image) {
-      VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-      ib.srcStageMask = b.src_stages;
-      ib.srcAccessMask = b.src_access;
-      ib.dstStageMask = b.dst_stages;
-      ib.dstAccessMask = b.dst_access;
-      ib.oldLayout = b.old_layout;
-      ib.newLayout = b.new_layout;
-      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      ib.image = realized_->images[b.resource].image.get();
-      ib.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
-      images.push_back(ib);
+      images.push_back(whole_image_barrier(realized_->images[b.resource].image.get(), res, b.src_stages, b.src_access, b.dst_stages,
+                                           b.dst_access, b.old_layout, b.new_layout));
     } else {
       VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
       bb.srcStageMask = b.src_stages;
@@ -452,12 +555,7 @@ void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBar
       buffers.push_back(bb);
     }
   }
-  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.imageMemoryBarrierCount = static_cast<uint32_t>(images.size());
-  dependency.pImageMemoryBarriers = images.data();
-  dependency.bufferMemoryBarrierCount = static_cast<uint32_t>(buffers.size());
-  dependency.pBufferMemoryBarriers = buffers.data();
-  vkCmdPipelineBarrier2(cmd, &dependency);
+  pipeline_barrier(cmd, images, buffers);
 }
 
 void Executor::record_history(VkCommandBuffer cmd) {
@@ -504,8 +602,7 @@ void Executor::record_history(VkCommandBuffer cmd) {
       continue;
     }
     const VkImage to = real.images[h].image.get();
-    const VkImageAspectFlags aspect = aspect_of(history.format);
-    const VkImageSubresourceRange all{aspect, 0, history.mips, 0, history.layers};
+    const VkImageSubresourceRange all{aspect_of(history.format), 0, history.mips, 0, history.layers};
     if (restart && format_info(history.format).depth) {
       const VkClearDepthStencilValue zero{};
       vkCmdClearDepthStencilImage(cmd, to, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
@@ -513,13 +610,7 @@ void Executor::record_history(VkCommandBuffer cmd) {
       const VkClearColorValue zero{};
       vkCmdClearColorImage(cmd, to, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
     } else {
-      std::vector<VkImageCopy> levels;
-      for (uint32_t level = 0; level < history.mips; ++level) {
-        const VkImageSubresourceLayers layers{aspect, level, 0, history.layers};
-        levels.push_back({layers, {}, layers, {}, {std::max(1u, history.width >> level), std::max(1u, history.height >> level), 1}});
-      }
-      vkCmdCopyImage(cmd, real.images[history.previous_of].image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to,
-                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, static_cast<uint32_t>(levels.size()), levels.data());
+      copy_whole_image(cmd, history, real.images[history.previous_of].image.get(), to);
     }
   }
   record_barriers(cmd, after);
@@ -587,7 +678,10 @@ FrameResult Executor::run_frame(bool read_back, FramePart part) {
   counters_dep.pMemoryBarriers = &counters_ready;
   vkCmdPipelineBarrier2(cmd, &counters_dep);
 
-  if (real.frame_index == 0) record_barriers(cmd, kept_images_to_final_layouts(p));
+  if (real.frame_index == 0) {
+    record_barriers(cmd, kept_images_to_final_layouts(p));
+    record_carried(cmd);
+  }
   const uint32_t frame_begin = stamp();
   record_history(cmd);
   std::vector<std::pair<uint32_t, uint32_t>> pass_stamps;
@@ -683,6 +777,9 @@ FrameResult Executor::run_frame(bool read_back, FramePart part) {
   vk::check(waited, "vkWaitForFences");
   vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
   vk_.retire(submission);
+  carried_images_.clear();  // copied: the plan before can go
+  carried_plan_.reset();
+  carried_realized_.reset();
 
   std::vector<uint64_t> stamps(real.query_count);
   vk::check(vkGetQueryPoolResults(vk_.device(), real.queries.get(), 0, next_query, stamps.size() * sizeof(uint64_t), stamps.data(),

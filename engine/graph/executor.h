@@ -91,8 +91,12 @@ class Executor {
   const Plan& plan() const { return *plan_; }
   uint32_t compile_count() const { return compile_count_; }
   // Makes the next configure() compile and set up every pass again even if nothing it is given
-  // changed: for shaders edited on disk. A configure() that throws keeps the previous plan running.
-  void invalidate() { configured_key_.clear(); }
+  // changed, and run every pass on its first frame: for shaders edited on disk. A configure() that
+  // throws keeps the previous plan running.
+  void invalidate() {
+    configured_key_.clear();
+    carry_results_ = false;
+  }
 
  private:
   friend class PassSetup;
@@ -107,6 +111,12 @@ class Executor {
   // Before a frame's passes: each used history resource gets its source as the last frame left it,
   // or zeros on the plan's first frame and after a change of a scene part it depends on.
   void record_history(VkCommandBuffer cmd);
+  // A new plan that reuses unchanged passes takes over the results of the passes whose result key
+  // (PlannedPass::result_key) the plan before had and which ran there: their images are copied in
+  // on its first frame (record_carried) and they are not run again until what they depend on
+  // changes. The plan before is kept until then.
+  void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before);
+  void record_carried(VkCommandBuffer cmd);
 
   vk::Context& vk_;
   shader::ShaderCompiler& shaders_;
@@ -117,6 +127,10 @@ class Executor {
   std::string configured_key_;
   uint32_t compile_count_ = 0;
   bool reuse_unchanged_passes_ = false;
+  bool carry_results_ = true;  // until invalidate()
+  std::unique_ptr<const Plan> carried_plan_;
+  std::unique_ptr<Realized> carried_realized_;
+  std::vector<std::pair<uint32_t, uint32_t>> carried_images_;  // resource in carried_plan_ -> in plan_
 };
 
 }  // namespace caustica::graph

@@ -110,6 +110,11 @@ struct PlannedPass {
   // With Plan::refines_apart: the pass moves a running result or writes what such a pass reads, and
   // runs in FramePart::refine frames; the others run in FramePart::display frames.
   bool refines = false;
+  // In a plan that reuses unchanged passes, for a reusable pass: a hash of everything its result
+  // follows from besides the scene (its name, type and parameters, its ports' formats and extents,
+  // and the result keys of what it reads). A later plan's pass with the same key computes the same
+  // images from the same scene, so the executor carries them over (a frame-budget step, an edit).
+  uint64_t result_key = 0;
 };
 
 struct MemoryBlock {
