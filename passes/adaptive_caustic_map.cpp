@@ -61,7 +61,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                         " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
     }
     const auto& p = setup.pass().params;
-    const uint32_t grid = static_cast<uint32_t>(std::stoul(p["grid"].get<std::string>()));
+    const uint32_t grid = p["grid"].get<uint32_t>();
     max_level_ = log2_exact(grid / 64);
     const std::string criterion = hierarchical_ ? "max_level" : p["criterion"].get<std::string>();
     const uint32_t converge_from = hierarchical_ ? 0 : p["converge_from"].get<uint32_t>();
@@ -281,12 +281,14 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
   using namespace graph;
   auto params = photon_path_params();
   params.push_back({"grid",
-                    ParamType::choice,
-                    "2048",
+                    ParamType::int_,
+                    2048,
+                    64.0,
+                    65536.0,
                     {},
-                    {},
-                    {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"},
-                    "effective photon grid per side: the traversal's last level"});
+                    "effective photon grid per side: the traversal's last level, each level doubling the 64 x 64 start grid",
+                    false,
+                    true});
   if (adaptive) {
     params.push_back({"criterion",
                       ParamType::choice,

@@ -434,6 +434,65 @@ TEST(Cli, GraphParamsListsWhatAGraphTakes) {
   fs::remove_all(dir);
 }
 
+// The photon grid is an integer in every pass type and graph: --set grid=1024 gives the adaptive
+// traversal the number 1024 (tests/data/bad_commands.txt: one that is not a power of two is refused
+// with the nearest ones), and a file of old, where it was a choice of strings, still reads and renders the same.
+TEST(Cli, ThePhotonGridIsAnIntegerAndOldFilesStillRead) {
+  fs::path dir = scratch("grid");
+  auto grid_of = [](const CliRun& plan) {
+    const auto parsed = nlohmann::json::parse(plan.output);
+    for (const auto& pass : parsed["passes"]) {
+      if (pass["type"] == "adaptive_caustic_map") return pass["params"]["grid"];
+    }
+    return nlohmann::json();
+  };
+  const CliRun plan = run("graph plan caustics_adaptive --set grid=1024", dir);
+  ASSERT_EQ(plan.code, 0) << plan.output;
+  EXPECT_EQ(grid_of(plan), 1024) << plan.output;
+  EXPECT_TRUE(nlohmann::json::parse(plan.output)["warnings"].empty()) << plan.output;
+  const CliRun params = run("graph params caustics_hierarchical", dir);
+  const std::string grid_line = params.output.substr(params.output.find("  grid "), 80);
+  EXPECT_NE(grid_line.find("int     2048            64 to 65536, powers of two"), std::string::npos) << grid_line;
+
+  // The bundled graph as it was written before: the grid a choice of strings.
+  std::string old = read(kSource / "graphs/caustics_adaptive.json");
+  const std::string declared =
+      "\"type\": \"int\",\n      \"default\": 2048,\n      \"while_moving\": 512,\n      \"min\": 64,\n"
+      "      \"max\": 65536,\n      \"power_of_two\": true,";
+  const size_t at = old.find(declared);
+  ASSERT_NE(at, std::string::npos) << "the grid's declaration in graphs/caustics_adaptive.json changed";
+  old.replace(
+      at, declared.size(),
+      "\"type\": \"choice\", \"default\": \"2048\", \"while_moving\": \"512\",\n"
+      "      \"choices\": [\"64\", \"128\", \"256\", \"512\", \"1024\", \"2048\", \"4096\", \"8192\", \"16384\", \"32768\", \"65536\"],");
+  std::ofstream(dir / "old.json") << old;
+  const CliRun old_plan = run("graph plan old.json --set grid=1024", dir);
+  ASSERT_EQ(old_plan.code, 0) << old_plan.output;
+  EXPECT_EQ(grid_of(old_plan), 1024) << old_plan.output;
+  const CliRun validated = run("validate old.json", dir);
+  EXPECT_EQ(validated.code, 0) << validated.output;
+  EXPECT_NE(validated.output.find("warning: old.json:"), std::string::npos) << validated.output;
+  EXPECT_NE(validated.output.find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics' "
+                                  "(adaptive_caustic_map) takes an integer, so it reads \"2048\" as 2048; declare 'grid' as "
+                                  "\"type\": \"int\" with numbers and \"power_of_two\": true"),
+            std::string::npos)
+      << validated.output;
+  // The same photons: the counters are exact, the flux a sum of float atomics in any order.
+  const std::string small = " --scene sphere_plane --size 64x36 --set grid=256 --set caustic_size=64 --out x.png --stats ";
+  ASSERT_EQ(run("render --graph caustics_adaptive" + small + "new_stats.json", dir).code, 0);
+  const CliRun old_render = run("render --graph old.json" + small + "old_stats.json", dir);
+  ASSERT_EQ(old_render.code, 0) << old_render.output;
+  EXPECT_NE(old_render.output.find("caustica: warning: old.json:"), std::string::npos) << old_render.output;
+  const auto counters = nlohmann::json::parse(read(dir / "new_stats.json"))["counters"];
+  const auto old_counters = nlohmann::json::parse(read(dir / "old_stats.json"))["counters"];
+  EXPECT_GT(counters["photons.processed"].get<double>(), 0.0);
+  for (const char* exact : {"photons.processed", "photons.splatted", "photons.converged"})
+    EXPECT_EQ(old_counters[exact], counters[exact]) << exact;
+  EXPECT_NEAR(old_counters["caustic.flux"].get<double>(), counters["caustic.flux"].get<double>(),
+              1e-4 * counters["caustic.flux"].get<double>());
+  fs::remove_all(dir);
+}
+
 TEST(Cli, GraphPlanAndDot) {
   CliRun plan = run("graph plan '" + (kSource / "graphs/core_demo.json").string() + "' --size 640x360");
   ASSERT_EQ(plan.code, 0) << plan.output;
@@ -503,7 +562,7 @@ TEST(Cli, GraphSetWritesOnlyTheValues) {
     ASSERT_NE(value, std::string::npos) << parameter;
     expected.replace(value, std::string("\"default\": ").size() + from.size(), "\"default\": " + to);
   };
-  replace_default("grid", "\"2048\"", "\"4096\"");
+  replace_default("grid", "2048", "4096");
   replace_default("fresnel", "true", "false");
   const size_t exposure = expected.find("\"exposure\": {");
   const size_t exposure_default = expected.find("\"default\": ", exposure) + std::string("\"default\": ").size();
@@ -513,7 +572,7 @@ TEST(Cli, GraphSetWritesOnlyTheValues) {
   EXPECT_EQ(run("validate edited.json", dir).code, 0);
   // In place, and a refused value leaves the file as it was.
   ASSERT_EQ(run("graph set g.json grid=512", dir).code, 0);
-  EXPECT_NE(read(dir / "g.json").find("\"default\": \"512\""), std::string::npos);
+  EXPECT_NE(read(dir / "g.json").find("\"default\": 512,"), std::string::npos);
   const std::string before = read(dir / "g.json");
   EXPECT_EQ(run("graph set g.json exposure=-5", dir).code, 1);
   EXPECT_EQ(read(dir / "g.json"), before);

@@ -6,7 +6,9 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <regex>
 
+#include "builtin_passes.h"
 #include "graph/compiler.h"
 #include "graph/expression.h"
 #include "test_registry.h"
@@ -891,4 +893,146 @@ TEST(Compiler, HistoryInputsReadTheLastFramesResource) {
   unwritten["passes"][1]["inputs"]["b"] = "idle@previous";
   EXPECT_NE(compile_error(unwritten).find("reads 'idle@previous', the previous frame's 'idle', which no pass writes"), std::string::npos)
       << compile_error(unwritten);
+}
+
+namespace {
+
+// graphs/caustics_adaptive.json, compiled against the built-in pass types.
+nlohmann::json adaptive_graph() {
+  return JsonDocument::load(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/caustics_adaptive.json").root();
+}
+
+nlohmann::json& caustic_pass_params(nlohmann::json& graph) {
+  for (auto& pass : graph["passes"]) {
+    if (pass["type"] == "adaptive_caustic_map") return pass["params"];
+  }
+  throw std::logic_error("no adaptive_caustic_map pass");
+}
+
+Plan compile_builtin(const GraphDesc& desc) {
+  CompileOptions options;
+  options.scene_values = typical_scene_values();
+  options.output_width = 64;
+  options.output_height = 32;
+  return compile_graph(desc, passes::builtin_registry(), options);
+}
+
+nlohmann::json caustic_grid(const Plan& plan) {
+  for (const auto& pass : plan.passes) {
+    if (pass.type == "adaptive_caustic_map") return pass.params["grid"];
+  }
+  return nullptr;
+}
+
+std::string builtin_compile_error(const nlohmann::json& graph) {
+  try {
+    compile_builtin(graph_from(graph));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+// The photon grid has one type in every pass type: an integer, a power of two for the traversals
+// (each level doubles the 64 x 64 start grid), refused with the nearest where it is not one.
+TEST(Compiler, ThePhotonGridIsAnIntegerInEveryCausticPassType) {
+  for (const char* type : {"caustic_map", "adaptive_caustic_map", "hierarchical_caustic_map"}) {
+    const ParamDecl* grid = passes::builtin_registry().find(type)->find_param("grid");
+    ASSERT_NE(grid, nullptr) << type;
+    EXPECT_EQ(grid->type, ParamType::int_) << type;
+    EXPECT_EQ(grid->power_of_two, std::string(type) != "caustic_map") << type;
+  }
+  auto g = adaptive_graph();
+  caustic_pass_params(g)["grid"] = 1024;
+  const Plan plan = compile_builtin(graph_from(g));
+  EXPECT_EQ(caustic_grid(plan), 1024);
+  EXPECT_TRUE(plan.warnings.empty());
+
+  caustic_pass_params(g)["grid"] = 1000;
+  const std::string refused = builtin_compile_error(g);
+  EXPECT_TRUE(std::regex_search(refused, std::regex("^test\\.json:[0-9]+:[0-9]+: parameter 'grid' of pass 'caustics' is 1000, not a "
+                                                    "power of two; the nearest are 512 and 1024 \\(at /passes/[0-9]+/params/grid\\)")))
+      << refused;
+  caustic_pass_params(g)["grid"] = 131072;
+  EXPECT_NE(builtin_compile_error(g).find("is 131072, above its maximum 65536"), std::string::npos);
+
+  // The bundled graph's parameter, set as --set sets it.
+  GraphDesc desc = graph_from(adaptive_graph());
+  apply_overrides(desc, {"grid=1024"});
+  EXPECT_EQ(caustic_grid(compile_builtin(desc)), 1024);
+  try {
+    apply_overrides(desc, {"grid=3000"});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set grid=3000: parameter 'grid' is 3000, not a power of two; the nearest are 2048 and 4096"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Files written when the traversals took the grid as a choice of strings read the same, and the
+// plan warns with what to write instead.
+TEST(Compiler, AGridWrittenAsAStringInAnOldFileStillReads) {
+  auto g = adaptive_graph();
+  caustic_pass_params(g)["grid"] = "2048";
+  Plan plan = compile_builtin(graph_from(g));
+  EXPECT_EQ(caustic_grid(plan), 2048);
+  ASSERT_EQ(plan.warnings.size(), 1u);
+  EXPECT_NE(plan.warnings[0].find("parameter 'grid' of pass 'caustics' is the string \"2048\", read as the number 2048; write it without "
+                                  "quotes (at /passes/"),
+            std::string::npos)
+      << plan.warnings[0];
+
+  g = adaptive_graph();
+  g["parameters"]["grid"] = {{"type", "choice"},
+                             {"default", "2048"},
+                             {"while_moving", "512"},
+                             {"choices", {"64", "128", "256", "512", "1024", "2048", "4096", "8192", "16384", "32768", "65536"}}};
+  GraphDesc old = graph_from(g);
+  plan = compile_builtin(old);
+  EXPECT_EQ(caustic_grid(plan), 2048);
+  ASSERT_EQ(plan.warnings.size(), 1u);
+  EXPECT_NE(plan.warnings[0].find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics' "
+                                  "(adaptive_caustic_map) takes an integer, so it reads \"2048\" as 2048; declare 'grid' as \"type\": "
+                                  "\"int\" with numbers and \"power_of_two\": true (at /parameters/grid)"),
+            std::string::npos)
+      << plan.warnings[0];
+  apply_overrides(old, {"grid=1024"});
+  EXPECT_EQ(caustic_grid(compile_builtin(old)), 1024);
+
+  // A choice that is no number stays an error.
+  g["parameters"]["grid"] = {{"type", "choice"}, {"default", "fine"}, {"choices", {"fine", "coarse"}}};
+  EXPECT_NE(builtin_compile_error(g).find("parameter 'grid' of pass 'caustics' expects an integer, got \"fine\" (through graph parameter "
+                                          "'grid')"),
+            std::string::npos)
+      << builtin_compile_error(g);
+}
+
+// "power_of_two" is any int parameter's: a graph file's as a pass type's, with the nearest powers
+// within the range in its messages.
+TEST(Compiler, PowerOfTwoParametersNameTheNearestValues) {
+  ParamDecl d{"n", ParamType::int_, 64, 16.0, 256.0, {}, "", false, true};
+  EXPECT_EQ(check_param_value(d, 128), "");
+  EXPECT_EQ(check_param_value(d, 100), "is 100, not a power of two; the nearest are 64 and 128");
+  EXPECT_EQ(check_param_value(d, 17), "is 17, not a power of two; the nearest are 16 and 32");
+  EXPECT_EQ(check_param_value(d, 8), "is 8, below its minimum 16");
+  d.min = 20.0;
+  EXPECT_EQ(check_param_value(d, 24), "is 24, not a power of two; the nearest is 32");
+  EXPECT_EQ(powers_of_two_within(d), (std::vector<int64_t>{32, 64, 128, 256}));
+
+  auto g = chain();
+  g["parameters"] = {{"side", {{"type", "int"}, {"default", 4}, {"min", 1}, {"max", 16}, {"power_of_two", true}}}};
+  g["passes"][3]["params"] = {{"radius", "$side"}};
+  GraphDesc desc = graph_from(g);
+  EXPECT_TRUE(desc.parameters[0].decl.power_of_two);
+  apply_overrides(desc, {"side=8"});
+  EXPECT_THROW(apply_overrides(desc, {"side=6"}), InputError);
+  g["parameters"]["side"]["default"] = 6;
+  EXPECT_NE(compile_error(g).find("the default of parameter 'side' is 6, not a power of two; the nearest are 4 and 8"), std::string::npos);
+  g["parameters"]["side"] = {{"type", "int"}, {"default", 4}, {"power_of_two", true}};
+  EXPECT_NE(
+      compile_error(g).find("parameter 'side' is a power of two, so it needs \"type\": \"int\", a \"min\" of at least 1 and a \"max\""),
+      std::string::npos);
 }

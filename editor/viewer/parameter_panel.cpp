@@ -2,7 +2,10 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace caustica::editor {
 
@@ -15,6 +18,14 @@ void parameter_panel(Session& session, const std::function<void()>& configure) {
     if (d.type == graph::ParamType::bool_) {
       bool v = value.get<bool>();
       if (ImGui::Checkbox(d.name.c_str(), &v)) next = v;
+    } else if (d.power_of_two) {
+      // The slider moves through the allowed values (its position is their index) and shows the value.
+      const std::vector<int64_t> powers = graph::powers_of_two_within(d);
+      const auto at = std::lower_bound(powers.begin(), powers.end(), value.get<int64_t>());
+      int index = static_cast<int>(std::min<std::ptrdiff_t>(at - powers.begin(), std::ssize(powers) - 1));
+      const std::string shown = std::to_string(powers[static_cast<size_t>(index)]);
+      if (ImGui::SliderInt(d.name.c_str(), &index, 0, static_cast<int>(powers.size()) - 1, shown.c_str(), ImGuiSliderFlags_NoInput))
+        next = powers[static_cast<size_t>(index)];
     } else if (d.type == graph::ParamType::int_) {
       int v = value.get<int>();
       if (ImGui::SliderInt(d.name.c_str(), &v, static_cast<int>(d.min.value_or(0)), static_cast<int>(d.max.value_or(1024)))) next = v;

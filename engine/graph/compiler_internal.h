@@ -68,8 +68,8 @@ class Compiler {
   void size_resources();
   std::vector<std::string> resource_names() const;
   // Every declared parameter's value (for the first frame), and in `frame_params` those that are
-  // expressions of the frame block.
-  nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl, std::map<std::string, std::string>& frame_params) const;
+  // expressions of the frame block; warns of numbers written in the old form, as strings.
+  nlohmann::json resolve_params(const PassDesc& pass, const PassTypeDecl& decl, std::map<std::string, std::string>& frame_params);
   void bind_section(Node& node, const std::map<std::string, std::string>& section, bool outputs);
   uint32_t history_resource(const std::string& name, const std::string& source_name, const std::string& pointer);
   bool wanted(const std::string& resource) const;

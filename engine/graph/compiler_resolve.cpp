@@ -202,8 +202,7 @@ std::vector<std::string> Compiler::resource_names() const {
   return names;
 }
 
-nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl& decl,
-                                        std::map<std::string, std::string>& frame_params) const {
+nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl& decl, std::map<std::string, std::string>& frame_params) {
   std::vector<std::string> declared;
   for (const auto& p : decl.params) declared.push_back(p.name);
   std::vector<std::string> graph_params;
@@ -225,6 +224,20 @@ nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl
         if (!gp) throw graph_.error(pointer, "no graph parameter '" + name + "'" + did_you_mean(name, graph_params));
         value = gp->value;
         via = " (through graph parameter '" + name + "')";
+        // Graph files of old declared a photon grid as a choice of numbers written as strings
+        // ("2048"); a numeric parameter still reads such a choice, as its number.
+        if (const bool numeric = param->type == ParamType::int_ || param->type == ParamType::float_;
+            numeric && gp->decl.type == ParamType::choice) {
+          if (const auto number = nlohmann::json::parse(value.get<std::string>(), nullptr, false); number.is_number()) {
+            const std::string message =
+                "graph parameter '" + name + "' is a choice of strings, and parameter '" + key + "' of pass '" + pass.name + "' (" +
+                decl.type + ") takes " + (param->type == ParamType::int_ ? "an integer" : "a number") + ", so it reads " + value.dump() +
+                " as " + number.dump() + "; declare '" + name + "' as \"type\": \"" + std::string(param_type_name(param->type)) +
+                "\" with numbers" + (param->power_of_two ? " and \"power_of_two\": true" : "");
+            plan_.warnings.push_back(graph_.error(gp->pointer, message).what());
+            value = number;
+          }
+        }
       } else if (raw.is_string() && param->type != ParamType::choice) {
         // An expression of the output size, the scene and the graph's parameters, and for a parameter
         // the pass reads every frame, of the frame block too: evaluated here for the first frame,
@@ -259,6 +272,11 @@ nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl
         value = param_value_of_number(*param, number, follows_frame);
         if (follows_frame) frame_params[key] = text;
         via = " (\"" + text + "\")";
+        if (nlohmann::json::parse(text, nullptr, false).is_number()) {
+          const std::string message = "parameter '" + key + "' of pass '" + pass.name + "' is the string \"" + text +
+                                      "\", read as the number " + value.dump() + "; write it without quotes";
+          plan_.warnings.push_back(graph_.error(pointer, message).what());
+        }
       }
       std::string problem = check_param_value(*param, value);
       if (!problem.empty()) throw graph_.error(pointer, "parameter '" + key + "' of pass '" + pass.name + "' " + problem + via);

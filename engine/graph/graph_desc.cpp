@@ -49,7 +49,8 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       p.pointer = pointer;
       p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
       read.object(value, pointer, "a parameter");
-      read.only_keys(value, pointer, {"type", "default", "min", "max", "choices", "description", "while_moving", "while_still"},
+      read.only_keys(value, pointer,
+                     {"type", "default", "min", "max", "power_of_two", "choices", "description", "while_moving", "while_still"},
                      "a parameter");
       if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
       if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
@@ -61,6 +62,15 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       }
       if (p.decl.min && p.decl.max && *p.decl.min > *p.decl.max) {
         throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
+      }
+      if (value.contains("power_of_two")) {
+        const std::string at = pointer + "/power_of_two";
+        if (!value["power_of_two"].is_boolean()) throw graph.error(at, "\"power_of_two\" must be true or false");
+        p.decl.power_of_two = value["power_of_two"].get<bool>();
+        if (p.decl.power_of_two && (p.decl.type != ParamType::int_ || !p.decl.min || *p.decl.min < 1 || !p.decl.max)) {
+          throw graph.error(
+              at, "parameter '" + key + "' is a power of two, so it needs \"type\": \"int\", a \"min\" of at least 1 and a \"max\"");
+        }
       }
       if (value.contains("choices")) {
         const auto& choices = value["choices"];
@@ -266,7 +276,8 @@ void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignmen
                        what_there_is);
     }
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
-    // A choice is a string: "--set grid=2048" means the choice "2048".
+    // A choice is a string: "--set distance=dv" means the choice "dv", and in a graph file of old,
+    // whose grid was a choice of strings, "--set grid=2048" the choice "2048".
     if (value.is_discarded() || target->decl.type == ParamType::choice) value = text;
     std::string problem = check_param_value(target->decl, value);
     if (!problem.empty()) throw InputError(std::string(command) + " " + assignment + ": parameter '" + name + "' " + problem);

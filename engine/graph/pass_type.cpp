@@ -73,7 +73,27 @@ std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value
   if (!std::isfinite(v)) return "must be finite";
   if (decl.min && v < *decl.min) return "is " + format_number(v) + ", below its minimum " + format_number(*decl.min);
   if (decl.max && v > *decl.max) return "is " + format_number(v) + ", above its maximum " + format_number(*decl.max);
+  int exponent = 0;
+  if (decl.power_of_two && std::frexp(v, &exponent) != 0.5) {
+    // The powers of two on either side that the range allows; one of them does, as the default is one.
+    std::vector<std::string> nearest;
+    for (double candidate : {std::ldexp(0.5, exponent), std::ldexp(1.0, exponent)}) {
+      if (candidate >= std::max(1.0, decl.min.value_or(1)) && candidate <= decl.max.value_or(candidate))
+        nearest.push_back(format_number(candidate));
+    }
+    return "is " + format_number(v) + ", not a power of two; the nearest " +
+           (nearest.size() == 1 ? "is " + nearest[0] : "are " + nearest[0] + " and " + nearest[1]);
+  }
   return "";
+}
+
+std::vector<int64_t> powers_of_two_within(const ParamDecl& decl) {
+  assert(decl.power_of_two && decl.min && decl.max && "only a power_of_two parameter, which declares its range");
+  std::vector<int64_t> out;
+  for (int e = 0; e < 63 && std::ldexp(1.0, e) <= *decl.max; ++e) {
+    if (std::ldexp(1.0, e) >= *decl.min) out.push_back(int64_t{1} << e);
+  }
+  return out;
 }
 
 nlohmann::json param_value_of_number(const ParamDecl& decl, double value, bool clamped) {
@@ -90,6 +110,7 @@ void PassRegistry::add(PassTypeDecl decl) {
   assert(!types_.contains(decl.type) && "pass type registered twice");
   for (const auto& param : decl.params) {
     assert(check_param_value(param, param.default_value).empty() && "a declared default breaks its own range");
+    assert((!param.power_of_two || (param.type == ParamType::int_ && param.min && param.max)) && "a power of two is an int with a range");
     (void)param;
   }
   std::string key = decl.type;

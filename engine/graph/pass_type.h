@@ -76,6 +76,9 @@ struct ParamDecl {
   // Read while the pass records each frame (not when it is set up), so a graph may make it an
   // expression of the frame block ("frame.since_reset", kFrameNames), evaluated before every frame.
   bool per_frame = false;
+  // An int that must be a power of two (a photon grid that a traversal refines by halving it): the
+  // checks name the nearest powers, the schema lists them and the viewer's slider doubles and halves.
+  bool power_of_two = false;
 };
 
 // The frame block that a per-frame parameter's expression may name (graph::FrameInfo).
@@ -122,6 +125,8 @@ std::string_view param_type_name(ParamType type);
 
 // Checks a parameter value against its declaration; returns the reason it is wrong, or "".
 std::string check_param_value(const ParamDecl& decl, const nlohmann::json& value);
+// The values a power_of_two parameter (which declares min and max) may take, smallest first.
+std::vector<int64_t> powers_of_two_within(const ParamDecl& decl);
 // The value of a numeric or boolean parameter that an expression evaluated to: an int rounded
 // down, a bool true where non-zero; `clamped` keeps it within the declared range (a per-frame
 // expression, which no check can bound for every frame).

@@ -15,6 +15,7 @@ json param_schema(const ParamDecl& p) {
   }
   if (p.min) s["minimum"] = *p.min;
   if (p.max) s["maximum"] = *p.max;
+  if (p.power_of_two) s["enum"] = powers_of_two_within(p);
   s["default"] = json::parse(p.default_value.dump());
   if (!p.description.empty()) s["description"] = p.description;
   // Any parameter may instead name a graph parameter ("$name"), and a number or flag may be an
@@ -68,6 +69,9 @@ json graph_schema_json(const PassRegistry& registry) {
         {"default", json::object()},
         {"min", {{"type", "number"}}},
         {"max", {{"type", "number"}}},
+        {"power_of_two",
+         {{"type", "boolean"},
+          {"description", "an int that must be a power of two within min (at least 1) and max, such as a photon grid"}}},
         {"choices", {{"type", "array"}, {"items", {{"type", "string"}}}}},
         {"description", {{"type", "string"}}},
         {"while_moving",

@@ -393,7 +393,8 @@ std::string range_text(const graph::ParamDecl& d) {
     for (const auto& c : d.choices) choices += (choices.empty() ? "" : "|") + c;
     return choices;
   }
-  if (d.min && d.max) return JsonReader::format_number(*d.min) + " to " + JsonReader::format_number(*d.max);
+  if (d.min && d.max)
+    return JsonReader::format_number(*d.min) + " to " + JsonReader::format_number(*d.max) + (d.power_of_two ? ", powers of two" : "");
   return d.type == graph::ParamType::bool_ ? "true|false" : "";
 }
 
