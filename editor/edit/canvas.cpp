@@ -54,7 +54,8 @@ void GraphEditor::draw(const graph::FrameResult& frame) {
   ImGui::PushTextWrapPos(0.0f);
   ImGui::TextColored(status_is_error_ ? ImVec4(1, 0.4f, 0.3f, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1), "%s", status_.c_str());
   ImGui::PopTextWrapPos();
-  const float side = ImGui::GetFontSize() * kSidePanelEms;
+  // A small window keeps most of its width for the canvas.
+  const float side = std::min(ImGui::GetFontSize() * kSidePanelEms, ImGui::GetContentRegionAvail().x * 0.4f);
   ImGui::BeginChild("canvas", ImVec2(ImGui::GetContentRegionAvail().x - side, 0), true,
                     ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   draw_canvas(frame);
@@ -98,6 +99,7 @@ struct GraphEditor::ScreenView {
 void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const ImVec2 size = ImGui::GetContentRegionAvail();
+  if (size.x < 1.0f || size.y < 1.0f) return;  // a window too small for any canvas
   ImGui::InvisibleButton("canvas", size,
                          ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonMiddle | ImGuiButtonFlags_MouseButtonRight);
   canvas_hovered_ = ImGui::IsItemHovered();

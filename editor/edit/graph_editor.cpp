@@ -288,6 +288,8 @@ void GraphEditor::log_layout() const {
   auto log = [](const char* what, const std::string& name, const Box& b) {
     std::fprintf(stderr, "edit: %s %s at %.0f,%.0f size %.0fx%.0f\n", what, name.c_str(), double(b.x), double(b.y), double(b.w), double(b.h));
   };
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  log("dock", "window", Box{0, display.y - dock_height_, display.x, dock_height_});
   log("canvas", "view", canvas_rect_);
   std::fprintf(stderr, "edit: canvas text %.0f px, panel text %.0f px\n", double(text_.line_height * view_.zoom), double(ImGui::GetFontSize()));
   for (const auto& n : nodes_) {
