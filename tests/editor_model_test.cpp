@@ -1246,7 +1246,8 @@ TEST(CanvasLayout, NodesHoldTheirWholeText) {
   for (const auto& n : editor::layout_nodes(model.json(), registry(), kPanelFont)) {
     EXPECT_GE(n.box.w, kPanelFont.width(n.title) + 2.0f * metrics.padding) << n.title;
     for (size_t row = 0; row < std::min(n.inputs.size(), n.outputs.size()); ++row) {
-      EXPECT_GE(n.box.w, kPanelFont.width(n.inputs[row]) + kPanelFont.width(n.outputs[row]) + 2.0f * metrics.port_inset) << n.name << " row " << row;
+      EXPECT_GE(n.box.w, kPanelFont.width(n.inputs[row]) + kPanelFont.width(n.outputs[row]) + 2.0f * metrics.port_inset)
+          << n.name << " row " << row;
     }
   }
 }
@@ -1306,4 +1307,3 @@ TEST(GraphModel, AGraphThatDoesNotCompileOpensRefusedAndCanBeRepaired) {
   options.scene_values = graph::typical_scene_values();
   EXPECT_NO_THROW(graph::compile_graph(stand_in, registry(), options));
 }
-

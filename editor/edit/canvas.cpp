@@ -93,7 +93,9 @@ struct GraphEditor::ScreenView {
   ImVec2 to_screen(float x, float y) const { return to_screen(Point{x, y}); }
   Point to_canvas(ImVec2 p) const { return view.to_canvas({origin.x, origin.y}, {p.x, p.y}); }
   void text_at(ImVec2 p, ImU32 colour, const std::string& t) const { draw->AddText(ImGui::GetFont(), font_size(), p, colour, t.c_str()); }
-  ImVec2 port_pos(const CanvasNode& n, const std::string& port, bool output) const { return to_screen(port_position(n, port, output, text)); }
+  ImVec2 port_pos(const CanvasNode& n, const std::string& port, bool output) const {
+    return to_screen(port_position(n, port, output, text));
+  }
 };
 
 void GraphEditor::draw_canvas(const graph::FrameResult& frame) {
@@ -176,9 +178,9 @@ void GraphEditor::draw_wires(const ScreenView& view) {
   for (size_t i = 0; i < all.size(); ++i) {
     if (!node(all[i].writer) || !node(all[i].reader)) continue;
     const auto& c = curves[i];
-    const ImU32 colour = hovered == i        ? IM_COL32(255, 255, 190, 255)
-                         : all[i].history    ? IM_COL32(140, 170, 255, 220)
-                                             : IM_COL32(200, 200, 120, 200);
+    const ImU32 colour = hovered == i     ? IM_COL32(255, 255, 190, 255)
+                         : all[i].history ? IM_COL32(140, 170, 255, 220)
+                                          : IM_COL32(200, 200, 120, 200);
     view.draw->AddBezierCubic(view.to_screen(c[0]), view.to_screen(c[1]), view.to_screen(c[2]), view.to_screen(c[3]), colour,
                               hovered == i ? 3.0f : 2.0f);
   }
@@ -197,7 +199,8 @@ void GraphEditor::draw_wires(const ScreenView& view) {
       const auto& pr = plan.resources[static_cast<size_t>(r)];
       label += ": " + std::string(graph::format_info(pr.format).name) + " " + std::to_string(pr.width) + "x" + std::to_string(pr.height);
     }
-    ImGui::SetTooltip("%s\n%s.%s -> %s.%s", label.c_str(), wire.writer.c_str(), wire.output.c_str(), wire.reader.c_str(), wire.input.c_str());
+    ImGui::SetTooltip("%s\n%s.%s -> %s.%s", label.c_str(), wire.writer.c_str(), wire.output.c_str(), wire.reader.c_str(),
+                      wire.input.c_str());
   }
 }
 
@@ -225,8 +228,8 @@ GraphEditor::Hovered GraphEditor::draw_nodes(const ScreenView& view, const graph
     const ImVec2 top = view.to_screen(n.box.x, n.box.y), bottom = view.to_screen(n.box.right(), n.box.bottom());
     const bool selected = selected_.count(n.name) > 0;
     view.draw->AddRectFilled(top, bottom, culled ? IM_COL32(45, 45, 45, 235) : IM_COL32(35, 45, 70, 240), 4.0f);
-    view.draw->AddRectFilled(top, ImVec2(bottom.x, top.y + metrics.header * zoom), culled ? IM_COL32(70, 70, 70, 255) : IM_COL32(60, 90, 150, 255),
-                             4.0f);
+    view.draw->AddRectFilled(top, ImVec2(bottom.x, top.y + metrics.header * zoom),
+                             culled ? IM_COL32(70, 70, 70, 255) : IM_COL32(60, 90, 150, 255), 4.0f);
     view.draw->AddRect(top, bottom,
                        selected                      ? IM_COL32(255, 220, 90, 255)
                        : error != node_errors_.end() ? IM_COL32(240, 80, 60, 255)

@@ -50,8 +50,7 @@ TextMeasure panel_text() {
 
 }  // namespace
 
-GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script)
-    : viewer_(viewer), model_(model), text_(panel_text()) {
+GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script) : viewer_(viewer), model_(model), text_(panel_text()) {
   if (!script.empty()) {
     std::istringstream lines(read_text_file(script, 1 << 20));
     for (std::string line; std::getline(lines, line);) {
@@ -286,12 +285,14 @@ void GraphEditor::step_script() {
 
 void GraphEditor::log_layout() const {
   auto log = [](const char* what, const std::string& name, const Box& b) {
-    std::fprintf(stderr, "edit: %s %s at %.0f,%.0f size %.0fx%.0f\n", what, name.c_str(), double(b.x), double(b.y), double(b.w), double(b.h));
+    std::fprintf(stderr, "edit: %s %s at %.0f,%.0f size %.0fx%.0f\n", what, name.c_str(), double(b.x), double(b.y), double(b.w),
+                 double(b.h));
   };
   const ImVec2 display = ImGui::GetIO().DisplaySize;
   log("dock", "window", Box{0, display.y - dock_height_, display.x, dock_height_});
   log("canvas", "view", canvas_rect_);
-  std::fprintf(stderr, "edit: canvas text %.0f px, panel text %.0f px\n", double(text_.line_height * view_.zoom), double(ImGui::GetFontSize()));
+  std::fprintf(stderr, "edit: canvas text %.0f px, panel text %.0f px\n", double(text_.line_height * view_.zoom),
+               double(ImGui::GetFontSize()));
   for (const auto& n : nodes_) {
     const Point top = view_.to_screen({canvas_rect_.x, canvas_rect_.y}, {n.box.x, n.box.y});
     log("node", n.name, Box{top.x, top.y, n.box.w * view_.zoom, n.box.h * view_.zoom});

@@ -544,16 +544,19 @@ std::vector<Wire> wires(const ordered_json& graph) {
 }
 
 std::string stand_in_graph(const std::string& name) {
-  const ordered_json graph = {
-      {"name", name},
-      {"description", "the editor's stand-in while " + name + " does not compile"},
-      {"resources",
-       {{"hdr", {{"type", "image"}, {"format", "rgba16f"}, {"width", "output.width"}, {"height", "output.height"}}},
-        {"ldr", {{"type", "image"}, {"format", "rgba8"}}}}},
-      {"passes",
-       {{{"name", "pattern"}, {"type", "pattern"}, {"outputs", {{"color", "hdr"}}}},
-        {{"name", "black"}, {"type", "tonemap"}, {"params", {{"exposure", 0.0}}}, {"inputs", {{"source", "hdr"}}}, {"outputs", {{"target", "ldr"}}}}}},
-      {"outputs", {"ldr"}}};
+  const ordered_json graph = {{"name", name},
+                              {"description", "the editor's stand-in while " + name + " does not compile"},
+                              {"resources",
+                               {{"hdr", {{"type", "image"}, {"format", "rgba16f"}, {"width", "output.width"}, {"height", "output.height"}}},
+                                {"ldr", {{"type", "image"}, {"format", "rgba8"}}}}},
+                              {"passes",
+                               {{{"name", "pattern"}, {"type", "pattern"}, {"outputs", {{"color", "hdr"}}}},
+                                {{"name", "black"},
+                                 {"type", "tonemap"},
+                                 {"params", {{"exposure", 0.0}}},
+                                 {"inputs", {{"source", "hdr"}}},
+                                 {"outputs", {{"target", "ldr"}}}}}},
+                              {"outputs", {"ldr"}}};
   return graph.dump(2);
 }
 

@@ -81,8 +81,8 @@ const char* kEditHelp = R"(usage: caustica edit GRAPH [--scene FILE] [--size WxH
 The graph editor: the viewer (caustica view --help) with a canvas of the graph, docked at the
 bottom of the window (drag its top edge to give the picture or the canvas more room; the viewer's
 panel starts folded). Passes are nodes with their input and output ports and last GPU time (hover
-for the counters), resources are wires labelled with their name, format and extent where the label
-has room (hover a wire for it otherwise), culled passes are grey. The canvas opens at the panels'
+for the counters), resources are wires labelled with their name where the label covers nothing
+(hover a wire for its format and extent), culled passes are grey. The canvas opens at the panels'
 text size. Drag from an output port to an input port to connect; right click for a searchable menu
 of pass types; Del removes the selected passes; drag the background to select a box; middle drag
 pans, the wheel zooms in. The side panel edits the selected pass's parameters, and the graph's
