@@ -15,6 +15,7 @@
 #include "graph/compiler.h"
 #include "io/json_document.h"
 #include "json_span.h"
+#include "model/canvas_layout.h"
 #include "model/graph_model.h"
 #include "model/json_text.h"
 
@@ -1076,15 +1077,19 @@ TEST(GraphModel, MalformedFilesAreMessagesNotCrashes) {
     }
   }
   // The CLI's bad graphs, each with the message `caustica validate` gives (its .expect file).
-  int files = 0;
+  int files = 0, opened_refused = 0;
   for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/bad_graphs")) {
     if (entry.path().extension() != ".json") continue;
     ++files;
     std::string expected = file_text(std::filesystem::path(entry.path()).replace_extension(".expect"));
     while (!expected.empty() && expected.back() == '\n') expected.pop_back();
     try {
-      GraphModel::open(entry.path().string(), registry());
-      ADD_FAILURE() << entry.path().filename() << " opened without an error";
+      // One that loads as a graph but does not compile opens refused, to be repaired, with the
+      // same message.
+      const GraphModel refused = GraphModel::open(entry.path().string(), registry());
+      EXPECT_NE(refused.refusal().find(entry.path().filename().string()), std::string::npos) << refused.refusal();
+      EXPECT_NE(refused.refusal().find(expected), std::string::npos) << "expected '" << expected << "' in: " << refused.refusal();
+      ++opened_refused;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(entry.path().filename().string()), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << "expected '" << expected << "' in: " << e.what();
@@ -1093,6 +1098,7 @@ TEST(GraphModel, MalformedFilesAreMessagesNotCrashes) {
     }
   }
   EXPECT_GE(files, 30);
+  EXPECT_GE(opened_refused, 5) << "the bad graphs that compile-fail should open refused";
 }
 
 // A graph file that starts with a UTF-8 byte order mark opens (the engine's parser skips the mark)
@@ -1192,4 +1198,112 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
   }
   EXPECT_EQ(model.text(), file_text(graphs_dir() / "core_demo.json"));
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// ProggyClean, ImGui's built-in font that the editor draws with: 13 px lines, 7 px a character.
+const editor::TextMeasure kPanelFont{13.0f, [](const std::string& text) { return 7.0f * static_cast<float>(text.size()); }};
+
+// A wire's label as the canvas places it along the wire: its resource's name.
+std::vector<std::string> wire_names(const std::vector<editor::Wire>& wires) {
+  std::vector<std::string> names;
+  for (const auto& w : wires) names.push_back(w.history ? "last frame's " + w.resource : w.resource);
+  return names;
+}
+
+std::string describe(const editor::Box& b) {
+  return std::to_string(b.x) + "," + std::to_string(b.y) + " " + std::to_string(b.w) + "x" + std::to_string(b.h);
+}
+
+}  // namespace
+
+// Every bundled graph opens in the editor's default window with every node inside the canvas, none
+// over another, its text at the panels' size (issue 43: text 6 px high, passes outside the canvas).
+TEST(CanvasLayout, EveryBundledGraphFitsTheDefaultCanvasAtTheReadableSize) {
+  const editor::Box canvas{0, 0, editor::kDefaultCanvasWidth, editor::kDefaultCanvasHeight};
+  for (const auto& path : bundled_graphs()) {
+    SCOPED_TRACE(path.filename().string());
+    const GraphModel model = GraphModel::open(path.string(), registry());
+    const auto nodes = editor::layout_nodes(model.json(), registry(), kPanelFont);
+    ASSERT_EQ(nodes.size(), model.json()["passes"].size());
+    const editor::CanvasView view = editor::fit_view(nodes, canvas.w, canvas.h);
+    EXPECT_GE(kPanelFont.line_height * view.zoom, kPanelFont.line_height) << "canvas text smaller than the panels'";
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      const editor::Point top = view.to_screen({0, 0}, {nodes[i].box.x, nodes[i].box.y});
+      const editor::Box shown{top.x, top.y, nodes[i].box.w * view.zoom, nodes[i].box.h * view.zoom};
+      EXPECT_TRUE(canvas.contains(shown)) << nodes[i].name << " at " << describe(shown) << " is outside the canvas";
+      for (size_t j = i + 1; j < nodes.size(); ++j)
+        EXPECT_FALSE(nodes[i].box.overlaps(nodes[j].box)) << nodes[i].name << " overlaps " << nodes[j].name;
+    }
+  }
+}
+
+// A node is as wide as its text: its title, and each row's input and output labels side by side.
+TEST(CanvasLayout, NodesHoldTheirWholeText) {
+  const GraphModel model = GraphModel::open((graphs_dir() / "caustics_adaptive.json").string(), registry());
+  const editor::NodeMetrics metrics(kPanelFont);
+  for (const auto& n : editor::layout_nodes(model.json(), registry(), kPanelFont)) {
+    EXPECT_GE(n.box.w, kPanelFont.width(n.title) + 2.0f * metrics.padding) << n.title;
+    for (size_t row = 0; row < std::min(n.inputs.size(), n.outputs.size()); ++row) {
+      EXPECT_GE(n.box.w, kPanelFont.width(n.inputs[row]) + kPanelFont.width(n.outputs[row]) + 2.0f * metrics.port_inset)
+          << n.name << " row " << row;
+    }
+  }
+}
+
+// Wire labels lie over no node and no other label (issue 43: they overlapped both); a label with no
+// free place along its wire is left to the hover. Of all the bundled graphs' wires, a third at least
+// are labelled on the canvas.
+TEST(CanvasLayout, WireLabelsOverlapNoNodeAndNoOtherLabel) {
+  size_t all_wires = 0, all_placed = 0;
+  for (const auto& path : bundled_graphs()) {
+    SCOPED_TRACE(path.filename().string());
+    const GraphModel model = GraphModel::open(path.string(), registry());
+    const auto nodes = editor::layout_nodes(model.json(), registry(), kPanelFont);
+    const auto wires = editor::wires(model.json());
+    const auto names = wire_names(wires);
+    const auto labels = editor::place_wire_labels(nodes, wires, names, kPanelFont);
+    ASSERT_EQ(labels.size(), wires.size());
+    size_t placed = 0;
+    for (size_t i = 0; i < labels.size(); ++i) {
+      if (!labels[i]) continue;
+      ++placed;
+      EXPECT_GE(labels[i]->w, kPanelFont.width(names[i])) << names[i];
+      for (const auto& n : nodes) EXPECT_FALSE(labels[i]->overlaps(n.box)) << names[i] << " over node " << n.name;
+      for (size_t j = i + 1; j < labels.size(); ++j)
+        EXPECT_FALSE(labels[j] && labels[i]->overlaps(*labels[j])) << names[i] << " over " << names[j];
+    }
+    all_wires += wires.size();
+    all_placed += placed;
+  }
+  EXPECT_GE(3 * all_placed, all_wires) << all_placed << " of " << all_wires << " wires labelled";
+}
+
+// A graph that does not compile (core_demo with the tonemap's input unbound) opens refused with
+// the compiler's message; edits that leave it refused are taken, the one that repairs it ends the
+// refusal, and undo brings the refusal back (issue 43: `caustica edit` exited 1 on it).
+TEST(GraphModel, AGraphThatDoesNotCompileOpensRefusedAndCanBeRepaired) {
+  ordered_json broken = ordered_json::parse(file_text(graphs_dir() / "core_demo.json"));
+  broken["passes"][3].erase("inputs");
+  GraphModel model(broken.dump(2), "broken.json", registry());
+  EXPECT_NE(model.refusal().find("input 'source' of pass 'tonemap'"), std::string::npos) << model.refusal();
+  model.set_param("blur_x", "radius", 5);  // no repair: taken, still refused
+  EXPECT_FALSE(model.refusal().empty());
+  EXPECT_EQ(model.json()["passes"][1]["params"]["radius"], 5);
+  model.connect("tonemap", "source", "blurred");
+  EXPECT_EQ(model.refusal(), "");
+  EXPECT_NO_THROW(graph::load_graph(JsonDocument::parse(model.text(), "repaired.json")));
+  // Compiling again, an edit that breaks it is refused as before.
+  EXPECT_THROW(model.disconnect("tonemap", "source"), InputError);
+  ASSERT_TRUE(model.undo());
+  EXPECT_FALSE(model.refusal().empty());
+  ASSERT_TRUE(model.redo());
+  EXPECT_EQ(model.refusal(), "");
+  // What the window runs meanwhile compiles, under the graph's name.
+  const graph::GraphDesc stand_in = graph::load_graph(JsonDocument::parse(editor::stand_in_graph("core_demo"), "stand_in.json"));
+  EXPECT_EQ(stand_in.name, "core_demo");
+  graph::CompileOptions options;
+  options.scene_values = graph::typical_scene_values();
+  EXPECT_NO_THROW(graph::compile_graph(stand_in, registry(), options));
 }

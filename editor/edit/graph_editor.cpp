@@ -18,10 +18,12 @@ would do it, and logs "edit: LINE: ok" or "edit: LINE: refused: MESSAGE":
   connect PASS PORT RESOURCE     bind a port to a resource
   disconnect PASS PORT           unbind a port
   set PASS PARAM JSON            set a parameter of a pass
+  param NAME JSON                set a graph parameter (its default in the file)
   select PASS...                 select passes;  remove  removes the selected ones
   rename PASS NEW_NAME           rename a pass
   undo | redo | save | save!     save! overwrites a file that changed on disk
   where PASS.PORT                log where the port is drawn in the window (to drive the mouse)
+  layout                         log where the canvas, each node and each wire label are drawn
   screenshot FILE                write the next frame's output
   quit                           close the editor
 )";
@@ -39,9 +41,16 @@ std::string pass_named_in(const std::string& message, const ordered_json& doc) {
   return doc["passes"][index].value("name", "");
 }
 
+// The panels' font, as the canvas measures its text at zoom 1. The font atlas is built with the
+// viewer, before the first frame sets ImGui's current font.
+TextMeasure panel_text() {
+  const ImFont* font = ImGui::GetIO().Fonts->Fonts[0];
+  return {font->FontSize, [font](const std::string& text) { return font->CalcTextSizeA(font->FontSize, FLT_MAX, 0.0f, text.c_str()).x; }};
+}
+
 }  // namespace
 
-GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script) : viewer_(viewer), model_(model) {
+GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script) : viewer_(viewer), model_(model), text_(panel_text()) {
   if (!script.empty()) {
     std::istringstream lines(read_text_file(script, 1 << 20));
     for (std::string line; std::getline(lines, line);) {
@@ -51,8 +60,8 @@ GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script) 
   viewer_.extra_ui = [this](const graph::FrameResult& frame) { draw(frame); };
   viewer_.on_key = [this](const WindowEvents::Key& key) { return on_key(key); };
   viewer_.after_frame = [this] { step_script(); };
-  refresh();
   status_ = "editing " + model_.path();
+  refresh();
 }
 
 template <class Edit>
@@ -69,87 +78,51 @@ bool GraphEditor::act(const std::string& label, Edit&& edit) {
     return false;
   }
   node_errors_.clear();
-  refresh();
-  std::fprintf(stderr, "edit: %s\n", label.c_str());
   status_ = label + (model_.modified() ? " (unsaved)" : "");
   status_is_error_ = false;
+  refresh();  // a graph still refused, or one this device cannot run, says so instead
+  std::fprintf(stderr, "edit: %s%s\n", label.c_str(), model_.refusal().empty() ? "" : " (the graph is still refused)");
   return true;
 }
 
 void GraphEditor::refresh() {
-  // The running frame follows every accepted edit; a graph that compiles but does not set up on
-  // this device (a shader, a device limit) keeps the last good frame on screen.
-  try {
-    if (const std::string error = viewer_.use_graph(model_.desc()); !error.empty()) {
-      status_ = error;
-      status_is_error_ = true;
-      const std::string where = pass_named_in(error, model_.json());
-      if (!where.empty()) node_errors_[where] = error;
-    }
-  } catch (const InputError& e) {
-    status_ = e.what();
+  const graph::GraphDesc desc = model_.desc();
+  parameters_ = desc.parameters;
+  if (!model_.refusal().empty()) {
+    // A graph that does not compile does not run: the window keeps the last good frame (the
+    // stand-in, black, when the graph was refused from the start).
+    status_ = "refused (the picture is the last good graph's): " + model_.refusal();
     status_is_error_ = true;
+    const std::string where = pass_named_in(model_.refusal(), model_.json());
+    if (!where.empty()) node_errors_[where] = model_.refusal();
+  } else {
+    // The running frame follows every accepted edit; a graph that compiles but does not set up on
+    // this device (a shader, a device limit) keeps the last good frame on screen.
+    try {
+      if (const std::string error = viewer_.use_graph(desc); !error.empty()) {
+        status_ = error;
+        status_is_error_ = true;
+        const std::string where = pass_named_in(error, model_.json());
+        if (!where.empty()) node_errors_[where] = error;
+      }
+    } catch (const InputError& e) {
+      status_ = e.what();
+      status_is_error_ = true;
+    }
   }
-  // Nodes, placed where the file says or, for the rest, in columns by dependency depth.
-  const ordered_json& doc = model_.json();
-  std::map<std::string, std::string> writer;  // resource -> pass
   bindings_.clear();
-  for (const auto& pass : doc["passes"]) {
+  for (const auto& pass : model_.json()["passes"]) {
     for (const char* section : {"inputs", "outputs"}) {
       if (!pass.contains(section)) continue;
-      for (const auto& [port, resource] : pass[section].items()) {
-        bindings_[pass["name"].get<std::string>() + "." + port] = resource;
-        if (std::string(section) == "outputs") writer[resource.get<std::string>()] = pass["name"];
-      }
+      for (const auto& [port, resource] : pass[section].items()) bindings_[pass["name"].get<std::string>() + "." + port] = resource;
     }
   }
-  std::map<std::string, int> depth;
-  for (size_t round = 0; round < doc["passes"].size(); ++round) {
-    for (const auto& pass : doc["passes"]) {
-      int d = 0;
-      if (pass.contains("inputs")) {
-        for (const auto& [port, resource] : pass["inputs"].items()) {
-          const auto w = writer.find(resource.get<std::string>());
-          if (w != writer.end() && w->second != pass["name"]) d = std::max(d, depth[w->second] + 1);
-        }
-      }
-      if (pass.contains("after") && pass["after"].is_array()) {
-        for (const auto& before : pass["after"]) {
-          if (before.is_string() && before != pass["name"]) d = std::max(d, depth[before.get<std::string>()] + 1);
-        }
-      }
-      depth[pass["name"]] = std::min(d, static_cast<int>(doc["passes"].size()));
-    }
-  }
-  std::map<int, int> rows;
-  const ordered_json positions = doc.contains("editor") ? doc["editor"].value("positions", ordered_json::object()) : ordered_json::object();
-  nodes_.clear();
-  for (const auto& pass : doc["passes"]) {
-    Node n;
-    n.name = pass["name"];
-    n.type = pass["type"];
-    if (const auto* decl = model_.registry().find(n.type)) {
-      // A read_write port has a side for each: the wire in from the pass it reads after, and out.
-      for (const auto& port : decl->ports) {
-        if (port.access != graph::PortAccess::write) n.inputs.push_back(port.name);
-        if (port.access != graph::PortAccess::read) n.outputs.push_back(port.name);
-      }
-    }
-    const int column = depth[n.name];
-    const int row = rows[column]++;
-    n.x = 20.0f + static_cast<float>(column) * (kNodeWidth + 50.0f);
-    n.y = 20.0f + static_cast<float>(row) * 150.0f;
-    if (positions.contains(n.name) && positions[n.name].is_array() && positions[n.name].size() == 2) {
-      n.x = positions[n.name][0].get<float>();
-      n.y = positions[n.name][1].get<float>();
-    }
-    nodes_.push_back(std::move(n));
-  }
+  nodes_ = layout_nodes(model_.json(), model_.registry(), text_);
   for (auto it = selected_.begin(); it != selected_.end();) it = node(*it) ? std::next(it) : selected_.erase(it);
   viewer_.request_redraw();
 }
 
-const GraphEditor::Node* GraphEditor::node(const std::string& name) const {
+const CanvasNode* GraphEditor::node(const std::string& name) const {
   for (const auto& n : nodes_) {
     if (n.name == name) return &n;
   }
@@ -186,6 +159,10 @@ bool GraphEditor::disconnect(const std::string& pass, const std::string& port) {
 
 bool GraphEditor::set_param(const std::string& pass, const std::string& param, const nlohmann::json& value) {
   return act("set " + pass + "." + param, [&] { model_.set_param(pass, param, value); });
+}
+
+bool GraphEditor::set_graph_parameter(const std::string& parameter, const nlohmann::json& value) {
+  return act("set parameter " + parameter, [&] { model_.set_parameter_field(parameter, "default", value); });
 }
 
 bool GraphEditor::rename(const std::string& pass, const std::string& new_name) {
@@ -265,6 +242,10 @@ void GraphEditor::step_script() {
     need(3);
     const auto value = nlohmann::json::parse(args[2], nullptr, false);
     ok = set_param(args[0], args[1], value.is_discarded() ? nlohmann::json(args[2]) : value);
+  } else if (verb == "param") {
+    need(2);
+    const auto value = nlohmann::json::parse(args[1], nullptr, false);
+    ok = set_graph_parameter(args[0], value.is_discarded() ? nlohmann::json(args[1]) : value);
   } else if (verb == "select") {
     selected_ = std::set<std::string>(args.begin(), args.end());
     ok = true;
@@ -289,6 +270,9 @@ void GraphEditor::step_script() {
     const auto found = port_positions_.find(args[0]);
     ok = found != port_positions_.end();
     if (ok) std::fprintf(stderr, "edit: port %s at %.0f,%.0f\n", args[0].c_str(), double(found->second[0]), double(found->second[1]));
+  } else if (verb == "layout") {
+    log_layout();
+    ok = true;
   } else if (verb == "quit") {
     viewer_.close();
     ok = true;
@@ -297,6 +281,23 @@ void GraphEditor::step_script() {
   }
   std::fprintf(stderr, "edit: %s: %s\n", line.c_str(), ok ? "ok" : ("refused: " + status_).c_str());
   viewer_.request_redraw();
+}
+
+void GraphEditor::log_layout() const {
+  auto log = [](const char* what, const std::string& name, const Box& b) {
+    std::fprintf(stderr, "edit: %s %s at %.0f,%.0f size %.0fx%.0f\n", what, name.c_str(), double(b.x), double(b.y), double(b.w),
+                 double(b.h));
+  };
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  log("dock", "window", Box{0, display.y - dock_height_, display.x, dock_height_});
+  log("canvas", "view", canvas_rect_);
+  std::fprintf(stderr, "edit: canvas text %.0f px, panel text %.0f px\n", double(text_.line_height * view_.zoom),
+               double(ImGui::GetFontSize()));
+  for (const auto& n : nodes_) {
+    const Point top = view_.to_screen({canvas_rect_.x, canvas_rect_.y}, {n.box.x, n.box.y});
+    log("node", n.name, Box{top.x, top.y, n.box.w * view_.zoom, n.box.h * view_.zoom});
+  }
+  for (const auto& [label, box] : drawn_labels_) log("label", label, box);
 }
 
 }  // namespace caustica::editor

@@ -1,9 +1,9 @@
 #pragma once
-// caustica edit: the viewer with a node canvas over the graph. Passes are boxes with their ports,
-// resources are wires labelled with format and extent, culled passes are grey, each node shows its
-// last GPU time and counters. Every edit goes through the graph model (editor/model), is compiled,
-// and swaps the running frame; a refused edit keeps the last good frame and shows the message on
-// the node it concerns.
+// caustica edit: the viewer with a node canvas over the graph, docked below the picture. Passes are
+// boxes with their ports and last GPU time (counters on hover), resources are wires labelled with
+// name, format and extent, culled passes are grey. Every edit goes through the graph model
+// (editor/model), is compiled, and swaps the running frame; a refused edit keeps the last good frame
+// and shows the message on the node it concerns. The canvas's geometry is model/canvas_layout.h.
 #include <imgui.h>
 
 #include <array>
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "model/canvas_layout.h"
 #include "model/graph_model.h"
 #include "viewer/viewer.h"
 
@@ -31,6 +32,8 @@ class GraphEditor {
   bool disconnect(const std::string& pass, const std::string& port);
   bool set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
   bool rename(const std::string& pass, const std::string& new_name);
+  // A graph parameter's value, as the file's default.
+  bool set_graph_parameter(const std::string& parameter, const nlohmann::json& value);
   bool move(const std::string& pass, float x, float y);
   bool undo();
   bool redo();
@@ -38,19 +41,10 @@ class GraphEditor {
   bool save(bool overwrite = false);
 
  private:
-  struct Node {
-    std::string name, type;
-    float x = 0, y = 0;  // canvas units
-    std::vector<std::string> inputs, outputs;
-  };
   struct PortHit {
     std::string pass, port;
     bool output = false;
   };
-
-  // The canvas's geometry, in canvas units.
-  static constexpr float kNodeWidth = 210.0f, kHeader = 20.0f, kRow = 17.0f, kPortRadius = 5.0f;
-  static constexpr size_t kCounterLines = 4;  // the GPU time and the pass's first counters
 
   template <class Edit>
   bool act(const std::string& label, Edit&& edit);
@@ -59,34 +53,45 @@ class GraphEditor {
   void draw(const graph::FrameResult& frame);
   void draw_canvas(const graph::FrameResult& frame);
   // The canvas's parts (edit/canvas.cpp): its view, wires, nodes and the mouse's gestures.
-  struct CanvasView;
+  struct ScreenView;
   struct Hovered {
     std::optional<PortHit> port;
     std::string node;
   };
   void pan_and_zoom(ImVec2 origin);
-  void fit_view(ImVec2 size);
-  void draw_wires(const CanvasView& view) const;
-  Hovered draw_nodes(const CanvasView& view, const graph::FrameResult& frame);
-  void canvas_gestures(const CanvasView& view, const Hovered& hovered);
+  void draw_wires(const ScreenView& view);
+  Hovered draw_nodes(const ScreenView& view, const graph::FrameResult& frame);
+  void canvas_gestures(const ScreenView& view, const Hovered& hovered);
+  // The viewer's panel folded above the dock, once: the nodes show the pass times, and the picture stays in view.
+  void arrange_viewer_panel(ImVec2 display) const;
   void draw_side_panel();
+  void draw_pass_panel();
+  void draw_graph_parameters();
   void draw_add_menu();
   bool on_key(const WindowEvents::Key& key);
   void step_script();
-  const Node* node(const std::string& name) const;
+  const CanvasNode* node(const std::string& name) const;
+  // The canvas's geometry as last drawn, in window pixels, for scripts (the "layout" action).
+  void log_layout() const;
   std::string resource_of(const std::string& pass, const std::string& port) const;
 
   Viewer& viewer_;
   GraphModel& model_;
-  std::vector<Node> nodes_;
+  TextMeasure text_;  // the panels' font, at the canvas's zoom 1
+  std::vector<CanvasNode> nodes_;
+  std::vector<graph::GraphParameter> parameters_;  // the graph's, as of the last refresh
   std::map<std::string, std::string> bindings_;  // "pass.port" -> resource, as of the last refresh
   std::set<std::string> selected_;
   std::map<std::string, std::string> node_errors_;  // pass -> the message of the edit it refused
   std::string status_;
   bool status_is_error_ = false;
-  // Canvas view: screen = origin + (canvas + pan) * zoom.
-  float pan_x_ = 0, pan_y_ = 0, zoom_ = 1.0f;
+  CanvasView view_;
   bool fitted_ = false;  // the view was fitted to the graph once
+  float dock_height_ = 0;  // the editor's window at the bottom; its top edge is the splitter
+  bool viewer_panel_arranged_ = false;
+  // Where the canvas and its wire labels were drawn last, in window pixels.
+  Box canvas_rect_;
+  std::vector<std::pair<std::string, Box>> drawn_labels_;
   // Interaction in progress.
   std::string dragging_node_;
   float drag_dx_ = 0, drag_dy_ = 0;

@@ -89,27 +89,35 @@ GraphModel::GraphModel(std::string text, std::string path, const graph::PassRegi
   // (duplicate keys).
   JsonDocument::parse(base_.original(), path_);
   doc_ = saved_ = ordered_json::parse(base_.original());
-  text_ = validate(doc_);
+  Checked checked = check(doc_);
+  text_ = std::move(checked.text);
+  refusal_ = std::move(checked.refusal);
 }
 
 graph::GraphDesc GraphModel::desc() const {
   return graph::load_graph(JsonDocument::parse(text(), path_));
 }
 
-std::string GraphModel::validate(const ordered_json& doc) const {
-  std::string text = base_.write(doc);
-  const graph::GraphDesc graph = graph::load_graph(JsonDocument::parse(text, path_));
+GraphModel::Checked GraphModel::check(const ordered_json& doc) const {
+  Checked checked{base_.write(doc), ""};
+  const graph::GraphDesc graph = graph::load_graph(JsonDocument::parse(checked.text, path_));
   graph::CompileOptions options;
   options.scene_values = graph::typical_scene_values();
-  graph::compile_graph(graph, *registry_, options);
-  return text;
+  try {
+    graph::compile_graph(graph, *registry_, options);
+  } catch (const InputError& e) {
+    checked.refusal = e.what();
+  }
+  return checked;
 }
 
-void GraphModel::commit(const std::string& label, ordered_json doc, std::string text) {
-  undo_.push_back({std::move(doc_), std::move(text_), label});
+void GraphModel::commit(const std::string& label, ordered_json doc, Checked checked) {
+  if (!checked.refusal.empty() && refusal_.empty()) throw InputError(checked.refusal);
+  undo_.push_back({std::move(doc_), std::move(text_), label, std::move(refusal_)});
   redo_.clear();
   doc_ = std::move(doc);
-  text_ = std::move(text);
+  text_ = std::move(checked.text);
+  refusal_ = std::move(checked.refusal);
 }
 
 template <class Change>
@@ -117,8 +125,8 @@ void GraphModel::apply(const std::string& label, Change&& change) {
   ordered_json next = doc_;
   change(next);
   if (next == doc_) return;  // nothing to undo
-  std::string text = validate(next);
-  commit(label, std::move(next), std::move(text));
+  Checked checked = check(next);
+  commit(label, std::move(next), std::move(checked));
 }
 
 ordered_json& GraphModel::pass_json(ordered_json& doc, const std::string& pass) const {
@@ -248,14 +256,13 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
       if (!out.empty()) candidate["outputs"] = out;
       for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
       next["passes"].push_back(candidate);
-      std::string text;
       try {
-        text = validate(next);
+        Checked checked = check(next);
+        commit("add pass " + name, std::move(next), std::move(checked));
       } catch (const InputError& e) {
         if (first_error.empty()) first_error = e.what();
         return false;
       }
-      commit("add pass " + name, std::move(next), std::move(text));
       return true;
     }
     for (const auto& r : candidates[i]) {
@@ -478,9 +485,10 @@ void GraphModel::set_position(const std::string& pass, float x, float y) {
 // Moves the newest step of `from` onto `to`, swapping it with the current document.
 bool GraphModel::step(std::vector<Step>& from, std::vector<Step>& to) {
   if (from.empty()) return false;
-  to.push_back({std::move(doc_), std::move(text_), from.back().label});
+  to.push_back({std::move(doc_), std::move(text_), from.back().label, std::move(refusal_)});
   doc_ = std::move(from.back().doc);
   text_ = std::move(from.back().text);
+  refusal_ = std::move(from.back().refusal);
   from.pop_back();
   return true;
 }
@@ -533,6 +541,23 @@ std::vector<Wire> wires(const ordered_json& graph) {
     }
   }
   return found;
+}
+
+std::string stand_in_graph(const std::string& name) {
+  const ordered_json graph = {{"name", name},
+                              {"description", "the editor's stand-in while " + name + " does not compile"},
+                              {"resources",
+                               {{"hdr", {{"type", "image"}, {"format", "rgba16f"}, {"width", "output.width"}, {"height", "output.height"}}},
+                                {"ldr", {{"type", "image"}, {"format", "rgba8"}}}}},
+                              {"passes",
+                               {{{"name", "pattern"}, {"type", "pattern"}, {"outputs", {{"color", "hdr"}}}},
+                                {{"name", "black"},
+                                 {"type", "tonemap"},
+                                 {"params", {{"exposure", 0.0}}},
+                                 {"inputs", {{"source", "hdr"}}},
+                                 {"outputs", {{"target", "ldr"}}}}}},
+                              {"outputs", {"ldr"}}};
+  return graph.dump(2);
 }
 
 }  // namespace caustica::editor

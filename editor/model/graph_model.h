@@ -2,7 +2,10 @@
 // The graph as the editor changes it: no window, no device. Every edit is an operation on the
 // graph file's JSON (key order kept) that is checked as a whole graph, loaded and compiled as
 // `caustica validate` does; an edit that would make the graph invalid is refused with the
-// validator's message and changes nothing. Every edit can be undone and redone. Saving writes the
+// validator's message and changes nothing. A file that loads as a graph but does not compile opens
+// refused (refusal() says why) so that it can be repaired: while refused, every edit that leaves a
+// loadable graph is taken, and the one that makes it compile ends the refusal. Every edit can be
+// undone and redone. Saving writes the
 // author's text back with only the edited parts changed (json_text.h), through a temporary file.
 #include <nlohmann/json.hpp>
 #include <string>
@@ -16,7 +19,8 @@ namespace caustica::editor {
 
 class GraphModel {
  public:
-  // Throws InputError (file, line, JSON pointer) when the file cannot be read or is not a valid graph.
+  // Throws InputError (file, line, JSON pointer) when the file cannot be read or is not a graph
+  // (its JSON or its structure); one that does not compile opens refused.
   static GraphModel open(const std::string& path, const graph::PassRegistry& registry);
   GraphModel(std::string text, std::string path, const graph::PassRegistry& registry);
 
@@ -29,6 +33,8 @@ class GraphModel {
   const std::string& text() const { return text_; }
   // Whether the graph differs from the file as opened or last saved.
   bool modified() const { return doc_ != saved_; }
+  // Why the graph as it stands does not compile (the validator's message); empty when it does.
+  const std::string& refusal() const { return refusal_; }
 
   // ---- edits: each throws InputError and changes nothing when refused ----
   // Adds a pass of a registered type with every parameter at its default, a new resource for each
@@ -89,13 +95,19 @@ class GraphModel {
     nlohmann::ordered_json doc;
     std::string text;  // as text() was then, so that an undo after a save restores those bytes
     std::string label;
+    std::string refusal;
+  };
+  struct Checked {
+    std::string text, refusal;
   };
   template <class Change>
   void apply(const std::string& label, Change&& change);
-  // Throws the validator's InputError unless `doc` is a valid graph; returns its text.
-  std::string validate(const nlohmann::ordered_json& doc) const;
-  // Makes `doc` (with its text) the current graph, the one before it an undo step.
-  void commit(const std::string& label, nlohmann::ordered_json doc, std::string text);
+  // `doc`'s text and, when it does not compile, the compiler's message; throws the loader's
+  // InputError when it is not a graph.
+  Checked check(const nlohmann::ordered_json& doc) const;
+  // Makes `doc` the current graph, the one before it an undo step. Refuses (the compiler's
+  // InputError) a graph that does not compile unless the current one does not either.
+  void commit(const std::string& label, nlohmann::ordered_json doc, Checked checked);
   nlohmann::ordered_json& pass_json(nlohmann::ordered_json& doc, const std::string& pass) const;
   // doc[section][name]; throws InputError naming the missing `what` (with a suggestion).
   nlohmann::ordered_json& member(nlohmann::ordered_json& doc, const char* section, const std::string& name, const char* what) const;
@@ -108,6 +120,7 @@ class GraphModel {
   PreservingWriter base_;  // the file as opened or last saved: what text() preserves
   nlohmann::ordered_json doc_, saved_;
   std::string text_;
+  std::string refusal_;
   std::vector<Step> undo_, redo_;
 };
 
@@ -119,5 +132,9 @@ struct Wire {
   bool operator==(const Wire&) const = default;
 };
 std::vector<Wire> wires(const nlohmann::ordered_json& graph);
+
+// What the editor's window runs while a graph refused from the start is repaired (there is no last
+// good frame to keep): a black picture, under the graph's name.
+std::string stand_in_graph(const std::string& name);
 
 }  // namespace caustica::editor

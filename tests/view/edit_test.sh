@@ -56,6 +56,62 @@ if ! cmp -s "$expected" g.json; then
 fi
 echo "ok: the saved file is the original with exactly the edit"
 
+# The default window (1600x900) on caustics_adaptive, as drawn: the dock under half of the window,
+# every node inside the canvas, no wire label over a node or another label, and the canvas's text at
+# the panels' size (issue 43: text 6 px high, passes outside the canvas, labels over nodes).
+cp "$src/graphs/caustics_adaptive.json" legible.json
+printf 'layout\n' > layout.txt
+"$bin" edit legible.json --frames 4 --script layout.txt > log 2>&1 || fail "edit exited $?"
+python3 - log <<'PY' || fail "the default window's canvas is not legible (above)"
+import re, sys
+boxes = {"dock": [], "canvas": [], "node": [], "label": []}
+text = None
+for line in open(sys.argv[1]):
+    m = re.match(r"edit: (dock|canvas|node|label) (.+) at (-?\d+),(-?\d+) size (\d+)x(\d+)$", line.strip())
+    if m:
+        boxes[m[1]].append((m[2],) + tuple(int(v) for v in m.groups()[2:]))
+    t = re.match(r"edit: canvas text (\d+) px, panel text (\d+) px", line)
+    if t:
+        text = (int(t[1]), int(t[2]))
+assert boxes["dock"] and boxes["canvas"] and len(boxes["node"]) == 8, boxes
+(_, dx, dy, dw, dh), (_, cx, cy, cw, ch) = boxes["dock"][0], boxes["canvas"][0]
+assert (dw, dy + dh) == (1600, 900) and dh <= 450, f"the dock {dw}x{dh} at y {dy} hides more than half of the picture"
+assert text and text[0] >= text[1], f"canvas text {text}"
+def inside(b):
+    return b[1] >= cx and b[2] >= cy and b[1] + b[3] <= cx + cw and b[2] + b[4] <= cy + ch
+def overlap(a, b):
+    return a[1] < b[1] + b[3] and b[1] < a[1] + a[3] and a[2] < b[2] + b[4] and b[2] < a[2] + a[4]
+for n in boxes["node"]:
+    assert inside(n), f"node {n} outside the canvas {cx},{cy} {cw}x{ch}"
+labels = boxes["label"]
+assert labels, "no wire labelled"
+for i, l in enumerate(labels):
+    for n in boxes["node"]:
+        assert not overlap(l, n), f"label {l} over node {n}"
+    for k in labels[i + 1:]:
+        assert not overlap(l, k), f"label {l} over label {k}"
+print(f"ok: dock {dw}x{dh}, canvas {cw}x{ch}, {len(boxes['node'])} nodes inside, {len(labels)} labels clear, text {text[0]} px")
+PY
+
+# A graph that does not compile (core_demo without the tonemap's input) opens refused with the
+# compiler's message and a black picture; an edit repairs it, the picture comes back, and it saves
+# (issue 43: the editor exited 1 on it).
+python3 - "$src/graphs/core_demo.json" broken.json <<'PY'
+import json, sys
+graph = json.load(open(sys.argv[1]))
+del graph["passes"][3]["inputs"]
+json.dump(graph, open(sys.argv[2], "w"), indent=2)
+PY
+printf 'screenshot refused.png\nset blur_x radius 5\nconnect tonemap source blurred\nscreenshot repaired.png\nsave\n' > repair.txt
+"$bin" edit broken.json --size 320x180 --frames 10 --script repair.txt --validate > log 2>&1 || fail "edit exited $? on a graph that does not compile"
+grep -q "edit: broken.json opens refused, to be repaired: .*input 'source' of pass 'tonemap'" log ||
+  fail "the graph was not opened refused with the compiler's message"
+grep -q "edit: set blur_x.radius (the graph is still refused)" log || fail "an edit that leaves the graph refused was not taken"
+grep -q "edit: connect tonemap source blurred: ok" log || fail "the repairing edit was refused"
+"$bin" validate broken.json > /dev/null || fail "the repaired and saved graph does not validate"
+if "$bin" compare refused.png repaired.png --max-l1 0.001 > /dev/null 2>&1; then fail "the picture did not change when the graph was repaired"; fi
+echo "ok: a graph that does not compile opens refused, an edit repairs it, and it saves"
+
 # 2. Real keys: Ctrl+Z undoes the last edit, Ctrl+S saves it, with the editor idle between taps.
 cp "$src/graphs/core_demo.json" k.json
 printf 'set blur_x radius 9\n' > one.txt
@@ -94,7 +150,7 @@ echo "ok: a file changed on disk is not overwritten without a confirmation"
 # The canvas with a real mouse: drag from an output port to an input port connects them; Del over
 # the canvas removes the selected pass (selected by the script). The script logs where it drew the ports.
 cp "$src/graphs/core_demo.json" mouse.json
-printf 'add box_blur 700 400\nwhere blur_y.target\nwhere box_blur.source\nselect box_blur\n' > ports.txt
+printf 'add box_blur 700 100\nwhere blur_y.target\nwhere box_blur.source\nselect box_blur\n' > ports.txt
 : > log
 # At two frames a second (--max-fps 2 --continuous), with the mouse moved on at once after the
 # press: the click must land where the button went down, not where the mouse is at the next frame.

@@ -2,12 +2,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <vector>
+
+#include <unistd.h>
 
 #include "builtin_passes.h"
 #include "cli.h"
 #include "core/paths.h"
 #include "edit/graph_editor.h"
+#include "io/files.h"
 #include "io/image_io.h"
 #include "io/json_document.h"
 #include "model/graph_model.h"
@@ -15,6 +19,10 @@
 
 namespace caustica::cli {
 namespace {
+
+// The editor's window: the canvas docked below the picture shows every bundled graph whole at the
+// panels' text size (tests/editor_model_test.cpp checks it).
+constexpr uint32_t kEditWidth = 1600, kEditHeight = 900;
 
 const char* kViewHelp = R"(usage: caustica view [--graph FILE] [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
                      [--window-shot F.png] [--inspect IMAGE] [--set NAME=VALUE]... [--continuous] [--max-fps N]
@@ -70,19 +78,24 @@ options:
 const char* kEditHelp = R"(usage: caustica edit GRAPH [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
                      [--window-shot F.png] [--script FILE] [--continuous] [--max-fps N] [--validate] [--device NAME]
 
-The graph editor: the viewer (caustica view --help) with a canvas of the graph. Passes are nodes
-with their input and output ports, resources are wires labelled with format and extent, culled
-passes are grey, each node shows its last GPU time and counters. Drag from an output port to an
-input port to connect; right click for a searchable menu of pass types; Del removes the selected
-passes; drag the background to select a box; middle drag pans, the wheel zooms. The side panel
-edits the selected pass's parameters. Every edit is checked by the compiler and swaps the running
-frame; an edit the compiler refuses keeps the last good frame and shows its message on the node.
-Ctrl+Z and Ctrl+Y undo and redo, Ctrl+S saves: only what was edited changes in the file (node
-positions go into its "editor" block, which the engine ignores), and a file changed on disk
-meanwhile is overwritten only after a confirmation. A new GRAPH file does not need to exist:
-it starts as a copy of the default graph.
+The graph editor: the viewer (caustica view --help) with a canvas of the graph, docked at the
+bottom of the window (drag its top edge to give the picture or the canvas more room; the viewer's
+panel starts folded). Passes are nodes with their input and output ports and last GPU time (hover
+for the counters), resources are wires labelled with their name where the label covers nothing
+(hover a wire for its format and extent), culled passes are grey. The canvas opens at the panels'
+text size. Drag from an output port to an input port to connect; right click for a searchable menu
+of pass types; Del removes the selected passes; drag the background to select a box; middle drag
+pans, the wheel zooms in. The side panel edits the selected pass's parameters, and the graph's
+parameters (the viewer's sliders) as the file's defaults. Every edit is checked by the compiler
+and swaps the running frame; an edit the compiler refuses keeps the last good frame and shows its
+message on the node. A GRAPH that does not compile opens refused, its message shown, and a black
+picture until an edit makes it compile. Ctrl+Z and Ctrl+Y undo and redo, Ctrl+S saves: only what
+was edited changes in the file (node positions go into its "editor" block, which the engine
+ignores), and a file changed on disk meanwhile is overwritten only after a confirmation. A new
+GRAPH file does not need to exist: it starts as a copy of the default graph.
 
-options: as caustica view, and
+options: as caustica view (but --size defaults to 1600x900: the canvas of every bundled graph at
+the panels' text size), and
   --script FILE         run an edit script, one action per frame drawn (for tests):
 
 )";
@@ -149,6 +162,8 @@ int cmd_edit(Args& args) {
   }
   RenderOptions o;
   editor::ViewerOptions v;
+  v.width = kEditWidth;
+  v.height = kEditHeight;
   std::string script;
   std::set<std::string> given;
   while (!args.done()) {
@@ -177,10 +192,26 @@ int cmd_edit(Args& args) {
   v.graph_file = o.graph;
   v.watch_graph_file = false;  // the editor owns the file; a change on disk is met at save
   v.parameter_panel = false;   // parameters are edited in the graph, through the editor
-  editor::Viewer viewer(v);
-  editor::GraphEditor graph_editor(viewer, model, script);
+  // A graph that does not compile opens refused: the window starts on a stand-in (the viewer needs
+  // a graph that runs), which the first edit that makes the graph compile replaces.
+  std::filesystem::path stand_in;
+  if (!model.refusal().empty()) {
+    std::fprintf(stderr, "edit: %s opens refused, to be repaired: %s\n", o.graph.c_str(), model.refusal().c_str());
+    stand_in = std::filesystem::temp_directory_path() / ("caustica_edit_stand_in_" + std::to_string(getpid()) + ".json");
+    io::write_text_atomically(stand_in.string(), editor::stand_in_graph(model.json().value("name", "graph")));
+    v.graph_file = stand_in.string();
+  }
+  std::optional<editor::Viewer> viewer;
+  try {
+    viewer.emplace(v);
+  } catch (...) {
+    if (!stand_in.empty()) std::filesystem::remove(stand_in);
+    throw;
+  }
+  if (!stand_in.empty()) std::filesystem::remove(stand_in);  // read once: the editor owns the graph from here
+  editor::GraphEditor graph_editor(*viewer, model, script);
   editor::close_viewers_on_signals();
-  return viewer.run();
+  return viewer->run();
 }
 
 int cmd_view(Args& args) {
