@@ -259,8 +259,14 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2), (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
       << "after a photon grid edit";
   expect_fresh({"grid=512", "exposure=2"}, e.width / 2, e.height / 2, "a photon grid edit");
+  // A plan replaced before its first frame (two edits between frames) passes on what it was given.
+  auto unrun = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
+  graph::apply_overrides(unrun, with(kSmall, {"grid=512", "exposure=3"}));
+  e.executor.configure(unrun, e.width, e.height, {"caustics"});
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), camera_passes) << "after a plan that never ran";
+  expect_fresh({"grid=512", "exposure=2"}, e.width, e.height, "a plan that never ran");
   e.executor.invalidate();
-  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2), every) << "after invalidate()";
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), every) << "after invalidate()";
 }
 
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image

@@ -366,11 +366,19 @@ void Executor::realize(Plan plan) {
 }
 
 void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before) {
+  // A plan replaced before its first frame (two edits between frames) has nothing of its own: what
+  // it was to carry over comes from the plan before it.
+  if (realized_before && realized_before->frame_index == 0 && carried_realized_) {
+    before = std::move(carried_plan_);
+    realized_before = std::move(carried_realized_);
+  }
   carried_images_.clear();
   carried_plan_.reset();
   carried_realized_.reset();
   const bool carry = std::exchange(carry_results_, true);
-  if (!carry || !before || !before->reuses_unchanged_passes || !plan_->reuses_unchanged_passes) return;
+  if (!carry || !before || realized_before->frame_index == 0 || !before->reuses_unchanged_passes || !plan_->reuses_unchanged_passes) {
+    return;
+  }
   std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
   for (size_t j = 0; j < before->passes.size(); ++j) {
     if (before->passes[j].result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) {
