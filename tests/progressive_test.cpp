@@ -256,7 +256,8 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   expect_fresh({"grid=256"}, e.width / 2, e.height / 2, "a new size");
   EXPECT_EQ(frame(e, {"grid=256", "exposure=2"}, e.width / 2, e.height / 2), std::set<std::string>{"tonemap"}) << "after an exposure edit";
   expect_fresh({"grid=256", "exposure=2"}, e.width / 2, e.height / 2, "an exposure edit");
-  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2), (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width / 2, e.height / 2),
+            (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
       << "after a photon grid edit";
   expect_fresh({"grid=512", "exposure=2"}, e.width / 2, e.height / 2, "a photon grid edit");
   // A plan replaced before its first frame (two edits between frames) passes on what it was given.

@@ -50,9 +50,13 @@ inline graph::PassRegistry make_test_registry() {
   registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
                 {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
   // Draws over an image that another pass wrote, from its parameter alone (reusable).
-  PassTypeDecl overlay{"overlay", "draws over an image", PassQueue::compute,
+  PassTypeDecl overlay{"overlay",
+                       "draws over an image",
+                       PassQueue::compute,
                        {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}},
-                       {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, ""}}, false, nullptr};
+                       {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, ""}},
+                       false,
+                       nullptr};
   overlay.depends_on = inputs_alone;
   registry.add(overlay);
   // A running mean over frames: its output moves each frame from its own last one.

@@ -483,7 +483,8 @@ class Viewer::Impl {
     if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     if (frame.part != graph::FramePart::whole) {
       ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s",
-                         static_cast<unsigned long long>(frame.frame.since_reset + 1), std::chrono::duration<double>(kShowInterval).count());
+                         static_cast<unsigned long long>(frame.frame.since_reset + 1),
+                         std::chrono::duration<double>(kShowInterval).count());
     }
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);

@@ -73,8 +73,8 @@ void Compiler::find_result_keys() {
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
       text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
-              " " + std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " + std::to_string(r.layers) +
-              " " + std::to_string(r.buffer_size);
+              " " + std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " +
+              std::to_string(r.layers) + " " + std::to_string(r.buffer_size);
       if (b.port->access != PortAccess::write) text += " reads " + content[b.resource];
     }
     pass.result_key = std::hash<std::string>{}(text);
@@ -105,9 +105,8 @@ void Compiler::find_refining_passes() {
   // A pass refines when it accumulates or when a refining pass reads what it writes (a history
   // input reads its source's writers): latest first, so that a chain reaches its first pass.
   auto accumulates = [&](const Node& node) {
-    return node.decl->accumulates || std::any_of(node.bindings.begin(), node.bindings.end(), [&](const auto& b) {
-             return plan_.resources[b.resource].previous_of != kNoResource;
-           });
+    return node.decl->accumulates || std::any_of(node.bindings.begin(), node.bindings.end(),
+                                                 [&](const auto& b) { return plan_.resources[b.resource].previous_of != kNoResource; });
   };
   std::vector<bool> read_by_refining(plan_.resources.size(), false);
   bool any_accumulates = false;

@@ -50,7 +50,7 @@ struct FrameResult {
   std::map<std::string, double> counters;             // counts are whole numbers; sums (caustic.flux) are floats
   std::map<std::string, std::string> counter_passes;  // counter -> the pass that set it up
   FrameInfo frame;                                    // the frame this was; since_reset: since anything a pass depends on last changed
-  bool converging = false;  // a pass would change with more frames (PassContext::still_converging), as it last ran
+  bool converging = false;            // a pass would change with more frames (PassContext::still_converging), as it last ran
   FramePart part = FramePart::whole;  // what the frame ran
 };
 
