@@ -728,6 +728,20 @@ TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
   }
 }
 
+namespace {
+
+// A light pass, the mean of its images through a history input of the mean, and a pass showing it.
+nlohmann::json mean_through_history() {
+  return {{"resources", {{"lit", image()}, {"mean", image()}, {"out", image()}}},
+          {"passes",
+           {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+            {{"name", "average"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "mean@previous"}}}, {"outputs", {{"color", "mean"}}}},
+            {{"name", "show"}, {"type", "filter"}, {"inputs", {{"source", "mean"}}}, {"outputs", {{"target", "out"}}}}}},
+          {"outputs", {"out"}}};
+}
+
+}  // namespace
+
 // In a plan that reuses unchanged passes, the passes that move a running result (a mean, a pass
 // reading a history input) and those that write what they read refine; the others show. They can
 // run apart only where every image a showing pass reads from a refining one is kept: the running
@@ -768,14 +782,7 @@ TEST(Compiler, RefiningPassesRunApartFromThoseThatShowTheirResult) {
   EXPECT_FALSE(compile(shows_estimate, reuse).refines_apart);
 
   // A history input makes its reader a running result: the writers of what it reads refine with it.
-  const nlohmann::json history = {
-      {"resources", {{"lit", image()}, {"mean", image()}, {"out", image()}}},
-      {"passes",
-       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
-        {{"name", "average"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "mean@previous"}}}, {"outputs", {{"color", "mean"}}}},
-        {{"name", "show"}, {"type", "filter"}, {"inputs", {{"source", "mean"}}}, {"outputs", {{"target", "out"}}}}}},
-      {"outputs", {"out"}}};
-  const Plan averaged = compile(history, reuse);
+  const Plan averaged = compile(mean_through_history(), reuse);
   EXPECT_TRUE(averaged.refines_apart);
   EXPECT_EQ(refining(averaged), (std::vector<std::string>{"light", "average"}));
 }
@@ -826,13 +833,7 @@ TEST(Compiler, ResultKeysFollowWhatAPassComputesFrom) {
 // one left them in; restarted by what the source's writers depend on, and the frame passed on to
 // every reader; the writers of a source that only a history input reads are kept.
 TEST(Compiler, HistoryInputsReadTheLastFramesResource) {
-  const nlohmann::json graph = {
-      {"resources", {{"lit", image()}, {"mean", image()}, {"out", image()}}},
-      {"passes",
-       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
-        {{"name", "average"}, {"type", "blend"}, {"inputs", {{"a", "lit"}, {"b", "mean@previous"}}}, {"outputs", {{"color", "mean"}}}},
-        {{"name", "show"}, {"type", "filter"}, {"inputs", {{"source", "mean"}}}, {"outputs", {{"target", "out"}}}}}},
-      {"outputs", {"out"}}};
+  const nlohmann::json graph = mean_through_history();
   const Plan plan = compile(graph);
   const int mean = plan.find_resource("mean"), previous = plan.find_resource("mean@previous");
   ASSERT_GE(mean, 0);

@@ -53,21 +53,12 @@ VkImageAspectFlags aspect_of(Format format) {
   return format_info(format).depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
 }
 
-// A barrier on all of `res`'s image `image` (synchronization2).
+// A barrier on all of `res`'s image `image`.
 VkImageMemoryBarrier2 whole_image_barrier(VkImage image, const PlannedResource& res, VkPipelineStageFlags2 src_stages,
                                           VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
                                           VkImageLayout old_layout, VkImageLayout new_layout) {
-  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-  barrier.srcStageMask = src_stages;
-  barrier.srcAccessMask = src_access;
-  barrier.dstStageMask = dst_stages;
-  barrier.dstAccessMask = dst_access;
-  barrier.oldLayout = old_layout;
-  barrier.newLayout = new_layout;
-  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.image = image;
-  barrier.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
-  return barrier;
+  return vk::image_transition(image, aspect_of(res.format), old_layout, new_layout, src_stages, src_access, dst_stages, dst_access, res.mips,
+                              res.layers);
 }
 
 void pipeline_barrier(VkCommandBuffer cmd, const std::vector<VkImageMemoryBarrier2>& images,

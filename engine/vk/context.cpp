@@ -387,9 +387,9 @@ void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stages, VkAcc
   vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
-void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
-                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
-                   uint32_t levels) {
+VkImageMemoryBarrier2 image_transition(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                                       VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
+                                       VkAccessFlags2 dst_access, uint32_t levels, uint32_t layers) {
   VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
   barrier.srcStageMask = src_stages;
   barrier.srcAccessMask = src_access;
@@ -399,7 +399,14 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
   barrier.newLayout = to;
   barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
-  barrier.subresourceRange = {aspect, 0, levels, 0, 1};
+  barrier.subresourceRange = {aspect, 0, levels, 0, layers};
+  return barrier;
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                   VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
+                   uint32_t levels) {
+  const VkImageMemoryBarrier2 barrier = image_transition(image, aspect, from, to, src_stages, src_access, dst_stages, dst_access, levels, 1);
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dependency.imageMemoryBarrierCount = 1;
   dependency.pImageMemoryBarriers = &barrier;

@@ -162,6 +162,11 @@ OwnedSemaphore make_semaphore(Context& vk);
 void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
                     VkAccessFlags2 dst_access);
 
+// A barrier on the first `levels` mip levels and `layers` layers of an image (synchronization2), to
+// record with others.
+VkImageMemoryBarrier2 image_transition(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                                       VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages,
+                                       VkAccessFlags2 dst_access, uint32_t levels, uint32_t layers);
 // A layout transition of the first `levels` mip levels of a single-layer image (synchronization2).
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
