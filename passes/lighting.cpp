@@ -16,13 +16,11 @@ class LightingPass final : public graph::Pass {
   void setup(graph::PassSetup& setup) override {
     has_shadow_ = setup.bound("shadow");
     has_caustics_ = setup.bound("caustics");
-    if (has_caustics_ != setup.bound("caustic_depth")) {
-      throw setup.error("bind both \"caustics\" and \"caustic_depth\", or neither (\"" +
-                        std::string(has_caustics_ ? "caustic_depth" : "caustics") + "\" is not bound)");
-    }
+    has_caustic_depth_ = has_caustics_ && setup.bound("caustic_depth");
     has_emission_ = setup.bound("emission");
     shader::Defines defines;
     if (has_caustics_) defines["CAUSTICS"] = "1";
+    if (has_caustic_depth_) defines["CAUSTIC_DEPTH"] = "1";
     if (has_emission_) defines["EMISSION"] = "1";
     pipeline_ = vk::make_fullscreen_pipeline(
         setup.vk(),
@@ -47,7 +45,7 @@ class LightingPass final : public graph::Pass {
         .sampled_image(3, ctx.view("albedo"), ctx.nearest_sampler())
         .sampled_image(4, ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
         .sampled_image(5, ctx.view(has_caustics_ ? "caustics" : "depth"), has_caustics_ ? ctx.linear_sampler() : ctx.nearest_sampler())
-        .sampled_image(6, ctx.view(has_caustics_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())
+        .sampled_image(6, ctx.view(has_caustic_depth_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())  // unread without it
         .sampled_image(7, ctx.view(has_emission_ ? "emission" : "normal"), ctx.nearest_sampler())  // unread without emission
         .push(ctx.vk(), cmd, pipeline_);
     const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
@@ -60,6 +58,7 @@ class LightingPass final : public graph::Pass {
   vk::Pipeline pipeline_;
   bool has_shadow_ = false;
   bool has_caustics_ = false;
+  bool has_caustic_depth_ = false;
   bool has_emission_ = false;
 };
 
@@ -102,7 +101,8 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::d32f},
         true,
         "",
-        "the first light's depth of opaque geometry, for the caustic map's receiver test"},
+        "the first light's depth of opaque geometry, for the caustic map's receiver test (without it the caustic also lands "
+        "on surfaces that the light does not see first)"},
        {"color",
         PortAccess::write,
         ResourceKind::image,
@@ -116,6 +116,18 @@ graph::PassTypeDecl lighting_pass_type() {
       [] { return std::make_unique<LightingPass>(); }};
   decl.needs_scene = true;
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
+  // Either half of the caustic pair alone renders (one port at a time is how the editor connects
+  // them), but is rarely what the graph means.
+  decl.check = [](const nlohmann::json&, const PortResources& resource) {
+    PassCheck check;
+    if (resource("caustics") && !resource("caustic_depth")) {
+      check.warning = "'caustics' is bound without 'caustic_depth': the caustic map is applied without its receiver test, also on "
+                      "surfaces its light does not see first";
+    } else if (!resource("caustics") && resource("caustic_depth")) {
+      check.warning = "'caustic_depth' is bound without 'caustics': it is not read";
+    }
+    return check;
+  };
   return decl;
 }
 

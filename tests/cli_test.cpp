@@ -406,6 +406,28 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   fs::remove_all(dir);
 }
 
+// Either half of lighting's caustic pair renders (the editor connects one port at a time), with a
+// warning that names what it means: without the receivers' depth the caustic map is applied with no
+// receiver test. Validation layers on.
+TEST(Cli, ACausticMapWithoutItsReceiverDepthRendersWithAWarning) {
+  fs::path dir = scratch("half_pair");
+  nlohmann::json graph = nlohmann::json::parse(std::ifstream(kSource / "graphs/caustics_regular.json"));
+  graph.erase("$schema");
+  for (auto& pass : graph["passes"]) {
+    if (pass["name"] == "lighting") pass["inputs"].erase("caustic_depth");
+  }
+  std::ofstream(dir / "g.json") << graph.dump(2);
+  CliRun r = run("render --graph g.json --scene '" + (kSource / "scenes/sphere_plane.json").string() +
+                     "' --size 64x36 --set grid=64 --set caustic_size=64 --set light_size=64 --validate --out g.png",
+                 dir);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("'caustics' is bound without 'caustic_depth': the caustic map is applied without its receiver test"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(dir / "g.png"));
+  fs::remove_all(dir);
+}
+
 // graph params: the graph's parameters (what --set reaches) with type, value, range and the
 // viewer's values, then each pass's, bound to a graph parameter or its own, and which follow the frame.
 TEST(Cli, GraphParamsListsWhatAGraphTakes) {

@@ -45,6 +45,7 @@ Plan Compiler::run() {
   find_dependencies();
   compute_lifetimes_and_usage();
   check_extent_groups();
+  check_pass_rules();
   place_memory();
   record_barriers();
   keep_contents_across_frames();

@@ -97,6 +97,8 @@ class Compiler {
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.
   void compute_lifetimes_and_usage();
   void check_extent_groups() const;
+  // Each pass type's own rule (PassTypeDecl::check): every error reported together, the warnings kept.
+  void check_pass_rules();
   uint64_t place_in_order(const std::vector<uint32_t>& order, bool tightest);
   void place_memory();
 

@@ -63,6 +63,23 @@ void Compiler::compute_lifetimes_and_usage() {
   }
 }
 
+void Compiler::check_pass_rules() {
+  for (uint32_t n : order_) {
+    const Node& node = nodes_[n];
+    if (!node.decl->check) continue;
+    const PassCheck result = node.decl->check(node.params, [&](std::string_view port) -> const PlannedResource* {
+      for (const auto& b : node.bindings) {
+        if (b.port->name == port) return &plan_.resources[b.resource];
+      }
+      return nullptr;
+    });
+    const std::string pass = "pass '" + node.desc->name + "' (" + node.decl->type + "): ";
+    if (!result.warning.empty()) plan_.warnings.push_back(graph_.error(node.desc->pointer, pass + result.warning).what());
+    if (!result.error.empty()) errors_.attempt([&] { throw graph_.error(node.desc->pointer, pass + result.error); });
+  }
+  errors_.throw_if_any();
+}
+
 void Compiler::check_extent_groups() const {
   for (uint32_t n : order_) {
     const auto& bindings = nodes_[n].bindings;

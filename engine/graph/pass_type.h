@@ -84,6 +84,16 @@ struct ParamDecl {
 // The frame block that a per-frame parameter's expression may name (graph::FrameInfo).
 inline constexpr const char* kFrameNames[] = {"frame.index", "frame.since_reset", "frame.jitter_x", "frame.jitter_y"};
 
+struct PlannedResource;
+// A pass's ports' resources as the compiler sized them (PassTypeDecl::check): nullptr where unbound.
+using PortResources = std::function<const PlannedResource*(std::string_view port)>;
+// What a pass type's own rule says of a pass: an error that refuses the graph, a warning the plan
+// carries; empty where nothing is wrong.
+struct PassCheck {
+  std::string error;
+  std::string warning;
+};
+
 struct PassTypeDecl {
   std::string type;
   std::string description;
@@ -113,6 +123,10 @@ struct PassTypeDecl {
   // results, so that frames which only refine them (FramePart::refine) and frames which only show
   // them (FramePart::display) can run apart.
   bool accumulates = false;
+  // A rule about the pass's parameters and its resources' sizes that the declarations above cannot
+  // state (a light map a power of two wide, an output twice another's width). The compiler checks
+  // it, so that `validate` refuses what a render would. Unset: none.
+  std::function<PassCheck(const nlohmann::json& params, const PortResources& resource)> check;
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;

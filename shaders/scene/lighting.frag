@@ -93,19 +93,25 @@ float shadow_factor(LightData light, vec3 p, vec3 n) {
 }
 
 // Irradiance from the caustic map: a texel's flux spread over the receiver area its solid angle
-// covers at this point, dw r^2 / cos(theta); only on the surface the light sees first (the
-// receiver depth test, like a shadow map).
+// covers at this point, dw r^2 / cos(theta); with the receivers' depth bound, only on the surface
+// the light sees first (the receiver depth test, like a shadow map).
 #ifdef CAUSTICS
 vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
   float cos_light;
+#ifdef CAUSTIC_DEPTH
   float texel = light_texel(light, p, n, float(textureSize(caustic_depth_tex, 0).x), cos_light);
+#else
+  float texel = light_texel(light, p, n, float(textureSize(caustics_tex, 0).x), cos_light);
+#endif
   vec4 clip = light.view_proj * vec4(normal_offset(p, n, texel, cos_light), 1.0);
   if (clip.w <= 0.0) return vec3(0.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   float z = linear_depth(light, ndc.z);
+#ifdef CAUSTIC_DEPTH
   if (z - depth_bias(light, z) > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
+#endif
   vec2 size = vec2(textureSize(caustics_tex, 0).xy);
   float r2;
   float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
