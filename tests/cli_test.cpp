@@ -362,7 +362,7 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   EXPECT_GT(fs::file_size(dir / "frame.exr"), 1000u);
   // An EXR holds linear values: --out F.exr writes the tonemap's input, not its 8-bit picture, and
   // the summary names it and every --dump file.
-  EXPECT_NE(r.output.find("-> frame.exr (linear: 'blurred', the tonemap's input), hdr -> hdr.exr"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("-> frame.exr (linear: 'blurred', the graph's linear_output), hdr -> hdr.exr"), std::string::npos) << r.output;
   // Both in one run: the picture and the linear result.
   CliRun linear =
       run("render " + kCoreDemo + "--size 160x90 --set blur_radius=1 --dump blurred=blurred.exr --out frame.exr --out frame.png", dir);
@@ -372,6 +372,21 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
   ASSERT_EQ(display.code, 0) << display.output;
   EXPECT_EQ(run("compare frame.png display.png --max-l1 0", dir).code, 0) << "the picture written beside the EXR differs";
   EXPECT_NE(run("compare frame.exr frame.png --max-l1 0.01", dir).code, 0) << "the EXR holds the display values";
+  // The graph says which resource is its linear result: another one declared, that one is written;
+  // none declared, the tonemap's input.
+  for (const auto& [declared, expected] : {std::pair<std::string, std::string>{"hdr", "hdr"}, {"", "blurred"}}) {
+    nlohmann::json graph = nlohmann::json::parse(std::ifstream(kSource / "graphs/core_demo.json"));
+    graph.erase("$schema");
+    if (declared.empty()) {
+      graph.erase("linear_output");
+    } else {
+      graph["linear_output"] = declared;
+    }
+    std::ofstream(dir / "declared.json") << graph.dump(2);
+    CliRun written = run("render --graph declared.json --size 160x90 --set blur_radius=1 --dump " + expected + "=expected.exr --out linear.exr", dir);
+    ASSERT_EQ(written.code, 0) << written.output;
+    EXPECT_EQ(run("compare linear.exr expected.exr --max-l1 0", dir).code, 0) << "linear_output '" << declared << "'";
+  }
 
   CliRun t = run("trace " + kCoreDemo + "--validate --size 640x360 --frames 4 --out trace.json", dir);
   ASSERT_EQ(t.code, 0) << t.output;

@@ -1179,6 +1179,7 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
     if (pass.contains("enabled")) checked([&](GraphModel& m) { m.set_enabled(name, pass["enabled"]); });
   }
   checked([&](GraphModel& m) { m.set_outputs(target["outputs"]); });
+  checked([&](GraphModel& m) { m.set_graph_field("linear_output", target["linear_output"]); });
   // Readers before writers, as a person would unpick a chain.
   const ordered_json passes_now = model.json()["passes"];
   for (auto pass = passes_now.rbegin(); pass != passes_now.rend(); ++pass) {

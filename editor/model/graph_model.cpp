@@ -56,6 +56,7 @@ void for_each_resource_reference(ordered_json& doc, const std::function<void(ord
     }
   }
   for (auto& output : doc["outputs"]) visit(output);
+  if (doc.contains("linear_output")) visit(doc["linear_output"]);
   for (auto& [name, resource] : doc["resources"].items()) {
     if (resource.contains("fallback") && resource["fallback"].is_string()) visit(resource["fallback"]);
   }
@@ -467,7 +468,8 @@ void GraphModel::set_parameter_field(const std::string& name, const std::string&
 }
 
 void GraphModel::set_graph_field(const std::string& field, const nlohmann::json& value) {
-  if (field != "name" && field != "description") throw InputError(path_ + ": the graph's \"" + field + "\" is not a field the editor sets");
+  if (field != "name" && field != "description" && field != "linear_output")
+    throw InputError(path_ + ": the graph's \"" + field + "\" is not a field the editor sets");
   apply("set graph " + field, [&](ordered_json& doc) { doc[field] = ordered_json::parse(value.dump()); });
 }
 

@@ -67,7 +67,7 @@ class GraphModel {
   void remove_parameter(const std::string& name);
   void set_parameter_field(const std::string& name, const std::string& field, const nlohmann::json& value);
 
-  void set_graph_field(const std::string& field, const nlohmann::json& value);  // "name" or "description"
+  void set_graph_field(const std::string& field, const nlohmann::json& value);  // "name", "description" or "linear_output"
   void set_outputs(const std::vector<std::string>& outputs);
   // The pass's place on the editor's canvas, kept in the file's "editor" block (the engine ignores it).
   void set_position(const std::string& pass, float x, float y);

@@ -182,6 +182,21 @@ void Compiler::size_resources() {
     r.transient = false;
     plan_.outputs.push_back(static_cast<uint32_t>(index));
   }
+  if (!graph_.linear_output.empty()) {
+    const int index = plan_.find_resource(redirected(graph_.linear_output));
+    if (index < 0) {
+      throw graph_.error("/linear_output", "linear_output '" + graph_.linear_output + "' is not a resource of this graph" +
+                                               did_you_mean(graph_.linear_output, resource_names()));
+    }
+    const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
+    const bool linear_float = r.kind == ResourceKind::image && r.format != Format::rgba8 && r.format != Format::rgba8_srgb &&
+                              r.format != Format::r32ui && r.format != Format::d32f;
+    if (!linear_float) {
+      throw graph_.error("/linear_output", "linear_output '" + r.name + "' is " +
+                                               (r.kind == ResourceKind::image ? std::string(format_info(r.format).name) : "a buffer") +
+                                               "; the linear result is a float colour image (rgba16f, rgba32f)");
+    }
+  }
   for (const auto& name : options_.retained) {
     if (auto it = redirect_.find(name); it != redirect_.end() && it->second.empty()) continue;  // nothing writes it for this scene
     int index = plan_.find_resource(redirected(name));

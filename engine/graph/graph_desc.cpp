@@ -218,7 +218,8 @@ GraphDesc load_graph(JsonDocument doc) {
   graph.doc = std::move(doc);
   Reader read(graph.doc);
   const auto& root = read.object(graph.doc.root(), "", "a graph file");
-  read.only_keys(root, "", {"$schema", "name", "description", "parameters", "resources", "passes", "outputs", "editor"}, "a graph");
+  read.only_keys(root, "", {"$schema", "name", "description", "parameters", "resources", "passes", "outputs", "linear_output", "editor"},
+                 "a graph");
   // The editor's layout (caustica edit): its own business, but it must be an object.
   if (root.contains("editor")) read.object(root["editor"], "/editor", "\"editor\"");
   graph.name = root.contains("name") ? read.name(root["name"], "/name", "the graph name") : "graph";
@@ -235,6 +236,9 @@ GraphDesc load_graph(JsonDocument doc) {
     for (size_t i = 0; i < outputs.size(); ++i) {
       graph.outputs.push_back(read.name(outputs[i], "/outputs/" + std::to_string(i), "an output"));
     }
+  });
+  errors.attempt([&] {
+    if (root.contains("linear_output")) graph.linear_output = read.name(root["linear_output"], "/linear_output", "the linear output");
   });
   errors.throw_if_any();
   return graph;

@@ -62,6 +62,9 @@ struct GraphDesc {
   std::vector<ResourceDesc> resources;
   std::vector<PassDesc> passes;
   std::vector<std::string> outputs;  // the first one is what `render --out` writes
+  // The graph's linear HDR result (before its tone map), which `render --out F.exr` writes; empty
+  // where the graph does not say.
+  std::string linear_output;
 
   const ResourceDesc* find_resource(std::string_view name) const;
   const GraphParameter* find_parameter(std::string_view name) const;

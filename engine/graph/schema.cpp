@@ -127,6 +127,9 @@ json graph_schema_json(const PassRegistry& registry) {
             {"resources", {{"type", "object"}, {"additionalProperties", resource}}},
             {"passes", {{"type", "array"}, {"minItems", 1}, {"items", pass}}},
             {"outputs", {{"type", "array"}, {"minItems", 1}, {"items", {{"type", "string"}}}}},
+            {"linear_output",
+             {{"type", "string"},
+              {"description", "the graph's linear HDR result (before its tone map), which `render --out F.exr` writes"}}},
             {"editor", {{"type", "object"}, {"description", "the graph editor's layout (pass positions); the engine ignores it"}}}}},
           {"additionalProperties", false}};
 }

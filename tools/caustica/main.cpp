@@ -153,11 +153,13 @@ void write_json(const std::string& path, const nlohmann::json& value) {
   io::write_text_atomically(path, value.dump(2) + "\n");
 }
 
-// What --out F.exr writes: an EXR holds linear values, so where the graph's first output is the
-// tonemap pass's display-encoded 8-bit image, the tonemap's linear input; empty otherwise (the
-// output as it is).
+// What --out F.exr writes: an EXR holds linear values, so the graph's linear_output, or where the
+// graph does not declare one and its first output is a tonemap pass's display-encoded 8-bit
+// image, the tonemap's linear input; empty otherwise (the output as it is).
 std::string linear_source_of_output(const graph::GraphDesc& graph, const std::string& out) {
   if (std::filesystem::path(out).extension() != ".exr" || graph.outputs.empty()) return "";
+  if (!graph.linear_output.empty()) return graph.linear_output;
+  // A graph that does not say: the input of the tone map that makes its first output.
   for (const auto& pass : graph.passes) {
     const auto target = pass.outputs.find("target");
     if (pass.type == "tonemap" && target != pass.outputs.end() && target->second == graph.outputs.front()) return pass.inputs.at("source");
@@ -239,7 +241,8 @@ int run_render(const RenderOptions& o, bool trace) {
   std::string written = trace ? o.trace : "";
   for (const auto& [out, linear] : outs) {
     io::write_image(out, executor.read_image(linear.empty() ? executor.plan().resources[executor.plan().outputs.front()].name : linear));
-    written += (written.empty() ? "" : ", ") + out + (linear.empty() ? "" : " (linear: '" + linear + "', the tonemap's input)");
+    const char* why = graph.linear_output.empty() ? "the tonemap's input" : "the graph's linear_output";
+    written += (written.empty() ? "" : ", ") + out + (linear.empty() ? "" : " (linear: '" + linear + "', " + why + ")");
   }
   for (const auto& [resource, file] : o.dumps) {
     io::write_image(file, executor.read_image(resource));
