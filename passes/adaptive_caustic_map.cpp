@@ -11,6 +11,7 @@
 
 #include "builtin_passes.h"
 #include "core/error.h"
+#include "core/low_discrepancy.h"
 #include "photon_kernel.h"
 
 namespace caustica::passes {
@@ -30,17 +31,19 @@ struct AdaptivePush {
   uint32_t level;
   uint32_t max_level;
   uint32_t converge_level;
-  uint32_t list_capacity;
-  uint32_t batch_first;
-  uint32_t batch_count;
+  uint32_t batch;  // this batch's start clusters: the first in the low 16 bits, the count in the high 16
   uint32_t light_size_log2;
   uint32_t splat_levels;
   uint32_t coverage_seeded;
   float converge_spread;
   uint32_t counter_slot[11];
   ExactPathPush exact;
-  uint32_t band;  // 128 bytes: the push-constant size every device allows
+  uint32_t band;
+  uint32_t jitter;     // where in its cell each photon starts, in 1/65536 of the cell: x in the low 16 bits, y in the high
+  float kernel_scale;  // Knaus and Zwicker's r_i / r_0 for this frame's coarse splats
 };
+// 128 bytes: the push-constant size every device allows; hence the packed fields, and the lists'
+// capacity is the shaders' to read from their buffer's size.
 static_assert(sizeof(AdaptivePush) <= 128);
 
 constexpr uint32_t kCoverageBlockLog2 = 2;  // the coverage pyramid's finest texel: 4 x 4 light-view texels
@@ -49,6 +52,15 @@ uint32_t log2_exact(uint32_t v) {
   uint32_t l = 0;
   while ((1u << l) < v) ++l;
   return l;
+}
+
+// Knaus and Zwicker 2011: the radius of pass i follows r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), so
+// (r_i / r_0)^2 is the product of (k + alpha) / (k + 1) over k < i, Gamma(i + alpha) / (Gamma(alpha)
+// Gamma(i + 1)): in closed form, since a viewer left still counts frames without end. Exactly 1 for
+// i = 0 and for alpha = 1.
+double shrunk_radius(uint64_t i, double alpha) {
+  const double n = static_cast<double>(i);
+  return std::exp(0.5 * (std::lgamma(n + alpha) - std::lgamma(alpha) - std::lgamma(n + 1.0)));
 }
 
 class AdaptiveCausticMapPass final : public graph::Pass {
@@ -175,8 +187,6 @@ class AdaptiveCausticMapPass final : public graph::Pass {
                       0,
                       max_level_,
                       converge_level_,
-                      capacity_,
-                      0,
                       0,
                       light_size_log2_,
                       splat_levels_,
@@ -188,6 +198,16 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     for (int i = 0; i < 6; ++i) push.counter_slot[i] = slots_[i];
     push.counter_slot[7] = peak_slot_;
     for (int i = 0; i < 3; ++i) push.counter_slot[8 + i] = sum_slots_[i];
+    // With jitter, each frame since the reset moves the start grid and every subdivision of it by the
+    // same offset within their cells: the cell's centre first, then the R2 sequence (as caustic_map's
+    // photons), so that the mean of successive maps (accumulate) converges to the map of a finer
+    // traversal. Its coarse splats shrink as the frames add up (Knaus and Zwicker), so that the
+    // mean's blur fades too; a frame's splats keep the photons' power whatever their size.
+    const bool jitter = p["jitter"].get<bool>();
+    const uint64_t since_reset = jitter ? ctx.frame().since_reset : 0;
+    const glm::vec2 offset = r2_point(since_reset);
+    push.jitter = static_cast<uint32_t>(offset.x * 65536.0f) | static_cast<uint32_t>(offset.y * 65536.0f) << 16;
+    push.kernel_scale = static_cast<float>(shrunk_radius(since_reset, p["kernel_alpha"].get<double>()));
 
     auto bind = [&](const vk::Pipeline& pipeline) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
@@ -222,8 +242,9 @@ class AdaptiveCausticMapPass final : public graph::Pass {
       vkCmdFillBuffer(cmd, control_.get(), 0, VK_WHOLE_SIZE, 0);
       memory_barrier(cmd, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                      kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-      push.batch_first = b * starts_per_batch_;
-      push.batch_count = std::min(starts_per_batch_, kStartClusters - push.batch_first);
+      const uint32_t first = b * starts_per_batch_;
+      const uint32_t count = std::min(starts_per_batch_, kStartClusters - first);
+      push.batch = first | count << 16;
       for (uint32_t level = 0; level <= max_level_; ++level) {
         push.level = level;
         push.counter_slot[6] = level_slots_[level];
@@ -238,7 +259,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
         bind(photons);
         vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
         if (level == 0)
-          vkCmdDispatch(cmd, (push.batch_count + kGroup - 1) / kGroup, 1, 1);
+          vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
         else
           vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
       }
@@ -337,6 +358,24 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
                     "into the level with texels n wide; 1: everything into the finest"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
   params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  params.push_back({"jitter",
+                    ParamType::bool_,
+                    false,
+                    {},
+                    {},
+                    {},
+                    "move the start grid and its subdivisions within their cells from frame to frame (an R2 sequence, the centre "
+                    "first, as caustic_map's jitter) and shrink the coarse splats by kernel_alpha: an accumulate pass averages "
+                    "successive maps into the map of a finer traversal"});
+  params.push_back({"kernel_alpha",
+                    ParamType::float_,
+                    2.0 / 3.0,
+                    0.01,
+                    1.0,
+                    {},
+                    "with jitter: Knaus and Zwicker's alpha; on the i-th frame since the reset the footprint of a splat that stands "
+                    "for a coarse cluster (its multi-resolution level, a converged cluster's box) is scaled by r_i / r_0, where "
+                    "r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), down to one texel, keeping its power (1: no shrinking)"});
   return params;
 }
 
@@ -380,7 +419,10 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
       [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
-  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
+  // A jittered grid moves every frame (a progressive graph).
+  decl.depends_on = [](const nlohmann::json& resolved) {
+    return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
+  };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;
@@ -401,7 +443,10 @@ graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
       [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
-  decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
+  // A jittered grid moves every frame (a progressive graph).
+  decl.depends_on = [](const nlohmann::json& resolved) {
+    return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
+  };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
   return decl;

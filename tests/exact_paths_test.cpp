@@ -58,18 +58,12 @@ TEST(ExactPaths, RayQueryPhotonsMatchTheExactBallLens) {
   EXPECT_GT(frame.counters.at("photons.exact"), 0.0);
 }
 
-double map_flux(const io::ImageData& map) {
-  double total = 0;
-  for (size_t i = 0; i < map.rgba.size(); i += 4) total += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
-  return total;
-}
-
 // The flux of the caustic map that `graph` renders (its frame, counters included, into *frame when given).
 double rendered_flux(test::SceneEngine& e, const std::string& graph_name, std::shared_ptr<const scene::Scene> scene,
                      const std::vector<std::string>& sets, graph::FrameResult* frame = nullptr) {
   auto result = e.render(graph_name, std::move(scene), sets, {"caustics"});
   if (frame) *frame = std::move(result);
-  return map_flux(e.executor.read_image("caustics"));
+  return test::map_flux(e.executor.read_image("caustics"));
 }
 
 // A glass ball under a quad cut into a checker by its alpha MASK (tests/data/mask_over_lens.json):
@@ -87,10 +81,10 @@ TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
   reference::PhotonOptions options;
   options.photons = 4'000'000;
   options.fresnel = false;
-  const double reference = map_flux(reference::trace_photon_reference(*scene, options).caustic_map);
+  const double reference = test::map_flux(reference::trace_photon_reference(*scene, options).caustic_map);
   auto opaque = std::make_shared<scene::Scene>(*scene);
   for (auto& o : opaque->objects) o.material.alpha_mode = scene::AlphaMode::opaque;
-  const double reference_opaque = map_flux(reference::trace_photon_reference(*opaque, options).caustic_map);
+  const double reference_opaque = test::map_flux(reference::trace_photon_reference(*opaque, options).caustic_map);
   const double traced = rendered_flux(e, "caustics_raytraced", scene, {"fresnel=false", "grid=1024"});
   const double regular = rendered_flux(e, "caustics_regular", scene, {"fresnel=false", "grid=1024"});
   std::printf("caustic flux under the masked quad: reference %.5f (%.5f with the mask opaque), ray query %.4f, regular %.4f of it\n",
@@ -204,7 +198,7 @@ TEST(ExactPaths, AdaptiveHybridKeepsTheHighIndexEnergy) {
   auto scene = test::load_bundled_scene("stability/high_index");
   reference::PhotonOptions options;
   options.photons = 4'000'000;
-  const double reference = map_flux(reference::trace_photon_reference(*scene, options).caustic_map);
+  const double reference = test::map_flux(reference::trace_photon_reference(*scene, options).caustic_map);
   const double adaptive = rendered_flux(e, "caustics_adaptive_hybrid", scene, {"grid=2048"});
   std::printf("n = 2.4: adaptive hybrid %.4f of the photon reference's caustic flux\n", adaptive / reference);
   EXPECT_GT(adaptive / reference, 0.97);

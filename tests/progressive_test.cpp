@@ -24,11 +24,12 @@ std::vector<std::string> with(std::vector<std::string> sets, const std::vector<s
   return sets;
 }
 
-// Runs `frames` frames of the graph on `scene` and returns the caustic map the lighting saw. The
-// plan is set up anew (a fresh mean) unless `go_on`, which keeps it and its history.
+// Runs `frames` frames of the graph (caustics_progressive unless named) on `scene` and returns the
+// caustic map the lighting saw. The plan is set up anew (a fresh mean) unless `go_on`, which keeps it
+// and its history.
 io::ImageData accumulated(SceneEngine& e, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets, uint32_t frames,
-                          double* counted = nullptr, bool go_on = false) {
-  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+                          double* counted = nullptr, bool go_on = false, const std::string& graph_name = "caustics_progressive") {
+  auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
   graph::apply_overrides(graph, sets);
   e.executor.set_scene(std::move(scene));
   if (!go_on) e.executor.invalidate();
@@ -55,6 +56,70 @@ TEST(Progressive, JitteredMapsAverageToTheMapOfAFinerGrid) {
   EXPECT_EQ(frames, 16.0);
   EXPECT_LT(mean, 0.35 * one);
   EXPECT_GT(unjittered, 0.9 * one);
+}
+
+// The adaptive traversal accumulated (graphs/caustics_adaptive_progressive.json) on the ball lens,
+// every cluster refined to the last level (converge_from beyond the grids), so that a finer grid is
+// the same traversal's limit rather than another convergence: the photons of its last level land
+// with a finer spread and splat into finer levels.
+const std::vector<std::string> kAdaptive = with(kSmall, {"converge_from=65536"});
+io::ImageData adaptive_accumulated(SceneEngine& e, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets,
+                                   uint32_t frames) {
+  return accumulated(e, std::move(scene), with(kAdaptive, sets), frames, nullptr, false, "caustics_adaptive_progressive");
+}
+io::ImageData adaptive_map(SceneEngine& e, std::shared_ptr<const scene::Scene> scene, uint32_t grid) {
+  e.render("caustics_adaptive", std::move(scene), with(kAdaptive, {"grid=" + std::to_string(grid)}), {"caustics"});
+  return e.executor.read_image("caustics");
+}
+
+// The jittered adaptive traversal's frames average toward the map of a grid 16 times finer: 32
+// frames of a 128^2 grid must come far closer to the 2048^2 map than one frame, and only because the
+// grid moves (with the jitter off every frame repeats the first, and the shrinking kernel alone
+// changes little).
+TEST(Progressive, JitteredAdaptiveMapsAverageToTheMapOfAFinerGrid) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  const io::ImageData fine = adaptive_map(e, scene, 2048);
+  const double one = relative_difference(adaptive_accumulated(e, scene, {"grid=128"}, 1), fine);
+  const double mean = relative_difference(adaptive_accumulated(e, scene, {"grid=128"}, 32), fine);
+  const double unjittered = relative_difference(adaptive_accumulated(e, scene, {"grid=128", "jitter=false"}, 32), fine);
+  std::printf("against the 2048^2 adaptive map: one 128^2 frame %.4f, the mean of 32 jittered %.4f, of 32 unjittered %.4f\n", one, mean,
+              unjittered);
+  EXPECT_LT(mean, 0.6 * one);
+  EXPECT_GT(unjittered, 0.9 * one);
+}
+
+// Knaus and Zwicker's shrinking kernel: after 32 frames the mean of splats that shrink (alpha 2/3)
+// is sharper, so nearer the finer grid's map, than the mean of splats that keep their first size
+// (alpha 1), while the shrinking keeps every photon's power: the two means hold the same flux, to
+// the float atomics' order, though their texels differ.
+TEST(Progressive, AShrinkingKernelSharpensTheAdaptiveMeanAndKeepsItsEnergy) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("sphere_plane");
+  const io::ImageData fine = adaptive_map(e, scene, 2048);
+  const io::ImageData shrunk = adaptive_accumulated(e, scene, {"grid=128"}, 32);
+  const io::ImageData kept = adaptive_accumulated(e, scene, {"grid=128", "kernel_alpha=1"}, 32);
+  const double shrunk_error = relative_difference(shrunk, fine), kept_error = relative_difference(kept, fine);
+  std::printf("32 frames of 128^2 against the 2048^2 adaptive map: shrinking %.4f, kept %.4f; flux %.6f and %.6f\n", shrunk_error,
+              kept_error, test::map_flux(shrunk), test::map_flux(kept));
+  EXPECT_LT(shrunk_error, 0.95 * kept_error);
+  EXPECT_NEAR(test::map_flux(shrunk), test::map_flux(kept), 1e-5 * test::map_flux(kept));
+}
+
+// The same with the default hybrid traversal, whose clusters converge from converge_from on and
+// spread their power over a box: the shrunk boxes keep that power too, on the bunny.
+TEST(Progressive, ShrunkConvergedClustersKeepTheirPower) {
+  SceneEngine e;
+  auto scene = load_bundled_scene("glass_bunny");
+  const auto sets = with(kSmall, {"grid=512", "converge_from=256"});
+  auto mean = [&](const std::string& alpha) {
+    return accumulated(e, scene, with(sets, {"kernel_alpha=" + alpha}), 16, nullptr, false, "caustics_adaptive_progressive");
+  };
+  const io::ImageData shrunk = mean("0.6666667"), kept = mean("1");
+  std::printf("16 hybrid frames of 512^2 on the bunny: flux %.6f shrinking, %.6f kept; the maps %.4f apart\n", test::map_flux(shrunk),
+              test::map_flux(kept), relative_difference(shrunk, kept));
+  EXPECT_GT(relative_difference(shrunk, kept), 0.01) << "the kernel did not shrink";
+  EXPECT_NEAR(test::map_flux(shrunk), test::map_flux(kept), 1e-5 * test::map_flux(kept));
 }
 
 // The mean survives a camera move (the map is in the light's space) and restarts when the light

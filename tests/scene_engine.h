@@ -60,4 +60,11 @@ inline double relative_difference(const io::ImageData& a, const io::ImageData& b
   return total > 0 ? difference / total : difference;
 }
 
+// A caustic map's flux as the counters total it: the mean of the three channels, summed.
+inline double map_flux(const io::ImageData& map) {
+  double total = 0;
+  for (size_t i = 0; i < map.rgba.size(); i += 4) total += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
+  return total;
+}
+
 }  // namespace caustica::test

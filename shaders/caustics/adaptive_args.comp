@@ -7,12 +7,12 @@
 layout(local_size_x = 1) in;
 
 void main() {
-  uint n = min(counts[params.level], params.list_capacity);
+  uint n = min(counts[params.level], list_capacity());
   uint groups = (n + GROUP - 1u) / GROUP;
   const uint MAX_X = 65535u;  // the minimum maxComputeWorkGroupCount[0] every device has
   args[params.level][0] = min(groups, MAX_X);
   args[params.level][1] = groups == 0u ? 0u : (groups + MAX_X - 1u) / MAX_X;
   args[params.level][2] = 1u;
-  uint live = n + min(counts[params.level - 1u], params.list_capacity);
+  uint live = n + min(counts[params.level - 1u], list_capacity());
   atomicMax(counters[params.counter_slot[7]], live * 4u);
 }

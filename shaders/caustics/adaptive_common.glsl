@@ -12,7 +12,7 @@ layout(set = 0, binding = 5) uniform sampler2D receiver_depth;
 layout(set = 0, binding = 6, r32f) uniform image2DArray caustic_map;  // a layer per colour channel
 layout(set = 0, binding = 7, std430) buffer CounterBlock { uint counters[]; };
 layout(set = 0, binding = 8, std430) buffer SumBlock { float sums[]; };  // the same buffer, float slots
-// Two cluster lists of `list_capacity` entries each; level L reads list L % 2 and appends to the other.
+// Two cluster lists of list_capacity() entries each; level L reads list L % 2 and appends to the other.
 layout(set = 0, binding = 9, std430) buffer ListBlock { uint clusters[]; };
 // counts[L]: clusters at level L; args[L]: the indirect dispatch that processes them.
 layout(set = 0, binding = 10, std430) buffer ControlBlock {
@@ -39,9 +39,7 @@ layout(push_constant) uniform Params {
   uint level;
   uint max_level;       // the level whose photon grid is the effective grid
   uint converge_level;  // first level with the max-error test (beyond max_level: never)
-  uint list_capacity;
-  uint batch_first;     // first start cluster of this batch, row-major over 32 x 32
-  uint batch_count;
+  uint batch;  // this batch's start clusters, row-major over 32 x 32: the first (low 16 bits) and the count (high 16)
   uint light_size_log2;  // log2 of the side of the coverage pyramid's finest level
   uint splat_levels;
   uint coverage_seeded;  // adaptive: the coverage pyramid exists and keeps clusters over small refractors
@@ -56,7 +54,15 @@ layout(push_constant) uniform Params {
   float exact_epsilon;
   uint hybrid_packed;  // hybrid_tolerance and hybrid_reflections as two halves (packHalf2x16)
   uint band;  // caustics/photon.glsl: BAND_WHITE or the colour band traced (unused with PHOTON_BAND_LOOP)
+  uint jitter;  // where in its cell each photon starts, 1/65536ths of the cell: x in the low 16 bits, y in the high
+  float kernel_scale;  // Knaus and Zwicker's r_i / r_0: this frame's coarse splats, shrunk (passes/adaptive_caustic_map.cpp)
 } params;
+
+// The two lists fill their buffer (the push constants have no room left for their size).
+uint list_capacity() { return uint(clusters.length()) / 2u; }
+
+// Where in its cell of any level's grid each photon starts: (0.5, 0.5) the centre.
+vec2 photon_jitter() { return vec2(params.jitter & 0xFFFFu, params.jitter >> 16) / 65536.0; }
 
 // Whether any light-view texel under a cluster's footprint at params.level shows a refractor: one
 // texel of the pyramid level whose texels are the footprint's size, or the finest level's texel

@@ -22,6 +22,18 @@ layout(local_size_x = 64) in;
 const uint PROCESSED = 0u, SPLATTED = 1u, MISS = 2u, TIR = 3u, CONVERGED = 4u, OVERFLOW = 5u, PROCESSED_LEVEL = 6u;
 const uint FLUX = 0u, ENTERING = 1u, DROPPED = 2u;
 
+// The level for a footprint `width` finest texels wide: the one whose texels are at least that
+// wide, at most the coarsest, after Knaus and Zwicker's shrinking (params.kernel_scale: the
+// coarsest footprint shrinks too), never below the finest. ceil(log2()) by frexp, which is exact
+// where log2 might round a power of two up a level.
+uint splat_level(float width) {
+  float shrunk = min(width, float(1u << (params.splat_levels - 1u))) * params.kernel_scale;
+  if (shrunk <= 1.0) return 0u;
+  int e;
+  float f = frexp(shrunk, e);
+  return uint(f == 0.5 ? e - 1 : e);
+}
+
 // The splat level of a cluster's photons: their footprint on the caustic map is about the spread
 // of the cluster's landing points (Chebyshev distance, in finest texels); a photon whose
 // neighbours land n texels away goes to the level whose texels are n finest texels wide.
@@ -35,7 +47,7 @@ uint footprint_level(Photon ph[4]) {
       }
     }
   }
-  return spread <= 1 ? 0u : min(params.splat_levels - 1u, uint(ceil(log2(float(spread)))));
+  return splat_level(float(spread));
 }
 
 // Level 0 is the caustic map itself; coarser levels wait in the pyramid for combine.comp.
@@ -55,7 +67,7 @@ void splat_at(ivec2 texel, uint level, vec3 power) {
 // its grid is coarser than the last level's.
 void output_side_path(Photon ph) {
   if (!ph.side_landed) return;
-  splat_at(ph.side_texel, min(params.splat_levels - 1u, params.max_level - params.level), ph.side_power);
+  splat_at(ph.side_texel, splat_level(float(1u << (params.max_level - params.level))), ph.side_power);
   count(SPLATTED);
   add_sum(FLUX, channel_mean(ph.side_power));
 }
@@ -83,11 +95,12 @@ void output_photon(Photon ph, uint level) {
 // A converged cluster's power spread evenly over its footprint on the caustic map: the box around
 // the centroid of its landing points, twice their spread wide on each axis (the four photons stand
 // for the 2 x 2 cells around them, whose edges lie half a spacing beyond), and at least a texel
-// wide, so that a cluster landing in a point shares its power with bilinear weights. Each texel
+// wide, so that a cluster landing in a point shares its power with bilinear weights; shrunk as
+// frames accumulate (params.kernel_scale), down to that texel. Each texel
 // gets the part of the box it covers; texels outside the map are clamped to its edge, so no flux
 // is lost there.
 void splat_footprint(vec2 centre, vec2 spread, vec3 power) {
-  vec2 width = clamp(2.0 * spread, vec2(1.0), vec2(8.0));
+  vec2 width = max(clamp(2.0 * spread, vec2(1.0), vec2(8.0)) * params.kernel_scale, vec2(1.0));
   vec2 low = centre - 0.5 * width, high = centre + 0.5 * width;
   ivec2 first = ivec2(floor(low)), size = imageSize(caustic_map).xy;
   vec3 per_area = power / (width.x * width.y);
@@ -114,8 +127,8 @@ bool cells_on_refractor(uvec2 cluster, uint side) {
 // Appends the four photons of `cluster` as clusters of the next level.
 void refine(uvec2 cluster) {
   uint at = atomicAdd(counts[params.level + 1u], 4u);
-  if (at + 4u <= params.list_capacity) {
-    uint base = ((params.level + 1u) % 2u) * params.list_capacity + at;
+  if (at + 4u <= list_capacity()) {
+    uint base = ((params.level + 1u) % 2u) * list_capacity() + at;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 child = cluster * 2u + uvec2(k & 1u, k >> 1);
       clusters[base + k] = child.x | (child.y << 16);
@@ -133,7 +146,7 @@ void trace_cluster(inout Photon ph[4], uvec2 cluster, uint side, float texel, bo
     uint next = IMAGE_SPACE_DONE;
     ExactStart start = ExactStart(vec3(0.0), vec3(0.0), -1, 0u, 0u);
     uvec2 p = cluster * 2u + uvec2(k & 1u, k >> 1);
-    if (tracing) ph[k] = begin_photon(light, (vec2(p) + 0.5) / float(side), texel, next, start);
+    if (tracing) ph[k] = begin_photon(light, (vec2(p) + photon_jitter()) / float(side), texel, next, start);
     finish_photon(ph[k], next, start, light);
   }
 }
@@ -171,14 +184,14 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) any_second_look = 0u;
   begin_group_totals();
   uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
-  uint clusters_here = params.level == 0u ? params.batch_count : min(counts[params.level], params.list_capacity);
+  uint clusters_here = params.level == 0u ? params.batch >> 16 : min(counts[params.level], list_capacity());
   bool has_cluster = index < clusters_here;
   uvec2 cluster = uvec2(0u);
   if (has_cluster && params.level == 0u) {
-    uint start = params.batch_first + index;
+    uint start = (params.batch & 0xFFFFu) + index;
     cluster = uvec2(start % START_CLUSTERS_SIDE, start / START_CLUSTERS_SIDE);
   } else if (has_cluster) {
-    uint packed = clusters[(params.level % 2u) * params.list_capacity + index];
+    uint packed = clusters[(params.level % 2u) * list_capacity() + index];
     cluster = uvec2(packed & 0xFFFFu, packed >> 16);
   }
   LightData light = frame.lights[params.light];
@@ -278,7 +291,7 @@ void main() {
     // bunny's error at 512^2 fell from 0.291 to 0.271.
     for (uint k = 0u; k < 4u; ++k) {
       if (ph[k].followed && ph[k].landed) {
-        output_photon(ph[k], params.splat_levels - 1u);
+        output_photon(ph[k], splat_level(float(1u << (params.splat_levels - 1u))));
         continue;
       }
       count(ph[k].tir ? TIR : MISS);

@@ -17,7 +17,8 @@ void main() {
   if (level == 0u) {
     // Each texel of the finest level stands for a block of light-view texels (see the pass) and
     // marks whether a photon of the effective grid inside it sees a refractor: the photons'
-    // own sample texels when the grid is coarser than the light view, every texel otherwise.
+    // own sample texels, where this frame's jitter puts them, when the grid is coarser than the
+    // light view, every texel otherwise.
     // That is what the regular map of the same grid sees, no more, and it saves reading the
     // whole light view for small grids.
     uint light_side = uint(textureSize(front_tex, 0).x);
@@ -28,7 +29,7 @@ void main() {
     uint any_refractor = 0u;
     for (uint y = 0u; y < per_side; ++y) {
       for (uint x = 0u; x < per_side; ++x) {
-        vec2 uv = (vec2(p * per_side + uvec2(x, y)) + 0.5) / samples_side;
+        vec2 uv = (vec2(p * per_side + uvec2(x, y)) + photon_jitter()) / samples_side;
         any_refractor |= texelFetch(front_tex, ivec2(uv * float(light_side)), 0).y > 0.0 ? 1u : 0u;
       }
     }
