@@ -669,10 +669,12 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
   const fs::path dir = scratch("shards");
   const std::string sphere = "--scene '" + (kSource / "scenes/sphere_plane.json").string() + "' --map-size 32 ";
   auto reference = [&](const std::string& args, const std::string& env = "") {
-    return run_binary("/usr/bin/env", "-u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " '" + CAUSTICA_BIN + "' reference " + args, dir);
+    return run_binary("/usr/bin/env", "-u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " '" + CAUSTICA_BIN + "' reference " + args,
+                      dir);
   };
   ASSERT_EQ(reference(sphere + "--photons 1e5 --out whole.exr").code, 0);
-  for (int i : {0, 1}) ASSERT_EQ(reference(sphere + "--photons 1e5 --shard " + std::to_string(i) + "/4 --out s" + std::to_string(i) + ".exr").code, 0);
+  for (int i : {0, 1})
+    ASSERT_EQ(reference(sphere + "--photons 1e5 --shard " + std::to_string(i) + "/4 --out s" + std::to_string(i) + ".exr").code, 0);
   const CliRun slurm = reference(sphere + "--photons 1e5 --shard auto/4 --out s3.exr", "SLURM_ARRAY_TASK_ID=3");
   ASSERT_EQ(slurm.code, 0) << slurm.output;
   EXPECT_NE(slurm.output.find("shard 3/4: photons 75000 to 99999 of 100000"), std::string::npos) << slurm.output;
@@ -686,7 +688,8 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
 
   const CliRun no_index = reference(sphere + "--photons 1e5 --shard auto/4 --out auto.exr");
   EXPECT_EQ(no_index.code, 2);
-  EXPECT_NE(no_index.output.find("neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX"), std::string::npos) << no_index.output;
+  EXPECT_NE(no_index.output.find("neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX"), std::string::npos)
+      << no_index.output;
   const CliRun bad_index = reference(sphere + "--photons 1e5 --shard auto/4 --out auto.exr", "SLURM_ARRAY_TASK_ID=4");
   EXPECT_EQ(bad_index.code, 2);
   EXPECT_NE(bad_index.output.find("(the index that SLURM_ARRAY_TASK_ID gives, '4', is not a whole number from 0 to 3)"), std::string::npos)
@@ -695,8 +698,10 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
   ASSERT_EQ(reference(sphere + "--photons 1e5 --shard 1/3 --out third.exr").code, 0);
   ASSERT_EQ(reference(sphere + "--photons 1e5 --seed 2 --shard 3/4 --out seed2.exr").code, 0);
   ASSERT_EQ(reference(sphere + "--photons 2e5 --shard 3/4 --out count.exr").code, 0);
-  ASSERT_EQ(reference("--scene '" + (kSource / "scenes/sphere_sun.json").string() + "' --map-size 32 --photons 1e5 --shard 3/4 --out sun.exr").code,
-            0);
+  ASSERT_EQ(
+      reference("--scene '" + (kSource / "scenes/sphere_sun.json").string() + "' --map-size 32 --photons 1e5 --shard 3/4 --out sun.exr")
+          .code,
+      0);
   fs::copy_file(dir / "s2.exr", dir / "copy.exr");
   const std::vector<std::pair<std::string, std::string>> refusals = {
       {"s0.exr s1.exr s3.exr", "photons 50000 to 74999 are missing: shard 2 of 4"},
@@ -720,8 +725,9 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
 
   // A shard killed while tracing leaves nothing, not even its temporary file.
   const fs::path killed = scratch("killed_shard");
-  const CliRun kill = run_binary("/usr/bin/timeout", "-s KILL 0.5 '" + std::string(CAUSTICA_BIN) + "' reference " + sphere +
-                                                         "--photons 1e10 --shard 0/2 --out killed.exr", killed);
+  const CliRun kill = run_binary(
+      "/usr/bin/timeout",
+      "-s KILL 0.5 '" + std::string(CAUSTICA_BIN) + "' reference " + sphere + "--photons 1e10 --shard 0/2 --out killed.exr", killed);
   EXPECT_EQ(kill.code, 137) << kill.output;
   EXPECT_TRUE(fs::is_empty(killed));
   fs::remove_all(killed);

@@ -29,26 +29,11 @@ double map_sum(const io::ImageData& map) {
 }
 
 // Traces shard `index` of `count` and writes it into `dir` as the command line does; returns its path.
-std::string write_shard(const scene::Scene& scene, reference::PhotonOptions options, uint64_t index, uint64_t count,
+std::string write_shard(const scene::Scene& scene, const reference::PhotonOptions& options, uint64_t index, uint64_t count,
                         const std::filesystem::path& dir, const std::string& name) {
-  std::tie(options.first_photon, options.end_photon) = reference::shard_range(options.photons, index, count);
-  const reference::PhotonSums sums = reference::trace_photon_sums(scene, options);
-  reference::PhotonShard shard;
-  shard.first = options.first_photon;
-  shard.end = options.end_photon;
-  shard.photons = options.photons;
-  shard.seed = options.seed;
-  shard.index = index;
-  shard.count = count;
-  shard.map_size = options.map_size;
-  shard.fresnel = options.fresnel;
-  shard.unit = sums.unit;
-  shard.scene_name = scene.name;
-  shard.scene_identity = reference::scene_identity(scene);
-  shard.engine_identity = "caustica test";
-  shard.totals = sums.totals;
+  const reference::TracedShard traced = reference::trace_photon_shard(scene, options, index, count);
   const std::string path = (dir / name).string();
-  reference::write_photon_shard(path, shard, sums.map);
+  reference::write_photon_shard(path, traced.shard, traced.map_units);
   return path;
 }
 
@@ -251,7 +236,8 @@ TEST(PhotonShards, AnyShardingMergesToTheUnshardedMap) {
   for (const uint64_t count : {1u, 4u, 7u}) {
     SCOPED_TRACE(count);
     std::vector<std::string> paths;
-    for (uint64_t i = count; i-- > 0;) paths.push_back(write_shard(scene, options, i, count, dir, std::to_string(count) + "_" + std::to_string(i) + ".exr"));
+    for (uint64_t i = count; i-- > 0;)
+      paths.push_back(write_shard(scene, options, i, count, dir, std::to_string(count) + "_" + std::to_string(i) + ".exr"));
     const auto merged = reference::merge_photon_shards(paths);
     EXPECT_EQ(merged.caustic_map.rgba, whole.caustic_map.rgba);
     EXPECT_EQ(merged.whole.totals.photons, options.photons);
@@ -281,7 +267,8 @@ TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
     return merge_refusal(paths);
   };
   EXPECT_NE(merge_refusal({four[0], four[1], four[3]}).find("photons 2000 to 2999 are missing: shard 2 of 4"), std::string::npos);
-  EXPECT_NE(merge_refusal({four[1], four[2]}).find("photons 0 to 999 are missing: shard 0 of 4\n  photons 3000 to 3999 are missing: shard 3 of 4"),
+  EXPECT_NE(merge_refusal({four[1], four[2]})
+                .find("photons 0 to 999 are missing: shard 0 of 4\n  photons 3000 to 3999 are missing: shard 3 of 4"),
             std::string::npos)
       << merge_refusal({four[1], four[2]});
   const std::string overlap = with(4, write_shard(scene, options, 1, 3, dir, "third.exr"));
@@ -299,7 +286,8 @@ TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
   scene::Scene moved = scene;
   moved.objects.back().material.ior = 1.4f;
   const std::string another_scene = with(3, write_shard(moved, options, 3, 4, dir, "scene.exr"));
-  EXPECT_NE(another_scene.find("scene.exr: scene sphere_plane (identity " + reference::scene_identity(moved) + "), where"), std::string::npos)
+  EXPECT_NE(another_scene.find("scene.exr: scene sphere_plane (identity " + reference::scene_identity(moved) + "), where"),
+            std::string::npos)
       << another_scene;
   auto shard = reference::read_photon_shard(four[3]);
   shard.engine_identity = "caustica 0.0.9 (another build)";

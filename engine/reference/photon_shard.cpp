@@ -16,8 +16,10 @@
 #include <exception>
 #include <filesystem>
 #include <numeric>
+#include <tuple>
 
 #include "core/content_hash.h"
+#include "core/engine_identity.h"
 #include "core/error.h"
 #include "io/files.h"
 
@@ -29,9 +31,9 @@ constexpr const char* kColours[] = {"R", "G", "B"};
 
 // The totals' doubles by their header names, for writing and reading alike.
 constexpr std::pair<const char*, double PhotonTotals::*> kTotals[] = {
-    {"emitted", &PhotonTotals::emitted}, {"direct", &PhotonTotals::direct},       {"entering", &PhotonTotals::entering},
-    {"landed", &PhotonTotals::landed},   {"off_map", &PhotonTotals::off_map},     {"reflected", &PhotonTotals::reflected},
-    {"escaped", &PhotonTotals::escaped}, {"trapped", &PhotonTotals::trapped},     {"absorbed", &PhotonTotals::absorbed}};
+    {"emitted", &PhotonTotals::emitted}, {"direct", &PhotonTotals::direct},   {"entering", &PhotonTotals::entering},
+    {"landed", &PhotonTotals::landed},   {"off_map", &PhotonTotals::off_map}, {"reflected", &PhotonTotals::reflected},
+    {"escaped", &PhotonTotals::escaped}, {"trapped", &PhotonTotals::trapped}, {"absorbed", &PhotonTotals::absorbed}};
 
 // 64-bit counts as decimal strings: EXR has no 64-bit integer attribute.
 void set_count(Imf::Header& header, const std::string& name, uint64_t value) {
@@ -154,6 +156,28 @@ std::pair<uint64_t, uint64_t> shard_range(uint64_t photons, uint64_t index, uint
   return {at(index), at(index + 1)};
 }
 
+TracedShard trace_photon_shard(const scene::Scene& scene, PhotonOptions options, uint64_t index, uint64_t count) {
+  std::tie(options.first_photon, options.end_photon) = shard_range(options.photons, index, count);
+  PhotonSums sums = trace_photon_sums(scene, options);
+  TracedShard traced;
+  PhotonShard& shard = traced.shard;
+  shard.first = options.first_photon;
+  shard.end = options.end_photon;
+  shard.photons = options.photons;
+  shard.seed = options.seed;
+  shard.index = index;
+  shard.count = count;
+  shard.map_size = options.map_size;
+  shard.fresnel = options.fresnel;
+  shard.unit = sums.unit;
+  shard.scene_name = scene.name;
+  shard.scene_identity = scene_identity(scene);
+  shard.engine_identity = engine_identity();
+  shard.totals = sums.totals;
+  traced.map_units = std::move(sums.map);
+  return traced;
+}
+
 void write_photon_shard(const std::string& path, const PhotonShard& shard, const std::vector<uint64_t>& map_units) {
   const uint32_t size = shard.map_size;
   Imf::Header header(static_cast<int>(size), static_cast<int>(size));
@@ -171,7 +195,8 @@ void write_photon_shard(const std::string& path, const PhotonShard& shard, const
   header.insert("caustica.scene", Imf::StringAttribute(shard.scene_name));
   header.insert("caustica.scene_identity", Imf::StringAttribute(shard.scene_identity));
   header.insert("caustica.engine", Imf::StringAttribute(shard.engine_identity));
-  for (const auto& [name, member] : kTotals) header.insert(std::string("caustica.totals.") + name, Imf::DoubleAttribute(shard.totals.*member));
+  for (const auto& [name, member] : kTotals)
+    header.insert(std::string("caustica.totals.") + name, Imf::DoubleAttribute(shard.totals.*member));
   SplitUnits units(map_units.size());
   for (size_t i = 0; i < map_units.size(); ++i) {
     units.high[i] = static_cast<uint32_t>(map_units[i] >> 32);
@@ -224,11 +249,12 @@ PhotonShard read_shard(const std::string& path, std::vector<uint64_t>* add_to) {
     shard.scene_name = attribute<Imf::StringAttribute>(header, path, "scene").value();
     shard.scene_identity = attribute<Imf::StringAttribute>(header, path, "scene_identity").value();
     shard.engine_identity = attribute<Imf::StringAttribute>(header, path, "engine").value();
-    for (const auto& [name, member] : kTotals) shard.totals.*member = attribute<Imf::DoubleAttribute>(header, path, std::string("totals.") + name).value();
+    for (const auto& [name, member] : kTotals)
+      shard.totals.*member = attribute<Imf::DoubleAttribute>(header, path, std::string("totals.") + name).value();
     const Imath::Box2i window = header.dataWindow();
     const long width = long{window.max.x} - window.min.x + 1, height = long{window.max.y} - window.min.y + 1;
-    if (window.min.x != 0 || window.min.y != 0 || width != height || width > 65536 || shard.first >= shard.end || shard.end > shard.photons ||
-        shard.count == 0 || shard.index >= shard.count) {
+    if (window.min.x != 0 || window.min.y != 0 || width != height || width > 65536 || shard.first >= shard.end ||
+        shard.end > shard.photons || shard.count == 0 || shard.index >= shard.count) {
       throw InputError(path + ": a damaged photon shard (its size or range does not hold together)");
     }
     shard.map_size = static_cast<uint32_t>(width);

@@ -37,6 +37,13 @@ std::string scene_identity(const scene::Scene& scene);
 // Shard `index` of `count`: contiguous, together exactly [0, photons), sizes differing by at most one.
 std::pair<uint64_t, uint64_t> shard_range(uint64_t photons, uint64_t index, uint64_t count);
 
+// Traces shard `index` of `count` of options.photons (options' own range is replaced).
+struct TracedShard {
+  PhotonShard shard;
+  std::vector<uint64_t> map_units;
+};
+TracedShard trace_photon_shard(const scene::Scene& scene, PhotonOptions options, uint64_t index, uint64_t count);
+
 // An EXR of the shard's sums (each channel's 64-bit units as two 32-bit halves, so that adding
 // shards is exact) with `shard` in its header; through a temporary file and a rename, so that a
 // shard killed while writing leaves no file.

@@ -17,7 +17,6 @@
 
 #include "builtin_passes.h"
 #include "cli.h"
-#include "core/engine_identity.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "core/suggest.h"
@@ -579,32 +578,19 @@ void print_photon_flux(const reference::PhotonTotals& t) {
 // One shard of the photon reference: its range's sums, exactly, with what it is a part of.
 int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photons, const Shard& shard, const std::string& out) {
   const auto start = std::chrono::steady_clock::now();
-  std::tie(photons.first_photon, photons.end_photon) = reference::shard_range(photons.photons, shard.index, shard.count);
-  const uint64_t traced = photons.end_photon - photons.first_photon;
-  ProgressLine progress("photons", traced);
-  if (traced >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
-  const reference::PhotonSums sums = reference::trace_photon_sums(scene, photons);
-  reference::PhotonShard header;
-  header.first = photons.first_photon;
-  header.end = photons.end_photon;
-  header.photons = photons.photons;
-  header.seed = photons.seed;
-  header.index = shard.index;
-  header.count = shard.count;
-  header.map_size = photons.map_size;
-  header.fresnel = photons.fresnel;
-  header.unit = sums.unit;
-  header.scene_name = scene.name;
-  header.scene_identity = reference::scene_identity(scene);
-  header.engine_identity = engine_identity();
-  header.totals = sums.totals;
-  reference::write_photon_shard(out, header, sums.map);
+  const auto [first, end] = reference::shard_range(photons.photons, shard.index, shard.count);
+  ProgressLine progress("photons", end - first);
+  if (end - first >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
+  const reference::TracedShard traced = reference::trace_photon_shard(scene, photons, shard.index, shard.count);
+  const reference::PhotonShard& header = traced.shard;
+  reference::write_photon_shard(out, header, traced.map_units);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("shard %llu/%llu: photons %llu to %llu of %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(shard.index),
-              static_cast<unsigned long long>(shard.count), static_cast<unsigned long long>(header.first),
-              static_cast<unsigned long long>(header.end - 1), static_cast<unsigned long long>(header.photons), seconds,
-              double(traced) / seconds * 1e-6, static_cast<unsigned long long>(header.seed));
-  print_photon_flux(sums.totals);
+  std::printf("shard %llu/%llu: photons %llu to %llu of %llu in %.2f s (%.1f M/s), seed %llu\n",
+              static_cast<unsigned long long>(shard.index), static_cast<unsigned long long>(shard.count),
+              static_cast<unsigned long long>(header.first), static_cast<unsigned long long>(header.end - 1),
+              static_cast<unsigned long long>(header.photons), seconds, double(end - first) / seconds * 1e-6,
+              static_cast<unsigned long long>(header.seed));
+  print_photon_flux(header.totals);
   std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
                static_cast<unsigned long long>(shard.count), out.c_str());
   return 0;
@@ -770,7 +756,8 @@ int cmd_merge(Args& args) {
   if (out.empty()) throw UsageError("merge needs --out MAP.exr");
   if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map is linear flux: --out must end in .exr");
   for (const auto& file : files) {
-    if (std::filesystem::weakly_canonical(std::filesystem::absolute(file)) == std::filesystem::weakly_canonical(std::filesystem::absolute(out))) {
+    if (std::filesystem::weakly_canonical(std::filesystem::absolute(file)) ==
+        std::filesystem::weakly_canonical(std::filesystem::absolute(out))) {
       throw UsageError("--out " + out + " is one of the shards: merging would replace it");
     }
   }
@@ -778,8 +765,8 @@ int cmd_merge(Args& args) {
   const auto merged = reference::merge_photon_shards(files);
   io::write_image(out, merged.caustic_map);
   const auto& whole = merged.whole;
-  std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(), static_cast<unsigned long long>(whole.photons),
-              static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+  std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(),
+              static_cast<unsigned long long>(whole.photons), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   print_photon_flux(whole.totals);
   std::fprintf(stderr, "merge: %s\n", out.c_str());
@@ -881,10 +868,10 @@ int main(int argc, char** argv) {
     if (command == "compare") return cmd_compare(args);
     if (command == "view") return cmd_view(args);
     if (command == "edit") return cmd_edit(args);
-    throw UsageError(
-        "unknown command '" + command + "'" +
-        did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "merge", "bench", "compare", "view", "edit"}) +
-        "; see caustica --help");
+    throw UsageError("unknown command '" + command + "'" +
+                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "merge", "bench", "compare",
+                                            "view", "edit"}) +
+                     "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
     return 1;
