@@ -193,7 +193,7 @@ TEST(Cli, BundledGraphsValidate) {
 
 TEST(Cli, EveryCommandHasHelp) {
   for (const char* command :
-       {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "bench ", "compare ", "view ", "edit "}) {
+       {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "merge ", "bench ", "compare ", "view ", "edit "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
@@ -696,6 +696,78 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   EXPECT_NE(csv.find("sphere_plane,refraction,refraction_deferred search,0,"), std::string::npos) << csv;
   EXPECT_GT(fs::file_size(acc / "speed_accuracy.png"), 10000u);
   EXPECT_NE(read(acc / "README.md").find("| sphere_plane | caustics_adaptive converge_test=within_texel | 128^2 |"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// The photon reference as shards, as a cluster runs it (docs/cluster.md): four shards, two of
+// them indexed by the scheduler's variables, merge into the map of one process bit for bit; shards
+// that do not make one map are refused with exit 1, naming what is wrong, and nothing is written.
+TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
+  const fs::path dir = scratch("shards");
+  const std::string sphere = "--scene '" + (kSource / "scenes/sphere_plane.json").string() + "' --map-size 32 ";
+  auto reference = [&](const std::string& args, const std::string& env = "") {
+    return run_binary("/usr/bin/env", "-u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " '" + CAUSTICA_BIN + "' reference " + args,
+                      dir);
+  };
+  ASSERT_EQ(reference(sphere + "--photons 1e5 --out whole.exr").code, 0);
+  for (int i : {0, 1})
+    ASSERT_EQ(reference(sphere + "--photons 1e5 --shard " + std::to_string(i) + "/4 --out s" + std::to_string(i) + ".exr").code, 0);
+  const CliRun slurm = reference(sphere + "--photons 1e5 --shard auto/4 --out s3.exr", "SLURM_ARRAY_TASK_ID=3");
+  ASSERT_EQ(slurm.code, 0) << slurm.output;
+  EXPECT_NE(slurm.output.find("shard 3/4: photons 75000 to 99999 of 100000"), std::string::npos) << slurm.output;
+  ASSERT_EQ(reference(sphere + "--photons 1e5 --shard auto/4 --out s2.exr", "JOB_COMPLETION_INDEX=2").code, 0);
+  const CliRun merged = run("merge s3.exr s1.exr s0.exr s2.exr --out merged.exr", dir);
+  ASSERT_EQ(merged.code, 0) << merged.output;
+  EXPECT_NE(merged.output.find("merged 4 shards: photons 100000, seed 1, scene sphere_plane"), std::string::npos) << merged.output;
+  const CliRun same = run("compare merged.exr whole.exr --json", dir);
+  ASSERT_EQ(same.code, 0) << same.output;
+  EXPECT_EQ(nlohmann::json::parse(same.output)["max_error"].get<double>(), 0.0);
+
+  const CliRun no_index = reference(sphere + "--photons 1e5 --shard auto/4 --out auto.exr");
+  EXPECT_EQ(no_index.code, 2);
+  EXPECT_NE(no_index.output.find("neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX"), std::string::npos)
+      << no_index.output;
+  const CliRun bad_index = reference(sphere + "--photons 1e5 --shard auto/4 --out auto.exr", "SLURM_ARRAY_TASK_ID=4");
+  EXPECT_EQ(bad_index.code, 2);
+  EXPECT_NE(bad_index.output.find("(the index that SLURM_ARRAY_TASK_ID gives, '4', is not a whole number from 0 to 3)"), std::string::npos)
+      << bad_index.output;
+
+  ASSERT_EQ(reference(sphere + "--photons 1e5 --shard 1/3 --out third.exr").code, 0);
+  ASSERT_EQ(reference(sphere + "--photons 1e5 --seed 2 --shard 3/4 --out seed2.exr").code, 0);
+  ASSERT_EQ(reference(sphere + "--photons 2e5 --shard 3/4 --out count.exr").code, 0);
+  ASSERT_EQ(
+      reference("--scene '" + (kSource / "scenes/sphere_sun.json").string() + "' --map-size 32 --photons 1e5 --shard 3/4 --out sun.exr")
+          .code,
+      0);
+  fs::copy_file(dir / "s2.exr", dir / "copy.exr");
+  const std::vector<std::pair<std::string, std::string>> refusals = {
+      {"s0.exr s1.exr s3.exr", "photons 50000 to 74999 are missing: shard 2 of 4"},
+      {"s0.exr s1.exr s2.exr s3.exr third.exr", "third.exr (photons 33333 to 66665) overlaps s1.exr (photons 25000 to 49999)"},
+      {"s0.exr s1.exr s2.exr s3.exr copy.exr", "copy.exr and s2.exr are the same shard (photons 50000 to 74999)"},
+      {"s0.exr s1.exr s2.exr seed2.exr", "seed2.exr: seed 2, where s0.exr has 1"},
+      {"s0.exr s1.exr s2.exr count.exr", "count.exr: photon count 200000, where s0.exr has 100000"},
+      {"s0.exr s1.exr s2.exr sun.exr", "sun.exr: scene sphere_sun (identity "},
+  };
+  for (const auto& [shards, message] : refusals) {
+    const CliRun refused = run("merge " + shards + " --out refused.exr", dir);
+    EXPECT_EQ(refused.code, 1) << shards << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << "expected: " << message << "\ngot: " << refused.output;
+    EXPECT_FALSE(fs::exists(dir / "refused.exr"));
+  }
+  const CliRun as_image = run("compare s0.exr whole.exr", dir);
+  EXPECT_EQ(as_image.code, 1);
+  EXPECT_NE(as_image.output.find("s0.exr: cannot read image: it has no R or Y channel (a photon shard: caustica merge makes the map)"),
+            std::string::npos)
+      << as_image.output;
+
+  // A shard killed while tracing leaves nothing, not even its temporary file.
+  const fs::path killed = scratch("killed_shard");
+  const CliRun kill = run_binary(
+      "/usr/bin/timeout",
+      "-s KILL 0.5 '" + std::string(CAUSTICA_BIN) + "' reference " + sphere + "--photons 1e10 --shard 0/2 --out killed.exr", killed);
+  EXPECT_EQ(kill.code, 137) << kill.output;
+  EXPECT_TRUE(fs::is_empty(killed));
+  fs::remove_all(killed);
   fs::remove_all(dir);
 }
 

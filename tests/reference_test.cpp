@@ -1,14 +1,17 @@
 // The photon ground truth (CPU, Embree) against ORACLES.md: the ball lens, a glass slab, n = 1,
-// energy bookkeeping, and determinism.
+// energy bookkeeping, determinism, and shards that merge into the whole map.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "ball_lens.h"
 #include "core/paths.h"
 #include "io/json_document.h"
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
+#include "reference/photon_shard.h"
 
 using namespace caustica;
 
@@ -23,6 +26,32 @@ double map_sum(const io::ImageData& map) {
   double sum = 0;
   for (size_t i = 0; i < map.rgba.size(); i += 4) sum += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
   return sum;
+}
+
+// Traces shard `index` of `count` and writes it into `dir` as the command line does; returns its path.
+std::string write_shard(const scene::Scene& scene, const reference::PhotonOptions& options, uint64_t index, uint64_t count,
+                        const std::filesystem::path& dir, const std::string& name) {
+  const reference::TracedShard traced = reference::trace_photon_shard(scene, options, index, count);
+  const std::string path = (dir / name).string();
+  reference::write_photon_shard(path, traced.shard, traced.map_units);
+  return path;
+}
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("caustica_reference_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// The message of merge's refusal, or "" when it merged.
+std::string merge_refusal(const std::vector<std::string>& paths) {
+  try {
+    reference::merge_photon_shards(paths);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 // Where the entering flux went must add up to it: nothing is created or lost in the bookkeeping.
@@ -192,6 +221,87 @@ TEST(PhotonReference, DeterministicForASeedOnAnyNumberOfThreads) {
   EXPECT_NEAR(c.energy_ratio, 1.0, 0.02);
   EXPECT_LT(c.relative_l1, 0.25);
   EXPECT_GT(map_sum(one.camera), 0.0);
+}
+
+// One shard, four or seven (of uneven sizes) merge into the map of one process bit for bit: each
+// photon's random numbers depend on the seed and its index alone, and the sums are exact. The
+// shards are given out of order; merge adds them by range.
+TEST(PhotonShards, AnyShardingMergesToTheUnshardedMap) {
+  const scene::Scene scene = bundled("bunny_plane");  // Fresnel, absorption and internal bounces draw numbers
+  reference::PhotonOptions options;
+  options.photons = 200'003;  // seven shards of 28,571 or 28,572
+  options.map_size = 64;
+  const auto whole = reference::trace_photon_reference(scene, options);
+  const auto dir = scratch("shards");
+  for (const uint64_t count : {1u, 4u, 7u}) {
+    SCOPED_TRACE(count);
+    std::vector<std::string> paths;
+    for (uint64_t i = count; i-- > 0;)
+      paths.push_back(write_shard(scene, options, i, count, dir, std::to_string(count) + "_" + std::to_string(i) + ".exr"));
+    const auto merged = reference::merge_photon_shards(paths);
+    EXPECT_EQ(merged.caustic_map.rgba, whole.caustic_map.rgba);
+    EXPECT_EQ(merged.whole.totals.photons, options.photons);
+    EXPECT_EQ(merged.whole.totals.landed_photons, whole.totals.landed_photons);
+    EXPECT_NEAR(merged.whole.totals.landed, whole.totals.landed, 1e-9 * whole.totals.landed);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Shards that do not make one map are refused, every problem named: the missing photons with the
+// shard index that traces them, an overlap, a duplicate, another seed, scene, photon count or engine.
+TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
+  const scene::Scene scene = bundled("sphere_plane");
+  reference::PhotonOptions options;
+  options.photons = 4000;
+  options.map_size = 8;
+  const auto dir = scratch("refusals");
+  std::vector<std::string> four;
+  for (uint64_t i = 0; i < 4; ++i) four.push_back(write_shard(scene, options, i, 4, dir, std::to_string(i) + ".exr"));
+  ASSERT_EQ(merge_refusal(four), "");
+  auto with = [&](size_t replaced, const std::string& path) {
+    std::vector<std::string> paths = four;
+    if (replaced < paths.size())
+      paths[replaced] = path;
+    else
+      paths.push_back(path);
+    return merge_refusal(paths);
+  };
+  EXPECT_NE(merge_refusal({four[0], four[1], four[3]}).find("photons 2000 to 2999 are missing: shard 2 of 4"), std::string::npos);
+  EXPECT_NE(merge_refusal({four[1], four[2]})
+                .find("photons 0 to 999 are missing: shard 0 of 4\n  photons 3000 to 3999 are missing: shard 3 of 4"),
+            std::string::npos)
+      << merge_refusal({four[1], four[2]});
+  const std::string overlap = with(4, write_shard(scene, options, 1, 3, dir, "third.exr"));
+  EXPECT_NE(overlap.find("third.exr (photons 1333 to 2665) overlaps"), std::string::npos) << overlap;
+  std::filesystem::copy_file(four[2], dir / "copy.exr");
+  EXPECT_NE(with(4, (dir / "copy.exr").string()).find("are the same shard (photons 2000 to 2999)"), std::string::npos);
+  EXPECT_NE(with(4, four[2]).find("2.exr is given twice"), std::string::npos);
+
+  reference::PhotonOptions other = options;
+  other.seed = 2;
+  EXPECT_NE(with(3, write_shard(scene, other, 3, 4, dir, "seed.exr")).find("seed.exr: seed 2, where"), std::string::npos);
+  other = options;
+  other.photons = 8000;
+  EXPECT_NE(with(3, write_shard(scene, other, 3, 4, dir, "count.exr")).find("count.exr: photon count 8000, where"), std::string::npos);
+  scene::Scene moved = scene;
+  moved.objects.back().material.ior = 1.4f;
+  const std::string another_scene = with(3, write_shard(moved, options, 3, 4, dir, "scene.exr"));
+  EXPECT_NE(another_scene.find("scene.exr: scene sphere_plane (identity " + reference::scene_identity(moved) + "), where"),
+            std::string::npos)
+      << another_scene;
+  auto shard = reference::read_photon_shard(four[3]);
+  shard.engine_identity = "caustica 0.0.9 (another build)";
+  reference::write_photon_shard((dir / "engine.exr").string(), shard, std::vector<uint64_t>(8 * 8 * 3, 0));
+  EXPECT_NE(with(3, (dir / "engine.exr").string()).find("engine.exr: engine caustica 0.0.9 (another build), where"), std::string::npos);
+
+  io::ImageData plain;
+  plain.width = plain.height = 8;
+  plain.rgba.assign(8 * 8 * 4, 1.0f);
+  io::write_image((dir / "plain.exr").string(), plain);
+  EXPECT_NE(with(3, (dir / "plain.exr").string()).find("plain.exr: not a photon shard"), std::string::npos);
+  // A shard read as an image would be black: it is refused with what to do instead.
+  EXPECT_THROW(io::read_image(four[0]), InputError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(PhotonReference, RefusesASceneWhoseFirstLightIsNotASpot) {

@@ -68,6 +68,11 @@ ImageData read_exr(const std::string& path) {
   ImageData image = sized(width, height);
   const Imf::ChannelList& channels = file.header().channels();
   const bool grey = channels.findChannel("R") == nullptr && channels.findChannel("Y") != nullptr;
+  if (channels.findChannel("R") == nullptr && !grey) {
+    // Read on, it would be a black image: a photon shard's sums are in channels of their own.
+    throw InputError(path + ": cannot read image: it has no R or Y channel" +
+                     (channels.findChannel("units_low.R") ? " (a photon shard: caustica merge makes the map)" : ""));
+  }
   Imf::FrameBuffer frame;
   for (size_t c = 0; c < (grey ? 1 : 4); ++c) {
     frame.insert(grey ? "Y" : kChannels[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, window, kPixelBytes,

@@ -27,15 +27,25 @@ inline float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
 class Random {
  public:
   Random(uint64_t seed, uint64_t stream) : state_(seed * 0xD1B54A32D192ED03ull ^ stream) { next(); }
+  // Counter-based: item `index` of a seed takes numbers index * 2^16 onwards of the seed's one
+  // splitmix64 sequence (splitmix's state is a counter, so it jumps there at once). Its numbers
+  // depend on (seed, index) alone, however the items are split among threads or processes, and no
+  // two items share one while each draws fewer than 2^16 (a photon draws at most a few hundred).
+  static Random keyed(uint64_t seed, uint64_t index) {
+    Random random(0, 0);
+    random.state_ = finalize(seed) + (index << 16) * kGolden;
+    return random;
+  }
   float uniform() { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
 
  private:
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+  static constexpr uint64_t kGolden = 0x9E3779B97F4A7C15ull;
+  static uint64_t finalize(uint64_t z) {
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
+  uint64_t next() { return finalize(state_ += kGolden); }
   uint64_t state_;
 };
 

@@ -12,7 +12,7 @@
 namespace caustica::reference {
 namespace {
 
-constexpr uint64_t kChunk = 1u << 16;  // photons per random stream
+constexpr uint64_t kChunk = 1u << 16;  // photons a thread takes at a time
 constexpr int kMaxSegments = 64;       // interfaces one photon may cross, TIR bounces included
 // Fixed point: the brightest photon is 2^24 units, so 10^11 of them still fit in 64 bits.
 constexpr double kUnitsPerMaxPhoton = 16777216.0;
@@ -48,11 +48,12 @@ class PhotonTracer {
 
   double unit() const { return unit_; }
 
-  void trace_chunk(uint64_t chunk, Accumulator& acc) const {
-    Random random(options_.seed, chunk);
-    const uint64_t first = chunk * kChunk, last = std::min(options_.photons, first + kChunk);
-    for (uint64_t i = first; i < last; ++i) trace(random, acc);
-    acc.totals.photons += last - first;
+  void trace_photons(uint64_t first, uint64_t end, Accumulator& acc) const {
+    for (uint64_t i = first; i < end; ++i) {
+      Random random = Random::keyed(options_.seed, i);
+      trace(random, acc);
+    }
+    acc.totals.photons += end - first;
   }
 
  private:
@@ -193,6 +194,26 @@ class PhotonTracer {
   double photon_area_ = 0, max_power_ = 0, unit_ = 1;
 };
 
+io::ImageData grey_image(uint32_t width, uint32_t height) {
+  io::ImageData image;
+  image.width = width;
+  image.height = height;
+  image.rgba.assign(size_t{width} * height * 4, 1.0f);
+  return image;
+}
+
+// Units to flux, each texel scaled by scale(texel index).
+template <typename Scale>
+void resolve_units(const std::vector<uint64_t>& units, double unit, io::ImageData& image, Scale&& scale) {
+  const size_t texels = size_t{image.width} * image.height;
+  for (size_t i = 0; i < texels; ++i) {
+    const double texel_scale = scale(i);
+    for (size_t c = 0; c < 3; ++c) image.rgba[i * 4 + c] = static_cast<float>(double(units[i * 3 + c]) * unit * texel_scale);
+  }
+}
+
+}  // namespace
+
 void add_totals(PhotonTotals& to, const PhotonTotals& from) {
   to.photons += from.photons;
   to.landed_photons += from.landed_photons;
@@ -207,59 +228,63 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
   to.absorbed += from.absorbed;
 }
 
-io::ImageData grey_image(uint32_t width, uint32_t height) {
-  io::ImageData image;
-  image.width = width;
-  image.height = height;
-  image.rgba.assign(size_t{width} * height * 4, 1.0f);
-  return image;
-}
-
-}  // namespace
-
-PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options) {
+PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options) {
   if (scene.lights.empty() || !scene.lights.front().has_view()) {
     throw InputError(scene.path + ": the photon reference traces from the first light, which must be a spot or directional light");
   }
   if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
+  const uint64_t first = options.first_photon, end = options.end_photon > 0 ? options.end_photon : options.photons;
+  if (first >= end || end > options.photons) {
+    throw InputError("photons " + std::to_string(first) + " to " + std::to_string(end) + " are not a range of the " +
+                     std::to_string(options.photons) + " photons");
+  }
   const PhotonTracer tracer(scene, options);
   const unsigned threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-  const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
+  const uint64_t count = end - first, chunks = (count + kChunk - 1) / kChunk;
   std::vector<Accumulator> accumulators(threads);
   std::atomic<uint64_t> next_chunk{0}, photons_done{0};
   auto work = [&](Accumulator& acc) {
     acc.map.assign(size_t{options.map_size} * options.map_size * 3, 0);
     acc.camera.assign(size_t{options.camera_width} * options.camera_height * 3, 0);
     for (uint64_t chunk; (chunk = next_chunk.fetch_add(1)) < chunks;) {
-      tracer.trace_chunk(chunk, acc);
-      photons_done.fetch_add(std::min(kChunk, options.photons - chunk * kChunk));
+      const uint64_t chunk_first = first + chunk * kChunk, chunk_end = std::min(end, chunk_first + kChunk);
+      tracer.trace_photons(chunk_first, chunk_end, acc);
+      photons_done.fetch_add(chunk_end - chunk_first);
     }
   };
   std::vector<std::thread> pool;
   for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, std::ref(accumulators[t]));
-  while (options.progress && photons_done.load() < options.photons) {
-    options.progress(photons_done.load(), options.photons);
+  while (options.progress && photons_done.load() < count) {
+    options.progress(photons_done.load(), count);
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
   }
   for (auto& t : pool) t.join();
-  if (options.progress) options.progress(options.photons, options.photons);
+  if (options.progress) options.progress(count, count);
 
+  PhotonSums sums;
+  sums.unit = tracer.unit();
+  sums.map.assign(accumulators.front().map.size(), 0);
+  sums.camera.assign(accumulators.front().camera.size(), 0);
+  for (const auto& acc : accumulators) {
+    add_totals(sums.totals, acc.totals);
+    for (size_t i = 0; i < sums.map.size(); ++i) sums.map[i] += acc.map[i];
+    for (size_t i = 0; i < sums.camera.size(); ++i) sums.camera[i] += acc.camera[i];
+  }
+  return sums;
+}
+
+io::ImageData caustic_map_from_sums(const std::vector<uint64_t>& units, uint32_t map_size, double unit) {
+  io::ImageData map = grey_image(map_size, map_size);
+  resolve_units(units, unit, map, [](size_t) { return 1.0; });
+  return map;
+}
+
+PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options) {
+  const PhotonSums sums = trace_photon_sums(scene, options);
   PhotonReference out;
-  out.caustic_map = grey_image(options.map_size, options.map_size);
+  out.caustic_map = caustic_map_from_sums(sums.map, options.map_size, sums.unit);
   out.camera = grey_image(options.camera_width, options.camera_height);
-  for (const auto& acc : accumulators) add_totals(out.totals, acc.totals);
-  auto resolve = [&](std::vector<uint64_t> Accumulator::*member, io::ImageData& image, auto&& scale) {
-    const size_t texels = size_t{image.width} * image.height;
-    for (size_t i = 0; i < texels; ++i) {
-      const double texel_scale = scale(i);
-      for (size_t c = 0; c < 3; ++c) {
-        uint64_t units = 0;
-        for (const auto& acc : accumulators) units += (acc.*member)[i * 3 + c];
-        image.rgba[i * 4 + c] = static_cast<float>(double(units) * tracer.unit() * texel_scale);
-      }
-    }
-  };
-  resolve(&Accumulator::map, out.caustic_map, [](size_t) { return 1.0; });
+  out.totals = sums.totals;
   if (options.camera_width > 0) {
     // Flux per pixel over the receiver area the pixel covers, from a ray through its centre.
     const ExactScene exact(scene);
@@ -267,7 +292,7 @@ PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOp
     const glm::mat4 inv = glm::inverse(scene.camera.view_projection(aspect));
     const double side = 2.0 * std::tan(double(glm::radians(scene.camera.fov_y_degrees)) * 0.5) / double(options.camera_height);
     const glm::vec3 axis = glm::normalize(scene.camera.target - scene.camera.position);
-    resolve(&Accumulator::camera, out.camera, [&](size_t i) {
+    resolve_units(sums.camera, sums.unit, out.camera, [&](size_t i) {
       const uint32_t x = static_cast<uint32_t>(i % options.camera_width), y = static_cast<uint32_t>(i / options.camera_width);
       const glm::vec2 ndc((float(x) + 0.5f) / float(options.camera_width) * 2 - 1,
                           (float(y) + 0.5f) / float(options.camera_height) * 2 - 1);

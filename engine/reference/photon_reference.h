@@ -5,8 +5,9 @@
 // receiver. What lands is accumulated as the engine's caustic map holds it (flux per texel of the
 // light's image plane) and, optionally, as the caustic irradiance the camera sees.
 //
-// Deterministic for a seed: photons are drawn in fixed chunks, each from its own random stream, and
-// summed in fixed point, so neither the thread count nor the scheduling changes a single bit.
+// Deterministic for a seed: each photon's random numbers are keyed on (seed, its index among all
+// the photons) and what lands is summed in fixed point, so neither the thread count, the scheduling
+// nor a split into shards (processes that each trace a range of the photons) changes a single bit.
 #include <cstdint>
 #include <functional>
 
@@ -18,6 +19,9 @@ namespace caustica::reference {
 struct PhotonOptions {
   uint64_t photons = 10'000'000;
   uint64_t seed = 1;
+  // The range of the `photons` traced here, [first_photon, end_photon); end 0: to the last. Each
+  // photon still carries 1 / `photons` of the light, so shards' sums add up to the whole map.
+  uint64_t first_photon = 0, end_photon = 0;
   uint32_t map_size = 512;  // the light-space map's side, as the graphs' caustic_size
   uint32_t camera_width = 0, camera_height = 0;  // 0: no camera image
   bool fresnel = true;      // false: every photon transmits unless total internal reflection (ORACLES.md's "no Fresnel")
@@ -49,7 +53,20 @@ struct PhotonReference {
   PhotonTotals totals;
 };
 
+// What the photons of a range left, before it becomes a map: flux in fixed-point units (three
+// channels per texel) that add exactly, whatever order shards are added in.
+struct PhotonSums {
+  std::vector<uint64_t> map, camera;
+  double unit = 1;  // flux per unit: depends on the scene's light and the photon count alone
+  PhotonTotals totals;
+};
+
 // Throws InputError when the scene's first light is a point light (it has no light view).
 PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options);
+// The photons of options' range only, as sums (a shard of the reference).
+PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options);
+// The caustic map (flux per texel) of sums of a map_size^2 map.
+io::ImageData caustic_map_from_sums(const std::vector<uint64_t>& units, uint32_t map_size, double unit);
+void add_totals(PhotonTotals& to, const PhotonTotals& from);
 
 }  // namespace caustica::reference

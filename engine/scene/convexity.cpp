@@ -8,6 +8,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "core/content_hash.h"
 #include "scene/scene.h"
 
 namespace caustica::scene {
@@ -191,12 +192,10 @@ bool is_convex_refractor(const Object& object) {
   // Remembered by the mesh's content, so that it cannot go stale and is judged once per mesh: the
   // viewer uploads the scene again at every camera or light move, and the bunny's check takes
   // about 100 ms (its hash under 1 ms).
-  uint64_t hash = 1469598103934665603ull;  // FNV-1a
-  auto mix = [&hash](const void* data, size_t size) {
-    for (size_t i = 0; i < size; ++i) hash = (hash ^ static_cast<const unsigned char*>(data)[i]) * 1099511628211ull;
-  };
-  mix(object.mesh.positions.data(), object.mesh.positions.size() * sizeof(glm::vec3));
-  mix(object.mesh.indices.data(), object.mesh.indices.size() * sizeof(uint32_t));
+  ContentHash content;
+  content.bytes(object.mesh.positions.data(), object.mesh.positions.size() * sizeof(glm::vec3));
+  content.bytes(object.mesh.indices.data(), object.mesh.indices.size() * sizeof(uint32_t));
+  const uint64_t hash = content.value();
   static std::mutex mutex;
   static std::unordered_map<uint64_t, bool> judged;
   {

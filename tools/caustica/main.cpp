@@ -1,4 +1,4 @@
-// The caustica command: render, trace, validate, graph, reference, compare, devices; bench.cpp has the benchmarks.
+// The caustica command: render, trace, validate, graph, reference, merge, compare, devices; bench.cpp has the benchmarks.
 // Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (DESIGN.md).
 #include <unistd.h>
 
@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "builtin_passes.h"
@@ -26,6 +27,7 @@
 #include "io/json_reader.h"
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
+#include "reference/photon_shard.h"
 #include "reference/refraction_reference.h"
 #include "scene/acceleration.h"
 #include "scene/scene.h"
@@ -49,7 +51,9 @@ commands:
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's
              table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks),
              'bench convergence' (error against wall time while accumulating), 'bench load' (loading a scene or model)
-  reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic
+  reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic,
+             whole or (--shard I/K) as one of K parts for a cluster
+  merge      adds the shards of a photon reference into its map (docs/cluster.md)
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   edit       the graph editor: passes as nodes, resources as wires, the frame live as you edit
   compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
@@ -527,11 +531,79 @@ int cmd_graph(Args& args) {
   return 0;
 }
 
+struct Shard {
+  uint64_t index = 0, count = 0;  // count 0: the whole reference
+};
+
+// --shard I/K, I from 0; auto/K: I is the array index that Slurm or Kubernetes gives the process.
+Shard parse_shard(const std::string& text) {
+  const std::string usage = "--shard " + text + ": expected INDEX/COUNT, INDEX from 0 to COUNT - 1 or auto, e.g. 3/64 or auto/64";
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) throw UsageError(usage + (text == "auto" ? " (auto gives the index; the count is yours to give)" : ""));
+  Shard shard;
+  try {
+    shard.count = parse_uint("--shard", text.substr(slash + 1), 1, 1'000'000);
+  } catch (const UsageError&) {
+    throw UsageError(usage + " (the count '" + text.substr(slash + 1) + "' is not a whole number from 1 to 1000000)");
+  }
+  std::string index = text.substr(0, slash), from = "--shard";
+  if (index == "auto") {
+    for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
+      const char* value = std::getenv(variable);
+      if (value != nullptr && *value != '\0') {
+        index = value;
+        from = variable;
+        break;
+      }
+    }
+    if (from == "--shard") {
+      throw UsageError("--shard " + text + ": neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a Kubernetes " +
+                       "Indexed Job) is set; outside a scheduler give the index: --shard I/" + std::to_string(shard.count));
+    }
+  }
+  try {
+    shard.index = parse_uint(from, index, 0, shard.count - 1);
+  } catch (const UsageError&) {
+    const std::string what = from == "--shard" ? "the index '" + index + "'" : "the index that " + from + " gives, '" + index + "',";
+    throw UsageError(usage + " (" + what + " is not a whole number from 0 to " + std::to_string(shard.count - 1) + ")");
+  }
+  return shard;
+}
+
+void print_photon_flux(const reference::PhotonTotals& t) {
+  std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
+  std::printf(
+      "of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
+      "reflected off the outside first %.6g (followed)\n",
+      t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
+}
+
+// One shard of the photon reference: its range's sums, exactly, with what it is a part of.
+int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photons, const Shard& shard, const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto [first, end] = reference::shard_range(photons.photons, shard.index, shard.count);
+  ProgressLine progress("photons", end - first);
+  if (end - first >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
+  const reference::TracedShard traced = reference::trace_photon_shard(scene, photons, shard.index, shard.count);
+  const reference::PhotonShard& header = traced.shard;
+  reference::write_photon_shard(out, header, traced.map_units);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("shard %llu/%llu: photons %llu to %llu of %llu in %.2f s (%.1f M/s), seed %llu\n",
+              static_cast<unsigned long long>(shard.index), static_cast<unsigned long long>(shard.count),
+              static_cast<unsigned long long>(header.first), static_cast<unsigned long long>(header.end - 1),
+              static_cast<unsigned long long>(header.photons), seconds, double(end - first) / seconds * 1e-6,
+              static_cast<unsigned long long>(header.seed));
+  print_photon_flux(header.totals);
+  std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
+               static_cast<unsigned long long>(shard.count), out.c_str());
+  return 0;
+}
+
 int cmd_reference(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics MAP.exr] [--exposure E]\n"
                  "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
-                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel]\n\n"
+                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel] [--shard I/K]\n\n"
                  "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
                  "core): refraction at every interface, total internal reflection followed inside, Fresnel\n"
                  "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
@@ -544,6 +616,12 @@ int cmd_reference(Args& args) {
                  "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
                  "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "With --shard I/K: traces only the I-th of K contiguous ranges of the N photons (each photon's random\n"
+                 "numbers depend on the seed and its index alone) and writes their sums, exactly, to --out (an EXR whose\n"
+                 "header holds the range, the photon count, the seed and the scene's and the engine's identity, written\n"
+                 "under a temporary name and renamed); 'caustica merge' adds the K files into the map that one process\n"
+                 "writes, bit for bit. 'auto/K' takes I from SLURM_ARRAY_TASK_ID (a Slurm job array, --array=0-K-1) or\n"
+                 "JOB_COMPLETION_INDEX (a Kubernetes Indexed Job); docs/cluster.md.\n\n"
                  "options:\n"
                  "  --scene FILE          the scene (default: scenes/glass_bunny.json), or a model file (as for render)\n"
                  "  --no-stage            with a model file: no floor\n"
@@ -554,6 +632,7 @@ int cmd_reference(Args& args) {
                  "  --map-size N          side of the light-space map (default 512, the graphs' caustic_size)\n"
                  "  --camera FILE.exr     also write the caustic irradiance seen by the camera\n"
                  "  --no-fresnel          transmit every photon unless total internal reflection (the graphs' fresnel=false)\n"
+                 "  --shard I/K           trace the I-th of K parts of the photons (I from 0; auto/K: from the scheduler)\n"
                  "  --caustics MAP.exr    without --photons: light the picture with this caustic map too\n"
                  "  --exposure E          without --photons: the PNG's exposure (default 1, as the graphs')\n";
     return 0;
@@ -565,6 +644,8 @@ int cmd_reference(Args& args) {
   bool stage = true;
   reference::PhotonOptions photons;
   photons.photons = 0;
+  Shard shard;
+  std::set<std::string> given;
   while (!args.done()) {
     std::string a = args.take();
     if (a == "--scene")
@@ -583,7 +664,10 @@ int cmd_reference(Args& args) {
       camera_out = args.value(a);
     else if (a == "--no-fresnel")
       photons.fresnel = false;
-    else if (a == "--no-stage")
+    else if (a == "--shard") {
+      given_once(given, a);
+      shard = parse_shard(args.value(a));
+    } else if (a == "--no-stage")
       stage = false;
     else if (a == "--caustics")
       caustics_file = args.value(a);
@@ -592,14 +676,24 @@ int cmd_reference(Args& args) {
       exposure_given = true;
     } else
       unknown_option(a, {"--scene", "--out", "--size", "--photons", "--seed", "--map-size", "--camera", "--no-fresnel", "--caustics",
-                         "--exposure", "--no-stage"});
+                         "--exposure", "--no-stage", "--shard"});
   }
   if (out.empty()) throw UsageError("reference needs --out FILE.exr");
   if (photons.photons == 0 && (!camera_out.empty() || !photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
   if (photons.photons > 0 && (!caustics_file.empty() || exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
   const std::string out_extension = io::check_image_output(out);
   if (!camera_out.empty()) io::check_image_output(camera_out);
+  if (shard.count > 0) {
+    if (photons.photons == 0) throw UsageError("--shard goes with --photons: it splits the photons");
+    if (!camera_out.empty()) throw UsageError("--camera goes without --shard: a shard holds the light-space map's sums only");
+    if (out_extension != ".exr") throw UsageError(out + ": a shard is an EXR of sums: --out must end in .exr");
+    if (shard.count > photons.photons) {
+      throw UsageError("--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ": more shards than the " +
+                       std::to_string(photons.photons) + " photons");
+    }
+  }
   const scene::Scene scene = scene::load_scene_file(scene_file, stage);
+  if (shard.count > 0) return trace_photon_shard(scene, photons, shard, out);
   const auto start = std::chrono::steady_clock::now();
   if (photons.photons > 0) {
     if (!camera_out.empty()) {
@@ -616,11 +710,7 @@ int cmd_reference(Args& args) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("photons %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(t.photons), seconds,
                 double(t.photons) / seconds * 1e-6, static_cast<unsigned long long>(photons.seed));
-    std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
-    std::printf(
-        "of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
-        "reflected off the outside first %.6g (followed)\n",
-        t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
+    print_photon_flux(t);
     std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), out.c_str(), camera_out.empty() ? "" : ", ", camera_out.c_str());
     return 0;
   }
@@ -635,6 +725,54 @@ int cmd_reference(Args& args) {
   io::write_image(out, image.radiance);
   std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), width, height,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), out.c_str());
+  return 0;
+}
+
+int cmd_merge(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica merge SHARD.exr... --out MAP.exr\n\n"
+                 "Adds the shards of a photon reference (caustica reference --photons N --shard I/K, one file per index)\n"
+                 "into the caustic map that 'caustica reference --photons N' writes in one process, bit for bit. The\n"
+                 "shards are added in the order of their photon ranges, one file at a time, and must tile the N photons\n"
+                 "exactly, from one scene, seed, photon count, map size, Fresnel setting and engine build; otherwise\n"
+                 "nothing is written and every problem is named: the missing photons with the shard indices that trace\n"
+                 "them (resubmit those), an overlap, a duplicate, a shard of another run. Exit 0, 1 for such shards,\n"
+                 "2 for a usage error (docs/cluster.md).\n\n"
+                 "options:\n"
+                 "  --out MAP.exr         the merged map (required; written under a temporary name and renamed)\n";
+    return 0;
+  }
+  std::vector<std::string> files;
+  std::string out;
+  std::set<std::string> given;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--out") {
+      given_once(given, a);
+      out = args.value(a);
+    } else if (a.rfind("--", 0) == 0)
+      unknown_option(a, {"--out"});
+    else
+      files.push_back(a);
+  }
+  if (files.empty()) throw UsageError("merge needs the shard files: caustica merge SHARD.exr... --out MAP.exr");
+  if (out.empty()) throw UsageError("merge needs --out MAP.exr");
+  if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map is linear flux: --out must end in .exr");
+  for (const auto& file : files) {
+    if (std::filesystem::weakly_canonical(std::filesystem::absolute(file)) ==
+        std::filesystem::weakly_canonical(std::filesystem::absolute(out))) {
+      throw UsageError("--out " + out + " is one of the shards: merging would replace it");
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto merged = reference::merge_photon_shards(files);
+  io::write_image(out, merged.caustic_map);
+  const auto& whole = merged.whole;
+  std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(),
+              static_cast<unsigned long long>(whole.photons), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  print_photon_flux(whole.totals);
+  std::fprintf(stderr, "merge: %s\n", out.c_str());
   return 0;
 }
 
@@ -728,14 +866,15 @@ int main(int argc, char** argv) {
     if (command == "graph") return cmd_graph(args);
     if (command == "devices") return cmd_devices(args);
     if (command == "reference") return cmd_reference(args);
+    if (command == "merge") return cmd_merge(args);
     if (command == "bench") return cmd_bench(args);
     if (command == "compare") return cmd_compare(args);
     if (command == "view") return cmd_view(args);
     if (command == "edit") return cmd_edit(args);
-    throw UsageError(
-        "unknown command '" + command + "'" +
-        did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "bench", "compare", "view", "edit"}) +
-        "; see caustica --help");
+    throw UsageError("unknown command '" + command + "'" +
+                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "merge", "bench", "compare",
+                                            "view", "edit"}) +
+                     "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
     return 1;

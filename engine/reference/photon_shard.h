@@ -1,0 +1,65 @@
+#pragma once
+// The photon reference split over processes or machines (docs/cluster.md): shard I of K traces a
+// contiguous range of the photons and writes its sums, exactly, with what it is a part of in the
+// file's header; merging adds the shards that tile the whole range into the map that one process
+// writes, bit for bit, and refuses shards that do not belong together.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/image_io.h"
+#include "reference/photon_reference.h"
+#include "scene/scene.h"
+
+namespace caustica::reference {
+
+// What a shard file's header says about it.
+struct PhotonShard {
+  uint64_t first = 0, end = 0;  // the photons traced, [first, end)
+  uint64_t photons = 0;         // of all the shards together
+  uint64_t seed = 1;
+  uint64_t index = 0, count = 1;  // --shard index/count that traced it
+  uint32_t map_size = 0;
+  bool fresnel = true;
+  double unit = 1;  // flux per unit of the sums
+  std::string scene_name;
+  std::string scene_identity;   // scene_identity(): what the photons met
+  std::string engine_identity;  // the build that traced them
+  PhotonTotals totals;
+};
+
+// A hash of what the photons meet in a loaded scene (lights, meshes, materials, textures): two
+// machines that load the same scene from different paths agree, and a change to the scene file or
+// to a file it loads that changes the photons is seen.
+std::string scene_identity(const scene::Scene& scene);
+
+// Shard `index` of `count`: contiguous, together exactly [0, photons), sizes differing by at most one.
+std::pair<uint64_t, uint64_t> shard_range(uint64_t photons, uint64_t index, uint64_t count);
+
+// Traces shard `index` of `count` of options.photons (options' own range is replaced).
+struct TracedShard {
+  PhotonShard shard;
+  std::vector<uint64_t> map_units;
+};
+TracedShard trace_photon_shard(const scene::Scene& scene, PhotonOptions options, uint64_t index, uint64_t count);
+
+// An EXR of the shard's sums (each channel's 64-bit units as two 32-bit halves, so that adding
+// shards is exact) with `shard` in its header; through a temporary file and a rename, so that a
+// shard killed while writing leaves no file.
+void write_photon_shard(const std::string& path, const PhotonShard& shard, const std::vector<uint64_t>& map_units);
+// Throws InputError when the file is not a photon shard.
+PhotonShard read_photon_shard(const std::string& path);
+
+struct MergedPhotons {
+  PhotonShard whole;  // the range [0, photons) with the shards' totals added
+  io::ImageData caustic_map;
+};
+
+// Adds the shards in the order of their photon ranges, one file at a time (memory: two maps' sums).
+// Throws InputError naming every problem: a missing range (and the shard indices that trace it), an
+// overlap, a duplicate, a shard of another scene, seed, photon count, map size, Fresnel setting or
+// engine build.
+MergedPhotons merge_photon_shards(const std::vector<std::string>& paths);
+
+}  // namespace caustica::reference

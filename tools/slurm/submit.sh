@@ -1,0 +1,83 @@
+#!/bin/bash
+# Submits the photon reference to Slurm as a job array of shards and a merge that runs when every
+# shard has succeeded (--dependency=afterok), and prints both job ids (docs/cluster.md).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+
+usage() {
+  cat <<'USAGE'
+usage: tools/slurm/submit.sh --scene S --photons N --shards K --out MAP.exr [options]
+
+Submits K array tasks (tools/slurm/reference.sbatch), each `caustica reference --shard auto/K`
+writing MAP.shards/shard_I.exr, and a merge job (merge.sbatch) after them that writes MAP.exr.
+Prints the array's and the merge's job ids.
+
+options:
+  --seed K            random seed (default 1)
+  --map-size N        side of the caustic map (default 512)
+  --partition P       sbatch --partition for both jobs
+  --account A         sbatch --account for both jobs
+  --time T            sbatch --time per shard (e.g. 00:30:00); the merge gets 10 minutes
+  --cpus C            cores per shard (sbatch --cpus-per-task); a shard uses every core it is given
+  --throttle N        at most N shards at once (--array=0-(K-1)%N)
+  --resubmit I[,J..]  submit only these indices again (those that failed: merge names them) and a
+                      new merge after them (Slurm cancels the first merge when a shard fails:
+                      --kill-on-invalid-dep)
+  --caustica BIN      the caustica binary the nodes run (default: caustica on PATH)
+  --dry-run           print the sbatch commands instead of running them
+USAGE
+}
+
+seed=1 map_size=512 scene="" photons="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run=""
+common=() shard_time=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --scene) scene=$2; shift 2 ;;
+    --photons) photons=$2; shift 2 ;;
+    --shards) shards=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --seed) seed=$2; shift 2 ;;
+    --map-size) map_size=$2; shift 2 ;;
+    --partition) common+=(--partition "$2"); shift 2 ;;
+    --account) common+=(--account "$2"); shift 2 ;;
+    --time) shard_time=(--time "$2"); shift 2 ;;
+    --cpus) shard_time+=(--cpus-per-task "$2"); shift 2 ;;
+    --throttle) throttle=$2; shift 2 ;;
+    --resubmit) resubmit=$2; shift 2 ;;
+    --caustica) caustica=$2; shift 2 ;;
+    --dry-run) dry_run=1; shift ;;
+    -h|--help) usage; exit 0 ;;
+    *) echo "submit.sh: unknown option '$1'; see --help" >&2; exit 2 ;;
+  esac
+done
+if [[ -z $scene || -z $photons || -z $shards || -z $out ]]; then
+  echo "submit.sh: --scene, --photons, --shards and --out are required; see --help" >&2
+  exit 2
+fi
+if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --shards $shards: expected a whole number from 1" >&2; exit 2; fi
+if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --throttle $throttle: expected a whole number from 1" >&2; exit 2; fi
+if [[ -n $resubmit && ! $resubmit =~ ^[0-9]+(,[0-9]+)*$ ]]; then echo "submit.sh: --resubmit $resubmit: expected indices, e.g. 3 or 3,17" >&2; exit 2; fi
+
+# The nodes may start elsewhere: every path absolute. A scene given by its bundled name stays a name.
+out=$(realpath -m "$out")
+[[ -e $scene ]] && scene=$(realpath "$scene")
+[[ $caustica == */* ]] && caustica=$(realpath "$caustica")
+shard_dir=${out%.exr}.shards
+mkdir -p "$shard_dir"
+
+indices=${resubmit:-0-$((shards - 1))}
+array=$indices${throttle:+%$throttle}
+env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
+submit() {
+  if [[ -n $dry_run ]]; then
+    echo "sbatch $*" >&2
+    echo "DRY"
+  else
+    sbatch --parsable "$@" | cut -d';' -f1
+  fi
+}
+shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --export="$env" "$here/reference.sbatch")
+merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --export="$env" "$here/merge.sbatch")
+echo "shards: job $shard_job (array $array, $shard_dir/shard_I.exr)"
+echo "merge:  job $merge_job (after every shard succeeded; writes $out)"
+echo "a failed shard: tools/slurm/submit.sh ... --resubmit I (the same options, the indices that failed)"
