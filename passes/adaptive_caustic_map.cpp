@@ -7,11 +7,13 @@
 // into batches so that the lists stay within `memory_mib` even if every cluster refined to the last
 // level, and the batches run one after another.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "builtin_passes.h"
 #include "core/error.h"
 #include "core/low_discrepancy.h"
+#include "graph/plan.h"
 #include "photon_kernel.h"
 
 namespace caustica::passes {
@@ -89,17 +91,11 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     light_size_log2_ =
         std::min(log2_exact(light_size) > kCoverageBlockLog2 ? log2_exact(light_size) - kCoverageBlockLog2 : 0, log2_exact(grid));
     uses_coverage_ = hierarchical_ || p["coverage_seeding"].get<bool>();
-    if (uses_coverage_ && (1u << log2_exact(light_size)) != light_size) {
-      throw setup.error("the light-view buffers are " + std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
-                        (hierarchical_ ? "" : " (or set coverage_seeding to false)"));
-    }
+    assert(!uses_coverage_ || (1u << log2_exact(light_size)) == light_size);  // check_traversal
     // Two lists of 4-byte entries. A start cluster can grow to 4^max_level clusters at the last level.
     capacity_ = static_cast<uint32_t>(std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2));
     const uint64_t per_start = uint64_t{1} << (2 * max_level_);
-    if (per_start > capacity_) {
-      throw setup.error("grid " + std::to_string(grid) + " needs memory_mib of at least " +
-                        std::to_string((per_start * 8 + (1u << 20) - 1) >> 20));
-    }
+    assert(per_start <= capacity_);  // check_traversal
     starts_per_batch_ = static_cast<uint32_t>(std::min<uint64_t>(kStartClusters, capacity_ / per_start));
 
     using Kind = graph::PassSetup::CounterKind;
@@ -150,12 +146,6 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
     clear_ = make_caustic_clear_pipeline(setup);
     if (setup.bound("caustic_levels")) {
-      const auto& levels = setup.resource("caustic_levels");
-      if (levels.width != 2 * map.width || levels.height != map.height) {
-        throw InputError(setup.pass().name + ": output 'caustic_levels' ('" + levels.name + "', " + std::to_string(levels.width) + " x " +
-                         std::to_string(levels.height) + ") must be twice as wide as 'caustic_map' and as high: " +
-                         std::to_string(2 * map.width) + " x " + std::to_string(map.height));
-      }
       levels_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/levels.comp"));
     }
   }
@@ -402,21 +392,38 @@ std::vector<graph::PortDecl> traversal_ports() {
   return ports;
 }
 
-}  // namespace
+// What the traversal needs that its declarations cannot state, checked by the compiler so that
+// `validate` refuses it too.
+graph::PassCheck check_traversal(bool hierarchical, const nlohmann::json& p, const graph::PortResources& resource) {
+  graph::PassCheck check;
+  const uint32_t grid = p["grid"].get<uint32_t>();
+  const uint64_t per_start = uint64_t{1} << (2 * log2_exact(grid / 64));  // a start cluster's clusters at the last level
+  const uint64_t capacity = std::min<uint64_t>((p["memory_mib"].get<uint64_t>() << 20) / 8, UINT32_MAX / 2);
+  const uint32_t light_size = resource("front")->width;
+  const graph::PlannedResource* levels = resource("caustic_levels");
+  const graph::PlannedResource& map = *resource("caustic_map");
+  if ((hierarchical || p["coverage_seeding"].get<bool>()) && (1u << log2_exact(light_size)) != light_size) {
+    check.error = "the light-view buffers are " + std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
+                  (hierarchical ? "" : " (or set coverage_seeding to false)");
+  } else if (per_start > capacity) {
+    check.error = "grid " + std::to_string(grid) + " needs memory_mib of at least " + std::to_string((per_start * 8 + (1u << 20) - 1) >> 20);
+  } else if (levels && (levels->width != 2 * map.width || levels->height != map.height)) {
+    check.error = "output 'caustic_levels' ('" + levels->name + "', " + std::to_string(levels->width) + " x " +
+                  std::to_string(levels->height) + ") must be twice as wide as 'caustic_map' and as high: " + std::to_string(2 * map.width) +
+                  " x " + std::to_string(map.height);
+  }
+  return check;
+}
 
-graph::PassTypeDecl adaptive_caustic_map_pass_type() {
+graph::PassTypeDecl traversal_pass_type(bool hierarchical, std::string type, std::string description) {
   using namespace graph;
-  PassTypeDecl decl{
-      "adaptive_caustic_map",
-      std::string("Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the "
-                  "effective grid on the device (atomic append, indirect dispatch, no read-back), with the max-level, "
-                  "max-error or hybrid termination and batching within a memory bound. ") +
-          kTraversalCounters,
-      PassQueue::compute,
-      traversal_ports(),
-      traversal_params(true),
-      false,
-      [] { return std::make_unique<AdaptiveCausticMapPass>(false); }};
+  PassTypeDecl decl{std::move(type),
+                    std::move(description) + kTraversalCounters,
+                    PassQueue::compute,
+                    traversal_ports(),
+                    traversal_params(!hierarchical),
+                    false,
+                    [hierarchical] { return std::make_unique<AdaptiveCausticMapPass>(hierarchical); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
   // A jittered grid moves every frame (a progressive graph).
@@ -425,31 +432,26 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type() {
   };
   decl.uses_ray_queries = traces_exact_paths;
   decl.ray_query_alternative = kPhotonRayQueryAlternative;
+  decl.check = [hierarchical](const nlohmann::json& params, const PortResources& resource) {
+    return check_traversal(hierarchical, params, resource);
+  };
   return decl;
 }
 
+}  // namespace
+
+graph::PassTypeDecl adaptive_caustic_map_pass_type() {
+  return traversal_pass_type(false, "adaptive_caustic_map",
+                             "Adaptive caustic map (Wyman and Nichols 2009): a 64 x 64 photon grid refined by 2 x 2 clusters towards the "
+                             "effective grid on the device (atomic append, indirect dispatch, no read-back), with the max-level, "
+                             "max-error or hybrid termination and batching within a memory bound. ");
+}
+
 graph::PassTypeDecl hierarchical_caustic_map_pass_type() {
-  using namespace graph;
-  PassTypeDecl decl{
-      "hierarchical_caustic_map",
-      std::string("Hierarchical caustic map (Wyman 2008): a max pyramid of the light-view refractor coverage is traversed top "
-                  "down by 2 x 2 clusters, skipping regions without refractor; only the effective grid's photons under "
-                  "refractors are traced (light-view buffers must be a power of two wide). ") +
-          kTraversalCounters,
-      PassQueue::compute,
-      traversal_ports(),
-      traversal_params(false),
-      false,
-      [] { return std::make_unique<AdaptiveCausticMapPass>(true); }};
-  decl.needs_scene = true;
-  decl.uses_light_view = [](const nlohmann::json&) { return true; };
-  // A jittered grid moves every frame (a progressive graph).
-  decl.depends_on = [](const nlohmann::json& resolved) {
-    return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
-  };
-  decl.uses_ray_queries = traces_exact_paths;
-  decl.ray_query_alternative = kPhotonRayQueryAlternative;
-  return decl;
+  return traversal_pass_type(true, "hierarchical_caustic_map",
+                             "Hierarchical caustic map (Wyman 2008): a max pyramid of the light-view refractor coverage is traversed top "
+                             "down by 2 x 2 clusters, skipping regions without refractor; only the effective grid's photons under "
+                             "refractors are traced (light-view buffers must be a power of two wide). ");
 }
 
 }  // namespace caustica::passes

@@ -2,7 +2,11 @@
 // memory bound (batching, its peak, and a set-up that fails without breaking the running plan).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <glm/gtc/constants.hpp>
 
 #include "caustics_common.h"
@@ -12,20 +16,41 @@
 using namespace caustica;
 using namespace caustica::test::caustic_tests;
 
-// A graph that compiles but whose set-up fails (a grid too large for its memory bound) throws and
-// leaves the running plan whole: the viewer keeps the last good graph or shader this way.
+// A plan whose set-up fails (a shader saved with an error, as the viewer's hot reload meets it)
+// throws with the shader's file and line and leaves the running plan whole: the viewer keeps the
+// last good shaders this way. A graph the compiler refuses (a grid too large for its memory bound)
+// leaves it whole too.
 TEST(Caustics, AFailedSetUpKeepsTheRunningPlan) {
-  Engine e;
-  auto scene = load("sphere_plane");
-  auto first = e.render("caustics_adaptive", scene, {"grid=1024"});
-  const auto compiled = e.executor.compile_count();
+  const auto root = std::filesystem::temp_directory_path() / ("caustica_setup_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  std::filesystem::create_directories(root);
+  std::filesystem::copy(data_dir() / "shaders", root / "shaders", std::filesystem::copy_options::recursive);
+  vk::Context vk{{"", true, false}};
+  shader::ShaderCompiler shaders{root / "shaders"};
+  graph::Executor executor{vk, shaders, passes::builtin_registry()};
+  executor.set_scene(load("sphere_plane"));
   auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
-  graph::apply_overrides(graph, {"grid=65536", "photon_memory_mib=1"});
-  EXPECT_THROW(e.executor.configure(graph, e.width, e.height, {"lit", "caustics"}), InputError);
-  EXPECT_EQ(e.executor.compile_count(), compiled);
-  auto again = e.executor.run_frame(true);
+  graph::apply_overrides(graph, {"grid=1024"});
+  executor.configure(graph, 160, 90, {"lit", "caustics"});
+  const graph::FrameResult first = executor.run_frame(true);
+  const auto compiled = executor.compile_count();
+  std::ofstream(root / "shaders/core/tonemap.comp", std::ios::app) << "\nnot glsl;\n";
+  executor.invalidate();
+  try {
+    executor.configure(graph, 160, 90, {"lit", "caustics"});
+    ADD_FAILURE() << "a shader with an error was set up";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tonemap.comp:"), std::string::npos) << e.what();
+  }
+  auto too_large = graph;
+  graph::apply_overrides(too_large, {"grid=65536", "photon_memory_mib=1"});
+  EXPECT_THROW(executor.configure(too_large, 160, 90, {"lit", "caustics"}), InputError);
+  EXPECT_EQ(executor.compile_count(), compiled);
+  const graph::FrameResult again = executor.run_frame(true);
   EXPECT_EQ(again.counters.at("photons.processed"), first.counters.at("photons.processed"));
   EXPECT_NEAR(again.counters.at("caustic.flux"), first.counters.at("caustic.flux"), 1e-4 * first.counters.at("caustic.flux"));
+  EXPECT_EQ(vk.validation_messages(), 0u);
+  std::filesystem::remove_all(root);
 }
 
 // Batching changes the order photons are processed in, nothing else: the same photons, the same

@@ -329,11 +329,7 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
     }
   }
   if (!plan.ray_query_passes.empty()) scene_->acceleration();
-  try {
-    realize(std::move(plan));
-  } catch (const PassSetupError& e) {
-    throw graph.error(e.pointer(), e.what());
-  }
+  realize(std::move(plan));
   configured_key_ = key;
   ++compile_count_;
   return true;

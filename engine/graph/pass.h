@@ -31,17 +31,6 @@ struct FrameInfo {
   glm::vec2 camera_jitter{0.0f};
 };
 
-// A pass's setup refusing its bindings or parameters: the executor reports it at the pass in the
-// graph file (file, line, column), as the compiler reports its own errors.
-class PassSetupError : public InputError {
- public:
-  PassSetupError(std::string pointer, const std::string& message) : InputError(message), pointer_(std::move(pointer)) {}
-  const std::string& pointer() const { return pointer_; }
-
- private:
-  std::string pointer_;
-};
-
 class PassSetup {
  public:
   PassSetup(Executor& executor, const PlannedPass& pass) : executor_(executor), pass_(pass) {}
@@ -54,8 +43,8 @@ class PassSetup {
   // is a uint32 (atomicAdd on uint); a sum is a float32 in the same slot (atomicAdd on float).
   enum class CounterKind { count, sum };
   uint32_t add_counter(const std::string& name, CounterKind kind = CounterKind::count);
-  // `throw setup.error("...")`: the message, located at this pass in the graph file.
-  PassSetupError error(const std::string& message) const { return {pass_.pointer, "pass '" + pass_.name + "': " + message}; }
+  // A rule about bindings or parameters belongs in PassTypeDecl::check, where the compiler (and so
+  // `validate`) sees it; set-up fails only for what no plan can know (a shader, the device).
 
  private:
   Executor& executor_;
