@@ -193,7 +193,8 @@ TEST(Cli, BundledGraphsValidate) {
 
 TEST(Cli, EveryCommandHasHelp) {
   for (const char* command :
-       {"", "render ", "trace ", "validate ", "graph ", "devices ", "reference ", "merge ", "bench ", "compare ", "view ", "edit "}) {
+       {"", "render ", "trace ", "validate ", "graph ", "graphs ", "scenes ", "devices ", "reference ", "merge ", "bench ", "compare ",
+        "view ", "edit "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
@@ -440,6 +441,34 @@ TEST(Cli, ACausticMapWithoutItsReceiverDepthRendersWithAWarning) {
             std::string::npos)
       << r.output;
   EXPECT_TRUE(fs::exists(dir / "g.png"));
+  fs::remove_all(dir);
+}
+
+// caustica graphs / scenes, from a folder outside the source tree: every bundled file once, by the
+// name --graph and --scene take there, with the first sentence of its description.
+TEST(Cli, BundledGraphsAndScenesAreListedByTheNamesTheFlagsTake) {
+  fs::path dir = scratch("listing");
+  for (const auto& [command, folder] : {std::pair<std::string, std::string>{"graphs", "graphs"}, {"scenes", "scenes"}}) {
+    CliRun r = run(command, dir);
+    ASSERT_EQ(r.code, 0) << r.output;
+    size_t files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(kSource / folder)) {
+      if (!entry.is_regular_file() || entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
+      ++files;
+      const std::string name = fs::relative(entry.path(), kSource / folder).replace_extension().generic_string();
+      EXPECT_NE(r.output.find("\n  " + name + " "), std::string::npos) << name << " is not listed:\n" << r.output;
+    }
+    EXPECT_EQ(static_cast<size_t>(std::count(r.output.begin(), r.output.end(), '\n')), files + 1) << r.output;
+  }
+  const CliRun graphs = run("graphs", dir);
+  const size_t line = graphs.output.find("\n  caustics_regular ");
+  ASSERT_NE(line, std::string::npos);
+  EXPECT_NE(graphs.output.substr(line, graphs.output.find('\n', line + 1) - line).find("Regular caustic maps (Wyman and Nichols 2009's baseline)"),
+            std::string::npos)
+      << graphs.output;
+  // Each listed name is what the flags take from here.
+  EXPECT_EQ(run("validate caustics_regular stability/close_light", dir).code, 0);
+  EXPECT_EQ(run("graphs extra", dir).code, 2);
   fs::remove_all(dir);
 }
 

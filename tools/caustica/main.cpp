@@ -47,6 +47,8 @@ commands:
   validate   check graph and scene files; exit 0 when all are valid, 1 with messages otherwise
   graph      compiled plans and graph files: 'graph plan FILE' (JSON), 'graph dot FILE' (Graphviz),
              'graph schema' (the JSON Schema of graph files), 'graph set FILE NAME=VALUE...' (new defaults)
+  graphs     list the bundled graphs, each by the name --graph takes, with its description's first sentence
+  scenes     list the bundled scenes, each by the name --scene takes, with its description's first sentence
   devices    list the Vulkan devices
   bench      benchmarks: 'bench refraction' (deferred against forward refraction), 'bench photons' (the paper's
              table), 'bench accuracy' (speed against accuracy, the chart), 'bench stability' (where each method breaks),
@@ -271,9 +273,9 @@ int cmd_render(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica render [options]\n\nRenders frames of a graph headless and writes its first output.\n"
                  "With no options: the default graph at 1280x720 to caustica.png.\n\noptions:\n"
-                 "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float: where the first output is a tonemap\n"
-                 "                        pass's 8-bit picture, that pass's input, before its exposure); default caustica.png;\n"
-                 "                        give it twice for both, one .png and one .exr\n"
+                 "  --out FILE            output image, .png (8-bit sRGB) or .exr (linear float: the graph's linear_output, its\n"
+                 "                        HDR result before the tone map, or without one the tonemap's input); default\n"
+                 "                        caustica.png; give it twice for both, one .png and one .exr\n"
               << kRenderOptionsHelp;
     return 0;
   }
@@ -834,6 +836,48 @@ int cmd_compare(Args& args) {
   return 0;
 }
 
+// The first sentence of a description, for a listing of one line a file.
+std::string first_sentence(const std::string& text) {
+  const size_t end = text.find(". ");
+  std::string sentence = end == std::string::npos ? text : text.substr(0, end + 1);
+  constexpr size_t kWidth = 100;
+  if (sentence.size() > kWidth) sentence = sentence.substr(0, kWidth - 3) + "...";
+  return sentence;
+}
+
+// caustica graphs / caustica scenes: the bundled files of `folder`, by the name --graph or --scene
+// takes from any folder, with the first sentence of each one's description.
+int cmd_list(Args& args, const char* folder, const char* flag) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica " << folder << "\n\nLists the bundled " << folder << " (in the data folder), each by the name " << flag
+              << " NAME takes\nfrom any folder, with the first sentence of its description. A file in the current folder is taken\n"
+                 "before a bundled one of the same name.\n";
+    return 0;
+  }
+  if (!args.done()) throw UsageError(std::string(folder) + " takes no arguments");
+  const std::filesystem::path root = data_dir() / folder;
+  std::vector<std::pair<std::string, std::string>> listed;  // name, description
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file() || entry.path().extension() != ".json" || entry.path().filename() == "schema.json") continue;
+    std::string name = std::filesystem::relative(entry.path(), root).replace_extension().generic_string();
+    if (name.rfind("models/", 0) == 0) continue;  // the meshes' own files, not scenes
+    std::string description;
+    try {
+      const JsonDocument doc = JsonDocument::load(entry.path().string());
+      if (doc.root().contains("description") && doc.root()["description"].is_string()) description = doc.root()["description"];
+    } catch (const InputError& e) {
+      description = std::string("(cannot be read: ") + e.what() + ")";
+    }
+    listed.emplace_back(std::move(name), first_sentence(description));
+  }
+  std::sort(listed.begin(), listed.end());
+  size_t width = 0;
+  for (const auto& [name, description] : listed) width = std::max(width, name.size());
+  std::cout << "bundled " << folder << " in " << root.string() << " (" << flag << " NAME):\n";
+  for (const auto& [name, description] : listed) std::cout << "  " << name << std::string(width + 2 - name.size(), ' ') << description << "\n";
+  return 0;
+}
+
 int cmd_devices(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica devices\n\nLists the Vulkan devices; --device NAME picks one by a part of its name.\n";
@@ -865,6 +909,8 @@ int main(int argc, char** argv) {
     if (command == "validate") return cmd_validate(args);
     if (command == "graph") return cmd_graph(args);
     if (command == "devices") return cmd_devices(args);
+    if (command == "graphs") return cmd_list(args, "graphs", "--graph");
+    if (command == "scenes") return cmd_list(args, "scenes", "--scene");
     if (command == "reference") return cmd_reference(args);
     if (command == "merge") return cmd_merge(args);
     if (command == "bench") return cmd_bench(args);
@@ -872,8 +918,8 @@ int main(int argc, char** argv) {
     if (command == "view") return cmd_view(args);
     if (command == "edit") return cmd_edit(args);
     throw UsageError("unknown command '" + command + "'" +
-                     did_you_mean(command, {"render", "trace", "validate", "graph", "devices", "reference", "merge", "bench", "compare",
-                                            "view", "edit"}) +
+                     did_you_mean(command, {"render", "trace", "validate", "graph", "graphs", "scenes", "devices", "reference", "merge",
+                                            "bench", "compare", "view", "edit"}) +
                      "; see caustica --help");
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
