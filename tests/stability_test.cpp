@@ -116,15 +116,19 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
   // The numbers below are stated for the full size, which the Release run asserts.
   return;
 #endif
-  // A method may lose energy, never create it. The reference is itself a sample: its landed flux
-  // is uncertain by about 1 / sqrt(photons landed), allowed three times over, plus 1% for the
-  // engine's grid sampling of the silhouette.
+  // The reference is itself a sample: its landed flux is uncertain by about 1 / sqrt(photons
+  // landed), allowed three times over in every bound on an energy ratio below. (The tiny
+  // refractor's 4e6 photons land few: seeds 1, 2, 3 gave 1.081, 0.969, 0.955 of a 4e7 reference.)
+  auto reference_noise = [](const auto& r) {
+    const double landed = r["reference_landed_photons"];
+    return landed > 0 ? 3.0 / std::sqrt(landed) : 0.0;
+  };
+  // A method may lose energy, never create it, beyond that and 1% for the engine's grid sampling of
+  // the silhouette.
   {
     SCOPED_TRACE("NoMethodCreatesEnergy");
     for (const auto& r : run.rows) {
-      const double landed = r["reference_landed_photons"];
-      const double tolerance = 0.01 + (landed > 0 ? 3.0 / std::sqrt(landed) : 0.0);
-      EXPECT_LE(r["energy_ratio"], 1.0 + tolerance) << r.case_name << ", " << r.method;
+      EXPECT_LE(r["energy_ratio"], 1.01 + reference_noise(r)) << r.case_name << ", " << r.method;
     }
   }
   // Moving the light by 1e-4 moves the caustic by a fraction of a texel: the map may change by a
@@ -183,10 +187,11 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
   }
   // The exact paths close the energy gap (docs/exact_paths.md's targets): the ray-query tracer
   // lands 0.95 to 1.02 of the reference's flux in every case with a refractor, and the adaptive
-  // hybrid with exact re-traces 0.95 to 1.05. The tiny refractor is the exception for both: a 512^2
-  // grid samples its silhouette coarsely (measured 0.925 and 0.825), so there they must land at
-  // least 0.9 and 0.8. The hybrid's re-traces also lose no energy against the image-space adaptive
-  // hybrid.
+  // hybrid with exact re-traces 0.95 to 1.05, each within the reference's own noise. The tiny
+  // refractor is the exception for both: a 512^2 grid samples its silhouette coarsely (measured
+  // 0.925 and 0.825 against its first reference sample, 0.842 and 0.751 against the second, which
+  // landed more), so there they must land at least 0.9 and 0.8. The hybrid's re-traces also lose no
+  // energy against the image-space adaptive hybrid.
   {
     SCOPED_TRACE("ExactPathsKeepTheEnergy");
     std::map<std::string, double> image_space;
@@ -199,13 +204,13 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
       const bool tiny = r.case_name == "tiny refractor";
       if (r.method == "ray query") {
         ++exact_rows;
-        EXPECT_GE(r["energy_ratio"], tiny ? 0.9 : 0.95) << r.case_name;
-        EXPECT_LE(r["energy_ratio"], 1.02) << r.case_name;
+        EXPECT_GE(r["energy_ratio"], (tiny ? 0.9 : 0.95) - reference_noise(r)) << r.case_name;
+        EXPECT_LE(r["energy_ratio"], 1.02 + reference_noise(r)) << r.case_name;
       }
       if (r.method == "adaptive hybrid with exact re-trace") {
         ++exact_rows;
-        EXPECT_GE(r["energy_ratio"], tiny ? 0.8 : 0.95) << r.case_name;
-        EXPECT_LE(r["energy_ratio"], 1.05) << r.case_name;
+        EXPECT_GE(r["energy_ratio"], (tiny ? 0.8 : 0.95) - reference_noise(r)) << r.case_name;
+        EXPECT_LE(r["energy_ratio"], 1.05 + reference_noise(r)) << r.case_name;
         EXPECT_GE(r["energy_ratio"], image_space.at(r.case_name) - 0.005) << r.case_name;
       }
     }
