@@ -5,14 +5,16 @@
 # systemd and nothing under /etc or /var. Then, through tools/slurm/submit.sh as a user runs it:
 # 1. a 4-task array of shards and the dependent merge: the merged map is the unsharded run's, bit
 #    for bit (compare's max_error 0);
-# 2. a shard killed mid-run (scancel of one array task) leaves no file, Slurm cancels the merge,
+# 2. a shard killed mid-run (scancel of array task 2 while it runs; a wrapper holds that task before
+#    it starts caustica, so that the cancel always finds it running) leaves no file, Slurm cancels the merge,
 #    `caustica merge` names the missing index, and `submit.sh --resubmit I` completes the job with
 #    the same map (the same file as in 1, byte for byte);
 # 3. a shard of another seed (submit.sh --resubmit I --seed 2 into a copy of the shards): the merge
 #    job fails, naming the seed, and writes nothing.
 # Every daemon is stopped by the process id this script started (trap on EXIT, failures included),
-# and the folder is removed (kept with CAUSTICA_SLURM_KEEP=1). Where Slurm cannot start, the test fails and prints the daemons' logs:
-# it is never skipped. Runs as root (CI) or as any user that can run the daemons.
+# and the folder is removed (kept with CAUSTICA_SLURM_KEEP=1). Where Slurm cannot start, the test
+# fails and prints the daemons' logs: it is never skipped. Runs as root (CI); as another user, that
+# user is SlurmUser (not tried). Two runs side by side do not meet: each has its own ports and socket.
 #
 # usage: slurm_test.sh CAUSTICA_BINARY SOURCE_DIR
 set -euo pipefail
@@ -91,7 +93,7 @@ pids+=($!) names+=(munged)
 user=$(id -un)
 cat > "$SLURM_CONF" <<CONF
 ClusterName=caustica-test
-SlurmctldHost=localhost
+SlurmctldHost=localhost(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$slurmd_port
 SlurmUser=$user
@@ -240,5 +242,25 @@ echo "ok: a shard of another seed fails the merge job: $(grep -m1 -i seed "$merg
 
 # The jobs wrote only beside their shards, nothing in the folder they were submitted from.
 [ -z "$(ls -A "$dir/run")" ] || fail "the jobs wrote into the folder they were submitted from: $(ls -A "$dir/run")"
+
+# Timing (not part of the test; docs/cluster.md): CAUSTICA_SLURM_TIME_PHOTONS=N times one process
+# against 4 shards through this cluster and their merge, the same N photons on the bunny at 512^2,
+# each shard given CAUSTICA_SLURM_TIME_CPUS cores (default 2: one shard at a time on this node).
+if [ -n "${CAUSTICA_SLURM_TIME_PHOTONS:-}" ]; then
+  n=$CAUSTICA_SLURM_TIME_PHOTONS cpus=${CAUSTICA_SLURM_TIME_CPUS:-2}
+  now() { date +%s.%N; }
+  t0=$(now)
+  "$bin" reference --scene "$scene" --photons "$n" --out "$dir/time_whole.exr" > "$dir/time_whole.stdout" 2>&1 || fail "reference exited $?"
+  t1=$(now)
+  "$submit" --scene "$scene" --photons "$n" --shards 4 --cpus "$cpus" --caustica "$bin" --out "$dir/time_map.exr" > "$dir/submit5.stdout" 2>&1 || fail "submit.sh exited $?"
+  shards=$(job_of shards "$dir/submit5.stdout") merge=$(job_of merge "$dir/submit5.stdout")
+  wait_for 600 "the timed array $shards and merge $merge did not finish" gone "$shards" "$merge"
+  t2=$(now)
+  [ "$(state "$merge")" = COMPLETED ] || fail "the timed merge job $merge ended $(state "$merge")"
+  "$bin" compare "$dir/time_map.exr" "$dir/time_whole.exr" --max-l1 0 > "$dir/compare5.stdout" 2>&1 || fail "the timed maps differ: $(cat "$dir/compare5.stdout")"
+  grep -h -E '^(shard|photons|merge)' "$dir/time_whole.stdout" "$dir"/time_map.shards/*.out || true
+  awk -v a="$t0" -v b="$t1" -v c="$t2" -v n="$n" -v k="$cpus" 'BEGIN {
+    printf "timing: %s photons: one process %.2f s, 4 shards through Slurm (%d cores each) and the merge %.2f s (%.2fx); the maps equal\n", n, b - a, k, c - b, (c - b) / (b - a) }'
+fi
 
 echo "slurm_test: passed in $((SECONDS - start)) s"
