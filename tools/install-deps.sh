@@ -6,6 +6,12 @@
 # and 25 has VK_KHR_acceleration_structure and VK_KHR_ray_query, which the exact-path graphs
 # (caustics_raytraced.json, refraction_raytraced.json, the hybrids) need. Every other graph runs on
 # either version. CAUSTICA_NO_BACKPORTS=1 keeps bookworm's Mesa.
+#
+# Slurm 22.05 and munge are for tests/slurm/slurm_test.sh, which starts its own munged, slurmctld
+# and slurmd on localhost in a temporary folder (docs/cluster.md); nothing here configures or
+# starts them. Under systemd, Debian enables their services: munge's starts with the key the
+# package made, slurmctld's and slurmd's stay down without an /etc/slurm/slurm.conf; the test
+# uses its own socket, key and ports, whatever runs.
 set -euo pipefail
 
 packages=(
@@ -19,6 +25,7 @@ packages=(
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
   clang libclang-rt-14-dev
   python3 python3-matplotlib graphviz
+  munge slurmctld slurmd slurm-client
 )
 
 sudo_cmd=()

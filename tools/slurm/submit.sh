@@ -40,7 +40,7 @@ while [[ $# -gt 0 ]]; do
     --map-size) map_size=$2; shift 2 ;;
     --partition) common+=(--partition "$2"); shift 2 ;;
     --account) common+=(--account "$2"); shift 2 ;;
-    --time) shard_time=(--time "$2"); shift 2 ;;
+    --time) shard_time+=(--time "$2"); shift 2 ;;
     --cpus) shard_time+=(--cpus-per-task "$2"); shift 2 ;;
     --throttle) throttle=$2; shift 2 ;;
     --resubmit) resubmit=$2; shift 2 ;;
@@ -76,8 +76,9 @@ submit() {
     sbatch --parsable "$@" | cut -d';' -f1
   fi
 }
-shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --export="$env" "$here/reference.sbatch")
-merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --export="$env" "$here/merge.sbatch")
+# The jobs' output beside the shards, not in the folder sbatch was called from.
+shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export="$env" "$here/reference.sbatch")
+merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export="$env" "$here/merge.sbatch")
 echo "shards: job $shard_job (array $array, $shard_dir/shard_I.exr)"
 echo "merge:  job $merge_job (after every shard succeeded; writes $out)"
 echo "a failed shard: tools/slurm/submit.sh ... --resubmit I (the same options, the indices that failed)"
