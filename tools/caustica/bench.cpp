@@ -19,7 +19,14 @@ int cmd_bench(Args& args) {
       "       caustica bench load --scene FILE [--runs N]\n"
       "       caustica bench accuracy --out DIR [--scenes A,B] [--graphs G,H,...] [--grids 256,512,...] [--frames N]\n"
       "                               [--regular-max G] [--caustic-size N] [--size WxH] [--reference-photons N] [--blur SIGMA]\n"
-      "       caustica bench convergence --out DIR [--scene NAME] [--methods A,B] [--seconds S | --frames N] ...\n\n"
+      "       caustica bench convergence --out DIR [--scene NAME] [--methods A,B] [--seconds S | --frames N] ...\n"
+      "       caustica bench accuracy|stability ... --list-cells | --cell K|auto --out DIR [--reference-cache DIR]\n"
+      "       caustica bench merge DIR... --out OUT\n\n"
+      "cells (docs/cluster.md): --list-cells prints the sweep's cells, one a line from 0 (scene or case, graph, grid or\n"
+      "distances); --cell K runs cell K alone (auto: K from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX) and writes\n"
+      "DIR/cell_K.csv; --reference-cache DIR keeps the photon references there, as shards in a folder named by the\n"
+      "reference's key (scene identity, photons, map size, seed), for the cells that need them again. bench merge joins\n"
+      "every cell of one sweep into the results one process writes, and names the cells missing.\n\n"
       "accuracy: speed against accuracy. For every scene (bundled names or files; default sphere_plane,bunny_plane) x\n"
       "caustic graph x effective photon grid (default 256..4096; the regular map only up to --regular-max, 4096): the\n"
       "median GPU time of the caustic pass and of the frame, and the error of the caustic map against the photon\n"
@@ -74,7 +81,7 @@ int cmd_bench(Args& args) {
     return 0;
   }
   if (args.done())
-    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load; see caustica bench --help");
+    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load (or merge); see caustica bench --help");
   std::string what = args.take();
   if (what == "refraction") return bench::cmd_bench_refraction(args);
   if (what == "photons") return bench::cmd_bench_photons(args);
@@ -82,8 +89,9 @@ int cmd_bench(Args& args) {
   if (what == "stability") return bench::cmd_bench_stability(args);
   if (what == "load") return bench::cmd_bench_load(args);
   if (what == "convergence") return bench::cmd_bench_convergence(args);
+  if (what == "merge") return bench::cmd_bench_merge(args);
   throw UsageError("bench " + what + ": unknown benchmark" +
-                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "convergence", "load"}));
+                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "convergence", "load", "merge"}));
 }
 
 }  // namespace caustica::cli

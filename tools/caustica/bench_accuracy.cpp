@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -42,6 +43,7 @@ struct AccuracyOptions : ComparisonOptions {
                                   "refraction_hybrid"};
   std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096};
   uint32_t frames = 3, regular_max = 4096;
+  CellOptions cells;
 };
 
 AccuracyOptions parse_accuracy_options(Args& args) {
@@ -58,13 +60,14 @@ AccuracyOptions parse_accuracy_options(Args& args) {
       o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
     else if (a == "--regular-max")
       o.regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (!o.take(a, args)) {
+    else if (!o.take(a, args) && !o.cells.take(a, args)) {
       std::vector<std::string> known{"--scenes", "--graphs", "--grids", "--frames", "--regular-max"};
       known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
+      known.insert(known.end(), CellOptions::kFlags.begin(), CellOptions::kFlags.end());
       unknown_option(a, known);
     }
   }
-  if (o.out_dir.empty()) throw UsageError("bench accuracy needs --out DIR");
+  if (o.out_dir.empty() && !o.cells.list) throw UsageError("bench accuracy needs --out DIR");
   return o;
 }
 
@@ -99,17 +102,52 @@ AccuracyGraphs load_accuracy_graphs(const std::vector<std::string>& graphs) {
   return loaded;
 }
 
-// One run of the benchmark: what it was told, where it writes, the device, and the rows measured
-// so far (results.csv and the table).
+// An image-space refraction graph runs every image-space rung; one that traces exact paths by
+// default (refraction_raytraced, refraction_hybrid) runs as it is.
+std::vector<std::string> refraction_distances(const graph::GraphDesc& desc) {
+  const graph::GraphParameter* distance_param = desc.find_parameter("distance");
+  const std::string own = distance_param ? distance_param->value.get<std::string>() : "dv_dn";
+  if (own == "ray_query" || own == "hybrid") return {own};
+  return {"dv", "dv_dn", "search"};
+}
+
+// One cell of the sweep: a caustic graph on a scene at one grid, or a refraction graph on a scene
+// at each of its distances (grid 0). The cells run in this order, one process's rows' order.
+struct AccuracyCell {
+  size_t scene = 0, graph = 0;
+  uint32_t grid = 0;
+};
+
+std::vector<AccuracyCell> accuracy_cells(const AccuracyOptions& o, const AccuracyGraphs& graphs) {
+  std::vector<AccuracyCell> cells;
+  for (size_t s = 0; s < o.scenes.size(); ++s) {
+    for (size_t g = 0; g < graphs.descs.size(); ++g) {
+      const auto& desc = graphs.descs[g];
+      if (passes_of_types(desc, kCausticPassTypes).empty()) {
+        cells.push_back({s, g, 0});
+        continue;
+      }
+      for (uint32_t grid : o.grids) {
+        if (grid <= o.regular_max || passes_of_types(desc, {"caustic_map"}).empty()) cells.push_back({s, g, grid});
+      }
+    }
+  }
+  return cells;
+}
+
+constexpr const char* kAccuracyCsvHeader =
+    "scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n";
+
+// One run of the benchmark, of the whole sweep or of one cell: what it was told, where it writes,
+// the device, the references traced so far and the rows measured so far (results.csv and the table).
 struct AccuracyRun {
   const AccuracyOptions& o;
   const std::filesystem::path& dir;
   vk::Context& vk;
   shader::ShaderCompiler& shaders;
-  std::string csv = "scene,kind,method,grid,photons_processed,method_ms,frame_ms,relative_l1,energy_ratio,shape_l1,psnr,nonfinite\n";
-  std::string table =
-      "| scene | method | grid | photons processed | method GPU ms | frame GPU ms | relative L1 | energy ratio | shape L1 "
-      "|\n|---|---|---|---|---|---|---|---|---|\n";
+  std::string csv, table;
+  std::map<size_t, reference::PhotonReference> photons;
+  std::map<size_t, reference::RefractionImage> refractions;
   const std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
   // A row of results.csv and of the table, and a line on stderr with the time since the start.
@@ -130,74 +168,56 @@ struct AccuracyRun {
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
 
-  // Every graph on one scene, against the references that its graphs need (the photon reference's
-  // map is written to DIR).
-  void measure_scene(const std::shared_ptr<const scene::Scene>& scene, const AccuracyGraphs& graphs) {
-    bool wants_caustics = false, wants_refraction = false;
-    for (const auto& g : graphs.descs) {
-      wants_caustics = wants_caustics || !passes_of_types(g, kCausticPassTypes).empty();
-      wants_refraction = wants_refraction || passes_of_types(g, kCausticPassTypes).empty();
+  // One cell, on the executor that has its scene, against the references that it needs: traced (or
+  // read from --reference-cache) the first time a cell of the scene asks; one process also writes
+  // the photon reference's map to DIR.
+  void measure_cell(const AccuracyCell& cell, const std::shared_ptr<const scene::Scene>& scene, const AccuracyGraphs& graphs,
+                    graph::Executor& executor) {
+    const auto& desc = graphs.descs[cell.graph];
+    const auto caustic_passes = passes_of_types(desc, kCausticPassTypes);
+    if (caustic_passes.empty()) {
+      if (!refractions.count(cell.scene)) refractions[cell.scene] = reference::render_refraction_reference(*scene, o.width, o.height);
+      measure_refraction(executor, scene->name, desc, graphs.labels[cell.graph], refractions.at(cell.scene));
+      return;
     }
-    reference::PhotonReference photons;
-    if (wants_caustics) {
+    if (!photons.count(cell.scene)) {
       reference::PhotonOptions options;
       options.photons = o.reference_photons;
       options.map_size = o.caustic_size;
       ProgressLine progress(scene->name + ": reference photons", o.reference_photons);
       options.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
-      photons = reference::trace_photon_reference(*scene, options);
-      io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons.caustic_map);
+      photons[cell.scene] = photon_reference(*scene, options, o.cells.reference_cache);
+      if (o.cells.cell.empty()) io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons[cell.scene].caustic_map);
     }
-    reference::RefractionImage refraction;
-    if (wants_refraction) refraction = reference::render_refraction_reference(*scene, o.width, o.height);
-
-    for (size_t gi = 0; gi < graphs.descs.size(); ++gi) {
-      const auto& desc = graphs.descs[gi];
-      const auto caustic_passes = passes_of_types(desc, kCausticPassTypes);
-      graph::Executor executor(vk, shaders, passes::builtin_registry());
-      executor.set_scene(scene);
-      if (!caustic_passes.empty())
-        measure_caustics(executor, scene->name, desc, graphs.labels[gi], caustic_passes, photons);
-      else
-        measure_refraction(executor, scene->name, desc, graphs.labels[gi], refraction);
-    }
+    measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, caustic_passes, photons.at(cell.scene));
   }
 
-  // A caustic graph at every effective grid (the regular map up to --regular-max), its caustic map
-  // against the photon reference.
+  // A caustic graph at one effective grid, its caustic map against the photon reference.
   void measure_caustics(graph::Executor& executor, const std::string& scene, const graph::GraphDesc& desc, const std::string& label,
-                        const std::set<std::string>& caustic_passes, const reference::PhotonReference& photons) {
-    for (uint32_t grid : o.grids) {
-      if (grid > o.regular_max && !passes_of_types(desc, {"caustic_map"}).empty()) continue;
-      graph::GraphDesc g = desc;
-      graph::apply_overrides(g, {"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(o.caustic_size)});
-      if (!runs_on(vk, g)) {
-        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", label.c_str(), vk.device_name().c_str(),
-                     vk.ray_queries().missing.c_str());
-        break;
-      }
-      executor.configure(g, o.width, o.height, {"caustics"});
-      const Timings t = time_frames(executor, o.frames, caustic_passes);
-      const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
-      add_row(scene, "caustics", label, grid, processed, t,
-              reference::compare_images(executor.read_image("caustics"), photons.caustic_map, o.blur));
+                        uint32_t grid, const std::set<std::string>& caustic_passes, const reference::PhotonReference& traced) {
+    graph::GraphDesc g = desc;
+    graph::apply_overrides(g, {"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(o.caustic_size)});
+    if (!runs_on(vk, g)) {
+      std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", label.c_str(), vk.device_name().c_str(),
+                   vk.ray_queries().missing.c_str());
+      return;
     }
+    executor.configure(g, o.width, o.height, {"caustics"});
+    const Timings t = time_frames(executor, o.frames, caustic_passes);
+    const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
+    add_row(scene, "caustics", label, grid, processed, t,
+            reference::compare_images(executor.read_image("caustics"), traced.caustic_map, o.blur));
   }
 
   // A refraction graph at every distance estimate, against the ray-traced reference.
   void measure_refraction(graph::Executor& executor, const std::string& scene, const graph::GraphDesc& desc, const std::string& label,
                           const reference::RefractionImage& refraction) {
-    // An image-space graph runs every image-space rung; one that traces exact paths by default
-    // (refraction_raytraced, refraction_hybrid) runs as it is.
-    const graph::GraphParameter* distance_param = desc.find_parameter("distance");
-    const std::string own = distance_param ? distance_param->value.get<std::string>() : "dv_dn";
-    const bool exact = own == "ray_query" || own == "hybrid";
     if (!runs_on(vk, desc)) {
       std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", label.c_str(), vk.device_name().c_str(),
                    vk.ray_queries().missing.c_str());
       return;
     }
-    for (const std::string& distance : exact ? std::vector<std::string>{own} : std::vector<std::string>{"dv", "dv_dn", "search"}) {
+    for (const std::string& distance : refraction_distances(desc)) {
       graph::GraphDesc g = desc;
       graph::apply_overrides(g, {"distance=" + distance});
       executor.configure(g, o.width, o.height, {"refracted"});
@@ -209,49 +229,92 @@ struct AccuracyRun {
     }
   }
 
-  // DIR/results.csv, DIR/README.md (the configuration and the table) and DIR/speed_accuracy.png;
-  // the configuration and the table on stdout.
-  void write_results(const Chart& chart) const {
-    io::write_text_atomically((dir / "results.csv").string(), csv);
-    char config[1024];
-    std::snprintf(config, sizeof(config),
-                  "Device %s. Frames %ux%u; median GPU time of %u frames after one warm-up. Caustic maps %u^2, compared with %llu "
-                  "reference photons (caustica reference --photons, Fresnel on) after a Gaussian blur of sigma %.3g texels; "
-                  "refraction compared with the ray-traced reference over the refractor's pixels (no blur).",
-                  vk.device_name().c_str(), o.width, o.height, o.frames, o.caustic_size,
-                  static_cast<unsigned long long>(o.reference_photons), o.blur);
-    io::write_text_atomically((dir / "README.md").string(),
-                              "# caustica bench accuracy\n\n" + std::string(config) +
-                                  "\n\nColumns as in results.csv: `method GPU ms` is the caustic pass (photon work only; the light-space "
-                                  "inputs are the same for every method) or, for refraction, refractor_buffers plus the refraction pass. "
-                                  "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
-                                  table);
-    chart.draw(speed_accuracy_inputs(dir), dir / "speed_accuracy.png");
-    std::cout << config << "\n\n" << table;
-    std::fprintf(stderr, "bench accuracy: %s/results.csv, README.md, speed_accuracy.png\n", o.out_dir.c_str());
-  }
 };
+
+// DIR/results.csv, DIR/README.md (the configuration and the table) and DIR/speed_accuracy.png, from
+// the rows of one process or of its cells joined; the configuration and the table on stdout.
+void write_results(const AccuracyOptions& o, const std::string& device, const std::string& csv, const std::string& table,
+                   const Chart& chart) {
+  const std::filesystem::path dir(o.out_dir);
+  io::write_text_atomically((dir / "results.csv").string(), kAccuracyCsvHeader + csv);
+  char config[1024];
+  std::snprintf(config, sizeof(config),
+                "Device %s. Frames %ux%u; median GPU time of %u frames after one warm-up. Caustic maps %u^2, compared with %llu "
+                "reference photons (caustica reference --photons, Fresnel on) after a Gaussian blur of sigma %.3g texels; "
+                "refraction compared with the ray-traced reference over the refractor's pixels (no blur).",
+                device.c_str(), o.width, o.height, o.frames, o.caustic_size, static_cast<unsigned long long>(o.reference_photons), o.blur);
+  const std::string header =
+      "| scene | method | grid | photons processed | method GPU ms | frame GPU ms | relative L1 | energy ratio | shape L1 "
+      "|\n|---|---|---|---|---|---|---|---|---|\n";
+  io::write_text_atomically((dir / "README.md").string(),
+                            "# caustica bench accuracy\n\n" + std::string(config) +
+                                "\n\nColumns as in results.csv: `method GPU ms` is the caustic pass (photon work only; the light-space "
+                                "inputs are the same for every method) or, for refraction, refractor_buffers plus the refraction pass. "
+                                "`relative L1` and `energy ratio` are defined in docs/accuracy.md. The chart is speed_accuracy.png.\n\n" +
+                                header + table);
+  chart.draw(speed_accuracy_inputs(dir), dir / "speed_accuracy.png");
+  std::cout << config << "\n\n" << header << table;
+  std::fprintf(stderr, "bench accuracy: %s/results.csv, README.md, speed_accuracy.png\n", o.out_dir.c_str());
+}
+
 
 }  // namespace
 
 // Speed against accuracy: every scene x caustic graph x effective photon grid against the photon
-// reference, and every refraction graph x distance estimate against the ray-traced reference.
+// reference, and every refraction graph x distance estimate against the ray-traced reference; or
+// one cell of that sweep (--cell), or the list of its cells.
 int cmd_bench_accuracy(Args& args) {
+  const std::vector<std::string> sweep = sweep_arguments(args);
   const AccuracyOptions o = parse_accuracy_options(args);
-  // Everything is loaded and checked before the first long step.
-  std::vector<std::shared_ptr<const scene::Scene>> loaded;
-  for (const auto& name : o.scenes) loaded.push_back(std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(name))));
   const AccuracyGraphs graphs = load_accuracy_graphs(o.graphs);
-  const Chart chart = find_chart();
+  const std::vector<AccuracyCell> cells = accuracy_cells(o, graphs);
+  if (o.cells.list) {
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const AccuracyCell& c = cells[k];
+      std::string distances;
+      for (const auto& d : refraction_distances(graphs.descs[c.graph])) distances += (distances.empty() ? "" : ",") + d;
+      std::printf("%zu %s %s %s\n", k, o.scenes[c.scene].c_str(), o.graphs[c.graph].c_str(),
+                  c.grid ? ("grid=" + std::to_string(c.grid)).c_str() : ("distance=" + distances).c_str());
+    }
+    return 0;
+  }
+  const bool one_cell = !o.cells.cell.empty();
+  const size_t first = one_cell ? cell_index(o.cells.cell, cells.size()) : 0, end = one_cell ? first + 1 : cells.size();
+  // Everything is loaded and checked before the first long step.
+  std::vector<std::shared_ptr<const scene::Scene>> loaded(o.scenes.size());
+  for (size_t k = first; k < end; ++k) {
+    auto& scene = loaded[cells[k].scene];
+    if (!scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(o.scenes[cells[k].scene])));
+  }
+  const Chart chart = one_cell ? Chart{} : find_chart();
   std::filesystem::create_directories(o.out_dir);
   const std::filesystem::path dir(o.out_dir);
 
   vk::Context vk(device_options(o.device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   AccuracyRun run{o, dir, vk, shaders};
-  for (const auto& scene : loaded) run.measure_scene(scene, graphs);
-  run.write_results(chart);
+  // A graph's cells on a scene share its executor, as its grids did before the sweep had cells.
+  std::unique_ptr<graph::Executor> executor;
+  for (size_t k = first; k < end; ++k) {
+    if (!executor || cells[k].scene != cells[k - 1].scene || cells[k].graph != cells[k - 1].graph) {
+      executor = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executor->set_scene(loaded[cells[k].scene]);
+    }
+    run.measure_cell(cells[k], loaded[cells[k].scene], graphs, *executor);
+  }
+  if (one_cell)
+    write_cell(dir, first, cells.size(), kAccuracyCsvHeader, {"accuracy", sweep, vk.device_name(), run.csv, run.table});
+  else
+    write_results(o, vk.device_name(), run.csv, run.table, chart);
   return 0;
+}
+
+void write_merged_accuracy(const CellRows& rows, const std::string& out_dir) {
+  Args args = sweep_args(rows.sweep, out_dir);
+  const AccuracyOptions o = parse_accuracy_options(args);
+  const Chart chart = find_chart();
+  std::filesystem::create_directories(out_dir);
+  write_results(o, rows.device, rows.csv, rows.table, chart);
 }
 
 }  // namespace caustica::cli::bench

@@ -4,10 +4,18 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "builtin_passes.h"
 #include "core/paths.h"
+#include "io/files.h"
+#include "io/json_document.h"
+#include "reference/photon_shard.h"
 
 namespace caustica::cli::bench {
 
@@ -110,6 +118,222 @@ std::vector<std::filesystem::path> speed_accuracy_inputs(const std::filesystem::
   std::vector<std::filesystem::path> csvs{dir / "results.csv"};
   if (std::filesystem::exists(dir / "convergence.csv")) csvs.push_back(dir / "convergence.csv");
   return csvs;
+}
+
+bool CellOptions::take(const std::string& flag, Args& args) {
+  if (flag == "--list-cells")
+    list = true;
+  else if (flag == "--cell")
+    cell = args.value(flag);
+  else if (flag == "--reference-cache")
+    reference_cache = args.value(flag);
+  else
+    return false;
+  return true;
+}
+
+std::vector<std::string> sweep_arguments(Args args) {
+  std::vector<std::string> sweep;
+  while (!args.done()) {
+    const std::string a = args.take();
+    if (a == "--out" || a == "--device" || a == "--cell" || a == "--reference-cache") {
+      if (!args.done()) args.take();
+    } else if (a != "--list-cells" && a != "--validate") {
+      sweep.push_back(a);
+    }
+  }
+  return sweep;
+}
+
+Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir) {
+  sweep.insert(sweep.end(), {"--out", out_dir});
+  std::vector<char*> argv;
+  for (auto& a : sweep) argv.push_back(a.data());
+  return Args(static_cast<int>(argv.size()), argv.data(), 0);
+}
+
+std::pair<std::string, std::string> scheduler_index() {
+  for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
+    const char* value = std::getenv(variable);
+    if (value != nullptr && *value != '\0') return {value, variable};
+  }
+  return {};
+}
+
+size_t cell_index(const std::string& text, size_t cells) {
+  std::string index = text, from = "--cell";
+  if (text == "auto") {
+    std::tie(index, from) = scheduler_index();
+    if (from.empty()) {
+      throw UsageError("--cell auto: neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a Kubernetes Indexed Job) " +
+                       std::string("is set; outside a scheduler give the index: --cell K"));
+    }
+  }
+  try {
+    return static_cast<size_t>(parse_uint(from, index, 0, cells - 1));
+  } catch (const UsageError&) {
+    const std::string what = from == "--cell" ? "'" + index + "'" : "the index that " + from + " gives, '" + index + "',";
+    throw UsageError("--cell " + text + ": " + what + " is not a cell of this sweep, 0 to " + std::to_string(cells - 1) +
+                     " (--list-cells lists them)");
+  }
+}
+
+void write_cell(const std::filesystem::path& dir, size_t index, size_t cells, const std::string& csv_header, const CellRows& rows) {
+  std::filesystem::create_directories(dir);
+  io::write_text_atomically((dir / ("cell_" + std::to_string(index) + ".csv")).string(),
+                            "# caustica bench " + rows.benchmark + " cell " + std::to_string(index) + " of " + std::to_string(cells) +
+                                "\n# sweep: " + nlohmann::json(rows.sweep).dump() + "\n# device: " + rows.device + "\n" + csv_header +
+                                rows.csv + rows.table);
+  std::fprintf(stderr, "bench %s: cell %zu of %zu -> %s\n", rows.benchmark.c_str(), index, cells,
+               (dir / ("cell_" + std::to_string(index) + ".csv")).c_str());
+}
+
+namespace {
+
+// One cell file as read back.
+struct CellFile {
+  std::string path;
+  size_t index = 0, cells = 0;
+  CellRows rows;
+};
+
+CellFile read_cell(const std::filesystem::path& path) {
+  CellFile cell{path.string()};
+  std::istringstream in(caustica::read_text_file(cell.path, size_t{1} << 30));
+  std::string title, sweep, device, header;
+  std::getline(in, title);
+  std::getline(in, sweep);
+  std::getline(in, device);
+  std::getline(in, header);
+  char benchmark[32] = "";
+  unsigned long long index = 0, cells = 0;
+  int used = 0;
+  if (std::sscanf(title.c_str(), "# caustica bench %31s cell %llu of %llu%n", benchmark, &index, &cells, &used) != 3 ||
+      static_cast<size_t>(used) != title.size() || index >= cells || sweep.rfind("# sweep: ", 0) != 0 ||
+      device.rfind("# device: ", 0) != 0 || header.empty()) {
+    throw InputError(cell.path + ": not a cell of a bench sweep (bench accuracy|stability --cell K writes them)");
+  }
+  cell.index = index;
+  cell.cells = cells;
+  cell.rows.benchmark = benchmark;
+  const auto arguments = nlohmann::json::parse(sweep.substr(9), nullptr, false);
+  if (!arguments.is_array()) throw InputError(cell.path + ": its sweep line is not a list of arguments");
+  for (const auto& a : arguments) cell.rows.sweep.push_back(a.is_string() ? a.get<std::string>() : a.dump());
+  cell.rows.device = device.substr(10);
+  for (std::string line; std::getline(in, line);) (line.rfind('|', 0) == 0 ? cell.rows.table : cell.rows.csv) += line + "\n";
+  return cell;
+}
+
+std::string sweep_text(const CellRows& rows) {
+  std::string text = "bench " + rows.benchmark;
+  for (const auto& a : rows.sweep) text += " " + a;
+  return text;
+}
+
+}  // namespace
+
+int cmd_bench_merge(Args& args) {
+  if (args.wants_help()) {
+    std::cout << "usage: caustica bench merge DIR... --out OUT\n\n"
+                 "Joins the cells of a bench accuracy or bench stability sweep (each written by --cell K --out DIR as\n"
+                 "DIR/cell_K.csv) into what one process writes: results.csv, README.md and speed_accuracy.png, or\n"
+                 "stability.csv and README.md, in OUT. Every cell of one sweep must be there once; otherwise nothing is\n"
+                 "written and the missing cells are named by index (resubmit those), as are duplicates and cells of\n"
+                 "another sweep. Exit 0, 1 for such cells, 2 for a usage error (docs/cluster.md).\n";
+    return 0;
+  }
+  std::vector<std::string> dirs;
+  std::string out;
+  std::set<std::string> given;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--out") {
+      given_once(given, a);
+      out = args.value(a);
+    } else if (a.rfind("--", 0) == 0)
+      unknown_option(a, {"--out"});
+    else
+      dirs.push_back(a);
+  }
+  if (dirs.empty()) throw UsageError("bench merge needs the cells' folders: caustica bench merge DIR... --out OUT");
+  if (out.empty()) throw UsageError("bench merge needs --out OUT");
+
+  std::vector<CellFile> cells;
+  for (const auto& dir : dirs) {
+    if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a folder of cells");
+    std::vector<std::filesystem::path> paths;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("cell_", 0) == 0 && entry.path().extension() == ".csv") paths.push_back(entry.path());
+    }
+    std::sort(paths.begin(), paths.end());
+    for (const auto& path : paths) cells.push_back(read_cell(path));
+  }
+  if (cells.empty()) throw InputError("no cell_K.csv in " + dirs.front() + (dirs.size() > 1 ? " or the other folders" : ""));
+  const CellFile& first = cells.front();
+  std::map<size_t, const CellFile*> by_index;
+  std::string problems;
+  for (const auto& cell : cells) {
+    if (cell.rows.benchmark != first.rows.benchmark || cell.rows.sweep != first.rows.sweep || cell.cells != first.cells) {
+      problems += cell.path + ": a cell of another sweep (" + sweep_text(cell.rows) + ", " + std::to_string(cell.cells) + " cells), where " +
+                  first.path + " has " + sweep_text(first.rows) + ", " + std::to_string(first.cells) + " cells\n";
+    } else if (const auto [at, added] = by_index.emplace(cell.index, &cell); !added) {
+      problems += cell.path + " and " + at->second->path + " are both cell " + std::to_string(cell.index) + "\n";
+    }
+  }
+  std::string missing;
+  for (size_t k = 0; k < first.cells; ++k) missing += by_index.count(k) ? "" : (missing.empty() ? "" : ",") + std::to_string(k);
+  if (!missing.empty()) {
+    problems += "cells " + missing + " of " + std::to_string(first.cells) + " are missing: run them (--cell K) or resubmit them (" +
+                "tools/slurm/submit.sh --bench ... --resubmit " + missing + ")\n";
+  }
+  if (!problems.empty()) throw InputError(problems.substr(0, problems.size() - 1));
+
+  CellRows joined{first.rows.benchmark, first.rows.sweep, "", "", ""};
+  std::set<std::string> devices;
+  for (const auto& [index, cell] : by_index) {
+    joined.csv += cell->rows.csv;
+    joined.table += cell->rows.table;
+    if (devices.insert(cell->rows.device).second) joined.device += (joined.device.empty() ? "" : "; ") + cell->rows.device;
+  }
+  if (joined.benchmark == "accuracy")
+    write_merged_accuracy(joined, out);
+  else if (joined.benchmark == "stability")
+    write_merged_stability(joined, out);
+  else
+    throw InputError(first.path + ": cells of bench " + joined.benchmark + ", which bench merge does not join");
+  return 0;
+}
+
+reference::PhotonReference photon_reference(const scene::Scene& scene, const reference::PhotonOptions& options, const std::string& cache) {
+  if (cache.empty()) return reference::trace_photon_reference(scene, options);
+  const std::string identity = reference::scene_identity(scene);
+  const std::filesystem::path folder = std::filesystem::path(cache) / (identity + "-p" + std::to_string(options.photons) + "-m" +
+                                                                      std::to_string(options.map_size) + "-s" + std::to_string(options.seed));
+  std::vector<std::string> shards;
+  if (std::filesystem::is_directory(folder)) {
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+      // A shard still being written is a hidden temporary file; merge_photon_shards names any missing.
+      if (entry.path().extension() == ".exr" && entry.path().filename().string().front() != '.') shards.push_back(entry.path().string());
+    }
+  }
+  if (shards.empty()) {
+    std::filesystem::create_directories(folder);
+    const reference::TracedShard traced = reference::trace_photon_shard(scene, options, 0, 1);
+    shards.push_back((folder / "shard_0.exr").string());
+    reference::write_photon_shard(shards.back(), traced.shard, traced.map_units);
+    std::fprintf(stderr, "reference: %s -> %s\n", scene.name.c_str(), folder.c_str());
+  }
+  std::sort(shards.begin(), shards.end());
+  reference::MergedPhotons merged = reference::merge_photon_shards(shards);
+  const reference::PhotonShard& whole = merged.whole;
+  if (whole.scene_identity != identity || whole.photons != options.photons || whole.map_size != options.map_size ||
+      whole.seed != options.seed || whole.fresnel != options.fresnel) {
+    throw InputError(folder.string() + ": its shards are of another reference (scene " + whole.scene_name + " " + whole.scene_identity +
+                     ", photons " + std::to_string(whole.photons) + ", map " + std::to_string(whole.map_size) + ", seed " +
+                     std::to_string(whole.seed) + ") than its name says");
+  }
+  return {std::move(merged.caustic_map), {}, whole.totals};
 }
 
 }  // namespace caustica::cli::bench

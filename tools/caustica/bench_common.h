@@ -7,10 +7,12 @@
 #include <initializer_list>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
 #include "graph/executor.h"
+#include "reference/photon_reference.h"
 #include "vk/context.h"
 
 namespace caustica::cli::bench {
@@ -22,6 +24,7 @@ int cmd_bench_photons(Args& args);
 int cmd_bench_accuracy(Args& args);
 int cmd_bench_stability(Args& args);
 int cmd_bench_convergence(Args& args);
+int cmd_bench_merge(Args& args);
 
 // A file as given, or a bundled one by name ("bunny_plane", "stability/close_light"): find_data_file.
 std::string scene_path(const std::string& name);
@@ -74,5 +77,51 @@ Chart find_chart();
 // What speed_accuracy.png in `dir` is drawn from: results.csv, and convergence.csv where bench
 // convergence wrote one there too (its panel then stands beside the speed-accuracy ones).
 std::vector<std::filesystem::path> speed_accuracy_inputs(const std::filesystem::path& dir);
+
+// A sweep split into cells (docs/cluster.md, "Sweeps by cell"), so that a job array runs one cell
+// a task and `bench merge` joins their rows into what one process writes.
+struct CellOptions {
+  bool list = false;            // --list-cells: print the cells, run nothing
+  std::string cell;             // --cell K or auto; empty: the whole sweep in this process
+  std::string reference_cache;  // --reference-cache DIR: photon references by key, shared by cells
+  // Takes the value of `flag` when it is one of kFlags; false for any other flag.
+  bool take(const std::string& flag, Args& args);
+  static inline const std::vector<std::string> kFlags{"--list-cells", "--cell", "--reference-cache"};
+};
+
+// The arguments that select the sweep, as given: all but where it writes, the device, validation
+// and the cell flags. A cell file's header keeps them; bench merge compares and parses them again.
+std::vector<std::string> sweep_arguments(Args args);
+// The arguments of a sweep again, with --out OUT_DIR: what bench merge parses its options from.
+Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir);
+
+// The index a scheduler gives this process: SLURM_ARRAY_TASK_ID (a Slurm job array) or else
+// JOB_COMPLETION_INDEX (a Kubernetes Indexed Job), and the variable's name; both empty when neither is set.
+std::pair<std::string, std::string> scheduler_index();
+
+// --cell K, or auto for the scheduler's index, within the sweep's `cells`; UsageError otherwise.
+size_t cell_index(const std::string& text, size_t cells);
+
+// The rows one cell measured, or those of every cell joined (bench merge): CSV rows and Markdown
+// table rows, without their headers, and the devices that measured them.
+struct CellRows {
+  std::string benchmark;  // accuracy or stability
+  std::vector<std::string> sweep;
+  std::string device;
+  std::string csv, table;
+};
+
+// DIR/cell_K.csv: a header (the benchmark, the cell's index and count, the sweep, the device), the
+// CSV header and rows, then the table rows; written under a temporary name and renamed.
+void write_cell(const std::filesystem::path& dir, size_t index, size_t cells, const std::string& csv_header, const CellRows& rows);
+
+// The writers of one process's results, which bench merge calls with the cells' rows joined.
+void write_merged_accuracy(const CellRows& rows, const std::string& out_dir);
+void write_merged_stability(const CellRows& rows, const std::string& out_dir);
+
+// The photon reference that `options` asks for; with a cache folder, the shards in
+// CACHE/IDENTITY-pPHOTONS-mSIZE-sSEED (a sharded `reference` job may have traced them there), or
+// else traced here as one shard and left there for the next cell that needs it.
+reference::PhotonReference photon_reference(const scene::Scene& scene, const reference::PhotonOptions& options, const std::string& cache);
 
 }  // namespace caustica::cli::bench

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "bench_common.h"
 #include "builtin_passes.h"
@@ -53,6 +54,7 @@ struct StabilityOptions {
   bool validate = false;
   std::string out_dir, device;
   std::vector<StabilityCase> cases{std::begin(kStabilityCases), std::end(kStabilityCases)};
+  CellOptions cells;
 };
 
 StabilityOptions parse_stability_options(Args& args) {
@@ -82,9 +84,13 @@ StabilityOptions parse_stability_options(Args& args) {
       o.device = args.value(a);
     else if (a == "--validate")
       o.validate = true;
-    else
-      unknown_option(a, {"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"});
+    else if (!o.cells.take(a, args)) {
+      std::vector<std::string> known{"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"};
+      known.insert(known.end(), CellOptions::kFlags.begin(), CellOptions::kFlags.end());
+      unknown_option(a, known);
+    }
   }
+  if (!o.cells.cell.empty() && o.out_dir.empty()) throw UsageError("bench stability --cell needs --out DIR");
   return o;
 }
 
@@ -118,8 +124,8 @@ CaseReference trace_case_reference(const StabilityCase& c, const scene::Scene& s
   reference::PhotonOptions options;
   options.photons = o.reference_photons;
   options.map_size = o.caustic_size;
-  auto reference_map = [&](const scene::Scene& s) { return reference::trace_photon_reference(s, options).caustic_map; };
-  CaseReference r{reference::trace_photon_reference(scene, options)};
+  auto reference_map = [&](const scene::Scene& s) { return photon_reference(s, options, o.cells.reference_cache).caustic_map; };
+  CaseReference r{photon_reference(scene, options, o.cells.reference_cache)};
   const io::ImageData& reference = r.traced.caustic_map;
   // The exact answer's own sensitivity to the tiny move, sampled like the reference: where paths
   // bounce many times (n = 2.4) it is large, and a method that follows them can be no calmer.
@@ -221,63 +227,116 @@ void add_rows(const StabilityCase& c, const Method& m, const MethodResult& r, co
                r.accuracy.energy_ratio, static_cast<unsigned long long>(r.nonfinite));
 }
 
-void write_stability_results(const vk::Context& vk, const StabilityOptions& o, const std::string& csv, const std::string& table) {
+constexpr const char* kStabilityCsvHeader =
+    "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_"
+    "flicker,reference_landed_photons,reference_shift_l1\n";
+
+// DIR/stability.csv and DIR/README.md, from the rows of one process or of its cells joined; the
+// configuration and the table on stdout.
+void write_stability_results(const std::string& device, const StabilityOptions& o, const std::string& csv, const std::string& table) {
   char timing[64] = "one frame, untimed";
   if (o.frames > 0) std::snprintf(timing, sizeof(timing), "median of %u frames after one warm-up", o.frames);
   char config[512];
   std::snprintf(config, sizeof(config),
                 "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, %s; reference %llu photons (Fresnel on); metrics after a "
                 "Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
-                vk.device_name().c_str(), o.grid, o.caustic_size, o.width, o.height, timing,
+                device.c_str(), o.grid, o.caustic_size, o.width, o.height, timing,
                 static_cast<unsigned long long>(o.reference_photons), o.blur, kPathSteps);
-  std::cout << config << "\n\n" << table;
+  const std::string header =
+      "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 (reference) | flicker "
+      "(reference) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::cout << config << "\n\n" << header << table;
   if (!o.out_dir.empty()) {
     const std::filesystem::path dir(o.out_dir);
-    io::write_text_atomically((dir / "stability.csv").string(), csv);
-    io::write_text_atomically((dir / "README.md").string(), "# caustica bench stability\n\n" + std::string(config) + "\n\n" + table);
+    io::write_text_atomically((dir / "stability.csv").string(), kStabilityCsvHeader + csv);
+    io::write_text_atomically((dir / "README.md").string(),
+                              "# caustica bench stability\n\n" + std::string(config) + "\n\n" + header + table);
   }
+}
+
+// One cell of the sweep: a method on a case. The cells run in this order, one process's rows' order.
+struct StabilityCell {
+  size_t case_index = 0, method = 0;
+};
+
+std::vector<StabilityCell> stability_cells(const StabilityOptions& o) {
+  std::vector<StabilityCell> cells;
+  for (size_t c = 0; c < o.cases.size(); ++c) {
+    for (size_t m = 0; m < std::size(kStabilityMethods); ++m) cells.push_back({c, m});
+  }
+  return cells;
+}
+
+// The method's graph with the sweep's grid and caustic map size.
+graph::GraphDesc method_graph(const Method& m, const StabilityOptions& o) {
+  graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
+  std::vector<std::string> sets{"grid=" + std::to_string(o.grid), "caustic_size=" + std::to_string(o.caustic_size)};
+  if (m.extra) sets.emplace_back(m.extra);
+  graph::apply_overrides(g, sets);
+  return g;
 }
 
 }  // namespace
 
 // Where each caustic method breaks: every case of kStabilityCases x every method, against the
-// photon reference; docs/stability.md reports a run.
+// photon reference (docs/stability.md reports a run); or one cell of that sweep (--cell), or the
+// list of its cells.
 int cmd_bench_stability(Args& args) {
+  const std::vector<std::string> sweep = sweep_arguments(args);
   const StabilityOptions o = parse_stability_options(args);
+  const std::vector<StabilityCell> cells = stability_cells(o);
+  if (o.cells.list) {
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const Method& m = kStabilityMethods[cells[k].method];
+      std::printf("%zu %s %s%s%s grid=%u\n", k, o.cases[cells[k].case_index].name().c_str(), m.graph, m.extra ? ":" : "",
+                  m.extra ? m.extra : "", o.grid);
+    }
+    return 0;
+  }
+  const bool one_cell = !o.cells.cell.empty();
+  const size_t first = one_cell ? cell_index(o.cells.cell, cells.size()) : 0, end = one_cell ? first + 1 : cells.size();
   if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
   vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
-  std::string csv =
-      "case,method,relative_l1,energy_ratio,shape_l1,nonfinite,photons_processed,caustic_ms,shift_l1,shift_energy,flicker,reference_"
-      "flicker,reference_landed_photons,reference_shift_l1\n";
-  std::string table =
-      "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 (reference) | flicker "
-      "(reference) |\n"
-      "|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& c : o.cases) {
-    const auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
-    const CaseReference reference = trace_case_reference(c, *scene, o);
-    graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.set_scene(scene);
-    for (const auto& m : kStabilityMethods) {
-      graph::GraphDesc g = graph::load_graph_file(graph_path(m.graph));
-      std::vector<std::string> sets{"grid=" + std::to_string(o.grid), "caustic_size=" + std::to_string(o.caustic_size)};
-      if (m.extra) sets.emplace_back(m.extra);
-      graph::apply_overrides(g, sets);
-      if (!runs_on(vk, g)) {
-        std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(),
-                     vk.ray_queries().missing.c_str());
-        continue;
-      }
-      add_rows(c, m, measure_method(executor, g, c, scene, reference.traced.caustic_map, o), reference, o, csv, table);
+  std::string csv, table;
+  // A case's methods share its reference and its executor (the geometry stays on the device).
+  std::shared_ptr<const scene::Scene> scene;
+  std::optional<CaseReference> reference;
+  std::unique_ptr<graph::Executor> executor;
+  for (size_t k = first; k < end; ++k) {
+    const StabilityCase& c = o.cases[cells[k].case_index];
+    const Method& m = kStabilityMethods[cells[k].method];
+    if (!executor || cells[k].case_index != cells[k - 1].case_index) {
+      scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_path(c.scene)));
+      reference = trace_case_reference(c, *scene, o);
+      executor = std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry());
+      executor->set_scene(scene);
     }
+    const graph::GraphDesc g = method_graph(m, o);
+    if (!runs_on(vk, g)) {
+      std::fprintf(stderr, "%s: skipped on %s, which lacks %s (ray queries)\n", m.label, vk.device_name().c_str(),
+                   vk.ray_queries().missing.c_str());
+      continue;
+    }
+    add_rows(c, m, measure_method(*executor, g, c, scene, reference->traced.caustic_map, o), *reference, o, csv, table);
   }
-  write_stability_results(vk, o, csv, table);
+  if (one_cell)
+    write_cell(o.out_dir, first, cells.size(), kStabilityCsvHeader, {"stability", sweep, vk.device_name(), csv, table});
+  else
+    write_stability_results(vk.device_name(), o, csv, table);
   if (vk.validation_messages() > 0) {
     std::fprintf(stderr, "caustica: %u validation messages (see above)\n", vk.validation_messages());
     return 3;
   }
   return 0;
+}
+
+void write_merged_stability(const CellRows& rows, const std::string& out_dir) {
+  Args args = sweep_args(rows.sweep, out_dir);
+  const StabilityOptions o = parse_stability_options(args);
+  std::filesystem::create_directories(out_dir);
+  write_stability_results(rows.device, o, rows.csv, rows.table);
 }
 
 }  // namespace caustica::cli::bench

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bench_common.h"
 #include "builtin_passes.h"
 #include "cli.h"
 #include "core/error.h"
@@ -550,15 +551,8 @@ Shard parse_shard(const std::string& text) {
   }
   std::string index = text.substr(0, slash), from = "--shard";
   if (index == "auto") {
-    for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
-      const char* value = std::getenv(variable);
-      if (value != nullptr && *value != '\0') {
-        index = value;
-        from = variable;
-        break;
-      }
-    }
-    if (from == "--shard") {
+    std::tie(index, from) = bench::scheduler_index();
+    if (from.empty()) {
       throw UsageError("--shard " + text + ": neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a Kubernetes " +
                        "Indexed Job) is set; outside a scheduler give the index: --shard I/" + std::to_string(shard.count));
     }
