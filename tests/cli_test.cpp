@@ -800,6 +800,118 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
   fs::remove_all(dir);
 }
 
+// A CSV without the columns named in `drop` (the timings, which no two runs share).
+std::string without_columns(const std::string& csv, const std::set<std::string>& drop) {
+  std::istringstream lines(csv);
+  std::string header, kept;
+  std::getline(lines, header);
+  std::vector<bool> keep;
+  for (std::istringstream cells(header); std::getline(cells, header, ',');) keep.push_back(!drop.count(header));
+  lines.seekg(0);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream cells(line);
+    size_t column = 0;
+    for (std::string cell; std::getline(cells, cell, ','); ++column) kept += column < keep.size() && keep[column] ? cell + "," : "";
+    kept += "\n";
+  }
+  return kept;
+}
+
+// bench accuracy by cell, as a job array runs it (docs/cluster.md, "Sweeps by cell"): the cells
+// listed alike every time, each run alone (one indexed by Slurm's variable) against one reference
+// cache, and their merge the results.csv, table and chart of one process, equal but for the
+// timings. Cells that do not make one sweep are refused with exit 1 and nothing is written.
+TEST(Cli, AccuracySweepByCellMergesToTheOneProcessResults) {
+  const fs::path dir = scratch("cells");
+  const std::string sweep =
+      "bench accuracy --scenes sphere_plane --graphs caustics_adaptive,refraction_deferred --grids 64,128 --reference-photons 1e5 "
+      "--caustic-size 64 --size 64x36 ";
+  const CliRun list = run(sweep + "--frames 1 --list-cells", dir);
+  ASSERT_EQ(list.code, 0) << list.output;
+  EXPECT_EQ(list.output,
+            "0 sphere_plane caustics_adaptive grid=64\n1 sphere_plane caustics_adaptive grid=128\n"
+            "2 sphere_plane refraction_deferred distance=dv,dv_dn,search\n");
+  EXPECT_EQ(run(sweep + "--frames 1 --list-cells --out unused", dir).output, list.output);
+  EXPECT_FALSE(fs::exists(dir / "unused"));
+
+  for (const char* cell : {"0", "2"}) {
+    const CliRun r = run(sweep + "--frames 1 --cell " + cell + " --out cells --reference-cache cache", dir);
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  const CliRun slurm = run_binary("/usr/bin/env",
+                                  "SLURM_ARRAY_TASK_ID=1 '" + std::string(CAUSTICA_BIN) + "' " + sweep +
+                                      "--frames 1 --cell auto --out cells --reference-cache cache",
+                                  dir);
+  ASSERT_EQ(slurm.code, 0) << slurm.output;
+  EXPECT_NE(slurm.output.find("bench accuracy: cell 1 of 3 -> cells/cell_1.csv"), std::string::npos) << slurm.output;
+  // The two caustic cells share one reference, traced by the first as one shard in a folder named by its key.
+  ASSERT_EQ(std::distance(fs::directory_iterator(dir / "cache"), fs::directory_iterator()), 1);
+  const fs::path key = fs::directory_iterator(dir / "cache")->path();
+  EXPECT_NE(key.filename().string().find("-p100000-m64-s1"), std::string::npos) << key;
+  EXPECT_TRUE(fs::exists(key / "shard_0.exr"));
+
+  const CliRun merged = run("bench merge cells --out merged", dir);
+  ASSERT_EQ(merged.code, 0) << merged.output;
+  const CliRun whole = run(sweep + "--frames 1 --out whole", dir);
+  ASSERT_EQ(whole.code, 0) << whole.output;
+  const std::string csv = read(dir / "merged/results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 3) << csv;
+  EXPECT_EQ(without_columns(csv, {"method_ms", "frame_ms"}), without_columns(read(dir / "whole/results.csv"), {"method_ms", "frame_ms"}));
+  EXPECT_NE(read(dir / "merged/README.md").find("| sphere_plane | caustics_adaptive | 128^2 |"), std::string::npos);
+  EXPECT_GT(fs::file_size(dir / "merged/speed_accuracy.png"), 10000u);
+
+  fs::create_directories(dir / "gap");
+  fs::copy_file(dir / "cells/cell_0.csv", dir / "gap/cell_0.csv");
+  fs::copy_file(dir / "cells/cell_2.csv", dir / "gap/cell_2.csv");
+  fs::create_directories(dir / "again");
+  fs::copy_file(dir / "cells/cell_2.csv", dir / "again/cell_2.csv");
+  ASSERT_EQ(run(sweep + "--frames 2 --cell 1 --out other --reference-cache cache", dir).code, 0);
+  const std::vector<std::pair<std::string, std::string>> refusals = {
+      {"gap", "cells 1 of 3 are missing: run them (--cell K) or resubmit them (tools/slurm/submit.sh --bench ... --resubmit 1)"},
+      {"cells again", "again/cell_2.csv and cells/cell_2.csv are both cell 2"},
+      {"gap other", "other/cell_1.csv: a cell of another sweep (bench accuracy --scenes sphere_plane"},
+  };
+  for (const auto& [folders, message] : refusals) {
+    const CliRun refused = run("bench merge " + folders + " --out refused", dir);
+    EXPECT_EQ(refused.code, 1) << folders << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << "expected: " << message << "\ngot: " << refused.output;
+    EXPECT_FALSE(fs::exists(dir / "refused"));
+  }
+  fs::remove_all(dir);
+}
+
+// bench stability by cell: a case's methods run one a process (Kubernetes' index for one of them)
+// and merge into the stability.csv and table of one process; --frames 0 leaves no timings, so the
+// files are equal whole.
+TEST(Cli, StabilitySweepByCellMergesToTheOneProcessResults) {
+  const fs::path dir = scratch("stability_cells");
+  const std::string sweep = "bench stability --cases no_refractor --grid 64 --caustic-size 32 --frames 0 --reference-photons 1e4 ";
+  const CliRun list = run(sweep + "--list-cells", dir);
+  ASSERT_EQ(list.code, 0) << list.output;
+  EXPECT_EQ(std::count(list.output.begin(), list.output.end(), '\n'), 9) << list.output;
+  EXPECT_EQ(list.output.rfind("0 no_refractor caustics_regular grid=64\n1 no_refractor caustics_hierarchical grid=64\n", 0), 0u)
+      << list.output;
+  EXPECT_NE(list.output.find("\n5 no_refractor caustics_adaptive:coverage_seeding=false grid=64\n"), std::string::npos) << list.output;
+  const CliRun indexed = run_binary(
+      "/usr/bin/env", "JOB_COMPLETION_INDEX=5 '" + std::string(CAUSTICA_BIN) + "' " + sweep + "--cell auto --out cells --reference-cache cache", dir);
+  ASSERT_EQ(indexed.code, 0) << indexed.output;
+  const CliRun partial = run("bench merge cells --out merged", dir);
+  EXPECT_EQ(partial.code, 1);
+  EXPECT_NE(partial.output.find("cells 0,1,2,3,4,6,7,8 of 9 are missing"), std::string::npos) << partial.output;
+  for (int k : {0, 1, 2, 3, 4, 6, 7, 8}) {
+    const CliRun r = run(sweep + "--cell " + std::to_string(k) + " --out cells --reference-cache cache", dir);
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  const CliRun merged = run("bench merge cells --out merged", dir);
+  ASSERT_EQ(merged.code, 0) << merged.output;
+  ASSERT_EQ(run(sweep + "--out whole", dir).code, 0);
+  EXPECT_EQ(read(dir / "merged/stability.csv"), read(dir / "whole/stability.csv"));
+  const std::string table = read(dir / "merged/README.md");
+  EXPECT_EQ(table, read(dir / "whole/README.md"));
+  EXPECT_NE(table.find("| no refractor | adaptive hybrid unseeded (the paper) |"), std::string::npos) << table;
+  fs::remove_all(dir);
+}
+
 // bench convergence: each method's mean over the frames against the photon reference. On the ball
 // lens the ray-query mean converges toward the reference (its error after 16 frames well below its
 // first frame's, and below the d_V/d_N mean's, which keeps that estimate's bias); without ray queries
