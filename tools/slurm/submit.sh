@@ -1,16 +1,23 @@
 #!/bin/bash
-# Submits the photon reference to Slurm as a job array of shards and a merge that runs when every
-# shard has succeeded (--dependency=afterok), and prints both job ids (docs/cluster.md).
+# Submits the photon reference to Slurm as a job array of shards, or a bench sweep as a job array of
+# cells (--bench), and a merge that runs when every task has succeeded (--dependency=afterok), and
+# prints both job ids (docs/cluster.md).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 
 usage() {
   cat <<'USAGE'
 usage: tools/slurm/submit.sh --scene S --photons N --shards K --out MAP.exr [options]
+       tools/slurm/submit.sh --bench accuracy|stability [--sweep "OPTIONS"] --out DIR [--reference-cache DIR] [options]
 
 Submits K array tasks (tools/slurm/reference.sbatch), each `caustica reference --shard auto/K`
 writing MAP.shards/shard_I.exr, and a merge job (merge.sbatch) after them that writes MAP.exr.
 Prints the array's and the merge's job ids.
+
+With --bench: one array task per cell of `caustica bench BENCH OPTIONS` (as many as --list-cells
+prints here), each `--cell auto` through tools/slurm/bench.sbatch writing DIR/cells/cell_I.csv, the
+photon references shared in --reference-cache (default DIR/references); then `caustica bench merge`
+writes DIR/results.csv and the rest (stability: DIR/stability.csv). OPTIONS are split at spaces.
 
 options:
   --seed K            random seed (default 1)
@@ -20,7 +27,7 @@ options:
   --time T            sbatch --time per shard (e.g. 00:30:00); the merge gets 10 minutes
   --cpus C            cores per shard (sbatch --cpus-per-task); a shard uses every core it is given
   --throttle N        at most N shards at once (--array=0-(K-1)%N)
-  --resubmit I[,J..]  submit only these indices again (those that failed: merge names them) and a
+  --resubmit I[,J..]  submit only these indices (shards or cells) again (those that failed: merge names them) and a
                       new merge after them (Slurm cancels the first merge when a shard fails:
                       --kill-on-invalid-dep)
   --caustica BIN      the caustica binary the nodes run (default: caustica on PATH)
@@ -28,7 +35,7 @@ options:
 USAGE
 }
 
-seed=1 map_size=512 scene="" photons="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run=""
+seed=1 map_size=512 scene="" photons="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run="" bench="" sweep="" cache=""
 common=() shard_time=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -37,6 +44,9 @@ while [[ $# -gt 0 ]]; do
     --shards) shards=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --seed) seed=$2; shift 2 ;;
+    --bench) bench=$2; shift 2 ;;
+    --sweep) sweep=$2; shift 2 ;;
+    --reference-cache) cache=$2; shift 2 ;;
     --map-size) map_size=$2; shift 2 ;;
     --partition) common+=(--partition "$2"); shift 2 ;;
     --account) common+=(--account "$2"); shift 2 ;;
@@ -50,11 +60,13 @@ while [[ $# -gt 0 ]]; do
     *) echo "submit.sh: unknown option '$1'; see --help" >&2; exit 2 ;;
   esac
 done
-if [[ -z $scene || -z $photons || -z $shards || -z $out ]]; then
+if [[ -n $bench ]]; then
+  if [[ $bench != accuracy && $bench != stability ]]; then echo "submit.sh: --bench $bench: expected accuracy or stability" >&2; exit 2; fi
+  if [[ -z $out ]]; then echo "submit.sh: --bench needs --out DIR; see --help" >&2; exit 2; fi
+elif [[ -z $scene || -z $photons || -z $shards || -z $out ]]; then
   echo "submit.sh: --scene, --photons, --shards and --out are required; see --help" >&2
   exit 2
-fi
-if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --shards $shards: expected a whole number from 1" >&2; exit 2; fi
+elif ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --shards $shards: expected a whole number from 1" >&2; exit 2; fi
 if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --throttle $throttle: expected a whole number from 1" >&2; exit 2; fi
 if [[ -n $resubmit && ! $resubmit =~ ^[0-9]+(,[0-9]+)*$ ]]; then echo "submit.sh: --resubmit $resubmit: expected indices, e.g. 3 or 3,17" >&2; exit 2; fi
 
@@ -62,12 +74,6 @@ if [[ -n $resubmit && ! $resubmit =~ ^[0-9]+(,[0-9]+)*$ ]]; then echo "submit.sh
 out=$(realpath -m "$out")
 [[ -e $scene ]] && scene=$(realpath "$scene")
 [[ $caustica == */* ]] && caustica=$(realpath "$caustica")
-shard_dir=${out%.exr}.shards
-mkdir -p "$shard_dir"
-
-indices=${resubmit:-0-$((shards - 1))}
-array=$indices${throttle:+%$throttle}
-env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
 submit() {
   if [[ -n $dry_run ]]; then
     echo "sbatch $*" >&2
@@ -76,6 +82,31 @@ submit() {
     sbatch --parsable "$@" | cut -d';' -f1
   fi
 }
+if [[ -n $bench ]]; then
+  # The cells are counted here, by the binary the nodes run: the sweep's options alone decide them.
+  read -r -a sweep_words <<<"$sweep"
+  cells=$("$caustica" bench "$bench" "${sweep_words[@]}" --list-cells | wc -l)
+  if [[ $cells -eq 0 ]]; then echo "submit.sh: bench $bench $sweep --list-cells printed no cells" >&2; exit 1; fi
+  cell_dir=$out/cells
+  cache=$(realpath -m "${cache:-$out/references}")
+  mkdir -p "$cell_dir" "$cache"
+  array=${resubmit:-0-$((cells - 1))}${throttle:+%$throttle}
+  # Through the environment, not --export's list: the sweep's options hold commas.
+  export CAUSTICA=$caustica BENCH=$bench SWEEP=$sweep CELL_DIR=$cell_dir REFERENCE_CACHE=$cache
+  # The jobs' output beside the cells, not in the folder sbatch was called from.
+  cell_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$cell_dir/caustica-cell-%A_%a.out" --export=ALL "$here/bench.sbatch")
+  merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$cell_job" --kill-on-invalid-dep=yes --export=ALL \
+    --job-name=caustica-bench-merge --output="$cell_dir/caustica-bench-merge-%j.out" --wrap="exec $(printf '%q ' "$caustica" bench merge "$cell_dir" --out "$out")")
+  echo "cells:  job $cell_job (array $array of $cells cells, $cell_dir/cell_I.csv)"
+  echo "merge:  job $merge_job (after every cell succeeded; writes $out)"
+  echo "a failed cell: tools/slurm/submit.sh ... --resubmit I (the same options, the indices that failed)"
+  exit 0
+fi
+
+shard_dir=${out%.exr}.shards
+mkdir -p "$shard_dir"
+array=${resubmit:-0-$((shards - 1))}${throttle:+%$throttle}
+env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
 # The jobs' output beside the shards, not in the folder sbatch was called from.
 shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export="$env" "$here/reference.sbatch")
 merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export="$env" "$here/merge.sbatch")
