@@ -838,10 +838,10 @@ TEST(Cli, AccuracySweepByCellMergesToTheOneProcessResults) {
     const CliRun r = run(sweep + "--frames 1 --cell " + cell + " --out cells --reference-cache cache", dir);
     ASSERT_EQ(r.code, 0) << r.output;
   }
-  const CliRun slurm = run_binary("/usr/bin/env",
-                                  "SLURM_ARRAY_TASK_ID=1 '" + std::string(CAUSTICA_BIN) + "' " + sweep +
-                                      "--frames 1 --cell auto --out cells --reference-cache cache",
-                                  dir);
+  const CliRun slurm = run_binary(
+      "/usr/bin/env",
+      "SLURM_ARRAY_TASK_ID=1 '" + std::string(CAUSTICA_BIN) + "' " + sweep + "--frames 1 --cell auto --out cells --reference-cache cache",
+      dir);
   ASSERT_EQ(slurm.code, 0) << slurm.output;
   EXPECT_NE(slurm.output.find("bench accuracy: cell 1 of 3 -> cells/cell_1.csv"), std::string::npos) << slurm.output;
   // The two caustic cells share one reference, traced by the first as one shard in a folder named by its key.
@@ -893,7 +893,8 @@ TEST(Cli, StabilitySweepByCellMergesToTheOneProcessResults) {
       << list.output;
   EXPECT_NE(list.output.find("\n5 no_refractor caustics_adaptive:coverage_seeding=false grid=64\n"), std::string::npos) << list.output;
   const CliRun indexed = run_binary(
-      "/usr/bin/env", "JOB_COMPLETION_INDEX=5 '" + std::string(CAUSTICA_BIN) + "' " + sweep + "--cell auto --out cells --reference-cache cache", dir);
+      "/usr/bin/env",
+      "JOB_COMPLETION_INDEX=5 '" + std::string(CAUSTICA_BIN) + "' " + sweep + "--cell auto --out cells --reference-cache cache", dir);
   ASSERT_EQ(indexed.code, 0) << indexed.output;
   const CliRun partial = run("bench merge cells --out merged", dir);
   EXPECT_EQ(partial.code, 1);

@@ -81,7 +81,9 @@ int cmd_bench(Args& args) {
     return 0;
   }
   if (args.done())
-    throw UsageError("bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load (or merge); see caustica bench --help");
+    throw UsageError(
+        "bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load (or merge); see caustica bench "
+        "--help");
   std::string what = args.take();
   if (what == "refraction") return bench::cmd_bench_refraction(args);
   if (what == "photons") return bench::cmd_bench_photons(args);

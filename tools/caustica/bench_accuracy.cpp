@@ -187,7 +187,8 @@ struct AccuracyRun {
       ProgressLine progress(scene->name + ": reference photons", o.reference_photons);
       options.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
       photons[cell.scene] = photon_reference(*scene, options, o.cells.reference_cache);
-      if (o.cells.cell.empty()) io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons[cell.scene].caustic_map);
+      if (o.cells.cell.empty())
+        io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons[cell.scene].caustic_map);
     }
     measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, caustic_passes, photons.at(cell.scene));
   }
@@ -228,7 +229,6 @@ struct AccuracyRun {
       add_row(scene, "refraction", label + " " + distance, 0, 0.0, t, c);
     }
   }
-
 };
 
 // DIR/results.csv, DIR/README.md (the configuration and the table) and DIR/speed_accuracy.png, from
@@ -256,7 +256,6 @@ void write_results(const AccuracyOptions& o, const std::string& device, const st
   std::cout << config << "\n\n" << header << table;
   std::fprintf(stderr, "bench accuracy: %s/results.csv, README.md, speed_accuracy.png\n", o.out_dir.c_str());
 }
-
 
 }  // namespace
 

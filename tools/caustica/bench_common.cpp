@@ -275,8 +275,8 @@ int cmd_bench_merge(Args& args) {
   std::string problems;
   for (const auto& cell : cells) {
     if (cell.rows.benchmark != first.rows.benchmark || cell.rows.sweep != first.rows.sweep || cell.cells != first.cells) {
-      problems += cell.path + ": a cell of another sweep (" + sweep_text(cell.rows) + ", " + std::to_string(cell.cells) + " cells), where " +
-                  first.path + " has " + sweep_text(first.rows) + ", " + std::to_string(first.cells) + " cells\n";
+      problems += cell.path + ": a cell of another sweep (" + sweep_text(cell.rows) + ", " + std::to_string(cell.cells) +
+                  " cells), where " + first.path + " has " + sweep_text(first.rows) + ", " + std::to_string(first.cells) + " cells\n";
     } else if (const auto [at, added] = by_index.emplace(cell.index, &cell); !added) {
       problems += cell.path + " and " + at->second->path + " are both cell " + std::to_string(cell.index) + "\n";
     }
@@ -308,8 +308,9 @@ int cmd_bench_merge(Args& args) {
 reference::PhotonReference photon_reference(const scene::Scene& scene, const reference::PhotonOptions& options, const std::string& cache) {
   if (cache.empty()) return reference::trace_photon_reference(scene, options);
   const std::string identity = reference::scene_identity(scene);
-  const std::filesystem::path folder = std::filesystem::path(cache) / (identity + "-p" + std::to_string(options.photons) + "-m" +
-                                                                      std::to_string(options.map_size) + "-s" + std::to_string(options.seed));
+  const std::filesystem::path folder =
+      std::filesystem::path(cache) /
+      (identity + "-p" + std::to_string(options.photons) + "-m" + std::to_string(options.map_size) + "-s" + std::to_string(options.seed) + ".shards");
   std::vector<std::string> shards;
   if (std::filesystem::is_directory(folder)) {
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {

@@ -120,7 +120,7 @@ void write_merged_accuracy(const CellRows& rows, const std::string& out_dir);
 void write_merged_stability(const CellRows& rows, const std::string& out_dir);
 
 // The photon reference that `options` asks for; with a cache folder, the shards in
-// CACHE/IDENTITY-pPHOTONS-mSIZE-sSEED (a sharded `reference` job may have traced them there), or
+// CACHE/IDENTITY-pPHOTONS-mSIZE-sSEED.shards (where `submit.sh --out CACHE/KEY.exr` puts a sharded reference), or
 // else traced here as one shard and left there for the next cell that needs it.
 reference::PhotonReference photon_reference(const scene::Scene& scene, const reference::PhotonOptions& options, const std::string& cache);
 

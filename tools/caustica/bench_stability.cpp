@@ -85,7 +85,8 @@ StabilityOptions parse_stability_options(Args& args) {
     else if (a == "--validate")
       o.validate = true;
     else if (!o.cells.take(a, args)) {
-      std::vector<std::string> known{"--cases", "--grid", "--caustic-size", "--frames", "--reference-photons", "--out", "--device", "--validate"};
+      std::vector<std::string> known{"--cases", "--grid",   "--caustic-size", "--frames", "--reference-photons",
+                                     "--out",   "--device", "--validate"};
       known.insert(known.end(), CellOptions::kFlags.begin(), CellOptions::kFlags.end());
       unknown_option(a, known);
     }
@@ -240,8 +241,8 @@ void write_stability_results(const std::string& device, const StabilityOptions& 
   std::snprintf(config, sizeof(config),
                 "Device %s; photon grid %u^2, caustic map %u^2, frames %ux%u, %s; reference %llu photons (Fresnel on); metrics after a "
                 "Gaussian blur of sigma %.3g texels (docs/accuracy.md). Light path: %d positions 0.02 apart.",
-                device.c_str(), o.grid, o.caustic_size, o.width, o.height, timing,
-                static_cast<unsigned long long>(o.reference_photons), o.blur, kPathSteps);
+                device.c_str(), o.grid, o.caustic_size, o.width, o.height, timing, static_cast<unsigned long long>(o.reference_photons),
+                o.blur, kPathSteps);
   const std::string header =
       "| case | method | relative L1 | energy ratio | shape L1 | NaN/Inf | photons | caustic ms | 1e-4 shift: L1 (reference) | flicker "
       "(reference) |\n"
