@@ -152,6 +152,22 @@ Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir) {
   return Args(static_cast<int>(argv.size()), argv.data(), 0);
 }
 
+std::vector<std::string> merge_inputs(Args& args, std::string& out) {
+  std::vector<std::string> inputs;
+  std::set<std::string> given;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--out") {
+      given_once(given, a);
+      out = args.value(a);
+    } else if (a.rfind("--", 0) == 0)
+      unknown_option(a, {"--out"});
+    else
+      inputs.push_back(a);
+  }
+  return inputs;
+}
+
 std::pair<std::string, std::string> scheduler_index() {
   for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
     const char* value = std::getenv(variable);
@@ -242,19 +258,8 @@ int cmd_bench_merge(Args& args) {
                  "another sweep. Exit 0, 1 for such cells, 2 for a usage error (docs/cluster.md).\n";
     return 0;
   }
-  std::vector<std::string> dirs;
   std::string out;
-  std::set<std::string> given;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--out") {
-      given_once(given, a);
-      out = args.value(a);
-    } else if (a.rfind("--", 0) == 0)
-      unknown_option(a, {"--out"});
-    else
-      dirs.push_back(a);
-  }
+  const std::vector<std::string> dirs = merge_inputs(args, out);
   if (dirs.empty()) throw UsageError("bench merge needs the cells' folders: caustica bench merge DIR... --out OUT");
   if (out.empty()) throw UsageError("bench merge needs --out OUT");
 
@@ -309,8 +314,8 @@ reference::PhotonReference photon_reference(const scene::Scene& scene, const ref
   if (cache.empty()) return reference::trace_photon_reference(scene, options);
   const std::string identity = reference::scene_identity(scene);
   const std::filesystem::path folder =
-      std::filesystem::path(cache) /
-      (identity + "-p" + std::to_string(options.photons) + "-m" + std::to_string(options.map_size) + "-s" + std::to_string(options.seed) + ".shards");
+      std::filesystem::path(cache) / (identity + "-p" + std::to_string(options.photons) + "-m" + std::to_string(options.map_size) + "-s" +
+                                      std::to_string(options.seed) + ".shards");
   std::vector<std::string> shards;
   if (std::filesystem::is_directory(folder)) {
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {

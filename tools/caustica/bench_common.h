@@ -95,6 +95,9 @@ std::vector<std::string> sweep_arguments(Args args);
 // The arguments of a sweep again, with --out OUT_DIR: what bench merge parses its options from.
 Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir);
 
+// A merge's command line, `INPUT... --out OUT`: the inputs, and `out` set from --out (given once).
+std::vector<std::string> merge_inputs(Args& args, std::string& out);
+
 // The index a scheduler gives this process: SLURM_ARRAY_TASK_ID (a Slurm job array) or else
 // JOB_COMPLETION_INDEX (a Kubernetes Indexed Job), and the variable's name; both empty when neither is set.
 std::pair<std::string, std::string> scheduler_index();

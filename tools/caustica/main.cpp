@@ -738,19 +738,8 @@ int cmd_merge(Args& args) {
                  "  --out MAP.exr         the merged map (required; written under a temporary name and renamed)\n";
     return 0;
   }
-  std::vector<std::string> files;
   std::string out;
-  std::set<std::string> given;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--out") {
-      given_once(given, a);
-      out = args.value(a);
-    } else if (a.rfind("--", 0) == 0)
-      unknown_option(a, {"--out"});
-    else
-      files.push_back(a);
-  }
+  const std::vector<std::string> files = bench::merge_inputs(args, out);
   if (files.empty()) throw UsageError("merge needs the shard files: caustica merge SHARD.exr... --out MAP.exr");
   if (out.empty()) throw UsageError("merge needs --out MAP.exr");
   if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map is linear flux: --out must end in .exr");
