@@ -1,11 +1,12 @@
 // caustica bench accuracy: speed against accuracy against the ground truth (docs/accuracy.md).
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "bench_common.h"
@@ -146,8 +147,10 @@ struct AccuracyRun {
   vk::Context& vk;
   shader::ShaderCompiler& shaders;
   std::string csv, table;
-  std::map<size_t, reference::PhotonReference> photons;
-  std::map<size_t, reference::RefractionImage> refractions;
+  // The references of the scene whose cells run now (a scene's cells come together), kept no longer.
+  size_t reference_scene = SIZE_MAX;
+  std::optional<reference::PhotonReference> scene_photons;
+  std::optional<reference::RefractionImage> scene_refraction;
   const std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
   // A row of results.csv and of the table, and a line on stderr with the time since the start.
@@ -173,24 +176,28 @@ struct AccuracyRun {
   // the photon reference's map to DIR.
   void measure_cell(const AccuracyCell& cell, const std::shared_ptr<const scene::Scene>& scene, const AccuracyGraphs& graphs,
                     graph::Executor& executor) {
+    if (cell.scene != reference_scene) {
+      reference_scene = cell.scene;
+      scene_photons.reset();
+      scene_refraction.reset();
+    }
     const auto& desc = graphs.descs[cell.graph];
     const auto caustic_passes = passes_of_types(desc, kCausticPassTypes);
     if (caustic_passes.empty()) {
-      if (!refractions.count(cell.scene)) refractions[cell.scene] = reference::render_refraction_reference(*scene, o.width, o.height);
-      measure_refraction(executor, scene->name, desc, graphs.labels[cell.graph], refractions.at(cell.scene));
+      if (!scene_refraction) scene_refraction = reference::render_refraction_reference(*scene, o.width, o.height);
+      measure_refraction(executor, scene->name, desc, graphs.labels[cell.graph], *scene_refraction);
       return;
     }
-    if (!photons.count(cell.scene)) {
+    if (!scene_photons) {
       reference::PhotonOptions options;
       options.photons = o.reference_photons;
       options.map_size = o.caustic_size;
       ProgressLine progress(scene->name + ": reference photons", o.reference_photons);
       options.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
-      photons[cell.scene] = photon_reference(*scene, options, o.cells.reference_cache);
-      if (o.cells.cell.empty())
-        io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), photons[cell.scene].caustic_map);
+      scene_photons = photon_reference(*scene, options, o.cells.reference_cache);
+      if (o.cells.cell.empty()) io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), scene_photons->caustic_map);
     }
-    measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, caustic_passes, photons.at(cell.scene));
+    measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, caustic_passes, *scene_photons);
   }
 
   // A caustic graph at one effective grid, its caustic map against the photon reference.
