@@ -269,6 +269,10 @@ void finish_object(Object& o, const glm::mat4& transform) {
 Scene load_scene(const JsonDocument& doc) {
   JsonReader read(doc);
   const auto& root = read.object(doc.root(), "", "a scene");
+  // A graph given where a scene is wanted (--scene): say so, rather than name its first member.
+  if (root.contains("passes") && !root.contains("objects")) {
+    throw doc.error("", "this is a graph file (it has \"passes\"), not a scene: give it to --graph");
+  }
   read.only_keys(root, "", {"$schema", "name", "description", "camera", "lights", "objects", "sky", "ambient"}, "a scene");
   Scene scene;
   scene.path = doc.path();
