@@ -4,18 +4,13 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "graph/report.h"
 #include "io/files.h"
 
 namespace caustica::editor {
 namespace {
 
-// The p-th percentile (0..100) by the nearest-rank rule; 0 for no values.
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const auto rank = static_cast<size_t>(std::ceil(p / 100.0 * static_cast<double>(values.size())));
-  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
-}
+using graph::percentile;
 
 constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::FramePart
 

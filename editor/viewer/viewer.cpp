@@ -404,9 +404,7 @@ class Viewer::Impl {
     } moved{session_.scene->camera, session_.scene->lights};
     bool changed = false;
     if (options_.orbit_degrees != 0.0f) {
-      const glm::vec3 offset = moved.camera.position - moved.camera.target;
-      const float turn = glm::radians(options_.orbit_degrees), c = std::cos(turn), s = std::sin(turn);
-      moved.camera.position = moved.camera.target + glm::vec3(c * offset.x + s * offset.z, offset.y, -s * offset.x + c * offset.z);
+      moved.camera.orbit(options_.orbit_degrees);
       changed = true;
     }
     if (options_.move_light != 0.0f && !moved.lights.empty()) {

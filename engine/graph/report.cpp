@@ -21,6 +21,13 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<size_t>(std::ceil(p / 100.0 * static_cast<double>(values.size())));
+  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
+}
+
 nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
   using json = nlohmann::ordered_json;
   const size_t first = run.frames.size() > 1 ? 1 : 0;
@@ -34,11 +41,17 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
   out["passes"] = json::array();
   for (size_t p = 0; p < plan.passes.size(); ++p) {
     std::vector<double> gpu, cpu;
+    size_t frames_run = 0;  // a plan that reuses unchanged passes skips some (their barriers still take time)
     for (size_t f = first; f < run.frames.size(); ++f) {
       gpu.push_back(run.frames[f].passes[p].gpu_ms);
       cpu.push_back(run.frames[f].passes[p].cpu_ms);
+      frames_run += run.frames[f].passes[p].ran ? 1 : 0;
     }
-    out["passes"].push_back({{"name", plan.passes[p].name}, {"type", plan.passes[p].type}, {"gpu_ms", median(gpu)}, {"cpu_ms", median(cpu)}});
+    out["passes"].push_back({{"name", plan.passes[p].name},
+                             {"type", plan.passes[p].type},
+                             {"gpu_ms", median(gpu)},
+                             {"cpu_ms", median(cpu)},
+                             {"frames_run", frames_run}});
   }
   std::vector<double> gpu, cpu;
   for (size_t f = first; f < run.frames.size(); ++f) {
@@ -46,6 +59,14 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
     cpu.push_back(run.frames[f].cpu_ms);
   }
   out["frame"] = {{"gpu_ms", median(gpu)}, {"cpu_ms", median(cpu)}};
+  if (run.frame_wall_ms.size() == run.frames.size()) {  // the frames' spread, where a run timed each one whole
+    const std::vector<double> wall(run.frame_wall_ms.begin() + static_cast<std::ptrdiff_t>(first), run.frame_wall_ms.end());
+    out["frame"]["gpu_ms_p95"] = percentile(gpu, 95);
+    out["frame"]["gpu_ms_p99"] = percentile(gpu, 99);
+    out["frame"]["wall_ms"] = median(wall);
+    out["frame"]["wall_ms_p95"] = percentile(wall, 95);
+    out["frame"]["wall_ms_p99"] = percentile(wall, 99);
+  }
   out["memory"] = {{"transient_bytes_aliased", plan.transient_bytes_aliased},
                    {"transient_bytes_unaliased", plan.transient_bytes_unaliased},
                    {"persistent_bytes", plan.persistent_bytes},

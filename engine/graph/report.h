@@ -12,10 +12,14 @@ struct RunRecord {
   std::string device;
   std::vector<FrameResult> frames;
   std::vector<double> frame_start_ms;  // CPU time of each frame's start, from the first
+  std::vector<double> frame_wall_ms;   // each frame's wall time, where the run measured it
   // The scene's acceleration structures, when a pass traces with ray queries (else all 0).
   uint64_t acceleration_bytes = 0;
   double acceleration_build_ms = 0;  // triangle sort on the host plus the build, waited for
 };
+
+// The p-th percentile (0..100) by the nearest-rank rule; 0 for no values.
+double percentile(std::vector<double> values, double p);
 
 // Medians over the frames after the first (pipelines JIT-compile on first use), or the one frame.
 nlohmann::json stats_json(const Plan& plan, const RunRecord& run);

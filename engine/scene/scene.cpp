@@ -21,6 +21,12 @@ glm::vec3 Material::band_iors() const {
   return glm::vec3(glm::dvec3(double(ior)) + spread * per_spread * (glm::dvec3(inv2(kC), inv2(kD), inv2(kF)) - inv2(kD)));
 }
 
+void View::orbit(float degrees) {
+  const glm::vec3 offset = position - target;
+  const float turn = glm::radians(degrees), c = std::cos(turn), s = std::sin(turn);
+  position = target + glm::vec3(c * offset.x + s * offset.z, offset.y, -s * offset.x + c * offset.z);
+}
+
 glm::mat4 View::view_matrix() const {
   glm::vec3 forward = glm::normalize(target - position);
   // Looking straight up or down: any up vector not parallel to the view direction serves.

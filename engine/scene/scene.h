@@ -135,6 +135,8 @@ struct View {
   glm::mat4 view_matrix() const;
   glm::mat4 projection(float aspect) const;
   glm::mat4 view_projection(float aspect) const { return projection(aspect) * view_matrix(); }
+  // Turned about the vertical axis through its target (the viewer's and render's scripted orbit).
+  void orbit(float degrees);
 };
 
 enum class LightType { spot, point, directional };

@@ -37,6 +37,9 @@ struct RenderOptions {
   std::string device;
   bool validate = false;
   uint64_t memory_limit_mib = 1536;
+  // --orbit: turn the camera by this much each frame and reuse the passes it does not touch, as the
+  // viewer does: the interactive loop's frame times without a window (a GPU server has no display).
+  float orbit_degrees = 0.0f;
 };
 
 class Args {

@@ -79,19 +79,23 @@ const char* kRenderOptionsHelp = R"(  --graph FILE          graph to run (defaul
                         the image and --dump show the mean of the N frames' caustic maps
   --seconds S           run frames until S seconds have passed (an accumulating graph converges)
   --set NAME=VALUE      override a graph parameter (repeatable)
-  --stats FILE.json     per-pass GPU/CPU times, frame times, memory and counters
+  --stats FILE.json     per-pass GPU/CPU times, frame times (median, 95th and 99th percentile), memory and counters
   --dump RES=FILE.exr   write an image resource as it stood at the end of the last frame (repeatable;
                         .exr keeps float values, .png only for 8-bit resources)
   --device NAME         Vulkan device whose name contains NAME (default: lavapipe)
   --validate            enable Khronos validation (with synchronization validation); any
                         message makes the command exit 3
   --memory-limit MIB    the engine's device-memory limit for the graph (default 1536)
+  --orbit DEG           turn the camera about its target by DEG each frame and skip the passes whose inputs
+                        did not change (the light's), as `caustica view --orbit` does: the viewer's frame
+                        times without a window
 )";
 
 RenderOptions parse_render(Args& args, bool trace) {
   RenderOptions o;
-  const std::vector<std::string> known = {"--graph", "--scene", "--out",  "--size",   "--frames",   "--accumulate",   "--seconds",
-                                          "--set",   "--stats", "--dump", "--device", "--validate", "--memory-limit", "--no-stage"};
+  const std::vector<std::string> known = {"--graph",      "--scene",    "--out",          "--size",     "--frames",
+                                          "--accumulate", "--seconds",  "--set",          "--stats",    "--dump",
+                                          "--device",     "--validate", "--memory-limit", "--no-stage", "--orbit"};
   std::vector<std::string> counts;  // --frames, --accumulate, --seconds: one says how long to run
   std::set<std::string> given;
   while (!args.done()) {
@@ -126,6 +130,8 @@ RenderOptions parse_render(Args& args, bool trace) {
       counts.push_back(a);
     } else if (a == "--memory-limit")
       o.memory_limit_mib = parse_uint(a, args.value(a), 1, 1u << 20);
+    else if (a == "--orbit")
+      o.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
     else if (a == "--size") {
       parse_size(args.value(a), o.width, o.height);
     } else if (a == "--dump") {
@@ -197,6 +203,7 @@ int run_render(const RenderOptions& o, bool trace) {
   vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   graph::Executor executor(vk, shaders, passes::builtin_registry());
+  executor.set_reuse_unchanged_passes(o.orbit_degrees != 0.0f);
   executor.set_scene(scene);
   executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
   for (const auto& warning : executor.plan().warnings) std::cerr << "caustica: warning: " << warning << "\n";
@@ -240,7 +247,14 @@ int run_render(const RenderOptions& o, bool trace) {
     const double last_ms = run.frames.empty() ? 0.0 : started - run.frame_start_ms.back();
     const bool last = timed ? started + last_ms >= 1000.0 * static_cast<double>(o.seconds) : f + 1 == o.frames;
     run.frame_start_ms.push_back(started);
+    if (f > 0 && o.orbit_degrees != 0.0f && scene) {
+      auto turned = std::make_shared<scene::Scene>(*scene);
+      turned->camera.orbit(o.orbit_degrees);
+      scene = turned;
+      executor.set_view(scene);
+    }
     run.frames.push_back(executor.run_frame(last));
+    run.frame_wall_ms.push_back(elapsed_ms() - started);
     if (show_progress) progress.update(timed ? std::min<uint64_t>(o.seconds, static_cast<uint64_t>(elapsed_ms() / 1000.0)) : f + 1);
     if (last) break;
   }
