@@ -1,5 +1,6 @@
 #include "shader/shader_compiler.h"
 
+#include <glslang/MachineIndependent/localintermediate.h>
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
@@ -69,9 +70,82 @@ std::string preamble(const Defines& defines) {
   return text;
 }
 
+SourcePlace place_of(const glslang::TSourceLoc& loc, const std::string& main_file) {
+  const char* file = loc.getFilename();
+  return {file ? file : main_file, loc.line};
+}
+
+// The globals of the linked program (its linker objects: every uniform, buffer and output it
+// declares, used or not), as a user pass's declarations are checked against them.
+Reflection reflect(const glslang::TIntermediate& intermediate, const std::string& main_file) {
+  Reflection out;
+  for (int d = 0; d < 3; ++d) out.local_size[static_cast<size_t>(d)] = intermediate.getLocalSize(d);
+  glslang::TIntermAggregate* root = intermediate.getTreeRoot() ? intermediate.getTreeRoot()->getAsAggregate() : nullptr;
+  if (!root || root->getSequence().empty()) return out;
+  glslang::TIntermAggregate* linker = root->getSequence().back()->getAsAggregate();
+  if (!linker || linker->getOp() != glslang::EOpLinkerObjects) return out;
+  for (TIntermNode* node : linker->getSequence()) {
+    const glslang::TIntermSymbol* symbol = node->getAsSymbolNode();
+    if (!symbol) continue;
+    const glslang::TType& type = symbol->getType();
+    const glslang::TQualifier& q = type.getQualifier();
+    if (q.builtIn != glslang::EbvNone) continue;
+    ReflectedBinding b;
+    b.name = symbol->getName().c_str();
+    b.place = place_of(symbol->getLoc(), main_file);
+    if (type.getBasicType() == glslang::EbtBlock) {
+      b.block = type.getTypeName().c_str();
+      if (b.name.starts_with("anon@")) b.name = b.block;
+    }
+    if (q.storage == glslang::EvqVaryingOut) {
+      b.binding = q.hasLocation() ? q.layoutLocation : 0;
+      out.outputs.push_back(std::move(b));
+      continue;
+    }
+    if (q.storage == glslang::EvqUniform && q.layoutPushConstant) {
+      out.push_block = b.block;
+      out.push_place = b.place;
+      for (const glslang::TTypeLoc& member : *type.getStruct()) {
+        out.push_members.push_back(
+            {member.type->getFieldName().c_str(),
+             member.type->isScalar() ? member.type->getBasicTypeString().c_str() : member.type->getCompleteString().c_str(),
+             place_of(member.loc, main_file)});
+      }
+      continue;
+    }
+    if (q.storage != glslang::EvqUniform && q.storage != glslang::EvqBuffer) continue;
+    b.set = q.hasSet() ? q.layoutSet : 0;
+    b.binding = q.hasBinding() ? q.layoutBinding : 0;
+    b.readonly = q.readonly;
+    b.writeonly = q.writeonly;
+    if (type.getBasicType() == glslang::EbtSampler) {
+      const glslang::TSampler& sampler = type.getSampler();
+      b.arrayed = sampler.isArrayed();
+      if (sampler.isImage()) {
+        b.kind = BindingKind::storage_image;
+        if (q.hasFormat()) b.format = glslang::TQualifier::getLayoutFormatString(q.layoutFormat);
+      } else if (sampler.isCombined()) {
+        b.kind = BindingKind::sampled_image;
+      }
+    } else if (type.getBasicType() == glslang::EbtAccStruct) {
+      b.kind = BindingKind::acceleration_structure;
+    } else if (type.getBasicType() == glslang::EbtBlock) {
+      b.kind = q.storage == glslang::EvqBuffer ? BindingKind::storage_buffer : BindingKind::uniform_buffer;
+    }
+    out.bindings.push_back(std::move(b));
+  }
+  return out;
+}
+
 }  // namespace
 
 ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) { initialize_glslang(); }
+
+std::string ShaderCompiler::sources_text(const Entry& entry) {
+  std::string text;
+  for (const auto& [file, source] : entry.sources) text += file.string() + "\n" + source + "\n";
+  return text;
+}
 
 CompileStats ShaderCompiler::stats() const {
   std::lock_guard lock(mutex_);
@@ -79,6 +153,10 @@ CompileStats ShaderCompiler::stats() const {
 }
 
 std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const Defines& defines) {
+  return compile_reflected(relative, defines).spirv;
+}
+
+ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, const Defines& defines) {
   std::lock_guard lock(mutex_);
   const std::filesystem::path path = root_ / relative;
   const std::string key = relative + "\n" + preamble(defines);
@@ -90,7 +168,7 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const
     }
     if (unchanged) {
       ++stats_.cache_hits;
-      return it->second.spirv;
+      return {it->second.spirv, it->second.reflection, sources_text(it->second)};
     }
   }
 
@@ -120,9 +198,10 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const
   options.disableOptimizer = false;
   options.validate = true;
   glslang::GlslangToSpv(*program.getIntermediate(stage), entry.spirv, &options);
+  entry.reflection = reflect(*program.getIntermediate(stage), name);
   ++stats_.compiles;
   auto& stored = cache_[key] = std::move(entry);
-  return stored.spirv;
+  return {stored.spirv, stored.reflection, sources_text(stored)};
 }
 
 }  // namespace caustica::shader
