@@ -205,7 +205,7 @@ class Checker {
     const bool scene_block = b.block == "FrameBlock" || b.block == "VertexBlock" || b.block == "ObjectBlock";
     throw graph_.error(
         pass_.pointer + (user_.ports.empty() ? "" : "/ports"),
-        place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "' (" + binding_kind_name(b.kind) + ") is no port" +
+        place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "', " + binding_kind_name(b.kind) + ", is no port" +
             of_pass() + "; declare it under \"ports\"" +
             (scene_block && !shader_.scene ? ", or give the pass the scene with \"scene\": true" : did_you_mean(b.name, ports)));
   }

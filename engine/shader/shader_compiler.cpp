@@ -6,6 +6,7 @@
 #include <glslang/SPIRV/GlslangToSpv.h>
 
 #include <memory>
+#include <sstream>
 
 #include "core/error.h"
 #include "io/json_document.h"
@@ -75,9 +76,55 @@ SourcePlace place_of(const glslang::TSourceLoc& loc, const std::string& main_fil
   return {file ? file : main_file, loc.line};
 }
 
+// A type as GLSL writes it ("float", "vec2", "uvec4", "mat4x3", "float[]"), for messages.
+std::string glsl_type_name(const glslang::TType& type) {
+  std::string name = type.getBasicType() == glslang::EbtStruct ? type.getTypeName().c_str() : type.getBasicTypeString().c_str();
+  if (type.isVector()) {
+    const std::string prefix = name == "float"    ? ""
+                               : name == "int"    ? "i"
+                               : name == "uint"   ? "u"
+                               : name == "bool"   ? "b"
+                               : name == "double" ? "d"
+                                                  : "?";
+    name = prefix + "vec" + std::to_string(type.getVectorSize());
+  } else if (type.isMatrix()) {
+    name = "mat" + std::to_string(type.getMatrixCols()) + "x" + std::to_string(type.getMatrixRows());
+  }
+  return type.isArray() ? name + "[]" : name;
+}
+
+bool has_word(const std::string& line, const std::string& word) {
+  for (size_t at = line.find(word); at != std::string::npos; at = line.find(word, at + 1)) {
+    auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    const bool starts = at == 0 || !identifier(line[at - 1]);
+    const bool ends = at + word.size() == line.size() || !identifier(line[at + word.size()]);
+    if (starts && ends) return true;
+  }
+  return false;
+}
+
+// Where a global is declared: glslang's linker objects carry no line, so the first line of the
+// files read (the shader, then its includes) that declares `name` with one of `keywords`.
+SourcePlace declaration_place(const std::vector<std::pair<std::filesystem::path, std::string>>& sources, const std::string& name,
+                              std::initializer_list<const char*> keywords) {
+  for (const auto& [file, text] : sources) {
+    std::istringstream lines(text);
+    int number = 0;
+    for (std::string line; std::getline(lines, line);) {
+      ++number;
+      if (!has_word(line, name)) continue;
+      for (const char* keyword : keywords) {
+        if (has_word(line, keyword)) return {file.string(), number};
+      }
+    }
+  }
+  return {sources.front().first.string(), 0};
+}
+
 // The globals of the linked program (its linker objects: every uniform, buffer and output it
 // declares, used or not), as a user pass's declarations are checked against them.
-Reflection reflect(const glslang::TIntermediate& intermediate, const std::string& main_file) {
+Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector<std::pair<std::filesystem::path, std::string>>& sources) {
+  const std::string main_file = sources.front().first.string();
   Reflection out;
   for (int d = 0; d < 3; ++d) out.local_size[static_cast<size_t>(d)] = intermediate.getLocalSize(d);
   glslang::TIntermAggregate* root = intermediate.getTreeRoot() ? intermediate.getTreeRoot()->getAsAggregate() : nullptr;
@@ -92,11 +139,11 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::string
     if (q.builtIn != glslang::EbvNone) continue;
     ReflectedBinding b;
     b.name = symbol->getName().c_str();
-    b.place = place_of(symbol->getLoc(), main_file);
     if (type.getBasicType() == glslang::EbtBlock) {
       b.block = type.getTypeName().c_str();
       if (b.name.starts_with("anon@")) b.name = b.block;
     }
+    b.place = declaration_place(sources, b.block.empty() ? b.name : b.block, {"uniform", "buffer", "out"});
     if (q.storage == glslang::EvqVaryingOut) {
       b.binding = q.hasLocation() ? q.layoutLocation : 0;
       out.outputs.push_back(std::move(b));
@@ -106,10 +153,7 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::string
       out.push_block = b.block;
       out.push_place = b.place;
       for (const glslang::TTypeLoc& member : *type.getStruct()) {
-        out.push_members.push_back(
-            {member.type->getFieldName().c_str(),
-             member.type->isScalar() ? member.type->getBasicTypeString().c_str() : member.type->getCompleteString().c_str(),
-             place_of(member.loc, main_file)});
+        out.push_members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file)});
       }
       continue;
     }
@@ -198,7 +242,7 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   options.disableOptimizer = false;
   options.validate = true;
   glslang::GlslangToSpv(*program.getIntermediate(stage), entry.spirv, &options);
-  entry.reflection = reflect(*program.getIntermediate(stage), name);
+  entry.reflection = reflect(*program.getIntermediate(stage), entry.sources);
   ++stats_.compiles;
   auto& stored = cache_[key] = std::move(entry);
   return {stored.spirv, stored.reflection, sources_text(stored)};
