@@ -20,6 +20,8 @@ const graph::PassRegistry& builtin_registry() {
     r.add(caustic_map_pass_type());
     r.add(adaptive_caustic_map_pass_type());
     r.add(hierarchical_caustic_map_pass_type());
+    r.add(user_compute_pass_type());
+    r.add(user_fullscreen_pass_type());
     return r;
   }();
   return registry;

@@ -19,6 +19,8 @@ graph::PassTypeDecl adaptive_caustic_map_pass_type();
 graph::PassTypeDecl hierarchical_caustic_map_pass_type();
 graph::PassTypeDecl accumulate_pass_type();
 graph::PassTypeDecl temporal_mean_pass_type();
+graph::PassTypeDecl user_compute_pass_type();
+graph::PassTypeDecl user_fullscreen_pass_type();
 
 // Every pass type the engine ships, registered under its type name.
 const graph::PassRegistry& builtin_registry();

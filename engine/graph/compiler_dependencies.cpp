@@ -69,7 +69,7 @@ void Compiler::find_result_keys() {
   for (uint32_t i = 0; i < order_.size(); ++i) {
     const Node& node = nodes_[order_[i]];
     PlannedPass& pass = plan_.passes[i];
-    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump();
+    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump() + "\n" + node.decl->result_source;
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
       text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +

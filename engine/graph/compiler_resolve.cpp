@@ -8,6 +8,7 @@
 #include "core/suggest.h"
 #include "graph/compiler_internal.h"
 #include "graph/expression.h"
+#include "graph/user_pass_type.h"
 #include "io/json_reader.h"
 
 namespace caustica::graph::compiler_internal {
@@ -424,6 +425,38 @@ void Compiler::check_format(const PortDecl& port, const PlannedResource& r, cons
   }
 }
 
+void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& params, UserShader& shader) const {
+  const UserPassDesc& user = *pass.user;
+  // Expressions of the sizes, the scene, the graph's parameters and the pass's own (by name, before
+  // a graph parameter of the same name).
+  ExpressionScope s = scope();
+  for (const auto& p : user.params) {
+    if (p.type != ParamType::choice) s.known_names.push_back(p.name);
+  }
+  s.lookup = [graph_scope = s.lookup, &params, &user](std::string_view name) -> std::optional<double> {
+    for (const auto& p : user.params) {
+      if (p.name != name || p.type == ParamType::choice) continue;
+      const nlohmann::json& value = params[p.name];
+      return value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>();
+    }
+    return graph_scope(name);
+  };
+  for (size_t i = 0; i < user.dispatch.size(); ++i) {
+    const std::string pointer = user.dispatch_pointer + "/" + std::to_string(i);
+    double v = 0;
+    try {
+      v = std::floor(evaluate_expression(user.dispatch[i], s));
+    } catch (const std::invalid_argument& e) {
+      throw graph_.error(pointer, e.what());
+    }
+    if (!(v >= 1 && v <= 16777216)) {
+      throw graph_.error(pointer, "\"dispatch\" of pass '" + pass.name + "': \"" + user.dispatch[i] + "\" evaluates to " +
+                                      JsonReader::format_number(v) + " invocations; it must be 1 to 16777216");
+    }
+    shader.invocations[i] = static_cast<uint32_t>(v);
+  }
+}
+
 void Compiler::resolve_passes() {
   std::vector<std::string> type_names = registry_.names();
   nodes_.resize(graph_.passes.size());
@@ -441,8 +474,18 @@ void Compiler::resolve_passes() {
       continue;
     }
     if (!enabled_[i]) continue;
+    std::shared_ptr<UserShader> user_shader;
+    if (decl->user_kind != UserShaderKind::none) {
+      const bool made = errors_.attempt([&] {
+        std::shared_ptr<const PassTypeDecl> own = make_user_pass_type(*decl, graph_, pass, user_shader);
+        decl = own.get();
+        plan_.user_types.push_back(std::move(own));
+      });
+      if (!made) continue;
+    }
     node.decl = decl;
     node.params = resolve_params(pass, *decl, node.frame_params);
+    if (user_shader) errors_.attempt([&] { resolve_dispatch(pass, node.params, *user_shader); });
     bind_section(node, pass.inputs, false);
     bind_section(node, pass.outputs, true);
     for (const auto& port : decl->ports) {

@@ -38,6 +38,47 @@ ParamType parse_param_type(const JsonDocument& doc, const nlohmann::json& value,
   throw doc.error(pointer, "unknown parameter type '" + text + "'" + did_you_mean(text, names));
 }
 
+// A parameter's declaration (a graph's, or a user pass's): type, default, range, choices.
+ParamDecl read_param_decl(const GraphDesc& graph, const Reader& read, const std::string& key, const nlohmann::json& value,
+                          const std::string& pointer) {
+  ParamDecl decl;
+  decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
+  if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
+  if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
+  decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
+  for (const char* bound : {"min", "max"}) {
+    if (!value.contains(bound)) continue;
+    if (!value[bound].is_number()) throw graph.error(pointer + "/" + bound, std::string("\"") + bound + "\" must be a number");
+    (std::string(bound) == "min" ? decl.min : decl.max) = value[bound].get<double>();
+  }
+  if (decl.min && decl.max && *decl.min > *decl.max) {
+    throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
+  }
+  if (value.contains("power_of_two")) {
+    const std::string at = pointer + "/power_of_two";
+    if (!value["power_of_two"].is_boolean()) throw graph.error(at, "\"power_of_two\" must be true or false");
+    decl.power_of_two = value["power_of_two"].get<bool>();
+    if (decl.power_of_two && (decl.type != ParamType::int_ || !decl.min || *decl.min < 1 || !decl.max)) {
+      throw graph.error(at,
+                        "parameter '" + key + "' is a power of two, so it needs \"type\": \"int\", a \"min\" of at least 1 and a \"max\"");
+    }
+  }
+  if (value.contains("choices")) {
+    const auto& choices = value["choices"];
+    if (!choices.is_array() || choices.empty()) throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
+    for (size_t i = 0; i < choices.size(); ++i) {
+      decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
+    }
+  } else if (decl.type == ParamType::choice) {
+    throw graph.error(pointer, "parameter '" + key + "' of type choice needs \"choices\"");
+  }
+  if (value.contains("description")) decl.description = read.string(value["description"], pointer + "/description", "a description");
+  decl.default_value = value["default"];
+  const std::string problem = check_param_value(decl, decl.default_value);
+  if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
+  return decl;
+}
+
 void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("parameters")) return;
@@ -47,49 +88,15 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       std::string pointer = json_pointer_append("/parameters", key);
       GraphParameter p;
       p.pointer = pointer;
-      p.decl.name = read.name(nlohmann::json(key), pointer, "a parameter name");
       read.object(value, pointer, "a parameter");
       read.only_keys(value, pointer,
                      {"type", "default", "min", "max", "power_of_two", "choices", "description", "while_moving", "while_still"},
                      "a parameter");
-      if (!value.contains("type")) throw graph.error(pointer, "parameter '" + key + "' needs a \"type\"");
-      if (!value.contains("default")) throw graph.error(pointer, "parameter '" + key + "' needs a \"default\"");
-      p.decl.type = parse_param_type(graph.doc, value["type"], pointer + "/type");
-      for (const char* bound : {"min", "max"}) {
-        if (!value.contains(bound)) continue;
-        if (!value[bound].is_number()) throw graph.error(pointer + "/" + bound, std::string("\"") + bound + "\" must be a number");
-        (std::string(bound) == "min" ? p.decl.min : p.decl.max) = value[bound].get<double>();
-      }
-      if (p.decl.min && p.decl.max && *p.decl.min > *p.decl.max) {
-        throw graph.error(pointer + "/min", "parameter '" + key + "' has min above max");
-      }
-      if (value.contains("power_of_two")) {
-        const std::string at = pointer + "/power_of_two";
-        if (!value["power_of_two"].is_boolean()) throw graph.error(at, "\"power_of_two\" must be true or false");
-        p.decl.power_of_two = value["power_of_two"].get<bool>();
-        if (p.decl.power_of_two && (p.decl.type != ParamType::int_ || !p.decl.min || *p.decl.min < 1 || !p.decl.max)) {
-          throw graph.error(
-              at, "parameter '" + key + "' is a power of two, so it needs \"type\": \"int\", a \"min\" of at least 1 and a \"max\"");
-        }
-      }
-      if (value.contains("choices")) {
-        const auto& choices = value["choices"];
-        if (!choices.is_array() || choices.empty())
-          throw graph.error(pointer + "/choices", "\"choices\" must be a non-empty array of strings");
-        for (size_t i = 0; i < choices.size(); ++i) {
-          p.decl.choices.push_back(read.string(choices[i], pointer + "/choices/" + std::to_string(i), "a choice"));
-        }
-      } else if (p.decl.type == ParamType::choice) {
-        throw graph.error(pointer, "parameter '" + key + "' of type choice needs \"choices\"");
-      }
-      if (value.contains("description")) p.decl.description = read.string(value["description"], pointer + "/description", "a description");
-      p.decl.default_value = value["default"];
-      std::string problem = check_param_value(p.decl, p.decl.default_value);
-      if (!problem.empty()) throw graph.error(pointer + "/default", "the default of parameter '" + key + "' " + problem);
+      p.decl = read_param_decl(graph, read, key, value, pointer);
       p.value = p.decl.default_value;
       for (auto [name, target] : {std::pair{"while_moving", &p.while_moving}, std::pair{"while_still", &p.while_still}}) {
         if (!value.contains(name)) continue;
-        problem = check_param_value(p.decl, value[name]);
+        const std::string problem = check_param_value(p.decl, value[name]);
         if (!problem.empty())
           throw graph.error(pointer + "/" + name, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
         *target = value[name];
@@ -167,6 +174,115 @@ std::map<std::string, std::string> load_bindings(const Reader& read, const nlohm
   return out;
 }
 
+template <class T>
+T read_choice(const GraphDesc& graph, const Reader& read, const nlohmann::json& value, const std::string& pointer, const char* what,
+              const std::vector<std::pair<std::string, T>>& choices) {
+  const std::string text = read.string(value, pointer, what);
+  std::vector<std::string> names;
+  for (const auto& [name, choice] : choices) {
+    if (name == text) return choice;
+    names.push_back(name);
+  }
+  throw graph.error(pointer, "unknown " + std::string(what) + " '" + text + "'" + did_you_mean(text, names));
+}
+
+// A user port, declared as a built-in pass type declares one (PortDecl).
+PortDecl read_user_port(const GraphDesc& graph, const Reader& read, const std::string& key, const nlohmann::json& value,
+                        const std::string& pointer, bool fullscreen) {
+  read.object(value, pointer, "a port");
+  read.only_keys(value, pointer, {"type", "access", "usage", "formats", "extent_group", "layers", "description"}, "a port");
+  PortDecl port;
+  port.name = read.name(nlohmann::json(key), pointer, "a port name");
+  if (value.contains("type"))
+    port.kind = read_choice<ResourceKind>(graph, read, value["type"], pointer + "/type", "port type",
+                                          {{"image", ResourceKind::image}, {"buffer", ResourceKind::buffer}});
+  if (!value.contains("access")) throw graph.error(pointer, "port '" + key + "' needs an \"access\": read, write or read_write");
+  port.access = read_choice<PortAccess>(graph, read, value["access"], pointer + "/access", "access",
+                                        {{"read", PortAccess::read}, {"write", PortAccess::write}, {"read_write", PortAccess::read_write}});
+  // What a shader usually does with it: samples an image it reads; stores to one it writes (a
+  // full-screen pass renders to it); a buffer is a storage buffer.
+  port.usage = port.kind == ResourceKind::buffer ? PortUsage::storage
+               : port.access == PortAccess::read ? PortUsage::sampled
+               : fullscreen                      ? PortUsage::color_attachment
+                                                 : PortUsage::storage;
+  if (value.contains("usage"))
+    port.usage = read_choice<PortUsage>(graph, read, value["usage"], pointer + "/usage", "usage",
+                                        {{"sampled", PortUsage::sampled},
+                                         {"storage", PortUsage::storage},
+                                         {"color_attachment", PortUsage::color_attachment},
+                                         {"uniform", PortUsage::uniform}});
+  if (value.contains("formats")) {
+    const auto& formats = value["formats"];
+    if (!formats.is_array() || formats.empty()) throw graph.error(pointer + "/formats", "\"formats\" must be a non-empty array of formats");
+    for (size_t i = 0; i < formats.size(); ++i) {
+      const std::string at = pointer + "/formats/" + std::to_string(i);
+      const std::string name = read.string(formats[i], at, "a format");
+      const auto format = parse_format(name);
+      if (!format) throw graph.error(at, "unknown format '" + name + "'" + did_you_mean(name, format_names()));
+      port.formats.push_back(*format);
+    }
+  }
+  if (value.contains("extent_group")) port.extent_group = read.name(value["extent_group"], pointer + "/extent_group", "\"extent_group\"");
+  if (value.contains("layers"))
+    port.layers = static_cast<uint32_t>(read.number(value["layers"], pointer + "/layers", "\"layers\"", 1, kMaxImageLayers));
+  if (value.contains("description")) port.description = read.string(value["description"], pointer + "/description", "a description");
+  if (port.kind == ResourceKind::buffer && port.usage != PortUsage::storage && port.usage != PortUsage::uniform)
+    throw graph.error(pointer + "/usage", "buffer port '" + key + "' is used as \"storage\" or \"uniform\"");
+  if (port.kind == ResourceKind::image && port.usage == PortUsage::uniform)
+    throw graph.error(pointer + "/usage", "image port '" + key + "' is \"sampled\", \"storage\" or \"color_attachment\"");
+  if (port.usage == PortUsage::color_attachment && (!fullscreen || port.access == PortAccess::read))
+    throw graph.error(pointer + "/usage", "only a fullscreen pass's outputs are colour attachments (port '" + key + "')");
+  if (port.usage == PortUsage::sampled && port.access != PortAccess::read)
+    throw graph.error(pointer + "/usage", "a sampled port is read; port '" + key + "' writes: make it \"storage\"");
+  return port;
+}
+
+UserPassDesc read_user_pass(const GraphDesc& graph, const Reader& read, const nlohmann::json& value, const std::string& pointer,
+                            bool fullscreen) {
+  UserPassDesc user;
+  if (!value.contains("shader"))
+    throw graph.error(pointer, std::string("a ") + (fullscreen ? "fullscreen" : "compute") + " pass needs a \"shader\": its " +
+                                   (fullscreen ? ".frag" : ".comp") + " file, relative to the graph file");
+  user.shader = read.string(value["shader"], pointer + "/shader", "\"shader\"");
+  if (value.contains("ports")) {
+    const auto& ports = read.object(value["ports"], pointer + "/ports", "\"ports\"");
+    for (const auto& [key, port] : ports.items()) {
+      const std::string at = json_pointer_append(pointer + "/ports", key);
+      user.ports.push_back(read_user_port(graph, read, key, port, at, fullscreen));
+      user.port_pointers.push_back(at);
+    }
+  }
+  if (value.contains("parameters")) {
+    const auto& params = read.object(value["parameters"], pointer + "/parameters", "\"parameters\"");
+    for (const auto& [key, param] : params.items()) {
+      const std::string at = json_pointer_append(pointer + "/parameters", key);
+      read.object(param, at, "a parameter");
+      read.only_keys(param, at, {"type", "default", "min", "max", "power_of_two", "choices", "description"}, "a parameter");
+      user.params.push_back(read_param_decl(graph, read, key, param, at));
+      user.param_pointers.push_back(at);
+    }
+  }
+  if (value.contains("scene")) user.scene = read.boolean(value["scene"], pointer + "/scene", "\"scene\"");
+  user.dispatch_pointer = pointer + "/dispatch";
+  if (fullscreen) {
+    if (value.contains("dispatch"))
+      throw graph.error(user.dispatch_pointer, "a fullscreen pass draws over its outputs and has no \"dispatch\"");
+  } else if (!value.contains("dispatch")) {
+    throw graph.error(pointer,
+                      "a compute pass needs a \"dispatch\": a port whose image it covers (one invocation a texel), or "
+                      "[x, y, z] invocations as expressions");
+  } else if (const auto& dispatch = value["dispatch"]; dispatch.is_string()) {
+    user.dispatch_port = read.name(dispatch, user.dispatch_pointer, "\"dispatch\"");
+  } else if (dispatch.is_array() && !dispatch.empty() && dispatch.size() <= 3) {
+    for (size_t i = 0; i < dispatch.size(); ++i) {
+      user.dispatch.push_back(read.expression(dispatch[i], user.dispatch_pointer + "/" + std::to_string(i), "an invocation count"));
+    }
+  } else {
+    throw graph.error(user.dispatch_pointer, "\"dispatch\" is a port name, or an array of 1 to 3 invocation counts (expressions)");
+  }
+  return user;
+}
+
 void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("passes")) throw graph.error("", "a graph needs \"passes\"");
@@ -179,11 +295,22 @@ void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
     errors.attempt([&] {
       std::string pointer = "/passes/" + std::to_string(i);
       const auto& value = read.object(passes[i], pointer, "a pass");
-      read.only_keys(value, pointer, {"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"}, "a pass");
       PassDesc p;
       p.pointer = pointer;
       if (!value.contains("type")) throw graph.error(pointer, "pass needs a \"type\"");
       p.type = read.string(value["type"], pointer + "/type", "\"type\"");
+      const bool user = std::find(std::begin(kUserPassTypes), std::end(kUserPassTypes), p.type) != std::end(kUserPassTypes);
+      std::vector<std::string> keys{"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"};
+      const std::vector<std::string> user_keys{"shader", "ports", "parameters", "dispatch", "scene"};
+      if (user) keys.insert(keys.end(), user_keys.begin(), user_keys.end());
+      for (const auto& key : user_keys) {
+        if (!user && value.contains(key))
+          throw graph.error(pointer + "/" + key, "\"" + key +
+                                                     "\" is for passes of type compute or fullscreen, whose shader the graph names; '" +
+                                                     p.type + "' is a built-in pass type");
+      }
+      read.only_keys(value, pointer, keys, "a pass");
+      if (user) p.user = read_user_pass(graph, read, value, pointer, p.type == "fullscreen");
       if (!value.contains("name")) throw graph.error(pointer, "pass needs a \"name\"");
       p.name = read.name(value["name"], pointer + "/name", "a pass name");
       if (!names.insert(p.name).second) throw graph.error(pointer + "/name", "two passes are named '" + p.name + "'");

@@ -43,6 +43,20 @@ struct ResourceDesc {
   std::string pointer;
 };
 
+// A user pass's own declarations ("compute", "fullscreen") as written; the compiler checks them
+// against the shader (graph/user_pass_type.h).
+struct UserPassDesc {
+  std::string shader;  // relative to the graph file, or else to the data folder
+  std::vector<PortDecl> ports;
+  std::vector<std::string> port_pointers;
+  std::vector<ParamDecl> params;
+  std::vector<std::string> param_pointers;
+  std::string dispatch_port;          // compute: one invocation per texel of this port's image
+  std::vector<std::string> dispatch;  // or invocations along x, y, z: expressions of sizes and parameters
+  std::string dispatch_pointer;
+  bool scene = false;  // binds the scene at bindings 0..2 (shaders/scene/scene.glsl's SCENE_* blocks)
+};
+
 struct PassDesc {
   std::string name;
   std::string type;
@@ -52,6 +66,7 @@ struct PassDesc {
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
   std::string enabled = "1";       // an expression (true/false in the file are 1/0); the pass runs when non-zero
   std::string pointer;
+  std::optional<UserPassDesc> user;  // a "compute" or "fullscreen" pass
 };
 
 struct GraphDesc {

@@ -94,6 +94,13 @@ struct PassCheck {
   std::string warning;
 };
 
+// A pass type whose shader, ports and parameters each pass of it declares in the graph file
+// (graph/user_pass_type.h): the registry holds the kind, and the compiler makes each such pass a
+// type of its own from the file and its shader's reflection (Plan::user_types).
+enum class UserShaderKind { none, compute, fullscreen };
+inline constexpr std::string_view kUserPassTypes[] = {"compute", "fullscreen"};
+struct UserShader;
+
 struct PassTypeDecl {
   std::string type;
   std::string description;
@@ -130,6 +137,13 @@ struct PassTypeDecl {
   // What to suggest instead on a device without ray queries: the parameter value and the bundled
   // graph that stay in image space.
   std::string ray_query_alternative;
+  // The registry's "compute" and "fullscreen": each pass of this type declares its own in the file.
+  UserShaderKind user_kind = UserShaderKind::none;
+  // A user pass's own type: its shader as compiled and reflected, and where its ports bind.
+  std::shared_ptr<const UserShader> user_shader;
+  // What the pass's result follows from besides its parameters and inputs (a user pass's shader
+  // text, includes and all): part of PlannedPass::result_key, so that an edited shader runs again.
+  std::string result_source;
 
   const PortDecl* find_port(std::string_view name) const;
   const ParamDecl* find_param(std::string_view name) const;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -135,6 +136,9 @@ struct Plan {
   std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
   std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built
   std::vector<PlannedResource> resources;
+  // The types of the graph's user passes ("compute", "fullscreen"), one per pass, made from the file
+  // and their shaders: PlannedPass::decl points here for them.
+  std::vector<std::shared_ptr<const PassTypeDecl>> user_types;
   // What the expressions of PlannedPass::frame_params name besides the frame block: the output
   // size, the scene's values and the graph's parameters, as compiled.
   std::map<std::string, double> expression_values;

@@ -1,5 +1,7 @@
 #include "graph/schema.h"
 
+#include "graph/plan.h"
+
 namespace caustica::graph {
 namespace {
 
@@ -51,6 +53,20 @@ json graph_schema_json(const PassRegistry& registry) {
   json per_type = json::array();
   for (const auto& [name, decl] : registry.types()) {
     types.push_back(name);
+    if (decl.user_kind != UserShaderKind::none) {
+      // Its parameters and ports are the pass's own ("parameters", "ports"), which the compiler checks.
+      per_type.push_back({{"if", {{"properties", {{"type", {{"const", name}}}}}}},
+                          {"then", {{"description", decl.description}, {"required", {"shader"}}}},
+                          {"else",
+                           {{"not",
+                             {{"anyOf",
+                               {{{"required", {"shader"}}},
+                                {{"required", {"ports"}}},
+                                {{"required", {"parameters"}}},
+                                {{"required", {"dispatch"}}},
+                                {{"required", {"scene"}}}}}}}}}});
+      continue;
+    }
     json params = json::object();
     for (const auto& p : decl.params) params[p.name] = param_schema(p);
     per_type.push_back({{"if", {{"properties", {{"type", {{"const", name}}}}}}},
@@ -83,6 +99,19 @@ json graph_schema_json(const PassRegistry& registry) {
            "the value a viewer uses once nothing has moved for a moment, unless the user set the parameter or the device cannot run "
            "the graph with it"}}}}},
       {"additionalProperties", false}};
+  json user_parameter = parameter;
+  for (const char* viewer_only : {"while_moving", "while_still"}) user_parameter["properties"].erase(viewer_only);
+  json user_port = {{"type", "object"},
+                    {"required", {"access"}},
+                    {"properties",
+                     {{"type", {{"enum", {"image", "buffer"}}, {"default", "image"}}},
+                      {"access", {{"enum", {"read", "write", "read_write"}}}},
+                      {"usage", {{"enum", {"sampled", "storage", "color_attachment", "uniform"}}}},
+                      {"formats", {{"type", "array"}, {"items", {{"enum", format_names()}}}}},
+                      {"extent_group", {{"type", "string"}}},
+                      {"layers", {{"type", "integer"}, {"minimum", 1}, {"maximum", kMaxImageLayers}}},
+                      {"description", {{"type", "string"}}}}},
+                    {"additionalProperties", false}};
   json resource = {
       {"type", "object"},
       {"properties",
@@ -99,21 +128,35 @@ json graph_schema_json(const PassRegistry& registry) {
            "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
         {"description", {{"type", "string"}}}}},
       {"additionalProperties", false}};
-  json pass = {{"type", "object"},
-               {"required", {"name", "type"}},
-               {"properties",
-                {{"name", {{"type", "string"}}},
-                 {"type", {{"enum", types}}},
-                 {"params", {{"type", "object"}}},
-                 {"inputs", {{"type", "object"}}},
-                 {"outputs", {{"type", "object"}}},
-                 {"after", {{"type", "array"}, {"items", {{"type", "string"}}}}},
-                 {"enabled",
-                  {{"type", {"boolean", "string"}},
-                   {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
-                 {"description", {{"type", "string"}}}}},
-               {"additionalProperties", false},
-               {"allOf", per_type}};
+  json pass = {
+      {"type", "object"},
+      {"required", {"name", "type"}},
+      {"properties",
+       {{"name", {{"type", "string"}}},
+        {"type", {{"enum", types}}},
+        {"params", {{"type", "object"}}},
+        {"inputs", {{"type", "object"}}},
+        {"outputs", {{"type", "object"}}},
+        {"after", {{"type", "array"}, {"items", {{"type", "string"}}}}},
+        {"enabled",
+         {{"type", {"boolean", "string"}},
+          {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
+        {"description", {{"type", "string"}}},
+        {"shader", {{"type", "string"}, {"description", "compute and fullscreen: the .comp or .frag file, relative to the graph file"}}},
+        {"ports",
+         {{"type", "object"},
+          {"description", "compute and fullscreen: the ports, each bound to the shader's binding (or fragment output) of its name"},
+          {"additionalProperties", user_port}}},
+        {"parameters",
+         {{"type", "object"},
+          {"description", "compute and fullscreen: the parameters, each a member of the shader's push-constant block"},
+          {"additionalProperties", user_parameter}}},
+        {"dispatch",
+         {{"description", "compute: a port whose image it covers (one invocation a texel), or [x, y, z] invocations"},
+          {"anyOf", json::array({{{"type", "string"}}, {{"type", "array"}, {"minItems", 1}, {"maxItems", 3}, {"items", expression}}})}}},
+        {"scene", {{"type", "boolean"}, {"description", "compute and fullscreen: the scene at bindings 0..2 (scene/scene.glsl)"}}}}},
+      {"additionalProperties", false},
+      {"allOf", per_type}};
   return {{"$schema", "http://json-schema.org/draft-07/schema#"},
           {"title", "caustica render graph"},
           {"description", "Generated by 'caustica graph schema'; do not edit by hand."},

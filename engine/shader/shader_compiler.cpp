@@ -1,10 +1,12 @@
 #include "shader/shader_compiler.h"
 
+#include <glslang/MachineIndependent/localintermediate.h>
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
 #include <memory>
+#include <sstream>
 
 #include "core/error.h"
 #include "io/json_document.h"
@@ -69,9 +71,125 @@ std::string preamble(const Defines& defines) {
   return text;
 }
 
+SourcePlace place_of(const glslang::TSourceLoc& loc, const std::string& main_file) {
+  const char* file = loc.getFilename();
+  return {file ? file : main_file, loc.line};
+}
+
+// A type as GLSL writes it ("float", "vec2", "uvec4", "mat4x3", "float[]"), for messages.
+std::string glsl_type_name(const glslang::TType& type) {
+  std::string name = type.getBasicType() == glslang::EbtStruct ? type.getTypeName().c_str() : type.getBasicTypeString().c_str();
+  if (type.isVector()) {
+    const std::string prefix = name == "float"    ? ""
+                               : name == "int"    ? "i"
+                               : name == "uint"   ? "u"
+                               : name == "bool"   ? "b"
+                               : name == "double" ? "d"
+                                                  : "?";
+    name = prefix + "vec" + std::to_string(type.getVectorSize());
+  } else if (type.isMatrix()) {
+    name = "mat" + std::to_string(type.getMatrixCols()) + "x" + std::to_string(type.getMatrixRows());
+  }
+  return type.isArray() ? name + "[]" : name;
+}
+
+bool has_word(const std::string& line, const std::string& word) {
+  for (size_t at = line.find(word); at != std::string::npos; at = line.find(word, at + 1)) {
+    auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    const bool starts = at == 0 || !identifier(line[at - 1]);
+    const bool ends = at + word.size() == line.size() || !identifier(line[at + word.size()]);
+    if (starts && ends) return true;
+  }
+  return false;
+}
+
+// Where a global is declared: glslang's linker objects carry no line, so the first line of the
+// files read (the shader, then its includes) that declares `name` with one of `keywords`.
+SourcePlace declaration_place(const std::vector<std::pair<std::filesystem::path, std::string>>& sources, const std::string& name,
+                              std::initializer_list<const char*> keywords) {
+  for (const auto& [file, text] : sources) {
+    std::istringstream lines(text);
+    int number = 0;
+    for (std::string line; std::getline(lines, line);) {
+      ++number;
+      if (!has_word(line, name)) continue;
+      for (const char* keyword : keywords) {
+        if (has_word(line, keyword)) return {file.string(), number};
+      }
+    }
+  }
+  return {sources.front().first.string(), 0};
+}
+
+// The globals of the linked program (its linker objects: every uniform, buffer and output it
+// declares, used or not), as a user pass's declarations are checked against them.
+Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector<std::pair<std::filesystem::path, std::string>>& sources) {
+  const std::string main_file = sources.front().first.string();
+  Reflection out;
+  for (int d = 0; d < 3; ++d) out.local_size[static_cast<size_t>(d)] = intermediate.getLocalSize(d);
+  glslang::TIntermAggregate* root = intermediate.getTreeRoot() ? intermediate.getTreeRoot()->getAsAggregate() : nullptr;
+  if (!root || root->getSequence().empty()) return out;
+  glslang::TIntermAggregate* linker = root->getSequence().back()->getAsAggregate();
+  if (!linker || linker->getOp() != glslang::EOpLinkerObjects) return out;
+  for (TIntermNode* node : linker->getSequence()) {
+    const glslang::TIntermSymbol* symbol = node->getAsSymbolNode();
+    if (!symbol) continue;
+    const glslang::TType& type = symbol->getType();
+    const glslang::TQualifier& q = type.getQualifier();
+    if (q.builtIn != glslang::EbvNone) continue;
+    ReflectedBinding b;
+    b.name = symbol->getName().c_str();
+    if (type.getBasicType() == glslang::EbtBlock) {
+      b.block = type.getTypeName().c_str();
+      if (b.name.starts_with("anon@")) b.name = b.block;
+    }
+    b.place = declaration_place(sources, b.block.empty() ? b.name : b.block, {"uniform", "buffer", "out"});
+    if (q.storage == glslang::EvqVaryingOut) {
+      b.binding = q.hasLocation() ? q.layoutLocation : 0;
+      out.outputs.push_back(std::move(b));
+      continue;
+    }
+    if (q.storage == glslang::EvqUniform && q.layoutPushConstant) {
+      out.push_block = b.block;
+      out.push_place = b.place;
+      for (const glslang::TTypeLoc& member : *type.getStruct()) {
+        out.push_members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file)});
+      }
+      continue;
+    }
+    if (q.storage != glslang::EvqUniform && q.storage != glslang::EvqBuffer) continue;
+    b.set = q.hasSet() ? q.layoutSet : 0;
+    b.binding = q.hasBinding() ? q.layoutBinding : 0;
+    b.readonly = q.readonly;
+    b.writeonly = q.writeonly;
+    if (type.getBasicType() == glslang::EbtSampler) {
+      const glslang::TSampler& sampler = type.getSampler();
+      b.arrayed = sampler.isArrayed();
+      if (sampler.isImage()) {
+        b.kind = BindingKind::storage_image;
+        if (q.hasFormat()) b.format = glslang::TQualifier::getLayoutFormatString(q.layoutFormat);
+      } else if (sampler.isCombined()) {
+        b.kind = BindingKind::sampled_image;
+      }
+    } else if (type.getBasicType() == glslang::EbtAccStruct) {
+      b.kind = BindingKind::acceleration_structure;
+    } else if (type.getBasicType() == glslang::EbtBlock) {
+      b.kind = q.storage == glslang::EvqBuffer ? BindingKind::storage_buffer : BindingKind::uniform_buffer;
+    }
+    out.bindings.push_back(std::move(b));
+  }
+  return out;
+}
+
 }  // namespace
 
 ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) { initialize_glslang(); }
+
+std::string ShaderCompiler::sources_text(const Entry& entry) {
+  std::string text;
+  for (const auto& [file, source] : entry.sources) text += file.string() + "\n" + source + "\n";
+  return text;
+}
 
 CompileStats ShaderCompiler::stats() const {
   std::lock_guard lock(mutex_);
@@ -79,6 +197,10 @@ CompileStats ShaderCompiler::stats() const {
 }
 
 std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const Defines& defines) {
+  return compile_reflected(relative, defines).spirv;
+}
+
+ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, const Defines& defines) {
   std::lock_guard lock(mutex_);
   const std::filesystem::path path = root_ / relative;
   const std::string key = relative + "\n" + preamble(defines);
@@ -90,7 +212,7 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const
     }
     if (unchanged) {
       ++stats_.cache_hits;
-      return it->second.spirv;
+      return {it->second.spirv, it->second.reflection, sources_text(it->second)};
     }
   }
 
@@ -120,9 +242,10 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& relative, const
   options.disableOptimizer = false;
   options.validate = true;
   glslang::GlslangToSpv(*program.getIntermediate(stage), entry.spirv, &options);
+  entry.reflection = reflect(*program.getIntermediate(stage), entry.sources);
   ++stats_.compiles;
   auto& stored = cache_[key] = std::move(entry);
-  return stored.spirv;
+  return {stored.spirv, stored.reflection, sources_text(stored)};
 }
 
 }  // namespace caustica::shader

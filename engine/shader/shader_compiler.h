@@ -2,6 +2,7 @@
 // GLSL -> SPIR-V through the glslang library at load time. #include resolves relative to the
 // including file, then the shader root. The cache key is the stage, the defines and the text of the
 // file and of everything it includes, so an edited include recompiles and an unchanged file does not.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -12,6 +13,46 @@
 namespace caustica::shader {
 
 using Defines = std::map<std::string, std::string>;
+
+// What a shader declares, from glslang's linked program: the descriptor bindings, the push-constant
+// block's members and the fragment outputs, each with the file and line that declares it (an
+// included file's own), so that a graph's user pass can be checked against it without a device.
+enum class BindingKind { sampled_image, storage_image, storage_buffer, uniform_buffer, acceleration_structure, other };
+struct SourcePlace {
+  std::string file;
+  int line = 0;
+};
+struct ReflectedBinding {
+  std::string name;   // the variable, or a block's instance name (its type name where it has none)
+  std::string block;  // a block's type name
+  uint32_t set = 0;
+  uint32_t binding = 0;  // a fragment output: its location
+  BindingKind kind = BindingKind::other;
+  std::string format;  // a storage image's format qualifier ("r32f"), else empty
+  bool arrayed = false;
+  bool readonly = false;
+  bool writeonly = false;
+  SourcePlace place;
+};
+struct ReflectedMember {
+  std::string name;
+  std::string type;  // GLSL's name of it: "float", "int", "uint", "bool", "vec2"...
+  SourcePlace place;
+};
+struct Reflection {
+  std::vector<ReflectedBinding> bindings;
+  std::vector<ReflectedBinding> outputs;  // a fragment shader's user outputs
+  std::string push_block;                 // empty where the shader has no push constants
+  SourcePlace push_place;
+  std::vector<ReflectedMember> push_members;
+  std::array<uint32_t, 3> local_size{1, 1, 1};
+};
+struct ReflectedShader {
+  std::vector<uint32_t> spirv;
+  Reflection reflection;
+  // The text of the file and of everything it includes: what a result computed with it follows from.
+  std::string sources;
+};
 
 struct CompileStats {
   uint64_t compiles = 0;
@@ -25,6 +66,8 @@ class ShaderCompiler {
   // `path` is relative to the root (e.g. "core/box_blur.comp"); the stage comes from the extension
   // (.vert .frag .comp .geom). Throws InputError with "file:line: message" lines from glslang.
   std::vector<uint32_t> compile(const std::string& path, const Defines& defines = {});
+  // The same, with what the shader declares.
+  ReflectedShader compile_reflected(const std::string& path, const Defines& defines = {});
 
   const std::filesystem::path& root() const { return root_; }
   CompileStats stats() const;
@@ -33,7 +76,9 @@ class ShaderCompiler {
   struct Entry {
     std::vector<std::pair<std::filesystem::path, std::string>> sources;  // every file read, with its text
     std::vector<uint32_t> spirv;
+    Reflection reflection;
   };
+  static std::string sources_text(const Entry& entry);
   std::filesystem::path root_;
   std::map<std::string, Entry> cache_;  // by path + defines
   mutable std::mutex mutex_;

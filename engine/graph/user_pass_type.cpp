@@ -1,0 +1,308 @@
+#include "graph/user_pass_type.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <mutex>
+
+#include "core/paths.h"
+#include "core/suggest.h"
+#include "shader/shader_compiler.h"
+
+namespace caustica::graph {
+namespace {
+
+using shader::BindingKind;
+using shader::ReflectedBinding;
+
+// One compiler for every graph's user shaders: its cache keeps a shader that has not changed, and
+// its root is the engine's shader library, which user shaders #include.
+shader::ShaderCompiler& user_shader_compiler() {
+  static shader::ShaderCompiler compiler(data_dir() / "shaders");
+  return compiler;
+}
+
+std::string place(const shader::SourcePlace& at) {
+  return at.file + ":" + std::to_string(at.line);
+}
+
+const char* binding_kind_name(BindingKind kind) {
+  switch (kind) {
+    case BindingKind::sampled_image: return "a sampled image (sampler2D)";
+    case BindingKind::storage_image: return "a storage image (image2D)";
+    case BindingKind::storage_buffer: return "a storage buffer (buffer block)";
+    case BindingKind::uniform_buffer: return "a uniform block";
+    case BindingKind::acceleration_structure: return "an acceleration structure";
+    case BindingKind::other: break;
+  }
+  return "a binding of a kind no port has";
+}
+
+BindingKind binding_kind_of(const PortDecl& port) {
+  if (port.kind == ResourceKind::buffer)
+    return port.usage == PortUsage::uniform ? BindingKind::uniform_buffer : BindingKind::storage_buffer;
+  return port.usage == PortUsage::sampled ? BindingKind::sampled_image : BindingKind::storage_image;
+}
+
+// The scene's blocks at bindings 0..2 (shaders/scene/scene.glsl).
+BindingKind scene_binding_kind(uint32_t binding) {
+  return binding == 0 ? BindingKind::uniform_buffer : BindingKind::storage_buffer;
+}
+
+std::filesystem::path find_shader(const GraphDesc& graph, const PassDesc& pass, const std::string& pointer) {
+  const std::string& name = pass.user->shader;
+  std::error_code ec;
+  const std::filesystem::path beside = std::filesystem::path(graph.doc.path()).parent_path() / name;
+  if (std::filesystem::is_regular_file(beside, ec)) return std::filesystem::absolute(beside);
+  const std::filesystem::path in_data = data_dir() / name;
+  if (std::filesystem::is_regular_file(in_data, ec)) return std::filesystem::absolute(in_data);
+  throw graph.error(pointer, "shader '" + name + "' of pass '" + pass.name + "' is neither beside the graph (" + beside.string() +
+                                 ") nor in the data folder (" + in_data.string() + ")");
+}
+
+// Whether push-constant member type `glsl` carries a parameter of type `type` (4 bytes each).
+bool carries(const std::string& glsl, ParamType type) {
+  switch (type) {
+    case ParamType::float_: return glsl == "float";
+    case ParamType::int_: return glsl == "int" || glsl == "uint";
+    case ParamType::bool_: return glsl == "bool" || glsl == "uint" || glsl == "int";
+    case ParamType::choice: return glsl == "uint" || glsl == "int";
+  }
+  return false;
+}
+
+const char* member_type_for(ParamType type) {
+  switch (type) {
+    case ParamType::float_: return "float";
+    case ParamType::int_: return "int";
+    case ParamType::bool_: return "bool";
+    case ParamType::choice: return "uint (the index of the choice)";
+  }
+  return "?";
+}
+
+class Checker {
+ public:
+  Checker(const GraphDesc& graph, const PassDesc& pass, const shader::Reflection& reflection, UserShader& shader, PassTypeDecl& decl)
+      : graph_(graph), pass_(pass), user_(*pass.user), reflection_(reflection), shader_(shader), decl_(decl) {}
+
+  void run() {
+    for (size_t i = 0; i < user_.ports.size(); ++i) {
+      errors_.attempt([&] { check_port(decl_.ports[i], user_.port_pointers[i]); });
+    }
+    for (const auto& b : reflection_.bindings) errors_.attempt([&] { check_binding(b); });
+    errors_.attempt([&] { check_push_constants(); });
+    errors_.attempt([&] { check_dispatch_port(); });
+    errors_.throw_if_any();
+  }
+
+ private:
+  const GraphDesc& graph_;
+  const PassDesc& pass_;
+  const UserPassDesc& user_;
+  const shader::Reflection& reflection_;
+  UserShader& shader_;
+  PassTypeDecl& decl_;
+  ErrorList errors_;
+
+  std::string of_pass() const { return " of pass '" + pass_.name + "'"; }
+
+  std::vector<std::string> binding_names() const {
+    std::vector<std::string> names;
+    for (const auto& b : reflection_.outputs) names.push_back(b.name);
+    for (const auto& b : reflection_.bindings) names.push_back(b.name);
+    return names;
+  }
+
+  void check_port(PortDecl& port, const std::string& pointer) {
+    if (port.usage == PortUsage::color_attachment) return check_output(port, pointer);
+    auto found = std::find_if(reflection_.bindings.begin(), reflection_.bindings.end(),
+                              [&](const ReflectedBinding& b) { return b.name == port.name || b.block == port.name; });
+    const BindingKind wanted = binding_kind_of(port);
+    if (found == reflection_.bindings.end()) {
+      throw graph_.error(pointer, "port '" + port.name + "'" + of_pass() + " has no binding in " + shader_.path + ": it declares no " +
+                                      std::string(binding_kind_name(wanted)).substr(2) + " named '" + port.name + "'" +
+                                      did_you_mean(port.name, binding_names()));
+    }
+    const ReflectedBinding& b = *found;
+    const std::string at = place(b.place) + ": ";
+    if (b.kind != wanted) {
+      throw graph_.error(pointer, "port '" + port.name + "'" + of_pass() + " is " + binding_kind_name(wanted) + ", but " + at + "'" +
+                                      b.name + "' is " + binding_kind_name(b.kind));
+    }
+    if (b.set != 0) throw graph_.error(pointer, at + "'" + b.name + "' is in set " + std::to_string(b.set) + "; user passes bind set 0");
+    if (shader_.scene && b.binding < kUserSceneBindings) {
+      throw graph_.error(pointer, at + "'" + b.name + "' takes binding " + std::to_string(b.binding) +
+                                      ", which the scene has (bindings 0 to " + std::to_string(kUserSceneBindings - 1) +
+                                      " with \"scene\": true); bind port '" + port.name + "' from binding " +
+                                      std::to_string(kUserSceneBindings));
+    }
+    if (port.kind == ResourceKind::image && b.arrayed != (port.layers > 1)) {
+      throw graph_.error(
+          pointer, "port '" + port.name + "'" + of_pass() + " takes an image of " + std::to_string(port.layers) + " layer(s), but " + at +
+                       "'" + b.name + "' is " + (b.arrayed ? "an array" : "not an array") +
+                       (port.layers > 1 ? "; declare it sampler2DArray or image2DArray" : "; declare it sampler2D or image2D"));
+    }
+    if (port.access == PortAccess::read && (b.kind == BindingKind::storage_image || b.kind == BindingKind::storage_buffer) && !b.readonly) {
+      throw graph_.error(pointer, "port '" + port.name + "'" + of_pass() + " is read, but " + at + "'" + b.name +
+                                      "' is not readonly: declare it readonly, or the port read_write");
+    }
+    if (b.kind == BindingKind::storage_image) check_format(port, b, pointer);
+    shader_.bindings.push_back({port.name, b.binding});
+  }
+
+  void check_format(PortDecl& port, const ReflectedBinding& b, const std::string& pointer) {
+    const std::string at = place(b.place) + ": ";
+    if (b.format.empty() && port.access != PortAccess::write) {
+      throw graph_.error(
+          pointer, at + "storage image '" + b.name + "' has no format qualifier, which the device needs to read it (r32f, rgba16f...)");
+    }
+    if (b.format.empty()) return;
+    std::vector<Format> with_qualifier;
+    for (const auto& name : format_names()) {
+      const Format f = *parse_format(name);
+      if (format_info(f).glsl_qualifier == b.format) with_qualifier.push_back(f);
+    }
+    if (port.formats.empty()) {
+      port.formats = with_qualifier;  // the shader's declaration says what the port takes
+      return;
+    }
+    for (Format f : port.formats) {
+      if (std::find(with_qualifier.begin(), with_qualifier.end(), f) == with_qualifier.end()) {
+        throw graph_.error(pointer, "format mismatch: port '" + port.name + "'" + of_pass() + " takes " + format_info(f).name + ", but " +
+                                        at + "'" + b.name + "' is declared " + b.format);
+      }
+    }
+  }
+
+  void check_output(PortDecl& port, const std::string& pointer) {
+    auto found = std::find_if(reflection_.outputs.begin(), reflection_.outputs.end(),
+                              [&](const ReflectedBinding& b) { return b.name == port.name; });
+    if (found == reflection_.outputs.end()) {
+      throw graph_.error(pointer, "port '" + port.name + "'" + of_pass() + " has no binding in " + shader_.path +
+                                      ": it declares no fragment output (layout(location = N) out vec4) named '" + port.name + "'" +
+                                      did_you_mean(port.name, binding_names()));
+    }
+    // Outputs of one draw cover one extent.
+    if (port.extent_group.empty()) port.extent_group = "fullscreen outputs";
+    shader_.bindings.push_back({port.name, found->binding});
+  }
+
+  void check_binding(const ReflectedBinding& b) const {
+    const bool port =
+        std::any_of(user_.ports.begin(), user_.ports.end(), [&](const PortDecl& p) { return p.name == b.name || p.name == b.block; });
+    if (port) return;
+    if (shader_.scene && b.set == 0 && b.binding < kUserSceneBindings) {
+      if (b.kind != scene_binding_kind(b.binding)) {
+        throw graph_.error(pass_.pointer + "/scene", place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) +
+                                                         " is " + binding_kind_name(b.kind) + ", but the scene's binding " +
+                                                         std::to_string(b.binding) + " is " +
+                                                         binding_kind_name(scene_binding_kind(b.binding)) + " (shaders/scene/scene.glsl)");
+      }
+      return;
+    }
+    std::vector<std::string> ports;
+    for (const auto& p : user_.ports) ports.push_back(p.name);
+    const bool scene_block = b.block == "FrameBlock" || b.block == "VertexBlock" || b.block == "ObjectBlock";
+    throw graph_.error(
+        pass_.pointer + (user_.ports.empty() ? "" : "/ports"),
+        place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "', " + binding_kind_name(b.kind) + ", is no port" +
+            of_pass() + "; declare it under \"ports\"" +
+            (scene_block && !shader_.scene ? ", or give the pass the scene with \"scene\": true" : did_you_mean(b.name, ports)));
+  }
+
+  void check_push_constants() {
+    std::vector<std::string> declared;
+    for (const auto& p : user_.params) declared.push_back(p.name);
+    if (reflection_.push_block.empty()) {
+      if (user_.params.empty()) return;
+      throw graph_.error(pass_.pointer + "/parameters",
+                         "pass '" + pass_.name + "' declares parameters, and " + shader_.path +
+                             " has no push-constant block (layout(push_constant) uniform Params { ... }) for them");
+    }
+    ErrorList errors;
+    for (const auto& member : reflection_.push_members) {
+      errors.attempt([&] {
+        auto param = std::find_if(user_.params.begin(), user_.params.end(), [&](const ParamDecl& p) { return p.name == member.name; });
+        if (param == user_.params.end()) {
+          throw graph_.error(pass_.pointer + "/parameters", place(member.place) + ": member '" + member.name +
+                                                                "' of push-constant block '" + reflection_.push_block +
+                                                                "' is no parameter" + of_pass() + did_you_mean(member.name, declared));
+        }
+        const size_t index = static_cast<size_t>(param - user_.params.begin());
+        if (!carries(member.type, param->type)) {
+          throw graph_.error(user_.param_pointers[index], place(member.place) + ": member '" + member.name + "' of push-constant block '" +
+                                                              reflection_.push_block + "' is " + member.type + ", and parameter '" +
+                                                              param->name + "' (" + std::string(param_type_name(param->type)) + ") needs " +
+                                                              member_type_for(param->type));
+        }
+        shader_.push_members.push_back(member.name);
+      });
+    }
+    for (size_t i = 0; i < user_.params.size(); ++i) {
+      errors.attempt([&] {
+        const auto& name = user_.params[i].name;
+        const bool in_block = std::any_of(reflection_.push_members.begin(), reflection_.push_members.end(),
+                                          [&](const shader::ReflectedMember& m) { return m.name == name; });
+        if (!in_block) {
+          throw graph_.error(user_.param_pointers[i], "parameter '" + name + "'" + of_pass() + " is not in push-constant block '" +
+                                                          reflection_.push_block + "' (" + place(reflection_.push_place) + ")");
+        }
+      });
+    }
+    errors.throw_if_any();
+  }
+
+  void check_dispatch_port() const {
+    if (user_.dispatch_port.empty()) return;
+    const PortDecl* port = decl_.find_port(user_.dispatch_port);
+    std::vector<std::string> images;
+    for (const auto& p : user_.ports) {
+      if (p.kind == ResourceKind::image) images.push_back(p.name);
+    }
+    if (!port || port->kind != ResourceKind::image) {
+      throw graph_.error(user_.dispatch_pointer, "\"dispatch\": '" + user_.dispatch_port + "' is no image port" + of_pass() +
+                                                     did_you_mean(user_.dispatch_port, images));
+    }
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, const GraphDesc& graph, const PassDesc& pass,
+                                                  std::shared_ptr<UserShader>& shader) {
+  const UserPassDesc& user = *pass.user;
+  const std::string shader_pointer = pass.pointer + "/shader";
+  const std::filesystem::path path = find_shader(graph, pass, shader_pointer);
+  const char* extension = kind.user_kind == UserShaderKind::fullscreen ? ".frag" : ".comp";
+  if (path.extension() != extension) {
+    throw graph.error(shader_pointer, "a " + kind.type + " pass's shader is a " + extension + " file, not '" + user.shader + "'");
+  }
+  shader::ReflectedShader compiled;
+  try {
+    compiled = user_shader_compiler().compile_reflected(path.string());
+  } catch (const InputError& e) {
+    throw graph.error(shader_pointer, "the shader of pass '" + pass.name + "' does not compile: " + e.what());
+  }
+  shader = std::make_shared<UserShader>();
+  shader->kind = kind.user_kind;
+  shader->path = path.string();
+  shader->spirv = std::move(compiled.spirv);
+  shader->scene = user.scene;
+  shader->local_size = compiled.reflection.local_size;
+  shader->dispatch_port = user.dispatch_port;
+
+  auto decl = std::make_shared<PassTypeDecl>(kind);
+  decl->description = pass.user->shader + ": " + kind.description;
+  decl->ports = user.ports;
+  decl->params = user.params;
+  decl->needs_scene = user.scene;
+  // Without the scene its result follows from its inputs and parameters alone; with it, from
+  // whatever of the scene the shader reads.
+  decl->depends_on = [scene = user.scene](const nlohmann::json&) { return scene ? kDependsOnScene : 0u; };
+  decl->result_source = std::move(compiled.sources);
+  Checker(graph, pass, compiled.reflection, *shader, *decl).run();
+  decl->user_shader = shader;
+  return decl;
+}
+
+}  // namespace caustica::graph

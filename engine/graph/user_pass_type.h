@@ -1,0 +1,49 @@
+#pragma once
+// A graph's user passes: a "compute" or "fullscreen" pass names its shader and declares its ports,
+// parameters and dispatch in the graph file (UserPassDesc). The compiler makes each such pass a
+// pass type of its own, checked against what its shader declares (glslang's linked program)
+// before any device runs: every binding a port, every port a binding of its kind and format, the
+// push-constant block the declared parameters.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "graph/graph_desc.h"
+
+namespace caustica::graph {
+
+// Where a port binds in set 0 (a fragment output: its location).
+struct UserPortBinding {
+  std::string port;
+  uint32_t binding = 0;
+};
+
+// The first bindings of set 0 that a pass with "scene": true gives the scene (shaders/scene/
+// scene.glsl: SCENE_FRAME, SCENE_VERTICES, SCENE_OBJECTS); its ports bind after them.
+inline constexpr uint32_t kUserSceneBindings = 3;
+
+struct UserShader {
+  UserShaderKind kind = UserShaderKind::compute;
+  std::string path;  // the shader file as found
+  std::vector<uint32_t> spirv;
+  std::vector<UserPortBinding> bindings;  // one per port
+  // The parameters in the order of the push-constant block's members, 4 bytes each (a choice is
+  // the index of its value, a bool 0 or 1).
+  std::vector<std::string> push_members;
+  bool scene = false;
+  std::array<uint32_t, 3> local_size{1, 1, 1};
+  // Compute: one invocation per texel of this port's image, or else `invocations` (the compiler
+  // evaluates the file's expressions).
+  std::string dispatch_port;
+  std::array<uint32_t, 3> invocations{1, 1, 1};
+};
+
+// The pass type of user pass `pass` (of registry kind `kind`): its ports, parameters and shader,
+// with `shader` set to the UserShader that the type holds, for the compiler to complete with the
+// dispatch once the parameters are resolved. Throws an InputError that names the graph file's
+// place and, for a disagreement with the shader, the shader's file and line.
+std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, const GraphDesc& graph, const PassDesc& pass,
+                                                  std::shared_ptr<UserShader>& shader);
+
+}  // namespace caustica::graph

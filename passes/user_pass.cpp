@@ -1,0 +1,159 @@
+// compute and fullscreen: passes whose shader, ports and parameters the graph file declares
+// (graph/user_pass_type.h). The compiler has compiled the shader and checked it against the
+// declarations; here each port is pushed at its binding, the parameters as push constants in the
+// block's order, and the shader dispatched over its port or invocations, or drawn full screen.
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cstring>
+
+#include "builtin_passes.h"
+#include "graph/pass.h"
+#include "graph/user_pass_type.h"
+#include "scene_draw.h"
+#include "vk/pipeline.h"
+
+namespace caustica::passes {
+namespace {
+
+class UserPass final : public graph::Pass {
+ public:
+  void setup(graph::PassSetup& setup) override {
+    decl_ = setup.pass().decl;
+    const graph::PassTypeDecl& decl = *decl_;
+    shader_ = decl.user_shader.get();
+    assert(shader_ && "a user pass compiled without its shader");
+    // Binding i has the type of the port there; the scene's take 0..2. Bindings the shader does not
+    // declare stay in the layout, unwritten.
+    std::vector<VkDescriptorType> bindings(shader_->scene ? graph::kUserSceneBindings : 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    if (shader_->scene) bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    std::vector<std::pair<uint32_t, VkFormat>> colors;
+    for (const auto& b : shader_->bindings) {
+      const graph::PortDecl& port = *decl.find_port(b.port);
+      if (port.usage == graph::PortUsage::color_attachment) {
+        colors.emplace_back(b.binding, graph::format_info(setup.resource(b.port).format).vk);
+        continue;
+      }
+      if (bindings.size() <= b.binding) bindings.resize(b.binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+      bindings[b.binding] =
+          port.kind == graph::ResourceKind::buffer
+              ? (port.usage == graph::PortUsage::uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+              : (port.usage == graph::PortUsage::sampled ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+    }
+    const vk::PipelineDesc layout{setup.pass().name, bindings, static_cast<uint32_t>(4 * shader_->push_members.size())};
+    if (shader_->kind == graph::UserShaderKind::compute) {
+      pipeline_ = vk::make_compute_pipeline(setup.vk(), layout, shader_->spirv);
+      return;
+    }
+    std::sort(colors.begin(), colors.end());
+    std::vector<VkFormat> formats;
+    for (const auto& [location, format] : colors) formats.push_back(format);
+    pipeline_ =
+        vk::make_fullscreen_pipeline(setup.vk(), layout, setup.shaders().compile("common/fullscreen.vert"), shader_->spirv, formats);
+  }
+
+  void execute(graph::PassContext& ctx) override {
+    const graph::PassTypeDecl& decl = *decl_;
+    VkCommandBuffer cmd = ctx.cmd();
+    vk::DescriptorWriter writer = shader_->scene ? scene_descriptors(ctx) : vk::DescriptorWriter();
+    std::vector<std::pair<uint32_t, VkImageView>> colors;
+    for (const auto& b : shader_->bindings) {
+      const graph::PortDecl& port = *decl.find_port(b.port);
+      if (port.kind == graph::ResourceKind::buffer) {
+        if (port.usage == graph::PortUsage::uniform)
+          writer.uniform_buffer(b.binding, ctx.buffer(b.port));
+        else
+          writer.storage_buffer(b.binding, ctx.buffer(b.port));
+      } else if (port.usage == graph::PortUsage::sampled) {
+        writer.sampled_image(b.binding, ctx.view(b.port), ctx.nearest_sampler());
+      } else if (port.usage == graph::PortUsage::storage) {
+        writer.storage_image(b.binding, ctx.view(b.port));
+      } else {
+        colors.emplace_back(b.binding, ctx.view(b.port));
+      }
+    }
+    const std::vector<uint32_t> push = push_constants(decl, ctx.params());
+    if (shader_->kind == graph::UserShaderKind::compute) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
+      writer.push(ctx.vk(), cmd, pipeline_);
+      if (!push.empty())
+        vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
+      std::array<uint32_t, 3> invocations = shader_->invocations;
+      if (!shader_->dispatch_port.empty()) {
+        const VkExtent2D extent = ctx.extent(shader_->dispatch_port);
+        invocations = {extent.width, extent.height, ctx.resource(shader_->dispatch_port).layers};
+      }
+      const auto& local = shader_->local_size;
+      vkCmdDispatch(cmd, (invocations[0] + local[0] - 1) / local[0], (invocations[1] + local[1] - 1) / local[1],
+                    (invocations[2] + local[2] - 1) / local[2]);
+      return;
+    }
+    std::sort(colors.begin(), colors.end());
+    std::vector<Attachment> attachments;
+    for (const auto& [location, view] : colors) attachments.push_back({view, VK_ATTACHMENT_LOAD_OP_DONT_CARE});
+    begin_rendering(cmd, ctx.extent(shader_->bindings.front().port), attachments, std::nullopt);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
+    writer.push(ctx.vk(), cmd, pipeline_);
+    if (!push.empty())
+      vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  // The parameters as the push-constant block's members, 4 bytes each, in its order.
+  std::vector<uint32_t> push_constants(const graph::PassTypeDecl& decl, const nlohmann::json& params) const {
+    std::vector<uint32_t> words;
+    for (const auto& name : shader_->push_members) {
+      const graph::ParamDecl& param = *decl.find_param(name);
+      const nlohmann::json& value = params[name];
+      uint32_t word = 0;
+      switch (param.type) {
+        case graph::ParamType::float_: {
+          const float f = value.get<float>();
+          std::memcpy(&word, &f, sizeof word);
+          break;
+        }
+        case graph::ParamType::int_: word = static_cast<uint32_t>(value.get<int32_t>()); break;
+        case graph::ParamType::bool_: word = value.get<bool>() ? 1u : 0u; break;
+        case graph::ParamType::choice:
+          word = static_cast<uint32_t>(std::find(param.choices.begin(), param.choices.end(), value.get<std::string>()) -
+                                       param.choices.begin());
+          break;
+      }
+      words.push_back(word);
+    }
+    return words;
+  }
+
+  const graph::PassTypeDecl* decl_ = nullptr;  // the pass's own type, which its plan holds
+  const graph::UserShader* shader_ = nullptr;
+  vk::Pipeline pipeline_;
+};
+
+graph::PassTypeDecl user_pass_kind(const char* type, graph::UserShaderKind kind, const char* description) {
+  graph::PassTypeDecl decl;
+  decl.type = type;
+  decl.description = description;
+  decl.queue = kind == graph::UserShaderKind::compute ? graph::PassQueue::compute : graph::PassQueue::graphics;
+  decl.create = [] { return std::make_unique<UserPass>(); };
+  decl.user_kind = kind;
+  return decl;
+}
+
+}  // namespace
+
+graph::PassTypeDecl user_compute_pass_type() {
+  return user_pass_kind("compute", graph::UserShaderKind::compute,
+                        "Compute shader of your own: the pass names its .comp file and declares its ports (each a binding of the "
+                        "shader's, by name), parameters (its push-constant block) and dispatch (docs/shader_passes.md).");
+}
+
+graph::PassTypeDecl user_fullscreen_pass_type() {
+  return user_pass_kind("fullscreen", graph::UserShaderKind::fullscreen,
+                        "Full-screen fragment shader of your own: the pass names its .frag file and declares its ports (inputs "
+                        "bound by name, outputs the shader's fragment outputs) and parameters (its push-constant block) "
+                        "(docs/shader_passes.md).");
+}
+
+}  // namespace caustica::passes

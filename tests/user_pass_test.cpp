@@ -1,0 +1,288 @@
+// User passes (compute and fullscreen passes whose shader the graph names): the compiler's checks
+// against the shader on the CPU, with a deliberately wrong shader or declaration for each error,
+// and the bundled examples rendered on lavapipe with validation on.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "builtin_passes.h"
+#include "graph/compiler.h"
+#include "graph/user_pass_type.h"
+#include "scene_engine.h"
+
+using namespace caustica;
+using namespace caustica::graph;
+
+namespace {
+
+// A folder of its own per test, for the graph and its shader.
+std::filesystem::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  auto dir = std::filesystem::temp_directory_path() / ("caustica_user_pass_" + std::to_string(::getpid())) / info->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void write(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+// pattern -> a user compute pass that scales the image -> out.
+const char* kScaleShader = R"(#version 460
+layout(local_size_x = 8, local_size_y = 4) in;
+layout(binding = 0) uniform sampler2D source;
+layout(binding = 1, rgba16f) uniform writeonly image2D target;
+layout(push_constant) uniform Params {
+  float gain;
+  int unused_count;
+} params;
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  imageStore(target, p, params.gain * texelFetch(source, p, 0) + float(params.unused_count));
+}
+)";
+
+nlohmann::json scale_graph() {
+  return {{"resources",
+           {{"color", {{"type", "image"}, {"format", "rgba16f"}}},
+            {"scaled", {{"type", "image"}, {"format", "rgba16f"}}},
+            {"unused", {{"type", "image"}, {"format", "rgba16f"}}}}},
+          {"passes",
+           {{{"name", "pattern"}, {"type", "pattern"}, {"outputs", {{"color", "color"}}}},
+            {{"name", "scale"},
+             {"type", "compute"},
+             {"shader", "scale.comp"},
+             {"ports", {{"source", {{"access", "read"}}}, {"target", {{"access", "write"}, {"formats", {"rgba16f"}}}}}},
+             {"parameters",
+              {{"gain", {{"type", "float"}, {"default", 1.0}, {"min", 0.0}, {"max", 8.0}}},
+               {"unused_count", {{"type", "int"}, {"default", 0}}}}},
+             {"params", {{"gain", 2.0}}},
+             {"dispatch", {"output.width", "output.height / 2 + gain"}},
+             {"inputs", {{"source", "color"}}},
+             {"outputs", {{"target", "scaled"}}}},
+            {{"name", "stray"},
+             {"type", "compute"},
+             {"shader", "scale.comp"},
+             {"ports", {{"source", {{"access", "read"}}}, {"target", {{"access", "write"}}}}},
+             {"parameters", {{"gain", {{"type", "float"}, {"default", 1.0}}}, {"unused_count", {{"type", "int"}, {"default", 0}}}}},
+             {"dispatch", "target"},
+             {"inputs", {{"source", "color"}}},
+             {"outputs", {{"target", "unused"}}}}}},
+          {"outputs", {"scaled"}}};
+}
+
+Plan compile_in(const std::filesystem::path& dir, const nlohmann::json& graph, CompileOptions options = {}) {
+  write(dir / "graph.json", graph.dump(2));
+  options.output_width = 64;
+  options.output_height = 32;
+  return compile_graph(load_graph_file((dir / "graph.json").string()), passes::builtin_registry(), options);
+}
+
+std::string error_of(const std::filesystem::path& dir, const nlohmann::json& graph) {
+  try {
+    compile_in(dir, graph);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+const PlannedPass& pass_named(const Plan& plan, const std::string& name) {
+  for (const auto& p : plan.passes) {
+    if (p.name == name) return p;
+  }
+  throw std::runtime_error("no pass " + name);
+}
+
+// `text` with every `from` made `to`; there must be one.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  EXPECT_NE(text.find(from), std::string::npos) << from;
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(UserPass, CompilesAsABuiltInPassDoes) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", kScaleShader);
+  CompileOptions reuse;
+  reuse.reuse_unchanged_passes = true;
+  const Plan plan = compile_in(dir, scale_graph(), reuse);
+  // Culled like a built-in pass: "stray" reaches no output.
+  ASSERT_EQ(plan.passes.size(), 2u);
+  EXPECT_EQ(plan.culled, std::vector<std::string>{"stray"});
+  const PlannedPass& scale = pass_named(plan, "scale");
+  EXPECT_EQ(scale.type, "compute");
+  EXPECT_EQ(scale.params["gain"], 2.0);
+  EXPECT_EQ(scale.params["unused_count"], 0);
+  // The target was written by a storage write, then read back as the output: a barrier before the
+  // compute pass moves "color" from attachment to sampled.
+  ASSERT_FALSE(scale.barriers.empty());
+  EXPECT_EQ(scale.barriers[0].new_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  // Its type holds its shader's reflection: bindings by port, local size, the push block's order,
+  // and the invocations its dispatch expressions give (32 / 2 + gain 2).
+  const UserShader& shader = *scale.decl->user_shader;
+  EXPECT_EQ(shader.local_size, (std::array<uint32_t, 3>{8, 4, 1}));
+  EXPECT_EQ(shader.invocations, (std::array<uint32_t, 3>{64, 18, 1}));
+  EXPECT_EQ(shader.push_members, (std::vector<std::string>{"gain", "unused_count"}));
+  ASSERT_EQ(shader.bindings.size(), 2u);
+  // No scene: what it computes follows from its input and parameters, so a plan may reuse it.
+  EXPECT_TRUE(scale.reusable(true));
+  EXPECT_NE(plan_to_dot(plan).find("scale"), std::string::npos);
+
+  // An edited shader is a different result: its key changes, an unchanged one keeps it.
+  const uint64_t key = scale.result_key;
+  EXPECT_EQ(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_key, key);
+  write(dir / "scale.comp", replaced(kScaleShader, "params.gain *", "0.5 * params.gain *"));
+  EXPECT_NE(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_key, key);
+}
+
+TEST(UserPass, ACompileErrorNamesTheUsersFileAndLine) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", replaced(kScaleShader, "float(params.unused_count)", "undeclared_thing"));
+  const std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find("graph.json:"), std::string::npos) << error;
+  EXPECT_NE(error.find("the shader of pass 'scale' does not compile"), std::string::npos) << error;
+  EXPECT_NE(error.find((dir / "scale.comp").string() + ":11: 'undeclared_thing' : undeclared identifier"), std::string::npos) << error;
+}
+
+TEST(UserPass, APortWithoutABindingIsRefused) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", replaced(kScaleShader, "source", "sauce"));
+  const std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find("port 'source' of pass 'scale' has no binding in " + (dir / "scale.comp").string() +
+                       ": it declares no sampled image (sampler2D) named 'source' (did you mean 'sauce'?)"),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, ABindingOfTheWrongKindIsRefused) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", replaced(replaced(kScaleShader, "layout(binding = 0) uniform sampler2D source;",
+                                              "layout(binding = 0, rgba16f) readonly uniform image2D source;"),
+                                     "texelFetch(source, p, 0)", "imageLoad(source, p)"));
+  const std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find("port 'source' of pass 'scale' is a sampled image (sampler2D), but " + (dir / "scale.comp").string() +
+                       ":3: 'source' is a storage image (image2D)"),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, ABindingWithoutAPortIsRefused) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", replaced(kScaleShader, "layout(push_constant)",
+                                     "layout(binding = 2) readonly buffer Extra { float extra[]; };\nlayout(push_constant)"));
+  const std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find((dir / "scale.comp").string() +
+                       ":5: binding 2 'Extra', a storage buffer (buffer block), is no port of pass 'scale'; declare it under \"ports\""),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, AFormatTheShaderContradictsIsRefused) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", replaced(kScaleShader, "binding = 1, rgba16f", "binding = 1, r32f"));
+  const std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find("format mismatch: port 'target' of pass 'scale' takes rgba16f, but " + (dir / "scale.comp").string() +
+                       ":4: 'target' is declared r32f"),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, APushConstantBlockThatDoesNotMatchTheParametersIsRefused) {
+  const auto dir = test_dir();
+  const std::string file = (dir / "scale.comp").string();
+  // A member no parameter declares, and so a parameter the block lacks.
+  write(dir / "scale.comp", replaced(kScaleShader, "gain", "gane"));
+  std::string error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find(file + ":6: member 'gane' of push-constant block 'Params' is no parameter of pass 'scale' (did you mean 'gain'?)"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("parameter 'gain' of pass 'scale' is not in push-constant block 'Params' (" + file + ":5)"), std::string::npos)
+      << error;
+  // A member of another type than its parameter's.
+  write(dir / "scale.comp", replaced(replaced(kScaleShader, "float gain;", "vec2 gain;"), "params.gain *", "params.gain.x *"));
+  error = error_of(dir, scale_graph());
+  EXPECT_NE(error.find(file + ":6: member 'gain' of push-constant block 'Params' is vec2, and parameter 'gain' (float) needs float"),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, ReadPortsMustBeReadonlyAndTheDispatchAPort) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", kScaleShader);
+  nlohmann::json graph = scale_graph();
+  graph["passes"][1]["dispatch"] = "targte";
+  std::string error = error_of(dir, graph);
+  EXPECT_NE(error.find("\"dispatch\": 'targte' is no image port of pass 'scale' (did you mean 'target'?)"), std::string::npos) << error;
+  // A storage image written by a shader whose port says it only reads it would escape the plan's barriers.
+  write(dir / "scale.comp", replaced(kScaleShader, "uniform writeonly image2D target", "uniform image2D target"));
+  graph = scale_graph();
+  graph["passes"][1]["ports"]["target"]["access"] = "read";
+  graph["passes"][1]["ports"]["target"]["usage"] = "storage";
+  graph["passes"][1]["inputs"]["target"] = "color";
+  graph["passes"][1]["outputs"].erase("target");
+  error = error_of(dir, graph);
+  EXPECT_NE(error.find("port 'target' of pass 'scale' is read, but " + (dir / "scale.comp").string() + ":4: 'target' is not readonly"),
+            std::string::npos)
+      << error;
+}
+
+TEST(UserPass, DeclarationsAreCheckedWithTheirPlaceInTheFile) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", kScaleShader);
+  nlohmann::json graph = scale_graph();
+  graph["passes"][1]["ports"]["source"]["acess"] = "read";
+  std::string error = error_of(dir, graph);
+  EXPECT_NE(error.find("/passes/1/ports/source/acess"), std::string::npos) << error;
+  EXPECT_NE(error.find("unknown member 'acess' in a port (did you mean 'access'?)"), std::string::npos) << error;
+  graph = scale_graph();
+  graph["passes"][0]["shader"] = "scale.comp";
+  error = error_of(dir, graph);
+  EXPECT_NE(error.find("\"shader\" is for passes of type compute or fullscreen"), std::string::npos) << error;
+  graph = scale_graph();
+  graph["passes"][1]["shader"] = "missing.comp";
+  error = error_of(dir, graph);
+  EXPECT_NE(error.find("shader 'missing.comp' of pass 'scale' is neither beside the graph"), std::string::npos) << error;
+}
+
+// The bundled examples on the device, validation on (SceneEngine fails on any message).
+TEST(UserPass, TheBackDepthViewShowsTheRefractorsBackSurfaces) {
+  test::SceneEngine e;
+  e.render(load_graph_file((data_dir() / "graphs/examples/back_depth_view.json").string()), test::load_bundled_scene("sphere_plane"),
+           {"light_back"});
+  const io::ImageData back = e.executor.read_image("light_back");
+  const io::ImageData view = e.executor.read_image("view");
+  ASSERT_EQ(view.rgba.size(), back.rgba.size());
+  // Grey exactly where the light sees a back surface, black elsewhere.
+  size_t surfaces = 0, mismatched = 0;
+  for (size_t i = 0; i < back.rgba.size(); i += 4) {
+    const bool surface = back.rgba[i + 1] > 0.0f;
+    surfaces += surface;
+    mismatched += surface != (view.rgba[i] > 0.0f);
+  }
+  EXPECT_GT(surfaces, back.rgba.size() / 4 / 20);
+  EXPECT_EQ(mismatched, 0u);
+}
+
+TEST(UserPass, TheCausticFilterSmoothsTheMapAndKeepsItsFlux) {
+  test::SceneEngine e;
+  auto graph = load_graph_file((data_dir() / "graphs/examples/caustic_filter.json").string());
+  apply_overrides(graph, {"grid=128", "caustic_size=128", "light_size=256", "shadow_size=256"});
+  e.render(graph, test::load_bundled_scene("sphere_plane"), {"caustics", "filtered_caustics"});
+  const io::ImageData map = e.executor.read_image("caustics");
+  const io::ImageData filtered = e.executor.read_image("filtered_caustics");
+  double flux = 0, filtered_flux = 0, peak = 0, filtered_peak = 0;
+  for (size_t i = 0; i < map.rgba.size(); i += 4) {
+    flux += static_cast<double>(map.rgba[i]);
+    filtered_flux += static_cast<double>(filtered.rgba[i]);
+    peak = std::max<double>(peak, map.rgba[i]);
+    filtered_peak = std::max<double>(filtered_peak, filtered.rgba[i]);
+  }
+  ASSERT_GT(flux, 0.0);
+  // The kernel's weights sum to one at each texel: the caustic, away from the map's edges, keeps its flux.
+  EXPECT_NEAR(filtered_flux / flux, 1.0, 0.02);
+  EXPECT_LT(filtered_peak, 0.7 * peak);
+}
+
+}  // namespace
