@@ -289,8 +289,8 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
 // A new plan (a frame-budget step's size, an edited parameter) takes over the results of the passes
 // it did not change, as long as what they depend on holds: at another output size the light's
 // passes do not run again, after an exposure edit only the tone map runs, and each such frame is
-// the picture a fresh render of that state gives. After invalidate() (a shader reload) every pass
-// runs again.
+// the picture a fresh render of that state gives. After invalidate() every pass runs again; after
+// invalidate(files) (a saved shader) those set up with one of them and those downstream.
 TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   SceneEngine e;
   e.executor.set_reuse_unchanged_passes(true);
@@ -333,6 +333,25 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   expect_fresh({"grid=512", "exposure=2"}, e.width, e.height, "a plan that never ran");
   e.executor.invalidate();
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), every) << "after invalidate()";
+  // A saved shader file (the viewer's hot reload): the passes set up with it run again, and those
+  // that read what they write; the others keep their results.
+  auto shader_file = [&](const std::string& name) {
+    for (const auto& file : e.executor.shader_files()) {
+      if (file.filename() == name) return file;
+    }
+    ADD_FAILURE() << name << " is not among the plan's shader files";
+    return std::filesystem::path();
+  };
+  e.executor.invalidate({shader_file("tonemap.comp")});
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), std::set<std::string>{"tonemap"}) << "after the tone map's shader";
+  e.executor.invalidate({shader_file("lighting.frag")});
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), (std::set<std::string>{"lighting", "refraction", "tonemap"}))
+      << "after the lighting's shader";
+  e.executor.invalidate({shader_file("adaptive_photons.comp")});
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height),
+            (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
+      << "after the adaptive photons' shader";
+  expect_fresh({"grid=512", "exposure=2"}, e.width, e.height, "shader reloads");
 }
 
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image

@@ -43,15 +43,4 @@ std::filesystem::file_time_type modified(const std::string& path) {
   return ec ? std::filesystem::file_time_type{} : t;
 }
 
-std::filesystem::file_time_type newest_file(const std::filesystem::path& folder) {
-  // file_time_type's epoch lies in the future on libstdc++: today's times are negative.
-  auto newest = std::filesystem::file_time_type::min();
-  std::error_code ec;
-  for (auto it = std::filesystem::recursive_directory_iterator(folder, ec); !ec && it != std::filesystem::recursive_directory_iterator();
-       it.increment(ec)) {
-    if (it->is_regular_file(ec)) newest = std::max(newest, it->last_write_time(ec));
-  }
-  return newest;
-}
-
 }  // namespace caustica::editor

@@ -37,7 +37,5 @@ void set_from_command_line(Session& s, const std::vector<std::string>& assignmen
 
 // A file's modification time (the epoch's if it cannot be read).
 std::filesystem::file_time_type modified(const std::string& path);
-// The newest modification under a folder: a saved shader or include changes it.
-std::filesystem::file_time_type newest_file(const std::filesystem::path& folder);
 
 }  // namespace caustica::editor

@@ -85,7 +85,6 @@ class Viewer::Impl {
     session_.graph_file = o.graph_file;
     session_.scene_file = o.scene_file;
     set_from_command_line(session_, o.sets);
-    shader_time_ = newest_file(data_dir() / "shaders");
     reload(true);
     if (!session_.graph) throw InputError(session_.status);
     if (inspector_.inspected != o.inspect)
@@ -202,23 +201,40 @@ class Viewer::Impl {
     return options;
   }
 
-  // Recompiles every pass when a shader changed; a shader that fails to compile leaves the last
-  // good pipelines running (the executor keeps its plan when set-up fails).
+  // A saved shader file or include (the engine's or a user pass's) sets up the plan again: the passes
+  // set up with it run again with those that read what they write, and the others keep their results.
+  // A shader that fails to compile leaves the last good plan running, its error on screen.
   bool reload_shaders() {
-    const auto newest = newest_file(data_dir() / "shaders");
-    if (newest == shader_time_) return false;
-    shader_time_ = newest;
+    std::set<std::filesystem::path> edited;
+    std::string names;
+    for (auto& [file, time] : shader_times_) {
+      const auto now = modified(file.string());
+      if (now == time) continue;
+      time = now;
+      edited.insert(file);
+      names += (names.empty() ? "" : ", ") + file.filename().string();
+    }
+    if (edited.empty()) return false;
     try {
-      executor_.invalidate();
+      executor_.invalidate(edited);
       configure();
-      session_.status = "reloaded shaders";
-      session_.status_is_error = false;
+      session_.report("reloaded " + names, false);
     } catch (const std::exception& e) {
-      session_.status = e.what();
-      session_.status_is_error = true;
+      session_.report(e.what(), true);
     }
     std::fprintf(stderr, "view: %s%s\n", session_.status_is_error ? "kept the last good shaders: " : "", session_.status.c_str());
     return true;
+  }
+
+  // Watches the shader files of the plan now running: new ones from their present time, the others
+  // from when they were last seen, so that a save between two plans still counts.
+  void watch_shaders() {
+    std::map<std::filesystem::path, std::filesystem::file_time_type> watched;
+    for (const auto& file : executor_.shader_files()) {
+      const auto seen = shader_times_.find(file);
+      watched[file] = seen != shader_times_.end() ? seen->second : modified(file.string());
+    }
+    shader_times_ = std::move(watched);
   }
 
   // "GRAPH on SCENE": the window's title and the panel's.
@@ -287,6 +303,7 @@ class Viewer::Impl {
       inspector_.inspected.clear();  // the inspected image left the graph: back to its output
       executor_.configure(graph, size.width, size.height);
     }
+    watch_shaders();
   }
 
   // The graph renders at the window's size divided by the frame budget's divider.
@@ -727,7 +744,7 @@ class Viewer::Impl {
   vk::OwnedSemaphore acquired_, rendered_;
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
-  std::filesystem::file_time_type shader_time_{};
+  std::map<std::filesystem::path, std::filesystem::file_time_type> shader_times_;  // watch_shaders()
   bool blit_supported_ = false;  // the output can go into the window on the device
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};

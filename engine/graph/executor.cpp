@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/low_discrepancy.h"
 #include "graph/expression.h"
+#include "graph/user_pass_type.h"
 #include "vk/buffer.h"
 
 namespace caustica::graph {
@@ -183,6 +184,8 @@ struct Executor::Realized {
   const nlohmann::json* recording_params = nullptr;  // and its parameters for this frame
   std::vector<nlohmann::json> frame_params;          // per pass with PlannedPass::frame_params
   std::map<std::string, double> last_counters;
+  // Per pass: the shader files (and includes) it was set up with.
+  std::vector<std::vector<std::filesystem::path>> shader_files;
 };
 
 // ---- PassSetup / PassContext --------------------------------------------------------------------
@@ -352,6 +355,14 @@ void Executor::realize(Plan plan) {
   carry_results(std::move(previous_plan), std::move(previous));
 }
 
+std::set<std::filesystem::path> Executor::shader_files() const {
+  std::set<std::filesystem::path> files;
+  if (realized_) {
+    for (const auto& pass_files : realized_->shader_files) files.insert(pass_files.begin(), pass_files.end());
+  }
+  return files;
+}
+
 void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before) {
   // A plan replaced before its first frame (two edits between frames) has nothing of its own: what
   // it was to carry over comes from the plan before it.
@@ -363,14 +374,26 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
   carried_plan_.reset();
   carried_realized_.reset();
   const bool carry = std::exchange(carry_results_, true);
+  const std::set<std::filesystem::path> edited = std::exchange(edited_shaders_, {});
   if (!carry || !before || realized_before->frame_index == 0 || !before->reuses_unchanged_passes || !plan_->reuses_unchanged_passes) {
     return;
   }
+  // A pass set up with an edited shader file, or reading what such a pass writes, computes anew.
+  std::set<uint32_t> recomputed;          // resources of `before`
   std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
   for (size_t j = 0; j < before->passes.size(); ++j) {
-    if (before->passes[j].result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) {
-      ran_before[before->passes[j].result_key] = j;
+    const PlannedPass& pass = before->passes[j];
+    const auto& files = realized_before->shader_files[j];
+    bool stale = std::any_of(files.begin(), files.end(), [&](const std::filesystem::path& f) { return edited.count(f) != 0; });
+    for (const auto& [port, resource] : pass.ports)
+      stale = stale || (pass.decl->find_port(port)->access != PortAccess::write && recomputed.count(resource));
+    if (stale) {
+      for (const auto& [port, resource] : pass.ports) {
+        if (pass.decl->find_port(port)->access != PortAccess::read) recomputed.insert(resource);
+      }
+      continue;
     }
+    if (pass.result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) ran_before[pass.result_key] = j;
   }
   Realized& real = *realized_;
   real.reset_keys.resize(plan_->passes.size());
@@ -525,7 +548,17 @@ void Executor::realize_passes_and_resources() {
     assert(pass.decl && pass.decl->create && "a registered pass type without an implementation");
     real.passes.push_back(pass.decl->create());
     PassSetup setup(*this, pass);
-    real.passes.back()->setup(setup);
+    auto& files = real.shader_files.emplace_back();
+    // A user pass's shader was compiled with the plan; a built-in pass compiles its own now.
+    if (pass.decl->user_shader) files = pass.decl->user_shader->files;
+    shaders_.log_files_to(&files);
+    try {
+      real.passes.back()->setup(setup);
+    } catch (...) {
+      shaders_.log_files_to(nullptr);
+      throw;
+    }
+    shaders_.log_files_to(nullptr);
   }
 }
 

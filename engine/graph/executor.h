@@ -2,6 +2,7 @@
 // Turns a Plan into Vulkan objects (shared memory blocks with aliased resources, one allocation per
 // persistent resource, pass objects) and records and submits frames. Recompiles only when the graph
 // or the output size changes.
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -97,6 +98,14 @@ class Executor {
     configured_key_.clear();
     carry_results_ = false;
   }
+  // As invalidate(), for these shader files (and includes) saved: only the passes set up with one
+  // of them, and those that read what they write, run again; the others keep their results.
+  void invalidate(const std::set<std::filesystem::path>& edited_shaders) {
+    configured_key_.clear();
+    edited_shaders_.insert(edited_shaders.begin(), edited_shaders.end());
+  }
+  // Every shader file (and include) the plan's passes were set up with: what a reload watches.
+  std::set<std::filesystem::path> shader_files() const;
 
  private:
   friend class PassSetup;
@@ -128,6 +137,7 @@ class Executor {
   uint32_t compile_count_ = 0;
   bool reuse_unchanged_passes_ = false;
   bool carry_results_ = true;  // until invalidate()
+  std::set<std::filesystem::path> edited_shaders_;  // until the next plan, invalidate(files)
   std::unique_ptr<const Plan> carried_plan_;
   std::unique_ptr<Realized> carried_realized_;
   std::vector<std::pair<uint32_t, uint32_t>> carried_images_;  // resource in carried_plan_ -> in plan_

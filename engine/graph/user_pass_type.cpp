@@ -286,6 +286,7 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   shader = std::make_shared<UserShader>();
   shader->kind = kind.user_kind;
   shader->path = path.string();
+  shader->files = compiled.files;
   shader->spirv = std::move(compiled.spirv);
   shader->scene = user.scene;
   shader->local_size = compiled.reflection.local_size;

@@ -5,6 +5,7 @@
 // before any device runs: every binding a port, every port a binding of its kind and format, the
 // push-constant block the declared parameters.
 #include <array>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@ inline constexpr uint32_t kUserSceneBindings = 3;
 struct UserShader {
   UserShaderKind kind = UserShaderKind::compute;
   std::string path;  // the shader file as found
+  std::vector<std::filesystem::path> files;  // it and everything it includes: what a reload watches
   std::vector<uint32_t> spirv;
   std::vector<UserPortBinding> bindings;  // one per port
   // The parameters in the order of the push-constant block's members, 4 bytes each (a choice is

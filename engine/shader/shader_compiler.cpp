@@ -185,10 +185,19 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
 
 ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) { initialize_glslang(); }
 
-std::string ShaderCompiler::sources_text(const Entry& entry) {
-  std::string text;
-  for (const auto& [file, source] : entry.sources) text += file.string() + "\n" + source + "\n";
-  return text;
+ReflectedShader ShaderCompiler::compiled(const Entry& entry) {
+  ReflectedShader out{entry.spirv, entry.reflection, {}, {}};
+  for (const auto& [file, source] : entry.sources) {
+    out.sources += file.string() + "\n" + source + "\n";
+    out.files.push_back(file);
+  }
+  if (file_log_) file_log_->insert(file_log_->end(), out.files.begin(), out.files.end());
+  return out;
+}
+
+void ShaderCompiler::log_files_to(std::vector<std::filesystem::path>* files) {
+  std::lock_guard lock(mutex_);
+  file_log_ = files;
 }
 
 CompileStats ShaderCompiler::stats() const {
@@ -212,7 +221,7 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
     }
     if (unchanged) {
       ++stats_.cache_hits;
-      return {it->second.spirv, it->second.reflection, sources_text(it->second)};
+      return compiled(it->second);
     }
   }
 
@@ -245,7 +254,7 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   entry.reflection = reflect(*program.getIntermediate(stage), entry.sources);
   ++stats_.compiles;
   auto& stored = cache_[key] = std::move(entry);
-  return {stored.spirv, stored.reflection, sources_text(stored)};
+  return compiled(stored);
 }
 
 }  // namespace caustica::shader

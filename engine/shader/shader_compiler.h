@@ -52,6 +52,7 @@ struct ReflectedShader {
   Reflection reflection;
   // The text of the file and of everything it includes: what a result computed with it follows from.
   std::string sources;
+  std::vector<std::filesystem::path> files;  // the file and everything it includes
 };
 
 struct CompileStats {
@@ -71,6 +72,9 @@ class ShaderCompiler {
 
   const std::filesystem::path& root() const { return root_; }
   CompileStats stats() const;
+  // While set, every compile adds the files it read to `files`: how the executor learns which passes
+  // a saved shader or include touches. nullptr stops it.
+  void log_files_to(std::vector<std::filesystem::path>* files);
 
  private:
   struct Entry {
@@ -78,11 +82,12 @@ class ShaderCompiler {
     std::vector<uint32_t> spirv;
     Reflection reflection;
   };
-  static std::string sources_text(const Entry& entry);
+  ReflectedShader compiled(const Entry& entry);
   std::filesystem::path root_;
   std::map<std::string, Entry> cache_;  // by path + defines
   mutable std::mutex mutex_;
   CompileStats stats_;
+  std::vector<std::filesystem::path>* file_log_ = nullptr;
 };
 
 }  // namespace caustica::shader

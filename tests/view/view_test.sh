@@ -5,7 +5,8 @@
 # 2. an edit of the graph file is picked up while the viewer runs (within a second or two);
 # 3. a broken edit keeps the old graph running, shows the error with its location, and the viewer
 #    still exits 0 when closed (Ctrl-C);
-# 4. a broken shader keeps the last good pipelines, a mended one is picked up.
+# 4. a broken shader keeps the last good pipelines, a mended one is picked up;
+# 5. so for a user pass's shader beside its graph, and only the passes it touches run again.
 #
 # Under the sanitizers (a third argument, "sanitized") every viewer run stays, and the headless
 # renders and image comparisons that check its pixels are left to the Release run: they add no
@@ -203,10 +204,58 @@ wait_for "view: kept the last good shaders: " 5 > /dev/null
 grep -q "color.glsl:[0-9]*:" "$dir/log" || fail "the shader error does not name the file and line"
 echo "ok: a broken shader keeps the last good pipelines and names the file and line"
 cp "$dir/color.glsl" "$shader"
-wait_for "view: reloaded shaders" 5 > /dev/null
+wait_for "view: reloaded color.glsl" 5 > /dev/null
 echo "ok: the mended shader is picked up"
 kill -INT "$view_pid"
 status=0
 wait "$view_pid" || status=$?
 view_pid=""
 [ "$status" -eq 0 ] || fail "view exited $status after the shader edits"
+
+# 5. A user pass's shader, beside its graph: saved broken, the last good plan runs on with the
+#    error naming the user's file and line; mended, only the user pass and what reads its output run
+#    again (the pattern and the first blur keep their results).
+mkdir "$dir/user"
+sed -e 's#"type": "box_blur", "params": {"radius": "$blur_radius", "axis": "y"}#"type": "compute", "shader": "scale.comp", "ports": {"source": {"access": "read"}, "target": {"access": "write", "formats": ["rgba16f"]}}, "parameters": {"gain": {"type": "float", "default": 1}}, "dispatch": "target", "params": {"gain": 1}#' \
+    -e 's#"\$schema": "./schema.json",##' "$src/graphs/core_demo.json" > "$dir/user/g.json"
+grep -q '"compute"' "$dir/user/g.json" || fail "the user-pass graph was not made from core_demo.json"
+scale_shader() {  # GAIN
+  cat > "$dir/user/scale.comp" <<GLSL
+#version 460
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D source;
+layout(binding = 1, rgba16f) uniform writeonly image2D target;
+layout(push_constant) uniform Params { float gain; } params;
+void main() {
+  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, imageSize(target)))) return;
+  imageStore(target, p, $1 * params.gain * texelFetch(source, p, 0));
+}
+GLSL
+}
+scale_shader 1.0
+: > "$dir/log"
+"$bin" view --graph "$dir/user/g.json" --size 160x90 --validate --stats "$dir/user/stats.json" > "$dir/log" 2>&1 &
+view_pid=$!
+wait_for "view: loaded" 120 > /dev/null
+sleep 1
+sed -i 's/imageStore(target/imageStore(targte/' "$dir/user/scale.comp"
+wait_for "view: kept the last good shaders: " 5 > /dev/null
+grep -q "scale.comp:9:" "$dir/log" || fail "the user shader's error does not name its file and line"
+echo "ok: a broken user shader keeps the last good plan and names its file and line"
+scale_shader 0.5
+wait_for "view: reloaded scale.comp" 5 > /dev/null
+sleep 1
+kill -INT "$view_pid"
+status=0
+wait "$view_pid" || status=$?
+view_pid=""
+[ "$status" -eq 0 ] || fail "view exited $status after the user shader edits"
+python3 - "$dir/user/stats.json" <<'PY' || fail "the mended user shader did not run alone with what reads its output"
+import json, sys
+frames = [f for f in json.load(open(sys.argv[1]))["frames"] if f["ran"]]  # redraws of an unchanged frame run nothing
+assert sorted(frames[0]["ran"]) == ["blur_x", "blur_y", "pattern", "tonemap"], frames[0]
+assert sorted(frames[-1]["ran"]) == ["blur_y", "tonemap"], frames[-1]
+assert sorted(frames[-1]["reused"]) == ["blur_x", "pattern"], frames[-1]
+PY
+echo "ok: the mended user shader is picked up, and only it and the tone map run again"
