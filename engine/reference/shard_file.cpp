@@ -8,11 +8,13 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/ImfThreading.h>
 
 #include <algorithm>
 #include <exception>
 #include <filesystem>
 #include <numeric>
+#include <thread>
 
 #include "core/error.h"
 #include "io/files.h"
@@ -157,6 +159,11 @@ ShardHeader read_shard_file(const std::string& path, const ShardKind& kind,
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read the " + kind.noun + ": " + e.what());
   }
+}
+
+void decode_on_every_core() {
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  if (cores > 1 && Imf::globalThreadCount() < cores) Imf::setGlobalThreadCount(cores);
 }
 
 std::string shard_file_kind(const std::string& path) {

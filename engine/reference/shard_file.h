@@ -91,6 +91,10 @@ std::vector<size_t> check_shards(const ShardKind& kind, const std::vector<std::s
                                  const std::vector<const ShardHeader*>& headers,
                                  const std::function<std::vector<std::pair<std::string, std::string>>(size_t k)>& identity);
 
+// Lets OpenEXR decode a file's blocks on every core (its global thread pool): a merge reads one
+// file at a time, and zlib's inflate and OpenEXR's unpacking are most of its time.
+void decode_on_every_core();
+
 // Reads every shard's header with `read` (a path -> a Shard, derived from ShardHeader) and checks
 // them with check_shards, `identity(shard)` giving the kind's own settings; returns the shards
 // with their paths in the order of their ranges.
@@ -98,6 +102,7 @@ template <typename Shard, typename Read, typename Identity>
 std::vector<std::pair<Shard, std::string>> read_checked_shards(const ShardKind& kind, const std::vector<std::string>& paths, Read read,
                                                                Identity identity) {
   if (paths.empty()) throw InputError(std::string("merge needs at least one ") + kind.noun);
+  decode_on_every_core();
   std::vector<Shard> shards;
   for (const auto& path : paths) shards.push_back(read(path));
   std::vector<const ShardHeader*> headers;
