@@ -765,16 +765,29 @@ TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   fs::remove_all(dir);
 }
 
+// caustica reference ARGS in `dir`, outside a scheduler but for the variables of `env` ("NAME=VALUE").
+CliRun reference_run(const std::string& args, const std::string& env, const fs::path& dir) {
+  return run_binary("/usr/bin/env", "-u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " '" + CAUSTICA_BIN + "' reference " + args,
+                    dir);
+}
+
+// Each `caustica merge SHARDS --out refused.exr` in `dir` exits 1 naming MESSAGE and writes nothing.
+void expect_merge_refusals(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& refusals) {
+  for (const auto& [shards, message] : refusals) {
+    const CliRun refused = run("merge " + shards + " --out refused.exr", dir);
+    EXPECT_EQ(refused.code, 1) << shards << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << "expected: " << message << "\ngot: " << refused.output;
+    EXPECT_FALSE(fs::exists(dir / "refused.exr"));
+  }
+}
+
 // The photon reference as shards, as a cluster runs it (docs/cluster.md): four shards, two of
 // them indexed by the scheduler's variables, merge into the map of one process bit for bit; shards
 // that do not make one map are refused with exit 1, naming what is wrong, and nothing is written.
 TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
   const fs::path dir = scratch("shards");
   const std::string sphere = "--scene '" + (kSource / "scenes/sphere_plane.json").string() + "' --map-size 32 ";
-  auto reference = [&](const std::string& args, const std::string& env = "") {
-    return run_binary("/usr/bin/env", "-u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " '" + CAUSTICA_BIN + "' reference " + args,
-                      dir);
-  };
+  auto reference = [&](const std::string& args, const std::string& env = "") { return reference_run(args, env, dir); };
   ASSERT_EQ(reference(sphere + "--photons 1e5 --out whole.exr").code, 0);
   for (int i : {0, 1})
     ASSERT_EQ(reference(sphere + "--photons 1e5 --shard " + std::to_string(i) + "/4 --out s" + std::to_string(i) + ".exr").code, 0);
@@ -814,12 +827,7 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
       {"s0.exr s1.exr s2.exr count.exr", "count.exr: photon count 200000, where s0.exr has 100000"},
       {"s0.exr s1.exr s2.exr sun.exr", "sun.exr: scene sphere_sun (identity "},
   };
-  for (const auto& [shards, message] : refusals) {
-    const CliRun refused = run("merge " + shards + " --out refused.exr", dir);
-    EXPECT_EQ(refused.code, 1) << shards << "\n" << refused.output;
-    EXPECT_NE(refused.output.find(message), std::string::npos) << "expected: " << message << "\ngot: " << refused.output;
-    EXPECT_FALSE(fs::exists(dir / "refused.exr"));
-  }
+  expect_merge_refusals(dir, refusals);
   const CliRun as_image = run("compare s0.exr whole.exr", dir);
   EXPECT_EQ(as_image.code, 1);
   EXPECT_NE(as_image.output.find("s0.exr: cannot read image: it has no R or Y channel (a photon shard: caustica merge makes the map)"),
@@ -834,6 +842,52 @@ TEST(Cli, ShardedReferenceMergesToTheWholeMapAndRefusesStrayShards) {
   EXPECT_EQ(kill.code, 137) << kill.output;
   EXPECT_TRUE(fs::is_empty(killed));
   fs::remove_all(killed);
+  fs::remove_all(dir);
+}
+
+// The ray-traced camera reference as shards of rows (docs/cluster.md): three shards, two of them
+// indexed by the scheduler's variables, merge into the very file one process writes; shards that
+// do not make one image are refused with exit 1, naming what is wrong, and nothing is written.
+TEST(Cli, ShardedCameraReferenceMergesToTheWholeImageAndRefusesStrayShards) {
+  const fs::path dir = scratch("camera_shards");
+  const std::string sphere = "--scene '" + (kSource / "scenes/sphere_plane.json").string() + "' --size 32x18 ";
+  auto reference = [&](const std::string& args, const std::string& env = "") { return reference_run(args, env, dir); };
+  ASSERT_EQ(reference(sphere + "--out whole.exr").code, 0);
+  ASSERT_EQ(reference(sphere + "--shard 0/3 --out s0.exr").code, 0);
+  const CliRun slurm = reference(sphere + "--shard auto/3 --out s1.exr", "SLURM_ARRAY_TASK_ID=1");
+  ASSERT_EQ(slurm.code, 0) << slurm.output;
+  EXPECT_NE(slurm.output.find("shard 1/3: rows 6 to 11 of 32x18"), std::string::npos) << slurm.output;
+  ASSERT_EQ(reference(sphere + "--shard auto/3 --out s2.exr", "JOB_COMPLETION_INDEX=2").code, 0);
+  const CliRun merged = run("merge s2.exr s0.exr s1.exr --out merged.exr", dir);
+  ASSERT_EQ(merged.code, 0) << merged.output;
+  EXPECT_NE(merged.output.find("merged 3 shards: image 32x18, seed 1, scene sphere_plane"), std::string::npos) << merged.output;
+  EXPECT_EQ(read(dir / "merged.exr"), read(dir / "whole.exr"));  // the same file, byte for byte
+
+  ASSERT_EQ(reference(sphere + "--seed 2 --shard 2/3 --out seed2.exr").code, 0);
+  ASSERT_EQ(reference("--scene '" + (kSource / "scenes/sphere_sun.json").string() + "' --size 32x18 --shard 2/3 --out sun.exr").code, 0);
+  ASSERT_EQ(reference(sphere + "--photons 1000 --map-size 8 --shard 2/3 --out photons.exr").code, 0);
+  const std::vector<std::pair<std::string, std::string>> refusals = {
+      {"s0.exr s1.exr", "rows 12 to 17 are missing: shard 2 of 3"},
+      {"s0.exr s1.exr s2.exr s2.exr", "s2.exr is given twice"},
+      {"s0.exr s1.exr seed2.exr", "seed2.exr: seed 2, where s0.exr has 1"},
+      {"s0.exr s1.exr sun.exr", "sun.exr: scene sphere_sun (identity "},
+      {"s0.exr s1.exr photons.exr", "photons.exr: not a camera shard (a photon shard; merge the kinds apart)"},
+  };
+  expect_merge_refusals(dir, refusals);
+  const CliRun as_image = run("compare s0.exr whole.exr", dir);
+  EXPECT_EQ(as_image.code, 1);
+  EXPECT_NE(as_image.output.find("s0.exr: cannot read image: it is a camera shard"), std::string::npos) << as_image.output;
+  const std::vector<std::pair<std::string, std::string>> usage = {
+      {sphere + "--shard 0/19 --out s.exr", "--shard 0/19: more shards than the 18 rows of the image"},
+      {sphere + "--shard 0/3 --out s.png", "s.png: a shard is an EXR of the image's rows: --out must end in .exr"},
+      {sphere + "--shard 0/3 --exposure 2 --out s.exr", "--exposure goes without --shard"},
+  };
+  for (const auto& [args, message] : usage) {
+    const CliRun refused = reference(args);
+    EXPECT_EQ(refused.code, 2) << args << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << "expected: " << message << "\ngot: " << refused.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "s.exr"));
   fs::remove_all(dir);
 }
 

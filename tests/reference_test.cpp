@@ -1,5 +1,6 @@
 // The photon ground truth (CPU, Embree) against ORACLES.md: the ball lens, a glass slab, n = 1,
-// energy bookkeeping, determinism, and shards that merge into the whole map.
+// energy bookkeeping, determinism, and shards that merge into the whole map; the camera reference's
+// shards of rows, which merge into the whole image.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -9,9 +10,11 @@
 #include "ball_lens.h"
 #include "core/paths.h"
 #include "io/json_document.h"
+#include "reference/camera_shard.h"
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "reference/photon_shard.h"
+#include "reference/refraction_reference.h"
 
 using namespace caustica;
 
@@ -44,14 +47,23 @@ std::filesystem::path scratch(const std::string& name) {
   return dir;
 }
 
-// The message of merge's refusal, or "" when it merged.
-std::string merge_refusal(const std::vector<std::string>& paths) {
+// The message of merge's refusal (of photon shards, or camera shards with `camera`), or "" when it merged.
+std::string merge_refusal(const std::vector<std::string>& paths, bool camera = false) {
   try {
-    reference::merge_photon_shards(paths);
+    camera ? (void)reference::merge_camera_shards(paths) : (void)reference::merge_photon_shards(paths);
   } catch (const InputError& e) {
     return e.what();
   }
   return "";
+}
+
+// `paths` with paths[replaced] (or, past the end, one more) being `path`.
+std::vector<std::string> replacing(std::vector<std::string> paths, size_t replaced, const std::string& path) {
+  if (replaced < paths.size())
+    paths[replaced] = path;
+  else
+    paths.push_back(path);
+  return paths;
 }
 
 // Where the entering flux went must add up to it: nothing is created or lost in the bookkeeping.
@@ -258,14 +270,7 @@ TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
   std::vector<std::string> four;
   for (uint64_t i = 0; i < 4; ++i) four.push_back(write_shard(scene, options, i, 4, dir, std::to_string(i) + ".exr"));
   ASSERT_EQ(merge_refusal(four), "");
-  auto with = [&](size_t replaced, const std::string& path) {
-    std::vector<std::string> paths = four;
-    if (replaced < paths.size())
-      paths[replaced] = path;
-    else
-      paths.push_back(path);
-    return merge_refusal(paths);
-  };
+  auto with = [&](size_t replaced, const std::string& path) { return merge_refusal(replacing(four, replaced, path)); };
   EXPECT_NE(merge_refusal({four[0], four[1], four[3]}).find("photons 2000 to 2999 are missing: shard 2 of 4"), std::string::npos);
   EXPECT_NE(merge_refusal({four[1], four[2]})
                 .find("photons 0 to 999 are missing: shard 0 of 4\n  photons 3000 to 3999 are missing: shard 3 of 4"),
@@ -301,6 +306,124 @@ TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
   EXPECT_NE(with(3, (dir / "plain.exr").string()).find("plain.exr: not a photon shard"), std::string::npos);
   // A shard read as an image would be black: it is refused with what to do instead.
   EXPECT_THROW(io::read_image(four[0]), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+// Traces camera shard `index` of `count` and writes it into `dir` as the command line does; returns its path.
+std::string write_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustics, uint64_t seed,
+                               uint64_t index, uint64_t count, const std::filesystem::path& dir, const std::string& name) {
+  const reference::TracedCameraShard traced = reference::trace_camera_shard(scene, width, height, caustics, seed, index, count);
+  const std::string path = (dir / name).string();
+  reference::write_camera_shard(path, traced.shard, traced.rows);
+  return path;
+}
+
+// A glass ball made rough: its pixels average 64 paths each, drawn from random numbers.
+scene::Scene rough_sphere() {
+  scene::Scene scene = bundled("sphere_plane");
+  for (auto& object : scene.objects) {
+    if (object.material.refractor) object.material.transmission_roughness = 0.3f;
+  }
+  return scene;
+}
+
+// The ray-traced camera image as shards of rows: one, two or five (of uneven heights) merge into
+// the image of one process bit for bit, rough glass included (each pixel's random numbers depend
+// on the seed and its place in the whole image), lit by a caustic map too; another seed draws
+// other paths.
+TEST(CameraShards, AnyShardingMergesToTheUnshardedImage) {
+  const scene::Scene scene = rough_sphere();
+  constexpr uint32_t width = 40, height = 23;
+  io::ImageData caustics;
+  caustics.width = caustics.height = 16;
+  caustics.rgba.assign(16 * 16 * 4, 0.0f);
+  for (size_t i = 0; i < caustics.rgba.size(); ++i) caustics.rgba[i] = float(i % 7) * 1e-3f;
+  const auto whole = reference::render_refraction_reference(scene, width, height, &caustics);
+  const auto dir = scratch("camera_shards");
+  for (const uint64_t count : {1u, 2u, 5u}) {
+    SCOPED_TRACE(count);
+    std::vector<std::string> paths;
+    for (uint64_t i = count; i-- > 0;)
+      paths.push_back(
+          write_camera_shard(scene, width, height, &caustics, 1, i, count, dir, std::to_string(count) + "_" + std::to_string(i) + ".exr"));
+    const auto merged = reference::merge_camera_shards(paths);
+    EXPECT_EQ(merged.image.width, width);
+    EXPECT_EQ(merged.image.height, height);
+    EXPECT_EQ(merged.image.rgba, whole.radiance.rgba);
+    EXPECT_EQ(merged.whole.seed, 1u);
+  }
+  // The seed reaches the rough pixels: seed 2's image differs, and its shards merge into it.
+  const auto seed2 = reference::render_refraction_reference(scene, width, height, &caustics, 2);
+  EXPECT_NE(seed2.radiance.rgba, whole.radiance.rgba);
+  std::vector<std::string> paths;
+  for (uint64_t i = 0; i < 3; ++i)
+    paths.push_back(write_camera_shard(scene, width, height, &caustics, 2, i, 3, dir, "seed2_" + std::to_string(i) + ".exr"));
+  EXPECT_EQ(reference::merge_camera_shards(paths).image.rgba, seed2.radiance.rgba);
+  std::filesystem::remove_all(dir);
+}
+
+// Camera shards that do not make one image are refused, every problem named: the missing rows
+// with the shard index that traces them, an overlap, a duplicate, another seed, scene (its camera
+// included), size, caustic map or engine, and a photon shard among them. A camera shard is not an image.
+TEST(CameraShards, MergeNamesEveryShardThatDoesNotBelong) {
+  const scene::Scene scene = bundled("sphere_plane");
+  constexpr uint32_t width = 16, height = 12;
+  const auto dir = scratch("camera_refusals");
+  std::vector<std::string> four;
+  for (uint64_t i = 0; i < 4; ++i)
+    four.push_back(write_camera_shard(scene, width, height, nullptr, 1, i, 4, dir, std::to_string(i) + ".exr"));
+  ASSERT_EQ(merge_refusal(four, true), "");
+  auto with = [&](size_t replaced, const std::string& path) { return merge_refusal(replacing(four, replaced, path), true); };
+  EXPECT_NE(merge_refusal({four[0], four[1], four[3]}, true).find("rows 6 to 8 are missing: shard 2 of 4"), std::string::npos);
+  const std::string overlap = with(4, write_camera_shard(scene, width, height, nullptr, 1, 1, 3, dir, "third.exr"));
+  EXPECT_NE(overlap.find("third.exr (rows 4 to 7) overlaps"), std::string::npos) << overlap;
+  std::filesystem::copy_file(four[2], dir / "copy.exr");
+  EXPECT_NE(with(4, (dir / "copy.exr").string()).find("are the same shard (rows 6 to 8)"), std::string::npos);
+  EXPECT_NE(with(4, four[2]).find("2.exr is given twice"), std::string::npos);
+  EXPECT_NE(with(3, write_camera_shard(scene, width, height, nullptr, 2, 3, 4, dir, "seed.exr")).find("seed.exr: seed 2, where"),
+            std::string::npos);
+  EXPECT_NE(with(3, write_camera_shard(scene, width, 16, nullptr, 1, 3, 4, dir, "tall.exr")).find("tall.exr: image height 16, where"),
+            std::string::npos);
+  EXPECT_NE(with(3, write_camera_shard(scene, 20, height, nullptr, 1, 3, 4, dir, "wide.exr")).find("wide.exr: image width 20, where"),
+            std::string::npos);
+  io::ImageData caustics;
+  caustics.width = caustics.height = 4;
+  caustics.rgba.assign(4 * 4 * 4, 0.5f);
+  const std::string lit = with(3, write_camera_shard(scene, width, height, &caustics, 1, 3, 4, dir, "lit.exr"));
+  EXPECT_NE(lit.find("lit.exr: caustic map " + reference::caustics_identity(caustics) + ", where " + four[0] + " has none"),
+            std::string::npos)
+      << lit;
+  // The photons do not see the camera; the camera reference does: a moved camera is another scene.
+  scene::Scene moved = scene;
+  moved.camera.position.x += 0.5f;
+  ASSERT_EQ(reference::scene_identity(moved), reference::scene_identity(scene));
+  const std::string another_scene = with(3, write_camera_shard(moved, width, height, nullptr, 1, 3, 4, dir, "scene.exr"));
+  EXPECT_NE(another_scene.find("scene.exr: scene sphere_plane (identity " + reference::camera_scene_identity(moved) + "), where"),
+            std::string::npos)
+      << another_scene;
+  auto shard = reference::read_camera_shard(four[3]);
+  shard.engine_identity = "caustica 0.0.9 (another build)";
+  io::ImageData rows;
+  rows.width = width;
+  rows.height = static_cast<uint32_t>(shard.end - shard.first);
+  rows.rgba.assign(size_t{rows.width} * rows.height * 4, 0.0f);
+  reference::write_camera_shard((dir / "engine.exr").string(), shard, rows);
+  EXPECT_NE(with(3, (dir / "engine.exr").string()).find("engine.exr: engine caustica 0.0.9 (another build), where"), std::string::npos);
+
+  reference::PhotonOptions photons;
+  photons.photons = 1000;
+  photons.map_size = 8;
+  const std::string photon = with(3, write_shard(scene, photons, 3, 4, dir, "photon.exr"));
+  EXPECT_NE(photon.find("photon.exr: not a camera shard (a photon shard; merge the kinds apart)"), std::string::npos) << photon;
+  EXPECT_NE(merge_refusal({four[0]}).find("0.exr: not a photon shard (a camera shard; merge the kinds apart)"), std::string::npos);
+  // Read as an image it would be a strip of the picture: it is refused with what to do instead.
+  try {
+    io::read_image(four[1]);
+    ADD_FAILURE() << "a camera shard read as an image";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("it is a camera shard, some rows of an image (caustica merge makes the image)"), std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
@@ -72,6 +73,11 @@ ImageData read_exr(const std::string& path) {
     // Read on, it would be a black image: a photon shard's sums are in channels of their own.
     throw InputError(path + ": cannot read image: it has no R or Y channel" +
                      (channels.findChannel("units_low.R") ? " (a photon shard: caustica merge makes the map)" : ""));
+  }
+  // A camera shard is some rows of an image: read as the image, it would be a strip of it.
+  if (const auto* kind = file.header().findTypedAttribute<Imf::StringAttribute>("caustica.kind");
+      kind && kind->value() == "caustica camera shard") {
+    throw InputError(path + ": cannot read image: it is a camera shard, some rows of an image (caustica merge makes the image)");
   }
   Imf::FrameBuffer frame;
   for (size_t c = 0; c < (grey ? 1 : 4); ++c) {

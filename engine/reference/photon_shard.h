@@ -10,22 +10,17 @@
 
 #include "io/image_io.h"
 #include "reference/photon_reference.h"
+#include "reference/shard_file.h"
 #include "scene/scene.h"
 
 namespace caustica::reference {
 
-// What a shard file's header says about it.
-struct PhotonShard {
-  uint64_t first = 0, end = 0;  // the photons traced, [first, end)
-  uint64_t photons = 0;         // of all the shards together
-  uint64_t seed = 1;
-  uint64_t index = 0, count = 1;  // --shard index/count that traced it
+// What a photon shard file's header says about it: its photons [first, end) of `total` (the
+// photon count), what else makes its map, and the flux totals of its photons.
+struct PhotonShard : ShardHeader {
   uint32_t map_size = 0;
   bool fresnel = true;
   double unit = 1;  // flux per unit of the sums
-  std::string scene_name;
-  std::string scene_identity;   // scene_identity(): what the photons met
-  std::string engine_identity;  // the build that traced them
   PhotonTotals totals;
 };
 
@@ -33,9 +28,6 @@ struct PhotonShard {
 // machines that load the same scene from different paths agree, and a change to the scene file or
 // to a file it loads that changes the photons is seen.
 std::string scene_identity(const scene::Scene& scene);
-
-// Shard `index` of `count`: contiguous, together exactly [0, photons), sizes differing by at most one.
-std::pair<uint64_t, uint64_t> shard_range(uint64_t photons, uint64_t index, uint64_t count);
 
 // Traces shard `index` of `count` of options.photons (options' own range is replaced).
 struct TracedShard {
@@ -52,7 +44,7 @@ void write_photon_shard(const std::string& path, const PhotonShard& shard, const
 PhotonShard read_photon_shard(const std::string& path);
 
 struct MergedPhotons {
-  PhotonShard whole;  // the range [0, photons) with the shards' totals added
+  PhotonShard whole;  // the range [0, total) with the shards' totals added
   io::ImageData caustic_map;
 };
 

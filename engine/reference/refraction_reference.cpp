@@ -176,17 +176,20 @@ class Tracer {
 
 }  // namespace
 
-RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map) {
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map,
+                                            uint64_t seed, ImageRows range) {
+  if (range.end == 0) range.end = height;
   Tracer tracer(scene, caustic_map);
   const bool disperses = scene.disperses();
   RefractionImage out;
+  const uint32_t rows_traced = range.end - range.first;
   out.radiance.width = width;
-  out.radiance.height = height;
-  out.radiance.rgba.assign(size_t{width} * height * 4, 1.0f);
-  out.refractor.assign(size_t{width} * height, 0);
+  out.radiance.height = rows_traced;
+  out.radiance.rgba.assign(size_t{width} * rows_traced * 4, 1.0f);
+  out.refractor.assign(size_t{width} * rows_traced, 0);
   const glm::mat4 inv = glm::inverse(scene.camera.view_projection(static_cast<float>(width) / static_cast<float>(height)));
   auto rows = [&](uint32_t first, uint32_t step) {
-    for (uint32_t y = first; y < height; y += step) {
+    for (uint32_t y = range.first + first; y < range.end; y += step) {
       for (uint32_t x = 0; x < width; ++x) {
         // Pixel centres, as the engine's gl_FragCoord.
         const glm::vec2 ndc((static_cast<float>(x) + 0.5f) / static_cast<float>(width) * 2 - 1,
@@ -194,7 +197,7 @@ RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t 
         const glm::vec4 far = inv * glm::vec4(ndc, 1.0f, 1.0f);
         const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - scene.camera.position);
         bool refractor = false, rough = false;
-        Random random(uint64_t{y} * width + x, 0);
+        Random random(uint64_t{y} * width + x, seed - 1);  // seed 1: the numbers drawn before the reference had a seed
         glm::vec3 c(0.0f);
         int samples = 0;
         do {
@@ -206,11 +209,12 @@ RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t 
           c += sample;
         } while (rough && ++samples < kRoughSamples);
         if (rough) c /= float(kRoughSamples);
-        float* px = &out.radiance.rgba[(size_t{y} * width + x) * 4];
+        const size_t pixel = size_t{y - range.first} * width + x;
+        float* px = &out.radiance.rgba[pixel * 4];
         px[0] = c.r;
         px[1] = c.g;
         px[2] = c.b;
-        out.refractor[size_t{y} * width + x] = refractor ? 1 : 0;
+        out.refractor[pixel] = refractor ? 1 : 0;
       }
     }
   };

@@ -22,8 +22,16 @@ struct RefractionImage {
 // receive that map's caustic irradiance, projected as the engine's lighting pass projects its own
 // (bilinear, flux over the texel's solid angle at the receiver): the same scene's picture with
 // the reference's caustics, seen directly and through the glass.
+//
+// Rough refractors draw random numbers keyed on (seed, the pixel's index in the whole image): with
+// `rows` (a range [first, end) of the image's rows, end 0: to the last), the rows traced alone are
+// those of the whole image, bit for bit, so shards of rows (camera_shard.h) make the one picture.
+// The image returned holds the range's rows only.
+struct ImageRows {
+  uint32_t first = 0, end = 0;
+};
 RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height,
-                                            const io::ImageData* caustic_map = nullptr);
+                                            const io::ImageData* caustic_map = nullptr, uint64_t seed = 1, ImageRows rows = {});
 
 // Error between an engine image and the reference, over the reference's refractor pixels:
 // sum |engine - reference| / sum |reference|, on luminance.

@@ -333,10 +333,10 @@ reference::PhotonReference photon_reference(const scene::Scene& scene, const ref
   std::sort(shards.begin(), shards.end());
   reference::MergedPhotons merged = reference::merge_photon_shards(shards);
   const reference::PhotonShard& whole = merged.whole;
-  if (whole.scene_identity != identity || whole.photons != options.photons || whole.map_size != options.map_size ||
+  if (whole.scene_identity != identity || whole.total != options.photons || whole.map_size != options.map_size ||
       whole.seed != options.seed || whole.fresnel != options.fresnel) {
     throw InputError(folder.string() + ": its shards are of another reference (scene " + whole.scene_name + " " + whole.scene_identity +
-                     ", photons " + std::to_string(whole.photons) + ", map " + std::to_string(whole.map_size) + ", seed " +
+                     ", photons " + std::to_string(whole.total) + ", map " + std::to_string(whole.map_size) + ", seed " +
                      std::to_string(whole.seed) + ") than its name says");
   }
   return {std::move(merged.caustic_map), {}, whole.totals};

@@ -26,6 +26,7 @@
 #include "graph/schema.h"
 #include "io/image_io.h"
 #include "io/json_reader.h"
+#include "reference/camera_shard.h"
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
 #include "reference/photon_shard.h"
@@ -56,7 +57,7 @@ commands:
              'bench convergence' (error against wall time while accumulating), 'bench load' (loading a scene or model)
   reference  the ground truth with Embree: the exact refraction image, or (--photons) the exact caustic,
              whole or (--shard I/K) as one of K parts for a cluster
-  merge      adds the shards of a photon reference into its map (docs/cluster.md)
+  merge      joins the shards of a reference into its map or image (docs/cluster.md)
   view       the graph in a window: pass times, counters, parameters, hot reload (GLFW + ImGui)
   edit       the graph editor: passes as nodes, resources as wires, the frame live as you edit
   compare    how far one image is from another: relative L1 after a matched blur, energy ratio, PSNR
@@ -601,9 +602,26 @@ int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photo
   std::printf("shard %llu/%llu: photons %llu to %llu of %llu in %.2f s (%.1f M/s), seed %llu\n",
               static_cast<unsigned long long>(shard.index), static_cast<unsigned long long>(shard.count),
               static_cast<unsigned long long>(header.first), static_cast<unsigned long long>(header.end - 1),
-              static_cast<unsigned long long>(header.photons), seconds, double(end - first) / seconds * 1e-6,
+              static_cast<unsigned long long>(header.total), seconds, double(end - first) / seconds * 1e-6,
               static_cast<unsigned long long>(header.seed));
   print_photon_flux(header.totals);
+  std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
+               static_cast<unsigned long long>(shard.count), out.c_str());
+  return 0;
+}
+
+// One shard of the ray-traced camera reference: its range of rows, exactly, with what it is a part of.
+int trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map, uint64_t seed,
+                       const Shard& shard, const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const reference::TracedCameraShard traced =
+      reference::trace_camera_shard(scene, width, height, caustic_map, seed, shard.index, shard.count);
+  const reference::CameraShard& header = traced.shard;
+  reference::write_camera_shard(out, header, traced.rows);
+  std::printf("shard %llu/%llu: rows %llu to %llu of %ux%u in %.2f s, seed %llu\n", static_cast<unsigned long long>(shard.index),
+              static_cast<unsigned long long>(shard.count), static_cast<unsigned long long>(header.first),
+              static_cast<unsigned long long>(header.end - 1), width, height,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), static_cast<unsigned long long>(seed));
   std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
                static_cast<unsigned long long>(shard.count), out.c_str());
   return 0;
@@ -612,6 +630,7 @@ int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photo
 int cmd_reference(Args& args) {
   if (args.wants_help()) {
     std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics MAP.exr] [--exposure E]\n"
+                 "                          [--seed K] [--shard I/K]\n"
                  "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
                  "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel] [--shard I/K]\n\n"
                  "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
@@ -621,7 +640,8 @@ int cmd_reference(Args& args) {
                  "or an 8-bit PNG tone mapped as the engine's tonemap pass does (1 - exp(-E L), sRGB). With --caustics\n"
                  "MAP.exr (a map from --photons), surfaces the first light sees past the refractors also receive that\n"
                  "map's caustic, projected as the engine's lighting pass projects its own: the scene's reference picture\n"
-                 "with caustics, seen directly and through the glass.\n\n"
+                 "with caustics, seen directly and through the glass. A pixel whose ray meets a rough refractor averages\n"
+                 "paths drawn from random numbers keyed on the seed and the pixel's place in the image.\n\n"
                  "With --photons: traces N photons from the first (spot or directional) light through every interface, Fresnel and\n"
                  "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
                  "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
@@ -632,17 +652,24 @@ int cmd_reference(Args& args) {
                  "under a temporary name and renamed); 'caustica merge' adds the K files into the map that one process\n"
                  "writes, bit for bit. 'auto/K' takes I from SLURM_ARRAY_TASK_ID (a Slurm job array, --array=0-K-1) or\n"
                  "JOB_COMPLETION_INDEX (a Kubernetes Indexed Job); docs/cluster.md.\n\n"
+                 "Without --photons, --shard I/K traces the I-th of K contiguous ranges of the image's rows (each\n"
+                 "pixel as the whole image's run traces it) and writes them to --out: an EXR of those rows (32-bit\n"
+                 "floats, its data window the rows, its display window the image) whose header holds the rows, the\n"
+                 "image's size, the seed, the --caustics map's identity and the scene's and the engine's identity,\n"
+                 "written under a temporary name and renamed; 'caustica merge' joins the K files into the EXR that one\n"
+                 "process writes, bit for bit.\n\n"
                  "options:\n"
                  "  --scene FILE          the scene (default: scenes/glass_bunny.json), or a model file (as for render)\n"
                  "  --no-stage            with a model file: no floor\n"
                  "  --out FILE            the image (required)\n"
                  "  --size WxH            camera image size (default 1280x720)\n"
                  "  --photons N           photons to trace, e.g. 1e8\n"
-                 "  --seed K              random seed (default 1)\n"
+                 "  --seed K              random seed (default 1): the photons', or the rough refractors' paths\n"
                  "  --map-size N          side of the light-space map (default 512, the graphs' caustic_size)\n"
                  "  --camera FILE.exr     also write the caustic irradiance seen by the camera\n"
                  "  --no-fresnel          transmit every photon unless total internal reflection (the graphs' fresnel=false)\n"
-                 "  --shard I/K           trace the I-th of K parts of the photons (I from 0; auto/K: from the scheduler)\n"
+                 "  --shard I/K           trace the I-th of K parts of the photons, or without --photons of the image's\n"
+                 "                        rows (I from 0; auto/K: from the scheduler)\n"
                  "  --caustics MAP.exr    without --photons: light the picture with this caustic map too\n"
                  "  --exposure E          without --photons: the PNG's exposure (default 1, as the graphs')\n";
     return 0;
@@ -693,8 +720,14 @@ int cmd_reference(Args& args) {
   if (photons.photons > 0 && (!caustics_file.empty() || exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
   const std::string out_extension = io::check_image_output(out);
   if (!camera_out.empty()) io::check_image_output(camera_out);
-  if (shard.count > 0) {
-    if (photons.photons == 0) throw UsageError("--shard goes with --photons: it splits the photons");
+  if (shard.count > 0 && photons.photons == 0) {
+    if (out_extension != ".exr") throw UsageError(out + ": a shard is an EXR of the image's rows: --out must end in .exr");
+    if (exposure_given) throw UsageError("--exposure goes without --shard: a shard holds linear radiance");
+    if (shard.count > height) {
+      throw UsageError("--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ": more shards than the " +
+                       std::to_string(height) + " rows of the image");
+    }
+  } else if (shard.count > 0) {
     if (!camera_out.empty()) throw UsageError("--camera goes without --shard: a shard holds the light-space map's sums only");
     if (out_extension != ".exr") throw UsageError(out + ": a shard is an EXR of sums: --out must end in .exr");
     if (shard.count > photons.photons) {
@@ -703,7 +736,7 @@ int cmd_reference(Args& args) {
     }
   }
   const scene::Scene scene = scene::load_scene_file(scene_file, stage);
-  if (shard.count > 0) return trace_photon_shard(scene, photons, shard, out);
+  if (shard.count > 0 && photons.photons > 0) return trace_photon_shard(scene, photons, shard, out);
   const auto start = std::chrono::steady_clock::now();
   if (photons.photons > 0) {
     if (!camera_out.empty()) {
@@ -726,7 +759,8 @@ int cmd_reference(Args& args) {
   }
   std::optional<io::ImageData> caustic_map;
   if (!caustics_file.empty()) caustic_map = io::read_image(caustics_file);
-  auto image = reference::render_refraction_reference(scene, width, height, caustic_map ? &*caustic_map : nullptr);
+  if (shard.count > 0) return trace_camera_shard(scene, width, height, caustic_map ? &*caustic_map : nullptr, photons.seed, shard, out);
+  auto image = reference::render_refraction_reference(scene, width, height, caustic_map ? &*caustic_map : nullptr, photons.seed);
   if (out_extension == ".png") {
     for (size_t i = 0; i < image.radiance.rgba.size(); ++i) {
       if (i % 4 != 3) image.radiance.rgba[i] = 1.0f - std::exp(-exposure * image.radiance.rgba[i]);
@@ -740,23 +774,28 @@ int cmd_reference(Args& args) {
 
 int cmd_merge(Args& args) {
   if (args.wants_help()) {
-    std::cout << "usage: caustica merge SHARD.exr... --out MAP.exr\n\n"
-                 "Adds the shards of a photon reference (caustica reference --photons N --shard I/K, one file per index)\n"
-                 "into the caustic map that 'caustica reference --photons N' writes in one process, bit for bit. The\n"
-                 "shards are added in the order of their photon ranges, one file at a time, and must tile the N photons\n"
-                 "exactly, from one scene, seed, photon count, map size, Fresnel setting and engine build; otherwise\n"
-                 "nothing is written and every problem is named: the missing photons with the shard indices that trace\n"
-                 "them (resubmit those), an overlap, a duplicate, a shard of another run. Exit 0, 1 for such shards,\n"
-                 "2 for a usage error (docs/cluster.md).\n\n"
+    std::cout << "usage: caustica merge SHARD.exr... --out OUT.exr\n\n"
+                 "Joins the shards of a reference (one file per index) into what one process writes, bit for bit:\n"
+                 "- photon shards ('caustica reference --photons N --shard I/K'): adds them, in the order of their\n"
+                 "  photon ranges, one file at a time, into the caustic map of 'caustica reference --photons N'. They\n"
+                 "  must tile the N photons exactly, from one scene, seed, photon count, map size, Fresnel setting and\n"
+                 "  engine build.\n"
+                 "- camera shards ('caustica reference --size WxH --shard I/K', without --photons): places their rows,\n"
+                 "  one file at a time, into the EXR image of 'caustica reference --size WxH'. They must tile the image's\n"
+                 "  rows exactly, from one scene (with its camera), seed, image size, --caustics map and engine build.\n"
+                 "The first file's kind decides. Otherwise nothing is written and every problem is named: the missing\n"
+                 "photons or rows with the shard indices that trace them (resubmit those), an overlap, a duplicate, a\n"
+                 "shard of another run or of the other kind. Exit 0, 1 for such shards, 2 for a usage error\n"
+                 "(docs/cluster.md).\n\n"
                  "options:\n"
-                 "  --out MAP.exr         the merged map (required; written under a temporary name and renamed)\n";
+                 "  --out OUT.exr         the merged map or image (required; written under a temporary name and renamed)\n";
     return 0;
   }
   std::string out;
   const std::vector<std::string> files = bench::merge_inputs(args, out);
-  if (files.empty()) throw UsageError("merge needs the shard files: caustica merge SHARD.exr... --out MAP.exr");
-  if (out.empty()) throw UsageError("merge needs --out MAP.exr");
-  if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map is linear flux: --out must end in .exr");
+  if (files.empty()) throw UsageError("merge needs the shard files: caustica merge SHARD.exr... --out OUT.exr");
+  if (out.empty()) throw UsageError("merge needs --out OUT.exr");
+  if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map or image is linear: --out must end in .exr");
   for (const auto& file : files) {
     if (std::filesystem::weakly_canonical(std::filesystem::absolute(file)) ==
         std::filesystem::weakly_canonical(std::filesystem::absolute(out))) {
@@ -764,13 +803,23 @@ int cmd_merge(Args& args) {
     }
   }
   const auto start = std::chrono::steady_clock::now();
-  const auto merged = reference::merge_photon_shards(files);
-  io::write_image(out, merged.caustic_map);
-  const auto& whole = merged.whole;
-  std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(),
-              static_cast<unsigned long long>(whole.photons), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  print_photon_flux(whole.totals);
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (reference::shard_file_kind(files.front()) == "caustica camera shard") {
+    const auto merged = reference::merge_camera_shards(files);
+    io::write_image(out, merged.image);
+    const auto& whole = merged.whole;
+    std::printf("merged %zu shards: image %ux%llu, seed %llu, scene %s, in %.2f s\n", files.size(), whole.width,
+                static_cast<unsigned long long>(whole.total), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+                seconds());
+  } else {
+    const auto merged = reference::merge_photon_shards(files);
+    io::write_image(out, merged.caustic_map);
+    const auto& whole = merged.whole;
+    std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(),
+                static_cast<unsigned long long>(whole.total), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+                seconds());
+    print_photon_flux(whole.totals);
+  }
   std::fprintf(stderr, "merge: %s\n", out.c_str());
   return 0;
 }

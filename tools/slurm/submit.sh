@@ -1,5 +1,5 @@
 #!/bin/bash
-# Submits the photon reference to Slurm as a job array of shards, or a bench sweep as a job array of
+# Submits the photon reference (or the ray-traced camera reference, by rows) to Slurm as a job array of shards, or a bench sweep as a job array of
 # cells (--bench), and a merge that runs when every task has succeeded (--dependency=afterok), and
 # prints both job ids (docs/cluster.md).
 set -euo pipefail
@@ -8,11 +8,14 @@ here=$(cd "$(dirname "$0")" && pwd)
 usage() {
   cat <<'USAGE'
 usage: tools/slurm/submit.sh --scene S --photons N --shards K --out MAP.exr [options]
+       tools/slurm/submit.sh --scene S --size WxH --shards K --out IMAGE.exr [options]
        tools/slurm/submit.sh --bench accuracy|stability [--sweep "OPTIONS"] --out DIR [--reference-cache DIR] [options]
 
 Submits K array tasks (tools/slurm/reference.sbatch), each `caustica reference --shard auto/K`
 writing MAP.shards/shard_I.exr, and a merge job (merge.sbatch) after them that writes MAP.exr.
-Prints the array's and the merge's job ids.
+With --size instead of --photons: the camera reference (`caustica reference --size WxH`), each
+task tracing one K-th of the image's rows, the merge writing IMAGE.exr. Prints the array's and the
+merge's job ids.
 
 With --bench: one array task per cell of `caustica bench BENCH OPTIONS` (as many as --list-cells
 prints here), each `--cell auto` through tools/slurm/bench.sbatch writing DIR/cells/cell_I.csv, the
@@ -35,12 +38,13 @@ options:
 USAGE
 }
 
-seed=1 map_size=512 scene="" photons="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run="" bench="" sweep="" cache=""
+seed=1 map_size=512 scene="" photons="" size="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run="" bench="" sweep="" cache=""
 common=() shard_time=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --scene) scene=$2; shift 2 ;;
     --photons) photons=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
     --shards) shards=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --seed) seed=$2; shift 2 ;;
@@ -63,8 +67,11 @@ done
 if [[ -n $bench ]]; then
   if [[ $bench != accuracy && $bench != stability ]]; then echo "submit.sh: --bench $bench: expected accuracy or stability" >&2; exit 2; fi
   if [[ -z $out ]]; then echo "submit.sh: --bench needs --out DIR; see --help" >&2; exit 2; fi
-elif [[ -z $scene || -z $photons || -z $shards || -z $out ]]; then
-  echo "submit.sh: --scene, --photons, --shards and --out are required; see --help" >&2
+elif [[ -z $scene || -z $photons$size || -z $shards || -z $out ]]; then
+  echo "submit.sh: --scene, --photons (or --size), --shards and --out are required; see --help" >&2
+  exit 2
+elif [[ -n $photons && -n $size ]]; then
+  echo "submit.sh: --photons or --size, not both: the photon reference or the camera image" >&2
   exit 2
 elif ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --shards $shards: expected a whole number from 1" >&2; exit 2; fi
 if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --throttle $throttle: expected a whole number from 1" >&2; exit 2; fi
@@ -106,7 +113,7 @@ fi
 shard_dir=${out%.exr}.shards
 mkdir -p "$shard_dir"
 array=${resubmit:-0-$((shards - 1))}${throttle:+%$throttle}
-env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
+env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SIZE=$size,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
 # The jobs' output beside the shards, not in the folder sbatch was called from.
 shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export="$env" "$here/reference.sbatch")
 merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export="$env" "$here/merge.sbatch")
