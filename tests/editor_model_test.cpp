@@ -1308,3 +1308,68 @@ TEST(GraphModel, AGraphThatDoesNotCompileOpensRefusedAndCanBeRepaired) {
   options.scene_values = graph::typical_scene_values();
   EXPECT_NO_THROW(graph::compile_graph(stand_in, registry(), options));
 }
+
+// A user pass added from its shader file alone (the editor's "compute shader..." and "full-screen
+// shader..."): its ports, parameters and dispatch are what the shader declares, its input is bound
+// to an image a pass writes, the graph compiles and the canvas shows the ports. A shader that does
+// not compile is refused with its file and line, and the graph stays as it was.
+TEST(EditorModel, AUserPassIsDeclaredFromItsShader) {
+  const auto dir = std::filesystem::temp_directory_path() / ("caustica_user_pass_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(graphs_dir() / "core_demo.json", dir / "g.json", std::filesystem::copy_options::overwrite_existing);
+  std::ofstream(dir / "scale.comp") << "#version 460\n"
+                                       "layout(local_size_x = 8, local_size_y = 8) in;\n"
+                                       "layout(binding = 0) uniform sampler2D source;\n"
+                                       "layout(binding = 1, rgba16f) uniform writeonly image2D target;\n"
+                                       "layout(push_constant) uniform Params { float gain; int taps; } params;\n"
+                                       "void main() {\n"
+                                       "  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                                       "  imageStore(target, p, params.gain * float(params.taps) * texelFetch(source, p, 0));\n"
+                                       "}\n";
+  std::ofstream(dir / "view.frag") << "#version 460\n"
+                                      "layout(binding = 0) uniform sampler2D source;\n"
+                                      "layout(location = 0) out vec4 shown;\n"
+                                      "void main() { shown = texelFetch(source, ivec2(gl_FragCoord.xy), 0); }\n";
+  std::ofstream(dir / "bad.comp") << "#version 460\nlayout(local_size_x = 8) in;\nvoid main() { undeclared = 1; }\n";
+  GraphModel model = GraphModel::open((dir / "g.json").string(), registry());
+
+  const std::string name = model.add_user_pass("compute", "scale.comp");
+  EXPECT_EQ(model.refusal(), "");
+  const ordered_json pass = model.json()["passes"].back();
+  EXPECT_EQ(pass["name"], name);
+  EXPECT_EQ(pass["shader"], "scale.comp");
+  EXPECT_EQ(pass["ports"]["source"]["access"], "read");
+  EXPECT_EQ(pass["ports"]["target"]["access"], "write");
+  EXPECT_EQ(pass["ports"]["target"]["formats"], ordered_json::array({"rgba16f"}));
+  EXPECT_EQ(pass["parameters"]["gain"]["type"], "float");
+  EXPECT_EQ(pass["parameters"]["taps"]["type"], "int");
+  EXPECT_EQ(pass["dispatch"], "target");
+  ASSERT_TRUE(pass.contains("inputs") && pass["inputs"].contains("source"));
+  EXPECT_EQ(model.json()["resources"][pass["inputs"]["source"].get<std::string>()]["format"], "rgba16f");
+  bool drawn = false;
+  for (const auto& n : editor::layout_nodes(model.json(), registry(), kPanelFont)) {
+    if (n.name != name) continue;
+    drawn = true;
+    EXPECT_EQ(n.inputs, std::vector<std::string>{"source"});
+    EXPECT_EQ(n.outputs, std::vector<std::string>{"target"});
+  }
+  EXPECT_TRUE(drawn);
+  EXPECT_NE(model.pass_type(pass).find_param("gain"), nullptr) << "the pass panel lists the shader's parameters";
+
+  const std::string shown = model.add_user_pass("fullscreen", "view.frag");
+  const ordered_json view = model.json()["passes"].back();
+  EXPECT_EQ(view["ports"]["shown"]["access"], "write");
+  EXPECT_FALSE(view.contains("dispatch"));
+  EXPECT_EQ(model.refusal(), "");
+
+  const ordered_json before = model.json();
+  try {
+    model.add_user_pass("compute", "bad.comp");
+    ADD_FAILURE() << "a shader that does not compile was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.comp:3"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(model.add_pass("compute"), InputError) << "a user pass needs its shader";
+  EXPECT_EQ(model.json(), before);
+  std::filesystem::remove_all(dir);
+}

@@ -346,7 +346,10 @@ void GraphEditor::canvas_gestures(const ScreenView& view, const Hovered& hovered
 
 void GraphEditor::draw_add_menu() {
   if (!ImGui::BeginPopup("add pass")) return;
-  if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+  if (ImGui::IsWindowAppearing()) {
+    ImGui::SetKeyboardFocusHere();
+    shader_kind_.clear();
+  }
   const bool enter = ImGui::InputTextWithHint("##filter", "search pass types (Enter: the first)", filter_, sizeof filter_,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
   if (ImGui::IsItemActive() && !menu_has_keyboard_) {
@@ -363,8 +366,33 @@ void GraphEditor::draw_add_menu() {
   }
   std::string chosen = enter && !matches.empty() ? matches.front()->type : "";
   for (const auto* decl : matches) {
-    if (ImGui::Selectable(decl->type.c_str())) chosen = decl->type;
+    const bool user = decl->user_kind != graph::UserShaderKind::none;
+    const std::string label =
+        user ? decl->type + (decl->user_kind == graph::UserShaderKind::compute ? ": compute shader..." : ": full-screen shader...")
+             : decl->type;
+    if (ImGui::Selectable(label.c_str(), false, user ? ImGuiSelectableFlags_DontClosePopups : 0)) chosen = decl->type;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", decl->description.c_str());
+  }
+  const graph::PassTypeDecl* chosen_decl = chosen.empty() ? nullptr : model_.registry().find(chosen);
+  bool focus_shader = false;
+  if (chosen_decl && chosen_decl->user_kind != graph::UserShaderKind::none) {
+    shader_kind_ = chosen;  // its shader file first: the shader declares its ports
+    chosen.clear();
+    focus_shader = true;
+  }
+  if (!shader_kind_.empty()) {
+    ImGui::Separator();
+    if (focus_shader) ImGui::SetKeyboardFocusHere(1);
+    ImGui::TextUnformatted((shader_kind_ + " pass: its shader file, beside the graph (Enter adds it)").c_str());
+    if (ImGui::InputTextWithHint("##shader", shader_kind_ == "compute" ? "my_pass.comp" : "my_pass.frag", shader_file_, sizeof shader_file_,
+                                 ImGuiInputTextFlags_EnterReturnsTrue) &&
+        shader_file_[0]) {
+      if (add_pass(shader_kind_, menu_x_, menu_y_, shader_file_)) {
+        shader_kind_.clear();
+        shader_file_[0] = 0;
+        ImGui::CloseCurrentPopup();
+      }
+    }
   }
   if (!chosen.empty()) {
     add_pass(chosen, menu_x_, menu_y_);
@@ -411,8 +439,9 @@ void GraphEditor::draw_pass_panel() {
   for (const auto& p : model_.json()["passes"]) {
     if (p["name"] == name) pass = p;
   }
-  const graph::PassTypeDecl* decl = model_.registry().find(pass.value("type", ""));
-  if (!decl) return;
+  if (!model_.registry().find(pass.value("type", ""))) return;
+  const graph::PassTypeDecl type = model_.pass_type(pass);
+  const graph::PassTypeDecl* decl = &type;
   ImGui::TextWrapped("%s (%s)", name.c_str(), decl->type.c_str());
   ImGui::InputTextWithHint("##rename", "new name", rename_, sizeof rename_);
   ImGui::SameLine();

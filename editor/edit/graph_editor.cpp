@@ -134,9 +134,10 @@ std::string GraphEditor::resource_of(const std::string& pass, const std::string&
   return found == bindings_.end() ? "" : found->second;
 }
 
-bool GraphEditor::add_pass(const std::string& type, float x, float y) {
+bool GraphEditor::add_pass(const std::string& type, float x, float y, const std::string& shader) {
   std::string name;
-  if (!act("add " + type, [&] { name = model_.add_pass(type); })) return false;
+  const bool user = !shader.empty();
+  if (!act("add " + type, [&] { name = user ? model_.add_user_pass(type, shader) : model_.add_pass(type); })) return false;
   // The position is part of the same gesture, but its own step in the history.
   return act("place " + name, [&] { model_.set_position(name, x, y); });
 }
@@ -232,6 +233,9 @@ void GraphEditor::step_script() {
   if (verb == "add") {
     need(1);
     ok = add_pass(args[0], args.size() > 2 ? std::stof(args[1]) : 40.0f, args.size() > 2 ? std::stof(args[2]) : 40.0f);
+  } else if (verb == "add-shader") {  // add-shader compute|fullscreen FILE [X Y]
+    need(2);
+    ok = add_pass(args[0], args.size() > 3 ? std::stof(args[2]) : 40.0f, args.size() > 3 ? std::stof(args[3]) : 40.0f, args[1]);
   } else if (verb == "connect") {
     need(3);
     ok = connect(args[0], args[1], args[2]);

@@ -26,7 +26,8 @@ class GraphEditor {
 
   // The actions the canvas, the side panel, the keys and the script share. Each returns whether
   // it was applied; a refusal is shown on its node (or the status line) and changes nothing.
-  bool add_pass(const std::string& type, float x, float y);
+  // A user pass kind ("compute", "fullscreen") takes its shader file, which declares its ports.
+  bool add_pass(const std::string& type, float x, float y, const std::string& shader = "");
   bool remove_selected();
   bool connect(const std::string& pass, const std::string& port, const std::string& resource);
   bool disconnect(const std::string& pass, const std::string& port);
@@ -100,6 +101,8 @@ class GraphEditor {
   float box_x0_ = 0, box_y0_ = 0;
   float menu_x_ = 0, menu_y_ = 0;  // where an added pass goes, canvas units
   char filter_[64] = {};
+  std::string shader_kind_;  // a user pass kind chosen in the menu, waiting for its shader file
+  char shader_file_[256] = {};
   bool menu_has_keyboard_ = false;
   char rename_[128] = {};
   bool confirm_overwrite_ = false;

@@ -93,7 +93,15 @@ std::vector<CanvasNode> layout_nodes(const ordered_json& graph, const graph::Pas
     n.name = pass["name"];
     n.type = pass["type"];
     n.title = n.name == n.type ? n.name : n.name + ": " + n.type;
-    if (const auto* decl = registry.find(n.type)) {
+    const auto* decl = registry.find(n.type);
+    if (decl && decl->user_kind != graph::UserShaderKind::none && pass.contains("ports") && pass["ports"].is_object()) {
+      // A user pass's ports are its own, as the file declares them (from its shader's bindings).
+      for (const auto& [port, declared] : pass["ports"].items()) {
+        const std::string access = declared.is_object() ? declared.value("access", "read") : "read";
+        if (access != "write") n.inputs.push_back(port);
+        if (access != "read") n.outputs.push_back(port);
+      }
+    } else if (decl) {
       for (const auto& port : decl->ports) {
         if (port.access != graph::PortAccess::write) n.inputs.push_back(port.name);
         if (port.access != graph::PortAccess::read) n.outputs.push_back(port.name);

@@ -7,11 +7,13 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/paths.h"
 #include "core/suggest.h"
 #include "graph/compiler.h"
 #include "io/files.h"
 #include "io/json_document.h"
 #include "model/json_text.h"
+#include "shader/shader_compiler.h"
 
 namespace caustica::editor {
 namespace {
@@ -143,16 +145,132 @@ ordered_json& GraphModel::member(ordered_json& doc, const char* section, const s
   return doc[section][name];
 }
 
-const graph::PassTypeDecl& GraphModel::pass_type(const ordered_json& pass) const {
+graph::PassTypeDecl GraphModel::pass_type(const ordered_json& pass) const {
   const std::string type = pass.value("type", "");
   const graph::PassTypeDecl* decl = registry_->find(type);
   if (!decl) throw InputError(path_ + ": unknown pass type '" + type + "'" + did_you_mean(type, registry_->names()));
-  return *decl;
+  if (decl->user_kind == graph::UserShaderKind::none) return *decl;
+  // A user pass's ports and parameters are its own, as the graph declares them.
+  graph::PassTypeDecl own = *decl;
+  for (const auto& p : desc().passes) {
+    if (p.name != pass.value("name", "") || !p.user) continue;
+    own.ports = p.user->ports;
+    own.params = p.user->params;
+  }
+  return own;
 }
 
 std::string GraphModel::add_pass(const std::string& type, const std::string& wanted_name) {
   const graph::PassTypeDecl* decl = registry_->find(type);
   if (!decl) throw InputError(path_ + ": unknown pass type '" + type + "'" + did_you_mean(type, registry_->names()));
+  if (decl->user_kind != graph::UserShaderKind::none) {
+    throw InputError(path_ + ": a " + type + " pass is declared from its shader: add it with its shader file (add_user_pass)");
+  }
+  return add_pass_of(*decl, ordered_json::object(), wanted_name);
+}
+
+std::string GraphModel::add_user_pass(const std::string& kind, const std::string& shader, const std::string& wanted_name) {
+  const graph::PassTypeDecl* decl = registry_->find(kind);
+  if (!decl || decl->user_kind == graph::UserShaderKind::none) {
+    throw InputError(path_ + ": '" + kind + "' is not a kind of user pass (compute, fullscreen)");
+  }
+  graph::PassTypeDecl own = *decl;
+  const ordered_json declared = declare_user_pass(own, shader);
+  return add_pass_of(own, declared, wanted_name);
+}
+
+// A user pass's ports and parameters as its shader declares them (docs/shader_passes.md): each
+// binding a port (a sampled image read, a storage image read, written or both by its qualifiers, a
+// buffer), a fragment shader's outputs written ports, each push-constant member a parameter, and a
+// compute pass dispatched over its first written image. What the shader cannot say (an array's
+// layers, a colour attachment's format, ranges) is left at a default or refused, for the author.
+ordered_json GraphModel::declare_user_pass(graph::PassTypeDecl& decl, const std::string& shader) const {
+  std::filesystem::path file = shader;
+  if (file.is_relative()) file = std::filesystem::absolute(path_).parent_path() / file;
+  shader::ShaderCompiler compiler(data_dir() / "shaders");
+  const shader::ReflectedShader compiled = compiler.compile_reflected(file.string());
+  const shader::Reflection& reflection = compiled.reflection;
+  const bool fullscreen = decl.user_kind == graph::UserShaderKind::fullscreen;
+  if (file.extension() != (fullscreen ? ".frag" : ".comp")) {
+    throw InputError(file.string() + ": a " + decl.type + " pass's shader is a " + (fullscreen ? ".frag" : ".comp") + " file");
+  }
+  ordered_json ports = ordered_json::object(), parameters = ordered_json::object();
+  decl.ports.clear();
+  decl.params.clear();
+  auto add_port = [&](graph::PortDecl port, ordered_json json) {
+    json["access"] = port.access == graph::PortAccess::read ? "read" : port.access == graph::PortAccess::write ? "write" : "read_write";
+    if (!port.formats.empty()) json["formats"] = {graph::format_info(port.formats.front()).name};
+    ports[port.name] = json;
+    decl.ports.push_back(std::move(port));
+  };
+  for (const auto& b : reflection.bindings) {
+    const std::string at = b.place.file + ":" + std::to_string(b.place.line) + ": '" + b.name + "'";
+    if (b.arrayed) throw InputError(at + " is an array: declare its port with its layers by hand (docs/shader_passes.md)");
+    graph::PortDecl port;
+    port.name = b.name;
+    ordered_json json = ordered_json::object();
+    switch (b.kind) {
+      case shader::BindingKind::sampled_image: break;
+      case shader::BindingKind::storage_image:
+        port.usage = graph::PortUsage::storage;
+        port.access = b.readonly ? graph::PortAccess::read : b.writeonly ? graph::PortAccess::write : graph::PortAccess::read_write;
+        if (const auto format = graph::parse_format(b.format)) port.formats = {*format};
+        if (port.access == graph::PortAccess::read) json["usage"] = "storage";
+        break;
+      case shader::BindingKind::storage_buffer:
+      case shader::BindingKind::uniform_buffer:
+        port.kind = graph::ResourceKind::buffer;
+        json["type"] = "buffer";
+        port.usage = b.kind == shader::BindingKind::uniform_buffer ? graph::PortUsage::uniform : graph::PortUsage::storage;
+        if (port.usage == graph::PortUsage::uniform) json["usage"] = "uniform";
+        port.access = b.readonly || port.usage == graph::PortUsage::uniform ? graph::PortAccess::read : graph::PortAccess::read_write;
+        break;
+      default: throw InputError(at + " is no image or buffer a port can bind: declare the pass by hand (docs/shader_passes.md)");
+    }
+    add_port(std::move(port), std::move(json));
+  }
+  for (const auto& out : reflection.outputs) {
+    graph::PortDecl port;
+    port.name = out.name;
+    port.access = graph::PortAccess::write;
+    port.usage = graph::PortUsage::color_attachment;
+    port.formats = {graph::Format::rgba16f};
+    add_port(std::move(port), ordered_json::object());
+  }
+  for (const auto& m : reflection.push_members) {
+    graph::ParamDecl param;
+    param.name = m.name;
+    if (m.type == "float") {
+      param.default_value = 0.0;
+    } else if (m.type == "int" || m.type == "uint") {
+      param.type = graph::ParamType::int_;
+      param.default_value = 0;
+    } else if (m.type == "bool") {
+      param.type = graph::ParamType::bool_;
+      param.default_value = false;
+    } else {
+      throw InputError(m.place.file + ":" + std::to_string(m.place.line) + ": push constant '" + m.name + "' is " + m.type +
+                       "; a parameter is a float, int, uint or bool");
+    }
+    parameters[param.name] = {{"type", graph::param_type_name(param.type)}, {"default", param.default_value}};
+    decl.params.push_back(std::move(param));
+  }
+  ordered_json declared = {{"shader", shader}, {"ports", ports}};
+  if (!parameters.empty()) declared["parameters"] = parameters;
+  if (!fullscreen) {
+    const auto over = std::find_if(decl.ports.begin(), decl.ports.end(), [](const graph::PortDecl& p) {
+      return p.kind == graph::ResourceKind::image && p.access != graph::PortAccess::read;
+    });
+    if (over == decl.ports.end())
+      throw InputError(file.string() + ": it writes no image to dispatch over: declare its \"dispatch\" by hand");
+    declared["dispatch"] = over->name;
+  }
+  return declared;
+}
+
+std::string GraphModel::add_pass_of(const graph::PassTypeDecl& decl_ref, const ordered_json& declared, const std::string& wanted_name) {
+  const graph::PassTypeDecl* decl = &decl_ref;
+  const std::string& type = decl->type;
   const std::vector<std::string> taken = pass_names(doc_);
   auto is_taken = [&](const std::string& n) { return std::find(taken.begin(), taken.end(), n) != taken.end(); };
   std::string name = wanted_name.empty() ? type : wanted_name;
@@ -160,6 +278,7 @@ std::string GraphModel::add_pass(const std::string& type, const std::string& wan
   for (int i = 2; is_taken(name); ++i) name = type + "_" + std::to_string(i);
 
   ordered_json pass = {{"name", name}, {"type", type}};
+  pass.update(declared);
   ordered_json params = ordered_json::object();
   for (const auto& p : decl->params) params[p.name] = p.default_value;
   if (!params.empty()) pass["params"] = params;
@@ -360,7 +479,8 @@ void GraphModel::order_after_last_writer(ordered_json& doc, ordered_json& pass, 
 void GraphModel::connect(const std::string& pass, const std::string& port_name, const std::string& resource) {
   apply("connect " + pass + "." + port_name + " to " + resource, [&](ordered_json& doc) {
     ordered_json& p = pass_json(doc, pass);
-    const graph::PortDecl* port = pass_type(p).find_port(port_name);
+    const graph::PassTypeDecl type = pass_type(p);
+    const graph::PortDecl* port = type.find_port(port_name);
     if (!port) throw InputError(path_ + ": pass type '" + p.value("type", "") + "' has no port '" + port_name + "'");
     p[writes(*port) ? "outputs" : "inputs"][port_name] = resource;
     if (port->access == graph::PortAccess::read_write) order_after_last_writer(doc, p, resource);
@@ -371,7 +491,7 @@ void GraphModel::connect(const std::string& pass, const std::string& port_name, 
     for_each_resource_reference(doc, [&](ordered_json& r) { ++references[r.get<std::string>()]; });
     const ordered_json source = doc["resources"][resource];
     for (const auto& [out_port, out_resource] : p["outputs"].items()) {
-      const graph::PortDecl* out = pass_type(p).find_port(out_port);
+      const graph::PortDecl* out = type.find_port(out_port);
       const std::string name = out_resource.get<std::string>();
       if (!out || out->extent_group != port->extent_group || references[name] != 1 || !doc["resources"].contains(name)) continue;
       ordered_json& target = doc["resources"][name];

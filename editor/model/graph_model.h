@@ -29,6 +29,8 @@ class GraphModel {
   const graph::PassRegistry& registry() const { return *registry_; }
   // The current graph as the engine loads it.
   graph::GraphDesc desc() const;
+  // A pass's type: the registry's, or for a user pass its own ports and parameters as declared.
+  graph::PassTypeDecl pass_type(const nlohmann::ordered_json& pass) const;
   // What save() writes: the text as loaded with the edits applied.
   const std::string& text() const { return text_; }
   // Whether the graph differs from the file as opened or last saved.
@@ -42,6 +44,9 @@ class GraphModel {
   // bound to a resource of an accepted format that a pass writes. Returns the pass's name (`name`,
   // or the type made unique).
   std::string add_pass(const std::string& type, const std::string& name = "");
+  // Adds a user pass ("compute" or "fullscreen") whose ports and parameters are those its shader
+  // declares (a file relative to the graph's, or absolute), bound as add_pass binds them.
+  std::string add_user_pass(const std::string& kind, const std::string& shader, const std::string& name = "");
   // Removes a pass, its place in other passes' "after" and its position, and every resource that
   // nothing else names any more.
   void remove_pass(const std::string& pass);
@@ -112,7 +117,10 @@ class GraphModel {
   // doc[section][name]; throws InputError naming the missing `what` (with a suggestion).
   nlohmann::ordered_json& member(nlohmann::ordered_json& doc, const char* section, const std::string& name, const char* what) const;
   bool step(std::vector<Step>& from, std::vector<Step>& to);
-  const graph::PassTypeDecl& pass_type(const nlohmann::ordered_json& pass) const;
+  std::string add_pass_of(const graph::PassTypeDecl& decl, const nlohmann::ordered_json& declared, const std::string& name);
+  // `decl` (a user pass kind) given the ports and parameters its shader declares; returns them as
+  // the graph file writes them.
+  nlohmann::ordered_json declare_user_pass(graph::PassTypeDecl& decl, const std::string& shader) const;
   void order_after_last_writer(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const std::string& resource) const;
 
   const graph::PassRegistry* registry_;

@@ -41,6 +41,33 @@ assert b["passes"][-1]["name"] == "box_blur" and b["passes"][-1]["inputs"]["sour
 assert b["editor"]["positions"]["box_blur"] == [600, 300]
 assert b["resources"]["box_blur_target"]["format"] == "rgba16f"
 PY
+# A user pass from its shader file alone, as the menu's "compute: compute shader..." adds it: its
+# ports come from the shader's bindings, and wired in before the tone map it changes the frame.
+cp "$src/graphs/core_demo.json" user.json
+cat > half.comp <<'GLSL'
+#version 460
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D source;
+layout(binding = 1, rgba16f) uniform writeonly image2D target;
+void main() {
+  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, imageSize(target)))) return;
+  imageStore(target, p, 0.5 * texelFetch(source, p, 0));
+}
+GLSL
+printf 'screenshot user_before.png\nadd-shader compute half.comp 600 300\nconnect tonemap source compute_target\nscreenshot user_after.png\nsave\n' > user.txt
+"$bin" edit user.json --size 320x180 --frames 10 --script user.txt --validate > log 2>&1 || fail "edit exited $? adding a user pass"
+grep -q "edit: add-shader compute half.comp 600 300: ok" log || fail "the user pass was not added from its shader"
+grep -q "edit: connect tonemap source compute_target: ok" log || fail "the user pass's output could not be wired to the tone map"
+if "$bin" compare user_before.png user_after.png --max-l1 0.01 > /dev/null 2>&1; then fail "the user pass did not change the frame"; fi
+"$bin" validate user.json > /dev/null || fail "the graph saved with a user pass does not validate"
+python3 - user.json <<'PY' || fail "the saved user pass is not declared from its shader"
+import json, sys
+p = json.load(open(sys.argv[1]))["passes"][-1]
+assert p["type"] == "compute" and p["shader"] == "half.comp" and p["dispatch"] == "target", p
+assert p["ports"] == {"source": {"access": "read"}, "target": {"access": "write", "formats": ["rgba16f"]}}, p["ports"]
+PY
+echo "ok: a user pass added from its shader, its ports from the shader's bindings, changes the frame"
 # Byte for byte: the expected file is core_demo.json with only the script's edit, written out by
 # hand (see its diff against core_demo.json): the tonemap's inputs line; "box_blur_target"
 # {type image, format rgba16f} after "preview" (no width or height: it follows "blurred", which
