@@ -775,6 +775,19 @@ TEST(Compiler, RefiningPassesRunApartFromThoseThatShowTheirResult) {
   EXPECT_EQ(refining(plan), (std::vector<std::string>{"light", "estimate", "mean"}));
   EXPECT_FALSE(plan.resources[static_cast<size_t>(plan.find_resource("average"))].transient) << "the running result is kept";
   EXPECT_TRUE(plan.resources[static_cast<size_t>(plan.find_resource("estimate"))].transient) << "only refining passes read it";
+  // What a showing pass writes is kept, even where it changes every frame, so that a display frame
+  // can show in steps, each reading what the one before left.
+  nlohmann::json softened = graph;
+  softened["resources"]["softened"] = image();
+  softened["passes"].insert(softened["passes"].begin() + 4, nlohmann::json::object({{"name", "soften"},
+                                                                                    {"type", "filter"},
+                                                                                    {"params", {{"radius", "frame.index % 2"}}},
+                                                                                    {"inputs", {{"source", "viewed"}}},
+                                                                                    {"outputs", {{"target", "softened"}}}}));
+  softened["passes"][5]["inputs"]["b"] = "softened";
+  const Plan in_steps = compile(softened, reuse);
+  ASSERT_TRUE(in_steps.refines_apart);
+  EXPECT_FALSE(in_steps.resources[static_cast<size_t>(in_steps.find_resource("softened"))].transient);
 
   // A showing pass that reads this frame's estimate would need it in a showing frame too.
   nlohmann::json shows_estimate = graph;

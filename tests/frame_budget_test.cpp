@@ -77,5 +77,17 @@ TEST(FrameBudget, ANewPlanForAnotherReasonIsNotJudgedOnItsFirstFrame) {
   EXPECT_EQ(moving(budget, {700}), (std::vector<Step>{kHalf}));
 }
 
+// The showing passes at rest in steps within the budget (the bunny's lighting, refraction and tone
+// map at 1280x720 on lavapipe took about 40, 60 and 12 ms, with 10 ms of the frame besides).
+TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {
+  EXPECT_EQ(display_steps({40, 60, 12}, 10, 100), (std::vector<size_t>{1, 3}));
+  EXPECT_EQ(display_steps({40, 60, 12}, 10, 200), (std::vector<size_t>{3})) << "all fit one frame";
+  EXPECT_EQ(display_steps({40, 60, 12}, 10, 0), (std::vector<size_t>{3})) << "no budget: one frame";
+  EXPECT_EQ(display_steps({150, 20, 20}, 10, 100), (std::vector<size_t>{1, 3})) << "a pass over the budget is a step of its own";
+  EXPECT_EQ(display_steps({20, 150, 20}, 10, 100), (std::vector<size_t>{1, 2, 3}));
+  EXPECT_EQ(display_steps({0, 0, 0}, 10, 100), (std::vector<size_t>{3})) << "passes not yet measured: one frame";
+  EXPECT_EQ(display_steps({}, 10, 100), (std::vector<size_t>{0}));
+}
+
 }  // namespace
 }  // namespace caustica::editor

@@ -279,6 +279,32 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
     }
     for (int f = 0; f < 2; ++f) run(graph::FramePart::refine);
   }
+  // A display frame in steps (each within a frame budget): the lighting alone, then the rest, read
+  // what the step before left; the picture is that of 8 whole frames.
+  const auto& planned = apart.executor.plan().passes;
+  size_t after_lighting = 0;
+  for (const auto& pass : planned) {
+    if (!pass.refines) ++after_lighting;
+    if (pass.name == "lighting") break;
+  }
+  auto step = [&](graph::DisplayStep display, bool read_back) {
+    const graph::FrameResult frame = apart.executor.run_frame(read_back, graph::FramePart::display, display);
+    std::set<std::string> ran;
+    for (const auto& pass : frame.passes) {
+      if (pass.ran) ran.insert(pass.name);
+    }
+    return ran;
+  };
+  EXPECT_EQ(step({0, after_lighting}, false), std::set<std::string>{"lighting"});
+  EXPECT_EQ(step({after_lighting, SIZE_MAX}, true), (std::set<std::string>{"refraction", "tonemap"}));
+  {
+    SceneEngine whole;
+    accumulated(whole, scene, sets, 8);
+    for (const char* image : {"caustics", "ldr"}) {
+      EXPECT_LT(relative_difference(apart.executor.read_image(image), whole.executor.read_image(image)), 1e-6)
+          << image << " shown in steps";
+    }
+  }
   // A light move runs the next frame whole: the mean restarts, as a fresh render's.
   auto moved = std::make_shared<scene::Scene>(*scene);
   moved->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);

@@ -30,4 +30,18 @@ FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale
   return step();
 }
 
+std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms) {
+  std::vector<size_t> ends;
+  double step_ms = 0;
+  for (size_t i = 0; i < pass_ms.size(); ++i) {
+    if (i > 0 && budget_ms > 0 && overhead_ms + step_ms + pass_ms[i] > budget_ms) {
+      ends.push_back(i);
+      step_ms = 0;
+    }
+    step_ms += pass_ms[i];
+  }
+  ends.push_back(pass_ms.size());
+  return ends;
+}
+
 }  // namespace caustica::editor

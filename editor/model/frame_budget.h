@@ -4,7 +4,9 @@
 // No window and no device here, so that its rules are tested on the CPU with made-up frame times
 // (tests/frame_budget_test.cpp); the viewer feeds it the measured ones.
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace caustica::editor {
 
@@ -43,5 +45,12 @@ class FrameBudget {
   double last_at_step_ms_ = 0;  // the last representative frame time at the current step
   bool going_down_ = false;     // the step was just lowered: its first representative frame sets cost_over_next_
 };
+
+// At rest, the steps in which a display frame shows the running result (graph::DisplayStep), so
+// that each frame stays within the budget: the showing passes' last times in plan order, and what
+// a frame costs besides its passes (recording, the panels, the present). Consecutive passes share a
+// step while their sum and the overhead fit; a pass over the budget alone is a step of its own.
+// Returns each step's end (by number among the showing passes); the last is pass_ms.size().
+std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms);
 
 }  // namespace caustica::editor

@@ -136,7 +136,10 @@ class Viewer::Impl {
       frame_measured_ = true;
       // A plan's first frame runs every pass and sets up pipelines: it says little about the next.
       if (last_result_.part == graph::FramePart::whole && last_result_.frame.index > 0) last_whole_ms_ = last_wall_ms_;
-      if (last_result_.part != graph::FramePart::refine) last_shown_ = clock::now();
+      if (last_result_.part == graph::FramePart::whole || (last_result_.part == graph::FramePart::display && display_step_ == 0)) {
+        last_shown_ = clock::now();
+      }
+      measure_showing_passes();
       if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_);
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
       // graph's while_still values wait for the view to rest.
@@ -351,12 +354,42 @@ class Viewer::Impl {
   // budget, frames refine the mean and every kShowInterval one shows it, as Cycles' viewport
   // refreshes its picture between samples: the window answers input within a refining frame, and
   // most of the time goes into the mean. A refining frame leaves the window's picture as it was.
-  graph::FramePart frame_part(bool must_show) const {
+  // A display frame shows in steps when its showing passes together would go over the budget
+  // (editor::display_steps): step k of n runs the passes of that step, and the picture changes with
+  // the last one.
+  std::pair<graph::FramePart, graph::DisplayStep> frame_part(bool must_show) {
     if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || options_.budget_ms <= 0 ||
         last_whole_ms_ <= options_.budget_ms) {
-      return graph::FramePart::whole;
+      display_step_ = 0;
+      return {graph::FramePart::whole, {}};
     }
-    return std::chrono::steady_clock::now() - last_shown_ >= kShowInterval ? graph::FramePart::display : graph::FramePart::refine;
+    if (display_step_ == 0 && std::chrono::steady_clock::now() - last_shown_ < kShowInterval) return {graph::FramePart::refine, {}};
+    if (display_step_ == 0) display_ends_ = display_steps(showing_ms_, frame_overhead_ms_, options_.budget_ms);
+    graph::DisplayStep step{display_step_ == 0 ? 0 : display_ends_[display_step_ - 1], display_ends_[display_step_]};
+    display_step_ = display_step_ + 1 == display_ends_.size() ? 0 : display_step_ + 1;
+    if (display_step_ == 0) step.last = SIZE_MAX;  // the last step runs whatever is left
+    return {graph::FramePart::display, step};
+  }
+
+  // The showing passes' GPU times as they last ran, by number among them (graph::DisplayStep), and
+  // what the frame cost besides its passes: what the next display frame's steps are cut from.
+  void measure_showing_passes() {
+    const auto& planned = executor_.plan().passes;
+    const size_t showing = static_cast<size_t>(std::count_if(planned.begin(), planned.end(), [](const auto& p) { return !p.refines; }));
+    if (showing_ms_.size() != showing) showing_ms_.assign(showing, 0.0);
+    if (last_result_.passes.size() != planned.size()) return;
+    for (size_t i = 0, n = 0; i < planned.size(); ++i) {
+      if (planned[i].refines) continue;
+      // A pass a whole frame skipped (unchanged: the G-buffer at rest) costs its barriers alone; one
+      // outside a display frame's step keeps its time.
+      if (last_result_.passes[i].ran) {
+        showing_ms_[n] = last_result_.passes[i].gpu_ms;
+      } else if (last_result_.part == graph::FramePart::whole) {
+        showing_ms_[n] = 0.0;
+      }
+      ++n;
+    }
+    frame_overhead_ms_ = std::max(0.0, last_wall_ms_ - last_result_.gpu_ms);
   }
   static constexpr std::chrono::milliseconds kShowInterval{500};
 
@@ -497,9 +530,9 @@ class Viewer::Impl {
     }
     if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     if (frame.part != graph::FramePart::whole) {
-      ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s",
-                         static_cast<unsigned long long>(frame.frame.since_reset + 1),
-                         std::chrono::duration<double>(kShowInterval).count());
+      ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s%s",
+                         static_cast<unsigned long long>(frame.frame.since_reset + 1), std::chrono::duration<double>(kShowInterval).count(),
+                         display_ends_.size() > 1 ? (" in " + std::to_string(display_ends_.size()) + " frames").c_str() : "");
     }
     ImGui::TextDisabled("F1 help, Tab hide panels");
     ImGui::Checkbox("continuous (C): render every frame, for timing", &continuous_);
@@ -563,7 +596,8 @@ class Viewer::Impl {
     const bool read_back =
         !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
     const bool must_show = last || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty();
-    const graph::FrameResult frame = executor_.run_frame(read_back, frame_part(must_show));
+    const auto [part, step] = frame_part(must_show);
+    const graph::FrameResult frame = executor_.run_frame(read_back, part, step);
     last_result_ = frame;
     const uint32_t compiled = executor_.compile_count();
     const graph::FrameImage output_image = executor_.frame_image(output);
@@ -759,6 +793,10 @@ class Viewer::Impl {
   double last_wall_ms_ = 0;            // the last frame's, input to present
   double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart), not its first
   std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
+  std::vector<double> showing_ms_;                    // measure_showing_passes()
+  double frame_overhead_ms_ = 0;
+  std::vector<size_t> display_ends_;   // the steps of the display under way (editor::display_steps)
+  size_t display_step_ = 0;            // its next step; 0: none under way
   bool frame_measured_ = false;        // since the frame budget last judged
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
   editor::FrameBudget::Step step_;                  // the step the plan was made for

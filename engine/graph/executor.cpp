@@ -645,7 +645,7 @@ void Executor::record_history(VkCommandBuffer cmd) {
   vk_.end_label(cmd);
 }
 
-FrameResult Executor::run_frame(bool read_back, FramePart part) {
+FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step) {
   assert(plan_ && "configure() before run_frame()");
   Realized& real = *realized_;
   const Plan& p = *plan_;
@@ -662,7 +662,13 @@ FrameResult Executor::run_frame(bool read_back, FramePart part) {
     const uint32_t depends = p.passes[i].depends;
     if (scene_) keys[i] = scene_->parts_key(depends & kDependsOnGeometry, depends & kDependsOnLights, depends & kDependsOnCamera);
   }
-  auto in_part = [&](size_t i) { return part == FramePart::whole || p.passes[i].refines == (part == FramePart::refine); };
+  std::vector<size_t> showing(p.passes.size(), 0);  // each pass's number among those that do not refine
+  for (size_t i = 0, n = 0; i < p.passes.size(); ++i) showing[i] = p.passes[i].refines ? n : n++;
+  auto in_part = [&](size_t i) {
+    if (part == FramePart::whole) return true;
+    if (part == FramePart::refine) return p.passes[i].refines;
+    return !p.passes[i].refines && showing[i] >= step.first && showing[i] < step.last;
+  };
   if (!p.refines_apart) part = FramePart::whole;
   for (size_t i = 0; i < p.passes.size() && part != FramePart::whole; ++i) {
     if (!in_part(i) && real.reset_keys[i] != keys[i]) part = FramePart::whole;

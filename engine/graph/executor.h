@@ -2,6 +2,7 @@
 // Turns a Plan into Vulkan objects (shared memory blocks with aliased resources, one allocation per
 // persistent resource, pass objects) and records and submits frames. Recompiles only when the graph
 // or the output size changes.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -43,6 +44,14 @@ struct FrameImage {
 // result every so often. Elsewhere, and when a pass outside the part has something new to work on
 // (a change of a scene part it depends on), a frame runs whole.
 enum class FramePart { whole, refine, display };
+// A display frame may show in steps, each within a frame budget: it runs only the showing passes
+// numbered [first, last) among those that do not refine, in plan order; the picture changes when
+// the step with the pass that writes the output has run. The passes before a step keep their
+// results in a plan that refines apart, so that the next step reads them.
+struct DisplayStep {
+  size_t first = 0;
+  size_t last = SIZE_MAX;
+};
 
 struct FrameResult {
   std::vector<PassTiming> passes;
@@ -83,7 +92,7 @@ class Executor {
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().
-  FrameResult run_frame(bool read_back, FramePart part = FramePart::whole);
+  FrameResult run_frame(bool read_back, FramePart part = FramePart::whole, DisplayStep step = {});
 
   io::ImageData read_image(const std::string& resource) const;
   // The image stays valid until the next configure() that compiles; the next run_frame() may
