@@ -77,8 +77,7 @@ namespace {
 float search_distance(const graph::PassContext& ctx) {
   const float chosen = ctx.params()["search_distance"].get<float>();
   if (chosen > 0.0f) return chosen;
-  const auto [low, high] = ctx.scene().scene().bounds();
-  return std::max(glm::length(high - low), 1e-3f);
+  return std::max(ctx.scene().scene().diagonal(), 1e-3f);
 }
 
 

@@ -11,6 +11,7 @@
 #include "graph/pass.h"
 #include "graph/user_pass_type.h"
 #include "scene_draw.h"
+#include "vk/buffer.h"
 #include "vk/pipeline.h"
 
 namespace caustica::passes {
@@ -40,6 +41,7 @@ class UserPass final : public graph::Pass {
               ? (port.usage == graph::PortUsage::uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
               : (port.usage == graph::PortUsage::sampled ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     }
+    setup_counters(setup, bindings);
     const vk::PipelineDesc layout{setup.pass().name, bindings, static_cast<uint32_t>(4 * shader_->push_members.size())};
     if (shader_->kind == graph::UserShaderKind::compute) {
       pipeline_ = vk::make_compute_pipeline(setup.vk(), layout, shader_->spirv);
@@ -72,6 +74,24 @@ class UserPass final : public graph::Pass {
         colors.emplace_back(b.binding, ctx.view(b.port));
       }
     }
+    if (counters_.buffer) {
+      vkCmdFillBuffer(cmd, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+      // Also orders the frame's zeroing of the engine's counters before copy_counters' copy into them.
+      vk::memory_barrier(
+          cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+          VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+          VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+      if (shader_->counts_binding) writer.storage_buffer(*shader_->counts_binding, counters_.get());
+      if (shader_->sums_binding) writer.storage_buffer(*shader_->sums_binding, counters_.get());
+    }
+    record(ctx, writer, colors);
+    if (counters_.buffer) copy_counters(ctx);
+  }
+
+ private:
+  void record(graph::PassContext& ctx, const vk::DescriptorWriter& writer, std::vector<std::pair<uint32_t, VkImageView>>& colors) const {
+    const graph::PassTypeDecl& decl = *decl_;
+    VkCommandBuffer cmd = ctx.cmd();
     const std::vector<uint32_t> push = push_constants(decl, ctx.params());
     if (shader_->kind == graph::UserShaderKind::compute) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
@@ -100,7 +120,43 @@ class UserPass final : public graph::Pass {
     vkCmdEndRendering(cmd);
   }
 
- private:
+  // The shader adds to a buffer of the pass's own, slot k its k-th counter, which is copied into
+  // the engine's counters after it has run: the engine's slots of a pass's counters need not be
+  // consecutive, nor aligned for a descriptor's offset, and no user shader can reach the slots of
+  // another pass's counters.
+  void setup_counters(graph::PassSetup& setup, std::vector<VkDescriptorType>& bindings) {
+    if (shader_->counters.empty()) return;
+    slots_.clear();
+    for (const auto& counter : shader_->counters) {
+      // A copy would overwrite what the other pass added: a user pass's counters are its own.
+      if (const std::string owner = setup.counter_owner(counter.name); !owner.empty()) {
+        throw InputError("pass '" + setup.pass().name + "': counter '" + counter.name + "' is pass '" + owner +
+                         "''s too; give the user pass's counter a name of its own");
+      }
+      slots_.push_back(
+          setup.add_counter(counter.name, counter.sum ? graph::PassSetup::CounterKind::sum : graph::PassSetup::CounterKind::count));
+    }
+    for (const auto& binding : {shader_->counts_binding, shader_->sums_binding}) {
+      if (binding && bindings.size() <= *binding) bindings.resize(*binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    }
+    counters_ = vk::make_buffer(setup.vk(), shader_->counters.size() * sizeof(uint32_t),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
+                                setup.pass().name + " counters");
+  }
+
+  void copy_counters(const graph::PassContext& ctx) const {
+    VkCommandBuffer cmd = ctx.cmd();
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    std::vector<VkBufferCopy> regions;
+    for (size_t k = 0; k < slots_.size(); ++k) regions.push_back({k * sizeof(uint32_t), ctx.counter_offset(slots_[k]), sizeof(uint32_t)});
+    vkCmdCopyBuffer(cmd, counters_.get(), ctx.counter_buffer(), static_cast<uint32_t>(regions.size()), regions.data());
+    // The passes after it add to the engine's counters too.
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  }
+
   // The parameters as the push-constant block's members, 4 bytes each, in its order.
   std::vector<uint32_t> push_constants(const graph::PassTypeDecl& decl, const nlohmann::json& params) const {
     std::vector<uint32_t> words;
@@ -129,6 +185,8 @@ class UserPass final : public graph::Pass {
   const graph::PassTypeDecl* decl_ = nullptr;  // the pass's own type, which its plan holds
   const graph::UserShader* shader_ = nullptr;
   vk::Pipeline pipeline_;
+  vk::Buffer counters_;          // the shader's counter buffer, where the pass declares counters
+  std::vector<uint32_t> slots_;  // the engine's slot of each
 };
 
 graph::PassTypeDecl user_pass_kind(const char* type, graph::UserShaderKind kind, const char* description) {

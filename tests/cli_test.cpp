@@ -781,6 +781,30 @@ void expect_merge_refusals(const fs::path& dir, const std::vector<std::pair<std:
   }
 }
 
+// A user graph by its path on the chart, its rows beside the built-ins': caustic_map_user's photon
+// pass is the built-in caustic_map's as a user pass, so its caustic row is the built-in's, metric
+// for metric (tests/user_pass_test.cpp checks the maps themselves).
+TEST(Cli, BenchAccuracyTakesAUserGraphByPath) {
+  const fs::path dir = scratch("user_accuracy");
+  const CliRun bench = run("bench accuracy --scenes sphere_plane --graphs caustics_regular,'" +
+                               (kSource / "graphs/examples/caustic_map_user.json").string() +
+                               "' --grids 64 --reference-photons 1e5 --caustic-size 64 --size 64x36 --frames 1 --out acc",
+                           dir);
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  const std::string csv = read(dir / "acc/results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2) << csv;  // header, one caustic row each
+  // The metrics after the method's and the frame's times.
+  auto metrics = [&](const std::string& method) {
+    const size_t row = csv.find("sphere_plane,caustics," + method + ",64,4096,");
+    if (row == std::string::npos) return "(no row for " + method + ")";
+    std::string line = csv.substr(row, csv.find('\n', row) - row);
+    for (int field = 0; field < 7; ++field) line.erase(0, line.find(',') + 1);
+    return line;
+  };
+  EXPECT_EQ(metrics("caustic_map_user"), metrics("caustics_regular")) << csv;
+  fs::remove_all(dir);
+}
+
 // The photon reference as shards, as a cluster runs it (docs/cluster.md): four shards, two of
 // them indexed by the scheduler's variables, merge into the map of one process bit for bit; shards
 // that do not make one map are refused with exit 1, naming what is wrong, and nothing is written.

@@ -55,7 +55,7 @@ Plan Compiler::run() {
 }  // namespace compiler_internal
 
 std::map<std::string, double> typical_scene_values() {
-  return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}};
+  return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}, {"scene.dispersive", 0}, {"scene.diagonal", 10}};
 }
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {

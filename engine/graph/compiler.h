@@ -32,8 +32,9 @@ struct CompileOptions {
   // while their dependencies are unchanged (the viewer and editor; benchmarks measure every pass).
   bool reuse_unchanged_passes = false;
   MemoryRequirementsFn memory_requirements = estimate_memory_requirements;
-  // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects"): a
-  // pass's "enabled" can depend on it. Empty when there is no scene.
+  // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects",
+  // "scene.dispersive", "scene.diagonal"): a pass's "enabled" can depend on it. Empty when there
+  // is no scene.
   std::map<std::string, double> scene_values;
   // Whether the device has ray queries, and if not what it lacks (for the message): a pass whose
   // type says it uses them (PassTypeDecl::uses_ray_queries) is then refused. Device-less tools

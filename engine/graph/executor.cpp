@@ -209,6 +209,11 @@ uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
   executor_.realized_->counter_is_sum.push_back(kind == CounterKind::sum);
   return static_cast<uint32_t>(names.size() - 1);
 }
+std::string PassSetup::counter_owner(const std::string& name) const {
+  const auto& owners = executor_.realized_->counter_passes;
+  const auto it = owners.find(name);
+  return it == owners.end() ? std::string() : it->second;
+}
 
 vk::Context& PassContext::vk() const {
   return executor_.vk_;

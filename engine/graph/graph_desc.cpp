@@ -263,6 +263,31 @@ UserPassDesc read_user_pass(const GraphDesc& graph, const Reader& read, const nl
     }
   }
   if (value.contains("scene")) user.scene = read.boolean(value["scene"], pointer + "/scene", "\"scene\"");
+  user.counters_pointer = pointer + "/counters";
+  if (value.contains("counters")) {
+    const auto& counters = value["counters"];
+    if (!counters.is_array())
+      throw graph.error(user.counters_pointer, "\"counters\" must be an array of counters, each a name (a count) or {\"name\", \"kind\"}");
+    for (size_t i = 0; i < counters.size(); ++i) {
+      const std::string at = user.counters_pointer + "/" + std::to_string(i);
+      UserPassDesc::Counter counter;
+      if (counters[i].is_object()) {
+        read.only_keys(counters[i], at, {"name", "kind"}, "a counter");
+        if (!counters[i].contains("name")) throw graph.error(at, "a counter needs a \"name\"");
+        counter.name = read.string(counters[i]["name"], at + "/name", "a counter name");
+        if (counters[i].contains("kind"))
+          counter.sum =
+              read_choice<bool>(graph, read, counters[i]["kind"], at + "/kind", "counter kind", {{"count", false}, {"sum", true}});
+      } else {
+        counter.name = read.string(counters[i], at, "a counter name, or {\"name\", \"kind\"}");
+      }
+      if (counter.name.empty()) throw graph.error(at, "a counter's name is empty");
+      for (const auto& other : user.counters) {
+        if (other.name == counter.name) throw graph.error(at, "two counters are named '" + counter.name + "'");
+      }
+      user.counters.push_back(std::move(counter));
+    }
+  }
   user.dispatch_pointer = pointer + "/dispatch";
   if (fullscreen) {
     if (value.contains("dispatch"))
@@ -301,7 +326,7 @@ void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       p.type = read.string(value["type"], pointer + "/type", "\"type\"");
       const bool user = std::find(std::begin(kUserPassTypes), std::end(kUserPassTypes), p.type) != std::end(kUserPassTypes);
       std::vector<std::string> keys{"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"};
-      const std::vector<std::string> user_keys{"shader", "ports", "parameters", "dispatch", "scene"};
+      const std::vector<std::string> user_keys{"shader", "ports", "parameters", "dispatch", "scene", "counters"};
       if (user) keys.insert(keys.end(), user_keys.begin(), user_keys.end());
       for (const auto& key : user_keys) {
         if (!user && value.contains(key))

@@ -55,6 +55,14 @@ struct UserPassDesc {
   std::vector<std::string> dispatch;  // or invocations along x, y, z: expressions of sizes and parameters
   std::string dispatch_pointer;
   bool scene = false;  // binds the scene at bindings 0..2 (shaders/scene/scene.glsl's SCENE_* blocks)
+  // Named counters the shader adds to, as a built-in pass's (PassSetup::add_counter): slot k of its
+  // counter buffer is the k-th, a uint for a count, a float for a sum.
+  struct Counter {
+    std::string name;
+    bool sum = false;
+  };
+  std::vector<Counter> counters;
+  std::string counters_pointer;
 };
 
 struct PassDesc {

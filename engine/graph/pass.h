@@ -43,6 +43,9 @@ class PassSetup {
   // is a uint32 (atomicAdd on uint); a sum is a float32 in the same slot (atomicAdd on float).
   enum class CounterKind { count, sum };
   uint32_t add_counter(const std::string& name, CounterKind kind = CounterKind::count);
+  // The pass that set up counter `name` first, or "" where none has: passes that count under one
+  // name add into one counter.
+  std::string counter_owner(const std::string& name) const;
   // A rule about bindings or parameters belongs in PassTypeDecl::check, where the compiler (and so
   // `validate`) sees it; set-up fails only for what no plan can know (a shader, the device).
 

@@ -64,7 +64,8 @@ json graph_schema_json(const PassRegistry& registry) {
                                 {{"required", {"ports"}}},
                                 {{"required", {"parameters"}}},
                                 {{"required", {"dispatch"}}},
-                                {{"required", {"scene"}}}}}}}}}});
+                                {{"required", {"scene"}}},
+                                {{"required", {"counters"}}}}}}}}}});
       continue;
     }
     json params = json::object();
@@ -128,6 +129,11 @@ json graph_schema_json(const PassRegistry& registry) {
            "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
         {"description", {{"type", "string"}}}}},
       {"additionalProperties", false}};
+  json user_counter = {{"anyOf", json::array({{{"type", "string"}},
+                                              {{"type", "object"},
+                                               {"required", {"name"}},
+                                               {"properties", {{"name", {{"type", "string"}}}, {"kind", {{"enum", {"count", "sum"}}}}}},
+                                               {"additionalProperties", false}}})}};
   json pass = {
       {"type", "object"},
       {"required", {"name", "type"}},
@@ -154,7 +160,13 @@ json graph_schema_json(const PassRegistry& registry) {
         {"dispatch",
          {{"description", "compute: a port whose image it covers (one invocation a texel), or [x, y, z] invocations"},
           {"anyOf", json::array({{{"type", "string"}}, {{"type", "array"}, {"minItems", 1}, {"maxItems", 3}, {"items", expression}}})}}},
-        {"scene", {{"type", "boolean"}, {"description", "compute and fullscreen: the scene at bindings 0..2 (scene/scene.glsl)"}}}}},
+        {"scene", {{"type", "boolean"}, {"description", "compute and fullscreen: the scene at bindings 0..2 (scene/scene.glsl)"}}},
+        {"counters",
+         {{"type", "array"},
+          {"description",
+           "compute and fullscreen: named counters (--stats, trace) that the shader adds to at their index in its counter buffer "
+           "(uint counters[] for a count, float sums[] for a sum)"},
+          {"items", user_counter}}}}},
       {"additionalProperties", false},
       {"allOf", per_type}};
   return {{"$schema", "http://json-schema.org/draft-07/schema#"},

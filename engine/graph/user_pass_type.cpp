@@ -90,6 +90,7 @@ class Checker {
       errors_.attempt([&] { check_port(decl_.ports[i], user_.port_pointers[i]); });
     }
     for (const auto& b : reflection_.bindings) errors_.attempt([&] { check_binding(b); });
+    errors_.attempt([&] { check_counters(); });
     errors_.attempt([&] { check_push_constants(); });
     errors_.attempt([&] { check_dispatch_port(); });
     errors_.throw_if_any();
@@ -187,10 +188,59 @@ class Checker {
     shader_.bindings.push_back({port.name, found->binding});
   }
 
+  // A counter buffer: a storage buffer block whose one member is `counters` or `sums` (the names
+  // caustics/group_totals.glsl adds to).
+  static const shader::ReflectedMember* counter_member(const ReflectedBinding& b) {
+    if (b.kind != BindingKind::storage_buffer || b.members.size() != 1) return nullptr;
+    const shader::ReflectedMember& m = b.members.front();
+    return m.name == "counters" || m.name == "sums" ? &m : nullptr;
+  }
+
+  void check_counter_binding(const ReflectedBinding& b, const shader::ReflectedMember& member) const {
+    const std::string at = place(member.place) + ": ";
+    const bool counts = member.name == "counters";
+    const char* wanted = counts ? "uint[]" : "float[]";
+    if (member.type != wanted) {
+      throw graph_.error(user_.counters_pointer, at + "member '" + member.name + "' of counter buffer '" + b.block + "' is " + member.type +
+                                                     "; the counter buffer is uint counters[] (counts) or float sums[] (sums)");
+    }
+    if (b.readonly) throw graph_.error(user_.counters_pointer, at + "counter buffer '" + b.block + "' is readonly; the shader adds to it");
+    if (b.set != 0)
+      throw graph_.error(user_.counters_pointer,
+                         at + "counter buffer '" + b.block + "' is in set " + std::to_string(b.set) + "; user passes bind set 0");
+    if (shader_.scene && b.binding < kUserSceneBindings) {
+      throw graph_.error(user_.counters_pointer, at + "counter buffer '" + b.block + "' takes binding " + std::to_string(b.binding) +
+                                                     ", which the scene has (bindings 0 to " + std::to_string(kUserSceneBindings - 1) +
+                                                     ")");
+    }
+    std::optional<uint32_t>& binding = counts ? shader_.counts_binding : shader_.sums_binding;
+    if (binding) {
+      throw graph_.error(user_.counters_pointer, at + "a second counter buffer of " + member.name + " (binding " +
+                                                     std::to_string(b.binding) + "); the first is at binding " + std::to_string(*binding));
+    }
+    binding = b.binding;
+  }
+
+  void check_counters() const {
+    shader_.counters = user_.counters;
+    const bool counts = std::any_of(user_.counters.begin(), user_.counters.end(), [](const auto& c) { return !c.sum; });
+    const bool sums = std::any_of(user_.counters.begin(), user_.counters.end(), [](const auto& c) { return c.sum; });
+    const char* missing = counts && !shader_.counts_binding
+                              ? "layout(set = 0, binding = N) buffer Counts { uint counters[]; } for its counts"
+                          : sums && !shader_.sums_binding ? "layout(set = 0, binding = N) buffer Sums { float sums[]; } for its sums"
+                                                          : nullptr;
+    if (missing) {
+      throw graph_.error(user_.counters_pointer,
+                         "pass '" + pass_.name + "' declares counters, and " + shader_.path + " declares no counter buffer " + missing);
+    }
+  }
+
   void check_binding(const ReflectedBinding& b) const {
     const bool port =
         std::any_of(user_.ports.begin(), user_.ports.end(), [&](const PortDecl& p) { return p.name == b.name || p.name == b.block; });
     if (port) return;
+    const shader::ReflectedMember* counter = counter_member(b);
+    if (counter && !user_.counters.empty()) return check_counter_binding(b, *counter);
     if (shader_.scene && b.set == 0 && b.binding < kUserSceneBindings) {
       if (b.kind != scene_binding_kind(b.binding)) {
         throw graph_.error(pass_.pointer + "/scene", place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) +
@@ -203,11 +253,12 @@ class Checker {
     std::vector<std::string> ports;
     for (const auto& p : user_.ports) ports.push_back(p.name);
     const bool scene_block = b.block == "FrameBlock" || b.block == "VertexBlock" || b.block == "ObjectBlock";
-    throw graph_.error(
-        pass_.pointer + (user_.ports.empty() ? "" : "/ports"),
-        place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "', " + binding_kind_name(b.kind) + ", is no port" +
-            of_pass() + "; declare it under \"ports\"" +
-            (scene_block && !shader_.scene ? ", or give the pass the scene with \"scene\": true" : did_you_mean(b.name, ports)));
+    throw graph_.error(pass_.pointer + (user_.ports.empty() ? "" : "/ports"),
+                       place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "', " + binding_kind_name(b.kind) +
+                           ", is no port" + of_pass() + "; declare it under \"ports\"" +
+                           (scene_block && !shader_.scene ? ", or give the pass the scene with \"scene\": true"
+                            : counter                     ? ", or the counters the shader adds to under \"counters\""
+                                                          : did_you_mean(b.name, ports)));
   }
 
   void check_push_constants() {

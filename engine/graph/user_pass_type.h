@@ -7,6 +7,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,10 @@ struct UserShader {
   // the index of its value, a bool 0 or 1).
   std::vector<std::string> push_members;
   bool scene = false;
+  // The pass's counters, in order, and where the shader declares its counter buffer: as uints
+  // (a block holding `uint counters[]`) and as floats (`float sums[]`), the same buffer.
+  std::vector<UserPassDesc::Counter> counters;
+  std::optional<uint32_t> counts_binding, sums_binding;
   std::array<uint32_t, 3> local_size{1, 1, 1};
   // Compute: one invocation per texel of this port's image, or else `invocations` (the compiler
   // evaluates the file's expressions).

@@ -102,7 +102,9 @@ size_t Scene::refractor_count() const {
 std::map<std::string, double> Scene::expression_values() const {
   std::map<std::string, double> values{{"scene.refractors", static_cast<double>(refractor_count())},
                                        {"scene.lights", static_cast<double>(lights.size())},
-                                       {"scene.objects", static_cast<double>(objects.size())}};
+                                       {"scene.objects", static_cast<double>(objects.size())},
+                                       {"scene.dispersive", disperses() ? 1.0 : 0.0},
+                                       {"scene.diagonal", static_cast<double>(diagonal())}};
   for (size_t i = 0; i < lights.size(); ++i)
     values["scene.light" + std::to_string(i) + ".view"] = lights[i].has_view() ? 1 : 0;
   return values;
@@ -122,6 +124,11 @@ std::pair<glm::vec3, glm::vec3> Scene::bounds() const {
     high = glm::max(high, o.bounds_max);
   }
   return {low, high};
+}
+
+float Scene::diagonal() const {
+  const auto [low, high] = bounds();
+  return glm::length(high - low);
 }
 
 size_t Scene::triangle_count() const {

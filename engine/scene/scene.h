@@ -179,7 +179,10 @@ struct Scene {
   float ray_epsilon() const;
   // The box around every object (both corners at the origin when there is none).
   std::pair<glm::vec3, glm::vec3> bounds() const;
-  // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects.
+  // The length of that box's diagonal: how far the image-space searches reach unless told.
+  float diagonal() const;
+  // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects,
+  // scene.dispersive (1 where a refractor disperses light, else 0) and scene.diagonal.
   std::map<std::string, double> expression_values() const;
 };
 

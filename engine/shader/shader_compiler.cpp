@@ -149,12 +149,15 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
       out.outputs.push_back(std::move(b));
       continue;
     }
+    if (type.getBasicType() == glslang::EbtBlock) {
+      for (const glslang::TTypeLoc& member : *type.getStruct()) {
+        b.members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file)});
+      }
+    }
     if (q.storage == glslang::EvqUniform && q.layoutPushConstant) {
       out.push_block = b.block;
       out.push_place = b.place;
-      for (const glslang::TTypeLoc& member : *type.getStruct()) {
-        out.push_members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file)});
-      }
+      out.push_members = std::move(b.members);
       continue;
     }
     if (q.storage != glslang::EvqUniform && q.storage != glslang::EvqBuffer) continue;

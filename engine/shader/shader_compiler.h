@@ -22,9 +22,15 @@ struct SourcePlace {
   std::string file;
   int line = 0;
 };
+struct ReflectedMember {
+  std::string name;
+  std::string type;  // GLSL's name of it: "float", "int", "uint", "bool", "vec2", "uint[]"...
+  SourcePlace place;
+};
 struct ReflectedBinding {
   std::string name;   // the variable, or a block's instance name (its type name where it has none)
   std::string block;  // a block's type name
+  std::vector<ReflectedMember> members;  // a block's
   uint32_t set = 0;
   uint32_t binding = 0;  // a fragment output: its location
   BindingKind kind = BindingKind::other;
@@ -32,11 +38,6 @@ struct ReflectedBinding {
   bool arrayed = false;
   bool readonly = false;
   bool writeonly = false;
-  SourcePlace place;
-};
-struct ReflectedMember {
-  std::string name;
-  std::string type;  // GLSL's name of it: "float", "int", "uint", "bool", "vec2"...
   SourcePlace place;
 };
 struct Reflection {

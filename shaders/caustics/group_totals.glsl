@@ -2,8 +2,13 @@
 #define CAUSTICA_GROUP_TOTALS_GLSL
 // Per-workgroup totals for the photon counters, added to the counter buffer once per group instead
 // of once per photon. Counts use shared uint atomics; sums are reduced in shared memory without
-// float atomics on shared memory (an optional feature). Needs `counters`, `sums` and
-// params.counter_slot[]: count k at slot k, sum k at slot sum_base + k. Workgroups of 64 invocations.
+// float atomics on shared memory (an optional feature). Needs `counters`, `sums` and the slots:
+// count k at slot GROUP_COUNTER_SLOT(k), sum k at GROUP_COUNTER_SLOT(sum_base + k). The built-in
+// passes push theirs (params.counter_slot[]); a user pass defines GROUP_COUNTER_SLOT(k) as (k), its
+// counters' order in the graph file (docs/shader_api.md). Workgroups of 64 invocations.
+#ifndef GROUP_COUNTER_SLOT
+#define GROUP_COUNTER_SLOT(k) params.counter_slot[k]
+#endif
 const uint MAX_COUNTS = 8u, MAX_SUMS = 3u;
 shared uint group_counts[MAX_COUNTS];
 shared float group_sums[MAX_SUMS][64];
@@ -29,9 +34,9 @@ void end_group_totals(uint counts, uint sum_base, uint n_sums) {
     barrier();
   }
   if (gl_LocalInvocationIndex < counts && group_counts[gl_LocalInvocationIndex] != 0u) {
-    atomicAdd(counters[params.counter_slot[gl_LocalInvocationIndex]], group_counts[gl_LocalInvocationIndex]);
+    atomicAdd(counters[GROUP_COUNTER_SLOT(gl_LocalInvocationIndex)], group_counts[gl_LocalInvocationIndex]);
   }
-  if (gl_LocalInvocationIndex < n_sums) atomicAdd(sums[params.counter_slot[sum_base + gl_LocalInvocationIndex]], group_sums[gl_LocalInvocationIndex][0]);
+  if (gl_LocalInvocationIndex < n_sums) atomicAdd(sums[GROUP_COUNTER_SLOT(sum_base + gl_LocalInvocationIndex)], group_sums[gl_LocalInvocationIndex][0]);
 }
 
 #endif

@@ -3,9 +3,11 @@
 // One photon from a spot light through the light-view refractor buffers to the receivers, shared by
 // every caustic method. Needs, declared before inclusion: SCENE_FRAME, SCENE_OBJECTS, front_tex,
 // back_tex, receiver_depth, caustic_map, and `params` with distance_mode, search (search_steps()),
-// search_distance, light, fresnel (see refraction.glsl), and the exact-path fields
-// exact_max_interfaces, exact_seed, exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and
-// hybrid_reflections as two halves: the push constants have no room for another word).
+// search_distance, fresnel (see refraction.glsl) and exact_seed (photon_rng); with
+// CAUSTICA_RAY_QUERY also `counters`, `sums` and the exact-path fields exact_max_interfaces,
+// exact_counters, exact_epsilon, hybrid_packed (hybrid_tolerance and hybrid_reflections as two
+// halves: the push constants have no room for another word). What image space needs is what a
+// user pass can give (docs/shader_api.md).
 //
 // With CAUSTICA_RAY_QUERY defined (the pass compiles it so when its `distance` is ray_query, hybrid
 // or material; CAUSTICA_HYBRID too for hybrid), photons can also be traced exactly through the scene's acceleration structures: every
@@ -24,7 +26,9 @@ const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that la
 const uint RETRACED_REFRACTOR_AHEAD = 10u;  // one for a trusted exit ray that meets a refractor,
 const uint RETRACED_REFLECTION = 11u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
 const uint EXACT_FLUX_ESCAPED = 12u, EXACT_FLUX_TRAPPED = 13u, EXACT_FLUX_OFF_MAP = 14u, EXACT_FLUX_ABSORBED = 15u;
+#ifdef CAUSTICA_RAY_QUERY
 void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
+#endif
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (photon_band, which the
 // kernel sets before begin_photon), each with that band's index of refraction (refraction.glsl's
@@ -32,9 +36,9 @@ void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
 // Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
 uint photon_band = BAND_WHITE;
 float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
-void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
 
 #ifdef CAUSTICA_RAY_QUERY
+void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
 #include "refraction/exact_path.glsl"
 #endif
 #ifdef CAUSTICA_HYBRID
@@ -87,6 +91,7 @@ void land_on_map(inout Photon ph, vec2 uv) {
   ph.landed = true;
 }
 
+#ifdef CAUSTICA_RAY_QUERY
 // Lands a photon at world point p seen from the light: in the caustic map, or off it.
 void land_at(inout Photon ph, LightData light, vec3 p) {
   vec2 uv;
@@ -99,7 +104,6 @@ void land_at(inout Photon ph, LightData light, vec3 p) {
   land_on_map(ph, uv);
 }
 
-#ifdef CAUSTICA_RAY_QUERY
 // The photon's path from `start` (its whole path from the light, or the rest of one), exact, by
 // refraction/exact_path.glsl with Fresnel choices drawn. Sets hit, entering, power, landed, texel,
 // landing; what does not land is counted by where it went (escaped, trapped, off the map, absorbed).

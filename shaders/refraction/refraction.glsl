@@ -37,9 +37,18 @@ const uint DISTANCE_MATERIAL = 5u;
 bool exit_searched() { return DISTANCE_MODE == DISTANCE_SEARCH || DISTANCE_MODE == DISTANCE_HYBRID; }
 // params.search, packed as passes/refraction.h's RefractionPush says: the background search's steps, and
 // the total internal reflections that the search follows inside (search_bounces). A push constant
-// rather than a define, so that a change of either reuses the compiled pipeline.
-uint search_steps() { return params.search & 0xffffu; }
-int search_tir_bounces() { return int(params.search >> 16u); }
+// rather than a define, so that a change of either reuses the compiled pipeline. A user pass, whose
+// push constants are its parameters, defines REFRACTION_SEARCH (packed so) and
+// REFRACTION_SEARCH_DISTANCE (how far the search goes) before inclusion, and CAUSTICA_DISTANCE_MODE
+// for the mode (docs/shader_api.md).
+#ifndef REFRACTION_SEARCH
+#define REFRACTION_SEARCH params.search
+#endif
+#ifndef REFRACTION_SEARCH_DISTANCE
+#define REFRACTION_SEARCH_DISTANCE params.search_distance
+#endif
+uint search_steps() { return REFRACTION_SEARCH & 0xffffu; }
+int search_tir_bounces() { return int(REFRACTION_SEARCH >> 16u); }
 
 
 float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
@@ -144,8 +153,8 @@ const uint MARCH_HIDDEN = 2u;  // no surface, but the ray slipped behind one's o
 // or, failing one, the first outline it slipped behind (MARCH_HIDDEN): where the image sees
 // whatever hides the rest of the ray.
 uint march_depth(sampler2D depth_image, mat4 view_proj, vec3 origin, vec3 direction, out vec2 uv) {
-  float step_length = params.search_distance / float(search_steps());
-  float t_end = length_in_view(view_proj, origin, direction, params.search_distance);
+  float step_length = REFRACTION_SEARCH_DISTANCE / float(search_steps());
+  float t_end = length_in_view(view_proj, origin, direction, REFRACTION_SEARCH_DISTANCE);
   float t_before = 0.0;
   bool in_front_before = true;
   uint found = MARCH_MISS;

@@ -95,8 +95,7 @@ AccuracyGraphs load_accuracy_graphs(const std::vector<std::string>& graphs) {
     std::string label = g.name;
     for (const auto& set : sets) label += " " + set;
     loaded.labels.push_back(label);
-    if (passes_of_types(g, kCausticPassTypes).empty() &&
-        passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
+    if (caustic_passes(g).empty() && passes_of_types(g, {"deferred_refraction", "forward_refraction", "refraction_layers"}).empty()) {
       throw InputError(graph_path(name) + ": bench accuracy needs a graph with a caustic or a refraction pass");
     }
   }
@@ -124,7 +123,7 @@ std::vector<AccuracyCell> accuracy_cells(const AccuracyOptions& o, const Accurac
   for (size_t s = 0; s < o.scenes.size(); ++s) {
     for (size_t g = 0; g < graphs.descs.size(); ++g) {
       const auto& desc = graphs.descs[g];
-      if (passes_of_types(desc, kCausticPassTypes).empty()) {
+      if (caustic_passes(desc).empty()) {
         cells.push_back({s, g, 0});
         continue;
       }
@@ -182,8 +181,8 @@ struct AccuracyRun {
       scene_refraction.reset();
     }
     const auto& desc = graphs.descs[cell.graph];
-    const auto caustic_passes = passes_of_types(desc, kCausticPassTypes);
-    if (caustic_passes.empty()) {
+    const auto method_passes = caustic_passes(desc);
+    if (method_passes.empty()) {
       if (!scene_refraction) scene_refraction = reference::render_refraction_reference(*scene, o.width, o.height);
       measure_refraction(executor, scene->name, desc, graphs.labels[cell.graph], *scene_refraction);
       return;
@@ -197,12 +196,12 @@ struct AccuracyRun {
       scene_photons = photon_reference(*scene, options, o.cells.reference_cache);
       if (o.cells.cell.empty()) io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), scene_photons->caustic_map);
     }
-    measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, caustic_passes, *scene_photons);
+    measure_caustics(executor, scene->name, desc, graphs.labels[cell.graph], cell.grid, method_passes, *scene_photons);
   }
 
   // A caustic graph at one effective grid, its caustic map against the photon reference.
   void measure_caustics(graph::Executor& executor, const std::string& scene, const graph::GraphDesc& desc, const std::string& label,
-                        uint32_t grid, const std::set<std::string>& caustic_passes, const reference::PhotonReference& traced) {
+                        uint32_t grid, const std::set<std::string>& method_passes, const reference::PhotonReference& traced) {
     graph::GraphDesc g = desc;
     graph::apply_overrides(g, {"grid=" + std::to_string(grid), "caustic_size=" + std::to_string(o.caustic_size)});
     if (!runs_on(vk, g)) {
@@ -211,7 +210,7 @@ struct AccuracyRun {
       return;
     }
     executor.configure(g, o.width, o.height, {"caustics"});
-    const Timings t = time_frames(executor, o.frames, caustic_passes);
+    const Timings t = time_frames(executor, o.frames, method_passes);
     const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
     add_row(scene, "caustics", label, grid, processed, t,
             reference::compare_images(executor.read_image("caustics"), traced.caustic_map, o.blur));

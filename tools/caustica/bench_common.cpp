@@ -49,6 +49,15 @@ std::set<std::string> passes_of_types(const graph::GraphDesc& graph, std::initia
   return names;
 }
 
+std::set<std::string> caustic_passes(const graph::GraphDesc& graph) {
+  std::set<std::string> names = passes_of_types(graph, kCausticPassTypes);
+  for (const auto& p : graph.passes) {
+    const bool writes_map = std::any_of(p.outputs.begin(), p.outputs.end(), [](const auto& port) { return port.second == "caustics"; });
+    if (p.user && writes_map) names.insert(p.name);
+  }
+  return names;
+}
+
 Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<std::string>& method_passes) {
   executor.run_frame(false);
   std::vector<double> method, frame;

@@ -34,6 +34,9 @@ std::string graph_path(const std::string& name);
 std::set<std::string> passes_of_types(const graph::GraphDesc& graph, std::initializer_list<const char*> types);
 
 inline constexpr std::initializer_list<const char*> kCausticPassTypes = {"caustic_map", "hierarchical_caustic_map", "adaptive_caustic_map"};
+// A caustic method's passes: those of kCausticPassTypes, and the user passes (compute, fullscreen)
+// that write the "caustics" image, which is the map the benchmarks compare.
+std::set<std::string> caustic_passes(const graph::GraphDesc& graph);
 
 struct Timings {
   double method_ms = 0, frame_ms = 0;

@@ -162,7 +162,7 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
   // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
   auto render = [&](std::shared_ptr<const scene::Scene> s) {
     prepare(std::move(s));
-    if (o.frames > 0) return time_frames(executor, o.frames, passes_of_types(g, kCausticPassTypes));
+    if (o.frames > 0) return time_frames(executor, o.frames, caustic_passes(g));
     Timings untimed;
     untimed.method_ms = untimed.frame_ms = std::nan("");
     untimed.last = executor.run_frame(true);

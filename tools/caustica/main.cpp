@@ -468,8 +468,8 @@ int cmd_graph(Args& args) {
       "queries adds memory.acceleration: the scene's (--scene S, default scenes/glass_bunny.json) build inputs\n"
       "exactly and its acceleration structures at lavapipe 25's layout; render --stats reports the driver's own.\n"
       "Expressions about the scene\n"
-      "(scene.refractors, scene.lights, scene.objects) see --scene S, or one refractor, one light and two\n"
-      "objects without it.\n";
+      "(scene.refractors, scene.lights, scene.objects, scene.dispersive, scene.diagonal) see --scene S, or one\n"
+      "refractor that does not disperse, one light and two objects 10 apart without it.\n";
   if (args.wants_help()) {
     std::cout << help;
     return 0;
