@@ -353,8 +353,8 @@ TEST(UserPass, TheCausticFilterSmoothsTheMapAndKeepsItsFlux) {
   for (size_t i = 0; i < map.rgba.size(); i += 4) {
     flux += static_cast<double>(map.rgba[i]);
     filtered_flux += static_cast<double>(filtered.rgba[i]);
-    peak = std::max<double>(peak, map.rgba[i]);
-    filtered_peak = std::max<double>(filtered_peak, filtered.rgba[i]);
+    peak = std::max(peak, static_cast<double>(map.rgba[i]));
+    filtered_peak = std::max(filtered_peak, static_cast<double>(filtered.rgba[i]));
   }
   ASSERT_GT(flux, 0.0);
   // The kernel's weights sum to one at each texel: the caustic, away from the map's edges, keeps its flux.
