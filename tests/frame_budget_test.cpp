@@ -86,6 +86,8 @@ TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {
   EXPECT_EQ(display_steps({150, 20, 20}, 10, 100), (std::vector<size_t>{1, 3})) << "a pass over the budget is a step of its own";
   EXPECT_EQ(display_steps({20, 150, 20}, 10, 100), (std::vector<size_t>{1, 2, 3}));
   EXPECT_EQ(display_steps({0, 0, 0}, 10, 100), (std::vector<size_t>{3})) << "passes not yet measured: one frame";
+  EXPECT_EQ(display_steps({0, 60, 50}, 10, 100), (std::vector<size_t>{2, 3})) << "a skipped pass goes with the next";
+  EXPECT_EQ(display_steps({0, 40, 60, 12}, 10, 1), (std::vector<size_t>{2, 3, 4})) << "every pass over the budget: one a frame";
   EXPECT_EQ(display_steps({}, 10, 100), (std::vector<size_t>{0}));
 }
 

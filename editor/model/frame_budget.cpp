@@ -34,7 +34,8 @@ std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double ove
   std::vector<size_t> ends;
   double step_ms = 0;
   for (size_t i = 0; i < pass_ms.size(); ++i) {
-    if (i > 0 && budget_ms > 0 && overhead_ms + step_ms + pass_ms[i] > budget_ms) {
+    // A pass that costs nothing (skipped, unchanged) joins the next step rather than make a frame of its own.
+    if (step_ms > 0 && budget_ms > 0 && overhead_ms + step_ms + pass_ms[i] > budget_ms) {
       ends.push_back(i);
       step_ms = 0;
     }

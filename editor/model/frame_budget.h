@@ -49,7 +49,8 @@ class FrameBudget {
 // At rest, the steps in which a display frame shows the running result (graph::DisplayStep), so
 // that each frame stays within the budget: the showing passes' last times in plan order, and what
 // a frame costs besides its passes (recording, the panels, the present). Consecutive passes share a
-// step while their sum and the overhead fit; a pass over the budget alone is a step of its own.
+// step while their sum and the overhead fit; a pass over the budget alone is a step of its own, and
+// one that costs nothing (the G-buffer, unchanged at rest) never makes a step alone.
 // Returns each step's end (by number among the showing passes); the last is pass_ms.size().
 std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms);
 
