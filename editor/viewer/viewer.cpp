@@ -374,20 +374,20 @@ class Viewer::Impl {
   // The showing passes' GPU times as they last ran, by number among them (graph::DisplayStep), and
   // what the frame cost besides its passes: what the next display frame's steps are cut from.
   void measure_showing_passes() {
+    if (!executor_.plan().refines_apart) return;  // PlannedPass::showing numbers nothing else
     const auto& planned = executor_.plan().passes;
     const size_t showing = static_cast<size_t>(std::count_if(planned.begin(), planned.end(), [](const auto& p) { return !p.refines; }));
     if (showing_ms_.size() != showing) showing_ms_.assign(showing, 0.0);
     if (last_result_.passes.size() != planned.size()) return;
-    for (size_t i = 0, n = 0; i < planned.size(); ++i) {
+    for (size_t i = 0; i < planned.size(); ++i) {
       if (planned[i].refines) continue;
       // A pass a whole frame skipped (unchanged: the G-buffer at rest) costs its barriers alone; one
       // outside a display frame's step keeps its time.
       if (last_result_.passes[i].ran) {
-        showing_ms_[n] = last_result_.passes[i].gpu_ms;
+        showing_ms_[planned[i].showing] = last_result_.passes[i].gpu_ms;
       } else if (last_result_.part == graph::FramePart::whole) {
-        showing_ms_[n] = 0.0;
+        showing_ms_[planned[i].showing] = 0.0;
       }
-      ++n;
     }
     frame_overhead_ms_ = std::max(0.0, last_wall_ms_ - last_result_.gpu_ms);
   }

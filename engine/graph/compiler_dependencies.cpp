@@ -147,8 +147,9 @@ void Compiler::find_refining_passes() {
   if (!plan_.refines_apart) return;
   // What the showing passes write persists too, so that a display frame can show in steps
   // (DisplayStep), each reading what the steps before it left.
-  for (uint32_t i = 0; i < order_.size(); ++i) {
+  for (uint32_t i = 0, showing = 0; i < order_.size(); ++i) {
     if (plan_.passes[i].refines) continue;
+    plan_.passes[i].showing = showing++;
     for (const auto& b : nodes_[order_[i]].bindings) {
       if (b.port->access != PortAccess::read) plan_.resources[b.resource].transient = false;
     }

@@ -667,12 +667,10 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
     const uint32_t depends = p.passes[i].depends;
     if (scene_) keys[i] = scene_->parts_key(depends & kDependsOnGeometry, depends & kDependsOnLights, depends & kDependsOnCamera);
   }
-  std::vector<size_t> showing(p.passes.size(), 0);  // each pass's number among those that do not refine
-  for (size_t i = 0, n = 0; i < p.passes.size(); ++i) showing[i] = p.passes[i].refines ? n : n++;
   auto in_part = [&](size_t i) {
     if (part == FramePart::whole) return true;
     if (part == FramePart::refine) return p.passes[i].refines;
-    return !p.passes[i].refines && showing[i] >= step.first && showing[i] < step.last;
+    return !p.passes[i].refines && p.passes[i].showing >= step.first && p.passes[i].showing < step.last;
   };
   if (!p.refines_apart) part = FramePart::whole;
   for (size_t i = 0; i < p.passes.size() && part != FramePart::whole; ++i) {

@@ -111,6 +111,9 @@ struct PlannedPass {
   // With Plan::refines_apart: the pass moves a running result or writes what such a pass reads, and
   // runs in FramePart::refine frames; the others run in FramePart::display frames.
   bool refines = false;
+  // With Plan::refines_apart, for a pass that does not refine: its number among those, in plan
+  // order, by which a display frame shows in steps (DisplayStep).
+  uint32_t showing = 0;
   // In a plan that reuses unchanged passes, for a reusable pass: a hash of everything its result
   // follows from besides the scene (its name, type and parameters, its ports' formats and extents,
   // and the result keys of what it reads). A later plan's pass with the same key computes the same
