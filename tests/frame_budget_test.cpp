@@ -79,6 +79,32 @@ TEST(FrameBudget, ANewPlanForAnotherReasonIsNotJudgedOnItsFirstFrame) {
 
 // The showing passes at rest in steps within the budget (the bunny's lighting, refraction and tone
 // map at 1280x720 on lavapipe took about 40, 60 and 12 ms, with 10 ms of the frame besides).
+// Feeds refining frame times; returns the level after each.
+std::vector<size_t> refining(StillLevels& levels, const std::vector<double>& frame_ms) {
+  std::vector<size_t> after;
+  for (double ms : frame_ms) {
+    levels.refined(ms);
+    after.push_back(levels.level());
+  }
+  return after;
+}
+
+TEST(StillLevels, RefiningFramesOverTheBudgetTakeTheNextLevelJudgedOnTheirMedian) {
+  StillLevels levels(100, 3);
+  // One slow frame among three does not decide; a median over the budget does, and the next level
+  // is judged on its own frames.
+  EXPECT_EQ(refining(levels, {90, 300, 95}), (std::vector<size_t>{0, 0, 0}));
+  EXPECT_EQ(refining(levels, {300, 300, 300}), (std::vector<size_t>{0, 0, 0})) << "a level judged within the budget is kept";
+  StillLevels slow(100, 3);
+  EXPECT_EQ(refining(slow, {120, 90, 130}), (std::vector<size_t>{0, 0, 1}));
+  EXPECT_DOUBLE_EQ(slow.judged(), 120);
+  EXPECT_EQ(refining(slow, {110, 105, 101, 300, 300, 300}), (std::vector<size_t>{1, 1, 2, 2, 2, 2})) << "the last level stays";
+  StillLevels one(100, 1);
+  EXPECT_EQ(refining(one, {500, 500, 500}), (std::vector<size_t>{0, 0, 0})) << "a single value has nowhere to go";
+  StillLevels off(0, 3);
+  EXPECT_EQ(refining(off, {500, 500, 500}), (std::vector<size_t>{0, 0, 0})) << "no budget";
+}
+
 TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 100), (std::vector<size_t>{1, 3}));
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 200), (std::vector<size_t>{3})) << "all fit one frame";

@@ -1,5 +1,7 @@
 #include "frame_budget.h"
 
+#include <algorithm>
+
 namespace caustica::editor {
 
 namespace {
@@ -28,6 +30,19 @@ FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale
   }
   first_at_step_ = level_ != before;
   return step();
+}
+
+bool StillLevels::refined(double frame_ms) {
+  if (budget_ms_ <= 0 || level_ + 1 >= levels_ || frames_.size() >= kJudged) return false;
+  frames_.push_back(frame_ms);
+  if (frames_.size() < kJudged) return false;
+  std::vector<double> sorted = frames_;
+  std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
+  judged_ms_ = sorted[kJudged / 2];
+  if (judged_ms_ <= budget_ms_) return false;  // frames_ stays full: this level is kept
+  ++level_;
+  frames_.clear();
+  return true;
 }
 
 std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms) {

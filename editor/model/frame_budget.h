@@ -46,6 +46,33 @@ class FrameBudget {
   bool going_down_ = false;     // the step was just lowered: its first representative frame sets cost_over_next_
 };
 
+// At rest, which of the graph's while_still values the viewer uses (graph::GraphParameter): a
+// parameter may list several, each cheaper than the one before (caustics_progressive: a quarter of
+// the photon grid a frame, then a ninth, a sixteenth), so that a refining frame fits the budget on
+// a machine slower than the graph's author's. The viewer starts at the first level and moves to the
+// next when the refining frames at a level are over the budget, judged on the median of the first
+// kJudged (one slow frame does not decide). It never moves back: a refining frame's work is in light
+// space and does not follow the camera, and each move restarts the running mean. A new graph, or a
+// new budget, starts again at the first.
+class StillLevels {
+ public:
+  static constexpr size_t kJudged = 3;
+  StillLevels(double budget_ms, size_t levels) : budget_ms_(budget_ms), levels_(levels) {}
+  size_t level() const { return level_; }
+  size_t levels() const { return levels_; }
+  // A refining frame at the current level took `frame_ms` (input to present). True when the next
+  // frame is to use the next level; judged() then gives the median that decided it.
+  bool refined(double frame_ms);
+  double judged() const { return judged_ms_; }
+
+ private:
+  double budget_ms_;
+  size_t levels_;
+  size_t level_ = 0;
+  std::vector<double> frames_;  // the current level's first refining frames, until judged
+  double judged_ms_ = 0;
+};
+
 // At rest, the steps in which a display frame shows the running result (graph::DisplayStep), so
 // that each frame stays within the budget: the showing passes' last times in plan order, and what
 // a frame costs besides its passes (recording, the panels, the present). Consecutive passes share a

@@ -16,8 +16,9 @@ constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::
 
 }  // namespace
 
-void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still) {
-  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, frame.part, {}, {}};
+void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still,
+                   size_t still_level) {
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, still_level, frame.part, {}, {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
@@ -36,6 +37,7 @@ void FrameLog::write(const std::string& path) const {
                              {"divider", e.divider},
                              {"lowered", e.lowered},
                              {"still", e.still},
+                             {"still_level", e.still_level},
                              {"converging", e.converging},
                              {"part", kPartNames[static_cast<size_t>(e.part)]},
                              {"ran", e.ran},

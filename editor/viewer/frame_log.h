@@ -12,8 +12,9 @@ class FrameLog {
  public:
   // `moving`: the camera or a light changed before this frame (input or --orbit / --move-light).
   // `divider`: the frame rendered at the window's size over this (the frame budget); `lowered`: with
-  // the graph parameters' while_moving values; `still`: with their while_still values.
-  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still);
+  // the graph parameters' while_moving values; `still`: with their while_still values, those of
+  // `still_level` (0: the first) where a parameter lists several.
+  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still, size_t still_level);
   // JSON: every frame, and the median and 95th percentile of the wall time over all frames, the
   // moving ones and the still ones. Written through a temporary file, so a killed viewer leaves none.
   void write(const std::string& path) const;
@@ -24,6 +25,7 @@ class FrameLog {
     bool moving;
     uint32_t divider;
     bool lowered, still, converging;
+    size_t still_level;
     graph::FramePart part;
     std::vector<std::string> ran, reused;
   };

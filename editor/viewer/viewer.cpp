@@ -140,7 +140,10 @@ class Viewer::Impl {
         last_shown_ = clock::now();
       }
       measure_showing_passes();
-      if (!options_.stats.empty()) log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_);
+      if (!options_.stats.empty()) {
+        log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_, still_levels_.level());
+      }
+      fit_refining_frames();
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
       // graph's while_still values wait for the view to rest.
       if (last_result_.converging || still_values_due()) redraw_frames_ = std::max(redraw_frames_, 1);
@@ -297,7 +300,8 @@ class Viewer::Impl {
     graph::GraphDesc graph = edited(session_);
     for (auto& p : graph.parameters) {
       if (step_.lowered && p.while_moving) p.value = *p.while_moving;
-      if (still_values_ && p.while_still && !session_.edits.count(p.decl.name)) p.value = *p.while_still;
+      if (still_values_ && !p.while_still.empty() && !session_.edits.count(p.decl.name))
+        p.value = p.while_still[std::min(still_levels_.level(), p.while_still.size() - 1)];
     }
     try {
       executor_.configure(graph, size.width, size.height, retained);
@@ -393,17 +397,36 @@ class Viewer::Impl {
   }
   static constexpr std::chrono::milliseconds kShowInterval{500};
 
+  // At rest, refining frames over the budget take the graph's next while_still values, where it
+  // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the caustic
+  // mean restarts and the camera's passes show it); the ones after refine again at once, since the
+  // whole frames were over the budget already.
+  void fit_refining_frames() {
+    if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;
+    std::fprintf(stderr, "view: refining frames over the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
+                 options_.budget_ms, still_levels_.judged(), still_levels_.level() + 1, still_levels_.levels());
+    const double whole_ms = last_whole_ms_;
+    configure();
+    last_whole_ms_ = whole_ms;
+  }
+
   // The graph declares while_still values that this device has not refused.
   bool still_values_wanted() const {
     return session_.graph && !still_values_refused_ &&
            std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
-                       [](const auto& p) { return p.while_still.has_value(); });
+                       [](const auto& p) { return !p.while_still.empty(); });
   }
   bool still_values_due() const { return still_values_wanted() && !still_values_; }
-  // A new graph starts with its values as set, and may try its while_still values again.
+  // A new graph starts with its values as set, and may try its while_still values again, from the
+  // first level.
   void forget_still_values() {
     still_values_ = false;
     still_values_refused_ = false;
+    size_t levels = 1;
+    if (session_.graph) {
+      for (const auto& p : session_.graph->parameters) levels = std::max(levels, p.while_still.size());
+    }
+    still_levels_ = editor::StillLevels(options_.budget_ms, levels);
   }
 
   void init_imgui() {
@@ -528,7 +551,11 @@ class Viewer::Impl {
       ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "moving: 1/%u of the window's size each way%s (budget %.0f ms)", step_.divider,
                          step_.lowered ? ", the graph's while_moving values" : "", options_.budget_ms);
     }
-    if (still_values_) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
+    if (still_values_ && still_levels_.level() == 0) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
+    if (still_values_ && still_levels_.level() > 0) {
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "still: the graph's while_still values, level %zu of %zu (refining took %.0f ms)",
+                         still_levels_.level() + 1, still_levels_.levels(), still_levels_.judged());
+    }
     if (frame.part != graph::FramePart::whole) {
       ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s%s",
                          static_cast<unsigned long long>(frame.frame.since_reset + 1), std::chrono::duration<double>(kShowInterval).count(),
@@ -801,6 +828,7 @@ class Viewer::Impl {
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
   editor::FrameBudget::Step step_;                  // the step the plan was made for
   bool still_values_ = false;          // at rest, with the parameters' while_still values
+  editor::StillLevels still_levels_{options_.budget_ms, 1};  // which of them, where a parameter lists several
   bool was_converging_ = false;        // the last frame had a pass converging
   bool still_values_refused_ = false;  // the device could not run them (until the graph changes)
   std::chrono::steady_clock::time_point last_move_ = std::chrono::steady_clock::now();

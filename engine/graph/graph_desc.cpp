@@ -94,12 +94,22 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
                      "a parameter");
       p.decl = read_param_decl(graph, read, key, value, pointer);
       p.value = p.decl.default_value;
-      for (auto [name, target] : {std::pair{"while_moving", &p.while_moving}, std::pair{"while_still", &p.while_still}}) {
-        if (!value.contains(name)) continue;
-        const std::string problem = check_param_value(p.decl, value[name]);
-        if (!problem.empty())
-          throw graph.error(pointer + "/" + name, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
-        *target = value[name];
+      auto checked = [&](const char* name, const nlohmann::json& v, const std::string& at) {
+        const std::string problem = check_param_value(p.decl, v);
+        if (!problem.empty()) throw graph.error(at, std::string("the ") + name + " value of parameter '" + key + "' " + problem);
+        return v;
+      };
+      if (value.contains("while_moving")) p.while_moving = checked("while_moving", value["while_moving"], pointer + "/while_moving");
+      if (value.contains("while_still")) {
+        const nlohmann::json& still = value["while_still"];
+        if (!still.is_array()) {
+          p.while_still.push_back(checked("while_still", still, pointer + "/while_still"));
+        } else {
+          if (still.empty())
+            throw graph.error(pointer + "/while_still", "the while_still values of parameter '" + key + "' are an empty list");
+          for (size_t i = 0; i < still.size(); ++i)
+            p.while_still.push_back(checked("while_still", still[i], pointer + "/while_still/" + std::to_string(i)));
+        }
       }
       graph.parameters.push_back(std::move(p));
     });

@@ -22,8 +22,10 @@ struct GraphParameter {
   std::optional<nlohmann::json> while_moving;
   // "while_still": the value a viewer uses once nothing has moved for a moment, where the user has
   // not set the parameter in its panel and the device runs the graph with it (exact photons accumulating in
-  // place of image-space ones); absent: the value as set.
-  std::optional<nlohmann::json> while_still;
+  // place of image-space ones); empty: the value as set. A list in the file gives cheaper values after
+  // the first (a smaller slice of the photon grid a frame), which the viewer takes in turn while its
+  // refining frames are over the frame budget (editor::StillLevels).
+  std::vector<nlohmann::json> while_still;
 };
 
 struct ResourceDesc {

@@ -98,7 +98,8 @@ json graph_schema_json(const PassRegistry& registry) {
         {"while_still",
          {{"description",
            "the value a viewer uses once nothing has moved for a moment, unless the user set the parameter or the device cannot run "
-           "the graph with it"}}}}},
+           "the graph with it; or a list of values, each cheaper than the one before, that the viewer takes in turn while its refining "
+           "frames at rest are over the frame budget"}}}}},
       {"additionalProperties", false}};
   json user_parameter = parameter;
   for (const char* viewer_only : {"while_moving", "while_still"}) user_parameter["properties"].erase(viewer_only);

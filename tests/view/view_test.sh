@@ -97,9 +97,12 @@ if pixels; then
 fi
 # At rest with a budget that no whole frame meets (after the plan's first two), frames refine the
 # mean (the caustic passes alone) and now and then show it (the camera's passes alone, one a frame
-# since each is over the budget); the last
-# frame runs whole and shows the mean of every frame that refined it, as a headless render does.
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 12 --still-after 0 --budget 1 --screenshot "$dir/apart.png" --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
+# since each is over the budget); three refining frames over the budget take the next of
+# slice_side's while_still values (2, 3, 4: a new plan, whose first frame runs whole and restarts
+# the mean), up to the last; the last frame runs whole and shows the mean of every frame that
+# refined it since, as a headless render does.
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 16 --still-after 0 --budget 1 --screenshot "$dir/apart.png" --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
+grep -q "view: refining frames over the 1 ms budget (median .* ms): the while_still values of level 3 of 3" "$dir/log" || fail "no message of the last level: $(cat "$dir/log")"
 refined=$(python3 - "$dir/apart.json" <<'PY'
 import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
@@ -112,11 +115,18 @@ for f in frames:
 shown = [p for f in frames if f["part"] == "display" for p in f["ran"]]
 cycle = ["lighting", "refraction", "tonemap"]
 assert shown == [cycle[i % 3] for i in range(len(shown))], shown
-print(sum(p != "display" for p in parts))
+# Each level is judged on three refining frames; a new level's first frame runs whole.
+levels = [f["still_level"] for f in frames]
+assert levels == sorted(levels) and levels[-1] == 2, levels
+for level in (0, 1):
+    assert sum(f["part"] == "refine" for f in frames if f["still_level"] == level) == 3, levels
+    assert frames[levels.index(level + 1)]["part"] == "whole", parts
+last = frames[levels.index(2):]
+print(sum(f["part"] != "display" for f in last))
 PY
-) || fail "the frame log does not show refining frames apart at rest"
+) || fail "the frame log does not show refining frames apart at rest, at each level in turn"
 if pixels; then
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate "$refined" --out "$dir/exact_apart.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=4 --accumulate "$refined" --out "$dir/exact_apart.png" 2> /dev/null
   "$bin" compare "$dir/apart.png" "$dir/exact_apart.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the view refining apart is not $refined accumulated frames: $(cat "$dir/compare")"
 fi
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:

@@ -434,7 +434,11 @@ void print_graph_params(const graph::GraphDesc& graph, const graph::PassRegistry
   for (const auto& p : graph.parameters) {
     std::string note = p.decl.description;
     if (p.while_moving) note += " [while moving: " + value_text(*p.while_moving) + "]";
-    if (p.while_still) note += " [while still: " + value_text(*p.while_still) + "]";
+    if (!p.while_still.empty()) {
+      std::string values;
+      for (const auto& v : p.while_still) values += (values.empty() ? "" : ", then ") + value_text(v);
+      note += " [while still: " + values + (p.while_still.size() > 1 ? " while refining is over the frame budget" : "") + "]";
+    }
     row("  ", p.decl.name, graph::param_type_name(p.decl.type), value_text(p.value), range_text(p.decl), note);
   }
   std::printf(

@@ -69,7 +69,9 @@ options:
   --still-after MS      once nothing has moved for MS (default 300), the graph parameters'
                         "while_still" values, except where set in the panel (caustics_progressive:
                         exact ray-query photons accumulating, on a device with VK_KHR_ray_query);
-                        while a pass converges (an accumulating mean) frames go on at rest
+                        while a pass converges (an accumulating mean) frames go on at rest; where
+                        it lists several values (slice_side: 2, 3, 4), refining frames over the
+                        budget take the next, cheaper one
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --validate            Khronos validation; any message makes the command exit 3
