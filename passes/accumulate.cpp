@@ -1,8 +1,9 @@
 // accumulate: the running mean of an image over frames (Falcor's AccumulatePass, for light-space
 // maps): an image whose every frame is an independent estimate of the same answer, a jittered
 // photon grid's caustic map, converges to the mean of many. The sum is history the pass keeps: reset
-// on a new plan (a changed graph, parameter or size) and on any change of a scene part its input
-// depends on (graph::FrameInfo::since_reset): for a caustic map not a moving camera.
+// on any change of a scene part its input depends on (graph::FrameInfo::since_reset): for a caustic
+// map not a moving camera; and on a new plan in which it or what it reads changed (a plan that
+// changed neither continues it: continue_from).
 #include "builtin_passes.h"
 #include "graph/pass.h"
 #include "vk/buffer.h"
@@ -33,6 +34,12 @@ class AccumulatePass final : public graph::Pass {
          sizeof(AccumulatePush)},
         setup.shaders().compile("core/accumulate.comp"));
     frames_slot_ = setup.add_counter(setup.pass().name + ".frames");
+  }
+
+  void continue_from(graph::Pass& earlier) override {
+    auto& was = static_cast<AccumulatePass&>(earlier);
+    sums_ = std::move(was.sums_);
+    frames_ = was.frames_;
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -70,9 +77,10 @@ graph::PassTypeDecl accumulate_pass_type() {
   using namespace graph;
   PassTypeDecl decl{"accumulate",
                     "Compute pass: the running mean of a caustic map (r32f, a layer per colour channel) over the frames since the last "
-                    "reset, summed in fp32 with Kahan's compensation. Resets on a new plan (graph, parameters, size) and when the "
-                    "lights, the geometry or the materials change, not when the camera moves. Counter <pass>.frames: the frames in the "
-                    "mean.",
+                    "reset, summed in fp32 with Kahan's compensation. Resets when the lights, the geometry or the materials change, not "
+                    "when the camera moves, and on a new plan that changed it or what it reads (parameters, sizes, its source's "
+                    "passes); where a viewer or editor's new plan changed neither, the mean goes on. Counter <pass>.frames: the frames "
+                    "in the mean.",
                     PassQueue::compute,
                     {{"source",
                       PortAccess::read,

@@ -380,6 +380,43 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   expect_fresh({"grid=512", "exposure=2"}, e.width, e.height, "shader reloads");
 }
 
+// A running mean goes on into a new plan that changed neither it nor what it reads (an exposure
+// edit, another output size) and into one that comes back after a plan in between that averaged
+// something else (the viewer's while_moving plan during an orbit, the camera moved meanwhile): the
+// caustic map is then the mean of all its frames, slices of the grid in sequence, as a render
+// accumulating as many gives. A plan that changed what it reads, or a light move, starts it over.
+TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
+  SceneEngine e;
+  e.executor.set_reuse_unchanged_passes(true);
+  auto scene = load_bundled_scene("sphere_plane");
+  const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
+  auto run = [&](std::shared_ptr<const scene::Scene> state, const std::vector<std::string>& more, uint32_t frames, uint32_t divider = 1) {
+    auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+    graph::apply_overrides(graph, with(sets, more));
+    e.executor.set_scene(std::move(state));
+    e.executor.configure(graph, e.width / divider, e.height / divider, {"caustics"});
+    graph::FrameResult last;
+    for (uint32_t f = 0; f < frames; ++f) last = e.executor.run_frame(f + 1 == frames);
+    return last.counters.at("accumulate.frames");
+  };
+  EXPECT_EQ(run(scene, {}, 3), 3.0);
+  EXPECT_EQ(run(scene, {"exposure=2"}, 2, 2), 5.0) << "an exposure edit at half the size restarted the mean";
+  auto moved_camera = std::make_shared<scene::Scene>(*scene);
+  moved_camera->camera.position += glm::vec3(0.5f, 0.2f, 0.0f);
+  EXPECT_EQ(run(moved_camera, {"distance=search"}, 2), 2.0) << "a plan averaging another source took the mean over";
+  EXPECT_EQ(run(moved_camera, {}, 3), 8.0) << "the mean did not come back after a plan in between";
+  SceneEngine fresh;
+  EXPECT_LT(relative_difference(e.executor.read_image("caustics"), accumulated(fresh, moved_camera, sets, 8)), 1e-6)
+      << "the mean carried through three plans is not 8 frames' mean";
+  EXPECT_EQ(run(moved_camera, {"grid=128"}, 1), 1.0) << "a new photon grid kept the mean";
+  EXPECT_EQ(run(moved_camera, {}, 1), 9.0) << "the 8 frames' mean did not come back after the grid's plan";
+  auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
+  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "a light move kept the mean";
+  e.executor.invalidate();
+  EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "invalidate() kept the mean";
+}
+
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image
 // averaged over frames by a temporal_mean pass that reads its last result through a history input
 // (lit_mean@previous).

@@ -69,7 +69,8 @@ void Compiler::find_result_keys() {
   for (uint32_t i = 0; i < order_.size(); ++i) {
     const Node& node = nodes_[order_[i]];
     PlannedPass& pass = plan_.passes[i];
-    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump() + "\n" + node.decl->result_source;
+    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump() + "\n" + nlohmann::json(node.frame_params).dump() + "\n" +
+                       node.decl->result_source;
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
       text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
@@ -96,7 +97,13 @@ void Compiler::find_result_keys() {
       }
     }
   }
-  for (PlannedPass& pass : plan_.passes) {
+  for (uint32_t i = 0; i < order_.size(); ++i) {
+    PlannedPass& pass = plan_.passes[i];
+    // A history input's image is not carried into another plan, so a pass that reads one starts over.
+    const auto& bindings = nodes_[order_[i]].bindings;
+    const bool reads_history = std::any_of(bindings.begin(), bindings.end(),
+                                           [&](const auto& b) { return plan_.resources[b.resource].previous_of != kNoResource; });
+    pass.running_key = pass.refines && !reads_history ? pass.result_key : 0;
     if (!pass.reusable(true)) pass.result_key = 0;
   }
 }

@@ -368,9 +368,70 @@ std::set<std::filesystem::path> Executor::shader_files() const {
   return files;
 }
 
+std::vector<bool> Executor::stale_passes(const Plan& plan, const Realized& realized, const std::set<std::filesystem::path>& edited) const {
+  std::vector<bool> stale(plan.passes.size(), false);
+  std::set<uint32_t> recomputed;  // resources of `plan`
+  for (size_t j = 0; j < plan.passes.size(); ++j) {
+    const PlannedPass& pass = plan.passes[j];
+    const auto& files = realized.shader_files[j];
+    bool edited_or_reads = std::any_of(files.begin(), files.end(), [&](const std::filesystem::path& f) { return edited.count(f) != 0; });
+    for (const auto& [port, resource] : pass.ports)
+      edited_or_reads = edited_or_reads || (pass.decl->find_port(port)->access != PortAccess::write && recomputed.count(resource));
+    if (!edited_or_reads) continue;
+    stale[j] = true;
+    for (const auto& [port, resource] : pass.ports) {
+      if (pass.decl->find_port(port)->access != PortAccess::read) recomputed.insert(resource);
+    }
+  }
+  return stale;
+}
+
+void Executor::carry_running_results(const Plan& before, Realized& realized_before, const std::vector<bool>& stale) {
+  constexpr size_t kParkedRunning = 8;
+  Realized& real = *realized_;
+  real.reset_keys.resize(plan_->passes.size());
+  real.pass_frames.resize(plan_->passes.size());
+  real.converging.resize(plan_->passes.size());
+  // Those of the plan before that have a running result to hand on (a plan that never ran has the
+  // ones it was given).
+  std::vector<RunningResult> offered;
+  for (size_t j = 0; j < before.passes.size(); ++j) {
+    if (before.passes[j].running_key == 0 || stale[j] || j >= realized_before.reset_keys.size() || !realized_before.reset_keys[j]) {
+      continue;
+    }
+    offered.push_back({before.passes[j].running_key, std::move(realized_before.passes[j]), realized_before.reset_keys[j],
+                       realized_before.pass_frames[j], j < realized_before.converging.size() && realized_before.converging[j]});
+  }
+  for (size_t i = 0; i < plan_->passes.size(); ++i) {
+    const uint64_t key = plan_->passes[i].running_key;
+    if (key == 0) continue;
+    auto taken = [&](std::vector<RunningResult>& from) {
+      const auto found = std::find_if(from.begin(), from.end(), [&](const RunningResult& r) { return r.running_key == key; });
+      if (found == from.end()) return false;
+      real.passes[i]->continue_from(*found->pass);
+      real.reset_keys[i] = found->reset_key;
+      real.pass_frames[i] = found->frames;
+      real.converging[i] = found->converging;
+      from.erase(found);
+      return true;
+    };
+    if (!taken(offered)) taken(parked_running_);
+  }
+  for (auto& result : offered) parked_running_.push_back(std::move(result));
+  if (parked_running_.size() > kParkedRunning) {
+    parked_running_.erase(parked_running_.begin(), parked_running_.end() - static_cast<std::ptrdiff_t>(kParkedRunning));
+  }
+}
+
 void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before) {
-  // A plan replaced before its first frame (two edits between frames) has nothing of its own: what
-  // it was to carry over comes from the plan before it.
+  const bool carry = std::exchange(carry_results_, true);
+  const std::set<std::filesystem::path> edited = std::exchange(edited_shaders_, {});
+  // A parked result may come from a shader saved since; invalidate() starts everything over.
+  if (!carry || !edited.empty()) parked_running_.clear();
+  const bool both_reuse = before && before->reuses_unchanged_passes && plan_->reuses_unchanged_passes;
+  if (carry && both_reuse) carry_running_results(*before, *realized_before, stale_passes(*before, *realized_before, edited));
+  // A plan replaced before its first frame (two edits between frames) has no results of its own:
+  // what it was to carry over comes from the plan before it.
   if (realized_before && realized_before->frame_index == 0 && carried_realized_) {
     before = std::move(carried_plan_);
     realized_before = std::move(carried_realized_);
@@ -378,27 +439,14 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
   carried_images_.clear();
   carried_plan_.reset();
   carried_realized_.reset();
-  const bool carry = std::exchange(carry_results_, true);
-  const std::set<std::filesystem::path> edited = std::exchange(edited_shaders_, {});
-  if (!carry || !before || realized_before->frame_index == 0 || !before->reuses_unchanged_passes || !plan_->reuses_unchanged_passes) {
-    return;
-  }
-  // A pass set up with an edited shader file, or reading what such a pass writes, computes anew.
-  std::set<uint32_t> recomputed;          // resources of `before`
+  if (!carry || !both_reuse || realized_before->frame_index == 0) return;
+  const std::vector<bool> stale = stale_passes(*before, *realized_before, edited);
   std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
   for (size_t j = 0; j < before->passes.size(); ++j) {
     const PlannedPass& pass = before->passes[j];
-    const auto& files = realized_before->shader_files[j];
-    bool stale = std::any_of(files.begin(), files.end(), [&](const std::filesystem::path& f) { return edited.count(f) != 0; });
-    for (const auto& [port, resource] : pass.ports)
-      stale = stale || (pass.decl->find_port(port)->access != PortAccess::write && recomputed.count(resource));
-    if (stale) {
-      for (const auto& [port, resource] : pass.ports) {
-        if (pass.decl->find_port(port)->access != PortAccess::read) recomputed.insert(resource);
-      }
-      continue;
+    if (!stale[j] && pass.result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) {
+      ran_before[pass.result_key] = j;
     }
-    if (pass.result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) ran_before[pass.result_key] = j;
   }
   Realized& real = *realized_;
   real.reset_keys.resize(plan_->passes.size());

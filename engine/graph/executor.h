@@ -135,6 +135,13 @@ class Executor {
   // changes. The plan before is kept until then.
   void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before);
   void record_carried(VkCommandBuffer cmd);
+  // The passes of the plan before (or of a plan parked since) set up with a saved shader file, or
+  // reading what such a pass writes: they compute anew.
+  std::vector<bool> stale_passes(const Plan& plan, const Realized& realized, const std::set<std::filesystem::path>& edited) const;
+  // The refining passes of the new plan continue the running results (PlannedPass::running_key) of
+  // the plan before or of a plan parked since; the plan before's others are parked, a few plans'
+  // worth: the viewer's still plan comes back after its while_moving plan.
+  void carry_running_results(const Plan& before, Realized& realized_before, const std::vector<bool>& stale);
 
   vk::Context& vk_;
   shader::ShaderCompiler& shaders_;
@@ -150,6 +157,15 @@ class Executor {
   std::unique_ptr<const Plan> carried_plan_;
   std::unique_ptr<Realized> carried_realized_;
   std::vector<std::pair<uint32_t, uint32_t>> carried_images_;  // resource in carried_plan_ -> in plan_
+  // A refining pass as a replaced plan left it: what carry_running_results hands on.
+  struct RunningResult {
+    uint64_t running_key = 0;
+    std::unique_ptr<Pass> pass;
+    std::optional<uint64_t> reset_key;
+    FrameInfo frames;
+    bool converging = false;
+  };
+  std::vector<RunningResult> parked_running_;  // oldest first
 };
 
 }  // namespace caustica::graph

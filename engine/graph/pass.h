@@ -93,6 +93,10 @@ class Pass {
   virtual ~Pass() = default;
   virtual void setup(PassSetup& setup) { (void)setup; }
   virtual void execute(PassContext& context) = 0;
+  // A pass that keeps a running result of its own besides its images (accumulate's sums) takes it
+  // over from the pass of an earlier plan with the same PlannedPass::running_key (so of its type),
+  // which is not run again: the result goes on where that plan left it.
+  virtual void continue_from(Pass& earlier) { (void)earlier; }
 };
 
 }  // namespace caustica::graph

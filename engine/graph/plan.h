@@ -119,6 +119,12 @@ struct PlannedPass {
   // and the result keys of what it reads). A later plan's pass with the same key computes the same
   // images from the same scene, so the executor carries them over (a frame-budget step, an edit).
   uint64_t result_key = 0;
+  // In such a plan, for a pass that refines (a running mean, and the passes it reads that follow
+  // the frame) and reads no history input: the same hash, although the pass follows the frame. A
+  // later plan's pass with the same key continues the running result where this one left it
+  // (Executor::carry_running_results): an exposure edit, a resize or a frame-budget step does not
+  // restart the mean, nor does a plan in between (the viewer's while_moving values during an orbit).
+  uint64_t running_key = 0;
 };
 
 struct MemoryBlock {
