@@ -18,7 +18,8 @@ constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::
 
 void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still,
                    size_t still_level) {
-  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, still_level, frame.part, {}, {}};
+  Entry entry{wall_ms,          frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, still_level,
+              frame.accumulated, frame.part,   {},           {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
@@ -39,6 +40,7 @@ void FrameLog::write(const std::string& path) const {
                              {"still", e.still},
                              {"still_level", e.still_level},
                              {"converging", e.converging},
+                             {"accumulated", e.accumulated},
                              {"part", kPartNames[static_cast<size_t>(e.part)]},
                              {"ran", e.ran},
                              {"reused", e.reused}});

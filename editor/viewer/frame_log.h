@@ -26,6 +26,7 @@ class FrameLog {
     uint32_t divider;
     bool lowered, still, converging;
     size_t still_level;
+    uint64_t accumulated;  // graph::FrameResult
     graph::FramePart part;
     std::vector<std::string> ran, reused;
   };

@@ -476,11 +476,12 @@ class Viewer::Impl {
       decltype(scene::Scene::lights) lights;
     } moved{session_.scene->camera, session_.scene->lights};
     bool changed = false;
-    if (options_.orbit_degrees != 0.0f) {
+    const bool scripted = frames_drawn_ >= options_.move_first && frames_drawn_ < options_.move_end;
+    if (scripted && options_.orbit_degrees != 0.0f) {
       moved.camera.orbit(options_.orbit_degrees);
       changed = true;
     }
-    if (options_.move_light != 0.0f && !moved.lights.empty()) {
+    if (scripted && options_.move_light != 0.0f && !moved.lights.empty()) {
       moved.lights.front().view.position.x += options_.move_light;
       changed = true;
     }
@@ -555,6 +556,9 @@ class Viewer::Impl {
     if (still_values_ && still_levels_.level() > 0) {
       ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "still: the graph's while_still values, level %zu of %zu (refining took %.0f ms)",
                          still_levels_.level() + 1, still_levels_.levels(), still_levels_.judged());
+    }
+    if (frame.accumulated > 0) {
+      ImGui::Text("mean of %llu frames%s", static_cast<unsigned long long>(frame.accumulated), frame.converging ? "" : ", converged");
     }
     if (frame.part != graph::FramePart::whole) {
       ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s%s",

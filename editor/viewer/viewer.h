@@ -29,6 +29,9 @@ struct ViewerOptions {
   std::string stats;             // --stats: every frame's times and passes, written at exit (frame_log.h)
   float orbit_degrees = 0.0f;    // --orbit: turn the camera about its target by this much each frame
   float move_light = 0.0f;       // --move-light: move the first light along x by this much each frame
+  // --move-frames FIRST:END: the scripted motion (--orbit, --move-light) on frames FIRST to END-1
+  // only, counted from 0, so that a run can rest, move and rest again.
+  uint32_t move_first = 0, move_end = UINT32_MAX;
   bool reuse = true;             // skip passes whose dependencies are unchanged (--every-pass: off)
   // --budget: while the camera or a light moves, a frame that took longer than this halves the
   // rendered size (down to a quarter of the window's each way) for the next, and then takes the

@@ -914,6 +914,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
       result.frame.since_reset = std::min(result.frame.since_reset, shown);
     }
     if (in_part(i)) ++f.since_reset;
+    if (p.passes[i].decl->accumulates) result.accumulated = result.accumulated == 0 ? f.since_reset : std::min(result.accumulated, f.since_reset);
   }
   ++real.frame_index;
   return result;

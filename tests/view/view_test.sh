@@ -129,6 +129,15 @@ if pixels; then
   "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=4 --accumulate "$refined" --out "$dir/exact_apart.png" 2> /dev/null
   "$bin" compare "$dir/apart.png" "$dir/exact_apart.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the view refining apart is not $refined accumulated frames: $(cat "$dir/compare")"
 fi
+# Resting, orbiting and resting again: the still plan's mean goes on where it stood (it is parked
+# while the moving plan averages its own photons, and the camera is not what it depends on).
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 10 --still-after 0 --budget 0 --orbit 5 --move-frames 4:6 --stats "$dir/rest_orbit.json" --validate > "$dir/log" 2>&1 || fail "view --move-frames exited $?: $(cat "$dir/log")"
+python3 - "$dir/rest_orbit.json" <<'PY' || fail "the still mean did not go on after an orbit"
+import json, sys
+frames = json.load(open(sys.argv[1]))["frames"]
+assert [f["moving"] for f in frames] == [False] * 4 + [True] * 2 + [False] * 4, frames
+assert [f["accumulated"] for f in frames] == [1, 2, 3, 4, 1, 2, 5, 6, 7, 8], [f["accumulated"] for f in frames]
+PY
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
 # the search, not the while_still ray queries; the other while_still value, slice_side 2, holds).
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --set distance=search --screenshot "$dir/still_search.png" --validate > "$dir/log" 2>&1 || fail "view --set distance=search exited $?: $(cat "$dir/log")"

@@ -74,6 +74,8 @@ options:
                         budget take the next, cheaper one
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
+  --move-frames A:B     the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90
+                        --orbit 2 --move-frames 20:50 rests, orbits and rests again
   --validate            Khronos validation; any message makes the command exit 3
 )";
 
@@ -103,6 +105,23 @@ the panels' text size), and
 )";
 
 // The flags view and edit share; returns false for any other.
+// --move-frames FIRST:END, FIRST < END.
+void parse_move_frames(const std::string& text, editor::ViewerOptions& v) {
+  const std::string usage = "--move-frames " + text + ": expected FIRST:END, e.g. 20:50";
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) throw UsageError(usage + " (the frames FIRST to END-1 move)");
+  const auto frame = [&](const std::string& part) {
+    try {
+      return static_cast<uint32_t>(parse_uint("--move-frames", part, 0, 1000000));
+    } catch (const UsageError&) {
+      throw UsageError(usage + " ('" + part + "' is not a whole number from 0 to 1000000)");
+    }
+  };
+  v.move_first = frame(text.substr(0, colon));
+  v.move_end = frame(text.substr(colon + 1));
+  if (v.move_end <= v.move_first) throw UsageError(usage + " (END must come after FIRST)");
+}
+
 bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::ViewerOptions& v) {
   if (a == "--scene")
     o.scene = find_data_file(args.value(a), "scenes");
@@ -136,13 +155,15 @@ bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::Vie
     v.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
   else if (a == "--move-light")
     v.move_light = static_cast<float>(parse_number(a, args.value(a), -10, 10));
+  else if (a == "--move-frames")
+    parse_move_frames(args.value(a), v);
   else
     return false;
   return true;
 }
 const std::vector<std::string> kWindowFlags = {"--scene",      "--size",       "--frames", "--screenshot", "--window-shot", "--continuous",
                                                "--max-fps",    "--validate",   "--device", "--no-stage",   "--stats",       "--orbit",
-                                               "--move-light", "--every-pass", "--budget", "--still-after"};
+                                               "--move-light", "--every-pass", "--budget", "--still-after", "--move-frames"};
 
 // Checks what can be checked before the window opens, and fills in the defaults.
 void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
@@ -151,6 +172,9 @@ void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
   if (!v.screenshot.empty()) io::check_image_output(v.screenshot);
   if (!v.window_shot.empty()) io::check_image_output(v.window_shot);
   if (!v.stats.empty() && !v.stats.ends_with(".json")) throw UsageError("--stats " + v.stats + ": a .json file");
+  if (v.move_end != UINT32_MAX && v.orbit_degrees == 0.0f && v.move_light == 0.0f) {
+    throw UsageError("--move-frames says when the scripted motion runs: give --orbit DEG or --move-light D too");
+  }
   v.scene_file = o.scene.empty() ? (data_dir() / kDefaultScene).string() : o.scene;
   v.device = device_options(o.device, o.validate);
 }
