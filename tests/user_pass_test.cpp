@@ -453,6 +453,160 @@ void main() {
   }
 }
 
+// Per-frame parameters: a user pass's parameter may follow the frame, evaluated before each frame
+// and pushed when the pass records; on frame k the pass gives what a fresh render with that value
+// gives. A dispatch, fixed for the plan, may not name such a parameter.
+TEST(UserPass, AParameterFollowsTheFrame) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", kScaleShader);
+  nlohmann::json graph = scale_graph();
+  graph["passes"][1]["params"]["gain"] = "frame.index + 1";
+  EXPECT_NE(error_of(dir, graph)
+                .find("\"dispatch\" of pass 'scale' names parameter 'gain', which follows the frame (\"frame.index + 1\"); "
+                      "a dispatch is fixed for the plan"),
+            std::string::npos)
+      << error_of(dir, graph);
+  graph["passes"][1]["dispatch"] = "target";
+  write(dir / "graph.json", graph.dump(2));
+  const auto scene = test::load_bundled_scene("sphere_plane");
+  test::SceneEngine e;
+  e.width = 32;
+  e.height = 16;
+  e.executor.set_scene(scene);
+  e.executor.configure(load_graph_file((dir / "graph.json").string()), e.width, e.height, {"scaled"});
+  std::vector<io::ImageData> frames;
+  for (int k = 0; k < 3; ++k) {
+    e.executor.run_frame(true);
+    frames.push_back(e.executor.read_image("scaled"));
+  }
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE(k);
+    nlohmann::json fresh = graph;
+    fresh["passes"][1]["params"]["gain"] = k + 1;
+    write(dir / "graph.json", fresh.dump(2));
+    e.render(load_graph_file((dir / "graph.json").string()), scene, {"scaled"});
+    EXPECT_EQ(frames[static_cast<size_t>(k)].rgba, e.executor.read_image("scaled").rgba);
+  }
+  EXPECT_NE(frames[0].rgba, frames[1].rgba);
+}
+
+// A shader that samples the scene's textures (set 1) and traces its acceleration structure (binding
+// 14) as scene/ray_query.glsl declares them, written out here so that each line is known.
+const char* kTracingShader = R"(#version 460
+#extension GL_EXT_ray_query : require
+#extension GL_EXT_nonuniform_qualifier : require
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 3, rgba32f) uniform writeonly image2D hits;
+layout(set = 0, binding = 14) uniform accelerationStructureEXT tlas;
+layout(set = 1, binding = 0) uniform sampler2D textures[];
+void main() {
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, tlas, gl_RayFlagsOpaqueEXT, 0xFFu, vec3(0.0, 100.0, 0.0), 0.0, vec3(0.0, -1.0, 0.0), 1e30);
+  while (rayQueryProceedEXT(query)) {}
+  float t = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT ? -1.0 : rayQueryGetIntersectionTEXT(query, true);
+  imageStore(hits, ivec2(gl_GlobalInvocationID.xy), vec4(t) * textureLod(textures[0], vec2(0.5), 0.0));
+}
+)";
+
+nlohmann::json tracing_graph(bool scene) {
+  return {{"resources", {{"hits", {{"type", "image"}, {"format", "rgba32f"}, {"width", 8}, {"height", 8}}}}},
+          {"passes",
+           {{{"name", "trace"},
+             {"type", "compute"},
+             {"shader", "trace.comp"},
+             {"scene", scene},
+             {"ports", {{"hits", {{"access", "write"}}}}},
+             {"dispatch", "hits"},
+             {"outputs", {{"hits", "hits"}}}}}},
+          {"outputs", {"hits"}}};
+}
+
+// The scene's textures and acceleration structure: a pass has them with "scene": true where its
+// shader declares them at the library's places, and one that traces is refused on a device without
+// ray queries as the built-in exact passes are.
+TEST(UserPass, TheScenesTexturesAndAccelerationStructureAreCheckedAndNeedRayQueries) {
+  const auto dir = test_dir();
+  const std::string file = (dir / "trace.comp").string();
+  write(dir / "trace.comp", kTracingShader);
+  // Without the scene: both named at their lines.
+  std::string error = error_of(dir, tracing_graph(false));
+  EXPECT_NE(error.find(file + ":6: 'tlas' at binding 14 is an acceleration structure; a user pass has one only as the scene's, "
+                              "binding 14 of set 0 (shaders/scene/ray_query.glsl), with \"scene\": true, and then needs a device with "
+                              "ray queries"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find(file + ":7: 'textures' in set 1 is the scene's texture array (shaders/scene/textures.glsl); give the pass the "
+                              "scene with \"scene\": true"),
+            std::string::npos)
+      << error;
+  // With it, at another binding or of another kind.
+  write(dir / "trace.comp", replaced(kTracingShader, "binding = 14", "binding = 13"));
+  error = error_of(dir, tracing_graph(true));
+  EXPECT_NE(error.find(file + ":6: 'tlas' at binding 13 is an acceleration structure; a user pass has one only as the scene's, "
+                              "binding 14 of set 0 (shaders/scene/ray_query.glsl) (at /passes/0/scene)"),
+            std::string::npos)
+      << error;
+  write(dir / "trace.comp", replaced(replaced(kTracingShader, "uniform sampler2D textures[]", "uniform sampler2DArray textures[]"),
+                                     "vec2(0.5), 0.0", "vec3(0.5), 0.0"));
+  error = error_of(dir, tracing_graph(true));
+  EXPECT_NE(error.find(file + ":7: 'textures' in set 1 at binding 0 is a sampled image (sampler2D) array, but set 1 is the scene's "
+                              "texture array, binding 0, sampler2D[] (shaders/scene/textures.glsl)"),
+            std::string::npos)
+      << error;
+  write(dir / "trace.comp", replaced(kTracingShader, "binding = 3, rgba32f", "binding = 15, rgba32f"));
+  error = error_of(dir, tracing_graph(true));
+  EXPECT_NE(error.find(file + ":5: 'hits' takes binding 15, which the scene has (bindings 0 to 2, and 14 and 15 for ray queries, with "
+                              "\"scene\": true); bind port 'hits' at another binding from 3"),
+            std::string::npos)
+      << error;
+
+  // As the library declares them: a ray-query pass, refused where the device lacks them.
+  write(dir / "trace.comp", kTracingShader);
+  EXPECT_EQ(compile_in(dir, tracing_graph(true)).ray_query_passes, std::vector<std::string>{"trace"});
+  CompileOptions without;
+  without.ray_queries = false;
+  without.ray_queries_missing = "VK_KHR_ray_query (a test device)";
+  try {
+    compile_in(dir, tracing_graph(true), without);
+    ADD_FAILURE() << "a user pass that traces the scene compiled for a device without ray queries";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("pass 'trace' (compute) traces exact paths with ray queries (VK_KHR_ray_query, "
+                                   "VK_KHR_acceleration_structure), and this device lacks VK_KHR_ray_query (a test device); its shader " +
+                                   file + " declares the scene's acceleration structure (binding 14"),
+        std::string::npos)
+        << e.what();
+  }
+  // The textures alone need no ray queries.
+  write(dir / "trace.comp", R"(#version 460
+#extension GL_EXT_nonuniform_qualifier : require
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 3, rgba32f) uniform writeonly image2D hits;
+layout(set = 1, binding = 0) uniform sampler2D textures[];
+void main() { imageStore(hits, ivec2(gl_GlobalInvocationID.xy), textureLod(textures[0], vec2(0.5), 0.0)); }
+)");
+  EXPECT_TRUE(compile_in(dir, tracing_graph(true), without).ray_query_passes.empty());
+}
+
+// On the device: the ray down the y axis meets the highest surface there (the top of sphere_plane's
+// ball), and the scene's first texture (a white texel where the scene has none) multiplies it by 1.
+TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
+  const auto dir = test_dir();
+  write(dir / "trace.comp", kTracingShader);
+  write(dir / "graph.json", tracing_graph(true).dump(2));
+  const auto scene = test::load_bundled_scene("sphere_plane");
+  float top = -1e30f;
+  for (const auto& o : scene->objects) {
+    if (o.bounds_min.x <= 0.0f && o.bounds_max.x >= 0.0f && o.bounds_min.z <= 0.0f && o.bounds_max.z >= 0.0f)
+      top = std::max(top, o.bounds_max.y);
+  }
+  test::SceneEngine e;
+  e.render(load_graph_file((dir / "graph.json").string()), scene, {"hits"});
+  const io::ImageData hits = e.executor.read_image("hits");
+  // The ball is a mesh: its top lies within a fraction of a percent of its box's.
+  for (int c = 0; c < 4; ++c) EXPECT_NEAR(hits.rgba[static_cast<size_t>(c)], 100.0f - top, 0.01f * (1.0f + std::abs(top))) << c;
+}
+
 // Example (a): the regular caustic map's photon pass as a user pass, beside caustics_regular on
 // every bundled scene. The same photons take the same float operations in both, so the maps
 // differ only where the float atomics add a texel's photons in another order: measured bit for bit
