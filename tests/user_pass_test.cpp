@@ -400,6 +400,22 @@ TEST(UserPass, CountersReachTheFrameResult) {
   }
 }
 
+// One compute pass, `shader`, that writes the rgba32f image `image` (its port of that name) over the
+// image, with the scene or without.
+nlohmann::json one_image_pass(const std::string& pass, const std::string& shader, const std::string& image, bool scene, int width,
+                              int height) {
+  return {{"resources", {{image, {{"type", "image"}, {"format", "rgba32f"}, {"width", width}, {"height", height}}}}},
+          {"passes",
+           {{{"name", pass},
+             {"type", "compute"},
+             {"shader", shader},
+             {"scene", scene},
+             {"ports", {{image, {{"access", "write"}}}}},
+             {"dispatch", image},
+             {"outputs", {{image, image}}}}}},
+          {"outputs", {image}}};
+}
+
 // A pass with "scene": true reads the scene's objects and vertices: each object's bounding box top
 // corner from the objects, and again as the largest of its vertices, and the frame's light count.
 TEST(UserPass, TheSceneBindingGivesTheScenesObjectsAndVertices) {
@@ -425,16 +441,7 @@ void main() {
   imageStore(bounds, ivec2(gl_GlobalInvocationID.xy), vec4(high, float(frame.light_count)));
 }
 )");
-  const nlohmann::json graph = {{"resources", {{"bounds", {{"type", "image"}, {"format", "rgba32f"}, {"width", 16}, {"height", 2}}}}},
-                                {"passes",
-                                 {{{"name", "bounds"},
-                                   {"type", "compute"},
-                                   {"shader", "bounds.comp"},
-                                   {"scene", true},
-                                   {"ports", {{"bounds", {{"access", "write"}}}}},
-                                   {"dispatch", "bounds"},
-                                   {"outputs", {{"bounds", "bounds"}}}}}},
-                                {"outputs", {"bounds"}}};
+  const nlohmann::json graph = one_image_pass("bounds", "bounds.comp", "bounds", true, 16, 2);
   write(dir / "graph.json", graph.dump(2));
   const auto scene = test::load_bundled_scene("two_refractors");
   ASSERT_LE(scene->objects.size(), 16u);
@@ -508,66 +515,45 @@ void main() {
 }
 )";
 
-nlohmann::json tracing_graph(bool scene) {
-  return {{"resources", {{"hits", {{"type", "image"}, {"format", "rgba32f"}, {"width", 8}, {"height", 8}}}}},
-          {"passes",
-           {{{"name", "trace"},
-             {"type", "compute"},
-             {"shader", "trace.comp"},
-             {"scene", scene},
-             {"ports", {{"hits", {{"access", "write"}}}}},
-             {"dispatch", "hits"},
-             {"outputs", {{"hits", "hits"}}}}}},
-          {"outputs", {"hits"}}};
-}
-
 // The scene's textures and acceleration structure: a pass has them with "scene": true where its
 // shader declares them at the library's places, and one that traces is refused on a device without
 // ray queries as the built-in exact passes are.
 TEST(UserPass, TheScenesTexturesAndAccelerationStructureAreCheckedAndNeedRayQueries) {
   const auto dir = test_dir();
   const std::string file = (dir / "trace.comp").string();
-  write(dir / "trace.comp", kTracingShader);
+  // `shader` in a pass with or without the scene is refused with each of `expected`.
+  auto refused = [&](const std::string& shader, bool scene, const std::vector<std::string>& expected) {
+    write(dir / "trace.comp", shader);
+    const std::string error = error_of(dir, one_image_pass("trace", "trace.comp", "hits", scene, 8, 8));
+    for (const auto& message : expected) EXPECT_NE(error.find(file + message), std::string::npos) << error;
+  };
   // Without the scene: both named at their lines.
-  std::string error = error_of(dir, tracing_graph(false));
-  EXPECT_NE(error.find(file + ":6: 'tlas' at binding 14 is an acceleration structure; a user pass has one only as the scene's, "
-                              "binding 14 of set 0 (shaders/scene/ray_query.glsl), with \"scene\": true, and then needs a device with "
-                              "ray queries"),
-            std::string::npos)
-      << error;
-  EXPECT_NE(error.find(file + ":7: 'textures' in set 1 is the scene's texture array (shaders/scene/textures.glsl); give the pass the "
-                              "scene with \"scene\": true"),
-            std::string::npos)
-      << error;
-  // With it, at another binding or of another kind.
-  write(dir / "trace.comp", replaced(kTracingShader, "binding = 14", "binding = 13"));
-  error = error_of(dir, tracing_graph(true));
-  EXPECT_NE(error.find(file + ":6: 'tlas' at binding 13 is an acceleration structure; a user pass has one only as the scene's, "
-                              "binding 14 of set 0 (shaders/scene/ray_query.glsl) (at /passes/0/scene)"),
-            std::string::npos)
-      << error;
-  write(dir / "trace.comp", replaced(replaced(kTracingShader, "uniform sampler2D textures[]", "uniform sampler2DArray textures[]"),
-                                     "vec2(0.5), 0.0", "vec3(0.5), 0.0"));
-  error = error_of(dir, tracing_graph(true));
-  EXPECT_NE(error.find(file + ":7: 'textures' in set 1 at binding 0 is a sampled image (sampler2D) array, but set 1 is the scene's "
-                              "texture array, binding 0, sampler2D[] (shaders/scene/textures.glsl)"),
-            std::string::npos)
-      << error;
-  write(dir / "trace.comp", replaced(kTracingShader, "binding = 3, rgba32f", "binding = 15, rgba32f"));
-  error = error_of(dir, tracing_graph(true));
-  EXPECT_NE(error.find(file + ":5: 'hits' takes binding 15, which the scene has (bindings 0 to 2, and 14 and 15 for ray queries, with "
-                              "\"scene\": true); bind port 'hits' at another binding from 3"),
-            std::string::npos)
-      << error;
+  refused(kTracingShader, false,
+          {":6: 'tlas' at binding 14 is an acceleration structure; a user pass has one only as the scene's, binding 14 of set 0 "
+           "(shaders/scene/ray_query.glsl), with \"scene\": true, and then needs a device with ray queries",
+           ":7: 'textures' in set 1 is the scene's texture array (shaders/scene/textures.glsl); give the pass the scene with "
+           "\"scene\": true"});
+  // With it, at another binding or of another kind, or a port at the scene's binding.
+  refused(replaced(kTracingShader, "binding = 14", "binding = 13"), true,
+          {":6: 'tlas' at binding 13 is an acceleration structure; a user pass has one only as the scene's, binding 14 of set 0 "
+           "(shaders/scene/ray_query.glsl) (at /passes/0/scene)"});
+  refused(replaced(replaced(kTracingShader, "uniform sampler2D textures[]", "uniform sampler2DArray textures[]"), "vec2(0.5), 0.0",
+                   "vec3(0.5), 0.0"),
+          true,
+          {":7: 'textures' in set 1 at binding 0 is a sampled image (sampler2D) array, but set 1 is the scene's texture array, "
+           "binding 0, sampler2D[] (shaders/scene/textures.glsl)"});
+  refused(replaced(kTracingShader, "binding = 3, rgba32f", "binding = 15, rgba32f"), true,
+          {":5: 'hits' takes binding 15, which the scene has (bindings 0 to 2, and 14 and 15 for ray queries, with \"scene\": true); "
+           "bind port 'hits' at another binding from 3"});
 
   // As the library declares them: a ray-query pass, refused where the device lacks them.
   write(dir / "trace.comp", kTracingShader);
-  EXPECT_EQ(compile_in(dir, tracing_graph(true)).ray_query_passes, std::vector<std::string>{"trace"});
+  EXPECT_EQ(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8)).ray_query_passes, std::vector<std::string>{"trace"});
   CompileOptions without;
   without.ray_queries = false;
   without.ray_queries_missing = "VK_KHR_ray_query (a test device)";
   try {
-    compile_in(dir, tracing_graph(true), without);
+    compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8), without);
     ADD_FAILURE() << "a user pass that traces the scene compiled for a device without ray queries";
   } catch (const InputError& e) {
     EXPECT_NE(
@@ -585,7 +571,7 @@ layout(binding = 3, rgba32f) uniform writeonly image2D hits;
 layout(set = 1, binding = 0) uniform sampler2D textures[];
 void main() { imageStore(hits, ivec2(gl_GlobalInvocationID.xy), textureLod(textures[0], vec2(0.5), 0.0)); }
 )");
-  EXPECT_TRUE(compile_in(dir, tracing_graph(true), without).ray_query_passes.empty());
+  EXPECT_TRUE(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8), without).ray_query_passes.empty());
 }
 
 // On the device: the ray down the y axis meets the highest surface there (the top of sphere_plane's
@@ -593,7 +579,7 @@ void main() { imageStore(hits, ivec2(gl_GlobalInvocationID.xy), textureLod(textu
 TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
   const auto dir = test_dir();
   write(dir / "trace.comp", kTracingShader);
-  write(dir / "graph.json", tracing_graph(true).dump(2));
+  write(dir / "graph.json", one_image_pass("trace", "trace.comp", "hits", true, 8, 8).dump(2));
   const auto scene = test::load_bundled_scene("sphere_plane");
   float top = -1e30f;
   for (const auto& o : scene->objects) {
@@ -607,6 +593,13 @@ TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
   for (int c = 0; c < 4; ++c) EXPECT_NEAR(hits.rgba[static_cast<size_t>(c)], 100.0f - top, 0.01f * (1.0f + std::abs(top))) << c;
 }
 
+// Graph `path` of the data folder with `sets` applied.
+GraphDesc data_graph(const std::string& path, const std::vector<std::string>& sets) {
+  GraphDesc graph = load_graph_file((data_dir() / path).string());
+  apply_overrides(graph, sets);
+  return graph;
+}
+
 // Example (a): the regular caustic map's photon pass as a user pass, beside caustics_regular on
 // every bundled scene. The same photons take the same float operations in both, so the maps
 // differ only where the float atomics add a texel's photons in another order: measured bit for bit
@@ -614,10 +607,8 @@ TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
 // (a few ulps of 6e-8 per texel), while one photon lost or moved at this grid is ~1e-4.
 TEST(UserPass, TheUserCausticMapEqualsTheBuiltInOnTheBundledScenes) {
   const std::vector<std::string> sets{"grid=96", "caustic_size=96", "light_size=192", "shadow_size=64"};
-  auto user = load_graph_file((data_dir() / "graphs/examples/caustic_map_user.json").string());
-  apply_overrides(user, sets);
-  auto builtin = load_graph_file((data_dir() / "graphs/caustics_regular.json").string());
-  apply_overrides(builtin, sets);
+  const GraphDesc user = data_graph("graphs/examples/caustic_map_user.json", sets);
+  const GraphDesc builtin = data_graph("graphs/caustics_regular.json", sets);
   std::vector<std::string> scenes;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir() / "scenes")) {
     if (entry.path().extension() == ".json") scenes.push_back(entry.path().stem().string());
@@ -645,6 +636,39 @@ TEST(UserPass, TheUserCausticMapEqualsTheBuiltInOnTheBundledScenes) {
     ++compared;
   }
   EXPECT_GE(compared, 10u);
+}
+
+// Example (a) exact: the photon pass of caustics_raytraced (distance ray_query) as a user pass that
+// traces the scene's acceleration structure with the shader library's exact tracer. Same photons,
+// same random numbers, same float operations: the maps and every counter agree to the float atomics'
+// order, as for the image-space example above. sphere_plane, rainbow_lens (dispersive: three colour
+// bands) and mask_over_lens (a MASK texture that the rays pass through where it cuts the quad out),
+// at a small grid, the exact kernel's compile being most of the time.
+TEST(UserPass, TheExactUserCausticMapEqualsTheBuiltInWithRayQueries) {
+  const std::vector<std::string> sets{"grid=32", "caustic_size=48", "light_size=64", "shadow_size=64"};
+  const GraphDesc user = data_graph("graphs/examples/caustic_map_exact_user.json", sets);
+  const GraphDesc builtin = data_graph("graphs/caustics_raytraced.json", sets);
+  test::SceneEngine e;
+  ASSERT_TRUE(e.vk.ray_queries().available) << "lavapipe 25 has ray queries; this device lacks " << e.vk.ray_queries().missing;
+  e.width = 32;
+  e.height = 18;
+  const std::string mask_over_lens = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/mask_over_lens.json").string();
+  for (const auto& scene : {test::load_bundled_scene("sphere_plane"), test::load_bundled_scene("rainbow_lens"),
+                            std::make_shared<scene::Scene>(scene::load_scene_file(mask_over_lens))}) {
+    SCOPED_TRACE(scene->name);
+    const FrameResult ours = e.render(user, scene, {"caustics"});
+    const io::ImageData map = e.executor.read_image("caustics");
+    const FrameResult theirs = e.render(builtin, scene, {"caustics"});
+    EXPECT_LE(test::relative_difference(map, e.executor.read_image("caustics")), 1e-6);
+    EXPECT_GT(theirs.counters.at("photons.exact"), 0.0);
+    for (const auto& [counter, value] : theirs.counters) {
+      if (!counter.starts_with("photons.") && !counter.starts_with("caustic.")) continue;
+      if (counter == "photons.converged" || counter == "photons.peak_bytes" || counter == "photons.batches")
+        continue;  // the built-in's own
+      ASSERT_TRUE(ours.counters.contains(counter)) << counter;
+      EXPECT_NEAR(ours.counters.at(counter), value, 1e-6 * std::abs(value)) << counter;
+    }
+  }
 }
 
 }  // namespace
