@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "graph/user_pass_type.h"
 
 namespace caustica::passes {
 
@@ -141,20 +142,27 @@ shader::Defines RayQueryScene::defines(shader::Defines defines) const {
   return defines;
 }
 
-std::vector<VkDescriptorType> RayQueryScene::bindings(std::vector<VkDescriptorType> bindings) const {
-  if (!traced_) return bindings;
-  // Bindings below 14 that a pass does not use are declared as storage buffers and left unwritten.
-  bindings.resize(14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  bindings.push_back(VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR);
-  bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+std::vector<VkDescriptorType> with_ray_query_bindings(std::vector<VkDescriptorType> bindings) {
+  // Bindings below them that a pass does not use are declared as storage buffers and left unwritten.
+  bindings.resize(std::max<size_t>(bindings.size(), graph::kSceneTrianglesBinding + 1), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  bindings[graph::kSceneTlasBinding] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+  bindings[graph::kSceneTrianglesBinding] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   return bindings;
 }
 
-void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
-  if (!traced_) return;
+void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
   const auto* acceleration = ctx.scene().built_acceleration();
   assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
-  writer.acceleration_structure(14, acceleration->tlas()).storage_buffer(15, acceleration->triangles());
+  writer.acceleration_structure(graph::kSceneTlasBinding, acceleration->tlas())
+      .storage_buffer(graph::kSceneTrianglesBinding, acceleration->triangles());
+}
+
+std::vector<VkDescriptorType> RayQueryScene::bindings(std::vector<VkDescriptorType> bindings) const {
+  return traced_ ? with_ray_query_bindings(std::move(bindings)) : bindings;
+}
+
+void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+  if (traced_) bind_ray_query_scene(ctx, writer);
 }
 
 uint32_t RayQueryScene::texture_array() const {

@@ -39,6 +39,11 @@ extern const char* const kCameraRayQueryAlternative;
 // address them from one base).
 uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names);
 
+// Bindings 14 (the scene's top-level acceleration structure) and 15 (its triangles), as
+// shaders/scene/ray_query.glsl declares them: `bindings` padded to them, and their descriptors.
+std::vector<VkDescriptorType> with_ray_query_bindings(std::vector<VkDescriptorType> bindings);
+void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
+
 // What a pass that traces exact paths needs where its parameters ask for them: the shader variant
 // (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid) and bindings 14 (the scene's
 // top-level acceleration structure) and 15 (its triangles), as shaders/scene/ray_query.glsl declares
@@ -53,7 +58,7 @@ class RayQueryScene {
   // mode's code that the kernel never runs, lengthens that (under AddressSanitizer the ray-query photon
   // kernel with the hybrid's code in it took a test's first frame past the 120 s limit).
   shader::Defines defines(shader::Defines defines = {}) const;
-  // Pads `bindings` to 14 and appends the two ray-query bindings when traced.
+  // with_ray_query_bindings when traced.
   std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
   void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
   // The texture array (MASK coverage) as set 1 when traced: the layout count for PipelineDesc,

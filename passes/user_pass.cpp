@@ -10,7 +10,7 @@
 #include "builtin_passes.h"
 #include "graph/pass.h"
 #include "graph/user_pass_type.h"
-#include "scene_draw.h"
+#include "refraction.h"
 #include "vk/buffer.h"
 #include "vk/pipeline.h"
 
@@ -24,10 +24,11 @@ class UserPass final : public graph::Pass {
     const graph::PassTypeDecl& decl = *decl_;
     shader_ = decl.user_shader.get();
     assert(shader_ && "a user pass compiled without its shader");
-    // Binding i has the type of the port there; the scene's take 0..2. Bindings the shader does not
-    // declare stay in the layout, unwritten.
+    // Binding i has the type of the port there; the scene's take 0..2, and 14 and 15 where the shader
+    // traces it. Bindings the shader does not declare stay in the layout, unwritten.
     std::vector<VkDescriptorType> bindings(shader_->scene ? graph::kUserSceneBindings : 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     if (shader_->scene) bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    if (shader_->ray_queries) bindings = with_ray_query_bindings(std::move(bindings));
     std::vector<std::pair<uint32_t, VkFormat>> colors;
     for (const auto& b : shader_->bindings) {
       const graph::PortDecl& port = *decl.find_port(b.port);
@@ -42,7 +43,8 @@ class UserPass final : public graph::Pass {
               : (port.usage == graph::PortUsage::sampled ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     }
     setup_counters(setup, bindings);
-    const vk::PipelineDesc layout{setup.pass().name, bindings, static_cast<uint32_t>(4 * shader_->push_members.size())};
+    const vk::PipelineDesc layout{setup.pass().name, bindings, static_cast<uint32_t>(4 * shader_->push_members.size()),
+                                  shader_->scene_textures ? CAUSTICA_MAX_TEXTURES : 0u};
     if (shader_->kind == graph::UserShaderKind::compute) {
       pipeline_ = vk::make_compute_pipeline(setup.vk(), layout, shader_->spirv);
       return;
@@ -58,6 +60,7 @@ class UserPass final : public graph::Pass {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
     vk::DescriptorWriter writer = shader_->scene ? scene_descriptors(ctx) : vk::DescriptorWriter();
+    if (shader_->ray_queries) bind_ray_query_scene(ctx, writer);
     std::vector<std::pair<uint32_t, VkImageView>> colors;
     for (const auto& b : shader_->bindings) {
       const graph::PortDecl& port = *decl.find_port(b.port);
@@ -95,7 +98,7 @@ class UserPass final : public graph::Pass {
     const std::vector<uint32_t> push = push_constants(decl, ctx.params());
     if (shader_->kind == graph::UserShaderKind::compute) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
-      writer.push(ctx.vk(), cmd, pipeline_);
+      bind(ctx, writer);
       if (!push.empty())
         vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
       std::array<uint32_t, 3> invocations = shader_->invocations;
@@ -113,11 +116,17 @@ class UserPass final : public graph::Pass {
     for (const auto& [location, view] : colors) attachments.push_back({view, VK_ATTACHMENT_LOAD_OP_DONT_CARE});
     begin_rendering(cmd, ctx.extent(shader_->bindings.front().port), attachments, std::nullopt);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    writer.push(ctx.vk(), cmd, pipeline_);
+    bind(ctx, writer);
     if (!push.empty())
       vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
+  }
+
+  // Set 0 as pushed descriptors; set 1, the scene's textures, where the shader samples them.
+  void bind(const graph::PassContext& ctx, const vk::DescriptorWriter& writer) const {
+    writer.push(ctx.vk(), ctx.cmd(), pipeline_);
+    if (shader_->scene_textures) bind_scene_textures(ctx, ctx.cmd(), pipeline_);
   }
 
   // The shader adds to a buffer of the pass's own, slot k its k-th counter, which is copied into

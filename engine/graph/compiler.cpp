@@ -55,7 +55,8 @@ Plan Compiler::run() {
 }  // namespace compiler_internal
 
 std::map<std::string, double> typical_scene_values() {
-  return {{"scene.refractors", 1}, {"scene.lights", 1}, {"scene.objects", 2}, {"scene.dispersive", 0}, {"scene.diagonal", 10}};
+  return {{"scene.refractors", 1}, {"scene.lights", 1},    {"scene.objects", 2},
+          {"scene.dispersive", 0}, {"scene.diagonal", 10}, {"scene.ray_epsilon", 1e-3}};
 }
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {

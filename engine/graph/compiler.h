@@ -33,7 +33,7 @@ struct CompileOptions {
   bool reuse_unchanged_passes = false;
   MemoryRequirementsFn memory_requirements = estimate_memory_requirements;
   // What the scene offers expressions ("scene.refractors", "scene.lights", "scene.objects",
-  // "scene.dispersive", "scene.diagonal"): a pass's "enabled" can depend on it. Empty when there
+  // "scene.dispersive", "scene.diagonal", "scene.ray_epsilon"): a pass's "enabled" can depend on it. Empty when there
   // is no scene.
   std::map<std::string, double> scene_values;
   // Whether the device has ray queries, and if not what it lacks (for the message): a pass whose

@@ -75,7 +75,8 @@ class Compiler {
   bool wanted(const std::string& resource) const;
   void check_format(const PortDecl& port, const PlannedResource& r, const PassDesc& pass, const std::string& pointer) const;
   // A user compute pass's invocations, from its "dispatch" expressions and resolved parameters.
-  void resolve_dispatch(const PassDesc& pass, const nlohmann::json& params, UserShader& shader) const;
+  void resolve_dispatch(const PassDesc& pass, const nlohmann::json& params, const std::map<std::string, std::string>& frame_params,
+                        UserShader& shader) const;
   void resolve_passes();
 
   // compiler_order.cpp: dependencies, cycles, writer order, culling and the execution order.

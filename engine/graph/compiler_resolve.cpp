@@ -425,7 +425,8 @@ void Compiler::check_format(const PortDecl& port, const PlannedResource& r, cons
   }
 }
 
-void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& params, UserShader& shader) const {
+void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& params, const std::map<std::string, std::string>& frame_params,
+                                UserShader& shader) const {
   const UserPassDesc& user = *pass.user;
   // Expressions of the sizes, the scene, the graph's parameters and the pass's own (by name, before
   // a graph parameter of the same name).
@@ -433,9 +434,11 @@ void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& para
   for (const auto& p : user.params) {
     if (p.type != ParamType::choice) s.known_names.push_back(p.name);
   }
-  s.lookup = [graph_scope = s.lookup, &params, &user](std::string_view name) -> std::optional<double> {
+  std::string follows_frame;  // a parameter named that follows the frame, which a dispatch fixed for the plan cannot
+  s.lookup = [graph_scope = s.lookup, &params, &user, &frame_params, &follows_frame](std::string_view name) -> std::optional<double> {
     for (const auto& p : user.params) {
       if (p.name != name || p.type == ParamType::choice) continue;
+      if (frame_params.contains(p.name)) follows_frame = p.name;
       const nlohmann::json& value = params[p.name];
       return value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>();
     }
@@ -448,6 +451,11 @@ void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& para
       v = std::floor(evaluate_expression(user.dispatch[i], s));
     } catch (const std::invalid_argument& e) {
       throw graph_.error(pointer, e.what());
+    }
+    if (!follows_frame.empty()) {
+      throw graph_.error(pointer, "\"dispatch\" of pass '" + pass.name + "' names parameter '" + follows_frame +
+                                      "', which follows the frame (\"" + frame_params.at(follows_frame) +
+                                      "\"); a dispatch is fixed for the plan: size it by the output, the scene or parameters that do not");
     }
     if (!(v >= 1 && v <= 16777216)) {
       throw graph_.error(pointer, "\"dispatch\" of pass '" + pass.name + "': \"" + user.dispatch[i] + "\" evaluates to " +
@@ -485,7 +493,7 @@ void Compiler::resolve_passes() {
     }
     node.decl = decl;
     node.params = resolve_params(pass, *decl, node.frame_params);
-    if (user_shader) errors_.attempt([&] { resolve_dispatch(pass, node.params, *user_shader); });
+    if (user_shader) errors_.attempt([&] { resolve_dispatch(pass, node.params, node.frame_params, *user_shader); });
     bind_section(node, pass.inputs, false);
     bind_section(node, pass.outputs, true);
     for (const auto& port : decl->ports) {

@@ -43,9 +43,23 @@ BindingKind binding_kind_of(const PortDecl& port) {
   return port.usage == PortUsage::sampled ? BindingKind::sampled_image : BindingKind::storage_image;
 }
 
-// The scene's blocks at bindings 0..2 (shaders/scene/scene.glsl).
+// The scene's bindings of set 0 (is_scene_binding): its blocks at 0..2 (shaders/scene/scene.glsl),
+// its acceleration structure and triangles at 14 and 15 (scene/ray_query.glsl).
 BindingKind scene_binding_kind(uint32_t binding) {
-  return binding == 0 ? BindingKind::uniform_buffer : BindingKind::storage_buffer;
+  return binding == 0                   ? BindingKind::uniform_buffer
+         : binding == kSceneTlasBinding ? BindingKind::acceleration_structure
+                                        : BindingKind::storage_buffer;
+}
+
+const char* scene_library_of(uint32_t binding) {
+  return binding < kUserSceneBindings ? "shaders/scene/scene.glsl" : "shaders/scene/ray_query.glsl";
+}
+
+// What a port or counter buffer at one of the scene's bindings is told.
+std::string taken_by_the_scene(uint32_t binding) {
+  return "binding " + std::to_string(binding) + ", which the scene has (bindings 0 to " + std::to_string(kUserSceneBindings - 1) +
+         ", and " + std::to_string(kSceneTlasBinding) + " and " + std::to_string(kSceneTrianglesBinding) +
+         " for ray queries, with \"scene\": true)";
 }
 
 std::filesystem::path find_shader(const GraphDesc& graph, const PassDesc& pass, const std::string& pointer) {
@@ -131,11 +145,9 @@ class Checker {
                                       b.name + "' is " + binding_kind_name(b.kind));
     }
     if (b.set != 0) throw graph_.error(pointer, at + "'" + b.name + "' is in set " + std::to_string(b.set) + "; user passes bind set 0");
-    if (shader_.scene && b.binding < kUserSceneBindings) {
-      throw graph_.error(pointer, at + "'" + b.name + "' takes binding " + std::to_string(b.binding) +
-                                      ", which the scene has (bindings 0 to " + std::to_string(kUserSceneBindings - 1) +
-                                      " with \"scene\": true); bind port '" + port.name + "' from binding " +
-                                      std::to_string(kUserSceneBindings));
+    if (shader_.scene && is_scene_binding(b.binding)) {
+      throw graph_.error(pointer, at + "'" + b.name + "' takes " + taken_by_the_scene(b.binding) + "; bind port '" + port.name +
+                                      "' at another binding from " + std::to_string(kUserSceneBindings));
     }
     if (port.kind == ResourceKind::image && b.arrayed != (port.layers > 1)) {
       throw graph_.error(
@@ -208,10 +220,8 @@ class Checker {
     if (b.set != 0)
       throw graph_.error(user_.counters_pointer,
                          at + "counter buffer '" + b.block + "' is in set " + std::to_string(b.set) + "; user passes bind set 0");
-    if (shader_.scene && b.binding < kUserSceneBindings) {
-      throw graph_.error(user_.counters_pointer, at + "counter buffer '" + b.block + "' takes binding " + std::to_string(b.binding) +
-                                                     ", which the scene has (bindings 0 to " + std::to_string(kUserSceneBindings - 1) +
-                                                     ")");
+    if (shader_.scene && is_scene_binding(b.binding)) {
+      throw graph_.error(user_.counters_pointer, at + "counter buffer '" + b.block + "' takes " + taken_by_the_scene(b.binding));
     }
     std::optional<uint32_t>& binding = counts ? shader_.counts_binding : shader_.sums_binding;
     if (binding) {
@@ -241,24 +251,50 @@ class Checker {
     if (port) return;
     const shader::ReflectedMember* counter = counter_member(b);
     if (counter && !user_.counters.empty()) return check_counter_binding(b, *counter);
-    if (shader_.scene && b.set == 0 && b.binding < kUserSceneBindings) {
+    if (b.set == kSceneTextureSet) return check_scene_textures(b);
+    if (shader_.scene && b.set == 0 && is_scene_binding(b.binding)) {
       if (b.kind != scene_binding_kind(b.binding)) {
-        throw graph_.error(pass_.pointer + "/scene", place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) +
-                                                         " is " + binding_kind_name(b.kind) + ", but the scene's binding " +
-                                                         std::to_string(b.binding) + " is " +
-                                                         binding_kind_name(scene_binding_kind(b.binding)) + " (shaders/scene/scene.glsl)");
+        throw graph_.error(pass_.pointer + "/scene",
+                           place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) + " is " +
+                               binding_kind_name(b.kind) + ", but the scene's binding " + std::to_string(b.binding) + " is " +
+                               binding_kind_name(scene_binding_kind(b.binding)) + " (" + scene_library_of(b.binding) + ")");
       }
+      // The acceleration structure, or the triangles that only its hits index.
+      if (b.binding >= kUserSceneBindings) shader_.ray_queries = true;
       return;
+    }
+    if (b.kind == BindingKind::acceleration_structure) {
+      throw graph_.error(pass_.pointer + (shader_.scene ? "/scene" : ""),
+                         place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) +
+                             " is an acceleration structure; a user pass has one only as the scene's, binding " +
+                             std::to_string(kSceneTlasBinding) + " of set 0 (shaders/scene/ray_query.glsl)" +
+                             (shader_.scene ? "" : ", with \"scene\": true, and then needs a device with ray queries"));
     }
     std::vector<std::string> ports;
     for (const auto& p : user_.ports) ports.push_back(p.name);
-    const bool scene_block = b.block == "FrameBlock" || b.block == "VertexBlock" || b.block == "ObjectBlock";
+    const bool scene_block = b.block == "FrameBlock" || b.block == "VertexBlock" || b.block == "ObjectBlock" || b.block == "TriangleBlock";
     throw graph_.error(pass_.pointer + (user_.ports.empty() ? "" : "/ports"),
                        place(b.place) + ": binding " + std::to_string(b.binding) + " '" + b.name + "', " + binding_kind_name(b.kind) +
                            ", is no port" + of_pass() + "; declare it under \"ports\"" +
                            (scene_block && !shader_.scene ? ", or give the pass the scene with \"scene\": true"
                             : counter                     ? ", or the counters the shader adds to under \"counters\""
                                                           : did_you_mean(b.name, ports)));
+  }
+
+  // Set 1 is the scene's texture array, one binding of sampler2D (shaders/scene/textures.glsl).
+  void check_scene_textures(const ReflectedBinding& b) const {
+    const std::string at = place(b.place) + ": '" + b.name + "' in set " + std::to_string(kSceneTextureSet);
+    if (!shader_.scene) {
+      throw graph_.error(pass_.pointer, at + " is the scene's texture array (shaders/scene/textures.glsl); give the pass the scene with "
+                                             "\"scene\": true, or bind it in set 0 as a port");
+    }
+    if (b.binding != 0 || b.kind != BindingKind::sampled_image || b.arrayed) {
+      throw graph_.error(pass_.pointer + "/scene", at + " at binding " + std::to_string(b.binding) + " is " + binding_kind_name(b.kind) +
+                                                       (b.arrayed ? " array" : "") + ", but set " + std::to_string(kSceneTextureSet) +
+                                                       " is the scene's texture array, binding 0, sampler2D[] "
+                                                       "(shaders/scene/textures.glsl)");
+    }
+    shader_.scene_textures = true;
   }
 
   void check_push_constants() {
@@ -347,12 +383,22 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   decl->description = pass.user->shader + ": " + kind.description;
   decl->ports = user.ports;
   decl->params = user.params;
+  // The pass writes its parameters as push constants each time it records, so any of them may be an
+  // expression of the frame (frame.index...), evaluated before every frame; only a dispatch that
+  // names one is refused, being fixed for the plan (Compiler::resolve_dispatch).
+  for (auto& param : decl->params) param.per_frame = true;
   decl->needs_scene = user.scene;
   // Without the scene its result follows from its inputs and parameters alone; with it, from
   // whatever of the scene the shader reads.
   decl->depends_on = [scene = user.scene](const nlohmann::json&) { return scene ? kDependsOnScene : 0u; };
   decl->result_source = std::move(compiled.sources);
   Checker(graph, pass, compiled.reflection, *shader, *decl).run();
+  if (shader->ray_queries) {
+    decl->uses_ray_queries = [](const nlohmann::json&) { return true; };
+    decl->ray_query_alternative =
+        "its shader " + shader->path + " declares the scene's acceleration structure (binding " + std::to_string(kSceneTlasBinding) +
+        ", shaders/scene/ray_query.glsl); give the pass a shader that does not trace the scene, or run the graph on a device that has them";
+  }
   decl->user_shader = shader;
   return decl;
 }

@@ -24,6 +24,17 @@ struct UserPortBinding {
 // The first bindings of set 0 that a pass with "scene": true gives the scene (shaders/scene/
 // scene.glsl: SCENE_FRAME, SCENE_VERTICES, SCENE_OBJECTS); its ports bind after them.
 inline constexpr uint32_t kUserSceneBindings = 3;
+// Where the built-in passes' shaders have the rest of the scene, which the shader library declares
+// there: the texture array (set 1, scene/textures.glsl), and for ray queries the top-level
+// acceleration structure and its triangles' vertex indices (set 0, scene/ray_query.glsl). A pass
+// with "scene": true gets those its shader declares.
+inline constexpr uint32_t kSceneTextureSet = 1;
+inline constexpr uint32_t kSceneTlasBinding = 14;
+inline constexpr uint32_t kSceneTrianglesBinding = 15;
+// Whether binding `binding` of set 0 is the scene's in a pass with "scene": true.
+constexpr bool is_scene_binding(uint32_t binding) {
+  return binding < kUserSceneBindings || binding == kSceneTlasBinding || binding == kSceneTrianglesBinding;
+}
 
 struct UserShader {
   UserShaderKind kind = UserShaderKind::compute;
@@ -35,6 +46,10 @@ struct UserShader {
   // the index of its value, a bool 0 or 1).
   std::vector<std::string> push_members;
   bool scene = false;
+  // With the scene: whether the shader samples its textures (set 1), and whether it traces it with
+  // ray queries (declares binding 14 or 15): the pass then needs a device that has them.
+  bool scene_textures = false;
+  bool ray_queries = false;
   // The pass's counters, in order, and where the shader declares its counter buffer: as uints
   // (a block holding `uint counters[]`) and as floats (`float sums[]`), the same buffer.
   std::vector<UserPassDesc::Counter> counters;

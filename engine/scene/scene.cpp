@@ -100,11 +100,10 @@ size_t Scene::refractor_count() const {
 }
 
 std::map<std::string, double> Scene::expression_values() const {
-  std::map<std::string, double> values{{"scene.refractors", static_cast<double>(refractor_count())},
-                                       {"scene.lights", static_cast<double>(lights.size())},
-                                       {"scene.objects", static_cast<double>(objects.size())},
-                                       {"scene.dispersive", disperses() ? 1.0 : 0.0},
-                                       {"scene.diagonal", static_cast<double>(diagonal())}};
+  std::map<std::string, double> values{
+      {"scene.refractors", static_cast<double>(refractor_count())}, {"scene.lights", static_cast<double>(lights.size())},
+      {"scene.objects", static_cast<double>(objects.size())},       {"scene.dispersive", disperses() ? 1.0 : 0.0},
+      {"scene.diagonal", static_cast<double>(diagonal())},          {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
   for (size_t i = 0; i < lights.size(); ++i)
     values["scene.light" + std::to_string(i) + ".view"] = lights[i].has_view() ? 1 : 0;
   return values;

@@ -182,7 +182,8 @@ struct Scene {
   // The length of that box's diagonal: how far the image-space searches reach unless told.
   float diagonal() const;
   // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects,
-  // scene.dispersive (1 where a refractor disperses light, else 0) and scene.diagonal.
+  // scene.dispersive (1 where a refractor disperses light, else 0), scene.diagonal and
+  // scene.ray_epsilon (a user pass's exact tracer offsets its rays as the built-ins do).
   std::map<std::string, double> expression_values() const;
 };
 

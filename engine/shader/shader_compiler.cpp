@@ -5,6 +5,7 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
+#include <cctype>
 #include <memory>
 #include <sstream>
 
@@ -64,6 +65,20 @@ class Includer : public glslang::TShader::Includer {
   std::filesystem::path root_;
   std::vector<std::pair<std::filesystem::path, std::string>>& sources_;
 };
+
+// glslang's log as one message a line, each naming its file and line once: without the "ERROR: "
+// before each, and without the lines that only say that compiling stopped.
+std::string log_messages(const std::string& log) {
+  std::string out;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.starts_with("ERROR: ")) line.erase(0, 7);
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    if (line.empty() || line.ends_with("'' : compilation terminated") || line.ends_with("No code generated.")) continue;
+    out += (out.empty() ? "" : "\n") + line;
+  }
+  return out;
+}
 
 std::string preamble(const Defines& defines) {
   std::string text;
@@ -245,11 +260,13 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
   Includer includer(root_, entry.sources);
   if (!shader.parse(GetDefaultResources(), 460, false, messages, includer)) {
-    throw InputError("shader compile failed: " + name + "\n" + shader.getInfoLog());
+    // Each message names the file and line it is about (an #include's own).
+    const std::string log = log_messages(shader.getInfoLog());
+    throw InputError(log.empty() ? name + ": does not compile" : log);
   }
   glslang::TProgram program;
   program.addShader(&shader);
-  if (!program.link(messages)) throw InputError("shader link failed: " + name + "\n" + program.getInfoLog());
+  if (!program.link(messages)) throw InputError(name + ": does not link: " + log_messages(program.getInfoLog()));
   glslang::SpvOptions options;
   options.disableOptimizer = false;
   options.validate = true;

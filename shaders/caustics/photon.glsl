@@ -26,8 +26,13 @@ const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that la
 const uint RETRACED_REFRACTOR_AHEAD = 10u;  // one for a trusted exit ray that meets a refractor,
 const uint RETRACED_REFLECTION = 11u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
 const uint EXACT_FLUX_ESCAPED = 12u, EXACT_FLUX_TRAPPED = 13u, EXACT_FLUX_OFF_MAP = 14u, EXACT_FLUX_ABSORBED = 15u;
+// Where exact-path counter k goes: the built-ins' slot from params.exact_counters; a user pass
+// defines EXACT_COUNTER_SLOT(k) as the place of that counter among its own (docs/shader_api.md).
+#ifndef EXACT_COUNTER_SLOT
+#define EXACT_COUNTER_SLOT(k) (params.exact_counters + (k))
+#endif
 #ifdef CAUSTICA_RAY_QUERY
-void exact_count(uint k) { atomicAdd(counters[params.exact_counters + k], 1u); }
+void exact_count(uint k) { atomicAdd(counters[EXACT_COUNTER_SLOT(k)], 1u); }
 #endif
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (photon_band, which the
@@ -38,7 +43,7 @@ uint photon_band = BAND_WHITE;
 float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
 
 #ifdef CAUSTICA_RAY_QUERY
-void exact_sum(uint k, vec3 v) { atomicAdd(sums[params.exact_counters + k], channel_mean(v)); }
+void exact_sum(uint k, vec3 v) { atomicAdd(sums[EXACT_COUNTER_SLOT(k)], channel_mean(v)); }
 #include "refraction/exact_path.glsl"
 #endif
 #ifdef CAUSTICA_HYBRID
@@ -164,7 +169,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // no other refractor between it and the receiver), exact paths for the rest; the exact tracer
   // meets the opaque occluders itself.
   if (DISTANCE_MODE == DISTANCE_MATERIAL &&
-      material_traces_exactly(uint(front.w), eye + direction * front.y, eye + direction * min(receiver_distance, front.y + params.search_distance))) {
+      material_traces_exactly(uint(front.w), eye + direction * front.y, eye + direction * min(receiver_distance, front.y + REFRACTION_SEARCH_DISTANCE))) {
     return TRACE_FROM_LIGHT;
   }
 #endif
