@@ -805,6 +805,37 @@ TEST(Cli, BenchAccuracyTakesAUserGraphByPath) {
   fs::remove_all(dir);
 }
 
+// bench compare times caustic methods side by side in one process, frames interleaved: example (a)'s
+// user passes (its clear and photon pass write 'caustics') against the built-in caustic_map they
+// replace, each graph charged with its own caustic passes; a graph without any is refused.
+TEST(Cli, BenchCompareTimesEachGraphsCausticPassesInOneRun) {
+  const fs::path dir = scratch("compare");
+  const std::string user = (kSource / "graphs/examples/caustic_map_user.json").string();
+  const CliRun bench = run("bench compare --graphs caustics_regular,'" + user + "' --size 64x36 --frames 2 --set grid=64 --csv c.csv", dir);
+  ASSERT_EQ(bench.code, 0) << bench.output;
+  EXPECT_NE(bench.output.find("| caustics_regular | caustics | "), std::string::npos) << bench.output;
+  EXPECT_NE(bench.output.find("| " + user + " | caustic_clear, caustics | "), std::string::npos) << bench.output;
+  std::istringstream csv(read(dir / "c.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "graph,caustic_ms,frame_ms,caustic_ratio,frame_ratio");
+  std::vector<std::vector<double>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<double> values;
+    std::istringstream fields(line.substr(line.find(',') + 1));
+    for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
+    rows.push_back(values);
+  }
+  ASSERT_EQ(rows.size(), 2u) << read(dir / "c.csv");
+  for (const auto& row : rows) {
+    EXPECT_GT(row[0], 0.0) << "a caustic time of nothing";
+    EXPECT_GT(row[1], row[0]) << "the frame takes less than its caustic passes";
+  }
+  EXPECT_EQ(rows[0][2], 1.0);
+  EXPECT_NEAR(rows[1][2], rows[1][0] / rows[0][0], 2e-3 * rows[1][2]) << "the ratio is not the second's time over the first's";
+  fs::remove_all(dir);
+}
+
 // The photon reference as shards, as a cluster runs it (docs/cluster.md): four shards, two of
 // them indexed by the scheduler's variables, merge into the map of one process bit for bit; shards
 // that do not make one map are refused with exit 1, naming what is wrong, and nothing is written.

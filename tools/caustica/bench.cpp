@@ -1,6 +1,6 @@
-// caustica bench: refraction (deferred against forward), photons (the paper's table) and accuracy
+// caustica bench: refraction (deferred against forward), compare (caustic methods side by side), photons (the paper's table) and accuracy
 // (speed against accuracy against the ground truth). Run by hand; results go into docs/.
-// This file has the help and picks the benchmark: load, refraction and photons are in
+// This file has the help and picks the benchmark: load, refraction, compare and photons are in
 // bench_frames.cpp, accuracy, stability and convergence in bench_accuracy.cpp, bench_stability.cpp
 // and bench_convergence.cpp, what they share in bench_common.h.
 #include <iostream>
@@ -14,6 +14,7 @@ namespace caustica::cli {
 int cmd_bench(Args& args) {
   const char* help =
       "usage: caustica bench refraction [--scene FILE]... [--sphere-detail N]... [--size WxH] [--frames N] [--csv FILE]\n"
+      "       caustica bench compare --graphs A,B[,...] [--scene FILE] [--size WxH] [--frames N] [--set NAME=VALUE]... [--csv FILE]\n"
       "       caustica bench photons [--scene FILE] [--grids 256,512,...] [--frames N] [--regular-max G] [--out DIR]\n"
       "       caustica bench stability [--grid G] [--out DIR] ...\n"
       "       caustica bench load --scene FILE [--runs N]\n"
@@ -69,6 +70,11 @@ int cmd_bench(Args& args) {
       "photons: the paper's table on a scene (default the bunny): photons processed by the regular, hierarchical and\n"
       "adaptive (max level, max error, hybrid) caustic maps for each effective grid, and the caustic pass's GPU time;\n"
       "DIR/photons.csv has columns grid, method, processed, gpu_ms. --regular-max skips the regular map above a grid.\n\n"
+      "compare: caustic methods side by side, e.g. a user pass against the built-in it replaces: the graphs of --graphs\n"
+      "(names or files; the first is the one the others are compared with) on one scene (--scene, default sphere_plane),\n"
+      "one process, frames interleaved after two warm-up frames of each: the median GPU time of each graph's caustic\n"
+      "passes (built-in, or user passes that write the image 'caustics') and of its frame, and their ratios to the\n"
+      "first's. --set NAME=VALUE sets a parameter in every graph; --csv FILE writes the table.\n\n"
       "refraction: deferred against forward refraction on the same scenes (default: the bundled ball lens and bunny),\n"
       "one run, frames interleaved, after two warm-up frames: median GPU time of the refraction passes\n"
       "(refractor_buffers + the refraction pass) and of the whole frame. --sphere-detail renders the ball-lens scene\n"
@@ -82,10 +88,12 @@ int cmd_bench(Args& args) {
   }
   if (args.done())
     throw UsageError(
-        "bench needs a benchmark name: refraction, photons, accuracy, stability, convergence or load (or merge); see caustica bench "
+        "bench needs a benchmark name: refraction, compare, photons, accuracy, stability, convergence or load (or merge); see caustica "
+        "bench "
         "--help");
   std::string what = args.take();
   if (what == "refraction") return bench::cmd_bench_refraction(args);
+  if (what == "compare") return bench::cmd_bench_compare(args);
   if (what == "photons") return bench::cmd_bench_photons(args);
   if (what == "accuracy") return bench::cmd_bench_accuracy(args);
   if (what == "stability") return bench::cmd_bench_stability(args);
@@ -93,7 +101,7 @@ int cmd_bench(Args& args) {
   if (what == "convergence") return bench::cmd_bench_convergence(args);
   if (what == "merge") return bench::cmd_bench_merge(args);
   throw UsageError("bench " + what + ": unknown benchmark" +
-                   did_you_mean(what, {"refraction", "photons", "accuracy", "stability", "convergence", "load", "merge"}));
+                   did_you_mean(what, {"refraction", "compare", "photons", "accuracy", "stability", "convergence", "load", "merge"}));
 }
 
 }  // namespace caustica::cli

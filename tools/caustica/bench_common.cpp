@@ -74,6 +74,29 @@ Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<s
   return t;
 }
 
+std::vector<Timings> time_interleaved(const std::vector<graph::Executor*>& executors, uint32_t frames, uint32_t warmup,
+                                      const std::vector<std::set<std::string>>& method_passes, const std::string& label) {
+  std::vector<std::vector<double>> method(executors.size()), frame(executors.size());
+  std::vector<Timings> timings(executors.size());
+  ProgressLine progress(label, warmup + frames);
+  for (uint32_t f = 0; f < warmup + frames; ++f) {
+    for (size_t e = 0; e < executors.size(); ++e) {
+      timings[e].last = executors[e]->run_frame(f + 1 == warmup + frames);
+      if (f < warmup) continue;
+      double ms = 0;
+      for (const auto& p : timings[e].last.passes) ms += method_passes[e].count(p.name) ? p.gpu_ms : 0.0;
+      method[e].push_back(ms);
+      frame[e].push_back(timings[e].last.gpu_ms);
+    }
+    progress.update(f + 1);
+  }
+  for (size_t e = 0; e < executors.size(); ++e) {
+    timings[e].method_ms = median(method[e]);
+    timings[e].frame_ms = median(frame[e]);
+  }
+  return timings;
+}
+
 bool runs_on(const vk::Context& vk, const graph::GraphDesc& g) {
   if (vk.ray_queries().available) return true;
   graph::CompileOptions options;

@@ -20,6 +20,7 @@ namespace caustica::cli::bench {
 // The benchmarks, `caustica bench NAME` each.
 int cmd_bench_load(Args& args);
 int cmd_bench_refraction(Args& args);
+int cmd_bench_compare(Args& args);
 int cmd_bench_photons(Args& args);
 int cmd_bench_accuracy(Args& args);
 int cmd_bench_stability(Args& args);
@@ -45,6 +46,12 @@ struct Timings {
 
 // One warm-up frame (pipelines compile on first use), then the median of `frames`.
 Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<std::string>& method_passes);
+
+// Several executors' frames interleaved, so that machine noise hits each alike: `warmup` frames of
+// each first (pipelines compile on first use on lavapipe), then the median of `frames` of each.
+// `label` names the progress line.
+std::vector<Timings> time_interleaved(const std::vector<graph::Executor*>& executors, uint32_t frames, uint32_t warmup,
+                                      const std::vector<std::set<std::string>>& method_passes, const std::string& label);
 
 // Whether the graph runs on this device: a graph that traces with ray queries needs them. The
 // benchmarks skip, and say so, what a device cannot run rather than fail the whole run.

@@ -131,33 +131,94 @@ int cmd_bench_refraction(Args& args) {
       executors[g]->set_scene(c.scene);
       executors[g]->configure(graph::load_graph_file((data_dir() / "graphs" / (std::string(graphs[g]) + ".json")).string()), width, height);
     }
-    std::vector<double> refraction[2], frame[2];
-    ProgressLine progress(c.label + ": frames", frames + 2);
-    for (uint32_t f = 0; f < frames + 2; ++f) {
-      for (int g = 0; g < 2; ++g) {
-        auto result = executors[g]->run_frame(false);
-        if (f < 2) continue;  // pipelines compile on first use on lavapipe
-        double ms = 0;
-        for (const auto& p : result.passes) {
-          if (p.name == "refractors" || p.name == "refraction") ms += p.gpu_ms;
-        }
-        refraction[g].push_back(ms);
-        frame[g].push_back(result.gpu_ms);
-      }
-      progress.update(f + 1);
-    }
+    const std::set<std::string> refraction_passes{"refractors", "refraction"};
+    const std::vector<Timings> t =
+        time_interleaved({executors[0].get(), executors[1].get()}, frames, 2, {refraction_passes, refraction_passes}, c.label + ": frames");
     size_t triangles = 0;
     for (const auto& o : c.scene->objects) triangles += o.material.refractor ? o.mesh.indices.size() / 3 : 0;
-    const double fw = median(refraction[0]), df = median(refraction[1]);
+    const double fw = t[0].method_ms, df = t[1].method_ms;
     char row[512];
     std::snprintf(row, sizeof(row), "| %s | %zu | %.2f ms | %.2f ms | %.2f | %.2f ms | %.2f ms |\n", c.label.c_str(), triangles, fw, df,
-                  df / fw, median(frame[0]), median(frame[1]));
+                  df / fw, t[0].frame_ms, t[1].frame_ms);
     table += row;
-    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, median(frame[0]), median(frame[1]));
+    std::snprintf(row, sizeof(row), "%s,%zu,%.4f,%.4f,%.4f,%.4f\n", c.label.c_str(), triangles, fw, df, t[0].frame_ms, t[1].frame_ms);
     rows_csv += row;
   }
   std::cout << "device: " << vk.device_name() << ", " << width << "x" << height << ", median of " << frames << " frames after 2 warm-up\n\n"
             << table;
+  if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
+  return 0;
+}
+
+// Caustic methods side by side in one process, frames interleaved (as bench refraction): the
+// median GPU time of each graph's caustic passes (built-in or user passes writing "caustics") and
+// of its frame, and each as a ratio to the first graph's. For a user pass against the built-in it
+// replaces (docs/shader_passes.md), where separate processes differ by more than the passes do.
+int cmd_bench_compare(Args& args) {
+  std::vector<std::string> names;
+  std::string scene_file = scene_path("sphere_plane"), device, csv;
+  uint32_t width = 1280, height = 720, frames = 15;
+  std::vector<std::string> sets;
+  while (!args.done()) {
+    std::string a = args.take();
+    if (a == "--graphs")
+      names = parse_names(a, args.value(a));
+    else if (a == "--scene")
+      scene_file = scene_path(args.value(a));
+    else if (a == "--size")
+      parse_size(args.value(a), width, height);
+    else if (a == "--frames")
+      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000));
+    else if (a == "--set")
+      sets.push_back(args.value(a));
+    else if (a == "--device")
+      device = args.value(a);
+    else if (a == "--csv")
+      csv = args.value(a);
+    else
+      unknown_option(a, {"--graphs", "--scene", "--size", "--frames", "--set", "--device", "--csv"});
+  }
+  if (names.size() < 2)
+    throw UsageError("bench compare needs --graphs A,B[,...]: two graphs or more, the first the one the others are compared with");
+  if (!csv.empty()) io::check_output_file(csv);
+  std::vector<graph::GraphDesc> graphs;
+  std::vector<std::set<std::string>> method_passes;
+  for (const auto& name : names) {
+    graphs.push_back(graph::load_graph_file(graph_path(name)));
+    graph::apply_overrides(graphs.back(), sets);
+    method_passes.push_back(caustic_passes(graphs.back()));
+    if (method_passes.back().empty()) {
+      throw InputError(graph_path(name) + ": bench compare times caustic methods, and this graph has no caustic pass (one of type " +
+                       "caustic_map, hierarchical_caustic_map or adaptive_caustic_map, or a user pass that writes the image 'caustics')");
+    }
+  }
+  auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
+  vk::Context vk(device_options(device, false));
+  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  std::vector<std::unique_ptr<graph::Executor>> owned;
+  std::vector<graph::Executor*> executors;
+  for (const auto& g : graphs) {
+    owned.push_back(std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry()));
+    owned.back()->set_scene(scene);
+    owned.back()->configure(g, width, height);
+    executors.push_back(owned.back().get());
+  }
+  const std::vector<Timings> t = time_interleaved(executors, frames, 2, method_passes, scene->name + ": frames");
+  std::printf("device: %s, %ux%u, scene %s, median GPU time of %u frames of each graph after 2 warm-up, frames interleaved\n\n",
+              vk.device_name().c_str(), width, height, scene->name.c_str(), frames);
+  std::printf("| graph | caustic passes | caustic time | frame | caustic / first's | frame / first's |\n|---|---|---|---|---|---|\n");
+  std::string rows_csv = "graph,caustic_ms,frame_ms,caustic_ratio,frame_ratio\n";
+  for (size_t g = 0; g < graphs.size(); ++g) {
+    std::string passes;
+    for (const auto& p : method_passes[g]) passes += (passes.empty() ? "" : ", ") + p;
+    const double caustic_ratio = t[g].method_ms / t[0].method_ms, frame_ratio = t[g].frame_ms / t[0].frame_ms;
+    std::printf("| %s | %s | %.2f ms | %.2f ms | %.3f | %.3f |\n", names[g].c_str(), passes.c_str(), t[g].method_ms, t[g].frame_ms,
+                caustic_ratio, frame_ratio);
+    char row[1024];
+    std::snprintf(row, sizeof(row), "%s,%.4f,%.4f,%.4f,%.4f\n", names[g].c_str(), t[g].method_ms, t[g].frame_ms, caustic_ratio,
+                  frame_ratio);
+    rows_csv += row;
+  }
   if (!csv.empty()) io::write_text_atomically(csv, rows_csv);
   return 0;
 }
