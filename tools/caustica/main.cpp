@@ -471,9 +471,9 @@ int cmd_graph(Args& args) {
       "Memory sizes are the device-independent estimate (tightly packed texels). A graph that traces with ray\n"
       "queries adds memory.acceleration: the scene's (--scene S, default scenes/glass_bunny.json) build inputs\n"
       "exactly and its acceleration structures at lavapipe 25's layout; render --stats reports the driver's own.\n"
-      "Expressions about the scene\n"
-      "(scene.refractors, scene.lights, scene.objects, scene.dispersive, scene.diagonal) see --scene S, or one\n"
-      "refractor that does not disperse, one light and two objects 10 apart without it.\n";
+      "Expressions about the scene (scene.refractors, scene.lights, scene.objects, scene.dispersive, scene.diagonal,\n"
+      "scene.ray_epsilon) see --scene S, or one refractor that does not disperse, one light and two objects 10 apart\n"
+      "(ray epsilon 0.001) without it.\n";
   if (args.wants_help()) {
     std::cout << help;
     return 0;
