@@ -28,8 +28,8 @@ class DeferredRefractionPass final : public graph::Pass {
   void execute(graph::PassContext& ctx) override {
     const VkExtent2D extent = ctx.extent("color");
     const auto& scene = ctx.scene();
-    const VkRect2D rect = screen_rect(scene.scene(), camera_view(ctx, extent).view_proj,
-                                      scene.refractors_back_to_front(scene.scene().camera.position), extent);
+    const VkRect2D rect =
+        screen_rect(scene.scene(), camera_view(ctx, extent).view_proj, scene.refractors_back_to_front(scene.camera().position), extent);
     shading_.record(ctx, refraction_push(ctx, tir_counter_, exact_counters_), ctx.view("background"), ctx.view("front"), ctx.view("back"),
                     ctx.view("color"), extent, rect);
   }

@@ -37,7 +37,7 @@ class RefractionLayersPass final : public graph::Pass {
     VkCommandBuffer cmd = ctx.cmd();
     const VkExtent2D extent = ctx.extent("color");
     const auto& scene = ctx.scene();
-    const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.scene().camera.position);
+    const std::vector<uint32_t> order = scene.refractors_back_to_front(scene.camera().position);
     ctx.set_counter(layers_counter_, static_cast<double>(order.size()));
     const SceneView view = camera_view(ctx, extent);
     const RefractionPush push = refraction_push(ctx, tir_counter_);

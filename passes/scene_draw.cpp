@@ -5,13 +5,13 @@
 namespace caustica::passes {
 
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
-  const auto& camera = ctx.scene().scene().camera;
+  const auto& camera = ctx.scene().camera();
   const glm::vec2 size(static_cast<float>(extent.width), static_cast<float>(extent.height));
   return {scene::shifted_by_pixels(camera.view_projection(size.x / size.y), ctx.frame().camera_jitter, size), camera.position};
 }
 
 SceneView light_view(const graph::PassContext& ctx, uint32_t light) {
-  const auto& lights = ctx.scene().scene().lights;
+  const auto& lights = ctx.scene().lights();
   const auto& l = lights[std::min<size_t>(light, lights.size() - 1)];  // the scene always has one light
   return {l.view_projection(), l.view.position, l.axis(), l.type == scene::LightType::directional};
 }

@@ -306,9 +306,9 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
     }
   }
   // A light move runs the next frame whole: the mean restarts, as a fresh render's.
-  auto moved = std::make_shared<scene::Scene>(*scene);
-  moved->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
-  apart.executor.set_view(moved);
+  auto moved_lights = scene->lights;
+  moved_lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  apart.executor.set_view(scene->camera, moved_lights);
   EXPECT_EQ(run(graph::FramePart::refine).first.part, graph::FramePart::whole);
 }
 
@@ -620,9 +620,9 @@ TEST(Progressive, AStillCamerasJitteredFramesAverageToASupersampledPicture) {
   EXPECT_GT(edges, 300u);
   EXPECT_LT(mean_gap, 0.6 * one_gap);
 
-  auto moved = std::make_shared<scene::Scene>(*scene);
-  moved->camera.position += glm::vec3(0.2f, 0.1f, 0.0f);
-  e.executor.set_view(moved);
+  scene::View moved = scene->camera;
+  moved.position += glm::vec3(0.2f, 0.1f, 0.0f);
+  e.executor.set_view(moved, scene->lights);
   const graph::FrameResult after_move = e.executor.run_frame(true);
   EXPECT_EQ(after_move.counters.at("still_mean.frames"), 1.0);
   EXPECT_LT(relative_difference(e.executor.read_image("still_mean"), e.executor.read_image("refracted")), 1e-6)

@@ -469,12 +469,12 @@ class Viewer::Impl {
   // the keyboard's own repeat, so the speed does not depend on the frame rate.
   void handle_input(const WindowEvents& events) {
     ImGuiIO& io = ImGui::GetIO();
-    // What input can move: the camera and the lights. The scene (meshes, textures) is copied only
-    // when they did move, not every frame.
+    // What input can move: the camera and the lights, as the executor's scene has them now (a
+    // reloaded scene file starts from its own).
     struct {
-      decltype(scene::Scene::camera) camera;
-      decltype(scene::Scene::lights) lights;
-    } moved{session_.scene->camera, session_.scene->lights};
+      scene::View camera;
+      std::vector<scene::Light> lights;
+    } moved{executor_.scene()->camera(), executor_.scene()->lights()};
     bool changed = false;
     const bool scripted = frames_drawn_ >= options_.move_first && frames_drawn_ < options_.move_end;
     if (scripted && options_.orbit_degrees != 0.0f) {
@@ -526,11 +526,7 @@ class Viewer::Impl {
     }
     if (changed) {
       last_move_ = std::chrono::steady_clock::now();
-      auto next = std::make_shared<scene::Scene>(*session_.scene);
-      next->camera = moved.camera;
-      next->lights = std::move(moved.lights);
-      session_.scene = std::move(next);
-      executor_.set_view(session_.scene);
+      executor_.set_view(moved.camera, std::move(moved.lights));
     }
     moved_ = changed;
   }

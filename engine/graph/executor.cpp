@@ -270,12 +270,9 @@ void Executor::set_scene(std::shared_ptr<const scene::Scene> scene) {
   if (scene) scene_ = std::make_unique<scene::GpuScene>(vk_, std::move(scene));
 }
 
-void Executor::set_view(std::shared_ptr<const scene::Scene> scene) {
-  if (scene_) {
-    scene_->replace_view(std::move(scene));
-  } else {
-    set_scene(std::move(scene));
-  }
+void Executor::set_view(const scene::View& camera, std::vector<scene::Light> lights) {
+  if (!scene_) throw std::logic_error("Executor::set_view before set_scene: there is no scene to view");
+  scene_->replace_view(camera, std::move(lights));
 }
 
 Executor::~Executor() {

@@ -89,9 +89,9 @@ class Executor {
   // The scene that passes draw; kept across configure() calls. Uploads it now.
   void set_scene(std::shared_ptr<const scene::Scene> scene);
   const scene::GpuScene* scene() const { return scene_.get(); }
-  // The scene set last with another camera or other lights and nothing else changed: kept on the
-  // device as it is (set_scene() uploads everything again).
-  void set_view(std::shared_ptr<const scene::Scene> scene);
+  // The scene set last seen with another camera or other lights (as many): kept on the device as it
+  // is and not copied (set_scene() uploads everything again). After set_scene().
+  void set_view(const scene::View& camera, std::vector<scene::Light> lights);
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().

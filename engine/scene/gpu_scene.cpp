@@ -27,7 +27,8 @@ uint64_t fold_bytes(uint64_t key, const T* data, size_t count) {
 
 }  // namespace
 
-GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk), scene_(std::move(scene)), textures_(vk, *scene_) {
+GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
+    : vk_(vk), scene_(std::move(scene)), camera_(scene_->camera), lights_(scene_->lights), textures_(vk, *scene_) {
   std::vector<gpu::Vertex> vertices;
   std::vector<uint32_t> indices;
   std::vector<gpu::ObjectData> objects;
@@ -88,9 +89,10 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene) : vk_(vk
                            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "scene frame data");
 }
 
-void GpuScene::replace_view(std::shared_ptr<const Scene> scene) {
-  assert(scene->objects.size() == scene_->objects.size() && scene->textures.size() == scene_->textures.size());
-  scene_ = std::move(scene);
+void GpuScene::replace_view(const View& camera, std::vector<Light> lights) {
+  assert(lights.size() == scene_->lights.size() && "graph expressions counted the scene's lights (scene.lights)");
+  camera_ = camera;
+  lights_ = std::move(lights);
 }
 
 const AccelerationStructures& GpuScene::acceleration() {
@@ -121,15 +123,15 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   const Scene& s = *scene_;
   gpu::FrameData& f = frame_data_;
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
-  f.view_proj = s.camera.view_projection(aspect);
+  f.view_proj = camera_.view_projection(aspect);
   f.inv_view_proj = glm::inverse(f.view_proj);
-  f.camera_position = glm::vec4(s.camera.position, aspect);
+  f.camera_position = glm::vec4(camera_.position, aspect);
   f.sky_ambient = glm::vec4(s.sky, s.ambient);
   f.sizes =
       glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
-  f.light_count = static_cast<uint32_t>(std::min<size_t>(s.lights.size(), CAUSTICA_MAX_LIGHTS));
+  f.light_count = static_cast<uint32_t>(std::min<size_t>(lights_.size(), CAUSTICA_MAX_LIGHTS));
   for (uint32_t i = 0; i < f.light_count; ++i) {
-    const Light& light = s.lights[i];
+    const Light& light = lights_[i];
     gpu::LightData& l = f.lights[i];
     const bool directional = light.type == LightType::directional;
     l.view_proj = light.view_projection();

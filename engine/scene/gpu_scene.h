@@ -26,10 +26,13 @@ class GpuScene {
  public:
   GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene);
 
+  // Its objects and textures; its camera and lights as loaded (camera() and lights() are those in use).
   const Scene& scene() const { return *scene_; }
-  // The same objects and textures seen with another camera or other lights (a viewer's move):
-  // nothing is uploaded again. `scene` must differ from scene() in nothing else.
-  void replace_view(std::shared_ptr<const Scene> scene);
+  const View& camera() const { return camera_; }
+  const std::vector<Light>& lights() const { return lights_; }
+  // The same objects and textures seen with another camera or other lights (a viewer's move, as
+  // many lights as the scene has): nothing is uploaded again, nothing of the scene copied.
+  void replace_view(const View& camera, std::vector<Light> lights);
   VkBuffer vertices() const { return vertices_.get(); }
   VkBuffer indices() const { return indices_.get(); }
   VkBuffer objects() const { return objects_.get(); }
@@ -69,6 +72,8 @@ class GpuScene {
  private:
   vk::Context& vk_;
   std::shared_ptr<const Scene> scene_;
+  View camera_;
+  std::vector<Light> lights_;
   GpuTextures textures_;
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;

@@ -156,7 +156,7 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
   // the bunny again for each method and each of its path's positions was most of this bench's time
   // under the sanitizers.
   auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
-    executor.set_view(std::move(s));
+    executor.set_view(s->camera, s->lights);
     executor.configure(g, o.width, o.height, {"caustics"});
   };
   // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).

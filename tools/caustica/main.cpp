@@ -242,6 +242,7 @@ int run_render(const RenderOptions& o, bool trace) {
   ProgressLine progress(timed ? "second" : "frame", timed ? o.seconds : o.frames);
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed_ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };
+  scene::View camera = scene ? scene->camera : scene::View{};  // --orbit turns it
   for (uint32_t f = 0;; ++f) {
     const double started = elapsed_ms();
     // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
@@ -249,10 +250,8 @@ int run_render(const RenderOptions& o, bool trace) {
     const bool last = timed ? started + last_ms >= 1000.0 * static_cast<double>(o.seconds) : f + 1 == o.frames;
     run.frame_start_ms.push_back(started);
     if (f > 0 && o.orbit_degrees != 0.0f && scene) {
-      auto turned = std::make_shared<scene::Scene>(*scene);
-      turned->camera.orbit(o.orbit_degrees);
-      scene = turned;
-      executor.set_view(scene);
+      camera.orbit(o.orbit_degrees);
+      executor.set_view(camera, scene->lights);
     }
     run.frames.push_back(executor.run_frame(last));
     run.frame_wall_ms.push_back(elapsed_ms() - started);
