@@ -429,13 +429,11 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
   if (carry && both_reuse) carry_running_results(*before, *realized_before, stale_passes(*before, *realized_before, edited));
   // A plan replaced before its first frame (two edits between frames) has no results of its own:
   // what it was to carry over comes from the plan before it.
-  if (realized_before && realized_before->frame_index == 0 && carried_realized_) {
-    before = std::move(carried_plan_);
-    realized_before = std::move(carried_realized_);
+  if (realized_before && realized_before->frame_index == 0 && carried_.realized) {
+    before = std::move(carried_.plan);
+    realized_before = std::move(carried_.realized);
   }
-  carried_images_.clear();
-  carried_plan_.reset();
-  carried_realized_.reset();
+  carried_ = {};
   if (!carry || !both_reuse || realized_before->frame_index == 0) return;
   const std::vector<bool> stale = stale_passes(*before, *realized_before, edited);
   std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
@@ -463,7 +461,7 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
     if (!images_only) continue;  // a result in a buffer is computed again
     for (const auto& image : images) {
       // A resource that several carried passes write (one rewriting another's) is copied once.
-      if (std::find(carried_images_.begin(), carried_images_.end(), image) == carried_images_.end()) carried_images_.push_back(image);
+      if (std::find(carried_.images.begin(), carried_.images.end(), image) == carried_.images.end()) carried_.images.push_back(image);
     }
     real.reset_keys[i] = realized_before->reset_keys[found->second];
     real.pass_frames[i] = realized_before->pass_frames[found->second];
@@ -471,18 +469,18 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
       if (owner == pass.name) real.last_counters[counter] = realized_before->last_counters[counter];
     }
   }
-  if (carried_images_.empty()) return;
-  carried_plan_ = std::move(before);
-  carried_realized_ = std::move(realized_before);
+  if (carried_.images.empty()) return;
+  carried_.plan = std::move(before);
+  carried_.realized = std::move(realized_before);
 }
 
 void Executor::record_carried(VkCommandBuffer cmd) {
-  if (carried_images_.empty()) return;
+  if (carried_.images.empty()) return;
   std::vector<VkImageMemoryBarrier2> before, after;
-  for (const auto& [from, to] : carried_images_) {
-    const PlannedResource& was = carried_plan_->resources[from];
+  for (const auto& [from, to] : carried_.images) {
+    const PlannedResource& was = carried_.plan->resources[from];
     const PlannedResource& res = plan_->resources[to];
-    before.push_back(whole_image_barrier(carried_realized_->images[from].image.get(), was, was.final_state.stages, was.final_state.access,
+    before.push_back(whole_image_barrier(carried_.realized->images[from].image.get(), was, was.final_state.stages, was.final_state.access,
                                          VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, was.final_state.layout,
                                          VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
     // After kept_images_to_final_layouts' transition of it; overwritten whole.
@@ -496,8 +494,8 @@ void Executor::record_carried(VkCommandBuffer cmd) {
   }
   vk_.begin_label(cmd, "carried results");
   pipeline_barrier(cmd, before);
-  for (const auto& [from, to] : carried_images_) {
-    copy_whole_image(cmd, plan_->resources[to], carried_realized_->images[from].image.get(), realized_->images[to].image.get());
+  for (const auto& [from, to] : carried_.images) {
+    copy_whole_image(cmd, plan_->resources[to], carried_.realized->images[from].image.get(), realized_->images[to].image.get());
   }
   pipeline_barrier(cmd, after);
   vk_.end_label(cmd);
@@ -859,9 +857,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
   vk::check(waited, "vkWaitForFences");
   vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
   vk_.retire(submission);
-  carried_images_.clear();  // copied: the plan before can go
-  carried_plan_.reset();
-  carried_realized_.reset();
+  carried_ = {};  // copied: the plan before can go
 
   std::vector<uint64_t> stamps(real.query_count);
   vk::check(vkGetQueryPoolResults(vk_.device(), real.queries.get(), 0, next_query, stamps.size() * sizeof(uint64_t), stamps.data(),

@@ -157,9 +157,12 @@ class Executor {
   bool reuse_unchanged_passes_ = false;
   bool carry_results_ = true;  // until invalidate()
   std::set<std::filesystem::path> edited_shaders_;  // until the next plan, invalidate(files)
-  std::unique_ptr<const Plan> carried_plan_;
-  std::unique_ptr<Realized> carried_realized_;
-  std::vector<std::pair<uint32_t, uint32_t>> carried_images_;  // resource in carried_plan_ -> in plan_
+  // What the new plan's first frame copies in (record_carried): the plan before, kept until then.
+  struct Carried {
+    std::unique_ptr<const Plan> plan;
+    std::unique_ptr<Realized> realized;
+    std::vector<std::pair<uint32_t, uint32_t>> images;  // resource in `plan` -> in plan_
+  } carried_;
   // A refining pass as a replaced plan left it: what carry_running_results hands on.
   struct RunningResult {
     uint64_t running_key = 0;
