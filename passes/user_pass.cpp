@@ -105,13 +105,13 @@ class UserPass final : public graph::Pass {
   void record(graph::PassContext& ctx, const vk::DescriptorWriter& writer, std::vector<std::pair<uint32_t, VkImageView>>& colors) const {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
-    const std::vector<std::byte> push = parameter_block(decl, ctx.params());
-    if (params_.buffer) update_params(cmd, push);
+    const std::vector<std::byte> params = parameter_block(decl, ctx.params());
+    if (params_.buffer) update_params(cmd, params);
     if (shader_->kind == graph::UserShaderKind::compute) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
       bind(ctx, writer);
-      if (!params_.buffer && !push.empty())
-        vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(push.size()), push.data());
+      if (!params_.buffer && !params.empty())
+        vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(params.size()), params.data());
       std::array<uint32_t, 3> invocations = shader_->invocations;
       if (!shader_->dispatch_port.empty()) {
         const VkExtent2D extent = ctx.extent(shader_->dispatch_port);
@@ -128,8 +128,8 @@ class UserPass final : public graph::Pass {
     begin_rendering(cmd, ctx.extent(shader_->bindings.front().port), attachments, std::nullopt);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     bind(ctx, writer);
-    if (!params_.buffer && !push.empty())
-      vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(push.size()), push.data());
+    if (!params_.buffer && !params.empty())
+      vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(params.size()), params.data());
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
   }
