@@ -1,11 +1,14 @@
 // compute and fullscreen: passes whose shader, ports and parameters the graph file declares
 // (graph/user_pass_type.h). The compiler has compiled the shader and checked it against the
-// declarations; here each port is pushed at its binding, the parameters as push constants in the
-// block's order, and the shader dispatched over its port or invocations, or drawn full screen.
+// declarations; here each port is pushed at its binding, the parameters as push constants or into
+// the pass's uniform buffer at their offsets, and the shader dispatched over its port or
+// invocations, or drawn full screen.
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cstddef>
 #include <cstring>
+#include <vector>
 
 #include "builtin_passes.h"
 #include "graph/pass.h"
@@ -43,7 +46,13 @@ class UserPass final : public graph::Pass {
               : (port.usage == graph::PortUsage::sampled ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     }
     setup_counters(setup, bindings);
-    const vk::PipelineDesc layout{setup.pass().name, bindings, static_cast<uint32_t>(4 * shader_->push_members.size()),
+    if (shader_->params_binding) {
+      if (bindings.size() <= *shader_->params_binding) bindings.resize(*shader_->params_binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+      bindings[*shader_->params_binding] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      params_ = vk::make_buffer(setup.vk(), shader_->params_bytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
+                                setup.pass().name + " parameters");
+    }
+    const vk::PipelineDesc layout{setup.pass().name, bindings, shader_->params_binding ? 0u : shader_->params_bytes,
                                   shader_->scene_textures ? CAUSTICA_MAX_TEXTURES : 0u};
     if (shader_->kind == graph::UserShaderKind::compute) {
       pipeline_ = vk::make_compute_pipeline(setup.vk(), layout, shader_->spirv);
@@ -87,6 +96,7 @@ class UserPass final : public graph::Pass {
       if (shader_->counts_binding) writer.storage_buffer(*shader_->counts_binding, counters_.get());
       if (shader_->sums_binding) writer.storage_buffer(*shader_->sums_binding, counters_.get());
     }
+    if (params_.buffer) writer.uniform_buffer(*shader_->params_binding, params_.get());
     record(ctx, writer, colors);
     if (counters_.buffer) copy_counters(ctx);
   }
@@ -95,12 +105,13 @@ class UserPass final : public graph::Pass {
   void record(graph::PassContext& ctx, const vk::DescriptorWriter& writer, std::vector<std::pair<uint32_t, VkImageView>>& colors) const {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
-    const std::vector<uint32_t> push = push_constants(decl, ctx.params());
+    const std::vector<std::byte> params = parameter_block(decl, ctx.params());
+    if (params_.buffer) update_params(cmd, params);
     if (shader_->kind == graph::UserShaderKind::compute) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline.get());
       bind(ctx, writer);
-      if (!push.empty())
-        vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
+      if (!params_.buffer && !params.empty())
+        vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(params.size()), params.data());
       std::array<uint32_t, 3> invocations = shader_->invocations;
       if (!shader_->dispatch_port.empty()) {
         const VkExtent2D extent = ctx.extent(shader_->dispatch_port);
@@ -117,8 +128,8 @@ class UserPass final : public graph::Pass {
     begin_rendering(cmd, ctx.extent(shader_->bindings.front().port), attachments, std::nullopt);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     bind(ctx, writer);
-    if (!push.empty())
-      vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, 4 * static_cast<uint32_t>(push.size()), push.data());
+    if (!params_.buffer && !params.empty())
+      vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, static_cast<uint32_t>(params.size()), params.data());
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
   }
@@ -166,12 +177,12 @@ class UserPass final : public graph::Pass {
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   }
 
-  // The parameters as the push-constant block's members, 4 bytes each, in its order.
-  std::vector<uint32_t> push_constants(const graph::PassTypeDecl& decl, const nlohmann::json& params) const {
-    std::vector<uint32_t> words;
-    for (const auto& name : shader_->push_members) {
-      const graph::ParamDecl& param = *decl.find_param(name);
-      const nlohmann::json& value = params[name];
+  // The parameter block: each parameter's 4 bytes at its member's offset.
+  std::vector<std::byte> parameter_block(const graph::PassTypeDecl& decl, const nlohmann::json& params) const {
+    std::vector<std::byte> block(shader_->params_bytes);
+    for (const auto& member : shader_->params) {
+      const graph::ParamDecl& param = *decl.find_param(member.name);
+      const nlohmann::json& value = params[member.name];
       uint32_t word = 0;
       switch (param.type) {
         case graph::ParamType::float_: {
@@ -186,15 +197,36 @@ class UserPass final : public graph::Pass {
                                        param.choices.begin());
           break;
       }
-      words.push_back(word);
+      std::memcpy(block.data() + member.offset, &word, sizeof word);
     }
-    return words;
+    return block;
+  }
+
+  // Written in the command buffer each time the pass records, so that a parameter that follows the
+  // frame has this frame's value; outside any rendering, as vkCmdUpdateBuffer must be.
+  void update_params(VkCommandBuffer cmd, const std::vector<std::byte>& block) const {
+    vkCmdUpdateBuffer(cmd, params_.get(), 0, block.size(), block.data());
+    VkBufferMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    barrier.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+    barrier.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    barrier.dstStageMask =
+        shader_->kind == graph::UserShaderKind::compute ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    barrier.dstAccessMask = VK_ACCESS_2_UNIFORM_READ_BIT;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.buffer = params_.get();
+    barrier.size = VK_WHOLE_SIZE;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.bufferMemoryBarrierCount = 1;
+    dependency.pBufferMemoryBarriers = &barrier;
+    vkCmdPipelineBarrier2(cmd, &dependency);
   }
 
   const graph::PassTypeDecl* decl_ = nullptr;  // the pass's own type, which its plan holds
   const graph::UserShader* shader_ = nullptr;
   vk::Pipeline pipeline_;
   vk::Buffer counters_;          // the shader's counter buffer, where the pass declares counters
+  vk::Buffer params_;            // the uniform parameter block, where the shader declares one
   std::vector<uint32_t> slots_;  // the engine's slot of each
 };
 

@@ -119,12 +119,16 @@ TEST(UserPass, CompilesAsABuiltInPassDoes) {
   // compute pass moves "color" from attachment to sampled.
   ASSERT_FALSE(scale.barriers.empty());
   EXPECT_EQ(scale.barriers[0].new_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  // Its type holds its shader's reflection: bindings by port, local size, the push block's order,
-  // and the invocations its dispatch expressions give (32 / 2 + gain 2).
+  // Its type holds its shader's reflection: bindings by port, local size, the push block's members
+  // at their offsets, and the invocations its dispatch expressions give (32 / 2 + gain 2).
   const UserShader& shader = *scale.decl->user_shader;
   EXPECT_EQ(shader.local_size, (std::array<uint32_t, 3>{8, 4, 1}));
   EXPECT_EQ(shader.invocations, (std::array<uint32_t, 3>{64, 18, 1}));
-  EXPECT_EQ(shader.push_members, (std::vector<std::string>{"gain", "unused_count"}));
+  ASSERT_EQ(shader.params.size(), 2u);
+  EXPECT_EQ(shader.params[1].name, "unused_count");
+  EXPECT_EQ(shader.params[1].offset, 4u);
+  EXPECT_EQ(shader.params_bytes, 8u);
+  EXPECT_FALSE(shader.params_binding);
   ASSERT_EQ(shader.bindings.size(), 2u);
   // No scene: what it computes follows from its input and parameters, so a plan may reuse it.
   EXPECT_TRUE(scale.reusable(true));
@@ -460,20 +464,9 @@ void main() {
   }
 }
 
-// Per-frame parameters: a user pass's parameter may follow the frame, evaluated before each frame
-// and pushed when the pass records; on frame k the pass gives what a fresh render with that value
-// gives. A dispatch, fixed for the plan, may not name such a parameter.
-TEST(UserPass, AParameterFollowsTheFrame) {
-  const auto dir = test_dir();
-  write(dir / "scale.comp", kScaleShader);
-  nlohmann::json graph = scale_graph();
-  graph["passes"][1]["params"]["gain"] = "frame.index + 1";
-  EXPECT_NE(error_of(dir, graph)
-                .find("\"dispatch\" of pass 'scale' names parameter 'gain', which follows the frame (\"frame.index + 1\"); "
-                      "a dispatch is fixed for the plan"),
-            std::string::npos)
-      << error_of(dir, graph);
-  graph["passes"][1]["dispatch"] = "target";
+// Scale's graph with gain "frame.index + 1" run for three frames: frame k equals a fresh render
+// with gain k + 1, bit for bit.
+void expect_frame_k_as_a_fresh_render(const std::filesystem::path& dir, const nlohmann::json& graph) {
   write(dir / "graph.json", graph.dump(2));
   const auto scene = test::load_bundled_scene("sphere_plane");
   test::SceneEngine e;
@@ -495,6 +488,156 @@ TEST(UserPass, AParameterFollowsTheFrame) {
     EXPECT_EQ(frames[static_cast<size_t>(k)].rgba, e.executor.read_image("scaled").rgba);
   }
   EXPECT_NE(frames[0].rgba, frames[1].rgba);
+}
+
+// Per-frame parameters: a user pass's parameter may follow the frame, evaluated before each frame
+// and pushed when the pass records; on frame k the pass gives what a fresh render with that value
+// gives. A dispatch, fixed for the plan, may not name such a parameter.
+TEST(UserPass, AParameterFollowsTheFrame) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", kScaleShader);
+  nlohmann::json graph = scale_graph();
+  graph["passes"][1]["params"]["gain"] = "frame.index + 1";
+  EXPECT_NE(error_of(dir, graph)
+                .find("\"dispatch\" of pass 'scale' names parameter 'gain', which follows the frame (\"frame.index + 1\"); "
+                      "a dispatch is fixed for the plan"),
+            std::string::npos)
+      << error_of(dir, graph);
+  graph["passes"][1]["dispatch"] = "target";
+  expect_frame_k_as_a_fresh_render(dir, graph);
+}
+
+// Scale with its parameters in a uniform block at binding 2 instead of push constants.
+std::string uniform_scale_shader() {
+  return replaced(kScaleShader, "layout(push_constant) uniform Params", "layout(binding = 2) uniform Params");
+}
+
+// The same with the parameters in a uniform block: the pass writes its buffer each time it records.
+TEST(UserPass, AParameterInAUniformBlockFollowsTheFrame) {
+  const auto dir = test_dir();
+  write(dir / "scale.comp", uniform_scale_shader());
+  nlohmann::json graph = scale_graph();
+  graph["passes"][1]["params"]["gain"] = "frame.index + 1";
+  graph["passes"][1]["dispatch"] = "target";
+  expect_frame_k_as_a_fresh_render(dir, graph);
+}
+
+// 40 float weights and a count in uniform block Params, beyond the 32 parameters of push
+// constants; the last weight at an explicit offset, where only the reflection's offsets put it.
+constexpr int kWeights = 40;
+
+std::string weights_shader(bool fullscreen) {
+  std::string text = "#version 460\nlayout(binding = 1) uniform Params {\n";
+  for (int i = 0; i < kWeights - 1; ++i) text += "  float w" + std::to_string(i) + ";\n";
+  text += "  layout(offset = 240) float w" + std::to_string(kWeights - 1) + ";\n  uint count;\n} params;\n";
+  text += "float weighted(uint t) {\n  float sum = 0.0;\n";
+  for (int i = 0; i < kWeights; ++i) {
+    text += "  sum += params.w" + std::to_string(i) + " * float((t + " + std::to_string(i) + "u) % 5u + 1u);\n";
+  }
+  text += "  return sum;\n}\n";
+  if (fullscreen) {
+    return text + R"(layout(location = 0) out vec4 view;
+void main() {
+  uint t = uint(gl_FragCoord.y) * 8u + uint(gl_FragCoord.x);
+  view = vec4(weighted(t), float(params.count), 0.0, 1.0);
+}
+)";
+  }
+  return text + R"(layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D sums;
+void main() {
+  uint t = gl_GlobalInvocationID.y * 8u + gl_GlobalInvocationID.x;
+  imageStore(sums, ivec2(gl_GlobalInvocationID.xy), vec4(weighted(t), float(params.count), 0.0, 1.0));
+}
+)";
+}
+
+float weight(int i) {
+  return 0.1f + 0.05f * static_cast<float>(i);
+}
+
+// On the device, a compute and a fullscreen pass with 41 parameters in a uniform block: each texel
+// t holds the weights' sum times (t + i) % 5 + 1, as the CPU computes it, and the count.
+TEST(UserPass, ParametersInAUniformBlockGoBeyondPushConstants) {
+  const auto dir = test_dir();
+  write(dir / "weights.comp", weights_shader(false));
+  write(dir / "weights.frag", weights_shader(true));
+  nlohmann::json parameters = {{"count", {{"type", "int"}, {"default", 0}}}};
+  nlohmann::json params = {{"count", kWeights}};
+  for (int i = 0; i < kWeights; ++i) {
+    parameters["w" + std::to_string(i)] = {{"type", "float"}, {"default", 0.0}};
+    params["w" + std::to_string(i)] = weight(i);
+  }
+  const nlohmann::json image = {{"type", "image"}, {"format", "rgba32f"}, {"width", 8}, {"height", 8}};
+  const nlohmann::json graph = {{"resources", {{"sums", image}, {"view", image}}},
+                                {"passes",
+                                 {{{"name", "sums"},
+                                   {"type", "compute"},
+                                   {"shader", "weights.comp"},
+                                   {"ports", {{"sums", {{"access", "write"}}}}},
+                                   {"parameters", parameters},
+                                   {"params", params},
+                                   {"dispatch", "sums"},
+                                   {"outputs", {{"sums", "sums"}}}},
+                                  {{"name", "view"},
+                                   {"type", "fullscreen"},
+                                   {"shader", "weights.frag"},
+                                   {"ports", {{"view", {{"access", "write"}}}}},
+                                   {"parameters", parameters},
+                                   {"params", params},
+                                   {"outputs", {{"view", "view"}}}}}},
+                                {"outputs", {"sums", "view"}}};
+  write(dir / "graph.json", graph.dump(2));
+  test::SceneEngine e;
+  e.render(load_graph_file((dir / "graph.json").string()), test::load_bundled_scene("sphere_plane"), {"sums", "view"});
+  for (const char* name : {"sums", "view"}) {
+    SCOPED_TRACE(name);
+    const io::ImageData texels = e.executor.read_image(name);
+    ASSERT_EQ(texels.rgba.size(), 4u * 64u);
+    for (uint32_t t = 0; t < 64; ++t) {
+      float sum = 0.0f;
+      for (int i = 0; i < kWeights; ++i) sum += weight(i) * static_cast<float>((t + static_cast<uint32_t>(i)) % 5u + 1u);
+      EXPECT_NEAR(texels.rgba[4 * t], sum, 1e-6 * static_cast<double>(sum)) << "texel " << t;
+      EXPECT_EQ(texels.rgba[4 * t + 1], static_cast<float>(kWeights)) << "texel " << t;
+    }
+  }
+}
+
+// A uniform parameter block is checked as the push-constant block is, and where it binds.
+TEST(UserPass, AUniformParameterBlockIsCheckedAsThePushConstantsAre) {
+  const auto dir = test_dir();
+  const std::string file = (dir / "scale.comp").string();
+  const std::string shader = uniform_scale_shader();
+  write(dir / "scale.comp", shader);
+  const UserShader& compiled = *pass_named(compile_in(dir, scale_graph()), "scale").decl->user_shader;
+  EXPECT_EQ(compiled.params_binding, 2u);
+  EXPECT_EQ(compiled.params_bytes, 8u);
+  auto refused = [&](const std::string& text, const std::vector<std::string>& expected) {
+    write(dir / "scale.comp", text);
+    const std::string error = error_of(dir, scale_graph());
+    for (const auto& message : expected) EXPECT_NE(error.find(message), std::string::npos) << error;
+  };
+  // A member no parameter declares, and so a parameter the block lacks.
+  refused(replaced(shader, "gain", "gane"),
+          {file + ":6: member 'gane' of uniform block 'Params' is no parameter of pass 'scale' (did you mean 'gain'?)",
+           "parameter 'gain' of pass 'scale' is not in uniform block 'Params' (" + file + ":5)"});
+  // A member that is no 4-byte scalar.
+  refused(replaced(shader, "int unused_count;", "int unused_count;\n  vec4 tint;"),
+          {file + ":8: member 'tint' of uniform block 'Params' is vec4; a parameter block holds 4-byte scalars (float, int, uint, "
+                  "bool), one per parameter"});
+  // Parameters in two places.
+  refused(replaced(shader, "layout(binding = 2) uniform Params",
+                   "layout(push_constant) uniform Push { float gain; } push;\nlayout(binding = 2) uniform Params"),
+          {file + ":6: uniform block 'Params' holds the parameters of pass 'scale', and so does push-constant block 'Push' (" + file +
+           ":5); declare the parameters in one of them"});
+  // A port at the block's binding.
+  refused(replaced(shader, "layout(binding = 2) uniform Params", "layout(binding = 1) uniform Params"),
+          {file + ":4: 'target' takes binding 1, which uniform block 'Params' has (" + file +
+           ":5), the parameters of pass 'scale'; bind 'target' at another binding"});
+  // Above what every device's uniform buffers hold.
+  refused(replaced(shader, "int unused_count;", "layout(offset = 16384) int unused_count;"),
+          {file + ":5: uniform block 'Params' is 16388 bytes; a parameter block may have 16384 (the uniform buffer range every device "
+                  "allows)"});
 }
 
 // A shader that samples the scene's textures (set 1) and traces its acceleration structure (binding

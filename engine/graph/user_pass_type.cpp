@@ -73,7 +73,7 @@ std::filesystem::path find_shader(const GraphDesc& graph, const PassDesc& pass, 
                                  ") nor in the data folder (" + in_data.string() + ")");
 }
 
-// Whether push-constant member type `glsl` carries a parameter of type `type` (4 bytes each).
+// Whether parameter-block member type `glsl` carries a parameter of type `type` (4 bytes each).
 bool carries(const std::string& glsl, ParamType type) {
   switch (type) {
     case ParamType::float_: return glsl == "float";
@@ -82,6 +82,11 @@ bool carries(const std::string& glsl, ParamType type) {
     case ParamType::choice: return glsl == "uint" || glsl == "int";
   }
   return false;
+}
+
+// What a parameter block may hold: parameters are 4-byte scalars (carries).
+bool is_scalar(const std::string& glsl) {
+  return glsl == "float" || glsl == "int" || glsl == "uint" || glsl == "bool";
 }
 
 const char* member_type_for(ParamType type) {
@@ -105,7 +110,7 @@ class Checker {
     }
     for (const auto& b : reflection_.bindings) errors_.attempt([&] { check_binding(b); });
     errors_.attempt([&] { check_counters(); });
-    errors_.attempt([&] { check_push_constants(); });
+    errors_.attempt([&] { check_parameters(); });
     errors_.attempt([&] { check_dispatch_port(); });
     errors_.throw_if_any();
   }
@@ -246,6 +251,7 @@ class Checker {
   }
 
   void check_binding(const ReflectedBinding& b) const {
+    if (&b == uniform_params()) return;  // check_parameters'
     const bool port =
         std::any_of(user_.ports.begin(), user_.ports.end(), [&](const PortDecl& p) { return p.name == b.name || p.name == b.block; });
     if (port) return;
@@ -297,46 +303,95 @@ class Checker {
     shader_.scene_textures = true;
   }
 
-  void check_push_constants() {
+  // The uniform block that holds the parameters: kParamsBlock, unless a port names it.
+  const ReflectedBinding* uniform_params() const {
+    for (const auto& b : reflection_.bindings) {
+      if (b.kind != BindingKind::uniform_buffer || b.block != kParamsBlock) continue;
+      const bool port =
+          std::any_of(user_.ports.begin(), user_.ports.end(), [&](const PortDecl& p) { return p.name == b.name || p.name == b.block; });
+      if (!port) return &b;
+    }
+    return nullptr;
+  }
+
+  // Where the uniform parameter block may be: set 0, at a binding of its own.
+  void check_uniform_params(const ReflectedBinding& block) const {
+    const std::string name = "uniform block '" + block.block + "'";
+    const std::string at = place(block.place) + ": " + name;
+    const std::string pointer = pass_.pointer + "/parameters";
+    if (!reflection_.push_block.empty()) {
+      throw graph_.error(pointer, at + " holds the parameters" + of_pass() + ", and so does push-constant block '" +
+                                      reflection_.push_block + "' (" + place(reflection_.push_place) +
+                                      "); declare the parameters in one of them");
+    }
+    if (block.set != 0) throw graph_.error(pointer, at + " is in set " + std::to_string(block.set) + "; user passes bind set 0");
+    if (shader_.scene && is_scene_binding(block.binding)) {
+      throw graph_.error(pointer, at + " takes " + taken_by_the_scene(block.binding) + "; bind it at another binding from " +
+                                      std::to_string(kUserSceneBindings));
+    }
+    if (block.size > kMaxParamsBlockBytes) {
+      throw graph_.error(pointer, at + " is " + std::to_string(block.size) + " bytes; a parameter block may have " +
+                                      std::to_string(kMaxParamsBlockBytes) + " (the uniform buffer range every device allows)");
+    }
+    for (const auto& b : reflection_.bindings) {
+      if (&b == &block || b.set != 0 || b.binding != block.binding) continue;
+      throw graph_.error(pointer, place(b.place) + ": '" + b.name + "' takes binding " + std::to_string(b.binding) + ", which " + name +
+                                      " has (" + place(block.place) + "), the parameters" + of_pass() + "; bind '" + b.name +
+                                      "' at another binding");
+    }
+  }
+
+  // The declared parameters are the members of the parameter block (a push-constant block, or the
+  // uniform block Params), one 4-byte scalar each, by name.
+  void check_parameters() {
     std::vector<std::string> declared;
     for (const auto& p : user_.params) declared.push_back(p.name);
-    if (reflection_.push_block.empty()) {
+    const ReflectedBinding* uniform = uniform_params();
+    if (reflection_.push_block.empty() && !uniform) {
       if (user_.params.empty()) return;
       throw graph_.error(pass_.pointer + "/parameters",
                          "pass '" + pass_.name + "' declares parameters, and " + shader_.path +
-                             " has no push-constant block (layout(push_constant) uniform Params { ... }) for them");
+                             " has no parameter block for them: a push-constant block (layout(push_constant) uniform Params { ... }) "
+                             "or a uniform block Params (layout(binding = N) uniform Params { ... })");
     }
+    if (uniform) check_uniform_params(*uniform);
+    const std::vector<shader::ReflectedMember>& members = uniform ? uniform->members : reflection_.push_members;
+    const std::string block = uniform ? "uniform block '" + uniform->block + "'" : "push-constant block '" + reflection_.push_block + "'";
+    const shader::SourcePlace& block_place = uniform ? uniform->place : reflection_.push_place;
     ErrorList errors;
-    for (const auto& member : reflection_.push_members) {
+    for (const auto& member : members) {
       errors.attempt([&] {
+        const std::string at = place(member.place) + ": member '" + member.name + "' of " + block + " is ";
         auto param = std::find_if(user_.params.begin(), user_.params.end(), [&](const ParamDecl& p) { return p.name == member.name; });
         if (param == user_.params.end()) {
-          throw graph_.error(pass_.pointer + "/parameters", place(member.place) + ": member '" + member.name +
-                                                                "' of push-constant block '" + reflection_.push_block +
-                                                                "' is no parameter" + of_pass() + did_you_mean(member.name, declared));
+          if (!is_scalar(member.type)) {
+            throw graph_.error(pass_.pointer + "/parameters",
+                               at + member.type + "; a parameter block holds 4-byte scalars (float, int, uint, bool), one per parameter");
+          }
+          throw graph_.error(pass_.pointer + "/parameters", at + "no parameter" + of_pass() + did_you_mean(member.name, declared));
         }
         const size_t index = static_cast<size_t>(param - user_.params.begin());
         if (!carries(member.type, param->type)) {
-          throw graph_.error(user_.param_pointers[index], place(member.place) + ": member '" + member.name + "' of push-constant block '" +
-                                                              reflection_.push_block + "' is " + member.type + ", and parameter '" +
-                                                              param->name + "' (" + std::string(param_type_name(param->type)) + ") needs " +
+          throw graph_.error(user_.param_pointers[index], at + member.type + ", and parameter '" + param->name + "' (" +
+                                                              std::string(param_type_name(param->type)) + ") needs " +
                                                               member_type_for(param->type));
         }
-        shader_.push_members.push_back(member.name);
+        shader_.params.push_back({member.name, member.offset});
       });
     }
     for (size_t i = 0; i < user_.params.size(); ++i) {
       errors.attempt([&] {
         const auto& name = user_.params[i].name;
-        const bool in_block = std::any_of(reflection_.push_members.begin(), reflection_.push_members.end(),
-                                          [&](const shader::ReflectedMember& m) { return m.name == name; });
+        const bool in_block = std::any_of(members.begin(), members.end(), [&](const shader::ReflectedMember& m) { return m.name == name; });
         if (!in_block) {
-          throw graph_.error(user_.param_pointers[i], "parameter '" + name + "'" + of_pass() + " is not in push-constant block '" +
-                                                          reflection_.push_block + "' (" + place(reflection_.push_place) + ")");
+          throw graph_.error(user_.param_pointers[i],
+                             "parameter '" + name + "'" + of_pass() + " is not in " + block + " (" + place(block_place) + ")");
         }
       });
     }
     errors.throw_if_any();
+    shader_.params_bytes = uniform ? uniform->size : reflection_.push_size;
+    if (uniform) shader_.params_binding = uniform->binding;
   }
 
   void check_dispatch_port() const {
@@ -383,7 +438,7 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   decl->description = pass.user->shader + ": " + kind.description;
   decl->ports = user.ports;
   decl->params = user.params;
-  // The pass writes its parameters as push constants each time it records, so any of them may be an
+  // The pass writes its parameters into its parameter block each time it records, so any of them may be an
   // expression of the frame (frame.index...), evaluated before every frame; only a dispatch that
   // names one is refused, being fixed for the plan (Compiler::resolve_dispatch).
   for (auto& param : decl->params) param.per_frame = true;

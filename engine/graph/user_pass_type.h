@@ -3,7 +3,7 @@
 // parameters and dispatch in the graph file (UserPassDesc). The compiler makes each such pass a
 // pass type of its own, checked against what its shader declares (glslang's linked program)
 // before any device runs: every binding a port, every port a binding of its kind and format, the
-// push-constant block the declared parameters.
+// parameter block (push constants, or a uniform block Params) the declared parameters.
 #include <array>
 #include <filesystem>
 #include <memory>
@@ -36,15 +36,28 @@ constexpr bool is_scene_binding(uint32_t binding) {
   return binding < kUserSceneBindings || binding == kSceneTlasBinding || binding == kSceneTrianglesBinding;
 }
 
+// A uniform block of this type name in a user pass's shader, and no port of it, holds the pass's
+// parameters instead of a push-constant block (docs/shader_passes.md): for more than the 128 bytes
+// of push constants, up to kMaxParamsBlockBytes, the uniform buffer range every device allows.
+inline constexpr const char* kParamsBlock = "Params";
+inline constexpr uint32_t kMaxParamsBlockBytes = 16384;
+
 struct UserShader {
   UserShaderKind kind = UserShaderKind::compute;
   std::string path;  // the shader file as found
   std::vector<std::filesystem::path> files;  // it and everything it includes: what a reload watches
   std::vector<uint32_t> spirv;
   std::vector<UserPortBinding> bindings;  // one per port
-  // The parameters in the order of the push-constant block's members, 4 bytes each (a choice is
-  // the index of its value, a bool 0 or 1).
-  std::vector<std::string> push_members;
+  // Where the parameters go: the push-constant block, or the uniform block kParamsBlock at
+  // `params_binding` (a buffer of the pass's own, written each time it records). Each is a 4-byte
+  // member at its offset in the block (a choice is the index of its value, a bool 0 or 1).
+  struct ParamMember {
+    std::string name;
+    uint32_t offset = 0;
+  };
+  std::vector<ParamMember> params;
+  uint32_t params_bytes = 0;
+  std::optional<uint32_t> params_binding;
   bool scene = false;
   // With the scene: whether the shader samples its textures (set 1), and whether it traces it with
   // ray queries (declares binding 14 or 15): the pass then needs a device that has them.

@@ -165,14 +165,26 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
       continue;
     }
     if (type.getBasicType() == glslang::EbtBlock) {
+      // Laid out by glslang's rules for the block's packing, from an explicit offset where the
+      // shader gives one (TIntermediate::getOffset would place the members after it as if it had none).
+      int offset = 0, size = 0;
       for (const glslang::TTypeLoc& member : *type.getStruct()) {
-        b.members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file)});
+        if (member.type->getQualifier().hasOffset())
+          offset = member.type->getQualifier().layoutOffset;
+        else
+          offset += size;
+        glslang::TIntermediate::updateOffset(type, *member.type, offset, size);
+        b.members.push_back({member.type->getFieldName().c_str(), glsl_type_name(*member.type), place_of(member.loc, main_file),
+                             static_cast<uint32_t>(offset)});
       }
+      // A block ending in a runtime array (a storage buffer's) has no size of its own.
+      if (!type.getStruct()->empty() && !type.getStruct()->back().type->isUnsizedArray()) b.size = static_cast<uint32_t>(offset + size);
     }
     if (q.storage == glslang::EvqUniform && q.layoutPushConstant) {
       out.push_block = b.block;
       out.push_place = b.place;
       out.push_members = std::move(b.members);
+      out.push_size = b.size;
       continue;
     }
     if (q.storage != glslang::EvqUniform && q.storage != glslang::EvqBuffer) continue;

@@ -15,7 +15,7 @@ namespace caustica::shader {
 using Defines = std::map<std::string, std::string>;
 
 // What a shader declares, from glslang's linked program: the descriptor bindings, the push-constant
-// block's members and the fragment outputs, each with the file and line that declares it (an
+// block's members, each block's layout and the fragment outputs, each with the file and line that declares it (an
 // included file's own), so that a graph's user pass can be checked against it without a device.
 enum class BindingKind { sampled_image, storage_image, storage_buffer, uniform_buffer, acceleration_structure, other };
 struct SourcePlace {
@@ -26,11 +26,13 @@ struct ReflectedMember {
   std::string name;
   std::string type;  // GLSL's name of it: "float", "int", "uint", "bool", "vec2", "uint[]"...
   SourcePlace place;
+  uint32_t offset = 0;  // in the block, by its layout (std140, std430, or an explicit offset)
 };
 struct ReflectedBinding {
   std::string name;   // the variable, or a block's instance name (its type name where it has none)
   std::string block;  // a block's type name
   std::vector<ReflectedMember> members;  // a block's
+  uint32_t size = 0;                     // a block's, in bytes
   uint32_t set = 0;
   uint32_t binding = 0;  // a fragment output: its location
   BindingKind kind = BindingKind::other;
@@ -46,6 +48,7 @@ struct Reflection {
   std::string push_block;                 // empty where the shader has no push constants
   SourcePlace push_place;
   std::vector<ReflectedMember> push_members;
+  uint32_t push_size = 0;
   std::array<uint32_t, 3> local_size{1, 1, 1};
 };
 struct ReflectedShader {
