@@ -243,16 +243,18 @@ graph::PassTypeDecl user_pass_kind(const char* type, graph::UserShaderKind kind,
 }  // namespace
 
 graph::PassTypeDecl user_compute_pass_type() {
-  return user_pass_kind("compute", graph::UserShaderKind::compute,
-                        "Compute shader of your own: the pass names its .comp file and declares its ports (each a binding of the "
-                        "shader's, by name), parameters (its push-constant block) and dispatch (docs/shader_passes.md).");
+  return user_pass_kind(
+      "compute", graph::UserShaderKind::compute,
+      "Compute shader of your own: the pass names its .comp file and declares its ports (each a binding of the "
+      "shader's, by name), parameters (its push-constant block or uniform block Params) and dispatch (docs/shader_passes.md).");
 }
 
 graph::PassTypeDecl user_fullscreen_pass_type() {
-  return user_pass_kind("fullscreen", graph::UserShaderKind::fullscreen,
-                        "Full-screen fragment shader of your own: the pass names its .frag file and declares its ports (inputs "
-                        "bound by name, outputs the shader's fragment outputs) and parameters (its push-constant block) "
-                        "(docs/shader_passes.md).");
+  return user_pass_kind(
+      "fullscreen", graph::UserShaderKind::fullscreen,
+      "Full-screen fragment shader of your own: the pass names its .frag file and declares its ports (inputs "
+      "bound by name, outputs the shader's fragment outputs) and parameters (its push-constant block or uniform block Params) "
+      "(docs/shader_passes.md).");
 }
 
 }  // namespace caustica::passes

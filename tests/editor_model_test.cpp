@@ -1331,6 +1331,16 @@ TEST(EditorModel, AUserPassIsDeclaredFromItsShader) {
                                       "layout(location = 0) out vec4 shown;\n"
                                       "void main() { shown = texelFetch(source, ivec2(gl_FragCoord.xy), 0); }\n";
   std::ofstream(dir / "bad.comp") << "#version 460\nlayout(local_size_x = 8) in;\nvoid main() { undeclared = 1; }\n";
+  // Its parameters in a uniform block Params, which is no port.
+  std::ofstream(dir / "weights.comp") << "#version 460\n"
+                                         "layout(local_size_x = 8, local_size_y = 8) in;\n"
+                                         "layout(binding = 0) uniform sampler2D source;\n"
+                                         "layout(binding = 1, rgba16f) uniform writeonly image2D target;\n"
+                                         "layout(binding = 2) uniform Params { float weight; uint taps; } params;\n"
+                                         "void main() {\n"
+                                         "  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                                         "  imageStore(target, p, params.weight * float(params.taps) * texelFetch(source, p, 0));\n"
+                                         "}\n";
   GraphModel model = GraphModel::open((dir / "g.json").string(), registry());
 
   const std::string name = model.add_user_pass("compute", "scale.comp");
@@ -1355,6 +1365,13 @@ TEST(EditorModel, AUserPassIsDeclaredFromItsShader) {
   }
   EXPECT_TRUE(drawn);
   EXPECT_NE(model.pass_type(pass).find_param("gain"), nullptr) << "the pass panel lists the shader's parameters";
+
+  model.add_user_pass("compute", "weights.comp");
+  EXPECT_EQ(model.refusal(), "");
+  const ordered_json weights = model.json()["passes"].back();
+  EXPECT_EQ(weights["parameters"]["weight"]["type"], "float");
+  EXPECT_EQ(weights["parameters"]["taps"]["type"], "int");
+  EXPECT_FALSE(weights["ports"].contains("params") || weights["ports"].contains("Params")) << "the parameter block became a port";
 
   const std::string shown = model.add_user_pass("fullscreen", "view.frag");
   const ordered_json view = model.json()["passes"].back();

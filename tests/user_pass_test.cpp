@@ -609,7 +609,8 @@ TEST(UserPass, AUniformParameterBlockIsCheckedAsThePushConstantsAre) {
   const std::string file = (dir / "scale.comp").string();
   const std::string shader = uniform_scale_shader();
   write(dir / "scale.comp", shader);
-  const UserShader& compiled = *pass_named(compile_in(dir, scale_graph()), "scale").decl->user_shader;
+  const Plan plan = compile_in(dir, scale_graph());  // holds the pass type, and so its shader
+  const UserShader& compiled = *pass_named(plan, "scale").decl->user_shader;
   EXPECT_EQ(compiled.params_binding, 2u);
   EXPECT_EQ(compiled.params_bytes, 8u);
   auto refused = [&](const std::string& text, const std::vector<std::string>& expected) {

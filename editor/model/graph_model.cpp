@@ -10,6 +10,7 @@
 #include "core/paths.h"
 #include "core/suggest.h"
 #include "graph/compiler.h"
+#include "graph/user_pass_type.h"
 #include "io/files.h"
 #include "io/json_document.h"
 #include "model/json_text.h"
@@ -203,7 +204,13 @@ ordered_json GraphModel::declare_user_pass(graph::PassTypeDecl& decl, const std:
     ports[port.name] = json;
     decl.ports.push_back(std::move(port));
   };
+  // The parameters: the push-constant block's members, or a uniform block Params's (no port).
+  const std::vector<shader::ReflectedMember>* parameter_members = &reflection.push_members;
   for (const auto& b : reflection.bindings) {
+    if (b.kind == shader::BindingKind::uniform_buffer && b.block == graph::kParamsBlock) {
+      parameter_members = &b.members;
+      continue;
+    }
     const std::string at = b.place.file + ":" + std::to_string(b.place.line) + ": '" + b.name + "'";
     if (b.arrayed) throw InputError(at + " is an array: declare its port with its layers by hand (docs/shader_passes.md)");
     graph::PortDecl port;
@@ -237,7 +244,7 @@ ordered_json GraphModel::declare_user_pass(graph::PassTypeDecl& decl, const std:
     port.formats = {graph::Format::rgba16f};
     add_port(std::move(port), ordered_json::object());
   }
-  for (const auto& m : reflection.push_members) {
+  for (const auto& m : *parameter_members) {
     graph::ParamDecl param;
     param.name = m.name;
     if (m.type == "float") {
@@ -249,7 +256,7 @@ ordered_json GraphModel::declare_user_pass(graph::PassTypeDecl& decl, const std:
       param.type = graph::ParamType::bool_;
       param.default_value = false;
     } else {
-      throw InputError(m.place.file + ":" + std::to_string(m.place.line) + ": push constant '" + m.name + "' is " + m.type +
+      throw InputError(m.place.file + ":" + std::to_string(m.place.line) + ": parameter block member '" + m.name + "' is " + m.type +
                        "; a parameter is a float, int, uint or bool");
     }
     parameters[param.name] = {{"type", graph::param_type_name(param.type)}, {"default", param.default_value}};
