@@ -139,6 +139,9 @@ class Viewer::Impl {
       if (last_result_.part == graph::FramePart::whole || (last_result_.part == graph::FramePart::display && display_step_ == 0)) {
         last_shown_ = clock::now();
       }
+      // A frame the executor ran whole though asked for a part (a new plan's first) showed
+      // everything: a display it began starts again from its first step next time.
+      if (last_result_.part == graph::FramePart::whole) display_step_ = 0;
       measure_showing_passes();
       if (!options_.stats.empty()) {
         log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_, still_levels_.level());

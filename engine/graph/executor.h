@@ -62,8 +62,9 @@ struct FrameResult {
   FrameInfo frame;                                    // the frame this was; since_reset: since anything a pass depends on last changed
   bool converging = false;            // a pass would change with more frames (PassContext::still_converging), as it last ran
   FramePart part = FramePart::whole;  // what the frame ran
-  // The frames in the plan's running means (its accumulating passes' frames since their reset,
-  // this one included; the fewest where several): what a still view has gathered. 0: none.
+  // The frames the plan's running means have run since their reset, this one included (the fewest
+  // where several; a mean holding still at its max_frames counts on): what a still view has
+  // gathered. 0: none.
   uint64_t accumulated = 0;
 };
 
