@@ -91,14 +91,15 @@ std::vector<size_t> refining(StillLevels& levels, const std::vector<double>& fra
 
 TEST(StillLevels, RefiningFramesOverTheBudgetTakeTheNextLevelJudgedOnTheirMedian) {
   StillLevels levels(100, 3);
-  // One slow frame among three does not decide; a median over the budget does, and the next level
-  // is judged on its own frames.
-  EXPECT_EQ(refining(levels, {90, 300, 95}), (std::vector<size_t>{0, 0, 0}));
+  // One slow frame among three does not decide; a median over 0.9 of the budget does, and the next
+  // level is judged on its own frames.
+  EXPECT_EQ(refining(levels, {80, 300, 89}), (std::vector<size_t>{0, 0, 0}));
   EXPECT_EQ(refining(levels, {300, 300, 300}), (std::vector<size_t>{0, 0, 0})) << "a level judged within the budget is kept";
   StillLevels slow(100, 3);
   EXPECT_EQ(refining(slow, {120, 90, 130}), (std::vector<size_t>{0, 0, 1}));
   EXPECT_DOUBLE_EQ(slow.judged(), 120);
-  EXPECT_EQ(refining(slow, {110, 105, 101, 300, 300, 300}), (std::vector<size_t>{1, 1, 2, 2, 2, 2})) << "the last level stays";
+  EXPECT_EQ(refining(slow, {110, 92, 95, 300, 300, 300}), (std::vector<size_t>{1, 1, 2, 2, 2, 2}))
+      << "a median of 95 leaves too little of the budget; the last level stays";
   StillLevels one(100, 1);
   EXPECT_EQ(refining(one, {500, 500, 500}), (std::vector<size_t>{0, 0, 0})) << "a single value has nowhere to go";
   StillLevels off(0, 3);

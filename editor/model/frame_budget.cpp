@@ -8,6 +8,10 @@ namespace {
 // Raising is worth it only when the richer step is predicted to stay this far under the budget, so
 // that the size does not go up and down from frame to frame.
 constexpr double kRaiseMargin = 0.8;
+// A level is kept when its refining frames' median leaves this much of the budget: the frames
+// spread about their median (a p95 a quarter above it on this machine), and the window's answer is
+// judged by the slow ones.
+constexpr double kLevelMargin = 0.9;
 }  // namespace
 
 FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale, bool can_lower) {
@@ -39,7 +43,7 @@ bool StillLevels::refined(double frame_ms) {
   std::vector<double> sorted = frames_;
   std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
   judged_ms_ = sorted[kJudged / 2];
-  if (judged_ms_ <= budget_ms_) return false;  // frames_ stays full: this level is kept
+  if (judged_ms_ <= kLevelMargin * budget_ms_) return false;  // frames_ stays full: this level is kept
   ++level_;
   frames_.clear();
   return true;

@@ -50,8 +50,8 @@ class FrameBudget {
 // parameter may list several, each cheaper than the one before (caustics_progressive: a quarter of
 // the photon grid a frame, then a ninth, a sixteenth), so that a refining frame fits the budget on
 // a machine slower than the graph's author's. The viewer starts at the first level and moves to the
-// next when the refining frames at a level are over the budget, judged on the median of the first
-// kJudged (one slow frame does not decide). It never moves back: a refining frame's work is in light
+// next when the refining frames at a level are over 0.9 of the budget, judged on the median of the
+// first kJudged (one slow frame does not decide). It never moves back: a refining frame's work is in light
 // space and does not follow the camera, and each move restarts the running mean. A new graph, or a
 // new budget, starts again at the first.
 class StillLevels {

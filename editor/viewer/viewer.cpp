@@ -400,13 +400,14 @@ class Viewer::Impl {
   }
   static constexpr std::chrono::milliseconds kShowInterval{500};
 
-  // At rest, refining frames over the budget take the graph's next while_still values, where it
+  // At rest, refining frames too slow for the budget take the graph's next while_still values, where it
   // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the caustic
   // mean restarts and the camera's passes show it); the ones after refine again at once, since the
   // whole frames were over the budget already.
   void fit_refining_frames() {
     if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;
-    std::fprintf(stderr, "view: refining frames over the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
+    std::fprintf(stderr,
+                 "view: refining frames too slow for the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
                  options_.budget_ms, still_levels_.judged(), still_levels_.level() + 1, still_levels_.levels());
     const double whole_ms = last_whole_ms_;
     configure();

@@ -102,7 +102,7 @@ fi
 # the mean), up to the last; the last frame runs whole and shows the mean of every frame that
 # refined it since, as a headless render does.
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 16 --still-after 0 --budget 1 --screenshot "$dir/apart.png" --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
-grep -q "view: refining frames over the 1 ms budget (median .* ms): the while_still values of level 3 of 3" "$dir/log" || fail "no message of the last level: $(cat "$dir/log")"
+grep -q "view: refining frames too slow for the 1 ms budget (median .* ms): the while_still values of level 3 of 3" "$dir/log" || fail "no message of the last level: $(cat "$dir/log")"
 refined=$(python3 - "$dir/apart.json" <<'PY'
 import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
