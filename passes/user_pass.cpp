@@ -206,20 +206,10 @@ class UserPass final : public graph::Pass {
   // frame has this frame's value; outside any rendering, as vkCmdUpdateBuffer must be.
   void update_params(VkCommandBuffer cmd, const std::vector<std::byte>& block) const {
     vkCmdUpdateBuffer(cmd, params_.get(), 0, block.size(), block.data());
-    VkBufferMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-    barrier.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    barrier.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    barrier.dstStageMask =
-        shader_->kind == graph::UserShaderKind::compute ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-    barrier.dstAccessMask = VK_ACCESS_2_UNIFORM_READ_BIT;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.buffer = params_.get();
-    barrier.size = VK_WHOLE_SIZE;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.bufferMemoryBarrierCount = 1;
-    dependency.pBufferMemoryBarriers = &barrier;
-    vkCmdPipelineBarrier2(cmd, &dependency);
+    vk::memory_barrier(
+        cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+        shader_->kind == graph::UserShaderKind::compute ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+        VK_ACCESS_2_UNIFORM_READ_BIT);
   }
 
   const graph::PassTypeDecl* decl_ = nullptr;  // the pass's own type, which its plan holds
