@@ -15,8 +15,9 @@ namespace {
 struct AccumulatePush {
   uint32_t size[2];
   uint32_t layers;
-  uint32_t frames;
   uint32_t mode;  // shaders/core/accumulate.comp's MODE_*
+  float weight;
+  float total_weight;
 };
 constexpr uint32_t kModeStart = 0, kModeAdd = 1, kModeHold = 2;
 constexpr uint32_t kLayers = 3;
@@ -40,18 +41,24 @@ class AccumulatePass final : public graph::Pass {
     auto& was = static_cast<AccumulatePass&>(earlier);
     sums_ = std::move(was.sums_);
     frames_ = was.frames_;
+    total_weight_ = was.total_weight_;
   }
 
   void execute(graph::PassContext& ctx) override {
     if (ctx.frame().since_reset == 0) frames_ = 0;
     const auto max_frames = ctx.params()["max_frames"].get<uint32_t>();
+    const auto weight = ctx.params()["weight"].get<double>();
     const uint32_t mode = frames_ == 0 ? kModeStart : frames_ < max_frames ? kModeAdd : kModeHold;
-    if (mode != kModeHold) ++frames_;
+    if (mode == kModeStart) total_weight_ = 0;
+    if (mode != kModeHold) {
+      ++frames_;
+      total_weight_ += weight;
+    }
     ctx.set_counter(frames_slot_, frames_);
     if (frames_ < max_frames) ctx.still_converging();
 
     const VkExtent2D extent = ctx.extent("source");
-    const AccumulatePush push{{extent.width, extent.height}, kLayers, frames_, mode};
+    const AccumulatePush push{{extent.width, extent.height}, kLayers, mode, static_cast<float>(weight), static_cast<float>(total_weight_)};
     VkCommandBuffer cmd = ctx.cmd();
     // The previous frame's sums, written in an earlier submission.
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -69,6 +76,7 @@ class AccumulatePass final : public graph::Pass {
   vk::Buffer sums_;
   uint32_t frames_slot_ = 0;
   uint32_t frames_ = 0;  // in the sum
+  double total_weight_ = 0;  // of the frames in the sum
 };
 
 }  // namespace
@@ -77,7 +85,8 @@ graph::PassTypeDecl accumulate_pass_type() {
   using namespace graph;
   PassTypeDecl decl{"accumulate",
                     "Compute pass: the running mean of a caustic map (r32f, a layer per colour channel) over the frames since the last "
-                    "reset, summed in fp32 with Kahan's compensation. Resets when the lights, the geometry or the materials change, not "
+                    "reset, each frame weighed by weight, summed in fp32 with Kahan's compensation. Resets when the lights, the geometry "
+                    "or the materials change, not "
                     "when the camera moves, and on a new plan that changed it or what it reads (parameters, sizes, its source's "
                     "passes); where a viewer or editor's new plan changed neither, the mean goes on. Counter <pass>.frames: the frames "
                     "in the mean.",
@@ -109,6 +118,18 @@ graph::PassTypeDecl accumulate_pass_type() {
                       1048576.0,
                       {},
                       "frames averaged; after them the mean holds still (the sources still run every frame)",
+                      true},
+                     {"weight",
+                      ParamType::float_,
+                      1.0,
+                      1e-6,
+                      1e6,
+                      {},
+                      "how much this frame counts in the mean against the others: a frame that estimates from a part of the "
+                      "samples counts that part (a caustic_map's slices: 1 / slice_side^2), so that the mean stays one over "
+                      "samples when the part changes",
+                      true,
+                      false,
                       true}},
                     false,
                     [] { return std::make_unique<AccumulatePass>(); }};

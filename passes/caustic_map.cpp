@@ -57,6 +57,9 @@ class CausticMapPass final : public graph::Pass {
     photons_.build(setup, layout, "caustics/regular_photons.comp", refraction_defines(setup, exact_.defines()), !exact_.traced());
   }
 
+  // slice_side is sampling-only: a plan that changes it goes on with this one's runs of the grid.
+  void continue_from(graph::Pass& earlier) override { runs_ = static_cast<CausticMapPass&>(earlier).runs_; }
+
   void execute(graph::PassContext& ctx) override {
     VkCommandBuffer cmd = ctx.cmd();
     record_caustic_clear(ctx, clear_);
@@ -73,11 +76,22 @@ class CausticMapPass final : public graph::Pass {
                     exact_.push(ctx),
                     kWhiteBand};
     for (int i = 0; i < 8; ++i) push.counter_slot[i] = slots_[i];
-    // One cell in slice_side x slice_side a frame, another each frame since the reset, so that each
-    // run of slice_side^2 frames traces the whole grid once (column k mod n, each column's rows in a
-    // turned order, so that successive slices lie apart).
+    // One cell in slice_side x slice_side a frame, another each frame since the reset (or since
+    // slice_side changed), so that each run of slice_side^2 frames traces the whole grid once
+    // (column k mod n, each column's rows in a turned order, so that successive slices lie apart).
     const uint32_t side = p["slice_side"].get<uint32_t>();
-    const uint64_t slices = uint64_t{side} * side, since_reset = ctx.frame().since_reset, slice = since_reset % slices;
+    const uint64_t slices = uint64_t{side} * side, since_reset = ctx.frame().since_reset;
+    if (since_reset == 0 || runs_.side == 0) {
+      runs_ = {side, 0, 0, 0};
+    } else if (side != runs_.side) {
+      // A new side starts a run of its own at the next point of the sequence: at the old run's
+      // point its slices would trace photons the old side's slices had traced. Where the old run
+      // was cut short, its cells keep one sample more than the others until the mean outgrows it.
+      const uint64_t old_slices = uint64_t{runs_.side} * runs_.side;
+      runs_ = {side, since_reset, runs_.first_run + (runs_.last - runs_.from) / old_slices + 1, 0};
+    }
+    runs_.last = since_reset;
+    const uint64_t at_side = since_reset - runs_.from, slice = at_side % slices;
     push.slice_offset[0] = static_cast<uint32_t>(slice % side);
     push.slice_offset[1] = static_cast<uint32_t>((slice / side + slice) % side);
     push.slice_side = side;
@@ -86,7 +100,7 @@ class CausticMapPass final : public graph::Pass {
     // (accumulate) converges to the map of a finer grid. One point per run of the grid: a run of
     // slices is the whole grid's frame, and a cell's successive points are the sequence's own
     // (every n^2-th point of it would cover the cell poorly: 4 R2 steps move x by 0.02).
-    const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? since_reset / slices : 0);
+    const glm::vec2 jitter = r2_point(p["jitter"].get<bool>() ? runs_.first_run + at_side / slices : 0);
     push.jitter[0] = jitter.x;
     push.jitter[1] = jitter.y;
     const uint32_t traced_side = (push.grid + side - 1) / side;
@@ -111,6 +125,12 @@ class CausticMapPass final : public graph::Pass {
   ExactPaths exact_;
   uint32_t slots_[8] = {};
   uint32_t batches_slot_ = 0;
+  // The runs of the grid at the current slice_side: since which frame since the reset, the jitter
+  // point of the first, and the frame last traced.
+  struct Runs {
+    uint32_t side = 0;
+    uint64_t from = 0, first_run = 0, last = 0;
+  } runs_;
 };
 
 }  // namespace
@@ -138,7 +158,10 @@ graph::PassTypeDecl caustic_map_pass_type() {
                     {},
                     "trace one photon in slice_side x slice_side of the grid each frame, its power times slice_side^2, a different "
                     "one each frame since the reset: each map costs 1/slice_side^2 of the grid's and is noisier, and the mean of "
-                    "slice_side^2 successive maps (accumulate) is the whole grid's (1: every photon every frame)",
+                    "slice_side^2 successive maps (accumulate) is the whole grid's (1: every photon every frame); a mean goes on "
+                    "when it changes",
+                    true,
+                    false,
                     true});
   PassTypeDecl decl{
       "caustic_map",

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -15,14 +16,9 @@
 
 using namespace caustica;
 using namespace caustica::test::caustic_tests;
+using caustica::test::texel_flux;
 
 namespace {
-
-// A caustic-map texel's flux as the flux counters count it: the mean of its three channels.
-double texel_flux(const io::ImageData& map, size_t texel) {
-  const float* rgb = &map.rgba[texel * 4];
-  return (double(rgb[0]) + double(rgb[1]) + double(rgb[2])) / 3.0;
-}
 
 // The mean absolute difference between horizontally adjacent texels of a caustic map, relative to
 // its mean texel; `total` gets the map's sum.
@@ -174,22 +170,6 @@ TEST(Caustics, MultiResolutionSplatsKeepTheFluxAndSmoothTheSpeckle) {
 TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
   Engine e;
   auto scene = load("bunny_plane");
-  auto levels_total = [](const io::ImageData& atlas, uint32_t side, uint32_t levels, double* outside) {
-    double total = 0;
-    *outside = 0;
-    for (uint32_t y = 0; y < atlas.height; ++y) {
-      for (uint32_t x = 0; x < atlas.width; ++x) {
-        uint32_t left = 0, level = 0;
-        while (level < levels && x >= left + (side >> level)) left += side >> level++;
-        const double v = texel_flux(atlas, size_t{y} * atlas.width + x);
-        if (level < levels && y < (side >> level))
-          total += v * double(1u << (2 * level));
-        else
-          *outside += std::abs(v);
-      }
-    }
-    return total;
-  };
   for (uint32_t levels : {1u, 4u}) {
     auto frame =
         e.SceneEngine::render("caustics_adaptive", scene, {"grid=1024", "caustic_size=256", "splat_levels=" + std::to_string(levels)},
@@ -198,7 +178,8 @@ TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
     ASSERT_EQ(atlas.width, 512u);
     ASSERT_EQ(atlas.height, 256u);
     double outside = 0;
-    const double total = levels_total(atlas, 256, levels, &outside), splatted = frame.counters.at("caustic.flux");
+    const std::vector<double> fluxes = test::level_fluxes(atlas, 256, levels, &outside);
+    const double total = std::accumulate(fluxes.begin(), fluxes.end(), 0.0), splatted = frame.counters.at("caustic.flux");
     std::printf("%u levels: levels hold %.5f, photons splatted %.5f\n", levels, total, splatted);
     EXPECT_GT(splatted, 0.0);
     EXPECT_NEAR(total, splatted, 1e-3 * splatted);
@@ -208,8 +189,7 @@ TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
         for (uint32_t x = 0; x < 256 * 4; ++x) ASSERT_EQ(atlas.rgba[size_t{y} * 512 * 4 + x], map.rgba[size_t{y} * 256 * 4 + x]);
       }
     } else {
-      double ignored = 0;
-      const double coarse = total - levels_total(atlas, 256, 1, &ignored);
+      const double coarse = total - fluxes[0];
       EXPECT_GT(coarse, 0.01 * total) << "no photon splatted into a coarser level";
     }
   }

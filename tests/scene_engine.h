@@ -60,11 +60,38 @@ inline double relative_difference(const io::ImageData& a, const io::ImageData& b
   return total > 0 ? difference / total : difference;
 }
 
-// A caustic map's flux as the counters total it: the mean of the three channels, summed.
+// A caustic-map texel's flux as the flux counters count it: the mean of its three channels.
+inline double texel_flux(const io::ImageData& map, size_t texel) {
+  const float* rgb = &map.rgba[texel * 4];
+  return (double(rgb[0]) + double(rgb[1]) + double(rgb[2])) / 3.0;
+}
+
+// A caustic map's flux as the counters total it.
 inline double map_flux(const io::ImageData& map) {
   double total = 0;
-  for (size_t i = 0; i < map.rgba.size(); i += 4) total += (double(map.rgba[i]) + double(map.rgba[i + 1]) + double(map.rgba[i + 2])) / 3.0;
+  for (size_t i = 0; i < map.rgba.size() / 4; ++i) total += texel_flux(map, i);
   return total;
+}
+
+// The flux of each level of an adaptive caustic map's caustic_levels atlas (level 0 of side `side` at
+// the left, each next level half as large to the right of the one before, each texel divided by the
+// level-0 texels it covers), as the flux counters total it; `outside` gets the absolute sum of the
+// texels in no level.
+inline std::vector<double> level_fluxes(const io::ImageData& atlas, uint32_t side, uint32_t levels, double* outside) {
+  std::vector<double> flux(levels, 0.0);
+  *outside = 0;
+  for (uint32_t y = 0; y < atlas.height; ++y) {
+    for (uint32_t x = 0; x < atlas.width; ++x) {
+      uint32_t left = 0, level = 0;
+      while (level < levels && x >= left + (side >> level)) left += side >> level++;
+      const double v = texel_flux(atlas, size_t{y} * atlas.width + x);
+      if (level < levels && y < (side >> level))
+        flux[level] += v * double(1u << (2 * level));
+      else
+        *outside += std::abs(v);
+    }
+  }
+  return flux;
 }
 
 }  // namespace caustica::test

@@ -37,13 +37,14 @@ FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale
 }
 
 bool StillLevels::refined(double frame_ms) {
-  if (budget_ms_ <= 0 || level_ + 1 >= levels_ || frames_.size() >= kJudged) return false;
+  if (budget_ms_ <= 0 || level_ + 1 >= levels_) return false;
   frames_.push_back(frame_ms);
+  if (frames_.size() > kJudged) frames_.erase(frames_.begin());
   if (frames_.size() < kJudged) return false;
   std::vector<double> sorted = frames_;
   std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
   judged_ms_ = sorted[kJudged / 2];
-  if (judged_ms_ <= kLevelMargin * budget_ms_) return false;  // frames_ stays full: this level is kept
+  if (judged_ms_ <= kLevelMargin * budget_ms_) return false;
   ++level_;
   frames_.clear();
   return true;

@@ -49,11 +49,13 @@ class FrameBudget {
 // At rest, which of the graph's while_still values the viewer uses (graph::GraphParameter): a
 // parameter may list several, each cheaper than the one before (caustics_progressive: a quarter of
 // the photon grid a frame, then a ninth, a sixteenth), so that a refining frame fits the budget on
-// a machine slower than the graph's author's. The viewer starts at the first level and moves to the
-// next when the refining frames at a level are over 0.9 of the budget, judged on the median of the
-// first kJudged (one slow frame does not decide). It never moves back: a refining frame's work is in light
-// space and does not follow the camera, and each move restarts the running mean. A new graph, or a
-// new budget, starts again at the first.
+// a machine slower than the graph's author's, or busier than it was. The viewer starts at the first
+// level and moves to the next whenever the median of the last kJudged refining frames at a level
+// is over 0.9 of the budget (one slow frame does not decide), the first time after its first
+// kJudged. It never moves back: a refining frame's work is in light space and does not follow the
+// camera, so what made it slow is the machine. Where the values are sampling-only
+// (ParamDecl::sampling_only: caustic_map.slice_side) the running mean goes on at the next level. A
+// new graph, or a new budget, starts again at the first.
 class StillLevels {
  public:
   static constexpr size_t kJudged = 3;
@@ -69,7 +71,7 @@ class StillLevels {
   double budget_ms_;
   size_t levels_;
   size_t level_ = 0;
-  std::vector<double> frames_;  // the current level's first refining frames, until judged
+  std::vector<double> frames_;  // the current level's last kJudged refining frames
   double judged_ms_ = 0;
 };
 

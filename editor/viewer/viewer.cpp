@@ -401,9 +401,9 @@ class Viewer::Impl {
   static constexpr std::chrono::milliseconds kShowInterval{500};
 
   // At rest, refining frames too slow for the budget take the graph's next while_still values, where it
-  // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the caustic
-  // mean restarts and the camera's passes show it); the ones after refine again at once, since the
-  // whole frames were over the budget already.
+  // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the camera's
+  // passes show the mean, which goes on where the values are sampling-only); the ones after refine
+  // again at once, since the whole frames were over the budget already.
   void fit_refining_frames() {
     if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;
     std::fprintf(stderr,

@@ -1,6 +1,7 @@
 // What each pass's result depends on, and what a plan that reuses unchanged passes keeps.
 #include <algorithm>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "graph/compiler_internal.h"
@@ -63,14 +64,22 @@ void Compiler::find_dependencies() {
   for (PlannedResource& r : plan_.resources) r.kept_across_frames |= r.kind == ResourceKind::image && !r.transient;
 }
 
-void Compiler::find_result_keys() {
+std::vector<uint64_t> Compiler::result_keys(bool running) const {
   // What each resource holds so far in the order: the key of its last writer and the port.
   std::vector<std::string> content(plan_.resources.size());
+  std::vector<uint64_t> keys(order_.size());
   for (uint32_t i = 0; i < order_.size(); ++i) {
     const Node& node = nodes_[order_[i]];
-    PlannedPass& pass = plan_.passes[i];
-    std::string text = pass.name + "\n" + pass.type + "\n" + node.params.dump() + "\n" + nlohmann::json(node.frame_params).dump() + "\n" +
-                       node.decl->result_source;
+    const PlannedPass& pass = plan_.passes[i];
+    nlohmann::json params = node.params;
+    std::map<std::string, std::string> frame_params = node.frame_params;
+    for (const ParamDecl& p : running ? node.decl->params : std::vector<ParamDecl>{}) {
+      if (!p.sampling_only) continue;
+      params.erase(p.name);
+      frame_params.erase(p.name);
+    }
+    std::string text =
+        pass.name + "\n" + pass.type + "\n" + params.dump() + "\n" + nlohmann::json(frame_params).dump() + "\n" + node.decl->result_source;
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
       text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
@@ -78,9 +87,9 @@ void Compiler::find_result_keys() {
               std::to_string(r.layers) + " " + std::to_string(r.buffer_size);
       if (b.port->access != PortAccess::write) text += " reads " + content[b.resource];
     }
-    pass.result_key = std::hash<std::string>{}(text);
+    keys[i] = std::hash<std::string>{}(text);
     for (const auto& b : node.bindings) {
-      if (b.port->access != PortAccess::read) content[b.resource] = std::to_string(pass.result_key) + "." + b.port->name;
+      if (b.port->access != PortAccess::read) content[b.resource] = std::to_string(keys[i]) + "." + b.port->name;
     }
   }
   // A later pass that rewrites what a pass wrote leaves the frame's end state of it: the pass's
@@ -91,20 +100,24 @@ void Compiler::find_result_keys() {
       for (uint32_t later = i + 1; later < order_.size(); ++later) {
         for (const auto& l : nodes_[order_[later]].bindings) {
           if (l.resource != b.resource || l.port->access == PortAccess::read) continue;
-          plan_.passes[i].result_key = std::hash<std::string>{}(std::to_string(plan_.passes[i].result_key) + " then " +
-                                                                std::to_string(plan_.passes[later].result_key));
+          keys[i] = std::hash<std::string>{}(std::to_string(keys[i]) + " then " + std::to_string(keys[later]));
         }
       }
     }
   }
+  return keys;
+}
+
+void Compiler::find_result_keys() {
+  const std::vector<uint64_t> results = result_keys(false), running = result_keys(true);
   for (uint32_t i = 0; i < order_.size(); ++i) {
     PlannedPass& pass = plan_.passes[i];
     // A history input's image is not carried into another plan, so a pass that reads one starts over.
     const auto& bindings = nodes_[order_[i]].bindings;
     const bool reads_history = std::any_of(bindings.begin(), bindings.end(),
                                            [&](const auto& b) { return plan_.resources[b.resource].previous_of != kNoResource; });
-    pass.running_key = pass.refines && !reads_history ? pass.result_key : 0;
-    if (!pass.reusable(true)) pass.result_key = 0;
+    pass.result_key = pass.reusable(true) ? results[i] : 0;
+    pass.running_key = pass.refines && !reads_history ? running[i] : 0;
   }
 }
 

@@ -93,8 +93,11 @@ class Compiler {
   void find_dependencies();
   // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.
   void find_refining_passes();
-  // In a plan that reuses unchanged passes: PlannedPass::result_key.
+  // In a plan that reuses unchanged passes: PlannedPass::result_key and running_key.
   void find_result_keys();
+  // Each pass's key by the order (hashes of its name, type, parameters, ports and what it reads);
+  // `running`: without the sampling-only parameters (ParamDecl::sampling_only).
+  std::vector<uint64_t> result_keys(bool running) const;
   void keep_contents_across_frames();
 
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.

@@ -79,6 +79,10 @@ struct ParamDecl {
   // An int that must be a power of two (a photon grid that a traversal refines by halving it): the
   // checks name the nearest powers, the schema lists them and the viewer's slider doubles and halves.
   bool power_of_two = false;
+  // How fast a running result converges, not to what (caustic_map.slice_side: the mean of quarter
+  // grids and of ninth grids is the same grid's map): a running result goes on into a new plan whose
+  // passes differ only in such parameters (PlannedPass::running_key).
+  bool sampling_only = false;
 };
 
 // The frame block that a per-frame parameter's expression may name (graph::FrameInfo).

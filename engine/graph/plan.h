@@ -123,7 +123,8 @@ struct PlannedPass {
   // the frame) and reads no history input: the same hash, although the pass follows the frame. A
   // later plan's pass with the same key continues the running result where this one left it
   // (Executor::carry_running_results): an exposure edit, a resize or a frame-budget step does not
-  // restart the mean, nor does a plan in between (the viewer's while_moving values during an orbit).
+  // restart the mean, nor does a plan in between (the viewer's while_moving values during an orbit),
+  // nor one that differs only in sampling-only parameters (ParamDecl::sampling_only).
   uint64_t running_key = 0;
 };
 

@@ -22,16 +22,34 @@ layout(local_size_x = 64) in;
 const uint PROCESSED = 0u, SPLATTED = 1u, MISS = 2u, TIR = 3u, CONVERGED = 4u, OVERFLOW = 5u, PROCESSED_LEVEL = 6u;
 const uint FLUX = 0u, ENTERING = 1u, DROPPED = 2u;
 
+// The random numbers of the shrunk splats' levels (splat_level): drawn from the cluster's place in
+// its level's grid and the frame's jitter, not from the order of the cluster lists, which atomics
+// fill in a different order from run to run.
+uint splat_rng = 0u;
+
 // The level for a footprint `width` finest texels wide: the one whose texels are at least that
-// wide, at most the coarsest, after Knaus and Zwicker's shrinking (params.kernel_scale: the
-// coarsest footprint shrinks too), never below the finest. ceil(log2()) by frexp, which is exact
-// where log2 might round a power of two up a level.
-uint splat_level(float width) {
-  float shrunk = min(width, float(1u << (params.splat_levels - 1u))) * params.kernel_scale;
-  if (shrunk <= 1.0) return 0u;
+// wide, at most the coarsest, never below the finest. ceil(log2()) by frexp, which is exact where
+// log2 might round a power of two up a level. Knaus and Zwicker's shrinking (params.kernel_scale
+// below 1) then wants a footprint between two levels' texels: the splat takes one of the two at
+// random, the coarser with the probability that makes its mean squared width the shrunk one
+// (scale^2 of the unshrunk), so that the mean over frames shrinks smoothly. Rounded up instead, a
+// power-of-two footprint (a side path's) kept its size until the radius had halved, 26 frames on.
+int ceil_log2(float width) {
   int e;
-  float f = frexp(shrunk, e);
-  return uint(f == 0.5 ? e - 1 : e);
+  float f = frexp(width, e);
+  return f == 0.5 ? e - 1 : e;
+}
+uint splat_level(float width) {
+  float widest = float(1u << (params.splat_levels - 1u));
+  if (width <= 1.0) return 0u;
+  int level = ceil_log2(min(width, widest));
+  if (params.kernel_scale >= 1.0) return uint(level);
+  float shrunk = exp2(float(level)) * params.kernel_scale;
+  if (shrunk <= 1.0) return 0u;
+  int finer = ceil_log2(shrunk) - 1;  // shrunk lies in (2^finer, 2^(finer + 1)]
+  float ratio = shrunk / exp2(float(finer));
+  float coarser = (ratio * ratio - 1.0) / 3.0;
+  return uint(next_uniform(splat_rng) < coarser ? finer + 1 : finer);
 }
 
 // The splat level of a cluster's photons: their footprint on the caustic map is about the spread
@@ -194,6 +212,7 @@ void main() {
     uint packed = clusters[(params.level % 2u) * list_capacity() + index];
     cluster = uvec2(packed & 0xFFFFu, packed >> 16);
   }
+  splat_rng = pcg_hash((cluster.x | cluster.y << 16) ^ pcg_hash(params.jitter ^ pcg_hash(params.level | params.band << 8)));
   LightData light = frame.lights[params.light];
   uint side = 64u << params.level;
   float texel = 2.0 * light.clip.z / float(side);

@@ -442,7 +442,8 @@ void print_graph_params(const graph::GraphDesc& graph, const graph::PassRegistry
   }
   std::printf(
       "\npass parameters (set in the graph file; \"$NAME\" follows graph parameter NAME; [per frame]: may be an "
-      "expression of frame.*):\n");
+      "expression of frame.*; [sampling only]: how fast an accumulated mean converges, not to what, so a change keeps the "
+      "mean):\n");
   for (const auto& pass : graph.passes) {
     const graph::PassTypeDecl* decl = registry.find(pass.type);
     if (!decl || decl->params.empty()) continue;
@@ -450,7 +451,8 @@ void print_graph_params(const graph::GraphDesc& graph, const graph::PassRegistry
     for (const auto& d : decl->params) {
       const bool given = pass.params.contains(d.name);
       const std::string value = given ? value_text(pass.params[d.name]) : value_text(d.default_value) + " (default)";
-      row("    ", d.name, graph::param_type_name(d.type), value, range_text(d), (d.per_frame ? "[per frame] " : "") + d.description);
+      row("    ", d.name, graph::param_type_name(d.type), value, range_text(d),
+          std::string(d.per_frame ? "[per frame] " : "") + (d.sampling_only ? "[sampling only] " : "") + d.description);
     }
   }
 }
