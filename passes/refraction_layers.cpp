@@ -3,6 +3,8 @@
 // previous layer's result (the background for the farthest) in a compute pass. `color` and the
 // background ping-pong so that the last layer lands in `color`: the background is only read by the
 // farthest layer, so reusing it saves a frame-sized image at the graph's peak of memory.
+#include <algorithm>
+#include <array>
 #include <map>
 
 #include "builtin_passes.h"
@@ -29,6 +31,7 @@ class RefractionLayersPass final : public graph::Pass {
   void setup(graph::PassSetup& setup) override {
     tir_counter_ = setup.add_counter(setup.pass().name + ".tir_pixels");
     layers_counter_ = setup.add_counter(setup.pass().name + ".layers");
+    drawn_counter_ = setup.add_counter(setup.pass().name + ".surfaces_drawn");
     surfaces_.setup(setup, "front", "front_depth");
     shading_.setup(setup, setup.resource("color").format);
   }
@@ -59,6 +62,14 @@ class RefractionLayersPass final : public graph::Pass {
     };
     const std::string ping_pong[2] = {"color", "background"};
     const auto layers = static_cast<uint32_t>(order.size());
+    // A single layer's surfaces follow the camera and the geometry alone: at rest, where only the
+    // background changed (a converging caustic), the ones drawn last time are still there. Several
+    // layers share the images, which then hold the nearest layer's.
+    const bool one_layer_kept = layers == 1 && one_layer_drawn_ && ctx.scene_unchanged_since_last_run() &&
+                                std::all_of(kSurfacePorts.begin(), kSurfacePorts.end(),
+                                            [&](const char* port) { return !ctx.bound(port) || ctx.kept_since_last_run(port); });
+    one_layer_drawn_ = layers == 1;
+    ctx.set_counter(drawn_counter_, one_layer_kept ? 0.0 : static_cast<double>(layers));
     // Layer i writes ping_pong[(layers - 1 - i) % 2], so the last writes color. With an even count
     // the farthest layer would write the background it reads: it reads a copy in color instead
     // (with no refractor at all, that copy is the result).
@@ -74,7 +85,7 @@ class RefractionLayersPass final : public graph::Pass {
           if (ctx.bound(depth)) wait_for_depth_writes(cmd, ctx.image(depth));
         }
       }
-      surfaces_.record(ctx, view, scene.object(order[i]), RefractorSurfaces::targets(ctx));
+      if (!one_layer_kept) surfaces_.record(ctx, view, scene.object(order[i]), RefractorSurfaces::targets(ctx));
       make_surfaces(kSampledRead);
 
       const std::string& target = ping_pong[(layers - 1 - i) % 2];
@@ -91,7 +102,9 @@ class RefractionLayersPass final : public graph::Pass {
  private:
   RefractorSurfaces surfaces_;
   DeferredRefractionShading shading_;
-  uint32_t tir_counter_ = 0, layers_counter_ = 0;
+  static constexpr std::array<const char*, 5> kSurfacePorts{"front", "back", "front_tint", "front_depth", "back_depth"};
+  uint32_t tir_counter_ = 0, layers_counter_ = 0, drawn_counter_ = 0;
+  bool one_layer_drawn_ = false;  // the last run drew one layer's surfaces
 };
 
 }  // namespace
@@ -129,13 +142,12 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   ports.push_back(RefractorSurfaces::back_depth_port("frame"));
   PassTypeDecl decl{"refraction_layers",
                     "Multi-layer deferred refraction: one layer per refractor, sorted back to front from the camera each frame; each "
-                    "layer refracts the result of the layers behind it. Counters <pass>.layers and <pass>.tir_pixels.",
+                    "layer refracts the result of the layers behind it. Counters <pass>.layers, <pass>.tir_pixels and "
+                    "<pass>.surfaces_drawn (the layers whose surfaces were drawn: 0 where one layer's, kept from the last run, "
+                    "still hold for the camera and geometry).",
                     // Every shader access to its ports is in its compute dispatches; the surfaces
                     // are drawn into attachments.
-                    PassQueue::compute,
-                    ports,
-                    with_search_bounces(refraction_params()),
-                    false,
+                    PassQueue::compute, ports, with_search_bounces(refraction_params()), false,
                     [] { return std::make_unique<RefractionLayersPass>(); }};
   decl.needs_scene = true;
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };

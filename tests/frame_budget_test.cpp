@@ -109,6 +109,33 @@ TEST(StillLevels, RefiningFramesOverTheBudgetTakeTheNextLevelJudgedOnTheirMedian
   EXPECT_EQ(refining(off, {500, 500, 500}), (std::vector<size_t>{0, 0, 0})) << "no budget";
 }
 
+// A machine that got quieter: after kHeldBeforeRaise refining frames at a level, the richer level
+// comes back when its frames are predicted within 0.8 of the budget (this level's median times the
+// richer level's cost over this one's, as measured when the viewer moved down). A move back that
+// does not hold doubles the wait for the next.
+TEST(StillLevels, AQuieterMachineTakesTheRicherLevelBackPredictedFromTheCostMeasuredGoingDown) {
+  StillLevels levels(100, 3);
+  EXPECT_EQ(refining(levels, {150, 150, 150}).back(), 1u);
+  // The ninth's first three measure the quarter at 150 / 75 = 2 times its cost.
+  EXPECT_EQ(refining(levels, {75, 75, 75}).back(), 1u);
+  // Quieter: 35 ms predicts 70 for the quarter, but only after 30 frames at the ninth.
+  const std::vector<double> quiet(StillLevels::kHeldBeforeRaise - 4, 35.0);
+  EXPECT_EQ(refining(levels, quiet).back(), 1u) << "moved back before holding the level";
+  EXPECT_EQ(refining(levels, {35}), (std::vector<size_t>{0}));
+  EXPECT_DOUBLE_EQ(levels.judged(), 35);
+  EXPECT_DOUBLE_EQ(levels.predicted(), 70);
+  // The quarter turns out slow again: down at once, and the next move back waits twice as long.
+  EXPECT_EQ(refining(levels, {95, 95, 95}).back(), 1u);
+  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 1, 30.0);
+  EXPECT_EQ(refining(levels, long_quiet).back(), 1u) << "a move back that did not hold did not wait longer";
+  EXPECT_EQ(refining(levels, {30}), (std::vector<size_t>{0}));
+  // A prediction over 0.8 of the budget keeps the cheaper level however long it holds.
+  StillLevels busy(100, 3);
+  refining(busy, {150, 150, 150, 75, 75, 75});
+  const std::vector<double> steady(3 * StillLevels::kHeldBeforeRaise, 45.0);  // predicts 90
+  EXPECT_EQ(refining(busy, steady).back(), 1u);
+}
+
 TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 100), (std::vector<size_t>{1, 3}));
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 200), (std::vector<size_t>{3})) << "all fit one frame";

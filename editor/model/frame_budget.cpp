@@ -37,17 +37,35 @@ FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale
 }
 
 bool StillLevels::refined(double frame_ms) {
-  if (budget_ms_ <= 0 || level_ + 1 >= levels_) return false;
+  if (budget_ms_ <= 0 || levels_ <= 1) return false;
+  ++held_;
   frames_.push_back(frame_ms);
   if (frames_.size() > kJudged) frames_.erase(frames_.begin());
   if (frames_.size() < kJudged) return false;
   std::vector<double> sorted = frames_;
   std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
-  judged_ms_ = sorted[kJudged / 2];
-  if (judged_ms_ <= kLevelMargin * budget_ms_) return false;
-  ++level_;
-  frames_.clear();
-  return true;
+  const double median = sorted[kJudged / 2];
+  if (measuring_cost_) cost_over_next_[level_ - 1] = judged_ms_ / median;
+  measuring_cost_ = false;
+  auto move = [&](size_t to) {
+    judged_ms_ = median;
+    level_ = to;
+    frames_.clear();
+    held_ = 0;
+    return true;
+  };
+  if (median > kLevelMargin * budget_ms_ && level_ + 1 < levels_) {
+    if (raised_ && held_ < hold_) hold_ *= 2;  // the move back did not hold
+    raised_ = false;
+    measuring_cost_ = true;
+    return move(level_ + 1);
+  }
+  if (level_ > 0 && held_ >= hold_ && cost_over_next_[level_ - 1] > 0 && median * cost_over_next_[level_ - 1] <= kRaiseMargin * budget_ms_) {
+    predicted_ms_ = median * cost_over_next_[level_ - 1];
+    raised_ = true;
+    return move(level_ - 1);
+  }
+  return false;
 }
 
 std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms) {

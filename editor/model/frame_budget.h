@@ -51,28 +51,40 @@ class FrameBudget {
 // the photon grid a frame, then a ninth, a sixteenth), so that a refining frame fits the budget on
 // a machine slower than the graph's author's, or busier than it was. The viewer starts at the first
 // level and moves to the next whenever the median of the last kJudged refining frames at a level
-// is over 0.9 of the budget (one slow frame does not decide), the first time after its first
-// kJudged. It never moves back: a refining frame's work is in light space and does not follow the
-// camera, so what made it slow is the machine. Where the values are sampling-only
-// (ParamDecl::sampling_only: caustic_map.slice_side) the running mean goes on at the next level. A
+// is over 0.9 of the budget (one slow frame does not decide). It moves back to the richer level
+// when the machine got quieter: after kHeldBeforeRaise refining frames at a level, when the last
+// kJudged frames' median times the richer level's cost over this one's (measured when the viewer
+// moved down, at the load of then) is predicted within 0.8 of the budget. A move back that does not
+// hold makes the next wait twice as long. Where the values are sampling-only
+// (ParamDecl::sampling_only: caustic_map.slice_side) the running mean goes on through every move. A
 // new graph, or a new budget, starts again at the first.
 class StillLevels {
  public:
   static constexpr size_t kJudged = 3;
-  StillLevels(double budget_ms, size_t levels) : budget_ms_(budget_ms), levels_(levels) {}
+  static constexpr size_t kHeldBeforeRaise = 30;
+  StillLevels(double budget_ms, size_t levels) : budget_ms_(budget_ms), levels_(levels), cost_over_next_(levels, 0.0) {}
   size_t level() const { return level_; }
   size_t levels() const { return levels_; }
   // A refining frame at the current level took `frame_ms` (input to present). True when the next
-  // frame is to use the next level; judged() then gives the median that decided it.
+  // frame is to use another level (level() says which); judged() then gives the median that
+  // decided it, and after a move back predicted() what the richer level's frames should take.
   bool refined(double frame_ms);
   double judged() const { return judged_ms_; }
+  double predicted() const { return predicted_ms_; }
 
  private:
   double budget_ms_;
   size_t levels_;
   size_t level_ = 0;
   std::vector<double> frames_;  // the current level's last kJudged refining frames
-  double judged_ms_ = 0;
+  double judged_ms_ = 0, predicted_ms_ = 0;
+  // Per level: its frames' median over the next cheaper level's, measured on the cheaper level's
+  // first kJudged frames after the viewer moved down to it (0: not yet).
+  std::vector<double> cost_over_next_;
+  bool measuring_cost_ = false;  // moved down: the first kJudged frames measure cost_over_next_
+  bool raised_ = false;          // the current level was reached by moving back
+  size_t held_ = 0;              // refining frames at the current level
+  size_t hold_ = kHeldBeforeRaise;
 };
 
 // At rest, the steps in which a display frame shows the running result (graph::DisplayStep), so

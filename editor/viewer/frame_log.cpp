@@ -16,10 +16,8 @@ constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::
 
 }  // namespace
 
-void FrameLog::add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still,
-                   size_t still_level) {
-  Entry entry{wall_ms,          frame.gpu_ms, frame.cpu_ms, moving, divider, lowered, still, frame.converging, still_level,
-              frame.accumulated, frame.part,   {},           {}};
+void FrameLog::add(double wall_ms, const graph::FrameResult& frame, const FrameSettings& settings) {
+  Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, settings, frame.converging, frame.accumulated, frame.part, {}, {}};
   for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
@@ -30,15 +28,15 @@ void FrameLog::write(const std::string& path) const {
   out["frames"] = nlohmann::ordered_json::array();
   for (const Entry& e : entries_) {
     all.push_back(e.wall_ms);
-    (e.moving ? moving : still).push_back(e.wall_ms);
+    (e.settings.moving ? moving : still).push_back(e.wall_ms);
     out["frames"].push_back({{"wall_ms", e.wall_ms},
                              {"gpu_ms", e.gpu_ms},
                              {"cpu_ms", e.cpu_ms},
-                             {"moving", e.moving},
-                             {"divider", e.divider},
-                             {"lowered", e.lowered},
-                             {"still", e.still},
-                             {"still_level", e.still_level},
+                             {"moving", e.settings.moving},
+                             {"divider", e.settings.divider},
+                             {"lowered", e.settings.lowered},
+                             {"still", e.settings.still},
+                             {"still_level", e.settings.still_level},
                              {"converging", e.converging},
                              {"accumulated", e.accumulated},
                              {"part", kPartNames[static_cast<size_t>(e.part)]},

@@ -8,13 +8,18 @@
 
 namespace caustica::editor {
 
+// What the viewer drew a frame with.
+struct FrameSettings {
+  bool moving = false;     // the camera or a light changed before this frame (input or --orbit / --move-light)
+  uint32_t divider = 1;    // the frame rendered at the window's size over this (the frame budget)
+  bool lowered = false;    // with the graph parameters' while_moving values
+  bool still = false;      // with their while_still values,
+  size_t still_level = 0;  // those of this level (0: the first) where a parameter lists several
+};
+
 class FrameLog {
  public:
-  // `moving`: the camera or a light changed before this frame (input or --orbit / --move-light).
-  // `divider`: the frame rendered at the window's size over this (the frame budget); `lowered`: with
-  // the graph parameters' while_moving values; `still`: with their while_still values, those of
-  // `still_level` (0: the first) where a parameter lists several.
-  void add(double wall_ms, const graph::FrameResult& frame, bool moving, uint32_t divider, bool lowered, bool still, size_t still_level);
+  void add(double wall_ms, const graph::FrameResult& frame, const FrameSettings& settings);
   // JSON: every frame, and the median and 95th percentile of the wall time over all frames, the
   // moving ones and the still ones. Written through a temporary file, so a killed viewer leaves none.
   void write(const std::string& path) const;
@@ -22,10 +27,8 @@ class FrameLog {
  private:
   struct Entry {
     double wall_ms, gpu_ms, cpu_ms;
-    bool moving;
-    uint32_t divider;
-    bool lowered, still, converging;
-    size_t still_level;
+    FrameSettings settings;
+    bool converging;
     uint64_t accumulated;  // graph::FrameResult
     graph::FramePart part;
     std::vector<std::string> ran, reused;

@@ -144,7 +144,7 @@ class Viewer::Impl {
       if (last_result_.part == graph::FramePart::whole) display_step_ = 0;
       measure_showing_passes();
       if (!options_.stats.empty()) {
-        log_.add(last_wall_ms_, last_result_, moved_, step_.divider, step_.lowered, still_values_, still_levels_.level());
+        log_.add(last_wall_ms_, last_result_, {moved_, step_.divider, step_.lowered, still_values_, still_levels_.level()});
       }
       fit_refining_frames();
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
@@ -294,9 +294,11 @@ class Viewer::Impl {
     return true;
   }
 
-  void configure() {
+  // `showing_passes_kept`: the new plan differs in what refines only (a still level), so the last
+  // whole frame's time still says whether a whole frame fits the budget.
+  void configure(bool showing_passes_kept = false) {
     budget_.new_plan();
-    last_whole_ms_ = 0;
+    if (!showing_passes_kept) last_whole_ms_ = 0;
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
@@ -405,13 +407,19 @@ class Viewer::Impl {
   // passes show the mean, which goes on where the values are sampling-only); the ones after refine
   // again at once, since the whole frames were over the budget already.
   void fit_refining_frames() {
+    const size_t before = still_levels_.level();
     if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;
-    std::fprintf(stderr,
-                 "view: refining frames too slow for the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
-                 options_.budget_ms, still_levels_.judged(), still_levels_.level() + 1, still_levels_.levels());
-    const double whole_ms = last_whole_ms_;
-    configure();
-    last_whole_ms_ = whole_ms;
+    if (still_levels_.level() > before) {
+      std::fprintf(stderr,
+                   "view: refining frames too slow for the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
+                   options_.budget_ms, still_levels_.judged(), still_levels_.level() + 1, still_levels_.levels());
+    } else {
+      std::fprintf(stderr,
+                   "view: refining frames well within the %.0f ms budget again (median %.0f ms, about %.0f ms predicted a level up): "
+                   "the while_still values of level %zu of %zu\n",
+                   options_.budget_ms, still_levels_.judged(), still_levels_.predicted(), still_levels_.level() + 1, still_levels_.levels());
+    }
+    configure(true);
   }
 
   // The graph declares while_still values that this device has not refused.
@@ -554,7 +562,7 @@ class Viewer::Impl {
     }
     if (still_values_ && still_levels_.level() == 0) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     if (still_values_ && still_levels_.level() > 0) {
-      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "still: the graph's while_still values, level %zu of %zu (refining took %.0f ms)",
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "still: the graph's while_still values, level %zu of %zu (moved on refining frames of %.0f ms)",
                          still_levels_.level() + 1, still_levels_.levels(), still_levels_.judged());
     }
     if (frame.accumulated > 0) {

@@ -252,6 +252,14 @@ void PassContext::still_converging() const {
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
 }
+bool PassContext::scene_unchanged_since_last_run() const {
+  return frame().since_reset > 0 && !executor_.plan_->jitters_camera && pass_.frame_params.empty();
+}
+bool PassContext::kept_since_last_run(const std::string& port) const {
+  const PlannedResource& r = resource(port);
+  const auto self = static_cast<uint32_t>(executor_.realized_->recording_pass);
+  return r.kept_across_frames && r.first_use == self && r.last_use == self;
+}
 const nlohmann::json& PassContext::params() const {
   return *executor_.realized_->recording_params;
 }
