@@ -124,11 +124,14 @@ TEST(StillLevels, AQuieterMachineTakesTheRicherLevelBackPredictedFromTheCostMeas
   EXPECT_EQ(refining(levels, {35}), (std::vector<size_t>{0}));
   EXPECT_DOUBLE_EQ(levels.judged(), 35);
   EXPECT_DOUBLE_EQ(levels.predicted(), 70);
-  // The quarter turns out slow again: down at once, and the next move back waits twice as long.
+  // The quarter turns out slow again: down at once (the cost measured anew: 95 / 40), and the next
+  // move back waits twice as long.
   EXPECT_EQ(refining(levels, {95, 95, 95}).back(), 1u);
-  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 1, 30.0);
+  EXPECT_EQ(refining(levels, {40, 40, 40}).back(), 1u);
+  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 4, 30.0);
   EXPECT_EQ(refining(levels, long_quiet).back(), 1u) << "a move back that did not hold did not wait longer";
   EXPECT_EQ(refining(levels, {30}), (std::vector<size_t>{0}));
+  EXPECT_DOUBLE_EQ(levels.predicted(), 30 * 95 / 40.0);
   // A prediction over 0.8 of the budget keeps the cheaper level however long it holds.
   StillLevels busy(100, 3);
   refining(busy, {150, 150, 150, 75, 75, 75});

@@ -24,7 +24,7 @@ struct GraphParameter {
   // not set the parameter in its panel and the device runs the graph with it (exact photons accumulating in
   // place of image-space ones); empty: the value as set. A list in the file gives cheaper values after
   // the first (a smaller slice of the photon grid a frame), which the viewer takes in turn while its
-  // refining frames are over the frame budget (editor::StillLevels).
+  // refining frames are over the frame budget, and back when they fit it (editor::StillLevels).
   std::vector<nlohmann::json> while_still;
 };
 
