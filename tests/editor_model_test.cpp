@@ -814,11 +814,13 @@ TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
       count(check_edit_and_undo(model, "remove " + name, [&] { model.remove_pass(name); }));
       count(check_edit_and_undo(model, "disable " + name, [&] { model.set_enabled(name, false); }));
       for (const auto& param : decl.params) {
-        const nlohmann::json current =
-            pass.contains("params") && pass["params"].contains(param.name) &&
-                    !(pass["params"][param.name].is_string() && pass["params"][param.name].get<std::string>()[0] == '$')
-                ? nlohmann::json::parse(pass["params"][param.name].dump())
-                : param.default_value;
+        // A literal value, not a graph parameter ("$NAME") or an expression (a string for a number).
+        auto literal = [&](const ordered_json& value) {
+          return !value.is_string() || (param.type == graph::ParamType::choice && value.get<std::string>()[0] != '$');
+        };
+        const nlohmann::json current = pass.contains("params") && pass["params"].contains(param.name) && literal(pass["params"][param.name])
+                                           ? nlohmann::json::parse(pass["params"][param.name].dump())
+                                           : param.default_value;
         count(check_edit_and_undo(model, "set " + name + "." + param.name,
                                   [&] { model.set_param(name, param.name, other_value(param, current)); }));
         count(check_edit_and_undo(model, "reset " + name + "." + param.name, [&] { model.reset_param(name, param.name); }));
