@@ -110,32 +110,33 @@ TEST(StillLevels, RefiningFramesOverTheBudgetTakeTheNextLevelJudgedOnTheirMedian
 }
 
 // A machine that got quieter: after kHeldBeforeRaise refining frames at a level, the richer level
-// comes back when its frames are predicted within 0.8 of the budget (this level's median times the
-// richer level's cost over this one's, as measured when the viewer moved down). A move back that
-// does not hold doubles the wait for the next.
+// comes back when its frames are predicted within 0.7 of the budget (this level's median times the
+// richer level's cost over this one's, measured on this level's second three frames when the
+// viewer moved down; its first ones run slower after the new plan). A move back that does not
+// hold doubles the wait for the next.
 TEST(StillLevels, AQuieterMachineTakesTheRicherLevelBackPredictedFromTheCostMeasuredGoingDown) {
   StillLevels levels(100, 3);
   EXPECT_EQ(refining(levels, {150, 150, 150}).back(), 1u);
-  // The ninth's first three measure the quarter at 150 / 75 = 2 times its cost.
-  EXPECT_EQ(refining(levels, {75, 75, 75}).back(), 1u);
-  // Quieter: 35 ms predicts 70 for the quarter, but only after 30 frames at the ninth.
-  const std::vector<double> quiet(StillLevels::kHeldBeforeRaise - 4, 35.0);
+  // The ninth's second three measure the quarter at 150 / 75 = 2 times its cost.
+  EXPECT_EQ(refining(levels, {85, 85, 85, 75, 75, 75}).back(), 1u);
+  // Quieter: 30 ms predicts 60 for the quarter, but only after 30 frames at the ninth.
+  const std::vector<double> quiet(StillLevels::kHeldBeforeRaise - 7, 30.0);
   EXPECT_EQ(refining(levels, quiet).back(), 1u) << "moved back before holding the level";
-  EXPECT_EQ(refining(levels, {35}), (std::vector<size_t>{0}));
-  EXPECT_DOUBLE_EQ(levels.judged(), 35);
-  EXPECT_DOUBLE_EQ(levels.predicted(), 70);
+  EXPECT_EQ(refining(levels, {30}), (std::vector<size_t>{0}));
+  EXPECT_DOUBLE_EQ(levels.judged(), 30);
+  EXPECT_DOUBLE_EQ(levels.predicted(), 60);
   // The quarter turns out slow again: down at once (the cost measured anew: 95 / 40), and the next
   // move back waits twice as long.
   EXPECT_EQ(refining(levels, {95, 95, 95}).back(), 1u);
-  EXPECT_EQ(refining(levels, {40, 40, 40}).back(), 1u);
-  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 4, 30.0);
+  EXPECT_EQ(refining(levels, {40, 40, 40, 40, 40, 40}).back(), 1u);
+  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 7, 28.0);
   EXPECT_EQ(refining(levels, long_quiet).back(), 1u) << "a move back that did not hold did not wait longer";
-  EXPECT_EQ(refining(levels, {30}), (std::vector<size_t>{0}));
-  EXPECT_DOUBLE_EQ(levels.predicted(), 30 * 95 / 40.0);
-  // A prediction over 0.8 of the budget keeps the cheaper level however long it holds.
+  EXPECT_EQ(refining(levels, {28}), (std::vector<size_t>{0}));
+  EXPECT_DOUBLE_EQ(levels.predicted(), 28 * 95 / 40.0);
+  // A prediction over 0.7 of the budget keeps the cheaper level however long it holds.
   StillLevels busy(100, 3);
-  refining(busy, {150, 150, 150, 75, 75, 75});
-  const std::vector<double> steady(3 * StillLevels::kHeldBeforeRaise, 45.0);  // predicts 90
+  refining(busy, {150, 150, 150, 75, 75, 75, 75, 75, 75});
+  const std::vector<double> steady(3 * StillLevels::kHeldBeforeRaise, 36.0);  // predicts 72
   EXPECT_EQ(refining(busy, steady).back(), 1u);
 }
 

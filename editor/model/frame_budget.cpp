@@ -12,6 +12,9 @@ constexpr double kRaiseMargin = 0.8;
 // spread about their median (a p95 a quarter above it on this machine), and the window's answer is
 // judged by the slow ones.
 constexpr double kLevelMargin = 0.9;
+// A richer still level comes back only when predicted this far under the budget: the prediction
+// scales its cost measured at another load, and a move that does not hold costs a whole frame.
+constexpr double kLevelRaiseMargin = 0.7;
 }  // namespace
 
 FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale, bool can_lower) {
@@ -45,8 +48,12 @@ bool StillLevels::refined(double frame_ms) {
   std::vector<double> sorted = frames_;
   std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
   const double median = sorted[kJudged / 2];
-  if (measuring_cost_) cost_over_next_[level_ - 1] = judged_ms_ / median;
-  measuring_cost_ = false;
+  // On the second window: the first frames after a new plan run slower (the whole frame's work
+  // before them still settling).
+  if (measuring_cost_ && held_ >= 2 * kJudged) {
+    cost_over_next_[level_ - 1] = judged_ms_ / median;
+    measuring_cost_ = false;
+  }
   auto move = [&](size_t to) {
     judged_ms_ = median;
     level_ = to;
@@ -60,7 +67,8 @@ bool StillLevels::refined(double frame_ms) {
     measuring_cost_ = true;
     return move(level_ + 1);
   }
-  if (level_ > 0 && held_ >= hold_ && cost_over_next_[level_ - 1] > 0 && median * cost_over_next_[level_ - 1] <= kRaiseMargin * budget_ms_) {
+  if (level_ > 0 && held_ >= hold_ && cost_over_next_[level_ - 1] > 0 &&
+      median * cost_over_next_[level_ - 1] <= kLevelRaiseMargin * budget_ms_) {
     predicted_ms_ = median * cost_over_next_[level_ - 1];
     raised_ = true;
     return move(level_ - 1);

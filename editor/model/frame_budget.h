@@ -54,8 +54,8 @@ class FrameBudget {
 // is over 0.9 of the budget (one slow frame does not decide). It moves back to the richer level
 // when the machine got quieter: after kHeldBeforeRaise refining frames at a level, when the last
 // kJudged frames' median times the richer level's cost over this one's (measured when the viewer
-// moved down, at the load of then) is predicted within 0.8 of the budget. A move back that does not
-// hold makes the next wait twice as long. Where the values are sampling-only
+// moved down, on this level's frames kJudged + 1 to 2 kJudged, at the load of then) is predicted
+// within 0.7 of the budget. A move back that does not hold makes the next wait twice as long. Where the values are sampling-only
 // (ParamDecl::sampling_only: caustic_map.slice_side) the running mean goes on through every move. A
 // new graph, or a new budget, starts again at the first.
 class StillLevels {
@@ -79,9 +79,9 @@ class StillLevels {
   std::vector<double> frames_;  // the current level's last kJudged refining frames
   double judged_ms_ = 0, predicted_ms_ = 0;
   // Per level: its frames' median over the next cheaper level's, measured on the cheaper level's
-  // first kJudged frames after the viewer moved down to it (0: not yet).
+  // second kJudged frames after the viewer moved down to it (0: not yet).
   std::vector<double> cost_over_next_;
-  bool measuring_cost_ = false;  // moved down: the first kJudged frames measure cost_over_next_
+  bool measuring_cost_ = false;  // moved down: the second kJudged frames measure cost_over_next_
   bool raised_ = false;          // the current level was reached by moving back
   size_t held_ = 0;              // refining frames at the current level
   size_t hold_ = kHeldBeforeRaise;
