@@ -125,19 +125,37 @@ TEST(StillLevels, AQuieterMachineTakesTheRicherLevelBackPredictedFromTheCostMeas
   EXPECT_EQ(refining(levels, {30}), (std::vector<size_t>{0}));
   EXPECT_DOUBLE_EQ(levels.judged(), 30);
   EXPECT_DOUBLE_EQ(levels.predicted(), 60);
-  // The quarter turns out slow again: down at once (the cost measured anew: 95 / 40), and the next
-  // move back waits twice as long.
+  // The quarter turns out slow again: down at once, and the next move back waits twice as long.
   EXPECT_EQ(refining(levels, {95, 95, 95}).back(), 1u);
   EXPECT_EQ(refining(levels, {40, 40, 40, 40, 40, 40}).back(), 1u);
-  const std::vector<double> long_quiet(2 * StillLevels::kHeldBeforeRaise - 7, 28.0);
-  EXPECT_EQ(refining(levels, long_quiet).back(), 1u) << "a move back that did not hold did not wait longer";
-  EXPECT_EQ(refining(levels, {28}), (std::vector<size_t>{0}));
-  EXPECT_DOUBLE_EQ(levels.predicted(), 28 * 95 / 40.0);
+  const std::vector<double> quieter(2 * StillLevels::kHeldBeforeRaise - 7, 20.0);
+  EXPECT_EQ(refining(levels, quieter).back(), 1u) << "a move back that did not hold did not wait longer";
+  EXPECT_EQ(refining(levels, {20}), (std::vector<size_t>{0}));
+  // The cost is now the 95 / 30 the quarter's frames showed against the ninth's before that move,
+  // more than the 95 / 40 measured going down: the most measured counts.
+  EXPECT_DOUBLE_EQ(levels.predicted(), 20 * 95 / 30.0);
+  StillLevels again(100, 3);
+  refining(again, {150, 150, 150, 85, 85, 85, 75, 75, 75});
+  EXPECT_EQ(refining(again, std::vector<double>(StillLevels::kHeldBeforeRaise - 6, 30.0)).back(), 0u);
+  refining(again, {95, 95, 95, 40, 40, 40, 40, 40, 40});
+  EXPECT_EQ(refining(again, std::vector<double>(3 * StillLevels::kHeldBeforeRaise, 28.0)).back(), 1u)
+      << "moved back on the cost measured going down (28 ms predicts 66.5 with it, 88.7 with the move's own)";
   // A prediction over 0.7 of the budget keeps the cheaper level however long it holds.
   StillLevels busy(100, 3);
   refining(busy, {150, 150, 150, 75, 75, 75, 75, 75, 75});
   const std::vector<double> steady(3 * StillLevels::kHeldBeforeRaise, 36.0);  // predicts 72
   EXPECT_EQ(refining(busy, steady).back(), 1u);
+}
+
+// At rest the picture shows the mean every half second at first, then each time the mean has grown
+// by a tenth, and at least every two seconds.
+TEST(DisplayDue, ShowsComeLessOftenAsTheMeanGrows) {
+  EXPECT_FALSE(display_due(0.4, 20, 10)) << "within half a second of the last";
+  EXPECT_TRUE(display_due(0.5, 11, 10));
+  EXPECT_FALSE(display_due(1.2, 105, 100)) << "the mean grew by 5%";
+  EXPECT_TRUE(display_due(1.2, 110, 100));
+  EXPECT_TRUE(display_due(2.0, 101, 100)) << "two seconds passed";
+  EXPECT_TRUE(display_due(0.5, 1, 0)) << "nothing shown yet";
 }
 
 TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {

@@ -48,23 +48,30 @@ bool StillLevels::refined(double frame_ms) {
   std::vector<double> sorted = frames_;
   std::nth_element(sorted.begin(), sorted.begin() + kJudged / 2, sorted.end());
   const double median = sorted[kJudged / 2];
-  // On the second window: the first frames after a new plan run slower (the whole frame's work
-  // before them still settling).
-  if (measuring_cost_ && held_ >= 2 * kJudged) {
-    cost_over_next_[level_ - 1] = judged_ms_ / median;
+  const bool over = median > kLevelMargin * budget_ms_ && level_ + 1 < levels_;
+  // The cost of a level over the next cheaper one, from the level left and this one: on the second
+  // window (the first frames after a new plan run slower, the whole frame's work before them still
+  // settling), or on the first where it already moves on. The most ever measured, since the load
+  // changes the ratio (a fixed part of each frame does not scale) and a move back on too low a
+  // one does not hold.
+  if (measuring_cost_ && (held_ >= 2 * kJudged || over)) {
+    const bool went_down = left_level_ < level_;
+    double& cost = cost_over_next_[std::min(left_level_, level_)];
+    cost = std::max(cost, went_down ? left_ms_ / median : median / left_ms_);
     measuring_cost_ = false;
   }
   auto move = [&](size_t to) {
-    judged_ms_ = median;
+    judged_ms_ = left_ms_ = median;
+    left_level_ = level_;
+    measuring_cost_ = true;
     level_ = to;
     frames_.clear();
     held_ = 0;
     return true;
   };
-  if (median > kLevelMargin * budget_ms_ && level_ + 1 < levels_) {
+  if (over) {
     if (raised_ && held_ < hold_) hold_ *= 2;  // the move back did not hold
     raised_ = false;
-    measuring_cost_ = true;
     return move(level_ + 1);
   }
   if (level_ > 0 && held_ >= hold_ && cost_over_next_[level_ - 1] > 0 &&
@@ -89,6 +96,11 @@ std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double ove
   }
   ends.push_back(pass_ms.size());
   return ends;
+}
+
+bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulated_shown) {
+  if (since_shown_s < kShowAfter) return false;
+  return since_shown_s >= kShowAtMost || accumulated * 10 >= accumulated_shown * 11;
 }
 
 }  // namespace caustica::editor

@@ -53,9 +53,10 @@ class FrameBudget {
 // level and moves to the next whenever the median of the last kJudged refining frames at a level
 // is over 0.9 of the budget (one slow frame does not decide). It moves back to the richer level
 // when the machine got quieter: after kHeldBeforeRaise refining frames at a level, when the last
-// kJudged frames' median times the richer level's cost over this one's (measured when the viewer
-// moved down, on this level's frames kJudged + 1 to 2 kJudged, at the load of then) is predicted
-// within 0.7 of the budget. A move back that does not hold makes the next wait twice as long. Where the values are sampling-only
+// kJudged frames' median times the richer level's cost over this one's is predicted within 0.7 of
+// the budget. That cost is the most measured after any move between the two (the level left
+// against the new one's frames kJudged + 1 to 2 kJudged, both at the load of then). A move back
+// that does not hold makes the next wait twice as long, and its frames raise the cost. Where the values are sampling-only
 // (ParamDecl::sampling_only: caustic_map.slice_side) the running mean goes on through every move. A
 // new graph, or a new budget, starts again at the first.
 class StillLevels {
@@ -78,10 +79,12 @@ class StillLevels {
   size_t level_ = 0;
   std::vector<double> frames_;  // the current level's last kJudged refining frames
   double judged_ms_ = 0, predicted_ms_ = 0;
-  // Per level: its frames' median over the next cheaper level's, measured on the cheaper level's
-  // second kJudged frames after the viewer moved down to it (0: not yet).
+  // Per level: its frames' median over the next cheaper level's, the most measured after a move
+  // between them (0: not yet).
   std::vector<double> cost_over_next_;
-  bool measuring_cost_ = false;  // moved down: the second kJudged frames measure cost_over_next_
+  bool measuring_cost_ = false;  // just moved: the level's second kJudged frames measure cost_over_next_
+  size_t left_level_ = 0;        // the level the last move left, and its median then
+  double left_ms_ = 0;
   bool raised_ = false;          // the current level was reached by moving back
   size_t held_ = 0;              // refining frames at the current level
   size_t hold_ = kHeldBeforeRaise;
@@ -94,5 +97,14 @@ class StillLevels {
 // one that costs nothing (the G-buffer, unchanged at rest) never makes a step alone.
 // Returns each step's end (by number among the showing passes); the last is pass_ms.size().
 std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms);
+
+// At rest, while frames refine apart, whether the next frame is to show the running mean: at least
+// kShowAfter after the picture last changed, and then once the mean has grown by a tenth since
+// (`accumulated` against `accumulated_shown`: graph::FrameResult::accumulated), or kShowAtMost has
+// passed. A mean's picture changes less with each frame as it grows, so later shows come less
+// often and more of the time goes into the mean (Cycles' viewport, too, redraws less often as
+// samples add up).
+inline constexpr double kShowAfter = 0.5, kShowAtMost = 2.0;  // seconds
+bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulated_shown);
 
 }  // namespace caustica::editor

@@ -138,6 +138,7 @@ class Viewer::Impl {
       if (last_result_.part == graph::FramePart::whole && last_result_.frame.index > 0) last_whole_ms_ = last_wall_ms_;
       if (last_result_.part == graph::FramePart::whole || (last_result_.part == graph::FramePart::display && display_step_ == 0)) {
         last_shown_ = clock::now();
+        accumulated_shown_ = last_result_.accumulated;
       }
       // A frame the executor ran whole though asked for a part (a new plan's first) showed
       // everything: a display it began starts again from its first step next time.
@@ -360,7 +361,7 @@ class Viewer::Impl {
   }
 
   // At rest, with a plan that refines apart (an accumulating mean) whose whole frame is over the
-  // budget, frames refine the mean and every kShowInterval one shows it, as Cycles' viewport
+  // budget, frames refine the mean and now and then one shows it (editor::display_due), as Cycles' viewport
   // refreshes its picture between samples: the window answers input within a refining frame, and
   // most of the time goes into the mean. A refining frame leaves the window's picture as it was.
   // A display frame shows in steps when its showing passes together would go over the budget
@@ -372,7 +373,10 @@ class Viewer::Impl {
       display_step_ = 0;
       return {graph::FramePart::whole, {}};
     }
-    if (display_step_ == 0 && std::chrono::steady_clock::now() - last_shown_ < kShowInterval) return {graph::FramePart::refine, {}};
+    const double since_shown_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_shown_).count();
+    if (display_step_ == 0 && !editor::display_due(since_shown_s, last_result_.accumulated, accumulated_shown_)) {
+      return {graph::FramePart::refine, {}};
+    }
     if (display_step_ == 0) display_ends_ = display_steps(showing_ms_, frame_overhead_ms_, options_.budget_ms);
     graph::DisplayStep step{display_step_ == 0 ? 0 : display_ends_[display_step_ - 1], display_ends_[display_step_]};
     display_step_ = display_step_ + 1 == display_ends_.size() ? 0 : display_step_ + 1;
@@ -400,7 +404,6 @@ class Viewer::Impl {
     }
     frame_overhead_ms_ = std::max(0.0, last_wall_ms_ - last_result_.gpu_ms);
   }
-  static constexpr std::chrono::milliseconds kShowInterval{500};
 
   // At rest, refining frames too slow for the budget take the graph's next while_still values, where it
   // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the camera's
@@ -569,8 +572,8 @@ class Viewer::Impl {
       ImGui::Text("mean of %llu frames%s", static_cast<unsigned long long>(frame.accumulated), frame.converging ? "" : ", converged");
     }
     if (frame.part != graph::FramePart::whole) {
-      ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f s%s",
-                         static_cast<unsigned long long>(frame.frame.since_reset + 1), std::chrono::duration<double>(kShowInterval).count(),
+      ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: refining (%llu frames), the picture shown every %.1f to %.1f s%s",
+                         static_cast<unsigned long long>(frame.frame.since_reset + 1), editor::kShowAfter, editor::kShowAtMost,
                          display_ends_.size() > 1 ? (" in " + std::to_string(display_ends_.size()) + " frames").c_str() : "");
     }
     ImGui::TextDisabled("F1 help, Tab hide panels");
@@ -832,6 +835,7 @@ class Viewer::Impl {
   double last_wall_ms_ = 0;            // the last frame's, input to present
   double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart), not its first
   std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
+  uint64_t accumulated_shown_ = 0;                    // the frames in the running mean it showed
   std::vector<double> showing_ms_;                    // measure_showing_passes()
   double frame_overhead_ms_ = 0;
   std::vector<size_t> display_ends_;   // the steps of the display under way (editor::display_steps)
