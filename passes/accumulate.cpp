@@ -86,10 +86,10 @@ graph::PassTypeDecl accumulate_pass_type() {
   PassTypeDecl decl{"accumulate",
                     "Compute pass: the running mean of a caustic map (r32f, a layer per colour channel) over the frames since the last "
                     "reset, each frame weighed by weight, summed in fp32 with Kahan's compensation. Resets when the lights, the geometry "
-                    "or the materials change, not "
-                    "when the camera moves, and on a new plan that changed it or what it reads (parameters, sizes, its source's "
-                    "passes); where a viewer or editor's new plan changed neither, the mean goes on. Counter <pass>.frames: the frames "
-                    "in the mean.",
+                    "or the materials change, not when the camera moves, and on a new plan that changed it or what it reads "
+                    "(parameters other than sampling-only ones, sizes, its source's passes); where a viewer or editor's new plan "
+                    "changed neither, the mean goes on. "
+                    "Counter <pass>.frames: the frames in the mean.",
                     PassQueue::compute,
                     {{"source",
                       PortAccess::read,
