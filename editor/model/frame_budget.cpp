@@ -57,11 +57,11 @@ bool StillLevels::refined(double frame_ms) {
   if (measuring_cost_ && (held_ >= 2 * kJudged || over)) {
     const bool went_down = left_level_ < level_;
     double& cost = cost_over_next_[std::min(left_level_, level_)];
-    cost = std::max(cost, went_down ? left_ms_ / median : median / left_ms_);
+    cost = std::max(cost, went_down ? judged_ms_ / median : median / judged_ms_);
     measuring_cost_ = false;
   }
   auto move = [&](size_t to) {
-    judged_ms_ = left_ms_ = median;
+    judged_ms_ = median;
     left_level_ = level_;
     measuring_cost_ = true;
     level_ = to;

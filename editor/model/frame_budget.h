@@ -78,13 +78,12 @@ class StillLevels {
   size_t levels_;
   size_t level_ = 0;
   std::vector<double> frames_;  // the current level's last kJudged refining frames
-  double judged_ms_ = 0, predicted_ms_ = 0;
+  double judged_ms_ = 0, predicted_ms_ = 0;  // judged: the median at the level the last move left
   // Per level: its frames' median over the next cheaper level's, the most measured after a move
   // between them (0: not yet).
   std::vector<double> cost_over_next_;
   bool measuring_cost_ = false;  // just moved: the level's second kJudged frames measure cost_over_next_
-  size_t left_level_ = 0;        // the level the last move left, and its median then
-  double left_ms_ = 0;
+  size_t left_level_ = 0;        // the level the last move left
   bool raised_ = false;          // the current level was reached by moving back
   size_t held_ = 0;              // refining frames at the current level
   size_t hold_ = kHeldBeforeRaise;

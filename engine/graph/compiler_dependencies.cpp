@@ -73,8 +73,8 @@ std::vector<uint64_t> Compiler::result_keys(bool running) const {
     const PlannedPass& pass = plan_.passes[i];
     nlohmann::json params = node.params;
     std::map<std::string, std::string> frame_params = node.frame_params;
-    for (const ParamDecl& p : running ? node.decl->params : std::vector<ParamDecl>{}) {
-      if (!p.sampling_only) continue;
+    for (const ParamDecl& p : node.decl->params) {
+      if (!running || !p.sampling_only) continue;
       params.erase(p.name);
       frame_params.erase(p.name);
     }

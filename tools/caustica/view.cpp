@@ -71,7 +71,9 @@ options:
                         exact ray-query photons accumulating, on a device with VK_KHR_ray_query);
                         while a pass converges (an accumulating mean) frames go on at rest; where
                         it lists several values (slice_side: 2, 3, 4), refining frames too slow
-                        for the budget (a median over 0.9 of it) take the next, cheaper one
+                        for the budget (a median over 0.9 of it) take the next, cheaper one, and
+                        a quieter machine's the richer one back; the picture shows the mean
+                        every 0.5 to 2 s
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --move-frames A:B     the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90
