@@ -158,6 +158,14 @@ TEST(DisplayDue, ShowsComeLessOftenAsTheMeanGrows) {
   EXPECT_TRUE(display_due(0.5, 1, 0)) << "nothing shown yet";
 }
 
+// A frame that left the picture as it was goes to the window only for input or the panels' numbers.
+TEST(PresentDue, AFrameThatLeftThePictureIsPresentedOnlyForInputOrThePanel) {
+  EXPECT_TRUE(present_due(true, false, 0.0));
+  EXPECT_FALSE(present_due(false, false, 0.2));
+  EXPECT_TRUE(present_due(false, true, 0.0)) << "input answers within the frame";
+  EXPECT_TRUE(present_due(false, false, kPanelRefresh));
+}
+
 TEST(DisplaySteps, ShowingPassesShareAStepWhileTheyFitTheBudget) {
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 100), (std::vector<size_t>{1, 3}));
   EXPECT_EQ(display_steps({40, 60, 12}, 10, 200), (std::vector<size_t>{3})) << "all fit one frame";

@@ -103,4 +103,8 @@ bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulate
   return since_shown_s >= kShowAtMost || accumulated * 10 >= accumulated_shown * 11;
 }
 
+bool present_due(bool picture_changed, bool input, double since_presented_s) {
+  return picture_changed || input || since_presented_s >= kPanelRefresh;
+}
+
 }  // namespace caustica::editor

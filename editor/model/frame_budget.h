@@ -106,4 +106,11 @@ std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double ove
 inline constexpr double kShowAfter = 0.5, kShowAtMost = 2.0;  // seconds
 bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulated_shown);
 
+// Whether a frame goes to the window: one that changed the picture does, and one that left it as it
+// was (a refining frame, a display step before the last) only after input, so that the panels answer
+// at once, or when kPanelRefresh has passed since the last, so that their numbers move. On lavapipe
+// under X the copy into the window and the panels' draw cost about a fifth of a refining frame.
+inline constexpr double kPanelRefresh = 0.25;  // seconds
+bool present_due(bool picture_changed, bool input, double since_presented_s);
+
 }  // namespace caustica::editor

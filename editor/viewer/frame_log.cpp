@@ -37,6 +37,7 @@ void FrameLog::write(const std::string& path) const {
                              {"lowered", e.settings.lowered},
                              {"still", e.settings.still},
                              {"still_level", e.settings.still_level},
+                             {"presented", e.settings.presented},
                              {"converging", e.converging},
                              {"accumulated", e.accumulated},
                              {"part", kPartNames[static_cast<size_t>(e.part)]},

@@ -15,6 +15,7 @@ struct FrameSettings {
   bool lowered = false;    // with the graph parameters' while_moving values
   bool still = false;      // with their while_still values,
   size_t still_level = 0;  // those of this level (0: the first) where a parameter lists several
+  bool presented = true;   // the frame went to the window (editor::present_due)
 };
 
 class FrameLog {

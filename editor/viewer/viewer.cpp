@@ -145,7 +145,7 @@ class Viewer::Impl {
       if (last_result_.part == graph::FramePart::whole) display_step_ = 0;
       measure_showing_passes();
       if (!options_.stats.empty()) {
-        log_.add(last_wall_ms_, last_result_, {moved_, step_.divider, step_.lowered, still_values_, still_levels_.level()});
+        log_.add(last_wall_ms_, last_result_, {moved_, step_.divider, step_.lowered, still_values_, still_levels_.level(), presented_});
       }
       fit_refining_frames();
       // A still view refines: frames go on while a pass converges (an accumulating mean) or the
@@ -662,6 +662,13 @@ class Viewer::Impl {
       std::fprintf(stderr, "view: screenshot %s\n", name.c_str());
     }
 
+    // frame_part() counted the display's steps on; one that ran whole showed everything.
+    const bool picture_changed = frame.part == graph::FramePart::whole || (frame.part == graph::FramePart::display && display_step_ == 0);
+    const auto now = std::chrono::steady_clock::now();
+    presented_ =
+        editor::present_due(picture_changed || must_show || last, events.any, std::chrono::duration<double>(now - last_presented_).count());
+    if (!presented_) return;
+    last_presented_ = now;
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     if (events.button_moved) ImGui::GetIO().MousePos = ImVec2(static_cast<float>(events.button_x), static_cast<float>(events.button_y));
@@ -670,7 +677,10 @@ class Viewer::Impl {
     draw_ui(frame, inspected);
     ImGui::Render();
     // An edit in the panels recompiled the graph: the frame's images are gone, show the next one.
-    if (blit && executor_.compile_count() != compiled) return;
+    if (blit && executor_.compile_count() != compiled) {
+      presented_ = false;
+      return;
+    }
 
     uint32_t index = 0;
     VkResult acquired =
@@ -834,6 +844,8 @@ class Viewer::Impl {
   bool moved_ = false;                 // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;            // the last frame's, input to present
   double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart), not its first
+  std::chrono::steady_clock::time_point last_presented_;  // the last frame that went to the window
+  bool presented_ = false;                                // the last frame went to the window
   std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
   uint64_t accumulated_shown_ = 0;                    // the frames in the running mean it showed
   std::vector<double> showing_ms_;                    // measure_showing_passes()

@@ -124,6 +124,15 @@ for level in (0, 1):
 # The mean goes on through the levels: every frame that refines it (not a display step) adds one.
 counted = [f["accumulated"] for f in frames if f["part"] != "display"]
 assert counted == list(range(1, len(counted) + 1)), counted
+# A frame that leaves the picture as it was goes to the window only every quarter second (the
+# panel's numbers): a frame that changes it always does.
+for f in frames:
+    if f["part"] == "whole" or (f["part"] == "display" and f["ran"][-1] == "tonemap"): assert f["presented"], f
+assert not all(f["presented"] for f in frames if f["part"] == "refine"), frames
+unpresented_ms = 0
+for f in frames:
+    unpresented_ms = 0 if f["presented"] else unpresented_ms + f["wall_ms"]
+    assert unpresented_ms < 250, frames
 PY
 # Resting, orbiting and resting again: the still plan's mean goes on where it stood (it is parked
 # while the moving plan averages its own photons, and the camera is not what it depends on).

@@ -55,8 +55,9 @@ options:
   --no-stage            with a model file: no floor
   --continuous          render every frame even when nothing changes (for timing; key C toggles it)
   --max-fps N           frame-rate cap (default 60; 0: none)
-  --stats FILE.json     at exit, every frame's wall time (input to present), GPU and recording time,
-                        the passes that ran and those reused (unchanged since they last ran), and the
+  --stats FILE.json     at exit, every frame's wall time (input to present, or to the frame's end where
+                        it was not presented), GPU and recording time, whether it was presented, the
+                        passes that ran and those reused (unchanged since they last ran), and the
                         median and 95th percentile of the wall time, over all frames and while moving
   --every-pass          run every pass every frame; by default a pass whose inputs, parameters and
                         scene parts (camera, lights, geometry) did not change keeps its last result
@@ -73,7 +74,8 @@ options:
                         it lists several values (slice_side: 2, 3, 4), refining frames too slow
                         for the budget (a median over 0.9 of it) take the next, cheaper one, and
                         a quieter machine's the richer one back; the picture shows the mean
-                        every 0.5 to 2 s
+                        every 0.5 to 2 s, and frames that leave it go to the window only after
+                        input or every 0.25 s
   --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
   --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
   --move-frames A:B     the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90
