@@ -406,9 +406,9 @@ class Viewer::Impl {
   }
 
   // At rest, refining frames too slow for the budget take the graph's next while_still values, where it
-  // lists cheaper ones (editor::StillLevels). The new plan's first frame runs whole (the camera's
-  // passes show the mean, which goes on where the values are sampling-only); the ones after refine
-  // again at once, since the whole frames were over the budget already.
+  // lists cheaper ones (editor::StillLevels). Where the values are sampling-only the mean goes on,
+  // and the new plan's showing passes carry over what the plan before's last showed
+  // (PlannedPass::showing_key): its first frame refines at once, the picture standing.
   void fit_refining_frames() {
     const size_t before = still_levels_.level();
     if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;

@@ -118,6 +118,7 @@ void Compiler::find_result_keys() {
                                            [&](const auto& b) { return plan_.resources[b.resource].previous_of != kNoResource; });
     pass.result_key = pass.reusable(true) ? results[i] : 0;
     pass.running_key = pass.refines && !reads_history ? running[i] : 0;
+    pass.showing_key = plan_.refines_apart && !pass.refines && pass.result_key == 0 ? running[i] : 0;
   }
 }
 

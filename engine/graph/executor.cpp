@@ -444,21 +444,27 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
   carried_ = {};
   if (!carry || !both_reuse || realized_before->frame_index == 0) return;
   const std::vector<bool> stale = stale_passes(*before, *realized_before, edited);
-  std::map<uint64_t, size_t> ran_before;  // result key -> the pass that has it, where it ran
+  // Result key, or showing key -> the pass that has it, where it ran.
+  std::map<uint64_t, size_t> ran_before, shown_before;
   for (size_t j = 0; j < before->passes.size(); ++j) {
     const PlannedPass& pass = before->passes[j];
-    if (!stale[j] && pass.result_key != 0 && j < realized_before->reset_keys.size() && realized_before->reset_keys[j]) {
-      ran_before[pass.result_key] = j;
-    }
+    if (stale[j] || j >= realized_before->reset_keys.size() || !realized_before->reset_keys[j]) continue;
+    if (pass.result_key != 0) ran_before[pass.result_key] = j;
+    if (pass.showing_key != 0) shown_before[pass.showing_key] = j;
   }
+  auto carried_from = [&](const PlannedPass& pass) -> std::optional<size_t> {
+    if (const auto found = ran_before.find(pass.result_key); pass.result_key != 0 && found != ran_before.end()) return found->second;
+    if (const auto found = shown_before.find(pass.showing_key); pass.showing_key != 0 && found != shown_before.end()) return found->second;
+    return std::nullopt;
+  };
   Realized& real = *realized_;
   real.reset_keys.resize(plan_->passes.size());
   real.pass_frames.resize(plan_->passes.size());
   for (size_t i = 0; i < plan_->passes.size(); ++i) {
     const PlannedPass& pass = plan_->passes[i];
-    const auto found = ran_before.find(pass.result_key);
-    if (pass.result_key == 0 || found == ran_before.end()) continue;
-    const PlannedPass& was = before->passes[found->second];
+    const std::optional<size_t> from = carried_from(pass);
+    if (!from) continue;
+    const PlannedPass& was = before->passes[*from];
     std::vector<std::pair<uint32_t, uint32_t>> images;
     bool images_only = true;
     for (const auto& [port, resource] : pass.ports) {
@@ -471,8 +477,8 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
       // A resource that several carried passes write (one rewriting another's) is copied once.
       if (std::find(carried_.images.begin(), carried_.images.end(), image) == carried_.images.end()) carried_.images.push_back(image);
     }
-    real.reset_keys[i] = realized_before->reset_keys[found->second];
-    real.pass_frames[i] = realized_before->pass_frames[found->second];
+    real.reset_keys[i] = realized_before->reset_keys[*from];
+    real.pass_frames[i] = realized_before->pass_frames[*from];
     for (const auto& [counter, owner] : realized_before->counter_passes) {
       if (owner == pass.name) real.last_counters[counter] = realized_before->last_counters[counter];
     }

@@ -136,7 +136,8 @@ class Executor {
   // A new plan that reuses unchanged passes takes over the results of the passes whose result key
   // (PlannedPass::result_key) the plan before had and which ran there: their images are copied in
   // on its first frame (record_carried) and they are not run again until what they depend on
-  // changes. The plan before is kept until then.
+  // changes; in a plan that refines apart, so are the showing passes' whose showing key
+  // (PlannedPass::showing_key) the plan before had. The plan before is kept until then.
   void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before);
   void record_carried(VkCommandBuffer cmd);
   // The passes of the plan before (or of a plan parked since) set up with a saved shader file, or

@@ -126,6 +126,12 @@ struct PlannedPass {
   // restart the mean, nor does a plan in between (the viewer's while_moving values during an orbit),
   // nor one that differs only in sampling-only parameters (ParamDecl::sampling_only).
   uint64_t running_key = 0;
+  // In a plan that refines apart, for a showing pass that follows the frame (it reads a running
+  // result): the same hash as the running key's. A later plan's pass with the same key shows the
+  // same running results as this one last did, so the executor carries its images over as it does
+  // a result's: a still level's step (a sampling-only change) then goes on refining at once, its
+  // picture standing, instead of showing it again in a frame of its own.
+  uint64_t showing_key = 0;
 };
 
 struct MemoryBlock {
