@@ -484,7 +484,8 @@ TEST(Progressive, AMeanGoesOnWhenTheSliceChanges) {
 // a new plan whose showing passes show what the plan before's did: they are carried over with their
 // pictures, so its first frame refines at once (it ran whole, about 0.3 s at 1280x720 on lavapipe)
 // and the picture stands until the next display, which is then that of the same frames run whole.
-// An exposure edit with it changes what the tone map shows: that frame runs whole.
+// The images are handed over, not copied: the picture is the same image. An exposure edit with it
+// changes what the tone map shows: that frame runs whole.
 TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   auto scene = load_bundled_scene("glass_bunny");
   const auto sets = with(kSmall, {"grid=64"});
@@ -509,6 +510,7 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   for (int f = 0; f < 3; ++f) run(graph::FramePart::refine);
   run(graph::FramePart::display, true);
   const io::ImageData shown = e.executor.read_image("ldr");
+  const VkImage shown_in = e.executor.frame_image("ldr").image;
   for (int f = 0; f < 2; ++f) run(graph::FramePart::refine);
 
   e.executor.configure(graph_with({"slice_side=3"}), e.width, e.height);
@@ -516,6 +518,7 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   EXPECT_EQ(part, graph::FramePart::refine) << "the new level's first frame ran whole";
   EXPECT_EQ(ran, (std::set<std::string>{"caustics", "accumulate"}));
   EXPECT_EQ(relative_difference(e.executor.read_image("ldr"), shown), 0.0) << "the picture did not stand";
+  EXPECT_EQ(e.executor.frame_image("ldr").image, shown_in) << "the picture was copied, not handed over";
   EXPECT_EQ(run(graph::FramePart::display, true).second, (std::set<std::string>{"lighting", "refraction", "tonemap"}));
   SceneEngine whole;
   whole.executor.set_reuse_unchanged_passes(true);

@@ -137,8 +137,11 @@ class Executor {
   // (PlannedPass::result_key) the plan before had and which ran there: their images are copied in
   // on its first frame (record_carried) and they are not run again until what they depend on
   // changes; in a plan that refines apart, so are the showing passes' whose showing key
-  // (PlannedPass::showing_key) the plan before had. The plan before is kept until then.
+  // (PlannedPass::showing_key) the plan before had. An image that both plans describe alike, in
+  // memory of its own, is handed over instead of copied. The plan before is kept until then.
   void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before);
+  // Swaps resource `ia`'s image and memory in `a` with resource `ib`'s in `b`.
+  static void swap_image(Realized& a, uint32_t ia, Realized& b, uint32_t ib);
   void record_carried(VkCommandBuffer cmd);
   // The passes of the plan before (or of a plan parked since) set up with a saved shader file, or
   // reading what such a pass writes: they compute anew.
@@ -163,7 +166,8 @@ class Executor {
   struct Carried {
     std::unique_ptr<const Plan> plan;
     std::unique_ptr<Realized> realized;
-    std::vector<std::pair<uint32_t, uint32_t>> images;  // resource in `plan` -> in plan_
+    std::vector<std::pair<uint32_t, uint32_t>> images;  // resource in `plan` -> in plan_, copied
+    std::vector<std::pair<uint32_t, uint32_t>> handed;  // the same, the image itself handed over (swapped)
   } carried_;
   // A refining pass as a replaced plan left it: what carry_running_results hands on.
   struct RunningResult {
