@@ -480,21 +480,21 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
       images.emplace_back(was.ports.at(port), resource);
     }
     if (!images_only) continue;  // a result in a buffer is computed again
-    for (const auto& [image_from, image_to] : images) {
+    for (const auto& image : images) {
       // A resource that several carried passes write (one rewriting another's) is carried once.
       auto& handed = carried_.handed;
-      const auto carried_pair = [&](const auto& pair) { return pair.first == image_from || pair.second == image_to; };
+      const auto carried_pair = [&](const auto& pair) { return pair.first == image.first || pair.second == image.second; };
       if (std::any_of(handed.begin(), handed.end(), carried_pair) ||
           std::any_of(carried_.images.begin(), carried_.images.end(), carried_pair)) {
         continue;
       }
       // The image itself, where the plans describe it alike and it has memory of its own: nothing to
       // copy (about 0.1 s of copies at 1280x720 on lavapipe, for a still level's step).
-      if (same_own_image(before->resources[image_from], plan_->resources[image_to])) {
-        swap_image(*realized_before, image_from, real, image_to);
-        handed.emplace_back(image_from, image_to);
+      if (same_own_image(before->resources[image.first], plan_->resources[image.second])) {
+        swap_image(*realized_before, image.first, real, image.second);
+        handed.push_back(image);
       } else {
-        carried_.images.emplace_back(image_from, image_to);
+        carried_.images.push_back(image);
       }
     }
     real.reset_keys[i] = realized_before->reset_keys[*from];
