@@ -63,9 +63,11 @@ class RefractionLayersPass final : public graph::Pass {
     const std::string ping_pong[2] = {"color", "background"};
     const auto layers = static_cast<uint32_t>(order.size());
     // A single layer's surfaces follow the camera and the geometry alone: at rest, where only the
-    // background changed (a converging caustic), the ones drawn last time are still there. Several
+    // background changed (a converging caustic), and while only a light moves, the ones drawn last
+    // time are still there. Several
     // layers share the images, which then hold the nearest layer's.
-    const bool one_layer_kept = layers == 1 && one_layer_drawn_ && ctx.scene_unchanged_since_last_run() &&
+    const bool one_layer_kept = layers == 1 && one_layer_drawn_ &&
+                                ctx.scene_unchanged_since_last_run(graph::kDependsOnCamera | graph::kDependsOnGeometry) &&
                                 std::all_of(kSurfacePorts.begin(), kSurfacePorts.end(),
                                             [&](const char* port) { return !ctx.bound(port) || ctx.kept_since_last_run(port); });
     one_layer_drawn_ = layers == 1;

@@ -533,7 +533,8 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
 // At rest a single refractor's surfaces (refraction_layers' front and back) are drawn once: the
 // frames after, which refract a new background (the converging caustic) from the same camera, keep
 // them (refraction.surfaces_drawn 0) and show the picture a fresh render of as many frames shows
-// (drawn every frame); a camera move draws them again (kept across it, the picture is 0.0062 off).
+// (drawn every frame); a camera move draws them again (kept across it, the picture is 0.0062 off),
+// a light move does not, and its picture is a fresh render's.
 TEST(Progressive, ASingleLayersSurfacesAreKeptWhileTheCameraStandsStill) {
   SceneEngine e;
   e.executor.set_reuse_unchanged_passes(true);
@@ -564,6 +565,15 @@ TEST(Progressive, ASingleLayersSurfacesAreKeptWhileTheCameraStandsStill) {
   // The caustic mean went on through the move (it is in the light's space): 5 frames' from there.
   SceneEngine fresh_moved;
   EXPECT_LT(relative_difference(after_move, run(fresh_moved, moved, 5, nullptr)), 1e-6);
+
+  // A light move leaves them (they follow the camera and the geometry alone); the mean restarts.
+  auto lit_elsewhere = std::make_shared<scene::Scene>(*moved);
+  lit_elsewhere->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  drawn.clear();
+  const io::ImageData after_light = run(e, lit_elsewhere, 1, &drawn);
+  EXPECT_EQ(drawn, (std::vector<double>{0})) << "a light move drew the surfaces again";
+  SceneEngine fresh_lit;
+  EXPECT_LT(relative_difference(after_light, run(fresh_lit, lit_elsewhere, 1, nullptr)), 1e-6) << "the picture after a light move";
 }
 
 // caustics_progressive with its lighting fed each frame's own caustic map, and the lit image

@@ -183,6 +183,10 @@ struct Executor::Realized {
   // again while its pass is skipped.
   std::vector<FrameInfo> pass_frames;
   std::vector<std::optional<uint64_t>> reset_keys;
+  // This frame's key of each scene part (kSceneParts), and per pass, those of the frame it last ran
+  // in (PassContext::scene_unchanged_since_last_run).
+  std::array<uint64_t, 3> parts_now{};
+  std::vector<std::optional<std::array<uint64_t, 3>>> parts_at_last_run;
   std::map<uint32_t, uint64_t> history_keys;  // per history resource: the key of its scene parts at its last restart
   std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
   uint64_t jittered_frames = 0;        // since then
@@ -258,8 +262,14 @@ void PassContext::still_converging() const {
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
 }
-bool PassContext::scene_unchanged_since_last_run() const {
-  return frame().since_reset > 0 && !executor_.plan_->jitters_camera && pass_.frame_params.empty();
+bool PassContext::scene_unchanged_since_last_run(uint32_t parts) const {
+  const Executor::Realized& real = *executor_.realized_;
+  const auto& then = real.parts_at_last_run[real.recording_pass];
+  if (!then || executor_.plan_->jitters_camera || !pass_.frame_params.empty()) return false;
+  for (size_t k = 0; k < kSceneParts.size(); ++k) {
+    if ((parts & kSceneParts[k]) && (*then)[k] != real.parts_now[k]) return false;
+  }
+  return true;
 }
 bool PassContext::kept_since_last_run(const std::string& port) const {
   const PlannedResource& r = resource(port);
@@ -753,6 +763,11 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
   real.reset_keys.resize(p.passes.size());
   real.pass_frames.resize(p.passes.size());
   real.converging.resize(p.passes.size());
+  real.parts_at_last_run.resize(p.passes.size());
+  for (size_t k = 0; k < kSceneParts.size() && scene_; ++k) {
+    real.parts_now[k] =
+        scene_->parts_key(kSceneParts[k] == kDependsOnGeometry, kSceneParts[k] == kDependsOnLights, kSceneParts[k] == kDependsOnCamera);
+  }
   std::vector<uint64_t> keys(p.passes.size(), 0);
   for (size_t i = 0; i < p.passes.size(); ++i) {
     const uint32_t depends = p.passes[i].depends;
@@ -850,6 +865,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
       }
       PassContext context(*this, pass, cmd);
       real.passes[i]->execute(context);
+      real.parts_at_last_run[i] = real.parts_now;
     } else {
       skipped.insert(pass.name);
     }

@@ -78,11 +78,13 @@ class PassContext {
   // without a device write. No shader may add to it.
   void set_counter(uint32_t counter, double value) const;
   const FrameInfo& frame() const;
-  // For a pass that redraws only what changed: whether the scene parts it depends on (the camera
-  // as this frame sees it, jitter included) and its own parameters are as they were when it last
-  // ran in this plan (what it reads from other passes may have changed), and whether `port`'s image
-  // still holds what the pass left in it then (kept across frames, and written by no other pass).
-  bool scene_unchanged_since_last_run() const;
+  // For a pass that redraws only what changed: whether the scene parts named in `parts`
+  // (SceneDependency bits: what the part to be kept follows, which may be less than the pass
+  // depends on) and its own parameters are as they were when it last ran in this plan (what it
+  // reads from other passes may have changed; a jittered camera never is), and whether `port`'s
+  // image still holds what the pass left in it then (kept across frames, and written by no other
+  // pass).
+  bool scene_unchanged_since_last_run(uint32_t parts = kDependsOnScene) const;
   bool kept_since_last_run(const std::string& port) const;
   // More frames of an unchanged scene would still change this pass's result (a running mean short of
   // its frame count): a viewer keeps drawing while any pass of the frame says so.

@@ -4,6 +4,7 @@
 // executor later creates the pass object and calls execute() with real resources.
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -43,6 +44,7 @@ enum SceneDependency : uint32_t {
   kDependsOnFrame = 1u << 3,   // differs every frame (a jittered grid, history): never skipped
 };
 inline constexpr uint32_t kDependsOnScene = kDependsOnGeometry | kDependsOnLights | kDependsOnCamera;
+inline constexpr std::array<uint32_t, 3> kSceneParts = {kDependsOnGeometry, kDependsOnLights, kDependsOnCamera};
 // "geometry", "lights", "camera", "frame": for plans, traces and messages.
 std::vector<std::string> dependency_names(uint32_t dependencies);
 
