@@ -84,7 +84,7 @@ class PassContext {
   // reads from other passes may have changed; a jittered camera never is), and whether `port`'s
   // image still holds what the pass left in it then (kept across frames, and written by no other
   // pass).
-  bool scene_unchanged_since_last_run(uint32_t parts = kDependsOnScene) const;
+  bool scene_unchanged_since_last_run(uint32_t parts) const;
   bool kept_since_last_run(const std::string& port) const;
   // More frames of an unchanged scene would still change this pass's result (a running mean short of
   // its frame count): a viewer keeps drawing while any pass of the frame says so.

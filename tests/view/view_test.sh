@@ -102,7 +102,7 @@ fi
 # showing passes' pictures carried over; slice_side is sampling-only, so the mean goes on), up to
 # the last; the last frame runs whole. (That the mean
 # carried across slices is the one of as many photons: Progressive.AMeanGoesOnWhenTheSliceChanges.)
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 16 --still-after 0 --budget 1 --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 30 --still-after 0 --budget 1 --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
 grep -q "view: refining frames too slow for the 1 ms budget (median .* ms): the while_still values of level 3 of 3" "$dir/log" || fail "no message of the last level: $(cat "$dir/log")"
 python3 - "$dir/apart.json" <<'PY' || fail "the frame log does not show refining frames apart at rest, at each level in turn"
 import json, sys
@@ -126,10 +126,12 @@ for level in (0, 1):
 counted = [f["accumulated"] for f in frames if f["part"] != "display"]
 assert counted == list(range(1, len(counted) + 1)), counted
 # A frame that leaves the picture as it was goes to the window only every quarter second (the
-# panel's numbers): a frame that changes it always does.
+# panel's numbers): a frame that changes it always does. (A refining frame well within the quarter
+# second leaves one unpresented; a slow build's, over it, may all be presented.)
 for f in frames:
     if f["part"] == "whole" or (f["part"] == "display" and f["ran"][-1] == "tonemap"): assert f["presented"], f
-assert not all(f["presented"] for f in frames if f["part"] == "refine"), frames
+if any(f["part"] == "refine" and f["wall_ms"] < 200 for f in frames):
+    assert not all(f["presented"] for f in frames if f["part"] == "refine"), frames
 unpresented_ms = 0
 for f in frames:
     unpresented_ms = 0 if f["presented"] else unpresented_ms + f["wall_ms"]
