@@ -55,6 +55,7 @@ class AccumulatePass final : public graph::Pass {
       total_weight_ += weight;
     }
     ctx.set_counter(frames_slot_, frames_);
+    ctx.holds_frames(frames_);
     if (frames_ < max_frames) ctx.still_converging();
 
     const VkExtent2D extent = ctx.extent("source");

@@ -184,6 +184,14 @@ TEST(Progressive, ALightChangeRestartsTheMeanAndACameraMoveDoesNot) {
 
   accumulated(e, moved_light, with(sets, {"max_frames=3"}), 5, &frames);
   EXPECT_EQ(frames, 3.0);
+  // What a frame says the still view has gathered (the viewer's "mean of N frames") stops there too.
+  auto held = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
+  graph::apply_overrides(held, with(sets, {"max_frames=3"}));
+  e.executor.invalidate();
+  e.executor.configure(held, e.width, e.height);
+  std::vector<uint64_t> gathered;
+  for (int f = 0; f < 5; ++f) gathered.push_back(e.executor.run_frame(false).accumulated);
+  EXPECT_EQ(gathered, (std::vector<uint64_t>{1, 2, 3, 3, 3}));
 }
 
 // Still frames converge to the exact caustic only where each frame's photons are exact: with

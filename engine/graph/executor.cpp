@@ -165,8 +165,10 @@ struct Executor::Realized {
   std::vector<bool> counter_is_sum;
   std::map<std::string, std::string> counter_passes;
   std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  // Per pass, as it last ran: whether it would change with more frames (PassContext::still_converging).
+  // Per pass, as it last ran: whether it would change with more frames (PassContext::still_converging),
+  // and the frames its running result holds where it said (PassContext::holds_frames).
   std::vector<bool> converging;
+  std::vector<std::optional<uint64_t>> frames_held;
   size_t recording_pass = 0;
   vk::Buffer counters;                       // host-visible, uint32 each
   vk::OwnedSampler linear;
@@ -258,6 +260,9 @@ void PassContext::set_counter(uint32_t counter, double value) const {
 }
 void PassContext::still_converging() const {
   executor_.realized_->converging[executor_.realized_->recording_pass] = true;
+}
+void PassContext::holds_frames(uint64_t frames) const {
+  executor_.realized_->frames_held[executor_.realized_->recording_pass] = frames;
 }
 const FrameInfo& PassContext::frame() const {
   return *executor_.realized_->recording;
@@ -764,6 +769,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
   real.pass_frames.resize(p.passes.size());
   real.converging.resize(p.passes.size());
   real.parts_at_last_run.resize(p.passes.size());
+  real.frames_held.resize(p.passes.size());
   for (size_t k = 0; k < kSceneParts.size() && scene_; ++k) {
     real.parts_now[k] =
         scene_->parts_key(kSceneParts[k] == kDependsOnGeometry, kSceneParts[k] == kDependsOnLights, kSceneParts[k] == kDependsOnCamera);
@@ -857,6 +863,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
       real.recording = &pass_frame;
       real.recording_pass = i;
       real.converging[i] = false;
+      real.frames_held[i].reset();
       real.recording_params = &pass.params;
       if (!pass.frame_params.empty()) {
         real.frame_params.resize(p.passes.size());
@@ -975,7 +982,10 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
       result.frame.since_reset = std::min(result.frame.since_reset, shown);
     }
     if (in_part(i)) ++f.since_reset;
-    if (p.passes[i].decl->accumulates) result.accumulated = result.accumulated == 0 ? f.since_reset : std::min(result.accumulated, f.since_reset);
+    if (p.passes[i].decl->accumulates) {
+      const uint64_t held = real.frames_held[i] ? std::min(*real.frames_held[i], f.since_reset) : f.since_reset;
+      result.accumulated = result.accumulated == 0 ? held : std::min(result.accumulated, held);
+    }
   }
   ++real.frame_index;
   return result;

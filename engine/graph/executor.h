@@ -63,8 +63,8 @@ struct FrameResult {
   bool converging = false;            // a pass would change with more frames (PassContext::still_converging), as it last ran
   FramePart part = FramePart::whole;  // what the frame ran
   // The frames the plan's running means have run since their reset, this one included (the fewest
-  // where several; a mean holding still at its max_frames counts on): what a still view has
-  // gathered. 0: none.
+  // where several; a mean held at its max_frames counts the frames it holds, PassContext::holds_frames):
+  // what a still view has gathered. 0: none.
   uint64_t accumulated = 0;
 };
 

@@ -89,6 +89,9 @@ class PassContext {
   // More frames of an unchanged scene would still change this pass's result (a running mean short of
   // its frame count): a viewer keeps drawing while any pass of the frame says so.
   void still_converging() const;
+  // For a pass that accumulates: the frames its running result holds, where that is fewer than the
+  // frames it ran since its reset (a mean held at its max_frames); FrameResult::accumulated reports it.
+  void holds_frames(uint64_t frames) const;
 
  private:
   Executor& executor_;
