@@ -98,6 +98,10 @@ std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double ove
   return ends;
 }
 
+double display_overhead(double overhead_ms, double wall_ms, double gpu_ms, bool presented) {
+  return presented ? std::max(0.0, wall_ms - gpu_ms) : overhead_ms;
+}
+
 bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulated_shown) {
   if (since_shown_s < kShowAfter) return false;
   return since_shown_s >= kShowAtMost || accumulated * 10 >= accumulated_shown * 11;

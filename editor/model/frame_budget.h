@@ -96,6 +96,10 @@ class StillLevels {
 // one that costs nothing (the G-buffer, unchanged at rest) never makes a step alone.
 // Returns each step's end (by number among the showing passes); the last is pass_ms.size().
 std::vector<size_t> display_steps(const std::vector<double>& pass_ms, double overhead_ms, double budget_ms);
+// The overhead display_steps cuts with, after a frame that took `wall_ms` (`gpu_ms` of it on the
+// device): measured on frames that went to the window, as a display's last step does; a frame not
+// presented (editor::present_due) saves the present and leaves `overhead_ms` as it was.
+double display_overhead(double overhead_ms, double wall_ms, double gpu_ms, bool presented);
 
 // At rest, while frames refine apart, whether the next frame is to show the running mean: at least
 // kShowAfter after the picture last changed, and then once the mean has grown by a tenth since

@@ -402,7 +402,7 @@ class Viewer::Impl {
         showing_ms_[planned[i].showing] = 0.0;
       }
     }
-    frame_overhead_ms_ = std::max(0.0, last_wall_ms_ - last_result_.gpu_ms);
+    frame_overhead_ms_ = editor::display_overhead(frame_overhead_ms_, last_wall_ms_, last_result_.gpu_ms, presented_);
   }
 
   // At rest, refining frames too slow for the budget take the graph's next while_still values, where it
