@@ -136,7 +136,7 @@ class Viewer::Impl {
       frame_measured_ = true;
       // A plan's first frame runs every pass and sets up pipelines: it says little about the next.
       if (last_result_.part == graph::FramePart::whole && last_result_.frame.index > 0) last_whole_ms_ = last_wall_ms_;
-      if (last_result_.part == graph::FramePart::whole || (last_result_.part == graph::FramePart::display && display_step_ == 0)) {
+      if (shows_the_result(last_result_)) {
         last_shown_ = clock::now();
         accumulated_shown_ = last_result_.accumulated;
       }
@@ -622,6 +622,12 @@ class Viewer::Impl {
     inspector_.fit_exposure = true;
   }
 
+  // Whether a frame just run changed the picture: one that ran whole, or a display's last step
+  // (frame_part() has counted the steps on by then).
+  bool shows_the_result(const graph::FrameResult& frame) const {
+    return frame.part == graph::FramePart::whole || (frame.part == graph::FramePart::display && display_step_ == 0);
+  }
+
   void draw_frame(bool last) {
     const WindowEvents events = window_.take_events();
     handle_input(events);
@@ -662,11 +668,9 @@ class Viewer::Impl {
       std::fprintf(stderr, "view: screenshot %s\n", name.c_str());
     }
 
-    // frame_part() counted the display's steps on; one that ran whole showed everything.
-    const bool picture_changed = frame.part == graph::FramePart::whole || (frame.part == graph::FramePart::display && display_step_ == 0);
     const auto now = std::chrono::steady_clock::now();
-    presented_ =
-        editor::present_due(picture_changed || must_show || last, events.any, std::chrono::duration<double>(now - last_presented_).count());
+    presented_ = editor::present_due(shows_the_result(frame) || must_show || last, events.any,
+                                     std::chrono::duration<double>(now - last_presented_).count());
     if (!presented_) return;
     last_presented_ = now;
     ImGui_ImplVulkan_NewFrame();

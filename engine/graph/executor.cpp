@@ -770,10 +770,8 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
   real.converging.resize(p.passes.size());
   real.parts_at_last_run.resize(p.passes.size());
   real.frames_held.resize(p.passes.size());
-  for (size_t k = 0; k < kSceneParts.size() && scene_; ++k) {
-    real.parts_now[k] =
-        scene_->parts_key(kSceneParts[k] == kDependsOnGeometry, kSceneParts[k] == kDependsOnLights, kSceneParts[k] == kDependsOnCamera);
-  }
+  if (scene_)
+    real.parts_now = {scene_->parts_key(true, false, false), scene_->parts_key(false, true, false), scene_->parts_key(false, false, true)};
   std::vector<uint64_t> keys(p.passes.size(), 0);
   for (size_t i = 0; i < p.passes.size(); ++i) {
     const uint32_t depends = p.passes[i].depends;
