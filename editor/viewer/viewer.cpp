@@ -134,8 +134,12 @@ class Viewer::Impl {
       draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
       last_wall_ms_ = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
       frame_measured_ = true;
-      // A plan's first frame runs every pass and sets up pipelines: it says little about the next.
-      if (last_result_.part == graph::FramePart::whole && last_result_.frame.index > 0) last_whole_ms_ = last_wall_ms_;
+      // A plan's first frame runs every pass and its wall time holds the plan's set-up (pipelines):
+      // its GPU time and a frame's usual overhead stand for a whole frame until one is measured, so
+      // that a still plan over the budget refines from its second frame, not after another whole one.
+      if (last_result_.part == graph::FramePart::whole) {
+        last_whole_ms_ = last_result_.frame.index > 0 ? last_wall_ms_ : last_result_.gpu_ms + frame_overhead_ms_;
+      }
       if (shows_the_result(last_result_)) {
         last_shown_ = clock::now();
         accumulated_shown_ = last_result_.accumulated;
@@ -847,7 +851,7 @@ class Viewer::Impl {
   graph::FrameResult last_result_;
   bool moved_ = false;                 // the camera or a light changed before the last frame
   double last_wall_ms_ = 0;            // the last frame's, input to present
-  double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart), not its first
+  double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart); its first's estimated
   std::chrono::steady_clock::time_point last_presented_;  // the last frame that went to the window
   bool presented_ = false;                                // the last frame went to the window
   std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
