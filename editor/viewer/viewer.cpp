@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <thread>
@@ -139,6 +140,10 @@ class Viewer::Impl {
       // that a still plan over the budget refines from its second frame, not after another whole one.
       if (last_result_.part == graph::FramePart::whole) {
         last_whole_ms_ = last_result_.frame.index > 0 ? last_wall_ms_ : last_result_.gpu_ms + frame_overhead_ms_;
+      } else if (last_whole_ms_ == 0 && last_result_.part == graph::FramePart::refine) {
+        // A plan whose picture stood refined first: its refining frame and the showing passes' last
+        // times stand for a whole frame.
+        last_whole_ms_ = last_wall_ms_ + std::accumulate(showing_ms_.begin(), showing_ms_.end(), 0.0);
       }
       if (shows_the_result(last_result_)) {
         last_shown_ = clock::now();
@@ -320,6 +325,12 @@ class Viewer::Impl {
       inspector_.inspected.clear();  // the inspected image left the graph: back to its output
       executor_.configure(graph, size.width, size.height);
     }
+    if (executor_.picture_standing()) {
+      // The plan before's picture stands (let_picture_stand): a new mean shows once display_due
+      // says so, as any, and its display starts from the first step.
+      accumulated_shown_ = 0;
+      display_step_ = 0;
+    }
     watch_shaders();
   }
 
@@ -350,6 +361,9 @@ class Viewer::Impl {
     if (step == step_ && still_values == still_values_) return;
     step_ = step;
     still_values_ = still_values;
+    // At rest the change is one of quality (the while_still values), not of what the picture shows:
+    // the picture stands while the new plan refines, where the sizes let it.
+    if (!moved_) executor_.let_picture_stand();
     try {
       configure();
     } catch (const std::exception& e) {
@@ -373,7 +387,7 @@ class Viewer::Impl {
   // the last one.
   std::pair<graph::FramePart, graph::DisplayStep> frame_part(bool must_show) {
     if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || options_.budget_ms <= 0 ||
-        last_whole_ms_ <= options_.budget_ms) {
+        (last_whole_ms_ <= options_.budget_ms && !executor_.picture_standing())) {
       display_step_ = 0;
       return {graph::FramePart::whole, {}};
     }
@@ -385,6 +399,7 @@ class Viewer::Impl {
     graph::DisplayStep step{display_step_ == 0 ? 0 : display_ends_[display_step_ - 1], display_ends_[display_step_]};
     display_step_ = display_step_ + 1 == display_ends_.size() ? 0 : display_step_ + 1;
     if (display_step_ == 0) step.last = SIZE_MAX;  // the last step runs whatever is left
+    last_display_step_ = step;
     return {graph::FramePart::display, step};
   }
 
@@ -398,12 +413,16 @@ class Viewer::Impl {
     if (last_result_.passes.size() != planned.size()) return;
     for (size_t i = 0; i < planned.size(); ++i) {
       if (planned[i].refines) continue;
-      // A pass a whole frame skipped (unchanged: the G-buffer at rest) costs its barriers alone; one
-      // outside a display frame's step keeps its time.
+      // A pass a whole frame or its display step skipped (unchanged: the G-buffer at rest) costs its
+      // barriers alone; one outside a display frame's step keeps its time.
+      const uint32_t number = planned[i].showing;
+      const bool in_step =
+          last_result_.part == graph::FramePart::whole ||
+          (last_result_.part == graph::FramePart::display && number >= last_display_step_.first && number < last_display_step_.last);
       if (last_result_.passes[i].ran) {
-        showing_ms_[planned[i].showing] = last_result_.passes[i].gpu_ms;
-      } else if (last_result_.part == graph::FramePart::whole) {
-        showing_ms_[planned[i].showing] = 0.0;
+        showing_ms_[number] = last_result_.passes[i].gpu_ms;
+      } else if (in_step) {
+        showing_ms_[number] = 0.0;
       }
     }
     frame_overhead_ms_ = editor::display_overhead(frame_overhead_ms_, last_wall_ms_, last_result_.gpu_ms, presented_);
@@ -426,6 +445,7 @@ class Viewer::Impl {
                    "the while_still values of level %zu of %zu\n",
                    options_.budget_ms, still_levels_.judged(), still_levels_.predicted(), still_levels_.level() + 1, still_levels_.levels());
     }
+    executor_.let_picture_stand();  // a plan whose picture stands still (its showing passes have not run) hands it on
     configure(true);
   }
 
@@ -860,6 +880,7 @@ class Viewer::Impl {
   double frame_overhead_ms_ = 0;
   std::vector<size_t> display_ends_;   // the steps of the display under way (editor::display_steps)
   size_t display_step_ = 0;            // its next step; 0: none under way
+  graph::DisplayStep last_display_step_;  // the last display frame's
   bool frame_measured_ = false;        // since the frame budget last judged
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
   editor::FrameBudget::Step step_;                  // the step the plan was made for

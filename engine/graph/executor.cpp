@@ -189,6 +189,9 @@ struct Executor::Realized {
   // in (PassContext::scene_unchanged_since_last_run).
   std::array<uint64_t, 3> parts_now{};
   std::vector<std::optional<std::array<uint64_t, 3>>> parts_at_last_run;
+  // While the outputs hold a picture of the plan before (Executor::let_picture_stand): the scene
+  // parts it was drawn for.
+  std::optional<std::array<uint64_t, 3>> standing;
   std::map<uint32_t, uint64_t> history_keys;  // per history resource: the key of its scene parts at its last restart
   std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
   uint64_t jittered_frames = 0;        // since then
@@ -347,6 +350,7 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
   for (const auto& r : retained) key += "\nretain " + r;
   const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
   for (const auto& [name, value] : scene_values) key += "\n" + name + "=" + std::to_string(value);
+  const bool picture_may_stand = std::exchange(picture_may_stand_, false);
   if (plan_ && key == configured_key_) {
     if (!plan_->ray_query_passes.empty()) scene_->acceleration();  // set_scene() may have replaced the scene
     return false;
@@ -363,13 +367,13 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
     }
   }
   if (!plan.ray_query_passes.empty()) scene_->acceleration();
-  realize(std::move(plan));
+  realize(std::move(plan), picture_may_stand);
   configured_key_ = key;
   ++compile_count_;
   return true;
 }
 
-void Executor::realize(Plan plan) {
+void Executor::realize(Plan plan, bool picture_may_stand) {
   // The previous plan stays whole until the new one is set up, so that a failure (a shader that no
   // longer compiles, memory) leaves it running; its objects are destroyed once the GPU is done.
   std::unique_ptr<const Plan> previous_plan = std::move(plan_);
@@ -383,7 +387,11 @@ void Executor::realize(Plan plan) {
     plan_ = std::move(previous_plan);
     throw;
   }
-  carry_results(std::move(previous_plan), std::move(previous));
+  carry_results(std::move(previous_plan), std::move(previous), picture_may_stand);
+}
+
+bool Executor::picture_standing() const {
+  return realized_ && realized_->standing.has_value();
 }
 
 std::set<std::filesystem::path> Executor::shader_files() const {
@@ -449,7 +457,7 @@ void Executor::carry_running_results(const Plan& before, Realized& realized_befo
   }
 }
 
-void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before) {
+void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before, bool picture_may_stand) {
   const bool carry = std::exchange(carry_results_, true);
   const std::set<std::filesystem::path> edited = std::exchange(edited_shaders_, {});
   // A parked result may come from a shader saved since; invalidate() starts everything over.
@@ -518,9 +526,38 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
       if (owner == pass.name) real.last_counters[counter] = realized_before->last_counters[counter];
     }
   }
+  if (picture_may_stand && plan_->refines_apart) stand_picture(*before, *realized_before);
   if (carried_.images.empty() && carried_.handed.empty()) return;
   carried_.plan = std::move(before);
   carried_.realized = std::move(realized_before);
+}
+
+void Executor::stand_picture(const Plan& before, Realized& realized_before) {
+  Realized& real = *realized_;
+  auto& handed = carried_.handed;
+  const auto carried = [&](uint32_t resource) {
+    const auto to = [&](const auto& pair) { return pair.second == resource; };
+    return std::any_of(handed.begin(), handed.end(), to) || std::any_of(carried_.images.begin(), carried_.images.end(), to);
+  };
+  if (std::all_of(plan_->outputs.begin(), plan_->outputs.end(), carried))
+    return;  // the showing passes carried theirs: no picture to stand in
+  for (size_t i = 0; i < plan_->passes.size(); ++i) {
+    const PlannedPass& pass = plan_->passes[i];
+    if (pass.refines || real.reset_keys[i]) continue;  // refining, or its results carried over
+    for (const auto& [port, resource] : pass.ports) {
+      if (pass.decl->find_port(port)->access == PortAccess::read || carried(resource)) continue;
+      const int was = before.find_resource(plan_->resources[resource].name);
+      if (was < 0) continue;
+      const auto from = static_cast<uint32_t>(was);
+      const auto handed_from = [&](const auto& pair) { return pair.first == from; };
+      if (!same_own_image(before.resources[from], plan_->resources[resource]) || std::any_of(handed.begin(), handed.end(), handed_from))
+        continue;
+      swap_image(realized_before, from, real, resource);
+      handed.emplace_back(from, resource);
+    }
+  }
+  if (std::all_of(plan_->outputs.begin(), plan_->outputs.end(), carried))
+    real.standing = realized_before.standing ? *realized_before.standing : realized_before.parts_now;
 }
 
 void Executor::swap_image(Realized& a, uint32_t ia, Realized& b, uint32_t ib) {
@@ -783,8 +820,14 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
     return !p.passes[i].refines && p.passes[i].showing >= step.first && p.passes[i].showing < step.last;
   };
   if (!p.refines_apart) part = FramePart::whole;
+  // While the picture of the plan before stands for this scene, a showing pass that has not run yet
+  // waits for its display step; one that a step would need before it has to run now.
+  const bool picture_stands = real.standing == real.parts_now;
+  const auto waits = [&](size_t i) {
+    return picture_stands && !real.reset_keys[i] && !p.passes[i].refines && (part == FramePart::refine || p.passes[i].showing >= step.last);
+  };
   for (size_t i = 0; i < p.passes.size() && part != FramePart::whole; ++i) {
-    if (!in_part(i) && real.reset_keys[i] != keys[i]) part = FramePart::whole;
+    if (!in_part(i) && real.reset_keys[i] != keys[i] && !waits(i)) part = FramePart::whole;
   }
   result.part = part;
   glm::vec2 camera_jitter(0.0f);
@@ -852,7 +895,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
     // The same key decides a reusable pass's skip: it ran when its key last changed, and every
     // frame since has left its result as it was.
     const bool changed = real.reset_keys[i] != key;
-    if (changed) {
+    if (changed && in_part(i)) {
       real.reset_keys[i] = key;
       pass_frame.since_reset = 0;
     }
@@ -881,6 +924,7 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
         {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count(), run});
   }
   const uint32_t frame_end = stamp();
+  if (std::all_of(real.reset_keys.begin(), real.reset_keys.end(), [](const auto& k) { return k.has_value(); })) real.standing.reset();
 
   if (read_back) {
     std::vector<PlannedBarrier> to_transfer;

@@ -119,6 +119,16 @@ class Executor {
   }
   // Every shader file (and include) the plan's passes were set up with: what a reload watches.
   std::set<std::filesystem::path> shader_files() const;
+  // Lets the next configure()'s plan, where it refines apart, show the plan before's picture until
+  // its own showing passes have run: the images those passes did not carry over (PlannedPass::
+  // showing_key) are handed over by name from the plan before, and its frames may refine, or show in
+  // steps, before those passes run, for as long as the scene is the one that picture was drawn for
+  // (else the frame runs whole). For the viewer's change of quality values at rest (a graph's
+  // while_still values), whose picture is one of the same view; not for an edit of what the picture
+  // shows, which is to be seen at once.
+  void let_picture_stand() { picture_may_stand_ = true; }
+  // The plan's outputs still hold the picture of a plan before (let_picture_stand).
+  bool picture_standing() const;
 
  private:
   friend class PassSetup;
@@ -127,7 +137,7 @@ class Executor {
   struct RealBuffer;
   struct Realized;
 
-  void realize(Plan plan);
+  void realize(Plan plan, bool picture_may_stand);
   void realize_passes_and_resources();
   void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
   // Before a frame's passes: each used history resource gets its source as the last frame left it,
@@ -139,7 +149,10 @@ class Executor {
   // changes; in a plan that refines apart, so are the showing passes' whose showing key
   // (PlannedPass::showing_key) the plan before had. An image that both plans describe alike, in
   // memory of its own, is handed over instead of copied. The plan before is kept until then.
-  void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before);
+  void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before, bool picture_may_stand);
+  // let_picture_stand: hands the plan before's images over to the showing passes of the new plan
+  // that carried none, and marks the picture standing where every output has one.
+  void stand_picture(const Plan& before, Realized& realized_before);
   // Swaps resource `ia`'s image and memory in `a` with resource `ib`'s in `b`.
   static void swap_image(Realized& a, uint32_t ia, Realized& b, uint32_t ib);
   void record_carried(VkCommandBuffer cmd);
@@ -161,6 +174,7 @@ class Executor {
   uint32_t compile_count_ = 0;
   bool reuse_unchanged_passes_ = false;
   bool carry_results_ = true;  // until invalidate()
+  bool picture_may_stand_ = false;                  // for the next configure() (let_picture_stand)
   std::set<std::filesystem::path> edited_shaders_;  // until the next plan, invalidate(files)
   // What the new plan's first frame copies in (record_carried): the plan before, kept until then.
   struct Carried {
