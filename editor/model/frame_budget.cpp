@@ -111,4 +111,8 @@ bool present_due(bool picture_changed, bool input, double since_presented_s) {
   return picture_changed || input || since_presented_s >= kPanelRefresh;
 }
 
+double refining_frame_ms(double wall_ms, double gpu_ms, bool presented, double overhead_ms) {
+  return presented ? wall_ms : gpu_ms + overhead_ms;
+}
+
 }  // namespace caustica::editor

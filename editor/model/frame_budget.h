@@ -116,5 +116,9 @@ bool display_due(double since_shown_s, uint64_t accumulated, uint64_t accumulate
 // under X the copy into the window and the panels' draw cost about a fifth of a refining frame.
 inline constexpr double kPanelRefresh = 0.25;  // seconds
 bool present_due(bool picture_changed, bool input, double since_presented_s);
+// What a refining frame is judged at (StillLevels::refined): its wall time where it went to the
+// window, else its device time and the overhead a presented frame adds (display_overhead), since
+// one refining frame in a few is presented (the panels, input) and has to fit the budget too.
+double refining_frame_ms(double wall_ms, double gpu_ms, bool presented, double overhead_ms);
 
 }  // namespace caustica::editor

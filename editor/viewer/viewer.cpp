@@ -399,7 +399,6 @@ class Viewer::Impl {
     graph::DisplayStep step{display_step_ == 0 ? 0 : display_ends_[display_step_ - 1], display_ends_[display_step_]};
     display_step_ = display_step_ + 1 == display_ends_.size() ? 0 : display_step_ + 1;
     if (display_step_ == 0) step.last = SIZE_MAX;  // the last step runs whatever is left
-    last_display_step_ = step;
     return {graph::FramePart::display, step};
   }
 
@@ -413,16 +412,12 @@ class Viewer::Impl {
     if (last_result_.passes.size() != planned.size()) return;
     for (size_t i = 0; i < planned.size(); ++i) {
       if (planned[i].refines) continue;
-      // A pass a whole frame or its display step skipped (unchanged: the G-buffer at rest) costs its
-      // barriers alone; one outside a display frame's step keeps its time.
-      const uint32_t number = planned[i].showing;
-      const bool in_step =
-          last_result_.part == graph::FramePart::whole ||
-          (last_result_.part == graph::FramePart::display && number >= last_display_step_.first && number < last_display_step_.last);
-      if (last_result_.passes[i].ran) {
-        showing_ms_[number] = last_result_.passes[i].gpu_ms;
-      } else if (in_step) {
-        showing_ms_[number] = 0.0;
+      // A pass that keeps its result while nothing changes (the G-buffer, the shadow map) is skipped
+      // by a display, which runs at rest: it costs its barriers alone, whatever it took when it ran.
+      if (planned[i].reusable(executor_.plan().reuses_unchanged_passes)) {
+        showing_ms_[planned[i].showing] = 0.0;
+      } else if (last_result_.passes[i].ran) {
+        showing_ms_[planned[i].showing] = last_result_.passes[i].gpu_ms;
       }
     }
     frame_overhead_ms_ = editor::display_overhead(frame_overhead_ms_, last_wall_ms_, last_result_.gpu_ms, presented_);
@@ -434,7 +429,10 @@ class Viewer::Impl {
   // (PlannedPass::showing_key): its first frame refines at once, the picture standing.
   void fit_refining_frames() {
     const size_t before = still_levels_.level();
-    if (!still_values_ || last_result_.part != graph::FramePart::refine || !still_levels_.refined(last_wall_ms_)) return;
+    if (!still_values_ || last_result_.part != graph::FramePart::refine ||
+        !still_levels_.refined(editor::refining_frame_ms(last_wall_ms_, last_result_.gpu_ms, presented_, frame_overhead_ms_))) {
+      return;
+    }
     if (still_levels_.level() > before) {
       std::fprintf(stderr,
                    "view: refining frames too slow for the %.0f ms budget (median %.0f ms): the while_still values of level %zu of %zu\n",
@@ -880,7 +878,6 @@ class Viewer::Impl {
   double frame_overhead_ms_ = 0;
   std::vector<size_t> display_ends_;   // the steps of the display under way (editor::display_steps)
   size_t display_step_ = 0;            // its next step; 0: none under way
-  graph::DisplayStep last_display_step_;  // the last display frame's
   bool frame_measured_ = false;        // since the frame budget last judged
   editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
   editor::FrameBudget::Step step_;                  // the step the plan was made for

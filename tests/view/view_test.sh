@@ -151,15 +151,17 @@ PY
 # Left still after a move, with a budget no whole frame meets: the while_still values are a new
 # plan whose camera passes show another caustic method, and its first frame refines at once, the
 # moving frame's picture standing until a display shows the still mean (which goes on from before
-# the move). Without the picture let stand, that frame ran whole.
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 8 --still-after 0 --budget 1 --orbit 5 --move-frames 4:5 --stats "$dir/stop.json" --validate > "$dir/log" 2>&1 || fail "view --budget 1 --move-frames exited $?: $(cat "$dir/log")"
+# the move). Without the picture let stand, that frame ran whole. (The move is on the frame after
+# the plan's first, which the budget does not judge: the moving frame keeps the still one's size
+# on a slow build too.)
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --budget 1 --orbit 5 --move-frames 1:2 --stats "$dir/stop.json" --validate > "$dir/log" 2>&1 || fail "view --budget 1 --move-frames exited $?: $(cat "$dir/log")"
 python3 - "$dir/stop.json" <<'PY' || fail "the first still frame after a move did not refine with the picture standing"
 import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
-assert [f["moving"] for f in frames] == [False] * 4 + [True] + [False] * 3, frames
-assert frames[4]["part"] == "whole" and frames[4]["presented"], frames[4]
-assert frames[5]["still"] and frames[5]["part"] == "refine" and frames[5]["ran"] == ["caustics", "accumulate"], frames[5]
-assert frames[5]["accumulated"] == 5, frames[5]
+assert [f["moving"] for f in frames] == [False, True, False, False], frames
+assert frames[1]["part"] == "whole" and frames[1]["presented"], frames[1]
+assert frames[2]["still"] and frames[2]["part"] == "refine" and frames[2]["ran"] == ["caustics", "accumulate"], frames[2]
+assert frames[2]["accumulated"] == 2, frames[2]
 PY
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
 # the search, not the while_still ray queries; the other while_still value, slice_side 2, holds).
