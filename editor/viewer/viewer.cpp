@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <numeric>
 #include <optional>
 #include <set>
 #include <thread>
@@ -140,10 +139,6 @@ class Viewer::Impl {
       // that a still plan over the budget refines from its second frame, not after another whole one.
       if (last_result_.part == graph::FramePart::whole) {
         last_whole_ms_ = last_result_.frame.index > 0 ? last_wall_ms_ : last_result_.gpu_ms + frame_overhead_ms_;
-      } else if (last_whole_ms_ == 0 && last_result_.part == graph::FramePart::refine) {
-        // A plan whose picture stood refined first: its refining frame and the showing passes' last
-        // times stand for a whole frame.
-        last_whole_ms_ = last_wall_ms_ + std::accumulate(showing_ms_.begin(), showing_ms_.end(), 0.0);
       }
       if (shows_the_result(last_result_)) {
         last_shown_ = clock::now();
@@ -308,7 +303,6 @@ class Viewer::Impl {
   // whole frame's time still says whether a whole frame fits the budget.
   void configure(bool showing_passes_kept = false) {
     budget_.new_plan();
-    if (!showing_passes_kept) last_whole_ms_ = 0;
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
     const VkExtent2D size = render_size();
@@ -326,10 +320,14 @@ class Viewer::Impl {
       executor_.configure(graph, size.width, size.height);
     }
     if (executor_.picture_standing()) {
-      // The plan before's picture stands (let_picture_stand): a new mean shows once display_due
-      // says so, as any, and its display starts from the first step.
+      // The plan before's picture stands (let_picture_stand): its whole frame stands for this one's
+      // (over the budget, frames refine at once; within it, as on a GPU, the next frame shows the
+      // new plan whole), a new mean shows once display_due says so, and a display starts from its
+      // first step.
       accumulated_shown_ = 0;
       display_step_ = 0;
+    } else if (!showing_passes_kept) {
+      last_whole_ms_ = 0;
     }
     watch_shaders();
   }
@@ -387,7 +385,7 @@ class Viewer::Impl {
   // the last one.
   std::pair<graph::FramePart, graph::DisplayStep> frame_part(bool must_show) {
     if (moved_ || must_show || !executor_.plan().refines_apart || !last_result_.converging || options_.budget_ms <= 0 ||
-        (last_whole_ms_ <= options_.budget_ms && !executor_.picture_standing())) {
+        last_whole_ms_ <= options_.budget_ms) {
       display_step_ = 0;
       return {graph::FramePart::whole, {}};
     }
