@@ -42,10 +42,16 @@ io::ImageData accumulated(SceneEngine& e, std::shared_ptr<const scene::Scene> sc
   return e.executor.read_image(outputs.front());
 }
 
+// caustics_progressive with `sets` applied.
 graph::GraphDesc progressive_graph(const std::vector<std::string>& sets) {
   auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
   graph::apply_overrides(graph, sets);
   return graph;
+}
+
+// A showing pass's number among the plan's (PlannedPass::showing): where a display step starts with it.
+size_t showing_number(const graph::Plan& plan, const std::string& pass) {
+  return std::find_if(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return p.name == pass; })->showing;
 }
 
 // One frame, or the part of one asked for: the part it ran and the passes that ran, in order.
@@ -203,8 +209,7 @@ TEST(Progressive, ALightChangeRestartsTheMeanAndACameraMoveDoesNot) {
   accumulated(e, moved_light, with(sets, {"max_frames=3"}), 5, &frames);
   EXPECT_EQ(frames, 3.0);
   // What a frame says the still view has gathered (the viewer's "mean of N frames") stops there too.
-  auto held = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
-  graph::apply_overrides(held, with(sets, {"max_frames=3"}));
+  const auto held = progressive_graph(with(sets, {"max_frames=3"}));
   e.executor.invalidate();
   e.executor.configure(held, e.width, e.height);
   std::vector<uint64_t> gathered;
@@ -310,8 +315,7 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
   const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
   SceneEngine apart;
   apart.executor.set_reuse_unchanged_passes(true);
-  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
-  graph::apply_overrides(graph, sets);
+  const auto graph = progressive_graph(sets);
   apart.executor.set_scene(scene);
   apart.executor.configure(graph, apart.width, apart.height, {"caustics"});
   ASSERT_TRUE(apart.executor.plan().refines_apart);
@@ -345,22 +349,12 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
   }
   // A display frame in steps (each within a frame budget): the lighting alone, then the rest, read
   // what the step before left; the picture is that of 8 whole frames.
-  const auto& planned = apart.executor.plan().passes;
-  size_t after_lighting = 0;
-  for (const auto& pass : planned) {
-    if (!pass.refines) ++after_lighting;
-    if (pass.name == "lighting") break;
-  }
+  const size_t after_lighting = showing_number(apart.executor.plan(), "lighting") + 1;
   auto step = [&](graph::DisplayStep display, bool read_back) {
-    const graph::FrameResult frame = apart.executor.run_frame(read_back, graph::FramePart::display, display);
-    std::set<std::string> ran;
-    for (const auto& pass : frame.passes) {
-      if (pass.ran) ran.insert(pass.name);
-    }
-    return ran;
+    return run_part(apart.executor, graph::FramePart::display, read_back, display).second;
   };
-  EXPECT_EQ(step({0, after_lighting}, false), std::set<std::string>{"lighting"});
-  EXPECT_EQ(step({after_lighting, SIZE_MAX}, true), (std::set<std::string>{"refraction", "tonemap"}));
+  EXPECT_EQ(step({0, after_lighting}, false), std::vector<std::string>{"lighting"});
+  EXPECT_EQ(step({after_lighting, SIZE_MAX}, true), (std::vector<std::string>{"refraction", "tonemap"}));
   {
     SceneEngine whole;
     accumulated(whole, scene, sets, 8);
@@ -455,8 +449,7 @@ TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
   auto scene = load_bundled_scene("sphere_plane");
   const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
   auto run = [&](std::shared_ptr<const scene::Scene> state, const std::vector<std::string>& more, uint32_t frames, uint32_t divider = 1) {
-    auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
-    graph::apply_overrides(graph, with(sets, more));
+    const auto graph = progressive_graph(with(sets, more));
     e.executor.set_scene(std::move(state));
     e.executor.configure(graph, e.width / divider, e.height / divider, {"caustics"});
     graph::FrameResult last;
@@ -576,8 +569,7 @@ TEST(Progressive, AQualityChangeAtRestRefinesAtOnceThePictureBeforeStanding) {
   EXPECT_EQ(ran, (std::vector<std::string>{"caustics", "accumulate"}));
   EXPECT_EQ(relative_difference(e.executor.read_image("ldr"), before), 0.0) << "the picture before did not stand";
   EXPECT_EQ(e.executor.frame_image("ldr").image, before_in) << "the picture was copied, not handed over";
-  const auto& planned = e.executor.plan().passes;
-  const size_t refraction = std::find_if(planned.begin(), planned.end(), [](const auto& p) { return p.name == "refraction"; })->showing;
+  const size_t refraction = showing_number(e.executor.plan(), "refraction");
   EXPECT_EQ(run(graph::FramePart::display, {0, refraction}).second, (std::vector<std::string>{"lighting"}));
   EXPECT_TRUE(e.executor.picture_standing()) << "the picture gave way before the display's last step";
   EXPECT_EQ(relative_difference(e.executor.read_image("ldr"), before), 0.0) << "a step before the last changed the picture";
@@ -616,8 +608,7 @@ TEST(Progressive, ASingleLayersSurfacesAreKeptWhileTheCameraStandsStill) {
   e.executor.set_reuse_unchanged_passes(true);
   auto scene = load_bundled_scene("sphere_plane");
   const auto sets = with(kSmall, {"grid=64"});
-  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
-  graph::apply_overrides(graph, sets);
+  const auto graph = progressive_graph(sets);
   auto run = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> state, uint32_t frames, std::vector<double>* drawn) {
     engine.executor.set_scene(std::move(state));
     engine.executor.configure(graph, engine.width, engine.height, {"ldr"});
@@ -698,8 +689,7 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   const io::ImageData last_frame = e.executor.read_image("lit");
 
   SceneEngine light_space;
-  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_progressive.json").string());
-  graph::apply_overrides(graph, sets);
+  const auto graph = progressive_graph(sets);
   light_space.executor.set_scene(scene);
   light_space.executor.configure(graph, light_space.width, light_space.height, {"lit"});
   for (uint32_t f = 0; f < 8; ++f) light_space.executor.run_frame(f == 7);

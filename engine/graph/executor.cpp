@@ -506,11 +506,7 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
     for (const auto& image : images) {
       // A resource that several carried passes write (one rewriting another's) is carried once.
       auto& handed = carried_.handed;
-      const auto carried_pair = [&](const auto& pair) { return pair.first == image.first || pair.second == image.second; };
-      if (std::any_of(handed.begin(), handed.end(), carried_pair) ||
-          std::any_of(carried_.images.begin(), carried_.images.end(), carried_pair)) {
-        continue;
-      }
+      if (carried_.carries_from(image.first) || carried_.carries_to(image.second)) continue;
       // The image itself, where the plans describe it alike and it has memory of its own: nothing to
       // copy (about 0.1 s of copies at 1280x720 on lavapipe, for a still level's step).
       if (same_own_image(before->resources[image.first], plan_->resources[image.second])) {
@@ -532,32 +528,36 @@ void Executor::carry_results(std::unique_ptr<const Plan> before, std::unique_ptr
   carried_.realized = std::move(realized_before);
 }
 
+bool Executor::Carried::carries_from(uint32_t from) const {
+  const auto is_from = [&](const auto& pair) { return pair.first == from; };
+  return std::any_of(handed.begin(), handed.end(), is_from) || std::any_of(images.begin(), images.end(), is_from);
+}
+
+bool Executor::Carried::carries_to(uint32_t to) const {
+  const auto is_to = [&](const auto& pair) { return pair.second == to; };
+  return std::any_of(handed.begin(), handed.end(), is_to) || std::any_of(images.begin(), images.end(), is_to);
+}
+
 void Executor::stand_picture(const Plan& before, Realized& realized_before) {
   Realized& real = *realized_;
-  auto& handed = carried_.handed;
-  const auto carried = [&](uint32_t resource) {
-    const auto to = [&](const auto& pair) { return pair.second == resource; };
-    return std::any_of(handed.begin(), handed.end(), to) || std::any_of(carried_.images.begin(), carried_.images.end(), to);
+  const auto outputs_carried = [&] {
+    return std::all_of(plan_->outputs.begin(), plan_->outputs.end(), [&](uint32_t output) { return carried_.carries_to(output); });
   };
-  if (std::all_of(plan_->outputs.begin(), plan_->outputs.end(), carried))
-    return;  // the showing passes carried theirs: no picture to stand in
+  if (outputs_carried()) return;  // the showing passes carried theirs: no picture to stand in
   for (size_t i = 0; i < plan_->passes.size(); ++i) {
     const PlannedPass& pass = plan_->passes[i];
     if (pass.refines || real.reset_keys[i]) continue;  // refining, or its results carried over
     for (const auto& [port, resource] : pass.ports) {
-      if (pass.decl->find_port(port)->access == PortAccess::read || carried(resource)) continue;
+      if (pass.decl->find_port(port)->access == PortAccess::read || carried_.carries_to(resource)) continue;
       const int was = before.find_resource(plan_->resources[resource].name);
       if (was < 0) continue;
       const auto from = static_cast<uint32_t>(was);
-      const auto handed_from = [&](const auto& pair) { return pair.first == from; };
-      if (!same_own_image(before.resources[from], plan_->resources[resource]) || std::any_of(handed.begin(), handed.end(), handed_from))
-        continue;
+      if (!same_own_image(before.resources[from], plan_->resources[resource]) || carried_.carries_from(from)) continue;
       swap_image(realized_before, from, real, resource);
-      handed.emplace_back(from, resource);
+      carried_.handed.emplace_back(from, resource);
     }
   }
-  if (std::all_of(plan_->outputs.begin(), plan_->outputs.end(), carried))
-    real.standing = realized_before.standing ? *realized_before.standing : realized_before.parts_now;
+  if (outputs_carried()) real.standing = realized_before.standing ? *realized_before.standing : realized_before.parts_now;
 }
 
 void Executor::swap_image(Realized& a, uint32_t ia, Realized& b, uint32_t ib) {
@@ -924,7 +924,8 @@ FrameResult Executor::run_frame(bool read_back, FramePart part, DisplayStep step
         {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count(), run});
   }
   const uint32_t frame_end = stamp();
-  if (std::all_of(real.reset_keys.begin(), real.reset_keys.end(), [](const auto& k) { return k.has_value(); })) real.standing.reset();
+  if (real.standing && std::all_of(real.reset_keys.begin(), real.reset_keys.end(), [](const auto& k) { return k.has_value(); }))
+    real.standing.reset();  // every pass has run: the picture is this plan's
 
   if (read_back) {
     std::vector<PlannedBarrier> to_transfer;

@@ -182,6 +182,9 @@ class Executor {
     std::unique_ptr<Realized> realized;
     std::vector<std::pair<uint32_t, uint32_t>> images;  // resource in `plan` -> in plan_, copied
     std::vector<std::pair<uint32_t, uint32_t>> handed;  // the same, the image itself handed over (swapped)
+    // Whether an image of `plan` goes over already, or one of plan_ is already given one.
+    bool carries_from(uint32_t from) const;
+    bool carries_to(uint32_t to) const;
   } carried_;
   // A refining pass as a replaced plan left it: what carry_running_results hands on.
   struct RunningResult {
