@@ -1,5 +1,5 @@
 #pragma once
-// ORACLES.md's ball lens, computed analytically for the bundled sphere_plane scene: a spot light
+// docs/oracles.md's ball lens, computed analytically for the bundled sphere_plane scene: a spot light
 // above a glass sphere (R = 1, n = 1.5) over the floor y = 0.
 #include <cmath>
 #include <glm/glm.hpp>

@@ -76,7 +76,7 @@ TEST(Caustics, RegularMapConservesTheFluxEnteringTheBallLens) {
 }
 
 // n = 1: the refractor bends nothing, so on the floor the caustic plus the shadowed direct light
-// must equal the direct light of the scene without the sphere (ORACLES.md).
+// must equal the direct light of the scene without the sphere (docs/oracles.md).
 TEST(Caustics, IndexOneMakesTheCausticFillTheShadowExactly) {
   Engine e;
   auto invisible = load("sphere_plane");
@@ -102,7 +102,7 @@ TEST(Caustics, IndexOneMakesTheCausticFillTheShadowExactly) {
   EXPECT_LT(static_cast<double>(off), 0.01 * static_cast<double>(pixels));
 }
 
-// ORACLES.md's ball lens, cumulative flux inside radius r on the floor. The exact answer traces the
+// docs/oracles.md's ball lens, cumulative flux inside radius r on the floor. The exact answer traces the
 // light's rays through a perfect sphere analytically (both refractions exact; no ray that enters
 // a sphere can meet total internal reflection), stratified over the sphere's solid angle. The
 // engine's is read from the adaptive caustic map (2048^2 effective photons, both convergence

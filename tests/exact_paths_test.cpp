@@ -1,5 +1,5 @@
 // Exact light paths with ray queries (lavapipe 25 or any device with VK_KHR_ray_query), validation
-// on: the ray-query photon tracer against ORACLES.md's ball lens, its flux bookkeeping, the hybrid's
+// on: the ray-query photon tracer against docs/oracles.md's ball lens, its flux bookkeeping, the hybrid's
 // re-trace reasons, and camera refraction (exact and hybrid) against the ray-traced reference. The
 // refusal on a device without ray queries is in cli_test. These tests need ray queries
 // and fail, rather than skip, on a device without them: tools/install-deps.sh installs lavapipe 25.
@@ -29,7 +29,7 @@ double sum_of(const graph::FrameResult& frame, std::initializer_list<const char*
 
 }  // namespace
 
-// Without Fresnel, every photon that enters a sphere leaves it (ORACLES.md): the exact tracer must
+// Without Fresnel, every photon that enters a sphere leaves it (docs/oracles.md): the exact tracer must
 // land the whole entering flux, at the radii the analytic lens gives. The cumulative fraction of
 // the entering flux inside r = 0.05 .. 0.5 R on the floor must be within 0.02 of the exact lens at
 // every radius; the image-space methods miss it by up to 0.14 (caustics_test).

@@ -1,4 +1,4 @@
-// The photon ground truth (CPU, Embree) against ORACLES.md: the ball lens, a glass slab, n = 1,
+// The photon ground truth (CPU, Embree) against docs/oracles.md: the ball lens, a glass slab, n = 1,
 // energy bookkeeping, determinism, and shards that merge into the whole map; the camera reference's
 // shards of rows, which merge into the whole image.
 #include <gtest/gtest.h>

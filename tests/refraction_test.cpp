@@ -119,7 +119,7 @@ TEST(Refraction, CloseToTheRayTracedReference) {
     EXPECT_LT(error, limit) << name << " " << distance;
     if (std::string(name) == "sphere_plane") (std::string(distance) == "dv" ? sphere_dv : sphere_dvdn) = error;
   }
-  // ORACLES.md: on a sphere the d_V/d_N blend is the better distance estimate; measured 0.154 against
+  // docs/oracles.md: on a sphere the d_V/d_N blend is the better distance estimate; measured 0.154 against
   // 0.201 (d_V) at 320x180 when this was written.
   EXPECT_LT(sphere_dvdn, sphere_dv);
 }

@@ -298,7 +298,7 @@ TEST(SceneFiles, BundledScenesLoadWithTheirRefractors) {
       EXPECT_EQ(o.mesh.normal_distance.size(), o.material.refractor ? o.mesh.positions.size() : 0u) << file << " " << o.name;
     }
   }
-  // The ball lens: R = 1 centred 1.5 above the floor, as ORACLES.md's focus case needs.
+  // The ball lens: R = 1 centred 1.5 above the floor, as docs/oracles.md's focus case needs.
   Scene ball = load_scene_file((kSource / "scenes/sphere_plane.json").string());
   const Object& sphere = ball.objects.back();
   EXPECT_NEAR(sphere.center().y, 1.5f, 1e-5f);

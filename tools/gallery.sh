@@ -4,14 +4,14 @@
 # map, and each graph's caustic map (and the ray-query graph's with distance=material) against
 # that map (energy ratio, relative L1).
 #   tools/gallery.sh [CAUSTICA] [SAMPLES_DIR] [PHOTONS] [ONLY]
-# CAUSTICA defaults to build/release/caustica, SAMPLES_DIR to ../shared/gltf-samples (the Khronos
-# transmission samples; skipped when absent), PHOTONS to 2e7; ONLY, a comma-separated list of asset
+# CAUSTICA defaults to build/release/caustica, SAMPLES_DIR to $CAUSTICA_GLTF_SAMPLES, a folder
+# of KhronosGroup/glTF-Sample-Assets models (the Khronos transmission samples; skipped when absent), PHOTONS to 2e7; ONLY, a comma-separated list of asset
 # names, renders those alone. Writes docs/gallery/*.png and prints the table that docs/gallery.md
 # quotes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${1:-build/release/caustica}")
-samples=${2:-../shared/gltf-samples}
+samples=${2:-${CAUSTICA_GLTF_SAMPLES:-}}
 photons=${3:-2e7}
 only=${4:-}
 out=docs/gallery

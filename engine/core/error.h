@@ -1,5 +1,5 @@
 #pragma once
-// The three failure classes of the command line contract (DESIGN.md, "Errors"): bad input exits 1,
+// The three failure classes of the command line contract (the README: "bad input exits 1 ..."): bad input exits 1,
 // usage mistakes exit 2, device or runtime failures exit 3. Programmer mistakes are asserts.
 #include <stdexcept>
 #include <string>

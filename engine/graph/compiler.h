@@ -11,7 +11,7 @@ namespace caustica::graph {
 
 struct DeviceLimits {
   uint32_t max_image_dimension_2d = 16384;
-  uint64_t max_storage_buffer_range = 128ull << 20;  // lavapipe's; see DESIGN.md
+  uint64_t max_storage_buffer_range = 128ull << 20;  // lavapipe's; docs/lavapipe.md
   uint64_t max_buffer_size = 4ull << 30;
 };
 

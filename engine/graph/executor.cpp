@@ -1,4 +1,5 @@
 #include "graph/executor.h"
+#include "graph/executor_internal.h"
 
 #include <algorithm>
 #include <array>
@@ -17,7 +18,6 @@
 namespace caustica::graph {
 namespace {
 
-constexpr uint32_t kMaxCounters = 256;
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point start) {
@@ -139,158 +139,6 @@ nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const
 }
 
 }  // namespace
-
-struct Executor::RealImage {
-  vk::OwnedImage image;
-  vk::OwnedImageView view;
-};
-
-struct Executor::RealBuffer {
-  vk::OwnedBuffer buffer;
-};
-
-struct Executor::Realized {
-  std::vector<vk::OwnedMemory> blocks;
-  std::vector<vk::OwnedMemory> dedicated;  // by resource index: a persistent resource's own allocation
-  std::vector<RealImage> images;    // by resource index (empty for buffers and unused resources)
-  std::vector<RealBuffer> buffers;  // by resource index
-  struct Readback {
-    uint32_t resource;
-    vk::Buffer buffer;
-    uint64_t bytes = 0;
-  };
-  std::vector<Readback> readbacks;
-  std::vector<std::unique_ptr<Pass>> passes;
-  std::vector<std::string> counter_names;
-  std::vector<bool> counter_is_sum;
-  std::map<std::string, std::string> counter_passes;
-  std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  // Per pass, as it last ran: whether it would change with more frames (PassContext::still_converging),
-  // and the frames its running result holds where it said (PassContext::holds_frames).
-  std::vector<bool> converging;
-  std::vector<std::optional<uint64_t>> frames_held;
-  size_t recording_pass = 0;
-  vk::Buffer counters;                       // host-visible, uint32 each
-  vk::OwnedSampler linear;
-  vk::OwnedSampler nearest;
-  vk::OwnedCommandPool pool;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  vk::OwnedFence fence;
-  vk::OwnedQueryPool queries;
-  uint32_t query_count = 0;
-  bool read_back_done = false;
-  uint64_t frame_index = 0;  // the next frame to run
-  // Per pass: its frames since the scene parts it depends on last changed (FrameInfo), and their
-  // key then (a pass that reuses is skipped while it holds); each counter's last value, reported
-  // again while its pass is skipped.
-  std::vector<FrameInfo> pass_frames;
-  std::vector<std::optional<uint64_t>> reset_keys;
-  // This frame's key of each scene part (kSceneParts), and per pass, those of the frame it last ran
-  // in (PassContext::scene_unchanged_since_last_run).
-  std::array<uint64_t, 3> parts_now{};
-  std::vector<std::optional<std::array<uint64_t, 3>>> parts_at_last_run;
-  // While the outputs hold a picture of the plan before (Executor::let_picture_stand): the scene
-  // parts it was drawn for.
-  std::optional<std::array<uint64_t, 3>> standing;
-  std::map<uint32_t, uint64_t> history_keys;  // per history resource: the key of its scene parts at its last restart
-  std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
-  uint64_t jittered_frames = 0;        // since then
-  const FrameInfo* recording = nullptr;  // the pass being recorded's
-  const nlohmann::json* recording_params = nullptr;  // and its parameters for this frame
-  std::vector<nlohmann::json> frame_params;          // per pass with PlannedPass::frame_params
-  std::map<std::string, double> last_counters;
-  // Per pass: the shader files (and includes) it was set up with.
-  std::vector<std::vector<std::filesystem::path>> shader_files;
-};
-
-// ---- PassSetup / PassContext --------------------------------------------------------------------
-
-vk::Context& PassSetup::vk() const {
-  return executor_.vk_;
-}
-shader::ShaderCompiler& PassSetup::shaders() const {
-  return executor_.shaders_;
-}
-const PlannedResource& PassSetup::resource(const std::string& port) const {
-  return executor_.plan_->resources[pass_.ports.at(port)];
-}
-uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
-  auto& names = executor_.realized_->counter_names;
-  executor_.realized_->counter_passes.emplace(name, pass_.name);
-  auto it = std::find(names.begin(), names.end(), name);
-  if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
-  if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
-  names.push_back(name);
-  executor_.realized_->counter_is_sum.push_back(kind == CounterKind::sum);
-  return static_cast<uint32_t>(names.size() - 1);
-}
-std::string PassSetup::counter_owner(const std::string& name) const {
-  const auto& owners = executor_.realized_->counter_passes;
-  const auto it = owners.find(name);
-  return it == owners.end() ? std::string() : it->second;
-}
-
-vk::Context& PassContext::vk() const {
-  return executor_.vk_;
-}
-const PlannedResource& PassContext::resource(const std::string& port) const {
-  return executor_.plan_->resources[pass_.ports.at(port)];
-}
-VkImage PassContext::image(const std::string& port) const {
-  return executor_.realized_->images[pass_.ports.at(port)].image.get();
-}
-VkImageView PassContext::view(const std::string& port) const {
-  return executor_.realized_->images[pass_.ports.at(port)].view.get();
-}
-VkBuffer PassContext::buffer(const std::string& port) const {
-  return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get();
-}
-VkExtent2D PassContext::extent(const std::string& port) const {
-  const auto& r = resource(port);
-  return {r.width, r.height};
-}
-VkSampler PassContext::linear_sampler() const {
-  return executor_.realized_->linear.get();
-}
-VkSampler PassContext::nearest_sampler() const {
-  return executor_.realized_->nearest.get();
-}
-VkBuffer PassContext::counter_buffer() const {
-  return executor_.realized_->counters.get();
-}
-void PassContext::set_counter(uint32_t counter, double value) const {
-  executor_.realized_->host_counters[counter] = value;
-}
-void PassContext::still_converging() const {
-  executor_.realized_->converging[executor_.realized_->recording_pass] = true;
-}
-void PassContext::holds_frames(uint64_t frames) const {
-  executor_.realized_->frames_held[executor_.realized_->recording_pass] = frames;
-}
-const FrameInfo& PassContext::frame() const {
-  return *executor_.realized_->recording;
-}
-bool PassContext::scene_unchanged_since_last_run(uint32_t parts) const {
-  const Executor::Realized& real = *executor_.realized_;
-  const auto& then = real.parts_at_last_run[real.recording_pass];
-  if (!then || executor_.plan_->jitters_camera || !pass_.frame_params.empty()) return false;
-  for (size_t k = 0; k < kSceneParts.size(); ++k) {
-    if ((parts & kSceneParts[k]) && (*then)[k] != real.parts_now[k]) return false;
-  }
-  return true;
-}
-bool PassContext::kept_since_last_run(const std::string& port) const {
-  const PlannedResource& r = resource(port);
-  const auto self = static_cast<uint32_t>(executor_.realized_->recording_pass);
-  return r.kept_across_frames && r.first_use == self && r.last_use == self;
-}
-const nlohmann::json& PassContext::params() const {
-  return *executor_.realized_->recording_params;
-}
-const scene::GpuScene& PassContext::scene() const {
-  assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
-  return *executor_.scene_;
-}
 
 // ---- Executor ------------------------------------------------------------------------------------
 
@@ -682,7 +530,7 @@ void Executor::realize_passes_and_resources() {
   real.pool = std::move(commands.pool);
   real.cmd = commands.cmd;
   real.fence = std::move(commands.fence);
-  // Two timestamps per pass plus two for the frame, each followed by a dummy (see DESIGN.md: on
+  // Two timestamps per pass plus two for the frame, each followed by a dummy (docs/lavapipe.md: on
   // lavapipe a timestamp after a render pass is only right when another timestamp follows it).
   real.query_count = 2 * (2 * static_cast<uint32_t>(p.passes.size()) + 2);
   VkQueryPoolCreateInfo query_info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};

@@ -79,7 +79,7 @@ inline glm::vec3 through_thin(glm::vec3 direction, glm::vec3 m, glm::vec3 n) {
 // A ray meeting a dielectric interface, from index eta_i into eta_t, at facet m of the surface
 // whose normal n faces the ray: the one model of an interface that both references use (photons
 // choose a side by the reflectance, camera rays weight both). `fresnel` false: no reflection
-// except total internal reflection (ORACLES.md's "no Fresnel" oracles).
+// except total internal reflection (docs/oracles.md's "no Fresnel" oracles).
 struct InterfaceCrossing {
   glm::vec3 reflected;    // kept on the ray's side of the surface
   glm::vec3 transmitted;  // kept on the far side; zero under total internal reflection

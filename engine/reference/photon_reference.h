@@ -24,7 +24,7 @@ struct PhotonOptions {
   uint64_t first_photon = 0, end_photon = 0;
   uint32_t map_size = 512;  // the light-space map's side, as the graphs' caustic_size
   uint32_t camera_width = 0, camera_height = 0;  // 0: no camera image
-  bool fresnel = true;      // false: every photon transmits unless total internal reflection (ORACLES.md's "no Fresnel")
+  bool fresnel = true;      // false: every photon transmits unless total internal reflection (docs/oracles.md's "no Fresnel")
   unsigned threads = 0;     // 0: every core
   std::function<void(uint64_t done, uint64_t total)> progress;  // called from the calling thread
 };

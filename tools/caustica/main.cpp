@@ -1,5 +1,5 @@
 // The caustica command: render, trace, validate, graph, reference, merge, compare, devices; bench.cpp has the benchmarks.
-// Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (DESIGN.md).
+// Exit codes: 0 ok, 1 invalid input, 2 usage, 3 device or runtime failure (README).
 #include <unistd.h>
 
 #include <algorithm>

@@ -1,0 +1,97 @@
+// The pass interfaces: what a pass sees of the executor at set-up (PassSetup) and while recording (PassContext).
+#include <algorithm>
+#include <cassert>
+
+#include "core/error.h"
+#include "graph/executor_internal.h"
+#include "graph/pass.h"
+
+namespace caustica::graph {
+
+vk::Context& PassSetup::vk() const {
+  return executor_.vk_;
+}
+shader::ShaderCompiler& PassSetup::shaders() const {
+  return executor_.shaders_;
+}
+const PlannedResource& PassSetup::resource(const std::string& port) const {
+  return executor_.plan_->resources[pass_.ports.at(port)];
+}
+uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
+  auto& names = executor_.realized_->counter_names;
+  executor_.realized_->counter_passes.emplace(name, pass_.name);
+  auto it = std::find(names.begin(), names.end(), name);
+  if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
+  if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
+  names.push_back(name);
+  executor_.realized_->counter_is_sum.push_back(kind == CounterKind::sum);
+  return static_cast<uint32_t>(names.size() - 1);
+}
+std::string PassSetup::counter_owner(const std::string& name) const {
+  const auto& owners = executor_.realized_->counter_passes;
+  const auto it = owners.find(name);
+  return it == owners.end() ? std::string() : it->second;
+}
+
+vk::Context& PassContext::vk() const {
+  return executor_.vk_;
+}
+const PlannedResource& PassContext::resource(const std::string& port) const {
+  return executor_.plan_->resources[pass_.ports.at(port)];
+}
+VkImage PassContext::image(const std::string& port) const {
+  return executor_.realized_->images[pass_.ports.at(port)].image.get();
+}
+VkImageView PassContext::view(const std::string& port) const {
+  return executor_.realized_->images[pass_.ports.at(port)].view.get();
+}
+VkBuffer PassContext::buffer(const std::string& port) const {
+  return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get();
+}
+VkExtent2D PassContext::extent(const std::string& port) const {
+  const auto& r = resource(port);
+  return {r.width, r.height};
+}
+VkSampler PassContext::linear_sampler() const {
+  return executor_.realized_->linear.get();
+}
+VkSampler PassContext::nearest_sampler() const {
+  return executor_.realized_->nearest.get();
+}
+VkBuffer PassContext::counter_buffer() const {
+  return executor_.realized_->counters.get();
+}
+void PassContext::set_counter(uint32_t counter, double value) const {
+  executor_.realized_->host_counters[counter] = value;
+}
+void PassContext::still_converging() const {
+  executor_.realized_->converging[executor_.realized_->recording_pass] = true;
+}
+void PassContext::holds_frames(uint64_t frames) const {
+  executor_.realized_->frames_held[executor_.realized_->recording_pass] = frames;
+}
+const FrameInfo& PassContext::frame() const {
+  return *executor_.realized_->recording;
+}
+bool PassContext::scene_unchanged_since_last_run(uint32_t parts) const {
+  const Executor::Realized& real = *executor_.realized_;
+  const auto& then = real.parts_at_last_run[real.recording_pass];
+  if (!then || executor_.plan_->jitters_camera || !pass_.frame_params.empty()) return false;
+  for (size_t k = 0; k < kSceneParts.size(); ++k) {
+    if ((parts & kSceneParts[k]) && (*then)[k] != real.parts_now[k]) return false;
+  }
+  return true;
+}
+bool PassContext::kept_since_last_run(const std::string& port) const {
+  const PlannedResource& r = resource(port);
+  const auto self = static_cast<uint32_t>(executor_.realized_->recording_pass);
+  return r.kept_across_frames && r.first_use == self && r.last_use == self;
+}
+const nlohmann::json& PassContext::params() const {
+  return *executor_.realized_->recording_params;
+}
+const scene::GpuScene& PassContext::scene() const {
+  assert(executor_.scene_ && pass_.decl->needs_scene && "scene() from a pass type that does not declare needs_scene");
+  return *executor_.scene_;
+}
+}  // namespace caustica::graph
