@@ -67,8 +67,6 @@ class Viewer::Impl {
         executor_(vk_, shaders_, passes::builtin_registry()) {
     inspector_.inspected = o.inspect;
     inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
-    // While only the camera moves, the light's passes keep their last results (issue 40).
-    executor_.set_reuse_unchanged_passes(o.reuse);
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
     vk_.adopt_surface(surface);
@@ -230,7 +228,7 @@ class Viewer::Impl {
     }
     if (edited.empty()) return false;
     try {
-      executor_.invalidate(edited);
+      shaders_saved_.insert(edited.begin(), edited.end());
       configure();
       session_.report("reloaded " + names, false);
     } catch (const std::exception& e) {
@@ -300,8 +298,9 @@ class Viewer::Impl {
   }
 
   // `showing_passes_kept`: the new plan differs in what refines only (a still level), so the last
-  // whole frame's time still says whether a whole frame fits the budget.
-  void configure(bool showing_passes_kept = false) {
+  // whole frame's time still says whether a whole frame fits the budget. `picture_may_stand`: a
+  // change of quality values at rest (HandOverOptions::picture_may_stand).
+  void configure(bool showing_passes_kept = false, bool picture_may_stand = false) {
     budget_.new_plan();
     std::set<std::string> retained;
     if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
@@ -312,13 +311,21 @@ class Viewer::Impl {
       if (still_values_ && !p.while_still.empty() && !session_.edits.count(p.decl.name))
         p.value = p.while_still[std::min(still_levels_.level(), p.while_still.size() - 1)];
     }
+    graph::ConfigureOptions configure;
+    configure.retained = retained;
+    // While only the camera moves, the light's passes keep their last results.
+    configure.reuse_unchanged_passes = options_.reuse;
+    configure.hand_over.edited_shaders = shaders_saved_;
+    configure.hand_over.picture_may_stand = picture_may_stand;
     try {
-      executor_.configure(graph, size.width, size.height, retained);
+      executor_.configure(graph, size.width, size.height, configure);
     } catch (const InputError&) {
       if (inspector_.inspected.empty()) throw;
       inspector_.inspected.clear();  // the inspected image left the graph: back to its output
-      executor_.configure(graph, size.width, size.height);
+      configure.retained.clear();
+      executor_.configure(graph, size.width, size.height, configure);
     }
+    shaders_saved_.clear();  // the plan that set them up anew runs
     if (executor_.picture_standing()) {
       // The plan before's picture stands (let_picture_stand): its whole frame stands for this one's
       // (over the budget, frames refine at once; within it, as on a GPU, the next frame shows the
@@ -361,9 +368,8 @@ class Viewer::Impl {
     still_values_ = still_values;
     // At rest the change is one of quality (the while_still values), not of what the picture shows:
     // the picture stands while the new plan refines, where the sizes let it.
-    if (!moved_) executor_.let_picture_stand();
     try {
-      configure();
+      configure(false, !moved_);
     } catch (const std::exception& e) {
       if (!still_values_) throw;
       // The device cannot run the graph with them (exact photons without VK_KHR_ray_query): the
@@ -441,8 +447,7 @@ class Viewer::Impl {
                    "the while_still values of level %zu of %zu\n",
                    options_.budget_ms, still_levels_.judged(), still_levels_.predicted(), still_levels_.level() + 1, still_levels_.levels());
     }
-    executor_.let_picture_stand();  // a plan whose picture stands still (its showing passes have not run) hands it on
-    configure(true);
+    configure(true, true);  // a plan whose picture stands still (its showing passes have not run) hands it on
   }
 
   // The graph declares while_still values that this device has not refused.
@@ -665,7 +670,7 @@ class Viewer::Impl {
         !blit || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty() || (last && !options_.screenshot.empty());
     const bool must_show = last || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty();
     const auto [part, step] = frame_part(must_show);
-    const graph::FrameResult frame = executor_.run_frame(read_back, part, step);
+    const graph::FrameResult frame = executor_.run_frame(read_back, {part, step});
     last_result_ = frame;
     const uint32_t compiled = executor_.compile_count();
     const graph::FrameImage output_image = executor_.frame_image(output);
@@ -855,6 +860,8 @@ class Viewer::Impl {
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
   std::map<std::filesystem::path, std::filesystem::file_time_type> shader_times_;  // watch_shaders()
+  // Shader files saved since the last plan that set its passes up (a reload that failed keeps them).
+  std::set<std::filesystem::path> shaders_saved_;
   bool blit_supported_ = false;  // the output can go into the window on the device
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
