@@ -786,6 +786,64 @@ TEST(Progressive, PerFrameParametersFollowTheFrameBlock) {
   check(moved_light, 64, 3.5, "frame 3, the light moved");
 }
 
+// A per-frame expression that stops being a number on a later frame (a division by a count that
+// reached zero) is bad input named where it is, not a value kept silently from an earlier frame.
+TEST(Progressive, APerFrameExpressionThatTurnsNonFiniteIsNamed) {
+  const auto path = data_dir() / "graphs/caustics_progressive.json";
+  nlohmann::json file = nlohmann::json::parse(std::ifstream(path));
+  for (auto& pass : file["passes"]) {
+    if (pass["name"] == "tonemap") pass["params"]["exposure"] = "1 / (2 - frame.index)";
+  }
+  auto graph = graph::load_graph(JsonDocument::parse(file.dump(2), path.string()));
+  graph::apply_overrides(graph, with(kSmall, {"grid=64"}));
+  SceneEngine e;
+  e.executor.set_scene(load_bundled_scene("sphere_plane"));
+  e.configure(graph, e.width, e.height);
+  e.executor.run_frame(false);
+  e.executor.run_frame(false);
+  try {
+    e.executor.run_frame(false);
+    ADD_FAILURE() << "frame 2's exposure is 1 / 0";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    for (const char* part : {"caustics_progressive.json", "/passes/8", "tonemap", "exposure", "division by zero", "frame 2"})
+      EXPECT_NE(message.find(part), std::string::npos) << part << " missing from: " << message;
+  }
+}
+
+// Two passes that count under one name add up whichever of them ran: with reuse, a caustic map
+// that does not follow the frame is kept on the second frame while the jittered one runs, and
+// photons.processed still counts both (the kept one as it last counted), not the running one alone.
+TEST(Progressive, ACounterOfTwoPassesSumsWhatEachLastCountedWhenOneIsKept) {
+  const auto path = data_dir() / "graphs/caustics_progressive.json";
+  nlohmann::json file = nlohmann::json::parse(std::ifstream(path));
+  nlohmann::json kept;
+  for (const auto& pass : file["passes"]) {
+    if (pass["name"] == "caustics") kept = pass;
+  }
+  kept["name"] = "kept_caustics";
+  kept["params"]["jitter"] = false;
+  kept["outputs"]["caustic_map"] = "kept_map";
+  file["resources"]["kept_map"] = file["resources"]["caustics_frame"];
+  file["passes"].push_back(kept);
+  file["outputs"].push_back("kept_map");
+  auto graph = graph::load_graph(JsonDocument::parse(file.dump(2), path.string()));
+  graph::apply_overrides(graph, with(kSmall, {"grid=64", "jitter=true"}));
+  SceneEngine e;
+  e.reuse = true;
+  e.executor.set_scene(load_bundled_scene("sphere_plane"));
+  e.configure(graph, e.width, e.height);
+  const graph::FrameResult first = e.executor.run_frame(false);
+  const graph::FrameResult second = e.executor.run_frame(false);
+  auto ran = [](const graph::FrameResult& frame, const std::string& name) {
+    return std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == name; })->ran;
+  };
+  ASSERT_TRUE(ran(second, "caustics"));
+  ASSERT_FALSE(ran(second, "kept_caustics"));
+  EXPECT_EQ(first.counters.at("photons.processed"), 2.0 * 64 * 64);
+  EXPECT_EQ(second.counters.at("photons.processed"), 2.0 * 64 * 64);
+}
+
 // A still camera's frames moved within their pixels and averaged (refraction_deferred's
 // still_mean) antialias the picture: after 16 frames the mean comes far closer to the same view
 // rendered at four times the size and box-filtered down (what a uniform spread over the pixel
