@@ -1,5 +1,5 @@
-// glTF 2.0 through tinygltf: the scene's nodes, meshes, materials, cameras and lights, with the
-// ratified extensions docs/gltf.md lists.
+// glTF 2.0 through tinygltf: the scene's nodes, meshes, cameras and lights, with the ratified
+// extensions docs/gltf.md lists; each primitive's material through gltf_material.h.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
