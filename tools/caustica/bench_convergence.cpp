@@ -34,32 +34,27 @@ struct ConvergenceOptions : ComparisonOptions {
   uint32_t grid = 0;    // 0: the graph's own
 };
 
+// `seconds_given`: whether --seconds was, which --frames then contradicts.
+FlagTable convergence_flags(ConvergenceOptions& o, bool& seconds_given) {
+  FlagTable table{text_flag("--scene", "NAME", "the scene (default glass_bunny)", o.scene),
+                  text_flag("--graph", "NAME", "the progressive graph (default caustics_progressive)", o.graph),
+                  names_flag("--methods", "A,B", "values of the graph's `distance` (default dv_dn,search,hybrid,ray_query)", o.methods),
+                  {"--seconds", "S", "accumulate this long (default 30)",
+                   [&o, &seconds_given](const std::string& v) {
+                     o.seconds = parse_number("--seconds", v, 0.001, 86400);
+                     seconds_given = true;
+                   }},
+                  uint32_flag("--frames", "N", "accumulate this many frames instead of --seconds", o.frames, 1, 1'000'000),
+                  uint32_flag("--grid", "G", "the photon grid (default the graph's own)", o.grid, 16, 16384),
+                  text_flag("--reference", "FILE.exr", "the reference map, in place of tracing --reference-photons", o.reference_file)};
+  o.add_flags(table);
+  return table;
+}
+
 ConvergenceOptions parse_convergence_options(Args& args) {
   ConvergenceOptions o;
   bool seconds_given = false;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene")
-      o.scene = args.value(a);
-    else if (a == "--graph")
-      o.graph = args.value(a);
-    else if (a == "--methods")
-      o.methods = parse_names(a, args.value(a));
-    else if (a == "--seconds") {
-      o.seconds = parse_number(a, args.value(a), 0.001, 86400);
-      seconds_given = true;
-    } else if (a == "--frames")
-      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1'000'000));
-    else if (a == "--grid")
-      o.grid = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 16384));
-    else if (a == "--reference")
-      o.reference_file = args.value(a);
-    else if (!o.take(a, args)) {
-      std::vector<std::string> known{"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--reference"};
-      known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
-      unknown_option(a, known);
-    }
-  }
+  convergence_flags(o, seconds_given).parse(args);
   if (o.out_dir.empty()) throw UsageError("bench convergence needs --out DIR");
   if (seconds_given && o.frames > 0) throw UsageError("bench convergence: give --seconds or --frames, not both");
   return o;
@@ -244,6 +239,12 @@ int cmd_bench_convergence(Args& args) {
   std::cout << config << "\n\n" << table;
   std::fprintf(stderr, "bench convergence: %s/convergence.csv, convergence.md, convergence.png\n", o.out_dir.c_str());
   return 0;
+}
+
+std::string convergence_flags_help() {
+  ConvergenceOptions o;
+  bool seconds_given = false;
+  return convergence_flags(o, seconds_given).help();
 }
 
 }  // namespace caustica::cli::bench
