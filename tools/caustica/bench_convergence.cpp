@@ -113,6 +113,40 @@ std::string error_at(const std::vector<Row>& rows, const std::string& method, do
   return cell;
 }
 
+// One method's run: its mean compared with the reference after the frames `checkpoint` picks and
+// at the last, each a row of `rows`.
+void follow_method(vk::Context& vk, shader::ShaderCompiler& shaders, const std::shared_ptr<const scene::Scene>& scene,
+                   const graph::GraphDesc& graph, const ConvergenceOptions& o, const std::string& method,
+                   const io::ImageData& reference_map, std::vector<Row>& rows) {
+  using Clock = std::chrono::steady_clock;
+  {  // the pipelines compile here (vk::Context keeps them), outside the measured run
+    graph::Executor warm_up(vk, shaders, passes::builtin_registry());
+    warm_up.set_scene(scene);
+    warm_up.configure(graph, o.width, o.height);
+    warm_up.run_frame(false);
+  }
+  graph::Executor executor(vk, shaders, passes::builtin_registry());
+  executor.set_reuse_unchanged_passes(true);  // as the viewer: at rest the camera's and the light's own passes keep their results
+  executor.set_scene(scene);
+  executor.configure(graph, o.width, o.height, {"caustics"});
+  double elapsed = 0, last_ms = 0;
+  for (uint32_t frame = 1;; ++frame) {
+    // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
+    const bool last = o.frames > 0 ? frame == o.frames : elapsed + last_ms / 1000.0 >= o.seconds;
+    const bool compare = last || checkpoint(frame);
+    const auto start = Clock::now();
+    executor.run_frame(compare);
+    last_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    elapsed += last_ms / 1000.0;
+    if (compare) {
+      rows.push_back({method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
+      std::fprintf(stderr, "%s %s: frame %u, %.2f s, relative L1 %.4f, energy %.4f\n", scene->name.c_str(), method.c_str(), frame, elapsed,
+                   rows.back().error.relative_l1, rows.back().error.energy_ratio);
+    }
+    if (last) break;
+  }
+}
+
 }  // namespace
 
 // Each method accumulates from a fresh start (after one frame elsewhere that compiles its
@@ -161,7 +195,6 @@ int cmd_bench_convergence(Args& args) {
     io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), reference_map);
   }
 
-  using Clock = std::chrono::steady_clock;
   std::vector<Row> rows;
   for (size_t m = 0; m < graphs.size(); ++m) {
     const std::string& method = o.methods[m];
@@ -170,33 +203,7 @@ int cmd_bench_convergence(Args& args) {
                    vk.ray_queries().missing.c_str());
       continue;
     }
-    {  // the pipelines compile here (vk::Context keeps them), outside the measured run
-      graph::Executor warm_up(vk, shaders, passes::builtin_registry());
-      warm_up.set_scene(scene);
-      warm_up.configure(graphs[m], o.width, o.height);
-      warm_up.run_frame(false);
-    }
-    graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.set_reuse_unchanged_passes(true);  // as the viewer: at rest the camera's and the light's own passes keep their results
-    executor.set_scene(scene);
-    executor.configure(graphs[m], o.width, o.height, {"caustics"});
-    double elapsed = 0, last_ms = 0;
-    for (uint32_t frame = 1;; ++frame) {
-      // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
-      const bool last = o.frames > 0 ? frame == o.frames : elapsed + last_ms / 1000.0 >= o.seconds;
-      const bool compare = last || checkpoint(frame);
-      const auto start = Clock::now();
-      executor.run_frame(compare);
-      last_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-      elapsed += last_ms / 1000.0;
-      if (compare) {
-        rows.push_back(
-            {method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
-        std::fprintf(stderr, "%s %s: frame %u, %.2f s, relative L1 %.4f, energy %.4f\n", scene->name.c_str(), method.c_str(), frame,
-                     elapsed, rows.back().error.relative_l1, rows.back().error.energy_ratio);
-      }
-      if (last) break;
-    }
+    follow_method(vk, shaders, scene, graphs[m], o, method, reference_map, rows);
   }
 
   std::string csv = "scene,method,frame,seconds,frame_ms,relative_l1,energy_ratio,shape_l1\n";
