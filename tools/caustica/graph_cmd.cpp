@@ -101,7 +101,9 @@ int cmd_graph(Args& args) {
   if (args.wants_help()) {
     std::string out;
     std::cout << help << "\noptions of 'graph set':\n"
-              << set_table(out).help() << "\noptions of 'graph plan' and 'graph dot': as render's (caustica render --help)\n";
+              << set_table(out).help()
+              << "\noptions of 'graph plan' and 'graph dot': as render's (caustica render --help); they compile the graph's\n"
+                 "parameters as declared (with --set), not render's values at rest\n";
     return 0;
   }
   if (args.done()) throw UsageError("graph needs 'plan', 'dot', 'schema', 'set' or 'params'; see caustica graph --help");
