@@ -193,9 +193,8 @@ TEST(Cli, BundledGraphsValidate) {
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* command :
-       {"", "render ", "trace ", "validate ", "graph ", "graphs ", "scenes ", "devices ", "reference ", "merge ", "bench ", "compare ",
-        "view ", "edit "}) {
+  for (const char* command : {"", "render ", "trace ", "validate ", "graph ", "graphs ", "scenes ", "devices ", "reference ", "merge ",
+                              "bench ", "compare ", "view ", "edit "}) {
     CliRun r = run(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.output.find("usage:"), std::string::npos) << command;
@@ -206,6 +205,81 @@ TEST(Cli, EveryCommandHasHelp) {
                           "'graph plan", "'graph dot", "'graph schema'", "'graph set"}) {
     EXPECT_NE(top.output.find(sub), std::string::npos) << sub << " in\n" << top.output;
   }
+}
+
+// Every flag a command's --help lists is one its parsing takes, with a value where the help shows
+// one: the help and the parsing come from one table. A misspelling of each is refused with it as
+// the suggestion.
+TEST(Cli, EveryFlagThatHelpListsIsOneTheCommandTakes) {
+  fs::path dir = scratch("help_flags");
+  // The command (with what it needs before its flags) and the part of --help that lists its flags.
+  std::vector<std::pair<std::string, std::string>> commands;
+  for (const char* c : {"render", "trace", "validate", "compare", "reference", "merge", "view", "edit"}) {
+    const std::string help = run(std::string(c) + " --help", dir).output;
+    commands.emplace_back(c, help.substr(help.find("options")));
+  }
+  const std::string graph_help = run("graph --help", dir).output;
+  const size_t set_options = graph_help.find("options of 'graph set'");
+  commands.emplace_back("graph set '" + (kSource / "graphs/core_demo.json").string() + "'", graph_help.substr(set_options));
+  const std::string bench_help = run("bench --help", dir).output;
+  for (const char* b : {"refraction", "compare", "photons", "load", "accuracy", "stability", "convergence", "merge"}) {
+    const size_t at = bench_help.find(std::string("\n") + b + " options:\n");
+    ASSERT_NE(at, std::string::npos) << b << " options in\n" << bench_help;
+    commands.emplace_back(std::string("bench ") + b, bench_help.substr(at + 1, bench_help.find("\n\n", at + 1) - at));
+  }
+  int flags = 0;
+  for (const auto& [command, listing] : commands) {
+    std::istringstream lines(listing);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("  --", 0) != 0) continue;
+      const size_t end = line.find(' ', 2);
+      const std::string flag = line.substr(2, end - 2);
+      const bool takes_value = line.size() > end + 1 && line[end + 1] != ' ';  // "--size WxH   ...", not "--json   ..."
+      const CliRun misspelt = run(command + " " + flag + "q", dir);
+      EXPECT_EQ(misspelt.code, 2) << command << " " << flag << "q\n" << misspelt.output;
+      EXPECT_NE(misspelt.output.find("unknown option '" + flag + "q' (did you mean '" + flag + "'?)"), std::string::npos)
+          << command << " " << flag << "q\n"
+          << misspelt.output;
+      // Taken as the help says: a value it needs, or a switch given twice.
+      const CliRun taken = run(command + " " + flag + (takes_value ? "" : " " + flag), dir);
+      const std::string expected = flag + (takes_value ? " needs a value" : " is given twice: give it once");
+      EXPECT_EQ(taken.code, 2) << command << " " << flag << "\n" << taken.output;
+      EXPECT_NE(taken.output.find(expected), std::string::npos)
+          << command << " " << flag << "\nexpected: " << expected << "\ngot: " << taken.output;
+      ++flags;
+    }
+  }
+  EXPECT_GE(flags, 150);
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
+// A headless render is at rest, as the viewer once nothing moves: the graph's while_still values
+// (caustics_progressive: distance=ray_query, exact photons), unless --set sets the parameter or
+// --moving asks for the declared values; a device without ray queries falls back to the declared
+// values with a note, rather than failing.
+TEST(Cli, HeadlessRendersAtRestUnlessMovingOrSet) {
+  fs::path dir = scratch("at_rest");
+  const std::string base = "render --graph caustics_progressive --scene sphere_plane --size 64x36 --out x.png --stats ";
+  const auto exact_photons = [&](const std::string& stats) {
+    return nlohmann::json::parse(read(dir / stats))["counters"].value("photons.exact", 0.0);
+  };
+  const CliRun rest = run(base + "rest.json", dir);
+  ASSERT_EQ(rest.code, 0) << rest.output;
+  EXPECT_GT(exact_photons("rest.json"), 0.0);
+  const CliRun moving = run(base + "moving.json --moving", dir);
+  ASSERT_EQ(moving.code, 0) << moving.output;
+  EXPECT_EQ(exact_photons("moving.json"), 0.0);
+  const CliRun set = run(base + "set.json --set distance=search", dir);
+  ASSERT_EQ(set.code, 0) << set.output;
+  EXPECT_EQ(exact_photons("set.json"), 0.0);
+  ::setenv("CAUSTICA_NO_RAY_QUERY", "1", 1);
+  const CliRun refused = run(base + "refused.json", dir);
+  ::unsetenv("CAUSTICA_NO_RAY_QUERY");
+  ASSERT_EQ(refused.code, 0) << refused.output;
+  EXPECT_NE(refused.output.find("the values as declared, not those at rest (distance=ray_query"), std::string::npos) << refused.output;
+  EXPECT_EQ(exact_photons("refused.json"), 0.0);
+  fs::remove_all(dir);
 }
 
 // --scene takes a model file as a scene of its own: render, reference and validate open it alike,
@@ -329,7 +403,8 @@ TEST(Cli, BundledGraphsAndScenesAreFoundFromAnyFolder) {
   EXPECT_NE(local.output.find("core_demo.json:1:"), std::string::npos) << local.output;
   const CliRun missing = run("render --graph no_such_graph" + small + "missing.png", dir);
   EXPECT_EQ(missing.code, 1) << missing.output;
-  EXPECT_NE(missing.output.find((kSource / "graphs" / "no_such_graph.json").string() + ": cannot open"), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find((kSource / "graphs" / "no_such_graph.json").string() + ": cannot open"), std::string::npos)
+      << missing.output;
   EXPECT_FALSE(fs::exists(dir / "missing.png"));
   fs::remove_all(dir);
 }
@@ -385,7 +460,8 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
       graph["linear_output"] = declared;
     }
     std::ofstream(dir / "declared.json") << graph.dump(2);
-    CliRun written = run("render --graph declared.json --size 160x90 --set blur_radius=1 --dump " + expected + "=expected.exr --out linear.exr", dir);
+    CliRun written =
+        run("render --graph declared.json --size 160x90 --set blur_radius=1 --dump " + expected + "=expected.exr --out linear.exr", dir);
     ASSERT_EQ(written.code, 0) << written.output;
     EXPECT_EQ(run("compare linear.exr expected.exr --max-l1 0", dir).code, 0) << "linear_output '" << declared << "'";
   }
@@ -500,7 +576,8 @@ TEST(Cli, BundledGraphsAndScenesAreListedByTheNamesTheFlagsTake) {
   const CliRun graphs = run("graphs", dir);
   const size_t line = graphs.output.find("\n  caustics_regular ");
   ASSERT_NE(line, std::string::npos);
-  EXPECT_NE(graphs.output.substr(line, graphs.output.find('\n', line + 1) - line).find("Regular caustic maps (Wyman and Nichols 2009's baseline)"),
+  EXPECT_NE(graphs.output.substr(line, graphs.output.find('\n', line + 1) - line)
+                .find("Regular caustic maps (Wyman and Nichols 2009's baseline)"),
             std::string::npos)
       << graphs.output;
   // Each listed name is what the flags take from here.

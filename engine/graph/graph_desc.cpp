@@ -410,6 +410,18 @@ GraphDesc load_graph_file(const std::string& path) {
   return load_graph(JsonDocument::load(path));
 }
 
+std::vector<std::string> apply_still_values(GraphDesc& graph, const std::set<std::string>& kept, size_t level) {
+  std::vector<std::string> applied;
+  for (auto& p : graph.parameters) {
+    if (p.while_still.empty() || kept.count(p.decl.name)) continue;
+    const nlohmann::json& still = p.while_still[std::min(level, p.while_still.size() - 1)];
+    if (still == p.value) continue;
+    p.value = still;
+    applied.push_back(p.decl.name + "=" + (still.is_string() ? still.get<std::string>() : still.dump()));
+  }
+  return applied;
+}
+
 void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments, std::string_view command) {
   std::vector<std::string> known;
   for (const auto& p : graph.parameters) known.push_back(p.decl.name);

@@ -3,6 +3,7 @@
 // Structural checks happen while loading; meaning (types, ports, order) is the compiler's job.
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -103,6 +104,12 @@ GraphDesc load_graph(JsonDocument doc);
 // Throws InputError for an unknown name (with a suggestion) or a value of the wrong type or range;
 // messages begin with `command` (the flag or command that gave the assignments).
 void apply_overrides(GraphDesc& graph, const std::vector<std::string>& assignments, std::string_view command = "--set");
+
+// The values at rest (a headless render, the viewer once nothing moves): each parameter's
+// while_still value of `level` (its last where it lists fewer), except the parameters named in
+// `kept` (those the user set). Returns "NAME=VALUE" for each one changed, for a note; empty where
+// the graph declares none.
+std::vector<std::string> apply_still_values(GraphDesc& graph, const std::set<std::string>& kept, size_t level = 0);
 
 // The graph file's text with each parameter's "default" replaced by its current value (what --set
 // or the viewer changed), and nothing else touched: same keys, order, spacing and comments-free

@@ -91,7 +91,7 @@ progressive="$src/graphs/caustics_progressive.json"
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
 if pixels; then
   "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --out "$dir/image4.png" 2> /dev/null
+  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --moving --out "$dir/image4.png" 2> /dev/null
   "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
   if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 fi

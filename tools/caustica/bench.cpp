@@ -81,9 +81,24 @@ int cmd_bench(Args& args) {
       "with its sphere tessellated into N slices (triangle count alone varies).\n\n"
       "load: loading a scene or model file, median over --runs (default 5): the host's part (parsing, decoding the\n"
       "textures its materials use, normals, d_N) and the device's (buffers, textures with their mip chains), and how\n"
-      "many of the file's images were decoded. tools/make_load_asset.py writes a textured 100k-triangle test model.\n";
+      "many of the file's images were decoded. tools/make_load_asset.py writes a textured 100k-triangle test model.\n\n"
+      "merge: joins the cells of a bench accuracy or bench stability sweep (each written by --cell K --out DIR as\n"
+      "DIR/cell_K.csv) into what one process writes: results.csv, README.md and speed_accuracy.png, or\n"
+      "stability.csv and README.md, in OUT. Every cell of one sweep must be there once; otherwise nothing is\n"
+      "written and the missing cells are named by index (resubmit those), as are duplicates and cells of\n"
+      "another sweep. Exit 0, 1 for such cells, 2 for a usage error (docs/cluster.md).\n\n"
+      "The graph parameters: bench compare runs each graph at rest, as render does (each parameter's first\n"
+      "\"while_still\" value unless --set sets it; --moving: as declared); bench accuracy, stability and\n"
+      "convergence chart each method as its graph declares it (convergence sets `distance` to each method).\n";
   if (args.wants_help()) {
     std::cout << help;
+    for (const char* benchmark : {"refraction", "compare", "photons", "load"})
+      std::cout << "\n" << benchmark << " options:\n" << bench::frames_flags_help(benchmark);
+    std::cout << "\naccuracy options:\n"
+              << bench::accuracy_flags_help() << "\nstability options:\n"
+              << bench::stability_flags_help() << "\nconvergence options:\n"
+              << bench::convergence_flags_help() << "\nmerge options:\n"
+              << bench::merge_flags_help();
     return 0;
   }
   if (args.done())

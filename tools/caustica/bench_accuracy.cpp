@@ -47,27 +47,21 @@ struct AccuracyOptions : ComparisonOptions {
   CellOptions cells;
 };
 
+FlagTable accuracy_flags(AccuracyOptions& o) {
+  FlagTable table{
+      names_flag("--scenes", "A,B", "bundled scene names or files (default sphere_plane,bunny_plane)", o.scenes),
+      names_flag("--graphs", "G,H,...", "graphs, each NAME or NAME:PARAM=VALUE[:PARAM=VALUE...] (default: see above)", o.graphs),
+      powers_flag("--grids", "256,512,...", "effective photon grids (default 256..4096)", o.grids, 64, 65536),
+      uint32_flag("--frames", "N", "frames timed of each (default 3)", o.frames, 1, 100),
+      uint32_flag("--regular-max", "G", "the regular map only up to this grid (default 4096)", o.regular_max, 64, 65536)};
+  o.add_flags(table);
+  o.cells.add_flags(table);
+  return table;
+}
+
 AccuracyOptions parse_accuracy_options(Args& args) {
   AccuracyOptions o;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scenes")
-      o.scenes = parse_names(a, args.value(a));
-    else if (a == "--graphs")
-      o.graphs = parse_names(a, args.value(a));
-    else if (a == "--grids")
-      o.grids = parse_powers_of_two(a, args.value(a), 64, 65536);
-    else if (a == "--frames")
-      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--regular-max")
-      o.regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (!o.take(a, args) && !o.cells.take(a, args)) {
-      std::vector<std::string> known{"--scenes", "--graphs", "--grids", "--frames", "--regular-max"};
-      known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
-      known.insert(known.end(), CellOptions::kFlags.begin(), CellOptions::kFlags.end());
-      unknown_option(a, known);
-    }
-  }
+  accuracy_flags(o).parse(args);
   if (o.out_dir.empty() && !o.cells.list) throw UsageError("bench accuracy needs --out DIR");
   return o;
 }
@@ -320,6 +314,11 @@ void write_merged_accuracy(const CellRows& rows, const std::string& out_dir) {
   const Chart chart = find_chart();
   std::filesystem::create_directories(out_dir);
   write_results(o, rows.device, rows.csv, rows.table, chart);
+}
+
+std::string accuracy_flags_help() {
+  AccuracyOptions o;
+  return accuracy_flags(o).help();
 }
 
 }  // namespace caustica::cli::bench

@@ -13,6 +13,7 @@
 
 #include "builtin_passes.h"
 #include "core/paths.h"
+#include "flags.h"
 #include "io/files.h"
 #include "io/json_document.h"
 #include "reference/photon_shard.h"
@@ -104,22 +105,15 @@ bool runs_on(const vk::Context& vk, const graph::GraphDesc& g) {
   return graph::compile_graph(g, passes::builtin_registry(), options).ray_query_passes.empty();
 }
 
-bool ComparisonOptions::take(const std::string& flag, Args& args) {
-  if (flag == "--caustic-size")
-    caustic_size = static_cast<uint32_t>(parse_uint(flag, args.value(flag), 16, 8192));
-  else if (flag == "--size")
-    parse_size(args.value(flag), width, height);
-  else if (flag == "--reference-photons")
-    reference_photons = parse_uint(flag, args.value(flag), 1000, 100'000'000'000ull);
-  else if (flag == "--blur")
-    blur = parse_number(flag, args.value(flag), 0, 64);
-  else if (flag == "--out")
-    out_dir = args.value(flag);
-  else if (flag == "--device")
-    device = args.value(flag);
-  else
-    return false;
-  return true;
+// Declared on options that still hold their defaults, which the help texts say.
+void ComparisonOptions::add_flags(FlagTable& table) {
+  const std::string map = caustic_size ? std::to_string(caustic_size) : "the graph's own";
+  table.add(uint32_flag("--caustic-size", "N", "the caustic map's side (default " + map + ")", caustic_size, 16, 8192))
+      .add(size_flag(width, height, "the frame size (default " + std::to_string(width) + "x" + std::to_string(height) + ")"))
+      .add(uint_flag("--reference-photons", "N", "photons of the reference (default 1e8)", reference_photons, 1000, 100'000'000'000ull))
+      .add(blur_flag(blur, "Gaussian sigma in pixels before comparing with the reference (default 1.5)"))
+      .add(text_flag("--out", "DIR", "the folder of the results (required)", out_dir))
+      .add(device_flag(device));
 }
 
 Chart find_chart() {
@@ -152,16 +146,10 @@ std::vector<std::filesystem::path> speed_accuracy_inputs(const std::filesystem::
   return csvs;
 }
 
-bool CellOptions::take(const std::string& flag, Args& args) {
-  if (flag == "--list-cells")
-    list = true;
-  else if (flag == "--cell")
-    cell = args.value(flag);
-  else if (flag == "--reference-cache")
-    reference_cache = args.value(flag);
-  else
-    return false;
-  return true;
+void CellOptions::add_flags(FlagTable& table) {
+  table.add(switch_flag("--list-cells", "print the sweep's cells, one a line from 0, and run nothing", list))
+      .add(text_flag("--cell", "K", "run cell K alone and write DIR/cell_K.csv (auto: K from the scheduler)", cell))
+      .add(text_flag("--reference-cache", "DIR", "keep the photon references in DIR, for the cells that need them again", reference_cache));
 }
 
 std::vector<std::string> sweep_arguments(Args args) {
@@ -182,22 +170,6 @@ Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir) {
   std::vector<char*> argv;
   for (auto& a : sweep) argv.push_back(a.data());
   return Args(static_cast<int>(argv.size()), argv.data(), 0);
-}
-
-std::vector<std::string> merge_inputs(Args& args, std::string& out) {
-  std::vector<std::string> inputs;
-  std::set<std::string> given;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--out") {
-      given_once(given, a);
-      out = args.value(a);
-    } else if (a.rfind("--", 0) == 0)
-      unknown_option(a, {"--out"});
-    else
-      inputs.push_back(a);
-  }
-  return inputs;
 }
 
 std::pair<std::string, std::string> scheduler_index() {
@@ -278,20 +250,23 @@ std::string sweep_text(const CellRows& rows) {
   return text;
 }
 
+// bench merge's one flag, --out; the cells' folders come as arguments.
+FlagTable merge_flags(std::string& out) {
+  return {text_flag("--out", "OUT", "the folder of the joined results (required)", out)};
+}
+
 }  // namespace
 
-int cmd_bench_merge(Args& args) {
-  if (args.wants_help()) {
-    std::cout << "usage: caustica bench merge DIR... --out OUT\n\n"
-                 "Joins the cells of a bench accuracy or bench stability sweep (each written by --cell K --out DIR as\n"
-                 "DIR/cell_K.csv) into what one process writes: results.csv, README.md and speed_accuracy.png, or\n"
-                 "stability.csv and README.md, in OUT. Every cell of one sweep must be there once; otherwise nothing is\n"
-                 "written and the missing cells are named by index (resubmit those), as are duplicates and cells of\n"
-                 "another sweep. Exit 0, 1 for such cells, 2 for a usage error (docs/cluster.md).\n";
-    return 0;
-  }
+std::string merge_flags_help() {
   std::string out;
-  const std::vector<std::string> dirs = merge_inputs(args, out);
+  return merge_flags(out).help();
+}
+
+int cmd_bench_merge(Args& args) {
+  std::string out;
+  const FlagTable flags = merge_flags(out);
+  std::vector<std::string> dirs;
+  flags.parse(args, [&dirs](const std::string& dir) { dirs.push_back(dir); });
   if (dirs.empty()) throw UsageError("bench merge needs the cells' folders: caustica bench merge DIR... --out OUT");
   if (out.empty()) throw UsageError("bench merge needs --out OUT");
 

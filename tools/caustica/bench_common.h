@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "flags.h"
 #include "graph/executor.h"
 #include "reference/photon_reference.h"
 #include "vk/context.h"
@@ -26,6 +27,13 @@ int cmd_bench_accuracy(Args& args);
 int cmd_bench_stability(Args& args);
 int cmd_bench_convergence(Args& args);
 int cmd_bench_merge(Args& args);
+// Each benchmark's flags as `caustica bench --help` lists them; frames_flags_help takes load,
+// refraction, compare or photons.
+std::string frames_flags_help(const std::string& benchmark);
+std::string accuracy_flags_help();
+std::string stability_flags_help();
+std::string convergence_flags_help();
+std::string merge_flags_help();
 
 // A file as given, or a bundled one by name ("bunny_plane", "stability/close_light"): find_data_file.
 std::string scene_path(const std::string& name);
@@ -65,9 +73,8 @@ struct ComparisonOptions {
   uint64_t reference_photons = 100'000'000;
   double blur = 1.5;
   std::string out_dir, device;
-  // Takes the value of `flag` when it is one of kFlags; false for any other flag.
-  bool take(const std::string& flag, Args& args);
-  static inline const std::vector<std::string> kFlags{"--caustic-size", "--size", "--reference-photons", "--blur", "--out", "--device"};
+  // Declares these flags in a benchmark's table.
+  void add_flags(FlagTable& table);
 };
 
 // What draws the charts (tools/plot_accuracy.py): the script and the interpreter.
@@ -94,9 +101,8 @@ struct CellOptions {
   bool list = false;            // --list-cells: print the cells, run nothing
   std::string cell;             // --cell K or auto; empty: the whole sweep in this process
   std::string reference_cache;  // --reference-cache DIR: photon references by key, shared by cells
-  // Takes the value of `flag` when it is one of kFlags; false for any other flag.
-  bool take(const std::string& flag, Args& args);
-  static inline const std::vector<std::string> kFlags{"--list-cells", "--cell", "--reference-cache"};
+  // Declares these flags in a benchmark's table.
+  void add_flags(FlagTable& table);
 };
 
 // The arguments that select the sweep, as given: all but where it writes, the device, validation
@@ -104,9 +110,6 @@ struct CellOptions {
 std::vector<std::string> sweep_arguments(Args args);
 // The arguments of a sweep again, with --out OUT_DIR: what bench merge parses its options from.
 Args sweep_args(std::vector<std::string> sweep, const std::string& out_dir);
-
-// A merge's command line, `INPUT... --out OUT`: the inputs, and `out` set from --out (given once).
-std::vector<std::string> merge_inputs(Args& args, std::string& out);
 
 // The index a scheduler gives this process: SLURM_ARRAY_TASK_ID (a Slurm job array) or else
 // JOB_COMPLETION_INDEX (a Kubernetes Indexed Job), and the variable's name; both empty when neither is set.

@@ -34,32 +34,27 @@ struct ConvergenceOptions : ComparisonOptions {
   uint32_t grid = 0;    // 0: the graph's own
 };
 
+// `seconds_given`: whether --seconds was, which --frames then contradicts.
+FlagTable convergence_flags(ConvergenceOptions& o, bool& seconds_given) {
+  FlagTable table{text_flag("--scene", "NAME", "the scene (default glass_bunny)", o.scene),
+                  text_flag("--graph", "NAME", "the progressive graph (default caustics_progressive)", o.graph),
+                  names_flag("--methods", "A,B", "values of the graph's `distance` (default dv_dn,search,hybrid,ray_query)", o.methods),
+                  {"--seconds", "S", "accumulate this long (default 30)",
+                   [&o, &seconds_given](const std::string& v) {
+                     o.seconds = parse_number("--seconds", v, 0.001, 86400);
+                     seconds_given = true;
+                   }},
+                  uint32_flag("--frames", "N", "accumulate this many frames instead of --seconds", o.frames, 1, 1'000'000),
+                  uint32_flag("--grid", "G", "the photon grid (default the graph's own)", o.grid, 16, 16384),
+                  text_flag("--reference", "FILE.exr", "the reference map, in place of tracing --reference-photons", o.reference_file)};
+  o.add_flags(table);
+  return table;
+}
+
 ConvergenceOptions parse_convergence_options(Args& args) {
   ConvergenceOptions o;
   bool seconds_given = false;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene")
-      o.scene = args.value(a);
-    else if (a == "--graph")
-      o.graph = args.value(a);
-    else if (a == "--methods")
-      o.methods = parse_names(a, args.value(a));
-    else if (a == "--seconds") {
-      o.seconds = parse_number(a, args.value(a), 0.001, 86400);
-      seconds_given = true;
-    } else if (a == "--frames")
-      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1'000'000));
-    else if (a == "--grid")
-      o.grid = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 16384));
-    else if (a == "--reference")
-      o.reference_file = args.value(a);
-    else if (!o.take(a, args)) {
-      std::vector<std::string> known{"--scene", "--graph", "--methods", "--seconds", "--frames", "--grid", "--reference"};
-      known.insert(known.end(), ComparisonOptions::kFlags.begin(), ComparisonOptions::kFlags.end());
-      unknown_option(a, known);
-    }
-  }
+  convergence_flags(o, seconds_given).parse(args);
   if (o.out_dir.empty()) throw UsageError("bench convergence needs --out DIR");
   if (seconds_given && o.frames > 0) throw UsageError("bench convergence: give --seconds or --frames, not both");
   return o;
@@ -118,6 +113,40 @@ std::string error_at(const std::vector<Row>& rows, const std::string& method, do
   return cell;
 }
 
+// One method's run: its mean compared with the reference after the frames `checkpoint` picks and
+// at the last, each a row of `rows`.
+void follow_method(vk::Context& vk, shader::ShaderCompiler& shaders, const std::shared_ptr<const scene::Scene>& scene,
+                   const graph::GraphDesc& graph, const ConvergenceOptions& o, const std::string& method,
+                   const io::ImageData& reference_map, std::vector<Row>& rows) {
+  using Clock = std::chrono::steady_clock;
+  {  // the pipelines compile here (vk::Context keeps them), outside the measured run
+    graph::Executor warm_up(vk, shaders, passes::builtin_registry());
+    warm_up.set_scene(scene);
+    warm_up.configure(graph, o.width, o.height);
+    warm_up.run_frame(false);
+  }
+  graph::Executor executor(vk, shaders, passes::builtin_registry());
+  executor.set_scene(scene);
+  // As the viewer: at rest the camera's and the light's own passes keep their results.
+  executor.configure(graph, o.width, o.height, {.retained = {"caustics"}, .reuse_unchanged_passes = true});
+  double elapsed = 0, last_ms = 0;
+  for (uint32_t frame = 1;; ++frame) {
+    // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
+    const bool last = o.frames > 0 ? frame == o.frames : elapsed + last_ms / 1000.0 >= o.seconds;
+    const bool compare = last || checkpoint(frame);
+    const auto start = Clock::now();
+    executor.run_frame(compare);
+    last_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    elapsed += last_ms / 1000.0;
+    if (compare) {
+      rows.push_back({method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
+      std::fprintf(stderr, "%s %s: frame %u, %.2f s, relative L1 %.4f, energy %.4f\n", scene->name.c_str(), method.c_str(), frame, elapsed,
+                   rows.back().error.relative_l1, rows.back().error.energy_ratio);
+    }
+    if (last) break;
+  }
+}
+
 }  // namespace
 
 // Each method accumulates from a fresh start (after one frame elsewhere that compiles its
@@ -166,7 +195,6 @@ int cmd_bench_convergence(Args& args) {
     io::write_image((dir / (scene->name + "_reference_caustics.exr")).string(), reference_map);
   }
 
-  using Clock = std::chrono::steady_clock;
   std::vector<Row> rows;
   for (size_t m = 0; m < graphs.size(); ++m) {
     const std::string& method = o.methods[m];
@@ -175,33 +203,7 @@ int cmd_bench_convergence(Args& args) {
                    vk.ray_queries().missing.c_str());
       continue;
     }
-    {  // the pipelines compile here (vk::Context keeps them), outside the measured run
-      graph::Executor warm_up(vk, shaders, passes::builtin_registry());
-      warm_up.set_scene(scene);
-      warm_up.configure(graphs[m], o.width, o.height);
-      warm_up.run_frame(false);
-    }
-    graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.set_scene(scene);
-    // As the viewer: at rest the camera's and the light's own passes keep their results.
-    executor.configure(graphs[m], o.width, o.height, {.retained = {"caustics"}, .reuse_unchanged_passes = true});
-    double elapsed = 0, last_ms = 0;
-    for (uint32_t frame = 1;; ++frame) {
-      // With --seconds, the last frame is the one that would end past the limit, judged by the one before.
-      const bool last = o.frames > 0 ? frame == o.frames : elapsed + last_ms / 1000.0 >= o.seconds;
-      const bool compare = last || checkpoint(frame);
-      const auto start = Clock::now();
-      executor.run_frame(compare);
-      last_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-      elapsed += last_ms / 1000.0;
-      if (compare) {
-        rows.push_back(
-            {method, frame, elapsed, last_ms, reference::compare_images(executor.read_image("caustics"), reference_map, o.blur)});
-        std::fprintf(stderr, "%s %s: frame %u, %.2f s, relative L1 %.4f, energy %.4f\n", scene->name.c_str(), method.c_str(), frame,
-                     elapsed, rows.back().error.relative_l1, rows.back().error.energy_ratio);
-      }
-      if (last) break;
-    }
+    follow_method(vk, shaders, scene, graphs[m], o, method, reference_map, rows);
   }
 
   std::string csv = "scene,method,frame,seconds,frame_ms,relative_l1,energy_ratio,shape_l1\n";
@@ -244,6 +246,12 @@ int cmd_bench_convergence(Args& args) {
   std::cout << config << "\n\n" << table;
   std::fprintf(stderr, "bench convergence: %s/convergence.csv, convergence.md, convergence.png\n", o.out_dir.c_str());
   return 0;
+}
+
+std::string convergence_flags_help() {
+  ConvergenceOptions o;
+  bool seconds_given = false;
+  return convergence_flags(o, seconds_given).help();
 }
 
 }  // namespace caustica::cli::bench

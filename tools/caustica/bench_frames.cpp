@@ -12,28 +12,86 @@
 #include "bench_common.h"
 #include "builtin_passes.h"
 #include "core/paths.h"
+#include "flags.h"
 #include "io/image_io.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace caustica::cli::bench {
 
+namespace {
+
+struct LoadOptions {
+  std::string file, device;
+  uint32_t runs = 5;
+};
+
+FlagTable load_flags(LoadOptions& o) {
+  return {text_flag("--scene", "FILE", "the scene or model file to load (required)", o.file),
+          uint32_flag("--runs", "N", "loads to take the median of (default 5)", o.runs, 1, 100), device_flag(o.device)};
+}
+
+struct RefractionOptions {
+  std::vector<std::string> scenes;
+  uint32_t width = 1280, height = 720, frames = 7;
+  std::vector<uint32_t> sphere_details;
+  std::string device, csv;
+};
+
+FlagTable refraction_flags(RefractionOptions& o) {
+  return {
+      {"--scene", "FILE", "a scene to measure (repeatable; default the bundled ball lens and bunny)",
+       [&o](const std::string& v) { o.scenes.push_back(v); }, true},
+      {"--sphere-detail", "N", "the ball-lens scene with its sphere in N slices (repeatable)",
+       [&o](const std::string& v) { o.sphere_details.push_back(static_cast<uint32_t>(parse_uint("--sphere-detail", v, 3, 1024))); }, true},
+      size_flag(o.width, o.height, "the frame size (default 1280x720)"),
+      frames_flag(o.frames, 1000, "frames timed of each (default 7)"),
+      device_flag(o.device),
+      text_flag("--csv", "FILE", "also write the table as CSV", o.csv)};
+}
+
+struct CompareOptions {
+  std::vector<std::string> names;
+  std::string scene_file = scene_path("sphere_plane"), device, csv;
+  uint32_t width = 1280, height = 720, frames = 15;
+  std::vector<std::string> sets;
+  bool moving = false;
+};
+
+FlagTable compare_flags(CompareOptions& o) {
+  return {names_flag("--graphs", "A,B[,...]", "the graphs (names or files), the first the one the others are compared with", o.names),
+          {"--scene", "FILE", "the scene (default sphere_plane)", [&o](const std::string& v) { o.scene_file = scene_path(v); }},
+          size_flag(o.width, o.height, "the frame size (default 1280x720)"),
+          frames_flag(o.frames, 1000, "frames timed of each (default 15)"),
+          set_flag(o.sets, "a graph parameter, in every graph (repeatable)"),
+          moving_flag(o.moving),
+          device_flag(o.device),
+          text_flag("--csv", "FILE", "also write the table as CSV", o.csv)};
+}
+
+struct PhotonsOptions {
+  std::string scene_file = (data_dir() / kBenchScene).string(), out_dir, device;
+  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
+  uint32_t frames = 3, regular_max = 16384;
+};
+
+FlagTable photons_flags(PhotonsOptions& o) {
+  return {text_flag("--scene", "FILE", "the scene (default bunny_plane)", o.scene_file),
+          powers_flag("--grids", "256,512,...", "effective photon grids (default 256..16384)", o.grids, 64, 65536),
+          frames_flag(o.frames, 100, "frames timed of each (default 3)"),
+          uint32_flag("--regular-max", "G", "the regular map only up to this grid (default 16384)", o.regular_max, 64, 65536),
+          text_flag("--out", "DIR", "also write DIR/photons.csv", o.out_dir),
+          device_flag(o.device)};
+}
+
+}  // namespace
+
 // Loading a model or scene: the host's part (parsing, decoding the textures materials use, normals,
 // d_N) and the device's (buffers, texture upload with their mip chains), median over runs.
 int cmd_bench_load(Args& args) {
-  std::string file, device;
-  uint32_t runs = 5;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene")
-      file = args.value(a);
-    else if (a == "--runs")
-      runs = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--device")
-      device = args.value(a);
-    else
-      unknown_option(a, {"--scene", "--runs", "--device"});
-  }
+  LoadOptions o;
+  load_flags(o).parse(args);
+  const auto& [file, device, runs] = o;
   if (file.empty()) throw UsageError("bench load needs --scene FILE (a scene or a model file)");
   vk::Context vk(device_options(device, false));
   std::vector<double> host_ms, device_ms;
@@ -66,27 +124,9 @@ int cmd_bench_load(Args& args) {
 // Deferred against forward refraction: the same scene through both graphs, frames interleaved so
 // that machine noise hits both alike, median GPU time of the refraction passes and of the frame.
 int cmd_bench_refraction(Args& args) {
-  std::vector<std::string> scenes;
-  uint32_t width = 1280, height = 720, frames = 7;
-  std::vector<uint32_t> sphere_details;
-  std::string device, csv;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene")
-      scenes.push_back(args.value(a));
-    else if (a == "--size")
-      parse_size(args.value(a), width, height);
-    else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000));
-    else if (a == "--sphere-detail")
-      sphere_details.push_back(static_cast<uint32_t>(parse_uint(a, args.value(a), 3, 1024)));
-    else if (a == "--device")
-      device = args.value(a);
-    else if (a == "--csv")
-      csv = args.value(a);
-    else
-      unknown_option(a, {"--scene", "--size", "--frames", "--sphere-detail", "--device", "--csv"});
-  }
+  RefractionOptions options;
+  refraction_flags(options).parse(args);
+  const auto& [scenes, width, height, frames, sphere_details, device, csv] = options;
   if (!csv.empty()) io::check_output_file(csv);
   struct Case {
     std::string label;
@@ -155,37 +195,20 @@ int cmd_bench_refraction(Args& args) {
 // of its frame, and each as a ratio to the first graph's. For a user pass against the built-in it
 // replaces (docs/shader_passes.md), where separate processes differ by more than the passes do.
 int cmd_bench_compare(Args& args) {
-  std::vector<std::string> names;
-  std::string scene_file = scene_path("sphere_plane"), device, csv;
-  uint32_t width = 1280, height = 720, frames = 15;
-  std::vector<std::string> sets;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--graphs")
-      names = parse_names(a, args.value(a));
-    else if (a == "--scene")
-      scene_file = scene_path(args.value(a));
-    else if (a == "--size")
-      parse_size(args.value(a), width, height);
-    else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000));
-    else if (a == "--set")
-      sets.push_back(args.value(a));
-    else if (a == "--device")
-      device = args.value(a);
-    else if (a == "--csv")
-      csv = args.value(a);
-    else
-      unknown_option(a, {"--graphs", "--scene", "--size", "--frames", "--set", "--device", "--csv"});
-  }
+  CompareOptions o;
+  compare_flags(o).parse(args);
+  const auto& [names, scene_file, device, csv, width, height, frames, sets, moving] = o;
   if (names.size() < 2)
     throw UsageError("bench compare needs --graphs A,B[,...]: two graphs or more, the first the one the others are compared with");
   if (!csv.empty()) io::check_output_file(csv);
-  std::vector<graph::GraphDesc> graphs;
+  std::vector<graph::GraphDesc> graphs, declared;
+  std::vector<std::vector<std::string>> still;  // each graph's values at rest, unless --moving
   std::vector<std::set<std::string>> method_passes;
   for (const auto& name : names) {
-    graphs.push_back(graph::load_graph_file(graph_path(name)));
-    graph::apply_overrides(graphs.back(), sets);
+    declared.push_back(graph::load_graph_file(graph_path(name)));
+    graph::apply_overrides(declared.back(), sets);
+    graphs.push_back(declared.back());
+    still.push_back(moving ? std::vector<std::string>{} : apply_at_rest(graphs.back(), sets));
     method_passes.push_back(caustic_passes(graphs.back()));
     if (method_passes.back().empty()) {
       throw InputError(graph_path(name) + ": bench compare times caustic methods, and this graph has no caustic pass (one of type " +
@@ -197,10 +220,11 @@ int cmd_bench_compare(Args& args) {
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   std::vector<std::unique_ptr<graph::Executor>> owned;
   std::vector<graph::Executor*> executors;
-  for (const auto& g : graphs) {
+  for (size_t g = 0; g < graphs.size(); ++g) {
     owned.push_back(std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry()));
     owned.back()->set_scene(scene);
-    owned.back()->configure(g, width, height);
+    configure_at_rest(graph_path(names[g]), graphs[g], declared[g], still[g],
+                      [&](const graph::GraphDesc& desc) { owned.back()->configure(desc, width, height); });
     executors.push_back(owned.back().get());
   }
   const std::vector<Timings> t = time_interleaved(executors, frames, 2, method_passes, scene->name + ": frames");
@@ -226,27 +250,9 @@ int cmd_bench_compare(Args& args) {
 // The paper's table: photons processed per method and effective grid on one scene, with the GPU
 // time of the caustic pass, one run.
 int cmd_bench_photons(Args& args) {
-  std::string scene_file = (data_dir() / kBenchScene).string(), out_dir, device;
-  std::vector<uint32_t> grids{256, 512, 1024, 2048, 4096, 8192, 16384};
-  uint32_t frames = 3, regular_max = 16384;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--scene")
-      scene_file = args.value(a);
-    else if (a == "--out")
-      out_dir = args.value(a);
-    else if (a == "--device")
-      device = args.value(a);
-    else if (a == "--frames")
-      frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 100));
-    else if (a == "--regular-max")
-      regular_max = static_cast<uint32_t>(parse_uint(a, args.value(a), 64, 65536));
-    else if (a == "--grids") {
-      grids = parse_powers_of_two(a, args.value(a), 64, 65536);
-    } else {
-      unknown_option(a, {"--scene", "--grids", "--frames", "--regular-max", "--out", "--device"});
-    }
-  }
+  PhotonsOptions o;
+  photons_flags(o).parse(args);
+  const auto& [scene_file, out_dir, device, grids, frames, regular_max] = o;
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
   vk::Context vk(device_options(device, false));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
@@ -318,6 +324,23 @@ int cmd_bench_photons(Args& args) {
     io::write_text_atomically((std::filesystem::path(out_dir) / "photons.csv").string(), csv);
   }
   return 0;
+}
+
+std::string frames_flags_help(const std::string& benchmark) {
+  if (benchmark == "load") {
+    LoadOptions o;
+    return load_flags(o).help();
+  }
+  if (benchmark == "refraction") {
+    RefractionOptions o;
+    return refraction_flags(o).help();
+  }
+  if (benchmark == "compare") {
+    CompareOptions o;
+    return compare_flags(o).help();
+  }
+  PhotonsOptions o;
+  return photons_flags(o).help();
 }
 
 }  // namespace caustica::cli::bench

@@ -57,40 +57,34 @@ struct StabilityOptions {
   CellOptions cells;
 };
 
+FlagTable stability_flags(StabilityOptions& o) {
+  FlagTable table{
+      {"--cases", "A,B", "some of the cases, by their scenes' names (default every one)",
+       [&o](const std::string& v) {
+         std::vector<std::string> known;
+         for (const auto& c : kStabilityCases) known.push_back(c.name());
+         o.cases.clear();
+         for (const auto& name : parse_names("--cases", v)) {
+           const auto found = std::find(known.begin(), known.end(), name);
+           if (found == known.end()) throw UsageError("--cases: no case '" + name + "'" + did_you_mean(name, known) + "; see --help");
+           o.cases.push_back(kStabilityCases[found - known.begin()]);
+         }
+       }},
+      {"--grid", "G", "the effective photon grid, a power of two (default 2048)",
+       [&o](const std::string& v) { o.grid = parse_powers_of_two("--grid", v, 64, 65536).front(); }},
+      uint32_flag("--caustic-size", "N", "the caustic map's side (default 512)", o.caustic_size, 16, 8192),
+      uint32_flag("--frames", "N", "frames timed of each method (default 3; 0: one untimed frame)", o.frames, 0, 100),
+      uint_flag("--reference-photons", "N", "photons of the reference (default 2e7)", o.reference_photons, 1000, 100'000'000'000ull),
+      text_flag("--out", "DIR", "the folder of stability.csv and README.md", o.out_dir),
+      device_flag(o.device),
+      validate_flag(o.validate)};
+  o.cells.add_flags(table);
+  return table;
+}
+
 StabilityOptions parse_stability_options(Args& args) {
   StabilityOptions o;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a == "--cases") {
-      std::vector<std::string> known;
-      for (const auto& c : kStabilityCases) known.push_back(c.name());
-      o.cases.clear();
-      for (const auto& name : parse_names(a, args.value(a))) {
-        const auto found = std::find(known.begin(), known.end(), name);
-        if (found == known.end()) throw UsageError("--cases: no case '" + name + "'" + did_you_mean(name, known) + "; see --help");
-        o.cases.push_back(kStabilityCases[found - known.begin()]);
-      }
-    } else if (a == "--grid")
-      o.grid = parse_powers_of_two(a, args.value(a), 64, 65536).front();
-    else if (a == "--caustic-size")
-      o.caustic_size = static_cast<uint32_t>(parse_uint(a, args.value(a), 16, 8192));
-    else if (a == "--frames")
-      o.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 0, 100));
-    else if (a == "--reference-photons")
-      o.reference_photons = parse_uint(a, args.value(a), 1000, 100'000'000'000ull);
-    else if (a == "--out")
-      o.out_dir = args.value(a);
-    else if (a == "--device")
-      o.device = args.value(a);
-    else if (a == "--validate")
-      o.validate = true;
-    else if (!o.cells.take(a, args)) {
-      std::vector<std::string> known{"--cases", "--grid",   "--caustic-size", "--frames", "--reference-photons",
-                                     "--out",   "--device", "--validate"};
-      known.insert(known.end(), CellOptions::kFlags.begin(), CellOptions::kFlags.end());
-      unknown_option(a, known);
-    }
-  }
+  stability_flags(o).parse(args);
   if (!o.cells.cell.empty() && o.out_dir.empty()) throw UsageError("bench stability --cell needs --out DIR");
   return o;
 }
@@ -338,6 +332,11 @@ void write_merged_stability(const CellRows& rows, const std::string& out_dir) {
   const StabilityOptions o = parse_stability_options(args);
   std::filesystem::create_directories(out_dir);
   write_stability_results(rows.device, o, rows.csv, rows.table);
+}
+
+std::string stability_flags_help() {
+  StabilityOptions o;
+  return stability_flags(o).help();
 }
 
 }  // namespace caustica::cli::bench

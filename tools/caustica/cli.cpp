@@ -1,10 +1,10 @@
 #include "cli.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
 
 #include "core/suggest.h"
 #include "io/json_reader.h"
@@ -40,7 +40,8 @@ double parse_number(const std::string& flag, const std::string& text, double min
     used = 0;
   }
   if (used != text.size() || text.empty() || !std::isfinite(v) || v < min || v > max) {
-    throw UsageError(flag + " " + text + ": expected a number from " + JsonReader::format_number(min) + " to " + JsonReader::format_number(max));
+    throw UsageError(flag + " " + text + ": expected a number from " + JsonReader::format_number(min) + " to " +
+                     JsonReader::format_number(max));
   }
   return v;
 }
@@ -98,14 +99,20 @@ vk::ContextOptions device_options(const std::string& device, bool validate) {
   const char* fault = std::getenv("CAUSTICA_FAULT");
   if (fault == nullptr || *fault == '\0') return options;
   const std::string name = fault;
-  if (name == "device_lost") options.injected_fault = VK_ERROR_DEVICE_LOST;
-  else if (name == "out_of_memory") options.injected_fault = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-  else throw UsageError("CAUSTICA_FAULT=" + name + ": expected device_lost or out_of_memory");
+  if (name == "device_lost")
+    options.injected_fault = VK_ERROR_DEVICE_LOST;
+  else if (name == "out_of_memory")
+    options.injected_fault = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  else
+    throw UsageError("CAUSTICA_FAULT=" + name + ": expected device_lost or out_of_memory");
   return options;
 }
 
 ProgressLine::ProgressLine(std::string label, uint64_t total)
-    : label_(std::move(label)), total_(std::max<uint64_t>(total, 1)), start_(std::chrono::steady_clock::now()), terminal_(::isatty(STDERR_FILENO) != 0) {}
+    : label_(std::move(label)),
+      total_(std::max<uint64_t>(total, 1)),
+      start_(std::chrono::steady_clock::now()),
+      terminal_(::isatty(STDERR_FILENO) != 0) {}
 
 void ProgressLine::update(uint64_t done) {
   const int tenths = static_cast<int>(10 * std::min(done, total_) / total_);
@@ -114,8 +121,31 @@ void ProgressLine::update(uint64_t done) {
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double left = done > 0 ? elapsed / double(done) * double(total_ - std::min(done, total_)) : 0.0;
   std::fprintf(stderr, "%s%s %llu/%llu (%.0f%%)  %.1f s elapsed, %.1f s left   %s", terminal_ ? "\r" : "", label_.c_str(),
-               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), 100.0 * double(done) / double(total_), elapsed, left,
-               terminal_ && done < total_ ? "" : "\n");
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), 100.0 * double(done) / double(total_),
+               elapsed, left, terminal_ && done < total_ ? "" : "\n");
+}
+
+std::vector<std::string> apply_at_rest(graph::GraphDesc& graph, const std::vector<std::string>& sets) {
+  std::set<std::string> kept;
+  for (const auto& assignment : sets) kept.insert(assignment.substr(0, assignment.find('=')));
+  return graph::apply_still_values(graph, kept);
+}
+
+void configure_at_rest(const std::string& file, graph::GraphDesc& graph, const graph::GraphDesc& declared,
+                       const std::vector<std::string>& still, const std::function<void(const graph::GraphDesc&)>& configure) {
+  try {
+    configure(graph);
+  } catch (const InputError& e) {
+    if (still.empty()) throw;
+    configure(declared);
+    graph = declared;
+    std::string values;
+    for (const auto& v : still) values += (values.empty() ? "" : ", ") + v;
+    std::string reason = e.what();
+    std::replace(reason.begin(), reason.end(), '\n', ' ');
+    std::fprintf(stderr, "caustica: note: %s: the values as declared, not those at rest (%s): %s\n", file.c_str(), values.c_str(),
+                 reason.c_str());
+  }
 }
 
 double median(std::vector<double> v) {

@@ -3,11 +3,13 @@
 // that name the flag, device options, progress lines and medians.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "graph/graph_desc.h"
 #include "vk/context.h"
 
 namespace caustica::cli {
@@ -33,6 +35,7 @@ struct RenderOptions {
   bool accumulate = false;  // --accumulate: the frames are for the graph's accumulate passes
   uint64_t seconds = 0;     // --seconds: run frames until this long has passed instead
   std::vector<std::string> sets;
+  bool moving = false;  // --moving: the graph's parameters as declared, not their while_still values
   std::vector<std::pair<std::string, std::string>> dumps;
   std::string device;
   bool validate = false;
@@ -99,6 +102,27 @@ class ProgressLine {
 
 double median(std::vector<double> v);
 
+// A headless command's graph at rest, as the viewer's once nothing moves: each parameter's first
+// while_still value, except those that `sets` (--set NAME=VALUE) sets. Returns "NAME=VALUE" of each
+// one applied.
+std::vector<std::string> apply_at_rest(graph::GraphDesc& graph, const std::vector<std::string>& sets);
+// Calls `configure` with `graph` (its `still` values applied); where that graph is refused
+// (InputError: the device lacks what the still values need, e.g. ray queries), with `declared`
+// instead, which `graph` becomes, and a note on stderr naming `file`. Any other error is the
+// declared graph's own and stands.
+void configure_at_rest(const std::string& file, graph::GraphDesc& graph, const graph::GraphDesc& declared,
+                       const std::vector<std::string>& still, const std::function<void(const graph::GraphDesc&)>& configure);
+
+// render's and trace's flags; graph plan and graph dot take them too.
+RenderOptions parse_render(Args& args, bool trace);
+
+int cmd_render(Args& args);
+int cmd_trace(Args& args);
+int cmd_validate(Args& args);
+int cmd_graph(Args& args);
+int cmd_reference(Args& args);
+int cmd_merge(Args& args);
+int cmd_compare(Args& args);
 int cmd_bench(Args& args);
 int cmd_view(Args& args);
 int cmd_edit(Args& args);

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "core/paths.h"
 #include "edit/graph_editor.h"
+#include "flags.h"
 #include "io/files.h"
 #include "io/image_io.h"
 #include "io/json_document.h"
@@ -41,48 +42,6 @@ nothing changes (no input, no reload), unless --continuous or the C key.
 
 )";
 
-const char* kViewOptions = R"(
-options:
-  --size WxH            window size (default 1280x720)
-  --frames N            quit after N frames (default: run until the window is closed); every frame is rendered
-  --screenshot F.png    with --frames: write the last frame's image and quit: the graph's output, or
-                        with --inspect the inspected image at full size (.exr: its values as they are)
-  --window-shot F.png   with --frames: write the whole window as shown, panels included, and quit
-  --inspect IMAGE       open the resource inspector on one of the graph's images
-  --set NAME=VALUE      a graph parameter, as if set in the panel (repeatable; the while_moving and
-                        while_still values leave it alone)
-  --scene FILE          the scene, or a model file (.gltf, .glb, .obj, .off) as render takes it
-  --no-stage            with a model file: no floor
-  --continuous          render every frame even when nothing changes (for timing; key C toggles it)
-  --max-fps N           frame-rate cap (default 60; 0: none)
-  --stats FILE.json     at exit, every frame's wall time (input to present, or to the frame's end where
-                        it was not presented), GPU and recording time, whether it was presented, the
-                        passes that ran and those reused (unchanged since they last ran), and the
-                        median and 95th percentile of the wall time, over all frames and while moving
-  --every-pass          run every pass every frame; by default a pass whose inputs, parameters and
-                        scene parts (camera, lights, geometry) did not change keeps its last result
-  --budget MS           frame-time target while the camera or a light moves (default 100; 0: off): a
-                        moving frame over it halves the rendered size for the next, down to a
-                        quarter each way, scaled up into the window, and then uses the graph
-                        parameters' "while_moving" values (the default graph: a coarser photon
-                        grid, smaller light maps); a frame well under it goes back a step when
-                        that step is predicted within the budget; a still frame is whole again
-  --still-after MS      once nothing has moved for MS (default 300), the graph parameters'
-                        "while_still" values, except where set in the panel (caustics_progressive:
-                        exact ray-query photons accumulating, on a device with VK_KHR_ray_query);
-                        while a pass converges (an accumulating mean) frames go on at rest; where
-                        it lists several values (slice_side: 2, 3, 4), refining frames too slow
-                        for the budget (a median over 0.9 of it) take the next, cheaper one, and
-                        a quieter machine's the richer one back; the picture shows the mean
-                        every 0.5 to 2 s, and frames that leave it go to the window only after
-                        input or every 0.25 s
-  --orbit DEG           turn the camera about its target by DEG each frame (scripted motion, for --stats)
-  --move-light D        move the first light by D along x each frame (scripted motion, for --stats)
-  --move-frames A:B     the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90
-                        --orbit 2 --move-frames 20:50 rests, orbits and rests again
-  --validate            Khronos validation; any message makes the command exit 3
-)";
-
 const char* kEditHelp = R"(usage: caustica edit GRAPH [--scene FILE] [--size WxH] [--frames N] [--screenshot F.png]
                      [--window-shot F.png] [--script FILE] [--continuous] [--max-fps N] [--validate] [--device NAME]
 
@@ -102,10 +61,8 @@ was edited changes in the file (node positions go into its "editor" block, which
 ignores), and a file changed on disk meanwhile is overwritten only after a confirmation. A new
 GRAPH file does not need to exist: it starts as a copy of the default graph.
 
-options: as caustica view (but --size defaults to 1600x900: the canvas of every bundled graph at
-the panels' text size), and
-  --script FILE         run an edit script, one action per frame drawn (for tests):
-
+options (as caustica view's, but --size defaults to 1600x900: the canvas of every bundled graph at
+the panels' text size, and --script):
 )";
 
 // The flags view and edit share; returns false for any other.
@@ -126,48 +83,60 @@ void parse_move_frames(const std::string& text, editor::ViewerOptions& v) {
   if (v.move_end <= v.move_first) throw UsageError(usage + " (END must come after FIRST)");
 }
 
-bool window_flag(Args& args, const std::string& a, RenderOptions& o, editor::ViewerOptions& v) {
-  if (a == "--scene")
-    o.scene = find_data_file(args.value(a), "scenes");
-  else if (a == "--size")
-    parse_size(args.value(a), v.width, v.height);
-  else if (a == "--frames")
-    v.frames = static_cast<uint32_t>(parse_uint(a, args.value(a), 1, 1000000));
-  else if (a == "--screenshot")
-    v.screenshot = args.value(a);
-  else if (a == "--window-shot")
-    v.window_shot = args.value(a);
-  else if (a == "--continuous")
-    v.continuous = true;
-  else if (a == "--max-fps")
-    v.max_fps = parse_number(a, args.value(a), 0, 1000);
-  else if (a == "--validate")
-    o.validate = true;
-  else if (a == "--device")
-    o.device = args.value(a);
-  else if (a == "--no-stage")
-    v.stage = false;
-  else if (a == "--stats")
-    v.stats = args.value(a);
-  else if (a == "--every-pass")
-    v.reuse = false;
-  else if (a == "--budget")
-    v.budget_ms = parse_number(a, args.value(a), 0, 10000);
-  else if (a == "--still-after")
-    v.still_after_ms = parse_number(a, args.value(a), 0, 60000);
-  else if (a == "--orbit")
-    v.orbit_degrees = static_cast<float>(parse_number(a, args.value(a), -180, 180));
-  else if (a == "--move-light")
-    v.move_light = static_cast<float>(parse_number(a, args.value(a), -10, 10));
-  else if (a == "--move-frames")
-    parse_move_frames(args.value(a), v);
-  else
-    return false;
-  return true;
+// The flags view and edit share, in the order --help lists them.
+FlagTable window_flags(RenderOptions& o, editor::ViewerOptions& v, std::string size_help) {
+  return {size_flag(v.width, v.height, std::move(size_help)),
+          uint32_flag("--frames", "N", "quit after N frames (default: run until the window is closed); every frame is rendered", v.frames,
+                      1, 1000000),
+          text_flag("--screenshot", "F.png",
+                    "with --frames: write the last frame's image and quit: the graph's output, or\n"
+                    "with --inspect the inspected image at full size (.exr: its values as they are)",
+                    v.screenshot),
+          text_flag("--window-shot", "F.png", "with --frames: write the whole window as shown, panels included, and quit", v.window_shot),
+          scene_flag(o.scene),
+          {"--no-stage", "", "with a model file: no floor", [&v](const std::string&) { v.stage = false; }},
+          {"--continuous", "", "render every frame even when nothing changes (for timing; key C toggles it)",
+           [&v](const std::string&) { v.continuous = true; }},
+          {"--max-fps", "N", "frame-rate cap (default 60; 0: none)",
+           [&v](const std::string& text) { v.max_fps = parse_number("--max-fps", text, 0, 1000); }},
+          stats_flag(v.stats,
+                     "at exit, every frame's wall time (input to present, or to the frame's end where\n"
+                     "it was not presented), GPU and recording time, whether it was presented, the\n"
+                     "passes that ran and those reused (unchanged since they last ran), and the\n"
+                     "median and 95th percentile of the wall time, over all frames and while moving"),
+          {"--every-pass", "",
+           "run every pass every frame; by default a pass whose inputs, parameters and\n"
+           "scene parts (camera, lights, geometry) did not change keeps its last result",
+           [&v](const std::string&) { v.reuse = false; }},
+          number_flag("--budget", "MS",
+                      "frame-time target while the camera or a light moves (default 100; 0: off): a\n"
+                      "moving frame over it halves the rendered size for the next, down to a\n"
+                      "quarter each way, scaled up into the window, and then uses the graph\n"
+                      "parameters' \"while_moving\" values (the default graph: a coarser photon\n"
+                      "grid, smaller light maps); a frame well under it goes back a step when\n"
+                      "that step is predicted within the budget; a still frame is whole again",
+                      v.budget_ms, 0, 10000),
+          number_flag("--still-after", "MS",
+                      "once nothing has moved for MS (default 300), the graph parameters'\n"
+                      "\"while_still\" values, except where set in the panel (caustics_progressive:\n"
+                      "exact ray-query photons accumulating, on a device with VK_KHR_ray_query);\n"
+                      "while a pass converges (an accumulating mean) frames go on at rest; where\n"
+                      "it lists several values (slice_side: 2, 3, 4), refining frames too slow\n"
+                      "for the budget (a median over 0.9 of it) take the next, cheaper one, and\n"
+                      "a quieter machine's the richer one back; the picture shows the mean\n"
+                      "every 0.5 to 2 s, and frames that leave it go to the window only after\n"
+                      "input or every 0.25 s",
+                      v.still_after_ms, 0, 60000),
+          orbit_flag(v.orbit_degrees, "turn the camera about its target by DEG each frame (scripted motion, for --stats)"),
+          {"--move-light", "D", "move the first light by D along x each frame (scripted motion, for --stats)",
+           [&v](const std::string& text) { v.move_light = static_cast<float>(parse_number("--move-light", text, -10, 10)); }},
+          {"--move-frames", "A:B",
+           "the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90\n"
+           "--orbit 2 --move-frames 20:50 rests, orbits and rests again",
+           [&v](const std::string& text) { parse_move_frames(text, v); }},
+          validate_flag(o.validate, "Khronos validation; any message makes the command exit 3"),
+          device_flag(o.device)};
 }
-const std::vector<std::string> kWindowFlags = {"--scene",      "--size",       "--frames", "--screenshot", "--window-shot", "--continuous",
-                                               "--max-fps",    "--validate",   "--device", "--no-stage",   "--stats",       "--orbit",
-                                               "--move-light", "--every-pass", "--budget", "--still-after", "--move-frames"};
 
 // Checks what can be checked before the window opens, and fills in the defaults.
 void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
@@ -186,30 +155,21 @@ void finish_window_options(const RenderOptions& o, editor::ViewerOptions& v) {
 }  // namespace
 
 int cmd_edit(Args& args) {
-  if (args.wants_help()) {
-    std::cout << kEditHelp << editor::kEditScriptHelp;
-    return 0;
-  }
   RenderOptions o;
   editor::ViewerOptions v;
   v.width = kEditWidth;
   v.height = kEditHeight;
   std::string script;
-  std::set<std::string> given;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a.starts_with("--")) given_once(given, a);
-    if (window_flag(args, a, o, v)) continue;
-    if (a == "--script") {
-      script = args.value(a);
-    } else if (!a.starts_with("--") && o.graph.empty()) {
-      o.graph = a;
-    } else {
-      auto known = kWindowFlags;
-      known.push_back("--script");
-      unknown_option(a, known);
-    }
+  FlagTable flags = window_flags(o, v, "window size (default 1600x900)");
+  flags.add(text_flag("--script", "FILE", "run an edit script, one action per frame drawn (for tests):", script));
+  if (args.wants_help()) {
+    std::cout << kEditHelp << flags.help() << "\n" << editor::kEditScriptHelp;
+    return 0;
   }
+  flags.parse(args, [&o](const std::string& graph) {
+    if (!o.graph.empty()) unknown_option(graph, {});
+    o.graph = graph;
+  });
   if (o.graph.empty()) throw UsageError("caustica edit needs a GRAPH file (see caustica edit --help)");
   finish_window_options(o, v);
   if (!script.empty()) read_text_file(script, 1 << 20);  // a missing script is an error before the window opens
@@ -245,29 +205,20 @@ int cmd_edit(Args& args) {
 }
 
 int cmd_view(Args& args) {
-  if (args.wants_help()) {
-    std::cout << kViewHelp << editor::kViewerKeys << kViewOptions;
-    return 0;
-  }
   RenderOptions o;
   editor::ViewerOptions v;
-  std::set<std::string> given;
-  while (!args.done()) {
-    std::string a = args.take();
-    if (a.starts_with("--") && a != "--set") given_once(given, a);
-    if (window_flag(args, a, o, v)) continue;
-    if (a == "--graph") {
-      o.graph = find_data_file(args.value(a), "graphs");
-    } else if (a == "--inspect") {
-      v.inspect = args.value(a);
-    } else if (a == "--set") {
-      v.sets.push_back(args.value(a));
-    } else {
-      auto known = kWindowFlags;
-      known.insert(known.end(), {"--graph", "--inspect", "--set"});
-      unknown_option(a, known);
-    }
+  FlagTable flags{graph_flag(o.graph, "the graph (default as for render), or a bundled one by its name"),
+                  text_flag("--inspect", "IMAGE", "open the resource inspector on one of the graph's images", v.inspect),
+                  set_flag(v.sets,
+                           "a graph parameter, as if set in the panel (repeatable; the while_moving and\n"
+                           "while_still values leave it alone)")};
+  const FlagTable window = window_flags(o, v, "window size (default 1280x720)");
+  for (const Flag& f : window.flags()) flags.add(f);
+  if (args.wants_help()) {
+    std::cout << kViewHelp << editor::kViewerKeys << "\noptions:\n" << flags.help();
+    return 0;
   }
+  flags.parse(args);
   finish_window_options(o, v);
   v.graph_file = o.graph.empty() ? (data_dir() / kDefaultGraph).string() : o.graph;
   editor::Viewer viewer(v);

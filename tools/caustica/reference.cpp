@@ -1,0 +1,305 @@
+// caustica reference and caustica merge: the ground truth with Embree, whole or as shards for a
+// cluster, and the shards joined into what one process writes (docs/cluster.md).
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "bench_common.h"
+#include "cli.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "flags.h"
+#include "io/files.h"
+#include "io/image_io.h"
+#include "reference/camera_shard.h"
+#include "reference/photon_reference.h"
+#include "reference/photon_shard.h"
+#include "reference/refraction_reference.h"
+#include "scene/scene.h"
+
+namespace caustica::cli {
+namespace {
+
+struct Shard {
+  uint64_t index = 0, count = 0;  // count 0: the whole reference
+};
+
+// --shard I/K, I from 0; auto/K: I is the array index that Slurm or Kubernetes gives the process.
+Shard parse_shard(const std::string& text) {
+  const std::string usage = "--shard " + text + ": expected INDEX/COUNT, INDEX from 0 to COUNT - 1 or auto, e.g. 3/64 or auto/64";
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) throw UsageError(usage + (text == "auto" ? " (auto gives the index; the count is yours to give)" : ""));
+  Shard shard;
+  try {
+    shard.count = parse_uint("--shard", text.substr(slash + 1), 1, 1'000'000);
+  } catch (const UsageError&) {
+    throw UsageError(usage + " (the count '" + text.substr(slash + 1) + "' is not a whole number from 1 to 1000000)");
+  }
+  std::string index = text.substr(0, slash), from = "--shard";
+  if (index == "auto") {
+    std::tie(index, from) = bench::scheduler_index();
+    if (from.empty()) {
+      throw UsageError("--shard " + text + ": neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a Kubernetes " +
+                       "Indexed Job) is set; outside a scheduler give the index: --shard I/" + std::to_string(shard.count));
+    }
+  }
+  try {
+    shard.index = parse_uint(from, index, 0, shard.count - 1);
+  } catch (const UsageError&) {
+    const std::string what = from == "--shard" ? "the index '" + index + "'" : "the index that " + from + " gives, '" + index + "',";
+    throw UsageError(usage + " (" + what + " is not a whole number from 0 to " + std::to_string(shard.count - 1) + ")");
+  }
+  return shard;
+}
+
+void print_photon_flux(const reference::PhotonTotals& t) {
+  std::printf("flux emitted %.6g: direct %.6g, entering a refractor %.6g\n", t.emitted, t.direct, t.entering);
+  std::printf(
+      "of the entering flux: landed in the map %.6g (%.2f%%), off the map %.6g, escaped %.6g, trapped %.6g, absorbed %.6g; "
+      "reflected off the outside first %.6g (followed)\n",
+      t.landed, t.entering > 0 ? 100.0 * t.landed / t.entering : 0.0, t.off_map, t.escaped, t.trapped, t.absorbed, t.reflected);
+}
+
+// One shard of the photon reference: its range's sums, exactly, with what it is a part of.
+int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photons, const Shard& shard, const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto [first, end] = reference::shard_range(photons.photons, shard.index, shard.count);
+  ProgressLine progress("photons", end - first);
+  if (end - first >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
+  const reference::TracedShard traced = reference::trace_photon_shard(scene, photons, shard.index, shard.count);
+  const reference::PhotonShard& header = traced.shard;
+  reference::write_photon_shard(out, header, traced.map_units);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("shard %llu/%llu: photons %llu to %llu of %llu in %.2f s (%.1f M/s), seed %llu\n",
+              static_cast<unsigned long long>(shard.index), static_cast<unsigned long long>(shard.count),
+              static_cast<unsigned long long>(header.first), static_cast<unsigned long long>(header.end - 1),
+              static_cast<unsigned long long>(header.total), seconds, double(end - first) / seconds * 1e-6,
+              static_cast<unsigned long long>(header.seed));
+  print_photon_flux(header.totals);
+  std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
+               static_cast<unsigned long long>(shard.count), out.c_str());
+  return 0;
+}
+
+// One shard of the ray-traced camera reference: its range of rows, exactly, with what it is a part of.
+int trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map, uint64_t seed,
+                       const Shard& shard, const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const reference::TracedCameraShard traced =
+      reference::trace_camera_shard(scene, width, height, caustic_map, seed, shard.index, shard.count);
+  const reference::CameraShard& header = traced.shard;
+  reference::write_camera_shard(out, header, traced.rows);
+  std::printf("shard %llu/%llu: rows %llu to %llu of %ux%u in %.2f s, seed %llu\n", static_cast<unsigned long long>(shard.index),
+              static_cast<unsigned long long>(shard.count), static_cast<unsigned long long>(header.first),
+              static_cast<unsigned long long>(header.end - 1), width, height,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), static_cast<unsigned long long>(seed));
+  std::fprintf(stderr, "reference: %s shard %llu/%llu -> %s\n", scene.name.c_str(), static_cast<unsigned long long>(shard.index),
+               static_cast<unsigned long long>(shard.count), out.c_str());
+  return 0;
+}
+
+// What reference is told.
+struct ReferenceOptions {
+  std::string scene = (data_dir() / kDefaultScene).string(), out, camera_out, caustics_file;
+  uint32_t width = 1280, height = 720;
+  double exposure = 1.0;
+  bool exposure_given = false;
+  bool stage = true;
+  reference::PhotonOptions photons;
+  Shard shard;
+  ReferenceOptions() { photons.photons = 0; }
+};
+
+FlagTable reference_flags(ReferenceOptions& o) {
+  return {
+      scene_flag(o.scene, nullptr, "the scene (default: scenes/glass_bunny.json), or a model file (as for render)"),
+      no_stage_flag(o.stage),
+      text_flag("--out", "FILE", "the image (required)", o.out),
+      size_flag(o.width, o.height, "camera image size (default 1280x720)"),
+      uint_flag("--photons", "N", "photons to trace, e.g. 1e8", o.photons.photons, 1, 100'000'000'000ull),
+      uint_flag("--seed", "K", "random seed (default 1): the photons', or the rough refractors' paths", o.photons.seed, 0, ~0ull),
+      uint32_flag("--map-size", "N", "side of the light-space map (default 512, the graphs' caustic_size)", o.photons.map_size, 1, 8192),
+      text_flag("--camera", "FILE.exr", "also write the caustic irradiance seen by the camera", o.camera_out),
+      switch_flag("--no-fresnel", "transmit every photon unless total internal reflection (the graphs' fresnel=false)", o.photons.fresnel,
+                  false),
+      {"--shard", "I/K",
+       "trace the I-th of K parts of the photons, or without --photons of the image's\n"
+       "rows (I from 0; auto/K: from the scheduler)",
+       [&o](const std::string& v) { o.shard = parse_shard(v); }},
+      text_flag("--caustics", "MAP.exr", "without --photons: light the picture with this caustic map too", o.caustics_file),
+      {"--exposure", "E", "without --photons: the PNG's exposure (default 1, as the graphs')", [&o](const std::string& v) {
+         o.exposure = parse_number("--exposure", v, 0.0, 100.0);
+         o.exposure_given = true;
+       }}};
+}
+
+// The combinations of flags that cannot go together, refused before any work; returns --out's extension.
+std::string check_reference(const ReferenceOptions& o) {
+  const uint64_t photons = o.photons.photons;
+  if (o.out.empty()) throw UsageError("reference needs --out FILE.exr");
+  if (photons == 0 && (!o.camera_out.empty() || !o.photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
+  if (photons > 0 && (!o.caustics_file.empty() || o.exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
+  const std::string out_extension = io::check_image_output(o.out);
+  if (!o.camera_out.empty()) io::check_image_output(o.camera_out);
+  const std::string shard = "--shard " + std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count);
+  if (o.shard.count > 0 && photons == 0) {
+    if (out_extension != ".exr") throw UsageError(o.out + ": a shard is an EXR of the image's rows: --out must end in .exr");
+    if (o.exposure_given) throw UsageError("--exposure goes without --shard: a shard holds linear radiance");
+    if (o.shard.count > o.height) throw UsageError(shard + ": more shards than the " + std::to_string(o.height) + " rows of the image");
+  } else if (o.shard.count > 0) {
+    if (!o.camera_out.empty()) throw UsageError("--camera goes without --shard: a shard holds the light-space map's sums only");
+    if (out_extension != ".exr") throw UsageError(o.out + ": a shard is an EXR of sums: --out must end in .exr");
+    if (o.shard.count > photons) throw UsageError(shard + ": more shards than the " + std::to_string(photons) + " photons");
+  }
+  return out_extension;
+}
+
+// The whole photon reference: the caustic map and, with --camera, what the camera sees of it.
+int trace_photons(const scene::Scene& scene, ReferenceOptions o) {
+  const auto start = std::chrono::steady_clock::now();
+  reference::PhotonOptions& photons = o.photons;
+  if (!o.camera_out.empty()) {
+    photons.camera_width = o.width;
+    photons.camera_height = o.height;
+  }
+  const bool show_progress = photons.photons >= 10'000'000 || ::isatty(STDERR_FILENO);
+  ProgressLine progress("photons", photons.photons);
+  if (show_progress) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
+  const auto result = reference::trace_photon_reference(scene, photons);
+  io::write_image(o.out, result.caustic_map);
+  if (!o.camera_out.empty()) io::write_image(o.camera_out, result.camera);
+  const auto& t = result.totals;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("photons %llu in %.2f s (%.1f M/s), seed %llu\n", static_cast<unsigned long long>(t.photons), seconds,
+              double(t.photons) / seconds * 1e-6, static_cast<unsigned long long>(photons.seed));
+  print_photon_flux(t);
+  std::fprintf(stderr, "reference: %s -> %s%s%s\n", scene.name.c_str(), o.out.c_str(), o.camera_out.empty() ? "" : ", ",
+               o.camera_out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int cmd_reference(Args& args) {
+  ReferenceOptions o;
+  if (args.wants_help()) {
+    std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics MAP.exr] [--exposure E]\n"
+                 "                          [--seed K] [--shard I/K]\n"
+                 "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
+                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel] [--shard I/K]\n\n"
+                 "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
+                 "core): refraction at every interface, total internal reflection followed inside, Fresnel\n"
+                 "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
+                 "that image-space refraction is measured against (docs/refraction.md). Writes linear radiance (EXR)\n"
+                 "or an 8-bit PNG tone mapped as the engine's tonemap pass does (1 - exp(-E L), sRGB). With --caustics\n"
+                 "MAP.exr (a map from --photons), surfaces the first light sees past the refractors also receive that\n"
+                 "map's caustic, projected as the engine's lighting pass projects its own: the scene's reference picture\n"
+                 "with caustics, seen directly and through the glass. A pixel whose ray meets a rough refractor averages\n"
+                 "paths drawn from random numbers keyed on the seed and the pixel's place in the image.\n\n"
+                 "With --photons: traces N photons from the first (spot or directional) light through every interface, Fresnel and\n"
+                 "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
+                 "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
+                 "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "With --shard I/K: traces only the I-th of K contiguous ranges of the N photons (each photon's random\n"
+                 "numbers depend on the seed and its index alone) and writes their sums, exactly, to --out (an EXR whose\n"
+                 "header holds the range, the photon count, the seed and the scene's and the engine's identity, written\n"
+                 "under a temporary name and renamed); 'caustica merge' adds the K files into the map that one process\n"
+                 "writes, bit for bit. 'auto/K' takes I from SLURM_ARRAY_TASK_ID (a Slurm job array, --array=0-K-1) or\n"
+                 "JOB_COMPLETION_INDEX (a Kubernetes Indexed Job); docs/cluster.md.\n\n"
+                 "Without --photons, --shard I/K traces the I-th of K contiguous ranges of the image's rows (each\n"
+                 "pixel as the whole image's run traces it) and writes them to --out: an EXR of those rows (32-bit\n"
+                 "floats, its data window the rows, its display window the image) whose header holds the rows, the\n"
+                 "image's size, the seed, the --caustics map's identity and the scene's and the engine's identity,\n"
+                 "written under a temporary name and renamed; 'caustica merge' joins the K files into the EXR that one\n"
+                 "process writes, bit for bit.\n\n"
+                 "options:\n"
+              << reference_flags(o).help();
+    return 0;
+  }
+  reference_flags(o).parse(args);
+  const std::string out_extension = check_reference(o);
+  const scene::Scene scene = scene::load_scene_file(o.scene, o.stage);
+  if (o.shard.count > 0 && o.photons.photons > 0) return trace_photon_shard(scene, o.photons, o.shard, o.out);
+  if (o.photons.photons > 0) return trace_photons(scene, o);
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<io::ImageData> caustic_map;
+  if (!o.caustics_file.empty()) caustic_map = io::read_image(o.caustics_file);
+  const io::ImageData* map = caustic_map ? &*caustic_map : nullptr;
+  if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, map, o.photons.seed, o.shard, o.out);
+  auto image = reference::render_refraction_reference(scene, o.width, o.height, map, o.photons.seed);
+  if (out_extension == ".png") {
+    const float exposure = static_cast<float>(o.exposure);
+    for (size_t i = 0; i < image.radiance.rgba.size(); ++i) {
+      if (i % 4 != 3) image.radiance.rgba[i] = 1.0f - std::exp(-exposure * image.radiance.rgba[i]);
+    }
+  }
+  io::write_image(o.out, image.radiance);
+  std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.out.c_str());
+  return 0;
+}
+
+int cmd_merge(Args& args) {
+  std::string out;
+  const FlagTable flags{
+      text_flag("--out", "OUT.exr", "the merged map or image (required; written under a temporary name and renamed)", out)};
+  if (args.wants_help()) {
+    std::cout << "usage: caustica merge SHARD.exr... --out OUT.exr\n\n"
+                 "Joins the shards of a reference (one file per index) into what one process writes, bit for bit:\n"
+                 "- photon shards ('caustica reference --photons N --shard I/K'): adds them, in the order of their\n"
+                 "  photon ranges, one file at a time, into the caustic map of 'caustica reference --photons N'. They\n"
+                 "  must tile the N photons exactly, from one scene, seed, photon count, map size, Fresnel setting and\n"
+                 "  engine build.\n"
+                 "- camera shards ('caustica reference --size WxH --shard I/K', without --photons): places their rows,\n"
+                 "  one file at a time, into the EXR image of 'caustica reference --size WxH'. They must tile the image's\n"
+                 "  rows exactly, from one scene (with its camera), seed, image size, --caustics map and engine build.\n"
+                 "The first file's kind decides. Otherwise nothing is written and every problem is named: the missing\n"
+                 "photons or rows with the shard indices that trace them (resubmit those), an overlap, a duplicate, a\n"
+                 "shard of another run or of the other kind. Exit 0, 1 for such shards, 2 for a usage error\n"
+                 "(docs/cluster.md).\n\n"
+                 "options:\n"
+              << flags.help();
+    return 0;
+  }
+  std::vector<std::string> files;
+  flags.parse(args, [&files](const std::string& file) { files.push_back(file); });
+  if (files.empty()) throw UsageError("merge needs the shard files: caustica merge SHARD.exr... --out OUT.exr");
+  if (out.empty()) throw UsageError("merge needs --out OUT.exr");
+  if (io::check_image_output(out) != ".exr") throw UsageError(out + ": the merged map or image is linear: --out must end in .exr");
+  for (const auto& file : files) {
+    if (std::filesystem::weakly_canonical(std::filesystem::absolute(file)) ==
+        std::filesystem::weakly_canonical(std::filesystem::absolute(out))) {
+      throw UsageError("--out " + out + " is one of the shards: merging would replace it");
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (reference::shard_file_kind(files.front()) == "caustica camera shard") {
+    const auto merged = reference::merge_camera_shards(files);
+    io::write_image(out, merged.image);
+    const auto& whole = merged.whole;
+    std::printf("merged %zu shards: image %ux%llu, seed %llu, scene %s, in %.2f s\n", files.size(), whole.width,
+                static_cast<unsigned long long>(whole.total), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+                seconds());
+  } else {
+    const auto merged = reference::merge_photon_shards(files);
+    io::write_image(out, merged.caustic_map);
+    const auto& whole = merged.whole;
+    std::printf("merged %zu shards: photons %llu, seed %llu, scene %s, in %.2f s\n", files.size(),
+                static_cast<unsigned long long>(whole.total), static_cast<unsigned long long>(whole.seed), whole.scene_name.c_str(),
+                seconds());
+    print_photon_flux(whole.totals);
+  }
+  std::fprintf(stderr, "merge: %s\n", out.c_str());
+  return 0;
+}
+
+}  // namespace caustica::cli
