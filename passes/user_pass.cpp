@@ -20,6 +20,13 @@
 namespace caustica::passes {
 namespace {
 
+// The scene's blocks at the first bindings of a user pass's layout, where graph/user_pass_type.h
+// places them (kUserSceneBindings: frame, vertices, objects).
+vk::DescriptorWriter user_scene_descriptors(const graph::PassContext& ctx) {
+  const auto& scene = ctx.scene();
+  return vk::DescriptorWriter().uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
+}
+
 class UserPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
@@ -68,7 +75,7 @@ class UserPass final : public graph::Pass {
   void execute(graph::PassContext& ctx) override {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
-    vk::DescriptorWriter writer = shader_->scene ? scene_descriptors(ctx) : vk::DescriptorWriter();
+    vk::DescriptorWriter writer = shader_->scene ? user_scene_descriptors(ctx) : vk::DescriptorWriter();
     if (shader_->ray_queries) bind_ray_query_scene(ctx, writer);
     std::vector<std::pair<uint32_t, VkImageView>> colors;
     for (const auto& b : shader_->bindings) {
