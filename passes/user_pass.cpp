@@ -68,8 +68,10 @@ class UserPass final : public graph::Pass {
     std::sort(colors.begin(), colors.end());
     std::vector<VkFormat> formats;
     for (const auto& [location, format] : colors) formats.push_back(format);
-    pipeline_ =
-        vk::make_fullscreen_pipeline(setup.vk(), layout, setup.shaders().compile("common/fullscreen.vert"), shader_->spirv, formats);
+    pipeline_ = vk::make_fullscreen_pipeline(
+        setup.vk(), layout,
+        setup.shaders().compile("common/fullscreen.vert", shader_->reads_uv ? shader::Defines{{"FULLSCREEN_UV", "1"}} : shader::Defines{}),
+        shader_->spirv, formats);
   }
 
   void execute(graph::PassContext& ctx) override {

@@ -6,16 +6,16 @@
 
 namespace caustica::shader {
 
-std::string binding_kind_name(BindingKind kind) {
+const char* binding_kind_name(BindingKind kind) {
   switch (kind) {
-    case BindingKind::sampled_image: return "sampled image";
-    case BindingKind::storage_image: return "storage image";
-    case BindingKind::storage_buffer: return "storage buffer";
-    case BindingKind::uniform_buffer: return "uniform buffer";
-    case BindingKind::acceleration_structure: return "acceleration structure";
+    case BindingKind::sampled_image: return "a sampled image (sampler2D)";
+    case BindingKind::storage_image: return "a storage image (image2D)";
+    case BindingKind::storage_buffer: return "a storage buffer (buffer block)";
+    case BindingKind::uniform_buffer: return "a uniform block";
+    case BindingKind::acceleration_structure: return "an acceleration structure";
     case BindingKind::other: break;
   }
-  return "binding";
+  return "a binding of a kind no port has";
 }
 
 ShaderInterface::ShaderInterface(std::string pass, const std::vector<NamedReflection>& shaders) : pass_(std::move(pass)) {
@@ -60,7 +60,7 @@ const InterfaceBinding& ShaderInterface::find(const std::string& name, const std
     throw InputError("pass '" + pass_ + "' binds '" + name + "', which its shaders (" + shaders + ") do not declare");
   }
   if (std::find(kinds.begin(), kinds.end(), found->kind) == kinds.end()) {
-    throw InputError(where(found->shader) + ": '" + name + "' is a " + binding_kind_name(found->kind) + ", and the pass binds a " +
+    throw InputError(where(found->shader) + ": '" + name + "' is " + binding_kind_name(found->kind) + ", and the pass binds " +
                      binding_kind_name(kinds.front()) + " to it");
   }
   return *found;

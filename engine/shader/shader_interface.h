@@ -73,6 +73,7 @@ class ShaderInterface {
   std::vector<ReflectedMember> push_members_;
 };
 
-std::string binding_kind_name(BindingKind kind);
+// "a sampled image (sampler2D)"...: a kind as messages name it.
+const char* binding_kind_name(BindingKind kind);
 
 }  // namespace caustica::shader

@@ -118,7 +118,7 @@ int cmd_bench_refraction(Args& args) {
   }
 
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
   std::string table =
       "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | "
@@ -194,7 +194,7 @@ int cmd_bench_compare(Args& args) {
   }
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   std::vector<std::unique_ptr<graph::Executor>> owned;
   std::vector<graph::Executor*> executors;
   for (const auto& g : graphs) {
@@ -249,7 +249,7 @@ int cmd_bench_photons(Args& args) {
   }
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   struct Method {
     const char* name;
     const char* graph;

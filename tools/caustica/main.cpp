@@ -202,7 +202,7 @@ int run_render(const RenderOptions& o, bool trace) {
   if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene, o.stage));
 
   vk::Context vk(device_options(o.device, o.validate));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   graph::Executor executor(vk, shaders, passes::builtin_registry());
   executor.set_reuse_unchanged_passes(o.orbit_degrees != 0.0f);
   executor.set_scene(scene);
@@ -925,7 +925,8 @@ int cmd_list(Args& args, const char* folder, const char* flag) {
   size_t width = 0;
   for (const auto& [name, description] : listed) width = std::max(width, name.size());
   std::cout << "bundled " << folder << " in " << root.string() << " (" << flag << " NAME):\n";
-  for (const auto& [name, description] : listed) std::cout << "  " << name << std::string(width + 2 - name.size(), ' ') << description << "\n";
+  for (const auto& [name, description] : listed)
+    std::cout << "  " << name << std::string(width + 2 - name.size(), ' ') << description << "\n";
   return 0;
 }
 
