@@ -439,8 +439,7 @@ class Viewer::Impl {
       std::fprintf(stderr,
                    "view: refining frames well within the %.0f ms budget again (median %.0f ms, about %.0f ms predicted a level up): "
                    "the while_still values of level %zu of %zu\n",
-                   options_.budget_ms, still_levels_.judged(), still_levels_.predicted(), still_levels_.level() + 1,
-                   still_levels_.levels());
+                   options_.budget_ms, still_levels_.judged(), still_levels_.predicted(), still_levels_.level() + 1, still_levels_.levels());
     }
     executor_.let_picture_stand();  // a plan whose picture stands still (its showing passes have not run) hands it on
     configure(true);
@@ -586,8 +585,7 @@ class Viewer::Impl {
     }
     if (still_values_ && still_levels_.level() == 0) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "still: the graph's while_still values");
     if (still_values_ && still_levels_.level() > 0) {
-      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1),
-                         "still: the graph's while_still values, level %zu of %zu (moved on refining frames of %.0f ms)",
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "still: the graph's while_still values, level %zu of %zu (moved on refining frames of %.0f ms)",
                          still_levels_.level() + 1, still_levels_.levels(), still_levels_.judged());
     }
     if (frame.accumulated > 0) {
@@ -857,7 +855,7 @@ class Viewer::Impl {
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
   std::map<std::filesystem::path, std::filesystem::file_time_type> shader_times_;  // watch_shaders()
-  bool blit_supported_ = false;                                                    // the output can go into the window on the device
+  bool blit_supported_ = false;  // the output can go into the window on the device
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
   bool imgui_ready_ = false, show_help_ = false, quit_ = false;
@@ -867,24 +865,24 @@ class Viewer::Impl {
   uint64_t frames_drawn_ = 0;
   FrameLog log_;
   graph::FrameResult last_result_;
-  bool moved_ = false;        // the camera or a light changed before the last frame
-  double last_wall_ms_ = 0;   // the last frame's, input to present
-  double last_whole_ms_ = 0;  // the last frame's of this plan that ran whole (graph::FramePart); its first's estimated
+  bool moved_ = false;                 // the camera or a light changed before the last frame
+  double last_wall_ms_ = 0;            // the last frame's, input to present
+  double last_whole_ms_ = 0;           // the last frame's of this plan that ran whole (graph::FramePart); its first's estimated
   std::chrono::steady_clock::time_point last_presented_;  // the last frame that went to the window
   bool presented_ = false;                                // the last frame went to the window
-  std::chrono::steady_clock::time_point last_shown_;      // the last frame that showed the graph's result
-  uint64_t accumulated_shown_ = 0;                        // the frames in the running mean it showed
-  std::vector<double> showing_ms_;                        // measure_showing_passes()
+  std::chrono::steady_clock::time_point last_shown_;  // the last frame that showed the graph's result
+  uint64_t accumulated_shown_ = 0;                    // the frames in the running mean it showed
+  std::vector<double> showing_ms_;                    // measure_showing_passes()
   double frame_overhead_ms_ = 0;
-  std::vector<size_t> display_ends_;                         // the steps of the display under way (editor::display_steps)
-  size_t display_step_ = 0;                                  // its next step; 0: none under way
-  bool frame_measured_ = false;                              // since the frame budget last judged
-  editor::FrameBudget budget_{options_.budget_ms};           // what the frames render at while moving
-  editor::FrameBudget::Step step_;                           // the step the plan was made for
-  bool still_values_ = false;                                // at rest, with the parameters' while_still values
+  std::vector<size_t> display_ends_;   // the steps of the display under way (editor::display_steps)
+  size_t display_step_ = 0;            // its next step; 0: none under way
+  bool frame_measured_ = false;        // since the frame budget last judged
+  editor::FrameBudget budget_{options_.budget_ms};  // what the frames render at while moving
+  editor::FrameBudget::Step step_;                  // the step the plan was made for
+  bool still_values_ = false;          // at rest, with the parameters' while_still values
   editor::StillLevels still_levels_{options_.budget_ms, 1};  // which of them, where a parameter lists several
-  bool was_converging_ = false;                              // the last frame had a pass converging
-  bool still_values_refused_ = false;                        // the device could not run them (until the graph changes)
+  bool was_converging_ = false;        // the last frame had a pass converging
+  bool still_values_refused_ = false;  // the device could not run them (until the graph changes)
   std::chrono::steady_clock::time_point last_move_ = std::chrono::steady_clock::now();
   uint32_t screenshots_ = 0;
   std::string pending_screenshot_;

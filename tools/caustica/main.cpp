@@ -925,8 +925,7 @@ int cmd_list(Args& args, const char* folder, const char* flag) {
   size_t width = 0;
   for (const auto& [name, description] : listed) width = std::max(width, name.size());
   std::cout << "bundled " << folder << " in " << root.string() << " (" << flag << " NAME):\n";
-  for (const auto& [name, description] : listed)
-    std::cout << "  " << name << std::string(width + 2 - name.size(), ' ') << description << "\n";
+  for (const auto& [name, description] : listed) std::cout << "  " << name << std::string(width + 2 - name.size(), ' ') << description << "\n";
   return 0;
 }
 
