@@ -23,8 +23,7 @@ struct Use {
 };
 constexpr Use kAttachmentWrite{VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT};
-constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                           VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
+constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
 constexpr Use kStorageWrite{VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 
 class RefractionLayersPass final : public graph::Pass {
@@ -52,8 +51,8 @@ class RefractionLayersPass final : public graph::Pass {
     auto make = [&](const std::string& name, const Use& wanted) {
       Use& current = state.at(name);
       if (current.layout == wanted.layout) return;
-      image_barrier(cmd, ctx.image(name), VK_IMAGE_ASPECT_COLOR_BIT, current.layout, wanted.layout, current.stage, current.access,
-                    wanted.stage, wanted.access);
+      image_barrier(cmd, ctx.image(name), VK_IMAGE_ASPECT_COLOR_BIT, current.layout, wanted.layout, current.stage, current.access, wanted.stage,
+                    wanted.access);
       current = wanted;
     };
     auto make_surfaces = [&](const Use& wanted) {

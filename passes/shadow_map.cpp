@@ -36,21 +36,15 @@ class ShadowMapPass final : public graph::Pass {
 
 graph::PassTypeDecl shadow_map_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{
-      "shadow_map",
-      "Depth of the scene from a spot light's frustum.",
-      PassQueue::graphics,
-      {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
-      {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
-       {"refractors_cast_shadows",
-        ParamType::bool_,
-        true,
-        {},
-        {},
-        {},
-        "refractors block direct light (caustics then bring the refracted light back)"}},
-      false,
-      [] { return std::make_unique<ShadowMapPass>(); }};
+  PassTypeDecl decl{"shadow_map",
+                    "Depth of the scene from a spot light's frustum.",
+                    PassQueue::graphics,
+                    {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
+                    {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
+                     {"refractors_cast_shadows", ParamType::bool_, true, {}, {}, {},
+                      "refractors block direct light (caustics then bring the refracted light back)"}},
+                    false,
+                    [] { return std::make_unique<ShadowMapPass>(); }};
   decl.needs_scene = true;
   decl.uses_light_view = [](const nlohmann::json&) { return true; };
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
