@@ -559,10 +559,8 @@ float weight(int i) {
 // On the device, a compute and a fullscreen pass with 41 parameters in a uniform block: each texel
 // t holds the weights' sum times (t + i) % 5 + 1, as the CPU computes it, and the count.
 // A fullscreen pass's fragment shader that shows its uv as colour, into an 8 x 4 image.
-nlohmann::json uv_graph(const std::filesystem::path& dir, const std::string& input) {
-  write(dir / "uv.frag", "#version 460\n" + input +
-                             "\nlayout(location = 0) out vec4 view;\n"
-                             "void main() { view = vec4(uv, 0.0, 1.0); }\n");
+nlohmann::json uv_graph(const std::filesystem::path& dir, const std::string& input, const std::string& value = "vec4(uv, 0.0, 1.0)") {
+  write(dir / "uv.frag", "#version 460\n" + input + "\nlayout(location = 0) out vec4 view;\nvoid main() { view = " + value + "; }\n");
   return {{"resources", {{"view", {{"type", "image"}, {"format", "rgba32f"}, {"width", 8}, {"height", 4}}}}},
           {"passes",
            {{{"name", "uv"},
@@ -592,15 +590,12 @@ TEST(UserPass, TheFullscreenVertexStageGivesUvFromTheTopLeftCorner) {
 TEST(UserPass, AFragmentInputTheVertexStageDoesNotGiveIsRefusedAtItsLine) {
   const auto dir = test_dir();
   const std::string shader = (dir / "uv.frag").string();
-  for (const char* input :
-       {"layout(location = 0) in vec3 uv;", "layout(location = 1) in vec2 uv;", "layout(location = 0) in vec2 texcoord;"}) {
+  const std::pair<const char*, const char*> inputs[] = {{"layout(location = 0) in vec3 uv;", "vec4(uv, 1.0)"},
+                                                        {"layout(location = 1) in vec2 uv;", "vec4(uv, 0.0, 1.0)"},
+                                                        {"layout(location = 0) in vec2 texcoord;", "vec4(texcoord, 0.0, 1.0)"}};
+  for (const auto& [input, value] : inputs) {
     SCOPED_TRACE(input);
-    nlohmann::json graph = uv_graph(dir, input);
-    if (std::string(input).find("texcoord") != std::string::npos) {
-      write(dir / "uv.frag", std::string("#version 460\n") + input +
-                                 "\nlayout(location = 0) out vec4 view;\nvoid main() { view = vec4(texcoord, 0.0, 1.0); }\n");
-    }
-    const std::string error = error_of(dir, graph);
+    const std::string error = error_of(dir, uv_graph(dir, input, value));
     EXPECT_NE(error.find(shader + ":2: fragment input '"), std::string::npos) << error;
     EXPECT_NE(error.find("is not given by a fullscreen pass's vertex stage, which gives only 'uv'"), std::string::npos) << error;
     EXPECT_NE(error.find("(at /passes/0/shader)"), std::string::npos) << error;

@@ -305,6 +305,7 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
     }
     writes.push_back(w);
   }
+  if (writes.empty()) return;  // a pipeline without descriptors (a fullscreen pass that only draws): pushing none is invalid
   vk.push_descriptor_set(cmd, pipeline.bind_point, pipeline.layout.get(), 0, static_cast<uint32_t>(writes.size()), writes.data());
 }
 
