@@ -28,12 +28,11 @@ class AccumulatePass final : public graph::Pass {
     const graph::PlannedResource& source = setup.resource("source");
     sums_ = vk::make_buffer(setup.vk(), uint64_t{source.width} * source.height * kLayers * 2 * sizeof(float),
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, setup.pass().name + " sums");
-    pipeline_ = vk::make_compute_pipeline(
-        setup.vk(),
-        {"accumulate",
-         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         sizeof(AccumulatePush)},
-        setup.shaders().compile("core/accumulate.comp"));
+    pipeline_ = setup.compute_pipeline("accumulate", {"core/accumulate.comp", {}});
+    pipeline_.interface->check_push(
+        "AccumulatePush", sizeof(AccumulatePush),
+        {CAUSTICA_MIRRORED(AccumulatePush, size), CAUSTICA_MIRRORED(AccumulatePush, layers), CAUSTICA_MIRRORED(AccumulatePush, mode),
+         CAUSTICA_MIRRORED(AccumulatePush, weight), CAUSTICA_MIRRORED(AccumulatePush, total_weight)});
     frames_slot_ = setup.add_counter(setup.pass().name + ".frames");
   }
 
@@ -66,9 +65,9 @@ class AccumulatePass final : public graph::Pass {
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vk::dispatch_over_image(ctx.vk(), cmd, pipeline_,
                             vk::DescriptorWriter()
-                                .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
-                                .storage_image(1, ctx.view("average"))
-                                .storage_buffer(2, sums_.get()),
+                                .image("source", ctx.view("source"), ctx.nearest_sampler())
+                                .image("average", ctx.view("average"))
+                                .buffer("SumBlock", sums_.get()),
                             vk::bytes_of(push), extent, kLayers);
   }
 
@@ -76,7 +75,7 @@ class AccumulatePass final : public graph::Pass {
   vk::Pipeline pipeline_;
   vk::Buffer sums_;
   uint32_t frames_slot_ = 0;
-  uint32_t frames_ = 0;  // in the sum
+  uint32_t frames_ = 0;      // in the sum
   double total_weight_ = 0;  // of the frames in the sum
 };
 

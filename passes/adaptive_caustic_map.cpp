@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
+#include <functional>
 
 #include "builtin_passes.h"
 #include "core/error.h"
@@ -23,6 +25,9 @@ constexpr uint32_t kStartSide = 32;  // start clusters per side: a 64 x 64 photo
 constexpr uint32_t kStartClusters = kStartSide * kStartSide;
 constexpr uint32_t kGroup = 64;
 constexpr uint32_t kMaxLevels = 16;
+constexpr VkAccessFlags2 kAdaptiveStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+constexpr VkPipelineStageFlags2 kAdaptiveCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags2 kAdaptiveTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
 
 struct AdaptivePush {
   uint32_t distance_mode;
@@ -125,48 +130,61 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     for (uint32_t l = 0; l < splat_levels_; ++l) pyramid_words += uint64_t{std::max(1u, map.width >> l)} * std::max(1u, map.height >> l);
     pyramid_ = vk::make_buffer(vk, pyramid_words * 3 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                0, setup.pass().name + " multi-resolution caustic map");
-    const vk::PipelineDesc layout{
-        hierarchical_ ? "hierarchical_photons" : "adaptive_photons",
-        front_tint_bindings(
-            setup,
-            exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE})),
-        sizeof(AdaptivePush), exact_.texture_array()};
     shader::Defines defines;
     if (hierarchical_) defines["HIERARCHICAL"] = "1";
+    defines = refraction_defines(setup, exact_.defines(defines));
+    // One layout for the family: every kernel is bound with the photon kernel's resources.
+    std::vector<graph::PassSetup::ShaderFile> family{
+        {"caustics/adaptive_photons.comp", defines}, {"caustics/adaptive_args.comp", {}}, {"caustics/combine.comp", {}}};
+    if (uses_coverage_) family.push_back({"caustics/coverage.comp", {}});
+    if (setup.bound("caustic_levels")) family.push_back({"caustics/levels.comp", {}});
+    const vk::PipelineDesc layout = setup.shared_layout(hierarchical_ ? "hierarchical_photons" : "adaptive_photons", family);
+    check_push(*layout.interface);
     // The hierarchical traversal does not look at its photons, so in image space its last level can
     // trace every colour band in one pass; the adaptive one follows each band's photons.
-    photons_.build(setup, layout, "caustics/adaptive_photons.comp", refraction_defines(setup, exact_.defines(defines)),
-                   hierarchical_ && !exact_.traced());
-    if (uses_coverage_) coverage_pipeline_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/coverage.comp"));
-    args_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/adaptive_args.comp"));
-    combine_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/combine.comp"));
+    photons_.build(setup, layout, family[0].path, defines, hierarchical_ && !exact_.traced());
+    args_ = setup.compute_pipeline(layout, family[1]);
+    combine_ = setup.compute_pipeline(layout, family[2]);
+    if (uses_coverage_) coverage_pipeline_ = setup.compute_pipeline(layout, {"caustics/coverage.comp", {}});
+    if (setup.bound("caustic_levels")) levels_ = setup.compute_pipeline(layout, {"caustics/levels.comp", {}});
     clear_ = make_caustic_clear_pipeline(setup);
-    if (setup.bound("caustic_levels")) {
-      levels_ = vk::make_compute_pipeline(vk, layout, setup.shaders().compile("caustics/levels.comp"));
-    }
   }
 
   void execute(graph::PassContext& ctx) override {
     VkCommandBuffer cmd = ctx.cmd();
-    const VkExtent2D map = ctx.extent("caustic_map");
-    const uint32_t batches = (kStartClusters + starts_per_batch_ - 1) / starts_per_batch_;
-    constexpr VkAccessFlags2 kStorage = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    constexpr auto kTransfer = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
     const PhotonKernel::Passes passes = photons_.passes(ctx.scene().scene());
-    const vk::Pipeline& photons = passes.pipeline;
-    const std::vector<uint32_t>& bands = passes.bands;
-    ctx.set_counter(batches_slot_, batches * static_cast<uint32_t>(bands.size()));
+    const uint32_t batches = (kStartClusters + starts_per_batch_ - 1) / starts_per_batch_;
+    ctx.set_counter(batches_slot_, batches * static_cast<uint32_t>(passes.bands.size()));
     // The caustic map (level 0) and the coarser levels start at zero, after the previous frame's
     // combine read them.
     record_caustic_clear(ctx, clear_);
-    memory_barrier(cmd, kCompute, kStorage, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, pyramid_.get(), 0, VK_WHOLE_SIZE, 0);
+    AdaptivePush push = frame_push(ctx);
+    // Every kernel of the family shares the layout, so one set of descriptors binds each.
+    vk::DescriptorWriter writer = photon_descriptors(ctx, passes.pipeline, exact_);
+    writer.buffer("ListBlock", lists_.get())
+        .buffer("ControlBlock", control_.get())
+        .buffer("CoverageBlock", coverage_.get())
+        .buffer("PyramidBlock", pyramid_.get());
+    if (levels_.pipeline) writer.image("caustic_levels", ctx.view("caustic_levels"));
+    const auto bind = [&](const vk::Pipeline& pipeline) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
+      writer.push(ctx.vk(), cmd, pipeline);
+      exact_.bind_textures(ctx, pipeline);
+    };
+    if (uses_coverage_) record_coverage(cmd, bind, push);
+    for (uint32_t batch = 0; batch < batches * passes.bands.size(); ++batch) {  // every batch once per colour band
+      push.band = passes.bands[batch / batches];
+      record_batch(cmd, bind, passes.pipeline, batch % batches, push);
+    }
+    record_levels(ctx, bind, push);
+  }
 
+ private:
+  using Bind = std::function<void(const vk::Pipeline&)>;
+
+  AdaptivePush frame_push(const graph::PassContext& ctx) const {
     const RefractionPush shared = refraction_push(ctx, 0);
     const auto& p = ctx.params();
     AdaptivePush push{shared.distance_mode,
@@ -193,80 +211,76 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     // photons), so that the mean of successive maps (accumulate) converges to the map of a finer
     // traversal. Its coarse splats shrink as the frames add up (Knaus and Zwicker), so that the
     // mean's blur fades too; a frame's splats keep the photons' power whatever their size.
-    const bool jitter = p["jitter"].get<bool>();
-    const uint64_t since_reset = jitter ? ctx.frame().since_reset : 0;
+    const uint64_t since_reset = p["jitter"].get<bool>() ? ctx.frame().since_reset : 0;
     const glm::vec2 offset = r2_point(since_reset);
     push.jitter = static_cast<uint32_t>(offset.x * 65536.0f) | static_cast<uint32_t>(offset.y * 65536.0f) << 16;
     push.kernel_scale = static_cast<float>(shrunk_radius(since_reset, p["kernel_alpha"].get<double>()));
+    return push;
+  }
 
-    auto bind = [&](const vk::Pipeline& pipeline) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
-      vk::DescriptorWriter writer = photon_descriptors(ctx);
-      writer.storage_buffer(9, lists_.get())
-          .storage_buffer(10, control_.get())
-          .storage_buffer(11, coverage_.get())
-          .storage_buffer(12, pyramid_.get());
-      exact_.bind(ctx, writer);
-      writer.push(ctx.vk(), cmd, pipeline);
-      exact_.bind_textures(ctx, pipeline);
-    };
-    if (uses_coverage_) {
-      // The coverage pyramid, finest level first; each level reads the one before.
-      for (uint32_t level = 0; level <= light_size_log2_; ++level) {
-        if (level > 0) memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
-        push.level = level;
-        bind(coverage_pipeline_);
-        vkCmdPushConstants(cmd, coverage_pipeline_.layout.get(), coverage_pipeline_.stages, 0, sizeof(push), &push);
-        const uint32_t side = 1u << (light_size_log2_ - level);
-        vkCmdDispatch(cmd, (side + 7) / 8, (side + 7) / 8, 1);
-      }
+  // The coverage pyramid, finest level first; each level reads the one before.
+  void record_coverage(VkCommandBuffer cmd, const Bind& bind, AdaptivePush& push) const {
+    for (uint32_t level = 0; level <= light_size_log2_; ++level) {
+      if (level > 0) memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveCompute, kAdaptiveStorage);
+      push.level = level;
+      bind(coverage_pipeline_);
+      vkCmdPushConstants(cmd, coverage_pipeline_.layout.get(), coverage_pipeline_.stages, 0, sizeof(push), &push);
+      const uint32_t side = 1u << (light_size_log2_ - level);
+      vkCmdDispatch(cmd, (side + 7) / 8, (side + 7) / 8, 1);
     }
-    for (uint32_t batch = 0; batch < batches * bands.size(); ++batch) {  // every batch once per colour band
-      const uint32_t b = batch % batches;
-      push.band = bands[batch / batches];
-      // Everything the previous batch (or the clear, the counter fill) wrote is visible, and the
-      // control block starts at zero.
-      memory_barrier(cmd, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | kTransfer,
-                     kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, kTransfer,
-                     VK_ACCESS_2_TRANSFER_WRITE_BIT);
-      vkCmdFillBuffer(cmd, control_.get(), 0, VK_WHOLE_SIZE, 0);
-      memory_barrier(cmd, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                     kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-      const uint32_t first = b * starts_per_batch_;
-      const uint32_t count = std::min(starts_per_batch_, kStartClusters - first);
-      push.batch = first | count << 16;
-      for (uint32_t level = 0; level <= max_level_; ++level) {
-        push.level = level;
-        push.counter_slot[6] = level_slots_[level];
-        if (level > 0) {
-          memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
-          bind(args_);
-          vkCmdPushConstants(cmd, args_.layout.get(), args_.stages, 0, sizeof(push), &push);
-          vkCmdDispatch(cmd, 1, 1, 1);
-          memory_barrier(cmd, kCompute, kStorage, kCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                         kStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-        }
-        bind(photons);
-        vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
-        if (level == 0)
-          vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
-        else
-          vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
+  }
+
+  // Batch `b`'s traversal, level by level: each level after the first dispatched as many groups as
+  // the level before appended clusters (adaptive_args).
+  void record_batch(VkCommandBuffer cmd, const Bind& bind, const vk::Pipeline& photons, uint32_t b, AdaptivePush& push) const {
+    // Everything the previous batch (or the clear, the counter fill) wrote is visible, and the
+    // control block starts at zero.
+    memory_barrier(cmd, kAdaptiveCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | kAdaptiveTransfer,
+                   kAdaptiveStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, kAdaptiveTransfer,
+                   VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, control_.get(), 0, VK_WHOLE_SIZE, 0);
+    memory_barrier(cmd, kAdaptiveTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, kAdaptiveCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                   kAdaptiveStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+    const uint32_t first = b * starts_per_batch_;
+    const uint32_t count = std::min(starts_per_batch_, kStartClusters - first);
+    push.batch = first | count << 16;
+    for (uint32_t level = 0; level <= max_level_; ++level) {
+      push.level = level;
+      push.counter_slot[6] = level_slots_[level];
+      if (level > 0) {
+        memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveCompute, kAdaptiveStorage);
+        bind(args_);
+        vkCmdPushConstants(cmd, args_.layout.get(), args_.stages, 0, sizeof(push), &push);
+        vkCmdDispatch(cmd, 1, 1, 1);
+        memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveCompute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                       kAdaptiveStorage | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
       }
+      bind(photons);
+      vkCmdPushConstants(cmd, photons.layout.get(), photons.stages, 0, sizeof(push), &push);
+      if (level == 0)
+        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
+      else
+        vkCmdDispatchIndirect(cmd, control_.get(), (kMaxLevels + level * 3) * sizeof(uint32_t));
     }
+  }
+
+  // The levels as splatted where caustic_levels is bound, then the coarser levels added into the
+  // map, which holds level 0.
+  void record_levels(const graph::PassContext& ctx, const Bind& bind, AdaptivePush& push) const {
+    VkCommandBuffer cmd = ctx.cmd();
     if (levels_.pipeline) {
-      // The levels as splatted, before the combine below sums them in place.
-      memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
-      vk::dispatch_over_image(ctx.vk(), cmd, levels_,
-                              photon_descriptors(ctx).storage_buffer(12, pyramid_.get()).storage_image(13, ctx.view("caustic_levels")),
-                              vk::bytes_of(push), ctx.extent("caustic_levels"));
+      memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveCompute, kAdaptiveStorage);
+      bind(levels_);
+      vkCmdPushConstants(cmd, levels_.layout.get(), levels_.stages, 0, sizeof(push), &push);
+      const VkExtent2D extent = ctx.extent("caustic_levels");
+      vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
     }
-    // Add the coarser levels into the map, which holds level 0; atomic adds, so the levels need
-    // no order among themselves.
+    // Atomic adds, so the levels need no order among themselves.
     if (splat_levels_ > 1) {
-      memory_barrier(cmd, kCompute, kStorage, kCompute, kStorage);
+      memory_barrier(cmd, kAdaptiveCompute, kAdaptiveStorage, kAdaptiveCompute, kAdaptiveStorage);
       bind(combine_);
     }
+    const VkExtent2D map = ctx.extent("caustic_map");
     for (uint32_t level = 1; level < splat_levels_; ++level) {
       push.level = level;
       vkCmdPushConstants(cmd, combine_.layout.get(), combine_.stages, 0, sizeof(push), &push);
@@ -275,7 +289,28 @@ class AdaptiveCausticMapPass final : public graph::Pass {
     }
   }
 
- private:
+  static void check_push(const shader::ShaderInterface& interface) {
+    std::vector<shader::MirroredMember> members{CAUSTICA_MIRRORED(AdaptivePush, distance_mode),
+                                                CAUSTICA_MIRRORED(AdaptivePush, search),
+                                                CAUSTICA_MIRRORED(AdaptivePush, search_distance),
+                                                CAUSTICA_MIRRORED(AdaptivePush, light),
+                                                CAUSTICA_MIRRORED(AdaptivePush, fresnel),
+                                                CAUSTICA_MIRRORED(AdaptivePush, level),
+                                                CAUSTICA_MIRRORED(AdaptivePush, max_level),
+                                                CAUSTICA_MIRRORED(AdaptivePush, converge_level),
+                                                CAUSTICA_MIRRORED(AdaptivePush, batch),
+                                                CAUSTICA_MIRRORED(AdaptivePush, light_size_log2),
+                                                CAUSTICA_MIRRORED(AdaptivePush, splat_levels),
+                                                CAUSTICA_MIRRORED(AdaptivePush, coverage_seeded),
+                                                CAUSTICA_MIRRORED(AdaptivePush, converge_spread),
+                                                CAUSTICA_MIRRORED(AdaptivePush, counter_slot),
+                                                CAUSTICA_MIRRORED(AdaptivePush, band),
+                                                CAUSTICA_MIRRORED(AdaptivePush, jitter),
+                                                CAUSTICA_MIRRORED(AdaptivePush, kernel_scale)};
+    for (const auto& member : exact_path_push_members(offsetof(AdaptivePush, exact))) members.push_back(member);
+    interface.check_push("AdaptivePush", sizeof(AdaptivePush), members);
+  }
+
   bool hierarchical_;
   bool uses_coverage_ = false;
   float converge_spread_ = 0.0f;
@@ -406,11 +441,12 @@ graph::PassCheck check_traversal(bool hierarchical, const nlohmann::json& p, con
     check.error = "the light-view buffers are " + std::to_string(light_size) + " wide; the coverage pyramid needs a power of two" +
                   (hierarchical ? "" : " (or set coverage_seeding to false)");
   } else if (per_start > capacity) {
-    check.error = "grid " + std::to_string(grid) + " needs memory_mib of at least " + std::to_string((per_start * 8 + (1u << 20) - 1) >> 20);
+    check.error =
+        "grid " + std::to_string(grid) + " needs memory_mib of at least " + std::to_string((per_start * 8 + (1u << 20) - 1) >> 20);
   } else if (levels && (levels->width != 2 * map.width || levels->height != map.height)) {
-    check.error = "output 'caustic_levels' ('" + levels->name + "', " + std::to_string(levels->width) + " x " +
-                  std::to_string(levels->height) + ") must be twice as wide as 'caustic_map' and as high: " + std::to_string(2 * map.width) +
-                  " x " + std::to_string(map.height);
+    check.error =
+        "output 'caustic_levels' ('" + levels->name + "', " + std::to_string(levels->width) + " x " + std::to_string(levels->height) +
+        ") must be twice as wide as 'caustic_map' and as high: " + std::to_string(2 * map.width) + " x " + std::to_string(map.height);
   }
   return check;
 }

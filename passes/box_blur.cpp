@@ -16,9 +16,11 @@ class BoxBlurPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     const auto& target = setup.resource("target");
-    auto spirv = setup.shaders().compile("core/box_blur.comp", {{"OUT_FORMAT", graph::format_info(target.format).glsl_qualifier}});
-    pipeline_ = vk::make_compute_pipeline(
-        setup.vk(), {"box_blur", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(BlurParams)}, spirv);
+    pipeline_ =
+        setup.compute_pipeline("box_blur", {"core/box_blur.comp", {{"OUT_FORMAT", graph::format_info(target.format).glsl_qualifier}}});
+    pipeline_.interface->check_push(
+        "BlurParams", sizeof(BlurParams),
+        {CAUSTICA_MIRRORED(BlurParams, size), CAUSTICA_MIRRORED(BlurParams, axis), CAUSTICA_MIRRORED(BlurParams, radius)});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -29,7 +31,7 @@ class BoxBlurPass final : public graph::Pass {
                       ctx.params()["radius"].get<int32_t>()};
     vk::dispatch_over_image(
         ctx.vk(), ctx.cmd(), pipeline_,
-        vk::DescriptorWriter().sampled_image(0, ctx.view("source"), ctx.nearest_sampler()).storage_image(1, ctx.view("target")),
+        vk::DescriptorWriter().image("source", ctx.view("source"), ctx.nearest_sampler()).image("target", ctx.view("target")),
         vk::bytes_of(params), extent);
   }
 

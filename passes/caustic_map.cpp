@@ -1,6 +1,8 @@
 // caustic_map: the regular caustic map. One photon per texel of an N x N grid in the light's view,
 // refracted through two interfaces, landed on the receivers and splatted into a light-space map of
 // flux per texel, which lighting projects back onto the receivers.
+#include <cstddef>
+
 #include "builtin_passes.h"
 #include "core/error.h"
 #include "core/low_discrepancy.h"
@@ -19,11 +21,10 @@ struct PhotonPush {
   uint32_t counter_slot[8];
   ExactPathPush exact;
   uint32_t band;
-  float jitter[2];  // where in its grid cell each photon starts
+  float jitter[2];           // where in its grid cell each photon starts
   uint32_t slice_offset[2];  // this frame's slice: the cells at slice_offset + slice_side * (i, j)
   uint32_t slice_side;
 };
-static_assert(sizeof(PhotonPush) == 100, "shaders/caustics/regular_photons.comp's Params: jitter (a vec2) at 80, slice_side at 96");
 
 class CausticMapPass final : public graph::Pass {
  public:
@@ -46,15 +47,22 @@ class CausticMapPass final : public graph::Pass {
     batches_slot_ = setup.add_counter("photons.batches");
     exact_.setup(setup);
     clear_ = make_caustic_clear_pipeline(setup);
-    const vk::PipelineDesc layout{
-        "regular_photons",
-        front_tint_bindings(
-            setup, exact_.bindings({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                    VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER})),
-        sizeof(PhotonPush), exact_.texture_array()};
-    photons_.build(setup, layout, "caustics/regular_photons.comp", refraction_defines(setup, exact_.defines()), !exact_.traced());
+    const shader::Defines defines = refraction_defines(setup, exact_.defines());
+    const vk::PipelineDesc layout = setup.shared_layout("regular_photons", {{"caustics/regular_photons.comp", defines}});
+    std::vector<shader::MirroredMember> members{CAUSTICA_MIRRORED(PhotonPush, distance_mode),
+                                                CAUSTICA_MIRRORED(PhotonPush, search),
+                                                CAUSTICA_MIRRORED(PhotonPush, search_distance),
+                                                CAUSTICA_MIRRORED(PhotonPush, light),
+                                                CAUSTICA_MIRRORED(PhotonPush, grid),
+                                                CAUSTICA_MIRRORED(PhotonPush, fresnel),
+                                                CAUSTICA_MIRRORED(PhotonPush, counter_slot),
+                                                CAUSTICA_MIRRORED(PhotonPush, band),
+                                                CAUSTICA_MIRRORED(PhotonPush, jitter),
+                                                CAUSTICA_MIRRORED(PhotonPush, slice_offset),
+                                                CAUSTICA_MIRRORED(PhotonPush, slice_side)};
+    for (const auto& member : exact_path_push_members(offsetof(PhotonPush, exact))) members.push_back(member);
+    layout.interface->check_push("PhotonPush", sizeof(PhotonPush), members);
+    photons_.build(setup, layout, "caustics/regular_photons.comp", defines, !exact_.traced());
   }
 
   // slice_side is sampling-only: a plan that changes it goes on with this one's runs of the grid.
@@ -108,9 +116,7 @@ class CausticMapPass final : public graph::Pass {
     const vk::Pipeline& photons = passes.pipeline;
     ctx.set_counter(batches_slot_, static_cast<uint32_t>(passes.bands.size()));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, photons.pipeline.get());
-    vk::DescriptorWriter writer = photon_descriptors(ctx);
-    exact_.bind(ctx, writer);
-    writer.push(ctx.vk(), cmd, photons);
+    photon_descriptors(ctx, photons, exact_).push(ctx.vk(), cmd, photons);
     exact_.bind_textures(ctx, photons);
     for (uint32_t band : passes.bands) {  // the bands add into one map; atomics need no order between them
       push.band = band;

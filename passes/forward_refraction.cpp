@@ -1,5 +1,7 @@
 // forward_refraction: the paper's baseline. The background is copied into the target, then every
 // refractor front face is rasterized with the refraction shader, hidden fragments included.
+#include <cstddef>
+
 #include "builtin_passes.h"
 #include "refraction.h"
 
@@ -23,13 +25,12 @@ class ForwardRefractionPass final : public graph::Pass {
     // A thin-walled refractor is one surface seen from either side: drawn without culling.
     for (int thin = 0; thin < 2; ++thin) {
       state.cull = thin ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
-      refract_[thin] = make_scene_pipeline(setup, thin ? "forward_refraction_thin" : "forward_refraction", "refraction/forward_refraction.frag",
-                                           state,
-                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                            VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                           sizeof(ForwardPush));
+      refract_[thin] = setup.graphics_pipeline(thin ? "forward_refraction_thin" : "forward_refraction", {"scene/mesh.vert", {}},
+                                               {"refraction/forward_refraction.frag", {}}, state);
     }
+    std::vector<shader::MirroredMember> members = draw_push_members(offsetof(ForwardPush, draw));
+    for (const auto& member : refraction_push_members(offsetof(ForwardPush, refraction))) members.push_back(member);
+    refract_[0].interface->check_push("ForwardPush", sizeof(ForwardPush), members);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -49,8 +50,7 @@ class ForwardRefractionPass final : public graph::Pass {
     for (int part = 0; part < 2; ++part) {
       if (parts[part].index_count == 0) continue;
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, refract_[part].pipeline.get());
-      // Binding 5 (front) is unread here: the back buffer fills it to keep the deferred pass's layout.
-      refraction_descriptors(ctx, ctx.view("background"), ctx.view("back"), ctx.view("back")).push(ctx.vk(), cmd, refract_[part]);
+      refraction_descriptors(ctx, refract_[part], ctx.view("background"), ctx.view("back")).push(ctx.vk(), cmd, refract_[part]);
       bind_scene_textures(ctx, cmd, refract_[part]);
       vkCmdPushConstants(cmd, refract_[part].layout.get(), refract_[part].stages, 0, sizeof(push), &push);
       draw_range(cmd, ctx.scene(), parts[part]);
@@ -68,11 +68,29 @@ class ForwardRefractionPass final : public graph::Pass {
 graph::PassTypeDecl forward_refraction_pass_type() {
   using namespace graph;
   auto ports = refraction_inputs();
-  ports.push_back({"back", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::rgba32f}, false, "frame",
+  ports.push_back({"back",
+                   PortAccess::read,
+                   ResourceKind::image,
+                   PortUsage::sampled,
+                   {Format::rgba32f},
+                   false,
+                   "frame",
                    "refractor back surfaces (refractor_buffers)"});
-  ports.push_back({"color", PortAccess::write, ResourceKind::image, PortUsage::color_attachment, {Format::rgba16f, Format::rgba32f}, false,
-                   "frame", "the background with the refractors composited"});
-  ports.push_back({"refractor_depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame",
+  ports.push_back({"color",
+                   PortAccess::write,
+                   ResourceKind::image,
+                   PortUsage::color_attachment,
+                   {Format::rgba16f, Format::rgba32f},
+                   false,
+                   "frame",
+                   "the background with the refractors composited"});
+  ports.push_back({"refractor_depth",
+                   PortAccess::write,
+                   ResourceKind::image,
+                   PortUsage::depth_attachment,
+                   {Format::d32f},
+                   false,
+                   "frame",
                    "depth test among refractor front faces"});
   PassTypeDecl decl{"forward_refraction",
                     "Image-space refraction through two interfaces (Wyman 2005) shaded while rasterizing refractor front faces: the "

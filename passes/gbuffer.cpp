@@ -15,7 +15,7 @@ class GBufferPass final : public graph::Pass {
     state.depth_format = graph::format_info(setup.resource("depth").format).vk;
     shader::Defines defines;
     if (has_emission_) defines["EMISSION"] = "1";
-    pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state, {}, sizeof(DrawPush), defines);
+    pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state, defines);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -26,7 +26,7 @@ class GBufferPass final : public graph::Pass {
     if (has_emission_) targets.push_back({ctx.view("emission")});
     begin_rendering(cmd, extent, targets, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
+    scene_descriptors(ctx, pipeline_).push(ctx.vk(), cmd, pipeline_);
     bind_scene_textures(ctx, cmd, pipeline_);
     const DrawPush push(view);
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);

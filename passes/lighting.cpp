@@ -22,15 +22,11 @@ class LightingPass final : public graph::Pass {
     if (has_caustics_) defines["CAUSTICS"] = "1";
     if (has_caustic_depth_) defines["CAUSTIC_DEPTH"] = "1";
     if (has_emission_) defines["EMISSION"] = "1";
-    pipeline_ = vk::make_fullscreen_pipeline(
-        setup.vk(),
-        {"lighting",
-         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-          VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
-         sizeof(LightingParams)},
-        setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("scene/lighting.frag", defines),
-        {graph::format_info(setup.resource("color").format).vk});
+    vk::RasterState state;
+    state.color_formats = {graph::format_info(setup.resource("color").format).vk};
+    pipeline_ = setup.graphics_pipeline("lighting", {"common/fullscreen.vert", {}}, {"scene/lighting.frag", defines}, state);
+    pipeline_.interface->check_push("LightingParams", sizeof(LightingParams),
+                                    {CAUSTICA_MIRRORED(LightingParams, shadow_bias), CAUSTICA_MIRRORED(LightingParams, has_shadow)});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -38,16 +34,16 @@ class LightingPass final : public graph::Pass {
     VkCommandBuffer cmd = ctx.cmd();
     begin_rendering(cmd, extent, {{ctx.view("color"), VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    vk::DescriptorWriter()
-        .uniform_buffer(0, ctx.scene().frame())
-        .sampled_image(1, ctx.view("depth"), ctx.nearest_sampler())
-        .sampled_image(2, ctx.view("normal"), ctx.nearest_sampler())
-        .sampled_image(3, ctx.view("albedo"), ctx.nearest_sampler())
-        .sampled_image(4, ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
-        .sampled_image(5, ctx.view(has_caustics_ ? "caustics" : "depth"), has_caustics_ ? ctx.linear_sampler() : ctx.nearest_sampler())
-        .sampled_image(6, ctx.view(has_caustic_depth_ ? "caustic_depth" : "depth"), ctx.nearest_sampler())  // unread without it
-        .sampled_image(7, ctx.view(has_emission_ ? "emission" : "normal"), ctx.nearest_sampler())  // unread without emission
-        .push(ctx.vk(), cmd, pipeline_);
+    vk::DescriptorWriter writer;
+    writer.buffer("FrameBlock", ctx.scene().frame())
+        .image("depth_tex", ctx.view("depth"), ctx.nearest_sampler())
+        .image("normal_tex", ctx.view("normal"), ctx.nearest_sampler())
+        .image("albedo_tex", ctx.view("albedo"), ctx.nearest_sampler())
+        .image("shadow_tex", ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
+        .image("caustic_depth_tex", ctx.view(has_caustic_depth_ ? "caustic_depth" : "depth"), ctx.nearest_sampler());  // unread without it
+    if (has_caustics_) writer.image("caustics_tex", ctx.view("caustics"), ctx.linear_sampler());
+    if (has_emission_) writer.image("emission_tex", ctx.view("emission"), ctx.nearest_sampler());
+    writer.push(ctx.vk(), cmd, pipeline_);
     const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
     vkCmdDraw(cmd, 3, 1, 0, 0);
@@ -121,8 +117,9 @@ graph::PassTypeDecl lighting_pass_type() {
   decl.check = [](const nlohmann::json&, const PortResources& resource) {
     PassCheck check;
     if (resource("caustics") && !resource("caustic_depth")) {
-      check.warning = "'caustics' is bound without 'caustic_depth': the caustic map is applied without its receiver test, also on "
-                      "surfaces its light does not see first";
+      check.warning =
+          "'caustics' is bound without 'caustic_depth': the caustic map is applied without its receiver test, also on "
+          "surfaces its light does not see first";
     } else if (!resource("caustics") && resource("caustic_depth")) {
       check.warning = "'caustic_depth' is bound without 'caustics': it is not read";
     }

@@ -18,9 +18,13 @@ class PatternPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     const auto& target = setup.resource("color");
-    pipeline_ =
-        vk::make_fullscreen_pipeline(setup.vk(), {"pattern", {}, sizeof(PatternParams)}, setup.shaders().compile("common/fullscreen.vert"),
-                                     setup.shaders().compile("core/pattern.frag"), {graph::format_info(target.format).vk});
+    vk::RasterState state;
+    state.color_formats = {graph::format_info(target.format).vk};
+    pipeline_ = setup.graphics_pipeline("pattern", {"common/fullscreen.vert", {}}, {"core/pattern.frag", {}}, state);
+    pipeline_.interface->check_push(
+        "PatternParams", sizeof(PatternParams),
+        {CAUSTICA_MIRRORED(PatternParams, size), CAUSTICA_MIRRORED(PatternParams, sun), CAUSTICA_MIRRORED(PatternParams, frequency),
+         CAUSTICA_MIRRORED(PatternParams, sun_intensity), CAUSTICA_MIRRORED(PatternParams, sun_radius)});
   }
 
   void execute(graph::PassContext& ctx) override {

@@ -1,8 +1,7 @@
 #include "photon_kernel.h"
 
+#include <cstddef>
 #include <glm/gtc/packing.hpp>
-
-
 #include "refractor_buffers.h"
 
 namespace caustica::passes {
@@ -51,6 +50,14 @@ void ExactPaths::setup(graph::PassSetup& setup) {
                                                     {"caustic.flux_absorbed", Kind::sum}});
 }
 
+std::vector<shader::MirroredMember> exact_path_push_members(size_t at) {
+  return {{"exact_max_interfaces", at + offsetof(ExactPathPush, max_interfaces)},
+          {"exact_seed", at + offsetof(ExactPathPush, seed)},
+          {"exact_counters", at + offsetof(ExactPathPush, counters)},
+          {"exact_epsilon", at + offsetof(ExactPathPush, epsilon)},
+          {"hybrid_packed", at + offsetof(ExactPathPush, hybrid_packed)}};
+}
+
 ExactPathPush ExactPaths::push(const graph::PassContext& ctx) const {
   const auto& p = ctx.params();
   return {p["max_interfaces"].get<uint32_t>(), p["seed"].get<uint32_t>(), first_counter_, ctx.scene().scene().ray_epsilon(),
@@ -85,39 +92,39 @@ std::vector<graph::PortDecl> photon_ports() {
           RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "light")};
 }
 
-vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx) {
-  vk::DescriptorWriter writer = scene_descriptors(ctx);
-  writer.sampled_image(3, ctx.view("front"), ctx.nearest_sampler())
-      .sampled_image(4, ctx.view("back"), ctx.nearest_sampler())
-      .sampled_image(5, ctx.view("receiver_depth"), ctx.nearest_sampler())
-      .storage_image(6, ctx.view("caustic_map"))
-      .storage_buffer(7, ctx.counter_buffer())
-      .storage_buffer(8, ctx.counter_buffer());
+vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, const ExactPaths& exact) {
+  vk::DescriptorWriter writer = scene_descriptors(ctx, pipeline);
+  writer.image("front_tex", ctx.view("front"), ctx.nearest_sampler())
+      .image("back_tex", ctx.view("back"), ctx.nearest_sampler())
+      .image("receiver_depth", ctx.view("receiver_depth"), ctx.nearest_sampler())
+      .image("caustic_map", ctx.view("caustic_map"))
+      .buffer("CounterBlock", ctx.counter_buffer())
+      .buffer("SumBlock", ctx.counter_buffer());
+  exact.bind(ctx, writer);
   bind_front_tint(ctx, writer);
   return writer;
 }
 
 vk::Pipeline make_caustic_clear_pipeline(graph::PassSetup& setup) {
-  return vk::make_compute_pipeline(setup.vk(), {"caustic_clear", {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 0},
-                                   setup.shaders().compile("caustics/clear.comp"));
+  return setup.compute_pipeline("caustic_clear", {"caustics/clear.comp", {}});
 }
 
 void record_caustic_clear(const graph::PassContext& ctx, const vk::Pipeline& clear) {
   VkCommandBuffer cmd = ctx.cmd();
   const VkExtent2D map = ctx.extent("caustic_map");
-  vk::dispatch_over_image(ctx.vk(), cmd, clear, vk::DescriptorWriter().storage_image(0, ctx.view("caustic_map")), {}, map);
+  vk::dispatch_over_image(ctx.vk(), cmd, clear, vk::DescriptorWriter().image("target", ctx.view("caustic_map")), {}, map);
   memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 void PhotonKernel::build(graph::PassSetup& setup, const vk::PipelineDesc& layout, const std::string& shader, const shader::Defines& defines,
                          bool band_loop) {
-  white_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile(shader, defines));
+  white_ = setup.compute_pipeline(layout, {shader, defines});
   band_loop_ = {};
   if (band_loop) {
     shader::Defines loop = defines;
     loop["PHOTON_BAND_LOOP"] = "1";
-    band_loop_ = vk::make_compute_pipeline(setup.vk(), layout, setup.shaders().compile(shader, loop));
+    band_loop_ = setup.compute_pipeline(layout, {shader, loop});
   }
 }
 

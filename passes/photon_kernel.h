@@ -21,6 +21,10 @@ struct ExactPathPush {
   uint32_t hybrid_packed;
 };
 
+// ExactPathPush's members as the photon shaders' push blocks name them, `at` bytes into the C++
+// struct that holds it.
+std::vector<shader::MirroredMember> exact_path_push_members(size_t at);
+
 // A photon pass's exact paths: the ray-query scene where traced, and the counters always, so that
 // every method reports the same names.
 class ExactPaths : public RayQueryScene {
@@ -36,8 +40,9 @@ class ExactPaths : public RayQueryScene {
 // caustic map (flux per texel) out.
 std::vector<graph::PortDecl> photon_ports();
 // Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
-// caustic map, counters as uint and as float, and the front tint where bound.
-vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx);
+// caustic map, counters as uint and as float, the ray-query scene where `exact` traces, and the
+// front tint where bound; for `pipeline`.
+vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, const ExactPaths& exact);
 
 // A photon pass's kernel. Photons are white (kWhiteBand: one path carries every channel), or, when
 // a refractor disperses light (KHR_materials_dispersion), traced once per colour band, red, green

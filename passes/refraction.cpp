@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 #include <iterator>
 #include <utility>
 
@@ -81,7 +82,6 @@ float search_distance(const graph::PassContext& ctx) {
   return std::max(ctx.scene().scene().diagonal(), 1e-3f);
 }
 
-
 // A pass's `distance`, numbered as shaders/refraction/refraction.glsl's DISTANCE_* constants.
 enum DistanceMode : uint32_t { kDv, kDvDn, kRayQuery, kHybrid, kSearch, kMaterial };
 DistanceMode distance_mode(const nlohmann::json& params) {
@@ -105,6 +105,17 @@ RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_count
           ctx.scene().scene().ray_epsilon(),
           p.value("hybrid_tolerance", 0.0f),
           exact_counters};
+}
+
+std::vector<shader::MirroredMember> refraction_push_members(size_t at) {
+  return {{"distance_mode", at + offsetof(RefractionPush, distance_mode)},
+          {"search", at + offsetof(RefractionPush, search)},
+          {"search_distance", at + offsetof(RefractionPush, search_distance)},
+          {"tir_counter", at + offsetof(RefractionPush, tir_counter)},
+          {"exact_max_interfaces", at + offsetof(RefractionPush, exact_max_interfaces)},
+          {"exact_epsilon", at + offsetof(RefractionPush, exact_epsilon)},
+          {"hybrid_tolerance", at + offsetof(RefractionPush, hybrid_tolerance)},
+          {"exact_counters", at + offsetof(RefractionPush, exact_counters)}};
 }
 
 bool traces_exact_paths(const nlohmann::json& params) {
@@ -157,27 +168,15 @@ void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& w
       .storage_buffer(graph::kSceneTrianglesBinding, acceleration->triangles());
 }
 
-std::vector<VkDescriptorType> RayQueryScene::bindings(std::vector<VkDescriptorType> bindings) const {
-  return traced_ ? with_ray_query_bindings(std::move(bindings)) : bindings;
-}
-
 void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
-  if (traced_) bind_ray_query_scene(ctx, writer);
-}
-
-uint32_t RayQueryScene::texture_array() const {
-  return traced_ ? CAUSTICA_MAX_TEXTURES : 0;
+  if (!traced_) return;
+  const auto* acceleration = ctx.scene().built_acceleration();
+  assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
+  writer.structure("scene_tlas", acceleration->tlas()).buffer("TriangleBlock", acceleration->triangles());
 }
 
 void RayQueryScene::bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const {
   if (traced_) bind_scene_textures(ctx, ctx.cmd(), pipeline);
-}
-
-std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings) {
-  if (!setup.bound("front_tint")) return bindings;
-  bindings.resize(16, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);  // declared and left unwritten where a pass does not use them
-  bindings.push_back(VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
-  return bindings;
 }
 
 shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines) {
@@ -186,7 +185,7 @@ shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Define
 }
 
 void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
-  if (ctx.bound("front_tint")) writer.sampled_image(16, ctx.view("front_tint"), ctx.nearest_sampler());
+  if (ctx.bound("front_tint")) writer.image("front_tint_tex", ctx.view("front_tint"), ctx.nearest_sampler());
 }
 
 std::vector<graph::PortDecl> refraction_inputs() {
@@ -196,28 +195,27 @@ std::vector<graph::PortDecl> refraction_inputs() {
 }
 
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color) {
-  return vk::make_fullscreen_pipeline(setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, 0},
-                                      setup.shaders().compile("common/fullscreen.vert"), setup.shaders().compile("common/copy.frag"),
-                                      {color});
+  vk::RasterState state;
+  state.color_formats = {color};
+  return setup.graphics_pipeline("copy_background", {"common/fullscreen.vert", {}}, {"common/copy.frag", {}}, state);
 }
 
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent) {
   VkCommandBuffer cmd = ctx.cmd();
   begin_rendering(cmd, extent, {{target, VK_ATTACHMENT_LOAD_OP_DONT_CARE}}, std::nullopt);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy.pipeline.get());
-  vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).push(ctx.vk(), cmd, copy);
+  vk::DescriptorWriter().image("source", source, ctx.nearest_sampler()).push(ctx.vk(), cmd, copy);
   vkCmdDraw(cmd, 3, 1, 0, 0);
   vkCmdEndRendering(cmd);
 }
 
-vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, VkImageView background, VkImageView front, VkImageView back,
-                                           const RayQueryScene* exact) {
-  vk::DescriptorWriter writer = scene_descriptors(ctx);
-  writer.sampled_image(3, background, ctx.linear_sampler())
-      .sampled_image(4, ctx.view("depth"), ctx.nearest_sampler())
-      .sampled_image(5, front, ctx.nearest_sampler())
-      .sampled_image(6, back, ctx.nearest_sampler())
-      .storage_buffer(7, ctx.counter_buffer());
+vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background,
+                                            VkImageView back, const RayQueryScene* exact) {
+  vk::DescriptorWriter writer = scene_descriptors(ctx, pipeline);
+  writer.image("background_tex", background, ctx.linear_sampler())
+      .image("depth_tex", ctx.view("depth"), ctx.nearest_sampler())
+      .image("back_tex", back, ctx.nearest_sampler())
+      .buffer("CounterBlock", ctx.counter_buffer());
   if (exact) exact->bind(ctx, writer);
   bind_front_tint(ctx, writer);
   return writer;
@@ -259,19 +257,13 @@ struct CopyPush {  // shaders/common/copy.comp's
 void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact) {
   exact_ = exact;
   const shader::Defines out_format{{"OUT_FORMAT", graph::format_info(target).glsl_qualifier}};
-  std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-  refract_ = vk::make_compute_pipeline(
-      setup.vk(),
-      {"deferred_refraction", front_tint_bindings(setup, exact ? exact->bindings(bindings) : bindings), sizeof(DeferredRefractionPush),
-       exact ? exact->texture_array() : 0},
-      setup.shaders().compile("refraction/deferred_refraction.comp", refraction_defines(setup, exact ? exact->defines(out_format) : out_format)));
-  copy_ = vk::make_compute_pipeline(
-      setup.vk(), {"copy_background", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, sizeof(CopyPush)},
-      setup.shaders().compile("common/copy.comp", out_format));
+  refract_ = setup.compute_pipeline("deferred_refraction", {"refraction/deferred_refraction.comp",
+                                                            refraction_defines(setup, exact ? exact->defines(out_format) : out_format)});
+  std::vector<shader::MirroredMember> members = refraction_push_members(offsetof(DeferredRefractionPush, refraction));
+  members.push_back(CAUSTICA_MIRRORED(DeferredRefractionPush, rect));
+  refract_.interface->check_push("DeferredRefractionPush", sizeof(DeferredRefractionPush), members);
+  copy_ = setup.compute_pipeline("copy_background", {"common/copy.comp", out_format});
+  copy_.interface->check_push("CopyPush", sizeof(CopyPush), {CAUSTICA_MIRRORED(CopyPush, size)});
 }
 
 void DeferredRefractionShading::record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front,
@@ -280,11 +272,11 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
   if (rect.extent.width == 0 || rect.extent.height == 0) return;
   VkCommandBuffer cmd = ctx.cmd();
   // The refracted pixels overwrite the copy's.
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, refract_.pipeline.get());
-  vk::DescriptorWriter writer = refraction_descriptors(ctx, background, front, back, exact_);
-  writer.storage_image(8, target).push(ctx.vk(), cmd, refract_);
+  vk::DescriptorWriter writer = refraction_descriptors(ctx, refract_, background, back, exact_);
+  writer.image("front_tex", front, ctx.nearest_sampler()).image("out_color", target).push(ctx.vk(), cmd, refract_);
   if (exact_) exact_->bind_textures(ctx, refract_);
   const DeferredRefractionPush shading{push,
                                        {rect.offset.x, rect.offset.y, rect.offset.x + static_cast<int32_t>(rect.extent.width),
@@ -296,8 +288,8 @@ void DeferredRefractionShading::record(const graph::PassContext& ctx, const Refr
 void DeferredRefractionShading::copy(const graph::PassContext& ctx, VkImageView source, VkImageView target, VkExtent2D extent) const {
   const CopyPush size{{static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}};
   vk::dispatch_over_image(ctx.vk(), ctx.cmd(), copy_,
-                          vk::DescriptorWriter().sampled_image(0, source, ctx.nearest_sampler()).storage_image(1, target),
-                          vk::bytes_of(size), extent);
+                          vk::DescriptorWriter().image("source", source, ctx.nearest_sampler()).image("target", target), vk::bytes_of(size),
+                          extent);
 }
 
 }  // namespace caustica::passes

@@ -39,15 +39,20 @@ extern const char* const kCameraRayQueryAlternative;
 // address them from one base).
 uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names);
 
-// Bindings 14 (the scene's top-level acceleration structure) and 15 (its triangles), as
-// shaders/scene/ray_query.glsl declares them: `bindings` padded to them, and their descriptors.
+// RefractionPush's members as the shaders' push blocks name them, `at` bytes into the C++ struct
+// that holds it.
+std::vector<shader::MirroredMember> refraction_push_members(size_t at = 0);
+
+// For a user pass's layout (graph/user_pass_type.h numbers it): bindings 14 (the scene's top-level
+// acceleration structure) and 15 (its triangles), as shaders/scene/ray_query.glsl declares them:
+// `bindings` padded to them, and their descriptors.
 std::vector<VkDescriptorType> with_ray_query_bindings(std::vector<VkDescriptorType> bindings);
 void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
 
 // What a pass that traces exact paths needs where its parameters ask for them: the shader variant
-// (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid) and bindings 14 (the scene's
-// top-level acceleration structure) and 15 (its triangles), as shaders/scene/ray_query.glsl declares
-// them.
+// (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid), which then declares the scene's
+// top-level acceleration structure (scene_tlas) and its triangles (TriangleBlock), as
+// shaders/scene/ray_query.glsl does.
 class RayQueryScene {
  public:
   void setup(const graph::PassSetup& setup);
@@ -58,12 +63,8 @@ class RayQueryScene {
   // mode's code that the kernel never runs, lengthens that (under AddressSanitizer the ray-query photon
   // kernel with the hybrid's code in it took a test's first frame past the 120 s limit).
   shader::Defines defines(shader::Defines defines = {}) const;
-  // with_ray_query_bindings when traced.
-  std::vector<VkDescriptorType> bindings(std::vector<VkDescriptorType> bindings) const;
   void bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const;
-  // The texture array (MASK coverage) as set 1 when traced: the layout count for PipelineDesc,
-  // and binding the scene's set after the pass's descriptors are pushed.
-  uint32_t texture_array() const;
+  // The texture array (MASK coverage) as set 1 when traced, bound after the pass's descriptors are pushed.
   void bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const;
 
  private:
@@ -72,9 +73,7 @@ class RayQueryScene {
 };
 
 // The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:
-// binding 16 of its shaders (shaders/refraction/refraction.glsl, at_front_texel), padded as
-// RayQueryScene::bindings pads.
-std::vector<VkDescriptorType> front_tint_bindings(const graph::PassSetup& setup, std::vector<VkDescriptorType> bindings);
+// front_tint_tex of its shaders (shaders/refraction/refraction.glsl, at_front_texel).
 // The defines of a pass's refraction shaders that its setup decides: REFRACTOR_TINT where front_tint
 // is bound.
 shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines = {});
@@ -87,11 +86,11 @@ std::vector<graph::PortDecl> refraction_inputs();
 vk::Pipeline make_copy_pipeline(graph::PassSetup& setup, VkFormat color);
 // Draws `source` into `target` with a pipeline from make_copy_pipeline().
 void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImageView source, VkImageView target, VkExtent2D extent);
-// Scene bindings plus the refraction shader's: background, depth, front, back, counters, the
-// ray-query scene where `exact` traces, and the front tint where the pass has it bound; the caller
-// adds its own and pushes them.
-vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, VkImageView background, VkImageView front, VkImageView back,
-                                            const RayQueryScene* exact = nullptr);
+// Scene bindings plus the refraction shader's: background, depth, back, counters, the ray-query
+// scene where `exact` traces, and the front tint where the pass has it bound; the caller adds its
+// own and pushes them to `pipeline`.
+vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background,
+                                            VkImageView back, const RayQueryScene* exact = nullptr);
 
 // The screen rectangle, one pixel wider on each side, that covers the bounding boxes of `objects`
 // seen by `view_proj`; the whole extent when any box reaches behind the eye.

@@ -19,7 +19,7 @@ void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front,
     if (kind == 1 || !setup.bound("front_tint")) continue;
     state.color_formats.push_back(graph::format_info(setup.resource("front_tint").format).vk);
     tinted_[kind / 2] = make_scene_pipeline(setup, kind ? "refractor_thin_tinted" : "refractor_front_tinted", "scene/refractor.frag", state,
-                                            {}, sizeof(DrawPush), {{"REFRACTOR_TINT", "1"}});
+                                            {{"REFRACTOR_TINT", "1"}});
   }
 }
 
@@ -78,7 +78,7 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
       if (parts[part].index_count == 0) continue;
       const vk::Pipeline& pipeline = back ? pipelines_[1] : tinted ? tinted_[part] : pipelines_[part ? 2 : 0];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline.get());
-      scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline);
+      scene_descriptors(ctx, pipeline).push(ctx.vk(), cmd, pipeline);
       bind_scene_textures(ctx, cmd, pipeline);
       vkCmdPushConstants(cmd, pipeline.layout.get(), pipeline.stages, 0, sizeof(push), &push);
       draw_range(cmd, ctx.scene(), parts[part]);

@@ -26,23 +26,31 @@ std::vector<graph::ParamDecl> view_params() {
           {"light", graph::ParamType::int_, 0, 0.0, 7.0, {}, "which light, for view = light (the last one if fewer)"}};
 }
 
-vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
-                                 std::vector<VkDescriptorType> extra, uint32_t push_bytes, const shader::Defines& defines) {
-  std::vector<VkDescriptorType> bindings{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-  bindings.insert(bindings.end(), extra.begin(), extra.end());
-  return vk::make_graphics_pipeline(setup.vk(), {name, bindings, push_bytes, CAUSTICA_MAX_TEXTURES},
-                                    setup.shaders().compile("scene/mesh.vert"), setup.shaders().compile(fragment_shader, defines), state);
+std::vector<shader::MirroredMember> draw_push_members(size_t at) {
+  return {
+      {"view_proj", at + offsetof(DrawPush, view_proj)}, {"eye", at + offsetof(DrawPush, eye)}, {"axis", at + offsetof(DrawPush, axis)}};
 }
 
-vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx) {
+vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
+                                 const shader::Defines& defines) {
+  vk::Pipeline pipeline = setup.graphics_pipeline(name, {"scene/mesh.vert", {}}, {fragment_shader, defines}, state);
+  pipeline.interface->check_push("DrawPush", sizeof(DrawPush), draw_push_members());
+  return pipeline;
+}
+
+vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline) {
   const auto& scene = ctx.scene();
   vk::DescriptorWriter writer;
-  writer.uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
+  const std::pair<const char*, VkBuffer> blocks[] = {
+      {"FrameBlock", scene.frame()}, {"VertexBlock", scene.vertices()}, {"ObjectBlock", scene.objects()}};
+  for (const auto& [name, buffer] : blocks) {
+    if (pipeline.interface->declares(name)) writer.buffer(name, buffer);
+  }
   return writer;
 }
 
 void bind_scene_textures(const graph::PassContext& ctx, VkCommandBuffer cmd, const vk::Pipeline& pipeline) {
+  if (!pipeline.texture_set_layout) return;
   const VkDescriptorSet set = ctx.scene().textures();
   vkCmdBindDescriptorSets(cmd, pipeline.bind_point, pipeline.layout.get(), 1, 1, &set, 0, nullptr);
 }

@@ -32,13 +32,15 @@ SceneView light_view(const graph::PassContext& ctx, uint32_t light);
 // The view named by a pass's "view" and "light" parameters.
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
 
-// Bindings 0..2 are the scene's (frame data, vertices, objects); `extra` follow from binding 3.
-// Set 1 is the scene's texture array: a pass whose fragment shader samples it binds it with
-// bind_scene_textures.
+// DrawPush's members as the shaders' push blocks name them, `at` bytes into the C++ struct that holds it.
+std::vector<shader::MirroredMember> draw_push_members(size_t at = 0);
+// scene/mesh.vert and `fragment_shader`, their push constants a DrawPush (checked).
 vk::Pipeline make_scene_pipeline(graph::PassSetup& setup, const char* name, const char* fragment_shader, const vk::RasterState& state,
-                                 std::vector<VkDescriptorType> extra = {}, uint32_t push_bytes = sizeof(DrawPush),
                                  const shader::Defines& defines = {});
-vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx);
+// The scene's blocks (scene/scene.glsl: FrameBlock, VertexBlock, ObjectBlock) that `pipeline`'s
+// shaders declare: each includes the ones it reads.
+vk::DescriptorWriter scene_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline);
+// Set 1, the scene's texture array, where `pipeline`'s shaders sample it (scene/textures.glsl).
 void bind_scene_textures(const graph::PassContext& ctx, VkCommandBuffer cmd, const vk::Pipeline& pipeline);
 
 struct Attachment {

@@ -19,7 +19,7 @@ class ShadowMapPass final : public graph::Pass {
     VkCommandBuffer cmd = ctx.cmd();
     begin_rendering(cmd, extent, {}, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
-    scene_descriptors(ctx).push(ctx.vk(), cmd, pipeline_);
+    scene_descriptors(ctx, pipeline_).push(ctx.vk(), cmd, pipeline_);
     bind_scene_textures(ctx, cmd, pipeline_);
     const DrawPush push(view);
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(push), &push);

@@ -18,12 +18,9 @@ struct TemporalMeanPush {
 class TemporalMeanPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    pipeline_ = vk::make_compute_pipeline(
-        setup.vk(),
-        {"temporal_mean",
-         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-         sizeof(TemporalMeanPush)},
-        setup.shaders().compile("core/temporal_mean.comp"));
+    pipeline_ = setup.compute_pipeline("temporal_mean", {"core/temporal_mean.comp", {}});
+    pipeline_.interface->check_push("TemporalMeanPush", sizeof(TemporalMeanPush),
+                                    {CAUSTICA_MIRRORED(TemporalMeanPush, size), CAUSTICA_MIRRORED(TemporalMeanPush, weight)});
     frames_slot_ = setup.add_counter(setup.pass().name + ".frames");
   }
 
@@ -38,9 +35,9 @@ class TemporalMeanPass final : public graph::Pass {
     const TemporalMeanPush push{{extent.width, extent.height}, holds ? 0.0f : 1.0f / static_cast<float>(frame)};
     vk::dispatch_over_image(ctx.vk(), ctx.cmd(), pipeline_,
                             vk::DescriptorWriter()
-                                .sampled_image(0, ctx.view("current"), ctx.nearest_sampler())
-                                .sampled_image(1, ctx.view("previous"), ctx.nearest_sampler())
-                                .storage_image(2, ctx.view("average")),
+                                .image("current", ctx.view("current"), ctx.nearest_sampler())
+                                .image("previous", ctx.view("previous"), ctx.nearest_sampler())
+                                .image("average", ctx.view("average")),
                             vk::bytes_of(push), extent);
   }
 

@@ -16,12 +16,10 @@ class TonemapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     bright_counter_ = setup.add_counter("tonemap.bright_pixels");
-    pipeline_ = vk::make_compute_pipeline(
-        setup.vk(),
-        {"tonemap",
-         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         sizeof(TonemapParams)},
-        setup.shaders().compile("core/tonemap.comp"));
+    pipeline_ = setup.compute_pipeline("tonemap", {"core/tonemap.comp", {}});
+    pipeline_.interface->check_push("TonemapParams", sizeof(TonemapParams),
+                                    {CAUSTICA_MIRRORED(TonemapParams, size), CAUSTICA_MIRRORED(TonemapParams, exposure),
+                                     CAUSTICA_MIRRORED(TonemapParams, bright_counter)});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -30,9 +28,9 @@ class TonemapPass final : public graph::Pass {
         {static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height)}, ctx.params()["exposure"].get<float>(), bright_counter_};
     vk::dispatch_over_image(ctx.vk(), ctx.cmd(), pipeline_,
                             vk::DescriptorWriter()
-                                .sampled_image(0, ctx.view("source"), ctx.nearest_sampler())
-                                .storage_image(1, ctx.view("target"))
-                                .storage_buffer(2, ctx.counter_buffer()),
+                                .image("source", ctx.view("source"), ctx.nearest_sampler())
+                                .image("target", ctx.view("target"))
+                                .buffer("Counters", ctx.counter_buffer()),
                             vk::bytes_of(params), extent);
   }
 

@@ -20,6 +20,13 @@
 namespace caustica::passes {
 namespace {
 
+// The scene's blocks at the first bindings of a user pass's layout, where graph/user_pass_type.h
+// places them (kUserSceneBindings: frame, vertices, objects).
+vk::DescriptorWriter user_scene_descriptors(const graph::PassContext& ctx) {
+  const auto& scene = ctx.scene();
+  return vk::DescriptorWriter().uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
+}
+
 class UserPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
@@ -61,14 +68,16 @@ class UserPass final : public graph::Pass {
     std::sort(colors.begin(), colors.end());
     std::vector<VkFormat> formats;
     for (const auto& [location, format] : colors) formats.push_back(format);
-    pipeline_ =
-        vk::make_fullscreen_pipeline(setup.vk(), layout, setup.shaders().compile("common/fullscreen.vert"), shader_->spirv, formats);
+    pipeline_ = vk::make_fullscreen_pipeline(
+        setup.vk(), layout,
+        setup.shaders().compile("common/fullscreen.vert", shader_->reads_uv ? shader::Defines{{"FULLSCREEN_UV", "1"}} : shader::Defines{}),
+        shader_->spirv, formats);
   }
 
   void execute(graph::PassContext& ctx) override {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
-    vk::DescriptorWriter writer = shader_->scene ? scene_descriptors(ctx) : vk::DescriptorWriter();
+    vk::DescriptorWriter writer = shader_->scene ? user_scene_descriptors(ctx) : vk::DescriptorWriter();
     if (shader_->ray_queries) bind_ray_query_scene(ctx, writer);
     std::vector<std::pair<uint32_t, VkImageView>> colors;
     for (const auto& b : shader_->bindings) {

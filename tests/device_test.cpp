@@ -14,6 +14,8 @@
 #include "core/paths.h"
 #include "graph/executor.h"
 #include "graph/report.h"
+#include "shader/shader_interface.h"
+#include "vk/pipeline.h"
 
 using namespace caustica;
 
@@ -261,4 +263,34 @@ TEST(Shaders, ErrorsNameFileAndLineAndTheCacheSeesIncludes) {
   compiler.compile("ok.comp", {{"SCALE", "2.0"}});
   EXPECT_EQ(compiler.stats().compiles, 3u);
   std::filesystem::remove_all(root);
+}
+
+// A pipeline laid out from its shader's declarations is written by name (vk::DescriptorWriter):
+// before any descriptor reaches the device, a name the shader does not declare, a resource of the
+// wrong kind and a declared binding left unwritten are refused, naming the pass, shader and variable.
+TEST(Shaders, DescriptorsAreWrittenByTheNamesTheShaderDeclares) {
+  Engine e;
+  const shader::ReflectedShader blur = e.shaders.compile_reflected("core/box_blur.comp");
+  auto interface = std::make_shared<const shader::ShaderInterface>(
+      "blur_x", std::vector<shader::NamedReflection>{{"core/box_blur.comp", &blur.reflection}});
+  const vk::Pipeline pipeline = vk::make_compute_pipeline(e.vk, vk::reflected_desc("box_blur", interface), blur.spirv);
+  const auto refusal = [&](const vk::DescriptorWriter& writer) {
+    try {
+      writer.push(e.vk, VK_NULL_HANDLE, pipeline);  // refused before it records anything
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("(not refused)");
+  };
+  const std::string misnamed =
+      refusal(vk::DescriptorWriter().image("sourse", VK_NULL_HANDLE, VK_NULL_HANDLE).image("target", VK_NULL_HANDLE));
+  EXPECT_NE(misnamed.find("pass 'blur_x' binds 'sourse', which its shaders (core/box_blur.comp) do not declare"), std::string::npos)
+      << misnamed;
+  const std::string kind = refusal(vk::DescriptorWriter().image("source", VK_NULL_HANDLE).image("target", VK_NULL_HANDLE));
+  EXPECT_NE(kind.find("'source' is a sampled image (sampler2D), and the pass binds a storage image (image2D) to it"), std::string::npos)
+      << kind;
+  const std::string unwritten = refusal(vk::DescriptorWriter().image("source", VK_NULL_HANDLE, VK_NULL_HANDLE));
+  EXPECT_NE(unwritten.find("pass 'blur_x', shader core/box_blur.comp: declares 'target' (binding 1), which the pass leaves unbound"),
+            std::string::npos)
+      << unwritten;
 }

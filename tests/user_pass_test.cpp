@@ -559,6 +559,50 @@ float weight(int i) {
 
 // On the device, a compute and a fullscreen pass with 41 parameters in a uniform block: each texel
 // t holds the weights' sum times (t + i) % 5 + 1, as the CPU computes it, and the count.
+// A fullscreen pass's fragment shader that shows its uv as colour, into an 8 x 4 image.
+nlohmann::json uv_graph(const std::filesystem::path& dir, const std::string& input, const std::string& value = "vec4(uv, 0.0, 1.0)") {
+  write(dir / "uv.frag", "#version 460\n" + input + "\nlayout(location = 0) out vec4 view;\nvoid main() { view = " + value + "; }\n");
+  return {{"resources", {{"view", {{"type", "image"}, {"format", "rgba32f"}, {"width", 8}, {"height", 4}}}}},
+          {"passes",
+           {{{"name", "uv"},
+             {"type", "fullscreen"},
+             {"shader", "uv.frag"},
+             {"ports", {{"view", {{"access", "write"}}}}},
+             {"outputs", {{"view", "view"}}}}}},
+          {"outputs", {"view"}}};
+}
+
+TEST(UserPass, TheFullscreenVertexStageGivesUvFromTheTopLeftCorner) {
+  const auto dir = test_dir();
+  write(dir / "graph.json", uv_graph(dir, "layout(location = 0) in vec2 uv;").dump(2));
+  test::SceneEngine e;
+  e.render(load_graph_file((dir / "graph.json").string()), test::load_bundled_scene("sphere_plane"), {"view"});
+  const io::ImageData texels = e.executor.read_image("view");
+  ASSERT_EQ(texels.rgba.size(), 4u * 8u * 4u);
+  for (uint32_t y = 0; y < 4; ++y) {
+    for (uint32_t x = 0; x < 8; ++x) {
+      const size_t t = 4 * (y * 8 + x);
+      EXPECT_NEAR(texels.rgba[t], (x + 0.5f) / 8.0f, 1e-5f) << x << "," << y;
+      EXPECT_NEAR(texels.rgba[t + 1], (y + 0.5f) / 4.0f, 1e-5f) << x << "," << y;
+    }
+  }
+}
+
+TEST(UserPass, AFragmentInputTheVertexStageDoesNotGiveIsRefusedAtItsLine) {
+  const auto dir = test_dir();
+  const std::string shader = (dir / "uv.frag").string();
+  const std::pair<const char*, const char*> inputs[] = {{"layout(location = 0) in vec3 uv;", "vec4(uv, 1.0)"},
+                                                        {"layout(location = 1) in vec2 uv;", "vec4(uv, 0.0, 1.0)"},
+                                                        {"layout(location = 0) in vec2 texcoord;", "vec4(texcoord, 0.0, 1.0)"}};
+  for (const auto& [input, value] : inputs) {
+    SCOPED_TRACE(input);
+    const std::string error = error_of(dir, uv_graph(dir, input, value));
+    EXPECT_NE(error.find(shader + ":2: fragment input '"), std::string::npos) << error;
+    EXPECT_NE(error.find("is not given by a fullscreen pass's vertex stage, which gives only 'uv'"), std::string::npos) << error;
+    EXPECT_NE(error.find("(at /passes/0/shader)"), std::string::npos) << error;
+  }
+}
+
 TEST(UserPass, ParametersInAUniformBlockGoBeyondPushConstants) {
   const auto dir = test_dir();
   write(dir / "weights.comp", weights_shader(false));

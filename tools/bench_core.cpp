@@ -236,7 +236,7 @@ void bench_overhead(bool validate) {
   // HandChain, for the same chain. At 8x8 the GPU work is negligible and the figures are pure CPU
   // recording cost; at 1280x720 the executor's extra cost is set against a real frame's wall time.
   vk::Context vk({"", validate, false});
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   std::printf(
       "| chain | size | executor: record+submit | by hand: record+submit | extra per frame | frame wall time (executor) | extra / wall "
       "|\n");

@@ -177,8 +177,7 @@ std::string GraphModel::add_user_pass(const std::string& kind, const std::string
 ordered_json GraphModel::declare_user_pass(graph::PassTypeDecl& decl, const std::string& shader) const {
   std::filesystem::path file = shader;
   if (file.is_relative()) file = std::filesystem::absolute(path_).parent_path() / file;
-  shader::ShaderCompiler compiler(data_dir() / "shaders");
-  const shader::ReflectedShader compiled = compiler.compile_reflected(file.string());
+  const shader::ReflectedShader compiled = shader::process_shader_compiler().compile_reflected(file.string());
   const shader::Reflection& reflection = compiled.reflection;
   const bool fullscreen = decl.user_kind == graph::UserShaderKind::fullscreen;
   if (file.extension() != (fullscreen ? ".frag" : ".comp")) {

@@ -63,7 +63,7 @@ class Viewer::Impl {
         options_(o),
         window_(o.width, o.height),
         vk_(context_options(o.device)),
-        shaders_(data_dir() / "shaders"),
+        shaders_(shader::process_shader_compiler()),
         executor_(vk_, shaders_, passes::builtin_registry()) {
     inspector_.inspected = o.inspect;
     inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
@@ -844,7 +844,7 @@ class Viewer::Impl {
   ViewerOptions options_;
   Window window_;
   vk::Context vk_;
-  shader::ShaderCompiler shaders_;
+  shader::ShaderCompiler& shaders_;
   graph::Executor executor_;
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   Swapchain swapchain_;

@@ -12,6 +12,7 @@
 #include "scene/gpu_scene.h"
 #include "shader/shader_compiler.h"
 #include "vk/context.h"
+#include "vk/pipeline.h"
 
 namespace caustica::graph {
 
@@ -32,6 +33,21 @@ class PassSetup {
   // The pass that set up counter `name` first, or "" where none has: passes that count under one
   // name add into one counter.
   std::string counter_owner(const std::string& name) const;
+  // A shader of a pipeline: its path under the shader root and its defines.
+  struct ShaderFile {
+    std::string path;
+    shader::Defines defines;
+  };
+  // Pipelines laid out as their shaders declare (vk::reflected_desc, named `name` for the driver):
+  // the pass writes their descriptors by name, and checks a C++ mirror of their push-constant block
+  // with Pipeline::interface->check_push.
+  vk::Pipeline compute_pipeline(const std::string& name, const ShaderFile& shader);
+  // One layout for a family of kernels that bind the same resources, from all their shaders'
+  // declarations together: each of its pipelines is written with every binding of the family.
+  vk::PipelineDesc shared_layout(const std::string& name, const std::vector<ShaderFile>& shaders);
+  vk::Pipeline compute_pipeline(const vk::PipelineDesc& layout, const ShaderFile& shader);
+  vk::Pipeline graphics_pipeline(const std::string& name, const ShaderFile& vertex, const ShaderFile& fragment,
+                                 const vk::RasterState& state);
   // A rule about bindings or parameters belongs in PassTypeDecl::check, where the compiler (and so
   // `validate`) sees it; set-up fails only for what no plan can know (a shader, the device).
 

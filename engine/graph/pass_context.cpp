@@ -32,6 +32,27 @@ std::string PassSetup::counter_owner(const std::string& name) const {
   }
   return {};
 }
+vk::Pipeline PassSetup::compute_pipeline(const std::string& name, const ShaderFile& shader) {
+  return compute_pipeline(shared_layout(name, {shader}), shader);
+}
+vk::PipelineDesc PassSetup::shared_layout(const std::string& name, const std::vector<ShaderFile>& shaders) {
+  std::vector<shader::ReflectedShader> compiled;
+  for (const ShaderFile& shader : shaders) compiled.push_back(this->shaders().compile_reflected(shader.path, shader.defines));
+  std::vector<shader::NamedReflection> reflections;
+  for (size_t i = 0; i < shaders.size(); ++i) reflections.push_back({shaders[i].path, &compiled[i].reflection});
+  return vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(pass_.name, reflections));
+}
+vk::Pipeline PassSetup::compute_pipeline(const vk::PipelineDesc& layout, const ShaderFile& shader) {
+  return vk::make_compute_pipeline(vk(), layout, shaders().compile(shader.path, shader.defines));
+}
+vk::Pipeline PassSetup::graphics_pipeline(const std::string& name, const ShaderFile& vertex, const ShaderFile& fragment,
+                                          const vk::RasterState& state) {
+  const shader::ReflectedShader v = shaders().compile_reflected(vertex.path, vertex.defines);
+  const shader::ReflectedShader f = shaders().compile_reflected(fragment.path, fragment.defines);
+  auto interface = std::make_shared<const shader::ShaderInterface>(
+      pass_.name, std::vector<shader::NamedReflection>{{vertex.path, &v.reflection}, {fragment.path, &f.reflection}});
+  return vk::make_graphics_pipeline(vk(), vk::reflected_desc(name, std::move(interface)), v.spirv, f.spirv, state);
+}
 
 vk::Context& PassContext::vk() const {
   return executor_.vk_;

@@ -7,6 +7,7 @@
 #include "core/paths.h"
 #include "core/suggest.h"
 #include "shader/shader_compiler.h"
+#include "shader/shader_interface.h"
 
 namespace caustica::graph {
 namespace {
@@ -14,27 +15,8 @@ namespace {
 using shader::BindingKind;
 using shader::ReflectedBinding;
 
-// One compiler for every graph's user shaders: its cache keeps a shader that has not changed, and
-// its root is the engine's shader library, which user shaders #include.
-shader::ShaderCompiler& user_shader_compiler() {
-  static shader::ShaderCompiler compiler(data_dir() / "shaders");
-  return compiler;
-}
-
 std::string place(const shader::SourcePlace& at) {
   return at.file + ":" + std::to_string(at.line);
-}
-
-const char* binding_kind_name(BindingKind kind) {
-  switch (kind) {
-    case BindingKind::sampled_image: return "a sampled image (sampler2D)";
-    case BindingKind::storage_image: return "a storage image (image2D)";
-    case BindingKind::storage_buffer: return "a storage buffer (buffer block)";
-    case BindingKind::uniform_buffer: return "a uniform block";
-    case BindingKind::acceleration_structure: return "an acceleration structure";
-    case BindingKind::other: break;
-  }
-  return "a binding of a kind no port has";
 }
 
 BindingKind binding_kind_of(const PortDecl& port) {
@@ -112,6 +94,7 @@ class Checker {
     errors_.attempt([&] { check_counters(); });
     errors_.attempt([&] { check_parameters(); });
     errors_.attempt([&] { check_dispatch_port(); });
+    for (const auto& in : reflection_.inputs) errors_.attempt([&] { check_input(in); });
     errors_.throw_if_any();
   }
 
@@ -125,6 +108,19 @@ class Checker {
   ErrorList errors_;
 
   std::string of_pass() const { return " of pass '" + pass_.name + "'"; }
+
+  // A fragment input that the fullscreen vertex stage does not give would read undefined values.
+  void check_input(const shader::ReflectedInput& in) {
+    if (shader_.kind != UserShaderKind::fullscreen) return;
+    if (in.name == kFullscreenUv && in.type == "vec2" && in.location == 0) {
+      shader_.reads_uv = true;
+      return;
+    }
+    throw graph_.error(pass_.pointer + "/shader", place(in.place) + ": fragment input '" + in.name + "' (" + in.type + " at location " +
+                                                      std::to_string(in.location) +
+                                                      ") is not given by a fullscreen pass's vertex stage, which gives only 'uv' (vec2 at "
+                                                      "location 0: 0 to 1 across the target from its top-left corner)");
+  }
 
   std::vector<std::string> binding_names() const {
     std::vector<std::string> names;
@@ -421,7 +417,7 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   }
   shader::ReflectedShader compiled;
   try {
-    compiled = user_shader_compiler().compile_reflected(path.string());
+    compiled = shader::process_shader_compiler().compile_reflected(path.string());
   } catch (const InputError& e) {
     throw graph.error(shader_pointer, "the shader of pass '" + pass.name + "' does not compile: " + e.what());
   }

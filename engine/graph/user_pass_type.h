@@ -42,9 +42,14 @@ constexpr bool is_scene_binding(uint32_t binding) {
 inline constexpr const char* kParamsBlock = "Params";
 inline constexpr uint32_t kMaxParamsBlockBytes = 16384;
 
+// The one varying a fullscreen pass's vertex stage (shaders/common/fullscreen.vert, with
+// FULLSCREEN_UV) gives its fragment shader: `layout(location = 0) in vec2 uv`, 0 to 1 across the
+// target from its top-left corner, (x + 0.5) / width at a pixel's centre.
+inline constexpr const char* kFullscreenUv = "uv";
+
 struct UserShader {
   UserShaderKind kind = UserShaderKind::compute;
-  std::string path;  // the shader file as found
+  std::string path;                          // the shader file as found
   std::vector<std::filesystem::path> files;  // it and everything it includes: what a reload watches
   std::vector<uint32_t> spirv;
   std::vector<UserPortBinding> bindings;  // one per port
@@ -68,6 +73,8 @@ struct UserShader {
   std::vector<UserPassDesc::Counter> counters;
   std::optional<uint32_t> counts_binding, sums_binding;
   std::array<uint32_t, 3> local_size{1, 1, 1};
+  // Fullscreen: the fragment shader reads kFullscreenUv, which the vertex stage then gives.
+  bool reads_uv = false;
   // Compute: one invocation per texel of this port's image, or else `invocations` (the compiler
   // evaluates the file's expressions).
   std::string dispatch_port;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/paths.h"
 #include "io/json_document.h"
 
 namespace caustica::shader {
@@ -152,6 +153,11 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
     const glslang::TType& type = symbol->getType();
     const glslang::TQualifier& q = type.getQualifier();
     if (q.builtIn != glslang::EbvNone) continue;
+    if (q.storage == glslang::EvqVaryingIn) {
+      const std::string name = symbol->getName().c_str();
+      out.inputs.push_back({name, glsl_type_name(type), q.hasLocation() ? q.layoutLocation : 0u, declaration_place(sources, name, {"in"})});
+      continue;
+    }
     ReflectedBinding b;
     b.name = symbol->getName().c_str();
     if (type.getBasicType() == glslang::EbtBlock) {
@@ -213,7 +219,14 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
 
 }  // namespace
 
-ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) { initialize_glslang(); }
+ShaderCompiler& process_shader_compiler() {
+  static ShaderCompiler compiler(data_dir() / "shaders");
+  return compiler;
+}
+
+ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) {
+  initialize_glslang();
+}
 
 ReflectedShader ShaderCompiler::compiled(const Entry& entry) {
   ReflectedShader out{entry.spirv, entry.reflection, {}, {}};

@@ -29,8 +29,8 @@ struct ReflectedMember {
   uint32_t offset = 0;  // in the block, by its layout (std140, std430, or an explicit offset)
 };
 struct ReflectedBinding {
-  std::string name;   // the variable, or a block's instance name (its type name where it has none)
-  std::string block;  // a block's type name
+  std::string name;                      // the variable, or a block's instance name (its type name where it has none)
+  std::string block;                     // a block's type name
   std::vector<ReflectedMember> members;  // a block's
   uint32_t size = 0;                     // a block's, in bytes
   uint32_t set = 0;
@@ -42,10 +42,18 @@ struct ReflectedBinding {
   bool writeonly = false;
   SourcePlace place;
 };
+// A shader's user input (a fragment shader's varying): what its stage before must give.
+struct ReflectedInput {
+  std::string name;
+  std::string type;
+  uint32_t location = 0;
+  SourcePlace place;
+};
 struct Reflection {
   std::vector<ReflectedBinding> bindings;
   std::vector<ReflectedBinding> outputs;  // a fragment shader's user outputs
-  std::string push_block;                 // empty where the shader has no push constants
+  std::vector<ReflectedInput> inputs;
+  std::string push_block;  // empty where the shader has no push constants
   SourcePlace push_place;
   std::vector<ReflectedMember> push_members;
   uint32_t push_size = 0;
@@ -93,5 +101,10 @@ class ShaderCompiler {
   CompileStats stats_;
   std::vector<std::filesystem::path>* file_log_ = nullptr;
 };
+
+// The process's one compiler of the engine's shader library (data_dir()/shaders), which user
+// shaders #include too: every executor, user pass type and viewer in a process shares its cache,
+// so a shader compiles once however many of them ask for it.
+ShaderCompiler& process_shader_compiler();
 
 }  // namespace caustica::shader

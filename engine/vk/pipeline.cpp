@@ -2,6 +2,9 @@
 
 #include <type_traits>
 
+#include "common/scene_types.h"  // CAUSTICA_MAX_TEXTURES, the size of set 1
+#include "core/error.h"
+
 namespace caustica::vk {
 namespace {
 
@@ -43,7 +46,9 @@ class Key {
 
 void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stages, Pipeline& out) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
-  for (uint32_t i = 0; i < desc.bindings.size(); ++i) bindings.push_back({i, desc.bindings[i], 1, stages, nullptr});
+  for (uint32_t i = 0; i < desc.bindings.size(); ++i) {
+    if (desc.bindings[i] != VK_DESCRIPTOR_TYPE_MAX_ENUM) bindings.push_back({i, desc.bindings[i], 1, stages, nullptr});
+  }
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   set_info.bindingCount = static_cast<uint32_t>(bindings.size());
@@ -69,7 +74,48 @@ void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stage
   out.stages = stages;
 }
 
+// The cache's pipeline as `desc`'s pass sees it: identical pipelines of two passes share their
+// objects, and each names its own pass in what its descriptor writes are refused for.
+Pipeline with_interface(Pipeline pipeline, const PipelineDesc& desc) {
+  pipeline.interface = desc.interface;
+  return pipeline;
+}
+
+VkDescriptorType descriptor_type(shader::BindingKind kind) {
+  switch (kind) {
+    case shader::BindingKind::sampled_image: return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    case shader::BindingKind::storage_image: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    case shader::BindingKind::uniform_buffer: return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    case shader::BindingKind::acceleration_structure: return VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    case shader::BindingKind::storage_buffer:
+    case shader::BindingKind::other: break;
+  }
+  return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+std::vector<shader::BindingKind> kinds_of(VkDescriptorType type) {
+  switch (type) {
+    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: return {shader::BindingKind::sampled_image};
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: return {shader::BindingKind::storage_image};
+    case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR: return {shader::BindingKind::acceleration_structure};
+    default: return {shader::BindingKind::storage_buffer, shader::BindingKind::uniform_buffer};
+  }
+}
+
 }  // namespace
+
+PipelineDesc reflected_desc(std::string name, std::shared_ptr<const shader::ShaderInterface> interface) {
+  PipelineDesc desc{std::move(name), {}, interface->push_size(), 0, interface};
+  for (const shader::InterfaceBinding& b : interface->bindings()) {
+    if (b.set == 1) {
+      desc.texture_array = CAUSTICA_MAX_TEXTURES;
+      continue;
+    }
+    if (desc.bindings.size() <= b.binding) desc.bindings.resize(b.binding + 1, VK_DESCRIPTOR_TYPE_MAX_ENUM);
+    desc.bindings[b.binding] = descriptor_type(b.kind);
+  }
+  return desc;
+}
 
 OwnedSetLayout texture_array_layout(Context& vk, uint32_t count) {
   const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count, VK_SHADER_STAGE_ALL, nullptr};
@@ -84,19 +130,20 @@ OwnedSetLayout texture_array_layout(Context& vk, uint32_t count) {
 Pipeline make_compute_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& spirv) {
   Key key("compute", desc);
   key << spirv;
-  if (const Pipeline* made = vk.pipelines().find(key.text())) return *made;
+  if (const Pipeline* made = vk.pipelines().find(key.text())) return with_interface(*made, desc);
   Pipeline out;
   out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   make_layout(vk, desc, VK_SHADER_STAGE_COMPUTE_BIT, out);
   OwnedShaderModule module = make_module(vk, spirv);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module.get(), "main", nullptr};
+  info.stage = {
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module.get(), "main", nullptr};
   info.layout = out.layout.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
   check(vkCreateComputePipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateComputePipelines");
   out.pipeline = Shared(OwnedPipeline(vk, pipeline));
   vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
-  return vk.pipelines().insert(key.text(), std::move(out));
+  return with_interface(vk.pipelines().insert(key.text(), std::move(out)), desc);
 }
 
 Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
@@ -111,7 +158,7 @@ Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std
   Key key("graphics", desc);
   key << vertex_spirv << fragment_spirv << state.color_formats << state.depth_format << state.depth_write << state.depth_compare
       << state.cull;
-  if (const Pipeline* made = vk.pipelines().find(key.text())) return *made;
+  if (const Pipeline* made = vk.pipelines().find(key.text())) return with_interface(*made, desc);
   const std::vector<VkFormat>& color_formats = state.color_formats;
   Pipeline out;
   out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -168,7 +215,7 @@ Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std
   check(vkCreateGraphicsPipelines(vk.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline), "vkCreateGraphicsPipelines");
   out.pipeline = Shared(OwnedPipeline(vk, pipeline));
   vk.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), desc.name);
-  return vk.pipelines().insert(key.text(), std::move(out));
+  return with_interface(vk.pipelines().insert(key.text(), std::move(out)), desc);
 }
 
 const Pipeline* PipelineCache::find(const std::string& key) const {
@@ -179,6 +226,32 @@ const Pipeline* PipelineCache::find(const std::string& key) const {
 const Pipeline& PipelineCache::insert(const std::string& key, Pipeline pipeline) {
   if (pipelines_.size() >= kKeep) std::erase_if(pipelines_, [](const auto& entry) { return !entry.second.pipeline.shared_elsewhere(); });
   return pipelines_.insert_or_assign(key, std::move(pipeline)).first->second;
+}
+
+DescriptorWriter::Item& DescriptorWriter::named(const std::string& name, VkDescriptorType type) {
+  Item& item = items_.emplace_back(Item{0, type, {}, {}});
+  item.name = name;
+  return item;
+}
+
+DescriptorWriter& DescriptorWriter::image(const std::string& name, VkImageView view, VkSampler sampler) {
+  named(name, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER).image = {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::image(const std::string& name, VkImageView view) {
+  named(name, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE).image = {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::buffer(const std::string& name, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize range) {
+  named(name, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER).buffer = {buffer, offset, range};
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::structure(const std::string& name, VkAccelerationStructureKHR structure) {
+  named(name, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR).structure = structure;
+  return *this;
 }
 
 DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view, VkSampler sampler) {
@@ -209,11 +282,12 @@ DescriptorWriter& DescriptorWriter::acceleration_structure(uint32_t binding, VkA
 }
 
 void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) const {
+  const std::vector<Item> items = resolved(pipeline);
   std::vector<VkWriteDescriptorSet> writes;
   // Acceleration structures are written through a chained struct; reserved so pointers stay put.
   std::vector<VkWriteDescriptorSetAccelerationStructureKHR> structures;
-  structures.reserve(items_.size());
-  for (const auto& item : items_) {
+  structures.reserve(items.size());
+  for (const auto& item : items) {
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstBinding = item.binding;
     w.descriptorCount = 1;
@@ -231,7 +305,25 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
     }
     writes.push_back(w);
   }
+  if (writes.empty()) return;  // a pipeline without descriptors (a fullscreen pass that only draws): pushing none is invalid
   vk.push_descriptor_set(cmd, pipeline.bind_point, pipeline.layout.get(), 0, static_cast<uint32_t>(writes.size()), writes.data());
+}
+
+std::vector<DescriptorWriter::Item> DescriptorWriter::resolved(const Pipeline& pipeline) const {
+  std::vector<Item> items = items_;
+  if (!pipeline.interface) return items;
+  const shader::ShaderInterface& interface = *pipeline.interface;
+  std::vector<size_t> written;
+  for (Item& item : items) {
+    if (item.name.empty())
+      throw InputError("pass '" + interface.pass() + "' writes binding " + std::to_string(item.binding) + " by number");
+    const shader::InterfaceBinding& b = interface.find(item.name, kinds_of(item.type));
+    item.binding = b.binding;
+    item.type = descriptor_type(b.kind);
+    written.push_back(static_cast<size_t>(&b - interface.bindings().data()));
+  }
+  interface.check_written(written);
+  return items;
 }
 
 void dispatch_over_image(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline, const DescriptorWriter& descriptors,

@@ -3,21 +3,30 @@
 // A pipeline that samples the scene's textures also has set 1, an array of them that the scene
 // writes once (vk::texture_array_layout).
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "shader/shader_interface.h"
 #include "vk/context.h"
 
 namespace caustica::vk {
 
 struct PipelineDesc {
   std::string name;
-  std::vector<VkDescriptorType> bindings;  // binding i has type bindings[i]
+  std::vector<VkDescriptorType> bindings;  // binding i has type bindings[i]; VK_DESCRIPTOR_TYPE_MAX_ENUM: none
   uint32_t push_constant_bytes = 0;
   uint32_t texture_array = 0;  // > 0: set 1 is an array of this many combined image samplers
+  // Where the shaders' declarations give the layout (reflected_desc): the pipeline's descriptors are
+  // then written by name and checked against them (DescriptorWriter).
+  std::shared_ptr<const shader::ShaderInterface> interface;
 };
+
+// The layout `interface` declares: set 0's bindings, set 1 where a shader samples the scene's
+// textures (shaders/scene/textures.glsl), the push-constant block's size.
+PipelineDesc reflected_desc(std::string name, std::shared_ptr<const shader::ShaderInterface> interface);
 
 // Copies share their objects: the process keeps the pipelines it made (PipelineCache) and hands
 // the same ones to every pass that asks for an identical pipeline.
@@ -28,6 +37,7 @@ struct Pipeline {
   Shared<OwnedPipeline> pipeline;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   VkShaderStageFlags stages = 0;
+  std::shared_ptr<const shader::ShaderInterface> interface;  // PipelineDesc::interface
 };
 
 // The pipelines a Context has made, by everything that defines them (kind, layout, SPIR-V, fixed
@@ -66,9 +76,19 @@ Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const s
 Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
                                 const std::vector<uint32_t>& fragment_spirv, const RasterState& state);
 
-// Collects descriptor writes and pushes them in one call.
+// Collects descriptor writes and pushes them in one call. A pipeline made from reflected_desc is
+// written by the names its shaders declare: push() refuses a name they do not declare, a resource
+// of another kind, and a declared binding left unwritten, naming the pass, shader and variable.
+// Numbered writes are for a pipeline whose layout the pass built itself (a user pass's, which the
+// graph compiler has checked against its shader).
 class DescriptorWriter {
  public:
+  DescriptorWriter& image(const std::string& name, VkImageView view, VkSampler sampler);  // a sampler2D
+  DescriptorWriter& image(const std::string& name, VkImageView view);                     // an image2D
+  // A storage or uniform buffer, as the shader declares it.
+  DescriptorWriter& buffer(const std::string& name, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
+  DescriptorWriter& structure(const std::string& name, VkAccelerationStructureKHR structure);
+
   DescriptorWriter& sampled_image(uint32_t binding, VkImageView view, VkSampler sampler);
   DescriptorWriter& storage_image(uint32_t binding, VkImageView view);
   DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
@@ -83,7 +103,11 @@ class DescriptorWriter {
     VkDescriptorImageInfo image;
     VkDescriptorBufferInfo buffer;
     VkAccelerationStructureKHR structure = VK_NULL_HANDLE;
+    std::string name;  // a named write's; its binding and type come from the pipeline
   };
+  Item& named(const std::string& name, VkDescriptorType type);
+  // The items with their bindings: a named one's from `pipeline`'s interface, checked there.
+  std::vector<Item> resolved(const Pipeline& pipeline) const;
   std::vector<Item> items_;
 };
 

@@ -4,9 +4,11 @@
 #include "scene/scene.glsl"
 SCENE_VERTICES
 
+// passes/scene_draw.h's DrawPush, one block for every scene shader: axis is the fragment shaders'.
 layout(push_constant) uniform Draw {
   mat4 view_proj;
   vec4 eye;
+  vec4 axis;
 } draw;
 
 layout(location = 0) out vec3 world_position;

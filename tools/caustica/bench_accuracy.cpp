@@ -290,7 +290,7 @@ int cmd_bench_accuracy(Args& args) {
   const std::filesystem::path dir(o.out_dir);
 
   vk::Context vk(device_options(o.device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   AccuracyRun run{o, dir, vk, shaders};
   // A graph's cells on a scene share its executor, as its grids did before the sweep had cells.
   std::unique_ptr<graph::Executor> executor;

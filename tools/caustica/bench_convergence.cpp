@@ -184,7 +184,7 @@ int cmd_bench_convergence(Args& args) {
   std::filesystem::create_directories(dir);
 
   vk::Context vk(device_options(o.device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   if (reference_map.rgba.empty()) {
     reference::PhotonOptions options;
     options.photons = o.reference_photons;

@@ -158,7 +158,7 @@ int cmd_bench_refraction(Args& args) {
   }
 
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   const char* graphs[2] = {"refraction_forward", "refraction_deferred"};
   std::string table =
       "| scene | refractor triangles | forward: refraction passes | deferred: refraction passes | deferred / forward | forward frame | "
@@ -217,7 +217,7 @@ int cmd_bench_compare(Args& args) {
   }
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   std::vector<std::unique_ptr<graph::Executor>> owned;
   std::vector<graph::Executor*> executors;
   for (size_t g = 0; g < graphs.size(); ++g) {
@@ -255,7 +255,7 @@ int cmd_bench_photons(Args& args) {
   const auto& [scene_file, out_dir, device, grids, frames, regular_max] = o;
   auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(scene_file));
   vk::Context vk(device_options(device, false));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   struct Method {
     const char* name;
     const char* graph;

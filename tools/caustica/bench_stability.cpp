@@ -293,7 +293,7 @@ int cmd_bench_stability(Args& args) {
   const size_t first = one_cell ? cell_index(o.cells.cell, cells.size()) : 0, end = one_cell ? first + 1 : cells.size();
   if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
   vk::Context vk(device_options(o.device, o.validate));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   std::string csv, table;
   // A case's methods share its reference and its executor (the geometry stays on the device).
   std::shared_ptr<const scene::Scene> scene;

@@ -182,7 +182,7 @@ int run_render(const RenderOptions& o, bool trace) {
   if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene, o.stage));
 
   vk::Context vk(device_options(o.device, o.validate));
-  shader::ShaderCompiler shaders(data_dir() / "shaders");
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   graph::Executor executor(vk, shaders, passes::builtin_registry());
   executor.set_scene(scene);
   const graph::ConfigureOptions options{
