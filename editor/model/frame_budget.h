@@ -77,7 +77,7 @@ class StillLevels {
   double budget_ms_;
   size_t levels_;
   size_t level_ = 0;
-  std::vector<double> frames_;  // the current level's last kJudged refining frames
+  std::vector<double> frames_;               // the current level's last kJudged refining frames
   double judged_ms_ = 0, predicted_ms_ = 0;  // judged: the median at the level the last move left
   // Per level: its frames' median over the next cheaper level's, the most measured after a move
   // between them (0: not yet).
