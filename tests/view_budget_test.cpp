@@ -157,7 +157,8 @@ TEST(ViewBudget, AFrameWithNothingToRenderNeitherRaisesNorLowersTheStep) {
   frame(true, 135, true);  // a plan's first frame: not judged
   frame(true, 130, true);
   EXPECT_EQ(frame(true, 65, true), kHalfStep);  // down a step on the whole frame over the budget
-  frame(true, 50, true);
+  frame(true, 50, true);                        // the half step's first frame: not judged
+  frame(true, 50, true);                        // measures the whole step at 130 / 50 times the half
   for (int i = 0; i < 2; ++i) EXPECT_EQ(frame(false, kIdleMs, false), kHalfStep);
   // Judged on the 50 ms frame that moved, not on the idle frames of 9 ms, which would predict a
   // whole frame well within the budget.
