@@ -107,14 +107,12 @@ int Viewer::Impl::run() {
     redraw_frames_ = redraw_frames_ > 0 ? redraw_frames_ - 1 : 0;
     draw_frame(options_.frames != 0 && frame + 1 == options_.frames);
     const double wall_ms = std::chrono::duration<double, std::milli>(clock::now() - last_frame).count();
-    const size_t level_before = budget_.setting().still_level;
-    const bool other_level = budget_.end_frame(measured(wall_ms));
+    const ViewBudget::Setting drawn = budget_.setting();  // end_frame may choose the next frame's level
     if (!options_.stats.empty()) {
-      const ViewBudget::Setting& s = budget_.setting();
       log_.add(wall_ms, last_result_,
-               {budget_.moved(), s.step.divider, s.step.lowered, s.still_values, s.still_level, budget_.presented()});
+               {budget_.moved(), drawn.step.divider, drawn.step.lowered, drawn.still_values, drawn.still_level, budget_.presented()});
     }
-    if (other_level) take_still_level(level_before);
+    if (budget_.end_frame(measured(wall_ms))) take_still_level(drawn.still_level);
     // A view at rest refines: frames go on while a pass converges (an accumulating mean); between
     // input events they wait for the next, or for the rest.
     if (last_result_.converging && !budget_.rest_pending()) redraw_frames_ = std::max(redraw_frames_, 1);
