@@ -31,20 +31,19 @@ TEST(Caustics, AFailedSetUpKeepsTheRunningPlan) {
   executor.set_scene(load("sphere_plane"));
   auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
   graph::apply_overrides(graph, {"grid=1024"});
-  executor.configure(graph, 160, 90, {"lit", "caustics"});
+  executor.configure(graph, 160, 90, {.retained = {"lit", "caustics"}});
   const graph::FrameResult first = executor.run_frame(true);
   const auto compiled = executor.compile_count();
   std::ofstream(root / "shaders/core/tonemap.comp", std::ios::app) << "\nnot glsl;\n";
-  executor.invalidate();
   try {
-    executor.configure(graph, 160, 90, {"lit", "caustics"});
+    executor.configure(graph, 160, 90, {.retained = {"lit", "caustics"}, .hand_over = {.start_over = true}});
     ADD_FAILURE() << "a shader with an error was set up";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("tonemap.comp:"), std::string::npos) << e.what();
   }
   auto too_large = graph;
   graph::apply_overrides(too_large, {"grid=65536", "photon_memory_mib=1"});
-  EXPECT_THROW(executor.configure(too_large, 160, 90, {"lit", "caustics"}), InputError);
+  EXPECT_THROW(executor.configure(too_large, 160, 90, {.retained = {"lit", "caustics"}}), InputError);
   EXPECT_EQ(executor.compile_count(), compiled);
   const graph::FrameResult again = executor.run_frame(true);
   EXPECT_EQ(again.counters.at("photons.processed"), first.counters.at("photons.processed"));

@@ -822,12 +822,12 @@ TEST(Compiler, ResultKeysFollowWhatAPassComputesFrom) {
   CompileOptions reuse;
   reuse.reuse_unchanged_passes = true;
   auto keys = [&](const nlohmann::json& j) {
-    std::map<std::string, uint64_t> by_name;
-    for (const auto& p : compile(j, reuse).passes) by_name[p.name] = p.result_key;
+    std::map<std::string, std::optional<ResultIdentity>> by_name;
+    for (const auto& p : compile(j, reuse).passes) by_name[p.name] = p.result_id;
     return by_name;
   };
   const auto before = keys(graph(1.0, 1.0));
-  for (const auto& [name, key] : before) EXPECT_NE(key, 0u) << name;
+  for (const auto& [name, key] : before) EXPECT_TRUE(key.has_value()) << name;
   EXPECT_EQ(keys(graph(1.0, 1.0)), before) << "the same graph, the same keys";
   const auto camera_edit = keys(graph(2.0, 1.0));
   for (const char* same : {"light", "over", "f"}) EXPECT_EQ(camera_edit.at(same), before.at(same)) << same;
@@ -837,8 +837,8 @@ TEST(Compiler, ResultKeysFollowWhatAPassComputesFrom) {
   EXPECT_EQ(overlay_edit.at("camera"), before.at("camera"));
   nlohmann::json every_frame = graph(1.0, 1.0);
   every_frame["passes"][2]["params"] = {{"radius", "frame.index % 2"}};
-  EXPECT_EQ(keys(every_frame).at("f"), 0u);
-  EXPECT_EQ(compile(graph(1.0, 1.0)).passes[0].result_key, 0u) << "a plan that does not reuse passes carries nothing";
+  EXPECT_FALSE(keys(every_frame).at("f").has_value());
+  EXPECT_FALSE(compile(graph(1.0, 1.0)).passes[0].result_id.has_value()) << "a plan that does not reuse passes carries nothing";
 }
 
 // A history input ("NAME@previous") reads what NAME held at the end of the last frame: a resource of

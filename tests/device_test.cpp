@@ -87,7 +87,7 @@ TEST(Device, CoreDemoMatchesItsCpuModel) {
   Engine e;
   const int w = 96, h = 64, radius = 2;
   const float exposure = 0.8f;
-  e.executor.configure(core_demo({"blur_radius=2", "exposure=0.8"}), w, h, {"hdr"});
+  e.executor.configure(core_demo({"blur_radius=2", "exposure=0.8"}), w, h, {.retained = {"hdr"}});
   auto frame = e.executor.run_frame(true);
   auto ldr = e.executor.read_image("ldr");
   auto hdr = e.executor.read_image("hdr");

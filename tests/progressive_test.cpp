@@ -34,8 +34,8 @@ io::ImageData accumulated(SceneEngine& e, std::shared_ptr<const scene::Scene> sc
   auto graph = graph::load_graph_file((data_dir() / "graphs" / (graph_name + ".json")).string());
   graph::apply_overrides(graph, sets);
   e.executor.set_scene(std::move(scene));
-  if (!go_on) e.executor.invalidate();
-  e.executor.configure(graph, e.width, e.height, {outputs.begin(), outputs.end()});
+  if (!go_on) e.next.start_over = true;
+  e.configure(graph, e.width, e.height, {outputs.begin(), outputs.end()});
   graph::FrameResult last;
   for (uint32_t f = 0; f < frames; ++f) last = e.executor.run_frame(f + 1 == frames);
   if (counted) *counted = last.counters.at("accumulate.frames");
@@ -57,7 +57,7 @@ size_t showing_number(const graph::Plan& plan, const std::string& pass) {
 // One frame, or the part of one asked for: the part it ran and the passes that ran, in order.
 std::pair<graph::FramePart, std::vector<std::string>> run_part(graph::Executor& executor, graph::FramePart part, bool read_back = false,
                                                                graph::DisplayStep step = {}) {
-  const graph::FrameResult frame = executor.run_frame(read_back, part, step);
+  const graph::FrameResult frame = executor.run_frame(read_back, {part, step});
   std::vector<std::string> ran;
   for (const auto& pass : frame.passes) {
     if (pass.ran) ran.push_back(pass.name);
@@ -210,8 +210,8 @@ TEST(Progressive, ALightChangeRestartsTheMeanAndACameraMoveDoesNot) {
   EXPECT_EQ(frames, 3.0);
   // What a frame says the still view has gathered (the viewer's "mean of N frames") stops there too.
   const auto held = progressive_graph(with(sets, {"max_frames=3"}));
-  e.executor.invalidate();
-  e.executor.configure(held, e.width, e.height);
+  e.next.start_over = true;
+  e.configure(held, e.width, e.height);
   std::vector<uint64_t> gathered;
   for (int f = 0; f < 5; ++f) gathered.push_back(e.executor.run_frame(false).accumulated);
   EXPECT_EQ(gathered, (std::vector<uint64_t>{1, 2, 3, 3, 3}));
@@ -258,13 +258,13 @@ TEST(Progressive, FramesRepeatRunToRun) {
 // skipped caustic pass's counters are reported as it last set them.
 TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
   graph::apply_overrides(graph, with(kSmall, {"grid=256"}));
   std::set<std::string> ran;
   auto frame = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> scene) {
     engine.executor.set_scene(std::move(scene));
-    engine.executor.configure(graph, engine.width, engine.height, {"caustics"});
+    engine.configure(graph, engine.width, engine.height, {"caustics"});
     const graph::FrameResult result = engine.executor.run_frame(true);
     ran.clear();
     for (const auto& pass : result.passes) {
@@ -314,13 +314,13 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
   auto scene = load_bundled_scene("glass_bunny");
   const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
   SceneEngine apart;
-  apart.executor.set_reuse_unchanged_passes(true);
+  apart.reuse = true;
   const auto graph = progressive_graph(sets);
   apart.executor.set_scene(scene);
-  apart.executor.configure(graph, apart.width, apart.height, {"caustics"});
+  apart.configure(graph, apart.width, apart.height, {"caustics"});
   ASSERT_TRUE(apart.executor.plan().refines_apart);
   auto run = [&](graph::FramePart part, bool read_back = false) {
-    const graph::FrameResult frame = apart.executor.run_frame(read_back, part);
+    const graph::FrameResult frame = apart.executor.run_frame(read_back, {part});
     std::set<std::string> ran;
     for (const auto& pass : frame.passes) {
       if (pass.ran) ran.insert(pass.name);
@@ -373,17 +373,17 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
 // A new plan (a frame-budget step's size, an edited parameter) takes over the results of the passes
 // it did not change, as long as what they depend on holds: at another output size the light's
 // passes do not run again, after an exposure edit only the tone map runs, and each such frame is
-// the picture a fresh render of that state gives. After invalidate() every pass runs again; after
-// invalidate(files) (a saved shader) those set up with one of them and those downstream.
+// the picture a fresh render of that state gives. After a start over (HandOverOptions) every pass runs again;
+// after edited shaders (a saved shader) those set up with one of them and those downstream.
 TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   auto scene = load_bundled_scene("glass_bunny");
   e.executor.set_scene(scene);
   auto frame = [&](SceneEngine& engine, const std::vector<std::string>& sets, uint32_t width, uint32_t height) {
     auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
     graph::apply_overrides(graph, with(kSmall, sets));
-    engine.executor.configure(graph, width, height, {"caustics"});
+    engine.configure(graph, width, height, {"caustics"});
     std::set<std::string> ran;
     for (const auto& pass : engine.executor.run_frame(true).passes) {
       if (pass.ran) ran.insert(pass.name);
@@ -412,11 +412,11 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
   // A plan replaced before its first frame (two edits between frames) passes on what it was given.
   auto unrun = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
   graph::apply_overrides(unrun, with(kSmall, {"grid=512", "exposure=3"}));
-  e.executor.configure(unrun, e.width, e.height, {"caustics"});
+  e.configure(unrun, e.width, e.height, {"caustics"});
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), camera_passes) << "after a plan that never ran";
   expect_fresh({"grid=512", "exposure=2"}, e.width, e.height, "a plan that never ran");
-  e.executor.invalidate();
-  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), every) << "after invalidate()";
+  e.next.start_over = true;
+  EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), every) << "after a start over";
   // A saved shader file (the viewer's hot reload): the passes set up with it run again, and those
   // that read what they write; the others keep their results.
   auto shader_file = [&](const std::string& name) {
@@ -426,12 +426,12 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
     ADD_FAILURE() << name << " is not among the plan's shader files";
     return std::filesystem::path();
   };
-  e.executor.invalidate({shader_file("tonemap.comp")});
+  e.next.edited_shaders = {shader_file("tonemap.comp")};
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), std::set<std::string>{"tonemap"}) << "after the tone map's shader";
-  e.executor.invalidate({shader_file("lighting.frag")});
+  e.next.edited_shaders = {shader_file("lighting.frag")};
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height), (std::set<std::string>{"lighting", "refraction", "tonemap"}))
       << "after the lighting's shader";
-  e.executor.invalidate({shader_file("adaptive_photons.comp")});
+  e.next.edited_shaders = {shader_file("adaptive_photons.comp")};
   EXPECT_EQ(frame(e, {"grid=512", "exposure=2"}, e.width, e.height),
             (std::set<std::string>{"caustics", "lighting", "refraction", "tonemap"}))
       << "after the adaptive photons' shader";
@@ -445,13 +445,13 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
 // accumulating as many gives. A plan that changed what it reads, or a light move, starts it over.
 TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   auto scene = load_bundled_scene("sphere_plane");
   const auto sets = with(kSmall, {"grid=64", "slice_side=2"});
   auto run = [&](std::shared_ptr<const scene::Scene> state, const std::vector<std::string>& more, uint32_t frames, uint32_t divider = 1) {
     const auto graph = progressive_graph(with(sets, more));
     e.executor.set_scene(std::move(state));
-    e.executor.configure(graph, e.width / divider, e.height / divider, {"caustics"});
+    e.configure(graph, e.width / divider, e.height / divider, {"caustics"});
     graph::FrameResult last;
     for (uint32_t f = 0; f < frames; ++f) last = e.executor.run_frame(f + 1 == frames);
     return last.counters.at("accumulate.frames");
@@ -470,8 +470,8 @@ TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
   auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
   moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
   EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "a light move kept the mean";
-  e.executor.invalidate();
-  EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "invalidate() kept the mean";
+  e.next.start_over = true;
+  EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "a start over kept the mean";
 }
 
 // slice_side is sampling-only (ParamDecl::sampling_only): the mean of quarter grids and of
@@ -483,7 +483,7 @@ TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
 // run starting over at the first point it failed at 0.175; with every frame weighing 1, at 0.163.
 TEST(Progressive, AMeanGoesOnWhenTheSliceChanges) {
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   auto scene = load_bundled_scene("sphere_plane");
   const auto sets = with(kSmall, {"grid=128"});
   double frames = 0;
@@ -510,9 +510,9 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   const auto sets = with(kSmall, {"grid=64"});
   auto graph_with = [&](const std::vector<std::string>& more) { return progressive_graph(with(sets, more)); };
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   e.executor.set_scene(scene);
-  e.executor.configure(graph_with({"slice_side=2"}), e.width, e.height);
+  e.configure(graph_with({"slice_side=2"}), e.width, e.height);
   auto run = [&](graph::FramePart part, bool read_back = false) { return run_part(e.executor, part, read_back); };
   run(graph::FramePart::whole);
   for (int f = 0; f < 3; ++f) run(graph::FramePart::refine);
@@ -521,7 +521,7 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   const VkImage shown_in = e.executor.frame_image("ldr").image;
   for (int f = 0; f < 2; ++f) run(graph::FramePart::refine);
 
-  e.executor.configure(graph_with({"slice_side=3"}), e.width, e.height);
+  e.configure(graph_with({"slice_side=3"}), e.width, e.height);
   const auto [part, ran] = run(graph::FramePart::refine, true);
   EXPECT_EQ(part, graph::FramePart::refine) << "the new level's first frame ran whole";
   EXPECT_EQ(ran, (std::vector<std::string>{"caustics", "accumulate"}));
@@ -529,19 +529,19 @@ TEST(Progressive, AStillLevelsStepRefinesAtOnceItsPictureStanding) {
   EXPECT_EQ(e.executor.frame_image("ldr").image, shown_in) << "the picture was copied, not handed over";
   EXPECT_EQ(run(graph::FramePart::display, true).second, (std::vector<std::string>{"lighting", "refraction", "tonemap"}));
   SceneEngine whole;
-  whole.executor.set_reuse_unchanged_passes(true);
+  whole.reuse = true;
   accumulated(whole, scene, with(sets, {"slice_side=2"}), 6, nullptr, true, "caustics_progressive", {"ldr"});
   const io::ImageData expected = accumulated(whole, scene, with(sets, {"slice_side=3"}), 1, nullptr, true, "caustics_progressive", {"ldr"});
   EXPECT_LT(relative_difference(e.executor.read_image("ldr"), expected), 1e-6) << "the display after the step";
 
-  e.executor.configure(graph_with({"slice_side=4", "exposure=2"}), e.width, e.height);
+  e.configure(graph_with({"slice_side=4", "exposure=2"}), e.width, e.height);
   EXPECT_EQ(run(graph::FramePart::refine).first, graph::FramePart::whole) << "a new exposure's picture waited";
 }
 
 // The viewer's quality values at rest (a graph's while_still values) change the caustic method, so
 // the new plan's showing passes have nothing to carry over and its first frame ran whole (about 0.2
 // s at 1280x720 on lavapipe, over the budget). Where the caller lets the picture stand
-// (let_picture_stand), the plan before's picture is handed over and the new plan refines at once;
+// (HandOverOptions::picture_may_stand), the plan before's picture is handed over and the new plan refines at once;
 // a display, in steps, then shows the new mean, as a fresh render of it does. A step that would need
 // a showing pass that has not run yet runs whole, as does a frame after the camera moved (the
 // picture is of the old view), and a plan the caller did not let stand (an edit).
@@ -550,19 +550,19 @@ TEST(Progressive, AQualityChangeAtRestRefinesAtOnceThePictureBeforeStanding) {
   const auto sets = with(kSmall, {"grid=64"});
   auto graph_with = [&](const std::vector<std::string>& more) { return progressive_graph(with(sets, more)); };
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   e.executor.set_scene(scene);
   auto run = [&](graph::FramePart part, graph::DisplayStep step = {}) { return run_part(e.executor, part, true, step); };
   // Moving values, then the still ones: another photon path (the search), a quarter of the grid.
   const std::vector<std::string> still = {"distance=search", "slice_side=2"};
-  e.executor.configure(graph_with({}), e.width, e.height);
+  e.configure(graph_with({}), e.width, e.height);
   run(graph::FramePart::whole);
   run(graph::FramePart::whole);
   const io::ImageData before = e.executor.read_image("ldr");
   const VkImage before_in = e.executor.frame_image("ldr").image;
 
-  e.executor.let_picture_stand();
-  e.executor.configure(graph_with(still), e.width, e.height);
+  e.next.picture_may_stand = true;
+  e.configure(graph_with(still), e.width, e.height);
   EXPECT_TRUE(e.executor.picture_standing());
   const auto [part, ran] = run(graph::FramePart::refine);
   EXPECT_EQ(part, graph::FramePart::refine) << "the still plan's first frame ran whole";
@@ -576,24 +576,24 @@ TEST(Progressive, AQualityChangeAtRestRefinesAtOnceThePictureBeforeStanding) {
   EXPECT_EQ(run(graph::FramePart::display, {refraction, SIZE_MAX}).second, (std::vector<std::string>{"refraction", "tonemap"}));
   EXPECT_FALSE(e.executor.picture_standing());
   SceneEngine fresh;
-  fresh.executor.set_reuse_unchanged_passes(true);
+  fresh.reuse = true;
   const io::ImageData expected = accumulated(fresh, scene, with(sets, still), 1, nullptr, true, "caustics_progressive", {"ldr"});
   EXPECT_LT(relative_difference(e.executor.read_image("ldr"), expected), 1e-6) << "the display of the still plan's mean";
   EXPECT_GT(relative_difference(before, expected), 1e-3) << "the check cannot tell the two plans' pictures apart";
 
   // A display step after one the new plan has not run cannot wait: whole.
-  e.executor.let_picture_stand();
-  e.executor.configure(graph_with({"distance=dv_dn", "slice_side=2"}), e.width, e.height);
+  e.next.picture_may_stand = true;
+  e.configure(graph_with({"distance=dv_dn", "slice_side=2"}), e.width, e.height);
   EXPECT_EQ(run(graph::FramePart::display, {refraction, SIZE_MAX}).first, graph::FramePart::whole) << "refraction ran without its lighting";
   // The camera moved since the picture was drawn: whole.
-  e.executor.let_picture_stand();
-  e.executor.configure(graph_with(still), e.width, e.height);
+  e.next.picture_may_stand = true;
+  e.configure(graph_with(still), e.width, e.height);
   auto moved = std::make_shared<scene::Scene>(*scene);
   moved->camera.position += glm::vec3(0.2f, 0.1f, 0.0f);
   e.executor.set_view(moved->camera, moved->lights);
   EXPECT_EQ(run(graph::FramePart::refine).first, graph::FramePart::whole) << "the picture of the old view stood";
   // Not let stand (an edit of what the picture shows): whole.
-  e.executor.configure(graph_with({"distance=dv_dn", "slice_side=2"}), e.width, e.height);
+  e.configure(graph_with({"distance=dv_dn", "slice_side=2"}), e.width, e.height);
   EXPECT_FALSE(e.executor.picture_standing());
   EXPECT_EQ(run(graph::FramePart::refine).first, graph::FramePart::whole);
 }
@@ -605,13 +605,13 @@ TEST(Progressive, AQualityChangeAtRestRefinesAtOnceThePictureBeforeStanding) {
 // a light move does not, and its picture is a fresh render's.
 TEST(Progressive, ASingleLayersSurfacesAreKeptWhileTheCameraStandsStill) {
   SceneEngine e;
-  e.executor.set_reuse_unchanged_passes(true);
+  e.reuse = true;
   auto scene = load_bundled_scene("sphere_plane");
   const auto sets = with(kSmall, {"grid=64"});
   const auto graph = progressive_graph(sets);
   auto run = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> state, uint32_t frames, std::vector<double>* drawn) {
     engine.executor.set_scene(std::move(state));
-    engine.executor.configure(graph, engine.width, engine.height, {"ldr"});
+    engine.configure(graph, engine.width, engine.height, {"ldr"});
     for (uint32_t f = 0; f < frames; ++f) {
       const graph::FrameResult result = engine.executor.run_frame(f + 1 == frames);
       if (drawn) drawn->push_back(result.counters.at("refraction.surfaces_drawn"));
@@ -676,8 +676,8 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   const graph::GraphDesc averaged = camera_mean_graph(sets);
   auto run = [&](SceneEngine& engine, std::shared_ptr<const scene::Scene> state, uint32_t frames, bool go_on, double* counted = nullptr) {
     engine.executor.set_scene(std::move(state));
-    if (!go_on) engine.executor.invalidate();
-    engine.executor.configure(averaged, engine.width, engine.height, {"lit_mean", "lit"});
+    if (!go_on) engine.next.start_over = true;
+    engine.configure(averaged, engine.width, engine.height, {"lit_mean", "lit"});
     graph::FrameResult last;
     for (uint32_t f = 0; f < frames; ++f) last = engine.executor.run_frame(f + 1 == frames);
     if (counted) *counted = last.counters.at("camera_mean.frames");
@@ -691,7 +691,7 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   SceneEngine light_space;
   const auto graph = progressive_graph(sets);
   light_space.executor.set_scene(scene);
-  light_space.executor.configure(graph, light_space.width, light_space.height, {"lit"});
+  light_space.configure(graph, light_space.width, light_space.height, {"lit"});
   for (uint32_t f = 0; f < 8; ++f) light_space.executor.run_frame(f == 7);
   const io::ImageData lit_of_mean = light_space.executor.read_image("lit");
   const double averaged_gap = relative_difference(mean, lit_of_mean), one_frame_gap = relative_difference(last_frame, lit_of_mean);
@@ -767,7 +767,7 @@ TEST(Progressive, PerFrameParametersFollowTheFrameBlock) {
   SceneEngine e;
   auto scene = load_bundled_scene("sphere_plane");
   e.executor.set_scene(scene);
-  e.executor.configure(graph_with("64 * (1 + frame.since_reset)", "0.5 + frame.index"), e.width, e.height, {"caustics_frame"});
+  e.configure(graph_with("64 * (1 + frame.since_reset)", "0.5 + frame.index"), e.width, e.height, {"caustics_frame"});
   auto check = [&](std::shared_ptr<const scene::Scene> state, int grid, double exposure, const char* frame) {
     e.executor.set_scene(state);
     e.executor.run_frame(true);
@@ -784,6 +784,64 @@ TEST(Progressive, PerFrameParametersFollowTheFrameBlock) {
   auto moved_light = std::make_shared<scene::Scene>(*scene);
   moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
   check(moved_light, 64, 3.5, "frame 3, the light moved");
+}
+
+// A per-frame expression that stops being a number on a later frame (a division by a count that
+// reached zero) is bad input named where it is, not a value kept silently from an earlier frame.
+TEST(Progressive, APerFrameExpressionThatTurnsNonFiniteIsNamed) {
+  const auto path = data_dir() / "graphs/caustics_progressive.json";
+  nlohmann::json file = nlohmann::json::parse(std::ifstream(path));
+  for (auto& pass : file["passes"]) {
+    if (pass["name"] == "tonemap") pass["params"]["exposure"] = "1 / (2 - frame.index)";
+  }
+  auto graph = graph::load_graph(JsonDocument::parse(file.dump(2), path.string()));
+  graph::apply_overrides(graph, with(kSmall, {"grid=64"}));
+  SceneEngine e;
+  e.executor.set_scene(load_bundled_scene("sphere_plane"));
+  e.configure(graph, e.width, e.height);
+  e.executor.run_frame(false);
+  e.executor.run_frame(false);
+  try {
+    e.executor.run_frame(false);
+    ADD_FAILURE() << "frame 2's exposure is 1 / 0";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    for (const char* part : {"caustics_progressive.json", "/passes/8", "tonemap", "exposure", "division by zero", "frame 2"})
+      EXPECT_NE(message.find(part), std::string::npos) << part << " missing from: " << message;
+  }
+}
+
+// Two passes that count under one name add up whichever of them ran: with reuse, a caustic map
+// that does not follow the frame is kept on the second frame while the jittered one runs, and
+// photons.processed still counts both (the kept one as it last counted), not the running one alone.
+TEST(Progressive, ACounterOfTwoPassesSumsWhatEachLastCountedWhenOneIsKept) {
+  const auto path = data_dir() / "graphs/caustics_progressive.json";
+  nlohmann::json file = nlohmann::json::parse(std::ifstream(path));
+  nlohmann::json kept;
+  for (const auto& pass : file["passes"]) {
+    if (pass["name"] == "caustics") kept = pass;
+  }
+  kept["name"] = "kept_caustics";
+  kept["params"]["jitter"] = false;
+  kept["outputs"]["caustic_map"] = "kept_map";
+  file["resources"]["kept_map"] = file["resources"]["caustics_frame"];
+  file["passes"].push_back(kept);
+  file["outputs"].push_back("kept_map");
+  auto graph = graph::load_graph(JsonDocument::parse(file.dump(2), path.string()));
+  graph::apply_overrides(graph, with(kSmall, {"grid=64", "jitter=true"}));
+  SceneEngine e;
+  e.reuse = true;
+  e.executor.set_scene(load_bundled_scene("sphere_plane"));
+  e.configure(graph, e.width, e.height);
+  const graph::FrameResult first = e.executor.run_frame(false);
+  const graph::FrameResult second = e.executor.run_frame(false);
+  auto ran = [](const graph::FrameResult& frame, const std::string& name) {
+    return std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == name; })->ran;
+  };
+  ASSERT_TRUE(ran(second, "caustics"));
+  ASSERT_FALSE(ran(second, "kept_caustics"));
+  EXPECT_EQ(first.counters.at("photons.processed"), 2.0 * 64 * 64);
+  EXPECT_EQ(second.counters.at("photons.processed"), 2.0 * 64 * 64);
 }
 
 // A still camera's frames moved within their pixels and averaged (refraction_deferred's
@@ -831,7 +889,7 @@ TEST(Progressive, AStillCamerasJitteredFramesAverageToASupersampledPicture) {
 
   SceneEngine e;
   e.executor.set_scene(scene);
-  e.executor.configure(graph, e.width, e.height, {"refracted", "still_mean"});
+  e.configure(graph, e.width, e.height, {"refracted", "still_mean"});
   const graph::FrameResult first = e.executor.run_frame(true);
   EXPECT_EQ(first.frame.index, 0u);
   const io::ImageData one = e.executor.read_image("still_mean");

@@ -20,6 +20,16 @@ struct SceneEngine {
   shader::ShaderCompiler shaders{data_dir() / "shaders"};
   graph::Executor executor{vk, shaders, passes::builtin_registry()};
   uint32_t width = 320, height = 180;
+  // The viewer's setting: skip passes whose dependencies are unchanged (ConfigureOptions).
+  bool reuse = false;
+  // What the next configure() hands over with (HandOverOptions), then cleared.
+  graph::HandOverOptions next;
+
+  bool configure(const graph::GraphDesc& graph, uint32_t w, uint32_t h, std::set<std::string> retained = {}) {
+    const bool compiled = executor.configure(graph, w, h, {.retained = std::move(retained), .reuse_unchanged_passes = reuse, .hand_over = next});
+    next = {};
+    return compiled;
+  }
 
   // Runs one frame of graphs/<graph_name>.json on `scene`, reading back the outputs and `retained`.
   graph::FrameResult render(const std::string& graph_name, std::shared_ptr<const scene::Scene> scene, const std::vector<std::string>& sets,
@@ -32,7 +42,7 @@ struct SceneEngine {
   graph::FrameResult render(const graph::GraphDesc& graph, std::shared_ptr<const scene::Scene> scene,
                             const std::set<std::string>& retained) {
     executor.set_scene(std::move(scene));
-    executor.configure(graph, width, height, retained);
+    executor.configure(graph, width, height, {.retained = retained});
     return executor.run_frame(true);
   }
 

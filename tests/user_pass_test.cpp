@@ -135,10 +135,11 @@ TEST(UserPass, CompilesAsABuiltInPassDoes) {
   EXPECT_NE(plan_to_dot(plan).find("scale"), std::string::npos);
 
   // An edited shader is a different result: its key changes, an unchanged one keeps it.
-  const uint64_t key = scale.result_key;
-  EXPECT_EQ(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_key, key);
+  const std::optional<graph::ResultIdentity> key = scale.result_id;
+  ASSERT_TRUE(key.has_value());
+  EXPECT_EQ(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_id, key);
   write(dir / "scale.comp", replaced(kScaleShader, "params.gain *", "0.5 * params.gain *"));
-  EXPECT_NE(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_key, key);
+  EXPECT_NE(pass_named(compile_in(dir, scale_graph(), reuse), "scale").result_id, key);
 }
 
 TEST(UserPass, ACompileErrorNamesTheUsersFileAndLine) {
@@ -473,7 +474,7 @@ void expect_frame_k_as_a_fresh_render(const std::filesystem::path& dir, const nl
   e.width = 32;
   e.height = 16;
   e.executor.set_scene(scene);
-  e.executor.configure(load_graph_file((dir / "graph.json").string()), e.width, e.height, {"scaled"});
+  e.executor.configure(load_graph_file((dir / "graph.json").string()), e.width, e.height, {.retained = {"scaled"}});
   std::vector<io::ImageData> frames;
   for (int k = 0; k < 3; ++k) {
     e.executor.run_frame(true);

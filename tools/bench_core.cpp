@@ -243,7 +243,7 @@ void bench_overhead(bool validate) {
   std::printf("|---|---|---|---|---|---|---|\n");
   for (auto [passes, width, height] : {std::tuple{4, 1280u, 720u}, std::tuple{10, 1280u, 720u}, std::tuple{100, 8u, 8u}}) {
     graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.configure(chain(passes), width, height, {}, ~0ull);
+    executor.configure(chain(passes), width, height, {.memory_limit_bytes = ~0ull});
     HandChain hand(vk, shaders, passes, width, height);
     for (int i = 0; i < 5; ++i) {
       executor.run_frame(false);

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <thread>
 
 #include "viewer/viewer_impl.h"
@@ -39,8 +40,7 @@ Viewer::Impl::Impl(Viewer& owner, const ViewerOptions& o)
       executor_(vk_, shaders_, passes::builtin_registry()) {
   inspector_.inspected = o.inspect;
   inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
-  // While only the camera moves, the light's passes keep their last results (issue 40).
-  executor_.set_reuse_unchanged_passes(o.reuse);
+  executor_.set_frame_timeout(o.frame_timeout_s);
   VkSurfaceKHR surface = VK_NULL_HANDLE;
   vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
   vk_.adopt_surface(surface);
@@ -179,6 +179,14 @@ Viewer::~Viewer() = default;
 int Viewer::run() {
   try {
     return impl_->run();
+  } catch (const FrameTimeout& e) {
+    if (on_device_failure) on_device_failure();
+    // The device still runs the frame and nothing can stop it: the teardown's waits for it (the
+    // window's, the executor's, the device's) would never return, so the viewer ends here, as the
+    // command line ends on a device error.
+    std::fprintf(stderr, "caustica: device error: %s\n", e.what());
+    std::fflush(nullptr);
+    std::_Exit(3);
   } catch (const DeviceError&) {
     if (on_device_failure) on_device_failure();
     throw;

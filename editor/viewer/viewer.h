@@ -40,6 +40,10 @@ struct ViewerOptions {
   // --still-after: once nothing has moved for this long, the graph parameters' "while_still" values
   // (where the user has not set them): the progressive graph's exact photons.
   double still_after_ms = 300.0;
+  // --frame-timeout: a frame that has not finished after this long (a shader that never ends) ends
+  // the viewer with a message naming the pass and exit code 3 (the editor first keeps the unsaved
+  // graph: editor/model/recovery_copy.h). A plan's first frame gets longer (graph::Executor::set_frame_timeout).
+  double frame_timeout_s = 5.0;
   // --set NAME=VALUE: graph parameters as if set in the panel (the while_moving and while_still
   // values leave them alone).
   std::vector<std::string> sets;

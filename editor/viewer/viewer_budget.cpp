@@ -14,9 +14,10 @@ void Viewer::Impl::fit_frame_budget(bool moved) {
   const bool can_lower = std::any_of(session_.graph->parameters.begin(), session_.graph->parameters.end(),
                                      [](const auto& p) { return p.while_moving.has_value(); });
   if (!budget_.begin_frame(now_s(), moved, can_scale, can_lower).new_plan) return;
-  if (!moved) executor_.let_picture_stand();
   try {
-    configure();
+    // At rest the change is one of quality (the while_still values), not of what the picture shows:
+    // the picture stands while the new plan refines, where the sizes let it.
+    configure(false, !moved);
   } catch (const std::exception&) {
     if (!budget_.setting().still_values) throw;
     // The device cannot run the graph with them (exact photons without VK_KHR_ray_query): the
@@ -63,8 +64,7 @@ void Viewer::Impl::take_still_level(size_t level_before) {
                  "the while_still values of level %zu of %zu\n",
                  options_.budget_ms, levels.judged(), levels.predicted(), levels.level() + 1, levels.levels());
   }
-  executor_.let_picture_stand();  // a plan whose picture stands still (its showing passes have not run) hands it on
-  configure(true);
+  configure(true, true);  // a plan whose picture stands still (its showing passes have not run) hands it on
 }
 
 void Viewer::Impl::forget_still_values() {

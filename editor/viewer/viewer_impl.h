@@ -72,8 +72,9 @@ class Viewer::Impl {
   bool reload(bool first);
 
   // `showing_passes_kept`: the new plan differs in what refines only (a still level), so the last
-  // whole frame's time still says whether a whole frame fits the budget.
-  void configure(bool showing_passes_kept = false);
+  // whole frame's time still says whether a whole frame fits the budget. `picture_may_stand`: a
+  // change of quality values at rest (HandOverOptions::picture_may_stand).
+  void configure(bool showing_passes_kept = false, bool picture_may_stand = false);
 
   // The graph renders at the window's size divided by the frame budget's divider.
   VkExtent2D render_size() const;
@@ -154,7 +155,9 @@ class Viewer::Impl {
   vk::Buffer staging_;
   std::map<std::string, std::vector<float>> gpu_history_;
   std::map<std::filesystem::path, std::filesystem::file_time_type> shader_times_;  // watch_shaders()
-  bool blit_supported_ = false;                                                    // the output can go into the window on the device
+  // Shader files saved since the last plan that set its passes up (a reload that failed keeps them).
+  std::set<std::filesystem::path> shaders_saved_;
+  bool blit_supported_ = false;  // the output can go into the window on the device
   uint32_t uploaded_width_ = 0, uploaded_height_ = 0;
   char save_as_[512] = {};
   bool imgui_ready_ = false, show_help_ = false, quit_ = false;

@@ -19,7 +19,7 @@ void Viewer::Impl::draw_frame(bool last) {
   const bool must_show = last || inspecting || screenshot_keys_ > 0 || !pending_screenshot_.empty();
   const auto [part, step] =
       budget_.frame_part(now_s(), must_show, executor_.plan().refines_apart, last_result_.converging, last_result_.accumulated);
-  const graph::FrameResult frame = executor_.run_frame(read_back, part, step);
+  const graph::FrameResult frame = executor_.run_frame(read_back, {part, step});
   last_result_ = frame;
   const uint32_t compiled = executor_.compile_count();
   const graph::FrameImage output_image = executor_.frame_image(output);

@@ -14,7 +14,7 @@ bool Viewer::Impl::reload_shaders() {
   }
   if (edited.empty()) return false;
   try {
-    executor_.invalidate(edited);
+    shaders_saved_.insert(edited.begin(), edited.end());
     configure();
     session_.report("reloaded " + names, false);
   } catch (const std::exception& e) {
@@ -78,9 +78,13 @@ bool Viewer::Impl::reload(bool first) {
   return true;
 }
 
-void Viewer::Impl::configure(bool showing_passes_kept) {
-  std::set<std::string> retained;
-  if (!inspector_.inspected.empty()) retained.insert(inspector_.inspected);
+void Viewer::Impl::configure(bool showing_passes_kept, bool picture_may_stand) {
+  graph::ConfigureOptions configure;
+  if (!inspector_.inspected.empty()) configure.retained.insert(inspector_.inspected);
+  // While only the camera moves, the light's passes keep their last results.
+  configure.reuse_unchanged_passes = options_.reuse;
+  configure.hand_over.edited_shaders = shaders_saved_;
+  configure.hand_over.picture_may_stand = picture_may_stand;
   const VkExtent2D size = render_size();
   graph::GraphDesc graph = edited(session_);
   const ViewBudget::Setting& setting = budget_.setting();
@@ -90,12 +94,14 @@ void Viewer::Impl::configure(bool showing_passes_kept) {
       p.value = p.while_still[std::min(setting.still_level, p.while_still.size() - 1)];
   }
   try {
-    executor_.configure(graph, size.width, size.height, retained);
+    executor_.configure(graph, size.width, size.height, configure);
   } catch (const InputError&) {
     if (inspector_.inspected.empty()) throw;
     inspector_.inspected.clear();  // the inspected image left the graph: back to its output
-    executor_.configure(graph, size.width, size.height);
+    configure.retained.clear();
+    executor_.configure(graph, size.width, size.height, configure);
   }
+  shaders_saved_.clear();  // the plan that set them up anew runs
   budget_.plan_changed(executor_.picture_standing(), showing_passes_kept);
   watch_shaders();
 }

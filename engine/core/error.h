@@ -3,6 +3,7 @@
 // usage mistakes exit 2, device or runtime failures exit 3. Programmer mistakes are asserts.
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace caustica {
@@ -67,6 +68,29 @@ class UsageError : public std::runtime_error {
 class DeviceError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// A frame that did not finish within its time (a shader that never ends): the device is still busy
+// with it, so the process cannot tear its Vulkan objects down and ends at once (exit 3) after
+// saving what it must. `pass()` names the pass that was running.
+class FrameTimeout : public DeviceError {
+ public:
+  FrameTimeout(const std::string& message, std::string pass) : DeviceError(message), pass_(std::move(pass)) {}
+  const std::string& pass() const { return pass_; }
+
+ private:
+  std::string pass_;
+};
+
+// SIGINT or SIGTERM arrived while a command waited for the device (core/interrupt.h): the command
+// ends at once, whatever the device is doing.
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(int signal) : std::runtime_error("interrupted"), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
 };
 
 // "file:line:col" with the parts that are known.

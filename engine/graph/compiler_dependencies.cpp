@@ -60,14 +60,15 @@ void Compiler::find_dependencies() {
     }
   }
   find_refining_passes();
-  find_result_keys();
+  find_result_identities();
   for (PlannedResource& r : plan_.resources) r.kept_across_frames |= r.kind == ResourceKind::image && !r.transient;
 }
 
-std::vector<uint64_t> Compiler::result_keys(bool running) const {
-  // What each resource holds so far in the order: the key of its last writer and the port.
-  std::vector<std::string> content(plan_.resources.size());
-  std::vector<uint64_t> keys(order_.size());
+std::vector<ResultIdentity> Compiler::result_identities(bool running) const {
+  // What each resource holds so far in the order: its last writer's identity and the port.
+  std::vector<std::optional<std::pair<size_t, std::string>>> content(plan_.resources.size());
+  std::vector<ResultIdentity> identities;
+  identities.reserve(order_.size());
   for (uint32_t i = 0; i < order_.size(); ++i) {
     const Node& node = nodes_[order_[i]];
     const PlannedPass& pass = plan_.passes[i];
@@ -80,16 +81,22 @@ std::vector<uint64_t> Compiler::result_keys(bool running) const {
     }
     std::string text =
         pass.name + "\n" + pass.type + "\n" + params.dump() + "\n" + nlohmann::json(frame_params).dump() + "\n" + node.decl->result_source;
+    std::vector<ResultIdentity> inputs;
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
       text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
               " " + std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " +
               std::to_string(r.layers) + " " + std::to_string(r.buffer_size);
-      if (b.port->access != PortAccess::write) text += " reads " + content[b.resource];
+      if (b.port->access == PortAccess::write) continue;
+      text += " reads";
+      if (const auto& written = content[b.resource]) {
+        text += " input " + std::to_string(inputs.size()) + "." + written->second;
+        inputs.push_back(identities[written->first]);
+      }
     }
-    keys[i] = std::hash<std::string>{}(text);
+    identities.emplace_back(std::move(text), std::move(inputs));
     for (const auto& b : node.bindings) {
-      if (b.port->access != PortAccess::read) content[b.resource] = std::to_string(keys[i]) + "." + b.port->name;
+      if (b.port->access != PortAccess::read) content[b.resource] = std::pair{size_t{i}, b.port->name};
     }
   }
   // A later pass that rewrites what a pass wrote leaves the frame's end state of it: the pass's
@@ -100,25 +107,25 @@ std::vector<uint64_t> Compiler::result_keys(bool running) const {
       for (uint32_t later = i + 1; later < order_.size(); ++later) {
         for (const auto& l : nodes_[order_[later]].bindings) {
           if (l.resource != b.resource || l.port->access == PortAccess::read) continue;
-          keys[i] = std::hash<std::string>{}(std::to_string(keys[i]) + " then " + std::to_string(keys[later]));
+          identities[i] = ResultIdentity("then", {identities[i], identities[later]});
         }
       }
     }
   }
-  return keys;
+  return identities;
 }
 
-void Compiler::find_result_keys() {
-  const std::vector<uint64_t> results = result_keys(false), running = result_keys(true);
+void Compiler::find_result_identities() {
+  const std::vector<ResultIdentity> results = result_identities(false), running = result_identities(true);
   for (uint32_t i = 0; i < order_.size(); ++i) {
     PlannedPass& pass = plan_.passes[i];
     // A history input's image is not carried into another plan, so a pass that reads one starts over.
     const auto& bindings = nodes_[order_[i]].bindings;
     const bool reads_history = std::any_of(bindings.begin(), bindings.end(),
                                            [&](const auto& b) { return plan_.resources[b.resource].previous_of != kNoResource; });
-    pass.result_key = pass.reusable(true) ? results[i] : 0;
-    pass.running_key = pass.refines && !reads_history ? running[i] : 0;
-    pass.showing_key = plan_.refines_apart && !pass.refines && pass.result_key == 0 ? running[i] : 0;
+    if (pass.reusable(true)) pass.result_id = results[i];
+    if (pass.refines && !reads_history) pass.running_id = running[i];
+    if (plan_.refines_apart && !pass.refines && !pass.result_id) pass.showing_id = running[i];
   }
 }
 

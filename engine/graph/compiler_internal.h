@@ -93,11 +93,11 @@ class Compiler {
   void find_dependencies();
   // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.
   void find_refining_passes();
-  // In a plan that reuses unchanged passes: PlannedPass::result_key and running_key.
-  void find_result_keys();
-  // Each pass's key by the order (hashes of its name, type, parameters, ports and what it reads);
+  // In a plan that reuses unchanged passes: PlannedPass::result_id, running_id and showing_id.
+  void find_result_identities();
+  // Each pass's identity by the order (its name, type, parameters, ports and what it reads);
   // `running`: without the sampling-only parameters (ParamDecl::sampling_only).
-  std::vector<uint64_t> result_keys(bool running) const;
+  std::vector<ResultIdentity> result_identities(bool running) const;
   void keep_contents_across_frames();
 
   // compiler_memory.cpp: lifetimes, usage flags, extent groups and memory placement.

@@ -2,6 +2,7 @@
 // Turns a Plan into Vulkan objects (shared memory blocks with aliased resources, one allocation per
 // persistent resource, pass objects) and records and submits frames. Recompiles only when the graph
 // or the output size changes.
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "graph/compiler.h"
 #include "graph/pass.h"
+#include "graph/run_policy.h"
 #include "io/image_io.h"
 
 namespace caustica::graph {
@@ -23,8 +25,9 @@ struct PassTiming {
   double cpu_ms = 0;
   double gpu_start_ms = 0;  // from the frame's first timestamp
   double cpu_start_ms = 0;  // from the start of recording
-  // False when the pass was skipped: a plan that reuses unchanged passes, and nothing it depends
-  // on changed since it last ran (its barriers were recorded, its work not).
+  // What the run policy decided for it, and why (run_policy.h); `ran`: runs(run). A skipped pass
+  // had its barriers recorded, its work not.
+  PassRun run = PassRun::start_over;
   bool ran = true;
 };
 
@@ -36,21 +39,6 @@ struct FrameImage {
   VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
   Format format = Format::rgba8;
   VkExtent2D extent{};
-};
-
-// Which passes a frame runs. In a plan that refines apart (Plan::refines_apart), a refine frame runs
-// the passes that move its running results (PlannedPass::refines) and a display frame the others,
-// which show those results as they stand: a still view spends most frames refining and shows the
-// result every so often. Elsewhere, and when a pass outside the part has something new to work on
-// (a change of a scene part it depends on), a frame runs whole.
-enum class FramePart { whole, refine, display };
-// A display frame may show in steps, each within a frame budget: it runs only the showing passes
-// numbered [first, last) among those that do not refine, in plan order; the picture changes when
-// the step with the pass that writes the output has run. The passes before a step keep their
-// results in a plan that refines apart, so that the next step reads them.
-struct DisplayStep {
-  size_t first = 0;
-  size_t last = SIZE_MAX;
 };
 
 struct FrameResult {
@@ -68,6 +56,18 @@ struct FrameResult {
   uint64_t accumulated = 0;
 };
 
+struct ConfigureOptions {
+  std::set<std::string> retained;  // resources kept whole to the end of the frame (--dump)
+  uint64_t memory_limit_bytes = CompileOptions{}.memory_limit_bytes;
+  // Keep what passes that do not depend on the frame write, and skip such a pass while nothing it
+  // depends on changed since it last ran (CompileOptions::reuse_unchanged_passes): for the viewer
+  // and the editor. Off by default, so that rendering and benchmarks run and time every pass.
+  bool reuse_unchanged_passes = false;
+  // What the plan before may hand the new one (run_policy.h). start_over or edited shaders compile
+  // again even where nothing else changed.
+  HandOverOptions hand_over;
+};
+
 class Executor {
  public:
   Executor(vk::Context& vk, shader::ShaderCompiler& shaders, const PassRegistry& registry);
@@ -76,16 +76,11 @@ class Executor {
   // Options for compile_graph() on this device: its limits and its memory requirements.
   CompileOptions compile_options(uint32_t width, uint32_t height) const;
 
-  // Compiles `graph` at this size unless the same graph was compiled at the same size already.
-  // Returns true when it compiled.
-  bool configure(const GraphDesc& graph, uint32_t width, uint32_t height, const std::set<std::string>& retained = {},
-                 uint64_t memory_limit_bytes = CompileOptions{}.memory_limit_bytes);
-
-  // Plans compiled from now on keep what passes that do not depend on the frame write, and
-  // run_frame() skips such a pass while nothing it depends on changed since it last ran
-  // (CompileOptions::reuse_unchanged_passes): for the viewer and the editor. Off by default, so
-  // that rendering and benchmarks run and time every pass every frame.
-  void set_reuse_unchanged_passes(bool reuse) { reuse_unchanged_passes_ = reuse; }
+  // Compiles `graph` at this size unless the same graph was compiled at the same size with the
+  // same options already (and nothing asks to start over). Returns true when it compiled. The new
+  // plan takes over what the plan before hands it (plan_hand_over, options.hand_over). A configure
+  // that throws keeps the previous plan running.
+  bool configure(const GraphDesc& graph, uint32_t width, uint32_t height, const ConfigureOptions& options = {});
 
   // The scene that passes draw; kept across configure() calls. Uploads it now.
   void set_scene(std::shared_ptr<const scene::Scene> scene);
@@ -96,7 +91,13 @@ class Executor {
 
   // Records, submits and waits for one frame. With read_back, outputs and retained resources are
   // copied out and can be read with read_image().
-  FrameResult run_frame(bool read_back, FramePart part = FramePart::whole, DisplayStep step = {});
+  FrameResult run_frame(bool read_back, FrameRequest request = {});
+  // How long a frame may take before run_frame() throws FrameTimeout naming the pass that was
+  // running: `seconds` for every frame but a plan's first, which gets the longer of it and
+  // `first_frame_seconds` (lavapipe compiles each pipeline with LLVM when it first runs: the
+  // ray-query kernels from a cold shader cache took more than two minutes).
+  void set_frame_timeout(double seconds, double first_frame_seconds = kFirstFrameTimeoutSeconds);
+  static constexpr double kFrameTimeoutSeconds = 120, kFirstFrameTimeoutSeconds = 900;
 
   io::ImageData read_image(const std::string& resource) const;
   // The image stays valid until the next configure() that compiles; the next run_frame() may
@@ -104,30 +105,9 @@ class Executor {
   FrameImage frame_image(const std::string& resource) const;
   const Plan& plan() const { return *plan_; }
   uint32_t compile_count() const { return compile_count_; }
-  // Makes the next configure() compile and set up every pass again even if nothing it is given
-  // changed, and run every pass on its first frame: for shaders edited on disk. A configure() that
-  // throws keeps the previous plan running.
-  void invalidate() {
-    configured_key_.clear();
-    carry_results_ = false;
-  }
-  // As invalidate(), for these shader files (and includes) saved: only the passes set up with one
-  // of them, and those that read what they write, run again; the others keep their results.
-  void invalidate(const std::set<std::filesystem::path>& edited_shaders) {
-    configured_key_.clear();
-    edited_shaders_.insert(edited_shaders.begin(), edited_shaders.end());
-  }
   // Every shader file (and include) the plan's passes were set up with: what a reload watches.
   std::set<std::filesystem::path> shader_files() const;
-  // Lets the next configure()'s plan, where it refines apart, show the plan before's picture until
-  // its own showing passes have run: the images those passes did not carry over (PlannedPass::
-  // showing_key) are handed over by name from the plan before, and its frames may refine, or show in
-  // steps, before those passes run, for as long as the scene is the one that picture was drawn for
-  // (else the frame runs whole). For the viewer's change of quality values at rest (a graph's
-  // while_still values), whose picture is one of the same view; not for an edit of what the picture
-  // shows, which is to be seen at once.
-  void let_picture_stand() { picture_may_stand_ = true; }
-  // The plan's outputs still hold the picture of a plan before (let_picture_stand).
+  // The plan's outputs still hold the picture of a plan before (HandOverOptions::picture_may_stand).
   bool picture_standing() const;
 
  private:
@@ -137,32 +117,32 @@ class Executor {
   struct RealBuffer;
   struct Realized;
 
-  void realize(Plan plan, bool picture_may_stand);
+  void realize(Plan plan, const HandOverOptions& options);
   void realize_passes_and_resources();
-  void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
-  // Before a frame's passes: each used history resource gets its source as the last frame left it,
-  // or zeros on the plan's first frame and after a change of a scene part it depends on.
-  void record_history(VkCommandBuffer cmd);
-  // A new plan that reuses unchanged passes takes over the results of the passes whose result key
-  // (PlannedPass::result_key) the plan before had and which ran there: their images are copied in
-  // on its first frame (record_carried) and they are not run again until what they depend on
-  // changes; in a plan that refines apart, so are the showing passes' whose showing key
-  // (PlannedPass::showing_key) the plan before had. An image that both plans describe alike, in
-  // memory of its own, is handed over instead of copied. The plan before is kept until then.
-  void carry_results(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before, bool picture_may_stand);
-  // let_picture_stand: hands the plan before's images over to the showing passes of the new plan
-  // that carried none, and marks the picture standing where every output has one.
-  void stand_picture(const Plan& before, Realized& realized_before);
+  // The new plan takes over what plan_hand_over says: running results continued, results' images
+  // handed or kept to be copied in on its first frame (record_carried), a picture left standing.
+  // The plan before is kept until that frame.
+  void hand_over(std::unique_ptr<const Plan> before, std::unique_ptr<Realized> realized_before, const HandOverOptions& options);
   // Swaps resource `ia`'s image and memory in `a` with resource `ib`'s in `b`.
   static void swap_image(Realized& a, uint32_t ia, Realized& b, uint32_t ib);
+
+  // executor_record.cpp: what a frame records besides its passes.
+  void record_barriers(VkCommandBuffer cmd, const std::vector<PlannedBarrier>& barriers) const;
+  // Before a frame's passes: each used history resource gets its source as the last frame left it,
+  // or zeros where the run policy restarts it.
+  void record_history(VkCommandBuffer cmd, const FrameDecision& decision);
   void record_carried(VkCommandBuffer cmd);
-  // The passes of the plan before (or of a plan parked since) set up with a saved shader file, or
-  // reading what such a pass writes: they compute anew.
-  std::vector<bool> stale_passes(const Plan& plan, const Realized& realized, const std::set<std::filesystem::path>& edited) const;
-  // The refining passes of the new plan continue the running results (PlannedPass::running_key) of
-  // the plan before or of a plan parked since; the plan before's others are parked, a few plans'
-  // worth: the viewer's still plan comes back after its while_moving plan.
-  void carry_running_results(const Plan& before, Realized& realized_before, const std::vector<bool>& stale);
+  void record_read_back(VkCommandBuffer cmd);
+
+  // executor_frame.cpp: a frame's steps.
+  std::optional<SceneKeys> scene_keys() const;
+  // The passes as decided, with their timestamps (two for each, the second a dummy).
+  void record_passes(VkCommandBuffer cmd, const FrameDecision& decision, std::chrono::steady_clock::time_point frame_start, FrameResult& result,
+                     std::vector<std::pair<uint32_t, uint32_t>>& stamps, uint32_t& next_query);
+  void submit_and_wait(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps);
+  [[noreturn]] void throw_frame_timeout(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps,
+                                        double limit_s) const;
+  void collect_counters(const FrameDecision& decision, FrameResult& result);
 
   vk::Context& vk_;
   shader::ShaderCompiler& shaders_;
@@ -172,27 +152,18 @@ class Executor {
   std::unique_ptr<scene::GpuScene> scene_;
   std::string configured_key_;
   uint32_t compile_count_ = 0;
-  bool reuse_unchanged_passes_ = false;
-  bool carry_results_ = true;  // until invalidate()
-  bool picture_may_stand_ = false;                  // for the next configure() (let_picture_stand)
-  std::set<std::filesystem::path> edited_shaders_;  // until the next plan, invalidate(files)
+  double frame_timeout_s_ = kFrameTimeoutSeconds, first_frame_timeout_s_ = kFirstFrameTimeoutSeconds;
   // What the new plan's first frame copies in (record_carried): the plan before, kept until then.
   struct Carried {
     std::unique_ptr<const Plan> plan;
     std::unique_ptr<Realized> realized;
-    std::vector<std::pair<uint32_t, uint32_t>> images;  // resource in `plan` -> in plan_, copied
-    std::vector<std::pair<uint32_t, uint32_t>> handed;  // the same, the image itself handed over (swapped)
-    // Whether an image of `plan` goes over already, or one of plan_ is already given one.
-    bool carries_from(uint32_t from) const;
-    bool carries_to(uint32_t to) const;
+    std::vector<ImageMove> images;  // resource in `plan` -> in plan_, copied or handed
   } carried_;
-  // A refining pass as a replaced plan left it: what carry_running_results hands on.
+  // A refining pass as a replaced plan left it: what the hand-over of a later plan may continue.
   struct RunningResult {
-    uint64_t running_key = 0;
+    ResultIdentity running_id;
     std::unique_ptr<Pass> pass;
-    std::optional<uint64_t> reset_key;
-    FrameInfo frames;
-    bool converging = false;
+    PassRunState state;
   };
   std::vector<RunningResult> parked_running_;  // oldest first
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "graph/executor.h"
+#include "graph/run_policy.h"
 #include "vk/buffer.h"
 #include "vk/owned.h"
 
@@ -37,15 +38,16 @@ struct Executor::Realized {
   };
   std::vector<Readback> readbacks;
   std::vector<std::unique_ptr<Pass>> passes;
-  std::vector<std::string> counter_names;
-  std::vector<bool> counter_is_sum;
-  std::map<std::string, std::string> counter_passes;
-  std::map<uint32_t, double> host_counters;  // set while recording this frame (PassContext::set_counter)
-  // Per pass, as it last ran: whether it would change with more frames (PassContext::still_converging),
-  // and the frames its running result holds where it said (PassContext::holds_frames).
-  std::vector<bool> converging;
-  std::vector<std::optional<uint64_t>> frames_held;
-  size_t recording_pass = 0;
+  // Each pass counts in slots of its own, so that a counter several passes count under one name
+  // sums what each last counted, whichever of them ran this frame.
+  struct CounterSlot {
+    std::string name;
+    size_t pass = 0;
+    bool is_sum = false;
+    double value = 0;  // as its pass last left it
+  };
+  std::vector<CounterSlot> counter_slots;
+  std::map<uint32_t, double> host_counters;  // by slot, set while recording this frame (PassContext::set_counter)
   vk::Buffer counters;                       // host-visible, uint32 each
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
@@ -55,28 +57,33 @@ struct Executor::Realized {
   vk::OwnedQueryPool queries;
   uint32_t query_count = 0;
   bool read_back_done = false;
-  uint64_t frame_index = 0;  // the next frame to run
-  // Per pass: its frames since the scene parts it depends on last changed (FrameInfo), and their
-  // key then (a pass that reuses is skipped while it holds); each counter's last value, reported
-  // again while its pass is skipped.
-  std::vector<FrameInfo> pass_frames;
-  std::vector<std::optional<uint64_t>> reset_keys;
-  // This frame's key of each scene part (kSceneParts), and per pass, those of the frame it last ran
-  // in (PassContext::scene_unchanged_since_last_run).
-  std::array<uint64_t, 3> parts_now{};
-  std::vector<std::optional<std::array<uint64_t, 3>>> parts_at_last_run;
-  // While the outputs hold a picture of the plan before (Executor::let_picture_stand): the scene
-  // parts it was drawn for.
-  std::optional<std::array<uint64_t, 3>> standing;
-  std::map<uint32_t, uint64_t> history_keys;  // per history resource: the key of its scene parts at its last restart
-  std::optional<uint64_t> jitter_key;  // the scene's key when it last changed (Plan::jitters_camera)
-  uint64_t jittered_frames = 0;        // since then
-  const FrameInfo* recording = nullptr;  // the pass being recorded's
-  const nlohmann::json* recording_params = nullptr;  // and its parameters for this frame
+  // What the run policy reads and updates (run_policy.h), and this frame's scene.
+  RunState run;
+  std::optional<SceneKeys> scene_now;
+  size_t recording_pass = 0;
+  const nlohmann::json* recording_params = nullptr;  // the pass being recorded's parameters for this frame
   std::vector<nlohmann::json> frame_params;          // per pass with PlannedPass::frame_params
-  std::map<std::string, double> last_counters;
   // Per pass: the shader files (and includes) it was set up with.
   std::vector<std::vector<std::filesystem::path>> shader_files;
 };
+
+// ---- Shared by the executor's files (executor_record.cpp) --------------------------------------
+
+VkImageAspectFlags aspect_of(Format format);
+// A barrier on all of `res`'s image `image`.
+VkImageMemoryBarrier2 whole_image_barrier(VkImage image, const PlannedResource& res, VkPipelineStageFlags2 src_stages,
+                                          VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
+                                          VkImageLayout old_layout, VkImageLayout new_layout);
+void pipeline_barrier(VkCommandBuffer cmd, const std::vector<VkImageMemoryBarrier2>& images,
+                      const std::vector<VkBufferMemoryBarrier2>& buffers = {});
+// Copies every mip level and layer of `res`'s image `from` (in TRANSFER_SRC_OPTIMAL) to `to` (in
+// TRANSFER_DST_OPTIMAL), an image of the same description.
+void copy_whole_image(VkCommandBuffer cmd, const PlannedResource& res, VkImage from, VkImage to);
+// A frame starts its kept images from the layout the last frame left them in
+// (compiler_dependencies.cpp): before the first frame, that layout.
+std::vector<PlannedBarrier> kept_images_to_final_layouts(const Plan& plan);
+// executor_realize.cpp
+VkImageCreateInfo image_info(const PlannedResource& r);
+VkBufferCreateInfo buffer_info(const PlannedResource& r);
 
 }  // namespace caustica::graph

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "graph/frame_info.h"
 #include "graph/plan.h"
 #include "scene/gpu_scene.h"
 #include "shader/shader_compiler.h"
@@ -15,21 +16,6 @@
 namespace caustica::graph {
 
 class Executor;
-
-// Which frame is being recorded, as a pass sees it: its index since the plan was set up, and the
-// frames since any scene part the pass depends on (PlannedPass::depends: geometry, lights, camera,
-// directly or through its inputs) last changed, or the plan was set up. Passes that vary from
-// frame to frame (a jittered photon grid) and passes that keep history (accumulate) follow
-// since_reset, so that the first frame after such a change is the first frame of a fresh render,
-// and a change they do not depend on (the camera, for light-space history) keeps their history.
-struct FrameInfo {
-  uint64_t index = 0;
-  uint64_t since_reset = 0;
-  // Where in its pixel this frame's camera looks, in pixels from the centre: zero unless the plan
-  // jitters the camera (Plan::jitters_camera), and then zero on the first frame after the scene
-  // (camera, lights, geometry) changed.
-  glm::vec2 camera_jitter{0.0f};
-};
 
 class PassSetup {
  public:
@@ -105,7 +91,7 @@ class Pass {
   virtual void setup(PassSetup& setup) { (void)setup; }
   virtual void execute(PassContext& context) = 0;
   // A pass that keeps a running result of its own besides its images (accumulate's sums) takes it
-  // over from the pass of an earlier plan with the same PlannedPass::running_key (so of its type),
+  // over from the pass of an earlier plan with the same PlannedPass::running_id (so of its type),
   // which is not run again: the result goes on where that plan left it.
   virtual void continue_from(Pass& earlier) { (void)earlier; }
 };

@@ -18,19 +18,19 @@ const PlannedResource& PassSetup::resource(const std::string& port) const {
   return executor_.plan_->resources[pass_.ports.at(port)];
 }
 uint32_t PassSetup::add_counter(const std::string& name, CounterKind kind) {
-  auto& names = executor_.realized_->counter_names;
-  executor_.realized_->counter_passes.emplace(name, pass_.name);
-  auto it = std::find(names.begin(), names.end(), name);
-  if (it != names.end()) return static_cast<uint32_t>(it - names.begin());
-  if (names.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
-  names.push_back(name);
-  executor_.realized_->counter_is_sum.push_back(kind == CounterKind::sum);
-  return static_cast<uint32_t>(names.size() - 1);
+  auto& slots = executor_.realized_->counter_slots;
+  const auto pass = static_cast<size_t>(&pass_ - executor_.plan_->passes.data());
+  const auto it = std::find_if(slots.begin(), slots.end(), [&](const auto& slot) { return slot.pass == pass && slot.name == name; });
+  if (it != slots.end()) return static_cast<uint32_t>(it - slots.begin());
+  if (slots.size() >= kMaxCounters) throw DeviceError("more than " + std::to_string(kMaxCounters) + " pass counters");
+  slots.push_back({name, pass, kind == CounterKind::sum});
+  return static_cast<uint32_t>(slots.size() - 1);
 }
 std::string PassSetup::counter_owner(const std::string& name) const {
-  const auto& owners = executor_.realized_->counter_passes;
-  const auto it = owners.find(name);
-  return it == owners.end() ? std::string() : it->second;
+  for (const auto& slot : executor_.realized_->counter_slots) {
+    if (slot.name == name) return executor_.plan_->passes[slot.pass].name;
+  }
+  return {};
 }
 
 vk::Context& PassContext::vk() const {
@@ -65,22 +65,19 @@ void PassContext::set_counter(uint32_t counter, double value) const {
   executor_.realized_->host_counters[counter] = value;
 }
 void PassContext::still_converging() const {
-  executor_.realized_->converging[executor_.realized_->recording_pass] = true;
+  executor_.realized_->run.passes[executor_.realized_->recording_pass].converging = true;
 }
 void PassContext::holds_frames(uint64_t frames) const {
-  executor_.realized_->frames_held[executor_.realized_->recording_pass] = frames;
+  executor_.realized_->run.passes[executor_.realized_->recording_pass].frames_held = frames;
 }
 const FrameInfo& PassContext::frame() const {
-  return *executor_.realized_->recording;
+  return executor_.realized_->run.passes[executor_.realized_->recording_pass].frames;
 }
 bool PassContext::scene_unchanged_since_last_run(uint32_t parts) const {
   const Executor::Realized& real = *executor_.realized_;
-  const auto& then = real.parts_at_last_run[real.recording_pass];
+  const auto& then = real.run.passes[real.recording_pass].last_run_scene;
   if (!then || executor_.plan_->jitters_camera || !pass_.frame_params.empty()) return false;
-  for (size_t k = 0; k < kSceneParts.size(); ++k) {
-    if ((parts & kSceneParts[k]) && (*then)[k] != real.parts_now[k]) return false;
-  }
-  return true;
+  return then->masked(parts) == real.scene_now.value_or(SceneKeys{}).masked(parts);
 }
 bool PassContext::kept_since_last_run(const std::string& port) const {
   const PlannedResource& r = resource(port);

@@ -83,7 +83,7 @@ struct ParamDecl {
   bool power_of_two = false;
   // How fast a running result converges, not to what (caustic_map.slice_side: the mean of quarter
   // grids and of ninth grids is the same grid's map): a running result goes on into a new plan whose
-  // passes differ only in such parameters (PlannedPass::running_key).
+  // passes differ only in such parameters (PlannedPass::running_id).
   bool sampling_only = false;
 };
 
@@ -148,7 +148,7 @@ struct PassTypeDecl {
   // A user pass's own type: its shader as compiled and reflected, and where its ports bind.
   std::shared_ptr<const UserShader> user_shader;
   // What the pass's result follows from besides its parameters and inputs (a user pass's shader
-  // text, includes and all): part of PlannedPass::result_key, so that an edited shader runs again.
+  // text, includes and all): part of PlannedPass::result_id, so that an edited shader runs again.
   std::string result_source;
 
   const PortDecl* find_port(std::string_view name) const;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "graph/pass_type.h"
+#include "graph/result_identity.h"
 
 namespace caustica::graph {
 
@@ -114,24 +116,25 @@ struct PlannedPass {
   // With Plan::refines_apart, for a pass that does not refine: its number among those, in plan
   // order, by which a display frame shows in steps (DisplayStep).
   uint32_t showing = 0;
-  // In a plan that reuses unchanged passes, for a reusable pass: a hash of everything its result
-  // follows from besides the scene (its name, type and parameters, its ports' formats and extents,
-  // and the result keys of what it reads). A later plan's pass with the same key computes the same
+  // In a plan that reuses unchanged passes, for a reusable pass: everything its result follows
+  // from besides the scene (its name, type and parameters, its ports' formats and extents, and the
+  // identities of what it reads). A later plan's pass with an equal identity computes the same
   // images from the same scene, so the executor carries them over (a frame-budget step, an edit).
-  uint64_t result_key = 0;
+  std::optional<ResultIdentity> result_id;
   // In such a plan, for a pass that refines (a running mean, and the passes it reads that follow
-  // the frame) and reads no history input: the same hash, although the pass follows the frame. A
-  // later plan's pass with the same key continues the running result where this one left it
-  // (Executor::carry_running_results): an exposure edit, a resize or a frame-budget step does not
-  // restart the mean, nor does a plan in between (the viewer's while_moving values during an orbit),
-  // nor one that differs only in sampling-only parameters (ParamDecl::sampling_only).
-  uint64_t running_key = 0;
+  // the frame) and reads no history input: the same, without its sampling-only parameters
+  // (ParamDecl::sampling_only), although the pass follows the frame. A later plan's pass with an
+  // equal one continues the running result where this one left it (the hand-over of a plan
+  // change): an exposure edit, a resize or a frame-budget step does not restart the mean, nor does
+  // a plan in between (the viewer's while_moving values during an orbit), nor one that differs only
+  // in sampling-only parameters.
+  std::optional<ResultIdentity> running_id;
   // In a plan that refines apart, for a showing pass that follows the frame (it reads a running
-  // result): the same hash as the running key's. A later plan's pass with the same key shows the
-  // same running results as this one last did, so the executor carries its images over as it does
-  // a result's: a still level's step (a sampling-only change) then goes on refining at once, its
-  // picture standing, instead of showing it again in a frame of its own.
-  uint64_t showing_key = 0;
+  // result): its identity as running_id's. A later plan's pass with an equal one shows the same
+  // running results as this one last did, so its images are carried over as a result's: a still
+  // level's step (a sampling-only change) then goes on refining at once, its picture standing,
+  // instead of showing it again in a frame of its own.
+  std::optional<ResultIdentity> showing_id;
 };
 
 struct MemoryBlock {

@@ -209,7 +209,7 @@ struct AccuracyRun {
                    vk.ray_queries().missing.c_str());
       return;
     }
-    executor.configure(g, o.width, o.height, {"caustics"});
+    executor.configure(g, o.width, o.height, {.retained = {"caustics"}});
     const Timings t = time_frames(executor, o.frames, method_passes);
     const double processed = t.last.counters.count("photons.processed") ? t.last.counters.at("photons.processed") : 0.0;
     add_row(scene, "caustics", label, grid, processed, t,
@@ -227,7 +227,7 @@ struct AccuracyRun {
     for (const std::string& distance : refraction_distances(desc)) {
       graph::GraphDesc g = desc;
       graph::apply_overrides(g, {"distance=" + distance});
-      executor.configure(g, o.width, o.height, {"refracted"});
+      executor.configure(g, o.width, o.height, {.retained = {"refracted"}});
       const Timings t = time_frames(executor, o.frames, passes_of_types(desc, kRefractionPassTypes));
       reference::ImageComparison c;
       c.relative_l1 = reference::refraction_relative_l1(executor.read_image("refracted"), refraction);

@@ -182,9 +182,9 @@ int cmd_bench_convergence(Args& args) {
       warm_up.run_frame(false);
     }
     graph::Executor executor(vk, shaders, passes::builtin_registry());
-    executor.set_reuse_unchanged_passes(true);  // as the viewer: at rest the camera's and the light's own passes keep their results
     executor.set_scene(scene);
-    executor.configure(graphs[m], o.width, o.height, {"caustics"});
+    // As the viewer: at rest the camera's and the light's own passes keep their results.
+    executor.configure(graphs[m], o.width, o.height, {.retained = {"caustics"}, .reuse_unchanged_passes = true});
     double elapsed = 0, last_ms = 0;
     for (uint32_t frame = 1;; ++frame) {
       // With --seconds, the last frame is the one that would end past the limit, judged by the one before.

@@ -157,7 +157,7 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
   // under the sanitizers.
   auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
     executor.set_view(s->camera, s->lights);
-    executor.configure(g, o.width, o.height, {"caustics"});
+    executor.configure(g, o.width, o.height, {.retained = {"caustics"}});
   };
   // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
   auto render = [&](std::shared_ptr<const scene::Scene> s) {

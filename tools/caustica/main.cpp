@@ -204,9 +204,9 @@ int run_render(const RenderOptions& o, bool trace) {
   vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler shaders(data_dir() / "shaders");
   graph::Executor executor(vk, shaders, passes::builtin_registry());
-  executor.set_reuse_unchanged_passes(o.orbit_degrees != 0.0f);
   executor.set_scene(scene);
-  executor.configure(graph, o.width, o.height, retained, o.memory_limit_mib << 20);
+  executor.configure(graph, o.width, o.height,
+                     {.retained = retained, .memory_limit_bytes = o.memory_limit_mib << 20, .reuse_unchanged_passes = o.orbit_degrees != 0.0f});
   for (const auto& warning : executor.plan().warnings) std::cerr << "caustica: warning: " << warning << "\n";
   const auto& planned = executor.plan().passes;
   if (o.accumulate && std::none_of(planned.begin(), planned.end(), [](const graph::PlannedPass& p) { return p.type == "accumulate"; })) {
