@@ -56,7 +56,10 @@ bool Viewer::Impl::handle_input(const WindowEvents& events) {
     moved.lights.front().view.position.x += options_.move_light;
     changed = true;
   }
-  if (!io.WantCaptureMouse && (ImGui::IsMouseDragging(ImGuiMouseButton_Left) || io.MouseWheel != 0.0f)) {
+  // A drag moves the view only on frames where the mouse moved: a held button between a hand's
+  // events is no input for the frame budget (editor/model/view_budget.h).
+  const bool dragged = ImGui::IsMouseDragging(ImGuiMouseButton_Left) && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f);
+  if (!io.WantCaptureMouse && (dragged || io.MouseWheel != 0.0f)) {
     // Orbit: yaw and pitch of the camera's offset from its target, distance by the wheel.
     glm::vec3 offset = moved.camera.position - moved.camera.target;
     const float distance = glm::length(offset) * std::pow(0.9f, io.MouseWheel);
