@@ -14,6 +14,7 @@
 #include "io/files.h"
 #include "io/json_document.h"
 #include "model/json_text.h"
+#include "model/pass_wiring.h"
 #include "shader/shader_compiler.h"
 
 namespace caustica::editor {
@@ -63,18 +64,6 @@ void for_each_resource_reference(ordered_json& doc, const std::function<void(ord
   for (auto& [name, resource] : doc["resources"].items()) {
     if (resource.contains("fallback") && resource["fallback"].is_string()) visit(resource["fallback"]);
   }
-}
-
-// An image resource's "layers" when written as a number (an expression counts as unknown: 0).
-uint32_t written_layers(const ordered_json& resource) {
-  if (!resource.contains("layers")) return 1;
-  const ordered_json& layers = resource["layers"];
-  if (layers.is_number_unsigned()) return layers.get<uint32_t>();
-  if (!layers.is_string()) return 0;
-  const std::string text = layers.get<std::string>();
-  if (text.empty() || text.size() > 2 || text.find_first_not_of("0123456789") != std::string::npos) return 0;
-  return static_cast<uint32_t>(std::stoul(text));
-  return 0;
 }
 
 bool writes(const graph::PortDecl& port) {
@@ -293,119 +282,19 @@ std::string GraphModel::add_pass_of(const graph::PassTypeDecl& decl_ref, const o
   // Inputs: resources of an accepted format that a pass writes, the latest writer in the file
   // first; ports of one extent group take resources of one size. Candidates are tried in that
   // order until the graph compiles.
-  std::vector<std::string> written;  // latest writer first
-  for (auto it = doc_["passes"].rbegin(); it != doc_["passes"].rend(); ++it) {
-    if (!it->contains("outputs")) continue;
-    for (const auto& [port, resource] : (*it)["outputs"].items()) {
-      if (std::find(written.begin(), written.end(), resource.get<std::string>()) == written.end()) written.push_back(resource);
-    }
-  }
-  const ordered_json& resources = doc_["resources"];
-  auto accepts = [&](const graph::PortDecl& port, const std::string& resource) {
-    if (!resources.contains(resource)) return false;
-    const ordered_json& r = resources[resource];
-    const bool buffer = r.value("type", "image") == "buffer";
-    if (buffer != (port.kind == graph::ResourceKind::buffer)) return false;
-    if (buffer) return true;
-    if (written_layers(r) != port.layers) return false;
-    if (port.formats.empty()) return true;
-    const auto format = graph::parse_format(r.value("format", ""));
-    return format && std::find(port.formats.begin(), port.formats.end(), *format) != port.formats.end();
-  };
-  std::vector<const graph::PortDecl*> inputs;
-  std::vector<std::vector<std::string>> candidates;
-  for (const auto& port : decl->ports) {
-    if (port.optional || port.access == graph::PortAccess::write) continue;
-    inputs.push_back(&port);
-    candidates.emplace_back();
-    for (const auto& r : written) {
-      if (accepts(port, r)) candidates.back().push_back(r);
-    }
-    if (candidates.back().empty()) {
-      std::string formats;
-      for (auto f : port.formats) formats += std::string(formats.empty() ? "" : ", ") + graph::format_info(f).name;
-      throw InputError(path_ + ": cannot add a " + type + " pass: its input '" + port.name + "' needs " +
-                       (port.kind == graph::ResourceKind::buffer ? "a buffer"
-                        : formats.empty()                        ? "an image"
-                                                                 : "an image of " + formats) +
-                       " that a pass writes, and the graph has none yet");
-    }
-  }
-  auto size_of = [&](const std::string& resource) {
-    const ordered_json& r = resources[resource];
-    return r.value("width", std::string("output.width")) + "," + r.value("height", std::string("output.height"));
-  };
-
-  // Outputs: a new resource each, of the size of an input in the same extent group if there is one.
-  auto outputs_for = [&](const std::vector<std::string>& chosen, ordered_json& new_resources) {
-    ordered_json bound = ordered_json::object();
-    for (const auto& port : decl->ports) {
-      if (port.optional || port.access != graph::PortAccess::write) continue;
-      std::string resource = name + "_" + port.name;
-      for (int i = 2; resources.contains(resource) || new_resources.contains(resource); ++i)
-        resource = name + "_" + port.name + "_" + std::to_string(i);
-      ordered_json r;
-      if (port.kind == graph::ResourceKind::buffer) {
-        r = {{"type", "buffer"}, {"size", "65536"}};
-      } else {
-        r = {{"type", "image"}, {"format", graph::format_info(port.formats.empty() ? graph::Format::rgba16f : port.formats.front()).name}};
-        if (port.layers > 1) r["layers"] = port.layers;
-        for (size_t i = 0; i < inputs.size(); ++i) {
-          if (port.extent_group.empty() || inputs[i]->extent_group != port.extent_group) continue;
-          const ordered_json& source = resources[chosen[i]];
-          for (const char* axis : {"width", "height"}) {
-            if (source.contains(axis)) r[axis] = source[axis];
-          }
-          break;
-        }
-      }
-      new_resources[resource] = r;
-      bound[port.name] = resource;
-    }
-    return bound;
-  };
-
-  std::vector<std::string> chosen(inputs.size());
+  const PassWiring wiring(doc_, *decl, name, path_);
   std::string first_error;
-  int tries = 0;
-  constexpr int kMaxTries = 64;
-  std::function<bool(size_t)> choose = [&](size_t i) -> bool {
-    if (i == inputs.size()) {
-      ++tries;
-      ordered_json next = doc_;
-      ordered_json candidate = pass;
-      ordered_json in = ordered_json::object();
-      ordered_json new_resources = ordered_json::object();
-      ordered_json out = outputs_for(chosen, new_resources);
-      // A read_write port reads an existing resource but is listed with the outputs.
-      for (size_t k = 0; k < inputs.size(); ++k) (inputs[k]->access == graph::PortAccess::read ? in : out)[inputs[k]->name] = chosen[k];
-      if (!in.empty()) candidate["inputs"] = in;
-      if (!out.empty()) candidate["outputs"] = out;
-      for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
-      next["passes"].push_back(candidate);
-      try {
-        Checked checked = check(next);
-        commit("add pass " + name, std::move(next), std::move(checked));
-      } catch (const InputError& e) {
-        if (first_error.empty()) first_error = e.what();
-        return false;
-      }
-      return true;
+  const bool added = wiring.try_each(pass, [&](ordered_json next) {
+    try {
+      Checked checked = check(next);
+      commit("add pass " + name, std::move(next), std::move(checked));
+    } catch (const InputError& e) {
+      if (first_error.empty()) first_error = e.what();
+      return false;
     }
-    for (const auto& r : candidates[i]) {
-      if (tries >= kMaxTries) return false;
-      bool fits = true;  // one size per extent group
-      for (size_t k = 0; k < i; ++k) {
-        if (!inputs[i]->extent_group.empty() && inputs[k]->extent_group == inputs[i]->extent_group && size_of(chosen[k]) != size_of(r))
-          fits = false;
-      }
-      if (!fits) continue;
-      chosen[i] = r;
-      if (choose(i + 1)) return true;
-    }
-    return false;
-  };
-  if (!choose(0)) {
+    return true;
+  });
+  if (!added) {
     throw InputError(first_error.empty() ? path_ + ": cannot add a " + type + " pass: no resources of one size fit its inputs"
                                          : first_error);
   }

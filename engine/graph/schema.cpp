@@ -38,23 +38,20 @@ json ports_schema(const PassTypeDecl& decl, bool outputs) {
   for (const auto& port : decl.ports) {
     if ((port.access != PortAccess::read) != outputs) continue;
     // An input may read a resource as the previous frame left it: "NAME@previous".
-    props[port.name] = {{"type", "string"},
-                        {"description", outputs ? port.description : port.description + " (a resource, or \"NAME@previous\": NAME as the last frame left it)"}};
+    props[port.name] = {
+        {"type", "string"},
+        {"description",
+         outputs ? port.description : port.description + " (a resource, or \"NAME@previous\": NAME as the last frame left it)"}};
   }
   return {{"type", "object"}, {"properties", props}, {"additionalProperties", false}};
 }
 
-}  // namespace
-
-json graph_schema_json(const PassRegistry& registry) {
-  json expression = {{"type", {"string", "integer"}},
-                     {"description", "a number or an expression of output.width, output.height and graph parameters"}};
-  json types = json::array();
+// One "if the type is T then ..." clause per pass type: a built-in type's parameters and ports, or
+// for a user pass type, its own "shader", "ports" and "parameters" (which the compiler checks).
+json per_type_schemas(const PassRegistry& registry) {
   json per_type = json::array();
   for (const auto& [name, decl] : registry.types()) {
-    types.push_back(name);
     if (decl.user_kind != UserShaderKind::none) {
-      // Its parameters and ports are the pass's own ("parameters", "ports"), which the compiler checks.
       per_type.push_back({{"if", {{"properties", {{"type", {{"const", name}}}}}}},
                           {"then", {{"description", decl.description}, {"required", {"shader"}}}},
                           {"else",
@@ -78,6 +75,11 @@ json graph_schema_json(const PassRegistry& registry) {
                             {"inputs", ports_schema(decl, false)},
                             {"outputs", ports_schema(decl, true)}}}}}});
   }
+  return per_type;
+}
+
+// A graph parameter, `with_viewer_values` (a graph's own) or without (a user pass's parameters).
+json parameter_schema(bool with_viewer_values) {
   json parameter = {
       {"type", "object"},
       {"required", {"type", "default"}},
@@ -101,41 +103,56 @@ json graph_schema_json(const PassRegistry& registry) {
            "the graph with it; or a list of values, each cheaper than the one before, that the viewer takes in turn while its refining "
            "frames at rest are over the frame budget"}}}}},
       {"additionalProperties", false}};
-  json user_parameter = parameter;
-  for (const char* viewer_only : {"while_moving", "while_still"}) user_parameter["properties"].erase(viewer_only);
-  json user_port = {{"type", "object"},
-                    {"required", {"access"}},
-                    {"properties",
-                     {{"type", {{"enum", {"image", "buffer"}}, {"default", "image"}}},
-                      {"access", {{"enum", {"read", "write", "read_write"}}}},
-                      {"usage", {{"enum", {"sampled", "storage", "color_attachment", "uniform"}}}},
-                      {"formats", {{"type", "array"}, {"items", {{"enum", format_names()}}}}},
-                      {"extent_group", {{"type", "string"}}},
-                      {"layers", {{"type", "integer"}, {"minimum", 1}, {"maximum", kMaxImageLayers}}},
-                      {"description", {{"type", "string"}}}}},
-                    {"additionalProperties", false}};
-  json resource = {
-      {"type", "object"},
-      {"properties",
-       {{"type", {{"enum", {"image", "buffer"}}, {"default", "image"}}},
-        {"format", {{"enum", format_names()}}},
-        {"width", expression},
-        {"height", expression},
-        {"mips", expression},
-        {"layers", expression},
-        {"size", expression},
-        {"fallback",
-         {{"type", {"string", "null"}},
-          {"description",
-           "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
-        {"description", {{"type", "string"}}}}},
-      {"additionalProperties", false}};
-  json user_counter = {{"anyOf", json::array({{{"type", "string"}},
-                                              {{"type", "object"},
-                                               {"required", {"name"}},
-                                               {"properties", {{"name", {{"type", "string"}}}, {"kind", {{"enum", {"count", "sum"}}}}}},
-                                               {"additionalProperties", false}}})}};
-  json pass = {
+  if (!with_viewer_values) {
+    for (const char* viewer_only : {"while_moving", "while_still"}) parameter["properties"].erase(viewer_only);
+  }
+  return parameter;
+}
+
+json user_port_schema() {
+  return {{"type", "object"},
+          {"required", {"access"}},
+          {"properties",
+           {{"type", {{"enum", {"image", "buffer"}}, {"default", "image"}}},
+            {"access", {{"enum", {"read", "write", "read_write"}}}},
+            {"usage", {{"enum", {"sampled", "storage", "color_attachment", "uniform"}}}},
+            {"formats", {{"type", "array"}, {"items", {{"enum", format_names()}}}}},
+            {"extent_group", {{"type", "string"}}},
+            {"layers", {{"type", "integer"}, {"minimum", 1}, {"maximum", kMaxImageLayers}}},
+            {"description", {{"type", "string"}}}}},
+          {"additionalProperties", false}};
+}
+
+json resource_schema(const json& expression) {
+  return {{"type", "object"},
+          {"properties",
+           {{"type", {{"enum", {"image", "buffer"}}, {"default", "image"}}},
+            {"format", {{"enum", format_names()}}},
+            {"width", expression},
+            {"height", expression},
+            {"mips", expression},
+            {"layers", expression},
+            {"size", expression},
+            {"fallback",
+             {{"type", {"string", "null"}},
+              {"description",
+               "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
+            {"description", {{"type", "string"}}}}},
+          {"additionalProperties", false}};
+}
+
+json user_counter_schema() {
+  return {{"anyOf", json::array({{{"type", "string"}},
+                                 {{"type", "object"},
+                                  {"required", {"name"}},
+                                  {"properties", {{"name", {{"type", "string"}}}, {"kind", {{"enum", {"count", "sum"}}}}}},
+                                  {"additionalProperties", false}}})}};
+}
+
+json pass_schema(const PassRegistry& registry, const json& expression) {
+  json types = json::array();
+  for (const auto& entry : registry.types()) types.push_back(entry.first);
+  return {
       {"type", "object"},
       {"required", {"name", "type"}},
       {"properties",
@@ -153,12 +170,12 @@ json graph_schema_json(const PassRegistry& registry) {
         {"ports",
          {{"type", "object"},
           {"description", "compute and fullscreen: the ports, each bound to the shader's binding (or fragment output) of its name"},
-          {"additionalProperties", user_port}}},
+          {"additionalProperties", user_port_schema()}}},
         {"parameters",
          {{"type", "object"},
           {"description",
            "compute and fullscreen: the parameters, each a member of the shader's push-constant block or of its uniform block Params"},
-          {"additionalProperties", user_parameter}}},
+          {"additionalProperties", parameter_schema(false)}}},
         {"dispatch",
          {{"description", "compute: a port whose image it covers (one invocation a texel), or [x, y, z] invocations"},
           {"anyOf", json::array({{{"type", "string"}}, {{"type", "array"}, {"minItems", 1}, {"maxItems", 3}, {"items", expression}}})}}},
@@ -168,27 +185,34 @@ json graph_schema_json(const PassRegistry& registry) {
           {"description",
            "compute and fullscreen: named counters (--stats, trace) that the shader adds to at their index in its counter buffer "
            "(uint counters[] for a count, float sums[] for a sum)"},
-          {"items", user_counter}}}}},
+          {"items", user_counter_schema()}}}}},
       {"additionalProperties", false},
-      {"allOf", per_type}};
-  return {{"$schema", "http://json-schema.org/draft-07/schema#"},
-          {"title", "caustica render graph"},
-          {"description", "Generated by 'caustica graph schema'; do not edit by hand."},
-          {"type", "object"},
-          {"required", {"resources", "passes", "outputs"}},
-          {"properties",
-           {{"$schema", {{"type", "string"}}},
-            {"name", {{"type", "string"}}},
-            {"description", {{"type", "string"}}},
-            {"parameters", {{"type", "object"}, {"additionalProperties", parameter}}},
-            {"resources", {{"type", "object"}, {"additionalProperties", resource}}},
-            {"passes", {{"type", "array"}, {"minItems", 1}, {"items", pass}}},
-            {"outputs", {{"type", "array"}, {"minItems", 1}, {"items", {{"type", "string"}}}}},
-            {"linear_output",
-             {{"type", "string"},
-              {"description", "the graph's linear HDR result (before its tone map), which `render --out F.exr` writes"}}},
-            {"editor", {{"type", "object"}, {"description", "the graph editor's layout (pass positions); the engine ignores it"}}}}},
-          {"additionalProperties", false}};
+      {"allOf", per_type_schemas(registry)}};
+}
+
+}  // namespace
+
+json graph_schema_json(const PassRegistry& registry) {
+  const json expression = {{"type", {"string", "integer"}},
+                           {"description", "a number or an expression of output.width, output.height and graph parameters"}};
+  return {
+      {"$schema", "http://json-schema.org/draft-07/schema#"},
+      {"title", "caustica render graph"},
+      {"description", "Generated by 'caustica graph schema'; do not edit by hand."},
+      {"type", "object"},
+      {"required", {"resources", "passes", "outputs"}},
+      {"properties",
+       {{"$schema", {{"type", "string"}}},
+        {"name", {{"type", "string"}}},
+        {"description", {{"type", "string"}}},
+        {"parameters", {{"type", "object"}, {"additionalProperties", parameter_schema(true)}}},
+        {"resources", {{"type", "object"}, {"additionalProperties", resource_schema(expression)}}},
+        {"passes", {{"type", "array"}, {"minItems", 1}, {"items", pass_schema(registry, expression)}}},
+        {"outputs", {{"type", "array"}, {"minItems", 1}, {"items", {{"type", "string"}}}}},
+        {"linear_output",
+         {{"type", "string"}, {"description", "the graph's linear HDR result (before its tone map), which `render --out F.exr` writes"}}},
+        {"editor", {{"type", "object"}, {"description", "the graph editor's layout (pass positions); the engine ignores it"}}}}},
+      {"additionalProperties", false}};
 }
 
 }  // namespace caustica::graph

@@ -1,5 +1,5 @@
-// glTF 2.0 through tinygltf: the scene's nodes, meshes, materials, cameras and lights, with the
-// ratified extensions docs/gltf.md lists.
+// glTF 2.0 through tinygltf: the scene's nodes, meshes, cameras and lights, with the ratified
+// extensions docs/gltf.md lists; each primitive's material through gltf_material.h.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -10,8 +10,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <limits>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -19,6 +17,7 @@
 #include "core/error.h"
 #include "io/json_reader.h"
 #include "scene/gltf_compression.h"
+#include "scene/gltf_material.h"
 #include "scene/mesh_formats.h"
 #include "scene/scene.h"
 
@@ -127,303 +126,6 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
     out.push_back(static_cast<T>(v));
   }
   return out;
-}
-
-// The textures a file's materials use, each decoded when a material first names it, so that an
-// image no material reads is never decoded. One entry per glTF texture and colour space.
-class TextureTable {
- public:
-  TextureTable(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
-
-  // `info` is at JSON pointer `at`; `srgb` for colour data.
-  TextureRef reference(const tinygltf::TextureInfo& info, const std::string& at, bool srgb) {
-    TextureRef ref;
-    if (info.index < 0) return ref;
-    if (static_cast<size_t>(info.index) >= model_.textures.size())
-      fail(path_, 0, at + "/index: texture " + std::to_string(info.index) + " does not exist");
-    ref.texcoord = info.texCoord;
-    if (const auto t = info.extensions.find("KHR_texture_transform"); t != info.extensions.end()) {
-      read_transform(t->second, at + "/extensions/KHR_texture_transform", ref);
-    }
-    if (ref.texcoord < 0 || ref.texcoord > 1)
-      fail(path_, 0, at + "/texCoord: TEXCOORD_" + std::to_string(ref.texcoord) + " is not read (caustica reads sets 0 and 1)");
-    const auto key = std::make_pair(info.index, srgb);
-    if (const auto found = index_.find(key); found != index_.end()) {
-      ref.texture = found->second;
-    } else {
-      ref.texture = static_cast<int>(textures_.size());
-      textures_.push_back(decode(info.index, srgb));
-      index_[key] = ref.texture;
-    }
-    return ref;
-  }
-
-  std::vector<Texture> take() { return std::move(textures_); }
-
-  // The mean linear value of texture `index` over its texels.
-  glm::vec4 mean(int index) const {
-    const Texture& t = textures_[static_cast<size_t>(index)];
-    glm::dvec4 sum(0.0);
-    for (uint32_t y = 0; y < t.height; ++y) {
-      for (uint32_t x = 0; x < t.width; ++x) {
-        sum += glm::dvec4(t.sample((glm::vec2(x, y) + 0.5f) / glm::vec2(static_cast<float>(t.width), static_cast<float>(t.height))));
-      }
-    }
-    return glm::vec4(sum / std::max(1.0, static_cast<double>(t.width) * t.height));
-  }
-
- private:
-  // KHR_texture_transform: uv' = translation * rotation * scale * uv, as the extension defines it.
-  void read_transform(const tinygltf::Value& v, const std::string& at, TextureRef& ref) const {
-    auto pair = [&](const char* key, glm::vec2 fallback) {
-      if (!v.Has(key)) return fallback;
-      const auto& a = v.Get(key);
-      if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
-        fail(path_, 0, at + "/" + key + ": needs 2 numbers");
-      const glm::vec2 out(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
-      if (!std::isfinite(out.x) || !std::isfinite(out.y)) fail(path_, 0, at + "/" + key + ": must be finite numbers");
-      return out;
-    };
-    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
-    float rotation = 0.0f;
-    if (v.Has("rotation")) {
-      if (!v.Get("rotation").IsNumber() || !std::isfinite(v.Get("rotation").GetNumberAsDouble()))
-        fail(path_, 0, at + "/rotation: must be a finite number");
-      rotation = static_cast<float>(v.Get("rotation").GetNumberAsDouble());
-    }
-    if (v.Has("texCoord")) {
-      if (!v.Get("texCoord").IsInt()) fail(path_, 0, at + "/texCoord: must be an integer");
-      ref.texcoord = v.Get("texCoord").GetNumberAsInt();
-    }
-    const float c = std::cos(rotation), s = std::sin(rotation);
-    const glm::mat3 translate(glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(offset, 1));
-    const glm::mat3 rotate(glm::vec3(c, -s, 0), glm::vec3(s, c, 0), glm::vec3(0, 0, 1));
-    const glm::mat3 stretch(glm::vec3(scale.x, 0, 0), glm::vec3(0, scale.y, 0), glm::vec3(0, 0, 1));
-    ref.transform = translate * rotate * stretch;
-  }
-
-  Texture decode(int index, bool srgb) const {
-    const std::string at = "/textures/" + std::to_string(index);
-    const auto& texture = model_.textures[static_cast<size_t>(index)];
-    if (texture.source < 0 || static_cast<size_t>(texture.source) >= model_.images.size()) {
-      fail(path_, 0,
-           at +
-               "/source: " + (texture.source < 0 ? std::string("missing") : "image " + std::to_string(texture.source) + " does not exist") +
-               " (caustica decodes PNG and JPEG images, not KHR_texture_basisu or EXT_texture_webp)");
-    }
-    const auto& image = model_.images[static_cast<size_t>(texture.source)];
-    const std::string image_at = "/images/" + std::to_string(texture.source);
-    Texture out;
-    out.name = path_ + ": " + at;
-    out.srgb = srgb;
-    tinygltf::Image decoded;
-    std::string error, warning;
-    if (image.image.empty() || image.image.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
-        !tinygltf::LoadImageData(&decoded, texture.source, &error, &warning, 0, 0, image.image.data(), static_cast<int>(image.image.size()),
-                                 nullptr)) {
-      fail(path_, 0,
-           image_at + ": cannot decode the image" + (image.uri.empty() || image.uri.rfind("data:", 0) == 0 ? "" : " '" + image.uri + "'") +
-               " (caustica decodes PNG and JPEG)");
-    }
-    if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) || decoded.width <= 0 || decoded.height <= 0)
-      fail(path_, 0, image_at + ": the image decodes to a layout caustica does not read");
-    out.width = static_cast<uint32_t>(decoded.width);
-    out.height = static_cast<uint32_t>(decoded.height);
-    const size_t values = size_t{out.width} * out.height * 4;
-    out.rgba.resize(values);
-    if (decoded.bits == 8) {
-      std::memcpy(out.rgba.data(), decoded.image.data(), values);
-    } else {  // 16 bits: the high byte (host order, as stb_image gives them)
-      for (size_t i = 0; i < values; ++i) {
-        uint16_t v = 0;
-        std::memcpy(&v, decoded.image.data() + 2 * i, 2);
-        out.rgba[i] = static_cast<uint8_t>(v >> 8);
-      }
-    }
-    if (texture.sampler >= 0) {
-      if (static_cast<size_t>(texture.sampler) >= model_.samplers.size())
-        fail(path_, 0, at + "/sampler: sampler " + std::to_string(texture.sampler) + " does not exist");
-      const auto& sampler = model_.samplers[static_cast<size_t>(texture.sampler)];
-      const std::string sampler_at = "/samplers/" + std::to_string(texture.sampler);
-      auto wrap = [&](int mode, const char* key) {
-        switch (mode) {
-          case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::repeat;
-          case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::clamp;
-          case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::mirror;
-          default: fail(path_, 0, sampler_at + "/" + key + ": " + std::to_string(mode) + " is not a wrap mode (10497, 33071 or 33648)");
-        }
-      };
-      out.wrap_u = wrap(sampler.wrapS, "wrapS");
-      out.wrap_v = wrap(sampler.wrapT, "wrapT");
-      if (sampler.magFilter != -1 && sampler.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
-          sampler.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
-        fail(path_, 0, sampler_at + "/magFilter: " + std::to_string(sampler.magFilter) + " is not a filter (9728 or 9729)");
-      out.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
-    }
-    return out;
-  }
-
-  const tinygltf::Model& model_;
-  std::string path_;
-  std::map<std::pair<int, bool>, int> index_;
-  std::vector<Texture> textures_;
-};
-
-// A material as the specification and its ratified extensions give it; a value outside their
-// ranges or of the wrong type is an error naming its JSON pointer. `from` is the pointer of the
-// primitive's "material" (for a missing one).
-Material gltf_material(const tinygltf::Model& model, int index, const std::string& from, const std::string& path, TextureTable& textures) {
-  Material m;
-  if (index < 0) {  // the specification's default material: opaque, base colour white, metal 1, roughness 1
-    m.albedo = glm::vec3(1.0f);
-    m.metallic_roughness = true;
-    m.double_sided = false;
-    return m;
-  }
-  if (static_cast<size_t>(index) >= model.materials.size()) fail(path, 0, from + ": material " + std::to_string(index) + " does not exist");
-  const auto& mat = model.materials[static_cast<size_t>(index)];
-  const std::string at = "/materials/" + std::to_string(index);
-  auto in_unit = [&](double v, const std::string& pointer) {
-    if (!(v >= 0.0 && v <= 1.0)) fail(path, 0, pointer + ": " + JsonReader::format_number(v) + " is outside [0, 1]");
-    return v;
-  };
-  const auto& base = mat.pbrMetallicRoughness.baseColorFactor;
-  if (base.size() != 4) fail(path, 0, at + "/pbrMetallicRoughness/baseColorFactor: needs 4 numbers");
-  for (size_t c = 0; c < 4; ++c) in_unit(base[c], at + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c));
-  m.albedo = glm::vec3(base[0], base[1], base[2]);
-  m.alpha = static_cast<float>(base[3]);
-  m.base_color_texture = textures.reference(mat.pbrMetallicRoughness.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", true);
-  m.double_sided = mat.doubleSided;
-  m.metallic_roughness = true;
-  m.metallic = static_cast<float>(in_unit(mat.pbrMetallicRoughness.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor"));
-  m.roughness = static_cast<float>(in_unit(mat.pbrMetallicRoughness.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor"));
-  m.metallic_roughness_texture =
-      textures.reference(mat.pbrMetallicRoughness.metallicRoughnessTexture, at + "/pbrMetallicRoughness/metallicRoughnessTexture", false);
-  tinygltf::TextureInfo normal;  // a normalTextureInfo: textureInfo and a scale
-  normal.index = mat.normalTexture.index;
-  normal.texCoord = mat.normalTexture.texCoord;
-  normal.extensions = mat.normalTexture.extensions;
-  m.normal_texture = textures.reference(normal, at + "/normalTexture", false);
-  if (!std::isfinite(mat.normalTexture.scale)) fail(path, 0, at + "/normalTexture/scale: must be a finite number");
-  m.normal_scale = static_cast<float>(mat.normalTexture.scale);
-  if (mat.emissiveFactor.size() != 3) fail(path, 0, at + "/emissiveFactor: needs 3 numbers");
-  for (int c = 0; c < 3; ++c)
-    m.emissive[c] = static_cast<float>(in_unit(mat.emissiveFactor[static_cast<size_t>(c)], at + "/emissiveFactor/" + std::to_string(c)));
-  m.emissive_texture = textures.reference(mat.emissiveTexture, at + "/emissiveTexture", true);
-  tinygltf::TextureInfo occlusion;  // an occlusionTextureInfo: textureInfo and a strength
-  occlusion.index = mat.occlusionTexture.index;
-  occlusion.texCoord = mat.occlusionTexture.texCoord;
-  occlusion.extensions = mat.occlusionTexture.extensions;
-  m.occlusion_texture = textures.reference(occlusion, at + "/occlusionTexture", false);
-  m.occlusion_strength = static_cast<float>(in_unit(mat.occlusionTexture.strength, at + "/occlusionTexture/strength"));
-  if (mat.alphaMode == "MASK") {
-    m.alpha_mode = AlphaMode::mask;
-  } else if (mat.alphaMode == "BLEND") {
-    m.alpha_mode = AlphaMode::blend;
-  } else if (mat.alphaMode != "OPAQUE") {
-    fail(path, 0, at + "/alphaMode: '" + mat.alphaMode + "' is not OPAQUE, MASK or BLEND");
-  }
-  if (!(mat.alphaCutoff >= 0.0) || !std::isfinite(mat.alphaCutoff))
-    fail(path, 0, at + "/alphaCutoff: " + JsonReader::format_number(mat.alphaCutoff) + " must be 0 or more");
-  m.alpha_cutoff = static_cast<float>(mat.alphaCutoff);
-  auto ext = [&](const char* name) -> const tinygltf::Value* {
-    auto it = mat.extensions.find(name);
-    return it == mat.extensions.end() ? nullptr : &it->second;
-  };
-  auto number = [&](const tinygltf::Value& v, const char* extension, const char* key, double fallback) {
-    if (!v.Has(key)) return fallback;
-    const std::string pointer = at + "/extensions/" + extension + "/" + key;
-    if (!v.Get(key).IsNumber()) fail(path, 0, pointer + ": must be a number");
-    const double value = v.Get(key).GetNumberAsDouble();
-    if (!std::isfinite(value)) fail(path, 0, pointer + ": must be a finite number");
-    return value;
-  };
-  if (const auto* t = ext("KHR_materials_transmission")) {
-    const double factor = in_unit(number(*t, "KHR_materials_transmission", "transmissionFactor", 0.0),
-                                  at + "/extensions/KHR_materials_transmission/transmissionFactor");
-    m.refractor = factor > 0.0;
-    m.transmission = static_cast<float>(factor);
-    m.tint = m.albedo;  // the specification tints transmitted light with the base colour
-    m.thin = true;      // until a volume with a thickness says otherwise
-    // The specification's transmission is as rough as the surface's reflection; refraction and
-    // caustics take one roughness per object: the factor times the texture's mean (green channel).
-    m.transmission_roughness =
-        m.roughness * (m.metallic_roughness_texture.used() ? textures.mean(m.metallic_roughness_texture.texture).g : 1.0f);
-    tinygltf::TextureInfo transmission_texture;
-    if (t->Has("transmissionTexture")) {
-      const auto& info = t->Get("transmissionTexture");
-      const std::string info_at = at + "/extensions/KHR_materials_transmission/transmissionTexture";
-      if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) fail(path, 0, info_at + ": needs an integer \"index\"");
-      transmission_texture.index = info.Get("index").GetNumberAsInt();
-      if (info.Has("texCoord")) transmission_texture.texCoord = info.Get("texCoord").GetNumberAsInt();
-      if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
-        transmission_texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
-      // Per texel on exact paths; the image-space methods take the texture's mean (red channel).
-      m.transmission_factor = m.transmission;
-      m.transmission_texture = textures.reference(transmission_texture, info_at, false);
-      m.transmission *= textures.mean(m.transmission_texture.texture).r;
-    }
-  }
-  if (const auto* i = ext("KHR_materials_ior")) {
-    const double ior = number(*i, "KHR_materials_ior", "ior", 1.5);
-    if (ior < 1.0 || ior > 4.0) {
-      fail(path, 0,
-           at + "/extensions/KHR_materials_ior/ior: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
-    }
-    m.ior = static_cast<float>(ior);
-  }
-  if (const auto* e = ext("KHR_materials_emissive_strength")) {
-    const double strength = number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
-    if (strength < 0.0) fail(path, 0, at + "/extensions/KHR_materials_emissive_strength/emissiveStrength: must be 0 or more");
-    m.emissive *= static_cast<float>(strength);
-  }
-  if (const auto* d = ext("KHR_materials_dispersion")) {
-    const double dispersion = number(*d, "KHR_materials_dispersion", "dispersion", 0.0);
-    if (dispersion < 0.0) fail(path, 0, at + "/extensions/KHR_materials_dispersion/dispersion: must be 0 or more");
-    m.dispersion = static_cast<float>(dispersion);
-  }
-  if (const auto* v = ext("KHR_materials_volume")) {
-    const std::string volume = at + "/extensions/KHR_materials_volume";
-    const double thickness = number(*v, "KHR_materials_volume", "thicknessFactor", 0.0);
-    if (thickness < 0.0) fail(path, 0, volume + "/thicknessFactor: must be 0 or more");
-    m.thin = thickness == 0.0;  // the specification: a thickness of 0 is a thin wall
-    const double distance = number(*v, "KHR_materials_volume", "attenuationDistance", std::numeric_limits<double>::infinity());
-    if (!(distance > 0.0)) fail(path, 0, volume + "/attenuationDistance: must be above 0");
-    glm::dvec3 color(1.0);
-    if (v->Has("attenuationColor")) {
-      const auto& c = v->Get("attenuationColor");
-      if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, volume + "/attenuationColor: needs 3 numbers");
-      for (int k = 0; k < 3; ++k) {
-        if (!c.Get(k).IsNumber()) fail(path, 0, volume + "/attenuationColor/" + std::to_string(k) + ": must be a number");
-        color[k] = in_unit(c.Get(k).GetNumberAsDouble(), volume + "/attenuationColor/" + std::to_string(k));
-      }
-    }
-    if (std::isfinite(distance)) {
-      for (int k = 0; k < 3; ++k)
-        m.absorption[k] = static_cast<float>(-std::log(std::max(color[k], 1e-6)) / distance);  // colour reached after `distance`
-    }
-  }
-  if (m.refractor && m.base_color_texture.used()) {
-    // Per texel where a method reads the texture (docs/gltf.md); `tint` keeps the texture's mean
-    // colour times the factor for a graph whose image-space passes do not.
-    m.tint_factor = m.tint;
-    m.tint *= glm::vec3(textures.mean(m.base_color_texture.texture));
-  }
-  if (m.alpha_mode == AlphaMode::blend && !m.refractor) {
-    // BLEND: drawn as a thin wall that passes the uncovered share 1 - alpha of the light unbent,
-    // tinted by the base colour, and reflects the rest diffusely; no sorting is needed (docs/gltf.md).
-    const float coverage = m.alpha * (m.base_color_texture.used() ? textures.mean(m.base_color_texture.texture).a : 1.0f);
-    if (coverage < 1.0f) {
-      m.refractor = true;
-      m.thin = true;
-      m.ior = 1.0f;
-      m.coverage_transmits = true;
-      m.transmission = 1.0f - coverage;  // with the texture's mean coverage; per texel where a method reads the texture
-      m.tint_factor = m.albedo;
-      m.tint = m.albedo * (m.base_color_texture.used() ? glm::vec3(textures.mean(m.base_color_texture.texture)) : glm::vec3(1.0f));
-    }
-  }
-  return m;
 }
 
 // The extensions whose content caustica reads: a file that requires any other is refused.
@@ -556,7 +258,7 @@ void check_image_files(const tinygltf::Model& model, const std::string& path) {
 // primitives with their materials.
 class NodeReader {
  public:
-  NodeReader(const tinygltf::Model& model, const gltf::PreparedFile& prepared, const std::string& path, TextureTable& textures,
+  NodeReader(const tinygltf::Model& model, const gltf::PreparedFile& prepared, const std::string& path, gltf::TextureTable& textures,
              ModelFile& out)
       : model_(model), prepared_(prepared), path_(path), textures_(textures), out_(out) {}
 
@@ -655,7 +357,7 @@ class NodeReader {
       for (uint32_t i = 0; i < part.mesh.positions.size(); ++i) part.mesh.indices.push_back(i);
     }
     part.mesh.indices.resize(part.mesh.indices.size() / 3 * 3);
-    part.material = gltf_material(model_, prim.material, pointer + "/material", path_, textures_);
+    part.material = gltf::gltf_material(model_, prim.material, pointer + "/material", path_, textures_);
     read_texcoords(model_, prim, draco, part.mesh, pointer, path_);
     return part;
   }
@@ -663,7 +365,7 @@ class NodeReader {
   const tinygltf::Model& model_;
   const gltf::PreparedFile& prepared_;
   const std::string& path_;
-  TextureTable& textures_;
+  gltf::TextureTable& textures_;
   ModelFile& out_;
   std::vector<int> visiting_;  // guards against node cycles, which the spec forbids
 };
@@ -677,7 +379,7 @@ ModelFile load_gltf(const std::string& path) {
   check_image_files(model, path);
   gltf::decode_meshopt(model, prepared, path);
   ModelFile out;
-  TextureTable textures(model, path);
+  gltf::TextureTable textures(model, path);
   NodeReader reader(model, prepared, path, textures, out);
   if (model.scenes.empty()) {
     for (size_t n = 0; n < model.nodes.size(); ++n) reader.visit(static_cast<int>(n), glm::mat4(1.0f));

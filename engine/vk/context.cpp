@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "vk/pipeline.h"
@@ -145,10 +148,96 @@ RayQuerySupport ray_query_support(VkPhysicalDevice device, bool disable) {
   VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   query.pNext = &features12;
   vkGetPhysicalDeviceFeatures2(device, &query);
-  if (!ray_query.rayQuery) missing = "the rayQuery feature";
-  else if (!acceleration.accelerationStructure) missing = "the accelerationStructure feature";
-  else if (!features12.bufferDeviceAddress) missing = "the bufferDeviceAddress feature";
+  if (!ray_query.rayQuery)
+    missing = "the rayQuery feature";
+  else if (!acceleration.accelerationStructure)
+    missing = "the accelerationStructure feature";
+  else if (!features12.bufferDeviceAddress)
+    missing = "the bufferDeviceAddress feature";
   return {missing.empty(), missing};
+}
+
+// The first queue family with graphics, compute and timestamps (and its timestamp bits); none: UINT32_MAX.
+std::pair<uint32_t, uint32_t> graphics_compute_family(VkPhysicalDevice physical) {
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &family_count, families.data());
+  for (uint32_t i = 0; i < family_count; ++i) {
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0) return {i, families[i].timestampValidBits};
+  }
+  return {UINT32_MAX, 0};
+}
+
+// The features and extensions the device is created with, chained from `features` as
+// vkCreateDevice reads them; the chain points into the object, so it is neither copied nor moved.
+struct DeviceFeatures {
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceRayQueryFeaturesKHR ray_query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  bool float_atomics = false, nonuniform_textures = false;
+
+  DeviceFeatures(VkPhysicalDevice physical, bool presentation, bool ray_queries) {
+    features13.synchronization2 = VK_TRUE;
+    features13.dynamicRendering = VK_TRUE;
+    features13.maintenance4 = VK_TRUE;  // required in 1.3; glslang emits LocalSizeId for SPIR-V 1.6
+    features.pNext = &features13;
+    if (presentation) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    enable_float_atomics(physical);
+    // Scene textures are indexed by object within one draw: a non-uniform index into their array.
+    VkPhysicalDeviceVulkan12Features supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    query.pNext = &supported;
+    vkGetPhysicalDeviceFeatures2(physical, &query);
+    nonuniform_textures = supported.shaderSampledImageArrayNonUniformIndexing == VK_TRUE;
+    features12.shaderSampledImageArrayNonUniformIndexing = supported.shaderSampledImageArrayNonUniformIndexing;
+    features12.pNext = features.pNext;
+    features.pNext = &features12;
+    // Ray queries: chained in front of whatever else is enabled.
+    if (ray_queries) {
+      features12.bufferDeviceAddress = VK_TRUE;
+      acceleration.accelerationStructure = VK_TRUE;
+      ray_query.rayQuery = VK_TRUE;
+      acceleration.pNext = &ray_query;
+      ray_query.pNext = features12.pNext;
+      features12.pNext = &acceleration;
+      for (const char* name : kRayQueryExtensions) extensions.push_back(name);
+    }
+  }
+  DeviceFeatures(const DeviceFeatures&) = delete;
+  DeviceFeatures& operator=(const DeviceFeatures&) = delete;
+
+  // Float atomic adds splat photon power; passes that need them check float_atomics().
+  void enable_float_atomics(VkPhysicalDevice physical) {
+    if (!has_device_extension(physical, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME)) return;
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    query.pNext = &atomic_float;
+    vkGetPhysicalDeviceFeatures2(physical, &query);
+    float_atomics = atomic_float.shaderBufferFloat32AtomicAdd && atomic_float.shaderImageFloat32AtomicAdd;
+    if (!float_atomics) return;
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+    enable.shaderBufferFloat32AtomicAdd = VK_TRUE;
+    enable.shaderImageFloat32AtomicAdd = VK_TRUE;
+    atomic_float = enable;
+    features13.pNext = &atomic_float;
+    extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+  }
+};
+
+Context::RayTracingFunctions load_ray_tracing_functions(VkDevice device) {
+  const auto load = [&](const char* name) { return vkGetDeviceProcAddr(device, name); };
+  Context::RayTracingFunctions rt;
+  rt.create = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(load("vkCreateAccelerationStructureKHR"));
+  rt.destroy = reinterpret_cast<PFN_vkDestroyAccelerationStructureKHR>(load("vkDestroyAccelerationStructureKHR"));
+  rt.build_sizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(load("vkGetAccelerationStructureBuildSizesKHR"));
+  rt.cmd_build = reinterpret_cast<PFN_vkCmdBuildAccelerationStructuresKHR>(load("vkCmdBuildAccelerationStructuresKHR"));
+  rt.address = reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(load("vkGetAccelerationStructureDeviceAddressKHR"));
+  return rt;
 }
 
 }  // namespace
@@ -217,19 +306,7 @@ Context::Context(const ContextOptions& options)
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
   device_name_ = properties_.deviceName;
 
-  uint32_t family_count = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
-  std::vector<VkQueueFamilyProperties> families(family_count);
-  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
-  queue_family_ = UINT32_MAX;
-  for (uint32_t i = 0; i < family_count; ++i) {
-    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0) {
-      queue_family_ = i;
-      timestamp_valid_bits_ = families[i].timestampValidBits;
-      break;
-    }
-  }
+  std::tie(queue_family_, timestamp_valid_bits_) = graphics_compute_family(physical_);
   if (queue_family_ == UINT32_MAX) {
     vkDestroyInstance(instance_, nullptr);
     throw DeviceError(device_name_ + " has no graphics+compute queue with timestamps");
@@ -240,64 +317,18 @@ Context::Context(const ContextOptions& options)
   queue_info.queueFamilyIndex = queue_family_;
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
-  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  features13.synchronization2 = VK_TRUE;
-  features13.dynamicRendering = VK_TRUE;
-  features13.maintenance4 = VK_TRUE;  // required in 1.3; glslang emits LocalSizeId for SPIR-V 1.6
-  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  features.pNext = &features13;
-  std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
-  if (options.presentation) {
-    if (!has_device_extension(physical_, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) throw DeviceError(device_name_ + " cannot present to a window (no VK_KHR_swapchain)");
-    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-  }
-  // Float atomic adds splat photon power; passes that need them check float_atomics().
-  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
-  if (has_device_extension(physical_, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME)) {
-    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    query.pNext = &atomic_float;
-    vkGetPhysicalDeviceFeatures2(physical_, &query);
-    float_atomics_ = atomic_float.shaderBufferFloat32AtomicAdd && atomic_float.shaderImageFloat32AtomicAdd;
-    if (float_atomics_) {
-      VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
-      enable.shaderBufferFloat32AtomicAdd = VK_TRUE;
-      enable.shaderImageFloat32AtomicAdd = VK_TRUE;
-      atomic_float = enable;
-      features13.pNext = &atomic_float;
-      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
-    }
-  }
-  // Ray queries: chained in front of whatever else is enabled.
+  if (options.presentation && !has_device_extension(physical_, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+    throw DeviceError(device_name_ + " cannot present to a window (no VK_KHR_swapchain)");
   ray_queries_ = ray_query_support(physical_, options.disable_ray_queries);
-  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
-  VkPhysicalDeviceRayQueryFeaturesKHR ray_query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  {
-    // Scene textures are indexed by object within one draw: a non-uniform index into their array.
-    VkPhysicalDeviceVulkan12Features supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    query.pNext = &supported;
-    vkGetPhysicalDeviceFeatures2(physical_, &query);
-    nonuniform_textures_ = supported.shaderSampledImageArrayNonUniformIndexing == VK_TRUE;
-    features12.shaderSampledImageArrayNonUniformIndexing = supported.shaderSampledImageArrayNonUniformIndexing;
-  }
-  features12.pNext = features.pNext;
-  features.pNext = &features12;
-  if (ray_queries_.available) {
-    features12.bufferDeviceAddress = VK_TRUE;
-    acceleration.accelerationStructure = VK_TRUE;
-    ray_query.rayQuery = VK_TRUE;
-    acceleration.pNext = &ray_query;
-    ray_query.pNext = features12.pNext;
-    features12.pNext = &acceleration;
-    for (const char* name : kRayQueryExtensions) extensions.push_back(name);
-  }
+  const DeviceFeatures enabled(physical_, options.presentation, ray_queries_.available);
+  float_atomics_ = enabled.float_atomics;
+  nonuniform_textures_ = enabled.nonuniform_textures;
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  info.pNext = &features;
+  info.pNext = &enabled.features;
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue_info;
-  info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
-  info.ppEnabledExtensionNames = extensions.data();
+  info.enabledExtensionCount = static_cast<uint32_t>(enabled.extensions.size());
+  info.ppEnabledExtensionNames = enabled.extensions.data();
   VkResult created = vkCreateDevice(physical_, &info, nullptr, &device_);
   if (created != VK_SUCCESS) {
     vkDestroyInstance(instance_, nullptr);
@@ -309,21 +340,15 @@ Context::Context(const ContextOptions& options)
   begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
   end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
   set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
-  if (ray_queries_.available) {
-    const auto load = [&](const char* name) { return vkGetDeviceProcAddr(device_, name); };
-    rt.create = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(load("vkCreateAccelerationStructureKHR"));
-    rt.destroy = reinterpret_cast<PFN_vkDestroyAccelerationStructureKHR>(load("vkDestroyAccelerationStructureKHR"));
-    rt.build_sizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(load("vkGetAccelerationStructureBuildSizesKHR"));
-    rt.cmd_build = reinterpret_cast<PFN_vkCmdBuildAccelerationStructuresKHR>(load("vkCmdBuildAccelerationStructuresKHR"));
-    rt.address = reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(load("vkGetAccelerationStructureDeviceAddressKHR"));
-  }
+  if (ray_queries_.available) rt = load_ray_tracing_functions(device_);
 }
 
 Context::~Context() {
   pipelines_.reset();  // queues their destruction, which wait_idle() runs
   wait_idle();
   if (messenger_) {
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    auto destroy =
+        reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
     destroy(instance_, messenger_, nullptr);
   }
   if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
@@ -331,7 +356,9 @@ Context::~Context() {
   vkDestroyInstance(instance_, nullptr);
 }
 
-void Context::defer(std::function<void(VkDevice)> destroy) { pending_.push_back({submission_, std::move(destroy)}); }
+void Context::defer(std::function<void(VkDevice)> destroy) {
+  pending_.push_back({submission_, std::move(destroy)});
+}
 
 void Context::retire(uint64_t completed_submission) {
   // Destroy in reverse order of release so views die before their images and memory last.
@@ -406,7 +433,8 @@ VkImageMemoryBarrier2 image_transition(VkImage image, VkImageAspectFlags aspect,
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags2 src_stages, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stages, VkAccessFlags2 dst_access,
                    uint32_t levels) {
-  const VkImageMemoryBarrier2 barrier = image_transition(image, aspect, from, to, src_stages, src_access, dst_stages, dst_access, levels, 1);
+  const VkImageMemoryBarrier2 barrier =
+      image_transition(image, aspect, from, to, src_stages, src_access, dst_stages, dst_access, levels, 1);
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dependency.imageMemoryBarrierCount = 1;
   dependency.pImageMemoryBarriers = &barrier;
@@ -462,8 +490,8 @@ OwnedMemory Context::allocate(VkMemoryRequirements requirements, VkMemoryPropert
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkResult result = injected_fault_ == VK_ERROR_OUT_OF_DEVICE_MEMORY ? injected_fault_ : vkAllocateMemory(device_, &info, nullptr, &memory);
   if (result != VK_SUCCESS) {
-    throw DeviceError(std::string("vkAllocateMemory for ") + what + " (" + std::to_string(requirements.size) + " bytes) failed: " +
-                      result_name(result));
+    throw DeviceError(std::string("vkAllocateMemory for ") + what + " (" + std::to_string(requirements.size) +
+                      " bytes) failed: " + result_name(result));
   }
   set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, reinterpret_cast<uint64_t>(memory), what);
   return OwnedMemory(*this, memory);
