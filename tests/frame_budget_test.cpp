@@ -40,6 +40,20 @@ TEST(FrameBudget, GoesBackUpWhenTheRicherStepIsPredictedWellUnderTheBudget) {
   EXPECT_EQ(moving(budget, {45, 40}), (std::vector<Step>{kQuarter, kHalf}));
 }
 
+TEST(FrameBudget, ARaiseThatDoesNotHoldWaitsLongerBeforeTheNext) {
+  FrameBudget budget(100);
+  moving(budget, {500, 500, 300, 200, 150, 120, 90});
+  ASSERT_EQ(budget.step(), kLowered);
+  // The quarter is predicted at 2 times the lowered frame (120 / 60): at 30, up.
+  EXPECT_EQ(moving(budget, {60, 30}), (std::vector<Step>{kLowered, kQuarter}));
+  // The raise does not hold: its first judged frame is over the budget.
+  EXPECT_EQ(moving(budget, {70, 110}), (std::vector<Step>{kQuarter, kLowered}));
+  // Predicted at 2 times again (110 / 55), but the next raise waits 8 judged frames.
+  EXPECT_EQ(moving(budget, {60, 55}), (std::vector<Step>{kLowered, kLowered}));
+  EXPECT_EQ(moving(budget, std::vector<double>(8, 30)),
+            (std::vector<Step>{kLowered, kLowered, kLowered, kLowered, kLowered, kLowered, kLowered, kQuarter}));
+}
+
 TEST(FrameBudget, HoldsASteadyFrameTimeWithoutGoingUpAndDown) {
   FrameBudget budget(100);
   // Whole frames take 150 ms, half-size ones 60: going back up would cost 150 again.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "model/recovery_copy.h"
 
 namespace caustica::editor {
 
@@ -60,8 +61,18 @@ GraphEditor::GraphEditor(Viewer& viewer, GraphModel& model, std::string script) 
   viewer_.extra_ui = [this](const graph::FrameResult& frame) { draw(frame); };
   viewer_.on_key = [this](const WindowEvents::Key& key) { return on_key(key); };
   viewer_.after_frame = [this] { step_script(); };
+  // A device failure (a frame that does not finish) ends the session: the unsaved graph is kept.
+  viewer_.on_device_failure = [this] {
+    const std::string kept = write_recovery_copy(model_);
+    if (!kept.empty()) std::fprintf(stderr, "edit: the unsaved graph is kept in %s\n", kept.c_str());
+  };
   status_ = "editing " + model_.path();
   refresh();
+  if (const std::string offer = recovery_offer(model_.path()); !offer.empty()) {
+    std::fprintf(stderr, "edit: %s\n", offer.c_str());
+    status_ = offer;
+    status_is_error_ = true;
+  }
 }
 
 template <class Edit>

@@ -15,23 +15,36 @@ constexpr double kLevelMargin = 0.9;
 // A richer still level comes back only when predicted this far under the budget: the prediction
 // scales its cost measured at another load, and a move that does not hold costs a whole frame.
 constexpr double kLevelRaiseMargin = 0.7;
+// A raise whose first judged frames go over the budget again cost two new plans (on lavapipe a
+// plan's first frame at other while_moving values took 2 to 3 s on a loaded machine): the next
+// raise waits this many judged frames, twice as many after each raise that does not hold.
+constexpr size_t kHeldAfterFailedRaise = 8, kMostHeld = 64;
 }  // namespace
 
 FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale, bool can_lower) {
   const size_t before = level_;
   if (!moving || !can_scale || budget_ms_ <= 0) {
     level_ = 0;
-    going_down_ = false;
+    going_down_ = raised_ = false;
+    held_ = 0;
   } else if (!first_at_step_) {
     if (going_down_ && level_ > 0) cost_over_next_[level_ - 1] = last_at_step_ms_ > 0 ? last_at_step_ms_ / frame_ms : 0;
     going_down_ = false;
     const size_t cheapest = can_lower ? kSteps.size() - 1 : kSteps.size() - 2;
+    ++held_;
     if (frame_ms > budget_ms_ && level_ < cheapest) {
+      if (raised_) hold_ = std::min(kMostHeld, std::max(kHeldAfterFailedRaise, 2 * hold_));  // the raise did not hold
+      raised_ = false;
       ++level_;
       going_down_ = true;
-    } else if (frame_ms <= budget_ms_ && level_ > 0 && cost_over_next_[level_ - 1] > 0 &&
+      held_ = 0;
+    } else if (frame_ms <= budget_ms_ && level_ > 0 && held_ > hold_ && cost_over_next_[level_ - 1] > 0 &&
                frame_ms * cost_over_next_[level_ - 1] <= kRaiseMargin * budget_ms_) {
       --level_;
+      raised_ = true;
+      held_ = 0;
+    } else if (raised_ && held_ >= kHeldAfterFailedRaise) {
+      raised_ = false;  // the raise held
     }
     last_at_step_ms_ = frame_ms;
   }

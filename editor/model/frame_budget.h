@@ -1,6 +1,7 @@
 #pragma once
 // The viewer's frame budget while the view moves, Cycles-style: a frame over the budget lowers the
-// quality of the next, a frame well under it raises it again, and the first still frame is whole.
+// quality of the next, a frame well under it raises it again (after a raise that did not hold, only
+// once the step has held a while, longer each time), and the first still frame is whole.
 // No window and no device here, so that its rules are tested on the CPU with made-up frame times
 // (tests/frame_budget_test.cpp); the viewer feeds it the measured ones.
 #include <array>
@@ -44,6 +45,9 @@ class FrameBudget {
   std::array<double, kSteps.size()> cost_over_next_{};
   double last_at_step_ms_ = 0;  // the last representative frame time at the current step
   bool going_down_ = false;     // the step was just lowered: its first representative frame sets cost_over_next_
+  bool raised_ = false;         // the step was reached by going up, and has not held yet
+  size_t held_ = 0;             // judged frames at the current step
+  size_t hold_ = 0;             // judged frames a step is held before going up: longer after each raise that did not hold
 };
 
 // At rest, which of the graph's while_still values the viewer uses (graph::GraphParameter): a
@@ -77,7 +81,7 @@ class StillLevels {
   double budget_ms_;
   size_t levels_;
   size_t level_ = 0;
-  std::vector<double> frames_;  // the current level's last kJudged refining frames
+  std::vector<double> frames_;               // the current level's last kJudged refining frames
   double judged_ms_ = 0, predicted_ms_ = 0;  // judged: the median at the level the last move left
   // Per level: its frames' median over the next cheaper level's, the most measured after a move
   // between them (0: not yet).

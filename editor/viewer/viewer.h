@@ -32,14 +32,18 @@ struct ViewerOptions {
   // --move-frames FIRST:END: the scripted motion (--orbit, --move-light) on frames FIRST to END-1
   // only, counted from 0, so that a run can rest, move and rest again.
   uint32_t move_first = 0, move_end = UINT32_MAX;
-  bool reuse = true;             // skip passes whose dependencies are unchanged (--every-pass: off)
+  bool reuse = true;  // skip passes whose dependencies are unchanged (--every-pass: off)
   // --budget: while the camera or a light moves, a frame that took longer than this halves the
   // rendered size (down to a quarter of the window's each way) for the next, and then takes the
-  // graph parameters' "while_moving" values; a still frame is whole again. 0: off.
+  // graph parameters' "while_moving" values; whole again once at rest (--still-after). 0: off.
   double budget_ms = 100.0;
   // --still-after: once nothing has moved for this long, the graph parameters' "while_still" values
   // (where the user has not set them): the progressive graph's exact photons.
   double still_after_ms = 300.0;
+  // --frame-timeout: a frame that has not finished after this long (a shader that never ends) ends
+  // the viewer with a message naming the pass and exit code 3 (the editor first keeps the unsaved
+  // graph: editor/model/recovery_copy.h). A plan's first frame gets longer (graph::Executor::set_frame_timeout).
+  double frame_timeout_s = 5.0;
   // --set NAME=VALUE: graph parameters as if set in the panel (the while_moving and while_still
   // values leave them alone).
   std::vector<std::string> sets;
@@ -77,6 +81,9 @@ class Viewer {
   void close();
   // Called after each frame is drawn (the editor's script steps on it).
   std::function<void()> after_frame;
+  // Called when a frame fails on the device (a DeviceError: the device lost, a frame that does not
+  // finish), before the error ends run() (exit 3): the editor keeps the unsaved graph then.
+  std::function<void()> on_device_failure;
 
  private:
   class Impl;
