@@ -192,18 +192,14 @@ shared uint any_second_look;
 // counts as lost at its first exit, as with no bounce followed: where such light lands is
 // scattered, and deciding on it refined the bunny's clusters to 21% more photons for a map no
 // better than splatting it coarsely (docs/caustics.md). The traversal decides on first exits only;
-// what a followed reflection lands is output where its cluster ends (main, below).
+// what a followed reflection lands is output where its cluster ends (output_lost_cluster, below).
 bool lost_for_good(Photon ph) {
   return ph.hit && (!ph.landed || ph.followed) && !ph.bounced;
 }
 
-void main() {
-  begin_exact_jobs();  // before begin_group_totals' barrier
-  if (gl_LocalInvocationIndex == 0u) any_second_look = 0u;
-  begin_group_totals();
-  uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
-  uint clusters_here = params.level == 0u ? params.batch >> 16 : min(counts[params.level], list_capacity());
-  bool has_cluster = index < clusters_here;
+// The cluster that invocation `index` takes: at level 0 one of the start grid's, counted from the
+// batch's first; later, one the level before appended.
+uvec2 cluster_at(uint index, bool has_cluster) {
   uvec2 cluster = uvec2(0u);
   if (has_cluster && params.level == 0u) {
     uint start = (params.batch & 0xFFFFu) + index;
@@ -212,13 +208,13 @@ void main() {
     uint packed = clusters[(params.level % 2u) * list_capacity() + index];
     cluster = uvec2(packed & 0xFFFFu, packed >> 16);
   }
-  splat_rng = pcg_hash((cluster.x | cluster.y << 16) ^ pcg_hash(params.jitter ^ pcg_hash(params.level | params.band << 8)));
-  LightData light = frame.lights[params.light];
-  uint side = 64u << params.level;
-  float texel = 2.0 * light.clip.z / float(side);
-  Photon ph[4];
+  return cluster;
+}
+
 #ifdef HIERARCHICAL
-  // Skipped where no refractor is under the cluster: no photon of it is traced.
+// Skipped where no refractor is under the cluster: no photon of it is traced.
+void hierarchical_level(uvec2 cluster, bool has_cluster, uint side, float texel, LightData light) {
+  Photon ph[4];
   bool covers = has_cluster && covered(cluster);
   if (covers && params.level < params.max_level) refine(cluster);
   bool last = covers && params.level == params.max_level;
@@ -234,10 +230,103 @@ void main() {
   photon_band = params.band;
   trace_last_level(ph, cluster, side, texel, last, light);
 #endif
+}
 #else
+// What the traversal sees of a cluster's four traced photons.
+struct ClusterLook {
+  bool any_hit;
+  bool all_lost;        // lost_for_good, each
+  bool all_same_texel;  // all landed from their first exits, in one texel
+  bool all_landed;      // from their first exits
+  bool any_random;
+  vec2 low, high;  // the box around their landing points
+  vec2 middle;     // the centroid of their landing points
+};
+
+ClusterLook look_at(Photon ph[4]) {
+  ClusterLook look;
+  look.any_hit = false;
+  look.all_same_texel = true;
+  look.all_landed = true;
+  look.any_random = false;
+  look.all_lost = true;
+  look.low = vec2(1e30);
+  look.high = vec2(-1e30);
+  look.middle = vec2(0.0);
+  for (uint k = 0u; k < 4u; ++k) {
+    look.any_hit = look.any_hit || ph[k].hit;
+    bool landed_from_first_exit = ph[k].landed && !ph[k].followed;  // what the traversal decides on (lost_for_good)
+    look.all_same_texel = look.all_same_texel && landed_from_first_exit && ph[k].texel == ph[0].texel;
+    look.all_lost = look.all_lost && lost_for_good(ph[k]);
+    look.all_landed = look.all_landed && landed_from_first_exit;
+    look.any_random = look.any_random || ph[k].random;
+    look.low = min(look.low, ph[k].landing);
+    look.high = max(look.high, ph[k].landing);
+    look.middle += 0.25 * ph[k].landing;
+  }
+  return look;
+}
+
+// Converged to nothing: all four met a refractor and none reached a receiver from its first exit
+// (total internal reflection or an exit ray that leaves the light's view); their power is dropped as
+// one, but for what a followed reflection landed: one sample with no neighbours to size its
+// footprint, so splatted at the map's coarsest level. At the side paths' level (as wide as the
+// cluster's grid is coarse) the default graph flickered 0.0996 along the stability suite's moving
+// light, against the reference's own 0.064; at the coarsest, 0.0765, and the bunny's error at 512^2
+// fell from 0.291 to 0.271.
+void output_lost_cluster(Photon ph[4]) {
+  for (uint k = 0u; k < 4u; ++k) {
+    if (ph[k].followed && ph[k].landed) {
+      output_photon(ph[k], splat_level(float(1u << (params.splat_levels - 1u))));
+      continue;
+    }
+    count(ph[k].tir ? TIR : MISS);
+    add_sum(ENTERING, ph[k].entering);
+    add_sum(DROPPED, channel_mean(ph[k].power));
+    output_side_path(ph[k]);
+  }
+  count(CONVERGED);
+}
+
+void output_converged_cluster(Photon ph[4], ClusterLook look) {
+  vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
+  splat_footprint(look.middle, look.high - look.low, power);
+  for (uint k = 0u; k < 4u; ++k) output_side_path(ph[k]);
+  count(CONVERGED);
+  count(SPLATTED);
+  add_sum(FLUX, channel_mean(power));
+  add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
+}
+
+// What becomes of a traced cluster: output, dropped, or refined at the next level.
+void decide_cluster(Photon ph[4], uvec2 cluster, ClusterLook look, bool converged, bool second_look) {
+  if (second_look) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+    count(CONVERGED);
+  } else if (!look.any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
+    // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
+    // the photon spacing): look closer instead of losing it.
+    refine(cluster);
+  } else if (!look.any_hit) {
+    count_n(MISS, 4u);
+  } else if (params.level == params.max_level) {
+    uint level = footprint_level(ph);
+    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
+  } else if (params.level >= params.converge_level && look.all_lost) {
+    output_lost_cluster(ph);
+  } else if (params.level >= params.converge_level && converged) {
+    output_converged_cluster(ph, look);
+  } else {
+    refine(cluster);
+  }
+}
+
+void adaptive_level(uvec2 cluster, bool has_cluster, uint side, float texel, LightData light) {
+  Photon ph[4];
   photon_band = params.band;  // the traversal follows one band's photons
-  bool any_hit = false, all_lost = true, converged = false, second_look = false;
-  vec2 low, high, middle;
+  ClusterLook look;
+  bool converged = false, second_look = false;
   // A cluster decided before the last level (converged, or lost) by photons whose paths drew
   // random numbers (Fresnel choices, rough facets) would be biased by those very draws: all four
   // happening to land together splats its whole power, all four happening to be lost drops it
@@ -251,33 +340,18 @@ void main() {
     trace_cluster(ph, cluster, side, texel, tracing, light);
     if (tracing) {
       second_look = stream == 1u;
-      any_hit = false;
-      bool all_same_texel = true, all_landed = true, any_random = false;
-      all_lost = true;
-      low = vec2(1e30);
-      high = vec2(-1e30);
-      middle = vec2(0.0);
-      for (uint k = 0u; k < 4u; ++k) {
-        any_hit = any_hit || ph[k].hit;
-        bool landed_from_first_exit = ph[k].landed && !ph[k].followed;  // what the traversal decides on (lost_for_good)
-        all_same_texel = all_same_texel && landed_from_first_exit && ph[k].texel == ph[0].texel;
-        all_lost = all_lost && lost_for_good(ph[k]);
-        all_landed = all_landed && landed_from_first_exit;
-        any_random = any_random || ph[k].random;
-        low = min(low, ph[k].landing);
-        high = max(high, ph[k].landing);
-        middle += 0.25 * ph[k].landing;
-      }
+      look = look_at(ph);
       count_n(PROCESSED, 4u);
       count_n(PROCESSED_LEVEL, 4u);
       // The paper's test: all four in one texel. Within a texel: their landing points closer than
       // converge_spread texels on both axes, wherever the texel edges fall; a cluster that
       // straddles an edge then converges too, instead of refining to the last level.
       if (stream == 0u) {
-        converged = params.converge_spread > 0.0 ? all_landed && all(lessThan(high - low, vec2(params.converge_spread))) : all_same_texel;
+        converged = params.converge_spread > 0.0 ? look.all_landed && all(lessThan(look.high - look.low, vec2(params.converge_spread)))
+                                                 : look.all_same_texel;
         converged = converged && cells_on_refractor(cluster, side);
-        bool early = any_hit && params.level < params.max_level && params.level >= params.converge_level && (all_lost || converged);
-        tracing = early && any_random;
+        bool early = look.any_hit && params.level < params.max_level && params.level >= params.converge_level && (look.all_lost || converged);
+        tracing = early && look.any_random;
         if (tracing) atomicOr(any_second_look, 1u);
       }
     }
@@ -285,51 +359,26 @@ void main() {
     barrier();  // any_second_look is the workgroup's: all take the second look together, or none
     if (any_second_look == 0u) break;
   }
-  if (!has_cluster) {
-    // nothing to decide
-  } else if (second_look) {
-    uint level = footprint_level(ph);
-    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-    count(CONVERGED);
-  } else if (!any_hit && params.coverage_seeded != 0u && params.level < params.max_level && covered(cluster)) {
-    // All four missed, but the coverage pyramid shows a refractor between them (one smaller than
-    // the photon spacing): look closer instead of losing it.
-    refine(cluster);
-  } else if (!any_hit) {
-    count_n(MISS, 4u);
-  } else if (params.level == params.max_level) {
-    uint level = footprint_level(ph);
-    for (uint k = 0u; k < 4u; ++k) output_photon(ph[k], level);
-  } else if (params.level >= params.converge_level && all_lost) {
-    // Converged to nothing: all four met a refractor and none reached a receiver from its first
-    // exit (total internal reflection or an exit ray that leaves the light's view); their power is
-    // dropped as one, but for what a followed reflection landed: one sample with no neighbours to
-    // size its footprint, so splatted at the map's coarsest level. At the side paths' level (as
-    // wide as the cluster's grid is coarse) the default graph flickered 0.0996 along the stability
-    // suite's moving light, against the reference's own 0.064; at the coarsest, 0.0765, and the
-    // bunny's error at 512^2 fell from 0.291 to 0.271.
-    for (uint k = 0u; k < 4u; ++k) {
-      if (ph[k].followed && ph[k].landed) {
-        output_photon(ph[k], splat_level(float(1u << (params.splat_levels - 1u))));
-        continue;
-      }
-      count(ph[k].tir ? TIR : MISS);
-      add_sum(ENTERING, ph[k].entering);
-      add_sum(DROPPED, channel_mean(ph[k].power));
-      output_side_path(ph[k]);
-    }
-    count(CONVERGED);
-  } else if (params.level >= params.converge_level && converged) {
-    vec3 power = ph[0].power + ph[1].power + ph[2].power + ph[3].power;
-    splat_footprint(middle, high - low, power);
-    for (uint k = 0u; k < 4u; ++k) output_side_path(ph[k]);
-    count(CONVERGED);
-    count(SPLATTED);
-    add_sum(FLUX, channel_mean(power));
-    add_sum(ENTERING, ph[0].entering + ph[1].entering + ph[2].entering + ph[3].entering);
-  } else {
-    refine(cluster);
-  }
+  if (has_cluster) decide_cluster(ph, cluster, look, converged, second_look);
+}
+#endif
+
+void main() {
+  begin_exact_jobs();  // before begin_group_totals' barrier
+  if (gl_LocalInvocationIndex == 0u) any_second_look = 0u;
+  begin_group_totals();
+  uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
+  uint clusters_here = params.level == 0u ? params.batch >> 16 : min(counts[params.level], list_capacity());
+  bool has_cluster = index < clusters_here;
+  uvec2 cluster = cluster_at(index, has_cluster);
+  splat_rng = pcg_hash((cluster.x | cluster.y << 16) ^ pcg_hash(params.jitter ^ pcg_hash(params.level | params.band << 8)));
+  LightData light = frame.lights[params.light];
+  uint side = 64u << params.level;
+  float texel = 2.0 * light.clip.z / float(side);
+#ifdef HIERARCHICAL
+  hierarchical_level(cluster, has_cluster, side, texel, light);
+#else
+  adaptive_level(cluster, has_cluster, side, texel, light);
 #endif
   end_group_totals(7u, 8u, 3u);
 }

@@ -157,6 +157,106 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
 // lavapipe's first compile under the sanitizers).
 const uint IMAGE_SPACE_DONE = 0u, TRACE_FROM_LIGHT = 1u, TRACE_SIDE_PATH = 2u;
 
+// Through a thin wall, or a closed thin object's two, unbent: image space sees the exact path.
+uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, vec4 front, ObjectData object, float receiver,
+                      float receiver_distance, vec3 p1) {
+  float ior = band_ior(object, photon_band);
+  vec4 back = texture(back_tex, uv);
+  bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
+  float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
+  float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
+#if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
+  if (DISTANCE_MODE == DISTANCE_MATERIAL) {
+    // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
+    // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
+    // reflects is traced exactly, and the rest pass both walls in image space at full weight.
+    // Not in the adaptive traversals: there a cluster whose photons all happened to pass
+    // converges with their whole power while one that reflected refines on, which biases the
+    // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
+    uint rng = photon_rng(uv);
+    if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
+      return TRACE_FROM_LIGHT;
+    }
+    reflect_near = reflect_far = 0.0;
+  }
+#endif
+  ph.power *= (1.0 - reflect_near) * caustic_transmittance(at_front_texel(object, uv));
+  if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);  // the far wall: means
+  float roughness = transmission_roughness(object);
+  ph.random = roughness > 0.0;
+  if (roughness > 0.0) {  // scattered by each wall (at the far wall's texel here), it lands where it meets a receiver
+    uint rng = photon_rng(uv);
+    vec3 n1 = unpack_normal(front.x), n2 = unpack_normal(back.x);
+    n1 = dot(direction, n1) > 0.0 ? -n1 : n1;
+    vec3 d = through_thin(direction, microfacet_normal(n1, direction, roughness, rng), n1);
+    if (far_wall) {
+      n2 = dot(d, n2) > 0.0 ? -n2 : n2;
+      d = through_thin(d, microfacet_normal(n2, d, roughness, rng), n2);
+    }
+    vec2 landing;
+    if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS) land_on_map(ph, landing);
+    return IMAGE_SPACE_DONE;
+  }
+  // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
+  if (receiver < 1.0) land_on_map(ph, uv);
+  return IMAGE_SPACE_DONE;
+}
+
+#ifdef CAUSTICA_HYBRID
+// Whether the hybrid trusts an image-space path, and where it then lands (`landing`, on the light's
+// image plane).
+bool hybrid_trusts(TwoInterfaces path, LightData light, vec2 uv, vec4 front, out vec2 landing) {
+  // A trusted path's exit ray is traced exactly: image space sees one refractor layer, and the
+  // receiver march lands a photon only to the light map's precision.
+  bool hit;
+  vec3 ground;
+  uint reason = hybrid_exit_ray(path, front, texture(back_tex, uv), unpackHalf2x16(params.hybrid_packed).x, hit, ground);
+  if (reason != EXIT_TRUSTED) {
+    exact_count(reason == EXIT_REFRACTOR_AHEAD ? RETRACED_REFRACTOR_AHEAD : RETRACED_FIRST + reason - EXIT_TIR);
+    return false;
+  }
+  // One that lands nowhere on the map leaves the refractor where image space is least sure of it
+  // (near its outline, bent the most): re-traced, which measured better than trusting it.
+  float depth;
+  if (!hit || !project_with(light.view_proj, ground, landing, depth) || any(greaterThanEqual(landing, vec2(1.0)))) {
+    exact_count(RETRACED_NO_LANDING);
+    return false;
+  }
+  // Another refractor's bounds on the way: the estimated ray may just miss what the true one meets.
+  if (crosses_other_refractor(path.exit_point, ground, uint(front.w))) {
+    exact_count(RETRACED_FIRST + EXIT_MULTIPLE - EXIT_TIR);
+    return false;
+  }
+  return true;
+}
+
+// The Fresnel reflections that image space cannot follow (off the entry, or back inside at the
+// exit, where at n = 2.4 a fifth of the light turns) land too: the path keeps its transmitted
+// share, and one random choice picks which reflection, if any, to trace exactly with the rest of
+// the power, each with its probability times the share `hybrid_reflections` of photons that
+// trace one, and its power divided by that share (so the map's expectation stays the same).
+// Returns TRACE_SIDE_PATH with `start` and ph.side_power set when it picks one.
+uint hybrid_side_path(inout Photon ph, inout ExactStart start, TwoInterfaces path, vec3 p1, vec4 front, vec3 inside_power, uint rng) {
+  uint next = IMAGE_SPACE_DONE;
+  float share = unpackHalf2x16(params.hybrid_packed).y;
+  if (params.fresnel != 0u && share > 0.0) {
+    float reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
+    float choice = next_uniform(rng) / share;
+    if (choice < reflect_in) {
+      exact_count(EXACT_REFLECTED_OUTSIDE);
+      start = ExactStart(p1, path.entry_reflection, -1, 1u, rng);
+      ph.side_power = ph.power / share;
+      next = TRACE_SIDE_PATH;
+    } else if (choice < reflect_in + reflect_out) {
+      start = ExactStart(path.exit_point, path.exit_reflection, int(front.w), 2u, rng);
+      ph.side_power = inside_power / share;
+      next = TRACE_SIDE_PATH;
+    }
+  }
+  return next;
+}
+#endif
+
 // The image-space part of begin_photon: through the light-view refractor buffers to the receiver.
 uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin, inout ExactStart start) {
   vec4 front = texture(front_tex, uv);
@@ -179,48 +279,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   ph.hit = true;
   ph.entering = channel_mean(ph.power);
   vec3 p1 = eye + direction * front.y;
-  if (thin_walled(object)) {  // through a thin wall, or a closed thin object's two, unbent: image space sees the exact path
-    float ior = band_ior(object, photon_band);
-    vec4 back = texture(back_tex, uv);
-    bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
-    float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
-    float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
-#if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
-    if (DISTANCE_MODE == DISTANCE_MATERIAL) {
-      // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
-      // Fresnel choices are replayed (the same random numbers), a photon that one of the walls
-      // reflects is traced exactly, and the rest pass both walls in image space at full weight.
-      // Not in the adaptive traversals: there a cluster whose photons all happened to pass
-      // converges with their whole power while one that reflected refines on, which biases the
-      // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
-      uint rng = photon_rng(uv);
-      if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
-        return TRACE_FROM_LIGHT;
-      }
-      reflect_near = reflect_far = 0.0;
-    }
-#endif
-    ph.power *= (1.0 - reflect_near) * caustic_transmittance(at_front_texel(object, uv));
-    if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);  // the far wall: means
-    float roughness = transmission_roughness(object);
-    ph.random = roughness > 0.0;
-    if (roughness > 0.0) {  // scattered by each wall (at the far wall's texel here), it lands where it meets a receiver
-      uint rng = photon_rng(uv);
-      vec3 n1 = unpack_normal(front.x), n2 = unpack_normal(back.x);
-      n1 = dot(direction, n1) > 0.0 ? -n1 : n1;
-      vec3 d = through_thin(direction, microfacet_normal(n1, direction, roughness, rng), n1);
-      if (far_wall) {
-        n2 = dot(d, n2) > 0.0 ? -n2 : n2;
-        d = through_thin(d, microfacet_normal(n2, d, roughness, rng), n2);
-      }
-      vec2 landing;
-      if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS) land_on_map(ph, landing);
-      return IMAGE_SPACE_DONE;
-    }
-    // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
-    if (receiver < 1.0) land_on_map(ph, uv);
-    return IMAGE_SPACE_DONE;
-  }
+  if (thin_walled(object)) return thin_wall_photon(ph, light, uv, eye, direction, front, object, receiver, receiver_distance, p1);
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
   TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, band_ior(object, photon_band), uv,
@@ -230,30 +289,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   vec2 landing;
   bool lands = false;
 #ifdef CAUSTICA_HYBRID
-  {
-    // A trusted path's exit ray is traced exactly: image space sees one refractor layer, and the
-    // receiver march lands a photon only to the light map's precision.
-    bool hit;
-    vec3 ground;
-    uint reason = hybrid_exit_ray(path, front, texture(back_tex, uv), unpackHalf2x16(params.hybrid_packed).x, hit, ground);
-    if (reason != EXIT_TRUSTED) {
-      exact_count(reason == EXIT_REFRACTOR_AHEAD ? RETRACED_REFRACTOR_AHEAD : RETRACED_FIRST + reason - EXIT_TIR);
-      return TRACE_FROM_LIGHT;
-    }
-    // One that lands nowhere on the map leaves the refractor where image space is least sure of it
-    // (near its outline, bent the most): re-traced, which measured better than trusting it.
-    float depth;
-    if (!hit || !project_with(light.view_proj, ground, landing, depth) || any(greaterThanEqual(landing, vec2(1.0)))) {
-      exact_count(RETRACED_NO_LANDING);
-      return TRACE_FROM_LIGHT;
-    }
-    // Another refractor's bounds on the way: the estimated ray may just miss what the true one meets.
-    if (crosses_other_refractor(path.exit_point, ground, uint(front.w))) {
-      exact_count(RETRACED_FIRST + EXIT_MULTIPLE - EXIT_TIR);
-      return TRACE_FROM_LIGHT;
-    }
-    lands = true;
-  }
+  if (!hybrid_trusts(path, light, uv, front, landing)) return TRACE_FROM_LIGHT;
+  lands = true;
 #else
   // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
   // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
@@ -265,28 +302,10 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     return IMAGE_SPACE_DONE;
   }
   vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(at_front_texel(object, uv));
-  uint next = IMAGE_SPACE_DONE;
 #ifdef CAUSTICA_HYBRID
-  // The Fresnel reflections that image space cannot follow (off the entry, or back inside at the
-  // exit, where at n = 2.4 a fifth of the light turns) land too: the path keeps its transmitted
-  // share, and one random choice picks which reflection, if any, to trace exactly with the rest of
-  // the power, each with its probability times the share `hybrid_reflections` of photons that
-  // trace one, and its power divided by that share (so the map's expectation stays the same).
-  float share = unpackHalf2x16(params.hybrid_packed).y;
-  if (params.fresnel != 0u && share > 0.0) {
-    float reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
-    float choice = next_uniform(rng) / share;
-    if (choice < reflect_in) {
-      exact_count(EXACT_REFLECTED_OUTSIDE);
-      start = ExactStart(p1, path.entry_reflection, -1, 1u, rng);
-      ph.side_power = ph.power / share;
-      next = TRACE_SIDE_PATH;
-    } else if (choice < reflect_in + reflect_out) {
-      start = ExactStart(path.exit_point, path.exit_reflection, int(front.w), 2u, rng);
-      ph.side_power = inside_power / share;
-      next = TRACE_SIDE_PATH;
-    }
-  }
+  uint next = hybrid_side_path(ph, start, path, p1, front, inside_power, rng);
+#else
+  uint next = IMAGE_SPACE_DONE;
 #endif
   ph.power = inside_power;
   if (params.fresnel != 0u) ph.power *= (1.0 - path.reflectance_in) * path.transmit_out;
