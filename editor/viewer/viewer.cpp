@@ -1,10 +1,9 @@
 #include "viewer/viewer.h"
 
-#include <atomic>
-#include <csignal>
 #include <cstdlib>
 #include <thread>
 
+#include "core/interrupt.h"
 #include "viewer/viewer_impl.h"
 
 namespace caustica::editor {
@@ -17,20 +16,6 @@ const char* const kViewerKeys = R"(keys and mouse:
   F1          this help on screen                      Esc        quit (as do Ctrl-C and SIGTERM, exit code 0)
 )";
 
-namespace {
-
-std::atomic<bool> g_close_requested{false};
-void request_close(int) {
-  g_close_requested = true;
-}
-
-}  // namespace
-
-void close_viewers_on_signals() {
-  std::signal(SIGINT, request_close);
-  std::signal(SIGTERM, request_close);
-}
-
 Viewer::Impl::Impl(Viewer& owner, const ViewerOptions& o)
     : owner_(owner),
       options_(o),
@@ -40,7 +25,7 @@ Viewer::Impl::Impl(Viewer& owner, const ViewerOptions& o)
       executor_(vk_, shaders_, passes::builtin_registry()) {
   inspector_.inspected = o.inspect;
   inspector_.open = inspector_.fit_exposure = !o.inspect.empty();
-  executor_.set_frame_timeout(o.frame_timeout_s);
+  executor_.set_frame_timeout(o.frame_timeout_s, o.first_frame_timeout_s);
   VkSurfaceKHR surface = VK_NULL_HANDLE;
   vk::check(glfwCreateWindowSurface(vk_.instance(), window_.handle, nullptr, &surface), "glfwCreateWindowSurface");
   vk_.adopt_surface(surface);
@@ -77,6 +62,9 @@ Viewer::Impl::~Impl() {
 }
 
 int Viewer::Impl::run() {
+  // Ctrl-C and SIGTERM close the window as its close button does (seen between frames, or by the
+  // executor's wait for a frame, which then ends the viewer with 128 + the signal).
+  const InterruptPolling polling;
   using clock = std::chrono::steady_clock;
   auto last_check = clock::now(), last_frame = clock::now() - std::chrono::hours(1);
   continuous_ = options_.continuous;
@@ -90,7 +78,7 @@ int Viewer::Impl::run() {
       // Awake when the view comes to rest too: that frame takes the rest setting (ViewBudget).
       glfwWaitEventsTimeout(budget_.rest_pending() ? std::clamp(budget_.rest_in_s(now_s()), 0.001, 0.25) : 0.25);
     }
-    if (g_close_requested) break;
+    if (interrupt_signal() != 0) break;
     if (window_.events.any) redraw_frames_ = std::max(redraw_frames_, kFramesAfterInput);
     if (budget_.rest_pending() && budget_.rest_in_s(now_s()) == 0) redraw_frames_ = std::max(redraw_frames_, 1);
     if (clock::now() - last_check > std::chrono::milliseconds(250)) {
@@ -190,6 +178,12 @@ int Viewer::run() {
   } catch (const DeviceError&) {
     if (on_device_failure) on_device_failure();
     throw;
+  } catch (const Interrupted& e) {
+    // A signal while the device ran a frame that has not finished: as above, nothing can wait for it.
+    if (on_device_failure) on_device_failure();
+    std::fprintf(stderr, "caustica: interrupted (signal %d)\n", e.signal());
+    std::fflush(nullptr);
+    std::_Exit(128 + e.signal());
   }
 }
 std::string Viewer::use_graph(graph::GraphDesc graph) {

@@ -42,8 +42,9 @@ struct ViewerOptions {
   double still_after_ms = 300.0;
   // --frame-timeout: a frame that has not finished after this long (a shader that never ends) ends
   // the viewer with a message naming the pass and exit code 3 (the editor first keeps the unsaved
-  // graph: editor/model/recovery_copy.h). A plan's first frame gets longer (graph::Executor::set_frame_timeout).
-  double frame_timeout_s = 5.0;
+  // graph: editor/model/recovery_copy.h). A plan's first frame, whose pipelines lavapipe compiles
+  // as they first run, gets first_frame_timeout_s (the flag sets both).
+  double frame_timeout_s = 5.0, first_frame_timeout_s = 60.0;
   // --set NAME=VALUE: graph parameters as if set in the panel (the while_moving and while_still
   // values leave them alone).
   std::vector<std::string> sets;
@@ -90,7 +91,5 @@ class Viewer {
   std::unique_ptr<Impl> impl_;
 };
 
-// Ctrl-C or a termination request closes the window as its close button does.
-void close_viewers_on_signals();
 
 }  // namespace caustica::editor

@@ -11,9 +11,11 @@ namespace caustica {
 namespace {
 
 std::atomic<int> g_signal{0};
+std::atomic<int> g_polling{0};
 
 void on_interrupt(int signal) {
-  if (g_signal.exchange(signal) != 0) _exit(128 + signal);  // asked twice: whatever is stuck, end now
+  // Nobody to see it, or asked twice (whatever is stuck): end now.
+  if (g_polling.load() == 0 || g_signal.exchange(signal) != 0) _exit(128 + signal);
 }
 
 }  // namespace
@@ -29,6 +31,13 @@ int interrupt_signal() {
 
 void throw_if_interrupted() {
   if (const int signal = g_signal.load(); signal != 0) throw Interrupted(signal);
+}
+
+InterruptPolling::InterruptPolling() {
+  ++g_polling;
+}
+InterruptPolling::~InterruptPolling() {
+  --g_polling;
 }
 
 }  // namespace caustica

@@ -1,7 +1,10 @@
 #pragma once
-// Ctrl-C and termination requests for every command. The first SIGINT or SIGTERM sets a flag that
-// every wait on the device checks (the executor's frame wait), so a command ends promptly even
-// while the device runs a shader that never ends; a second one ends the process at once.
+// Ctrl-C and termination requests for every command. Where something checks for them (an
+// InterruptPolling lives: the executor's wait for a frame, the viewer's loop), the first SIGINT or
+// SIGTERM sets a flag it sees, so it ends promptly and cleanly even while the device runs a shader
+// that never ends; where nothing checks (a CPU reference, recording a frame), and on a second
+// signal, the process ends at once with 128 + the signal (outputs are written to a temporary name
+// and renamed, so none is left half-written).
 namespace caustica {
 
 void install_interrupt_handlers();
@@ -9,5 +12,14 @@ void install_interrupt_handlers();
 int interrupt_signal();
 // Throws Interrupted (core/error.h) if a signal arrived.
 void throw_if_interrupted();
+
+// While one lives, a signal is left to the code that polls interrupt_signal().
+class InterruptPolling {
+ public:
+  InterruptPolling();
+  ~InterruptPolling();
+  InterruptPolling(const InterruptPolling&) = delete;
+  InterruptPolling& operator=(const InterruptPolling&) = delete;
+};
 
 }  // namespace caustica

@@ -139,9 +139,8 @@ class Executor {
   // The passes as decided, with their timestamps (two for each, the second a dummy).
   void record_passes(VkCommandBuffer cmd, const FrameDecision& decision, std::chrono::steady_clock::time_point frame_start, FrameResult& result,
                      std::vector<std::pair<uint32_t, uint32_t>>& stamps, uint32_t& next_query);
-  void submit_and_wait(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps);
-  [[noreturn]] void throw_frame_timeout(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps,
-                                        double limit_s) const;
+  void submit_and_wait(const FrameDecision& decision);
+  [[noreturn]] void throw_frame_timeout(const FrameDecision& decision, double limit_s) const;
   void collect_counters(const FrameDecision& decision, FrameResult& result);
 
   vk::Context& vk_;

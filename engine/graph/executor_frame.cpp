@@ -102,7 +102,7 @@ FrameResult Executor::run_frame(bool read_back, FrameRequest request) {
                      VK_ACCESS_2_HOST_READ_BIT);
   vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   result.cpu_ms = ms_since(frame_start);
-  submit_and_wait(decision, stamps);
+  submit_and_wait(decision);
   vk_.retire(submission);
   carried_ = {};  // copied and handed over: the plan before can go
 
@@ -160,6 +160,10 @@ void Executor::record_passes(VkCommandBuffer cmd, const FrameDecision& decision,
       real.passes[i]->execute(context);
     }
     const uint32_t end = stamp();
+    if (runs(run)) {
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_NONE);
+      vkCmdFillBuffer(cmd, real.finished.get(), i * sizeof(uint32_t), sizeof(uint32_t), 1);
+    }
     vk_.end_label(cmd);
     stamps.emplace_back(start, end);
     result.passes.push_back(
@@ -168,7 +172,7 @@ void Executor::record_passes(VkCommandBuffer cmd, const FrameDecision& decision,
   stamps.front().second = stamp();
 }
 
-void Executor::submit_and_wait(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps) {
+void Executor::submit_and_wait(const FrameDecision& decision) {
   Realized& real = *realized_;
   VkCommandBufferSubmitInfo cmd_submit{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
   cmd_submit.commandBuffer = real.cmd;
@@ -176,39 +180,42 @@ void Executor::submit_and_wait(const FrameDecision& decision, const std::vector<
   submit.commandBufferInfoCount = 1;
   submit.pCommandBufferInfos = &cmd_submit;
   VkFence fence = real.fence.get();
+  std::memset(real.finished.mapped, 0, plan_->passes.size() * sizeof(uint32_t));
   vk::check(vkQueueSubmit2(vk_.queue(), 1, &submit, fence), "vkQueueSubmit2");
   // A lost device, a hung GPU or a shader that never ends ends the frame with an error instead of
   // waiting forever; a signal ends it at once. The wait is cut into slices to see either.
   const double limit_s = real.run.frame_index == 0 ? first_frame_timeout_s_ : frame_timeout_s_;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit_s));
   constexpr uint64_t kSliceNs = 50'000'000;
+  const InterruptPolling polling;
   VkResult waited = VK_TIMEOUT;
   while (waited == VK_TIMEOUT) {
     waited = vk_.frame_result(vkWaitForFences(vk_.device(), 1, &fence, VK_TRUE, kSliceNs));
     if (waited != VK_TIMEOUT) break;
-    throw_if_interrupted();
-    if (Clock::now() >= deadline) throw_frame_timeout(decision, stamps, limit_s);
+    if (interrupt_signal() != 0) {
+      vk_.abandon();
+      throw_if_interrupted();
+    }
+    if (Clock::now() >= deadline) throw_frame_timeout(decision, limit_s);
   }
   vk::check(waited, "vkWaitForFences");
   vk::check(vkResetFences(vk_.device(), 1, &fence), "vkResetFences");
 }
 
-void Executor::throw_frame_timeout(const FrameDecision& decision, const std::vector<std::pair<uint32_t, uint32_t>>& stamps,
-                                   double limit_s) const {
-  // The pass that was running: the first that ran whose closing timestamp is not written yet.
+void Executor::throw_frame_timeout(const FrameDecision& decision, double limit_s) const {
+  // The pass that was running: the first that ran and has not finished.
   const Realized& real = *realized_;
   std::string running = "?";
+  const auto* finished = static_cast<const uint32_t*>(real.finished.mapped);
   for (size_t i = 0; i < plan_->passes.size(); ++i) {
-    if (!runs(decision.passes[i])) continue;
-    std::array<uint64_t, 2> value_and_available{};
-    const VkResult got = vkGetQueryPoolResults(vk_.device(), real.queries.get(), stamps[i + 1].second, 1, sizeof(value_and_available),
-                                               value_and_available.data(), sizeof(value_and_available),
-                                               VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
-    if (got == VK_NOT_READY || value_and_available[1] == 0) {
+    uint32_t done = 0;
+    std::memcpy(&done, finished + i, sizeof(done));
+    if (runs(decision.passes[i]) && done == 0) {
       running = plan_->passes[i].name;
       break;
     }
   }
+  vk_.abandon();
   char seconds[32];
   std::snprintf(seconds, sizeof(seconds), "%g", limit_s);
   throw FrameTimeout("frame " + std::to_string(real.run.frame_index) + " did not finish within " + seconds + " s: pass '" + running +

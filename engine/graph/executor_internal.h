@@ -49,6 +49,10 @@ struct Executor::Realized {
   std::vector<CounterSlot> counter_slots;
   std::map<uint32_t, double> host_counters;  // by slot, set while recording this frame (PassContext::set_counter)
   vk::Buffer counters;                       // host-visible, uint32 each
+  // Host-visible, a uint32 per pass set to 1 once the pass has finished this frame: what a frame
+  // that did not finish says about where it stopped. Timestamps cannot say it: lavapipe's
+  // vkGetQueryPoolResults waits for the frame even without VK_QUERY_RESULT_WAIT_BIT.
+  vk::Buffer finished;
   vk::OwnedSampler linear;
   vk::OwnedSampler nearest;
   vk::OwnedCommandPool pool;

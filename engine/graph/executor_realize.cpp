@@ -94,6 +94,8 @@ void Executor::realize_passes_and_resources() {
   real.counters =
       vk::make_buffer(vk_, kMaxCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, host,
                       "pass counters", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  real.finished = vk::make_buffer(vk_, std::max<size_t>(1, p.passes.size()) * sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, host,
+                                  "passes finished", VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 
   for (VkFilter filter : {VK_FILTER_LINEAR, VK_FILTER_NEAREST}) {
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};

@@ -344,6 +344,7 @@ Context::Context(const ContextOptions& options)
 }
 
 Context::~Context() {
+  if (abandoned_) return;
   pipelines_.reset();  // queues their destruction, which wait_idle() runs
   wait_idle();
   if (messenger_) {
@@ -357,6 +358,7 @@ Context::~Context() {
 }
 
 void Context::defer(std::function<void(VkDevice)> destroy) {
+  if (abandoned_) return;
   pending_.push_back({submission_, std::move(destroy)});
 }
 
@@ -373,7 +375,7 @@ void Context::retire(uint64_t completed_submission) {
 }
 
 void Context::wait_idle() {
-  if (!device_) return;
+  if (!device_ || abandoned_) return;
   vkDeviceWaitIdle(device_);
   retire(submission_);
 }

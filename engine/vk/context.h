@@ -108,6 +108,10 @@ class Context {
   uint64_t begin_submission() { return ++submission_; }  // the serial of the submission being built
   void retire(uint64_t completed_submission);             // call once that submission's fence signalled
   void wait_idle();
+  // The device runs work that will not finish (a frame past its timeout, a signal during a wait):
+  // from now on nothing waits for it and nothing is destroyed (the objects may still be in use), so
+  // that the process can unwind and exit. The objects are the process's to free at exit.
+  void abandon() { abandoned_ = true; }
   // Records commands into a one-time command buffer, submits it and waits (uploads at load time).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
 
@@ -140,6 +144,7 @@ class Context {
   };
   std::vector<Pending> pending_;
   uint64_t submission_ = 0;
+  bool abandoned_ = false;
   VkResult injected_fault_ = VK_SUCCESS;
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
 

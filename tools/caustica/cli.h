@@ -43,6 +43,7 @@ struct RenderOptions {
   // --orbit: turn the camera by this much each frame and reuse the passes it does not touch, as the
   // viewer does: the interactive loop's frame times without a window (a GPU server has no display).
   float orbit_degrees = 0.0f;
+  double frame_timeout_s = 0;  // --frame-timeout; 0: graph::Executor's defaults
 };
 
 class Args {

@@ -144,6 +144,16 @@ Flag device_flag(std::string& device) {
   return text_flag("--device", "NAME", "Vulkan device whose name contains NAME (default: lavapipe)", device);
 }
 
+Flag frame_timeout_flag(double& seconds, double* first_frame_seconds, std::string default_help) {
+  return {"--frame-timeout", "S",
+          "end with exit code 3 and the name of the pass that was running when a frame has not\n"
+          "finished after S seconds (a shader that never ends); " + std::move(default_help),
+          [&seconds, first_frame_seconds](const std::string& v) {
+            seconds = parse_number("--frame-timeout", v, 0.1, 86400);
+            if (first_frame_seconds) *first_frame_seconds = seconds;
+          }};
+}
+
 Flag validate_flag(bool& validate, std::string help) {
   if (help.empty()) {
     help =

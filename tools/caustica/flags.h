@@ -50,6 +50,9 @@ Flag orbit_flag(float& degrees, std::string help);
 Flag stats_flag(std::string& stats, std::string help);
 Flag device_flag(std::string& device);
 Flag validate_flag(bool& validate, std::string help = "");
+// --frame-timeout S: every frame's limit, a plan's first included (graph::Executor::set_frame_timeout):
+// `seconds` and, where given, `first_frame_seconds`.
+Flag frame_timeout_flag(double& seconds, double* first_frame_seconds, std::string default_help);
 Flag moving_flag(bool& moving, std::string help = "");
 Flag blur_flag(double& sigma, std::string help);
 

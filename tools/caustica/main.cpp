@@ -11,6 +11,7 @@
 
 #include "cli.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/paths.h"
 #include "core/suggest.h"
 #include "io/json_document.h"
@@ -106,6 +107,7 @@ int cmd_devices(Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  install_interrupt_handlers();
   try {
     if (argc < 2) {
       Args none(argc, argv, 1);
@@ -134,6 +136,9 @@ int main(int argc, char** argv) {
                      did_you_mean(command, {"render", "trace", "validate", "graph", "graphs", "scenes", "devices", "reference", "merge",
                                             "bench", "compare", "view", "edit"}) +
                      "; see caustica --help");
+  } catch (const Interrupted& e) {
+    std::cerr << "caustica: interrupted (signal " << e.signal() << ")\n";
+    return 128 + e.signal();
   } catch (const InputError& e) {
     std::cerr << "caustica: " << e.what() << "\n";
     return 1;

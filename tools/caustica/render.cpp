@@ -79,6 +79,7 @@ FlagTable render_flags(RenderOptions& o, bool trace, std::vector<std::string>& c
             true})
       .add(device_flag(o.device))
       .add(validate_flag(o.validate))
+      .add(frame_timeout_flag(o.frame_timeout_s, nullptr, "default 120, a plan's first frame 900\n(lavapipe compiles its pipelines as they first run)"))
       .add(uint_flag("--memory-limit", "MIB", "the engine's device-memory limit for the graph (default 1536)", o.memory_limit_mib, 1,
                      1u << 20))
       .add(orbit_flag(o.orbit_degrees,
@@ -185,6 +186,7 @@ int run_render(const RenderOptions& o, bool trace) {
   shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   graph::Executor executor(vk, shaders, passes::builtin_registry());
   executor.set_scene(scene);
+  if (o.frame_timeout_s > 0) executor.set_frame_timeout(o.frame_timeout_s, o.frame_timeout_s);
   const graph::ConfigureOptions options{
       .retained = retained, .memory_limit_bytes = o.memory_limit_mib << 20, .reuse_unchanged_passes = o.orbit_degrees != 0.0f};
   configure_at_rest(o.graph, graph, declared, still, [&](const graph::GraphDesc& g) { executor.configure(g, o.width, o.height, options); });

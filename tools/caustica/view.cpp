@@ -128,6 +128,8 @@ FlagTable window_flags(RenderOptions& o, editor::ViewerOptions& v, std::string s
                       "input or every 0.25 s",
                       v.still_after_ms, 0, 60000),
           orbit_flag(v.orbit_degrees, "turn the camera about its target by DEG each frame (scripted motion, for --stats)"),
+          frame_timeout_flag(v.frame_timeout_s, &v.first_frame_timeout_s,
+                             "default 5, a plan's first frame 60; the editor first writes\nunsaved edits to FILE.recovered.json"),
           {"--move-light", "D", "move the first light by D along x each frame (scripted motion, for --stats)",
            [&v](const std::string& text) { v.move_light = static_cast<float>(parse_number("--move-light", text, -10, 10)); }},
           {"--move-frames", "A:B",
@@ -200,7 +202,6 @@ int cmd_edit(Args& args) {
   }
   if (!stand_in.empty()) std::filesystem::remove(stand_in);  // read once: the editor owns the graph from here
   editor::GraphEditor graph_editor(*viewer, model, script);
-  editor::close_viewers_on_signals();
   return viewer->run();
 }
 
@@ -222,7 +223,6 @@ int cmd_view(Args& args) {
   finish_window_options(o, v);
   v.graph_file = o.graph.empty() ? (data_dir() / kDefaultGraph).string() : o.graph;
   editor::Viewer viewer(v);
-  editor::close_viewers_on_signals();
   return viewer.run();
 }
 
