@@ -224,7 +224,7 @@ int cmd_bench_compare(Args& args) {
     owned.push_back(std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry()));
     owned.back()->set_scene(scene);
     configure_at_rest(graph_path(names[g]), graphs[g], declared[g], still[g],
-                      [&](const graph::GraphDesc& desc) { owned.back()->configure(desc, width, height); });
+                      [&, w = width, h = height](const graph::GraphDesc& desc) { owned.back()->configure(desc, w, h); });
     executors.push_back(owned.back().get());
   }
   const std::vector<Timings> t = time_interleaved(executors, frames, 2, method_passes, scene->name + ": frames");
