@@ -153,21 +153,6 @@ shader::Defines RayQueryScene::defines(shader::Defines defines) const {
   return defines;
 }
 
-std::vector<VkDescriptorType> with_ray_query_bindings(std::vector<VkDescriptorType> bindings) {
-  // Bindings below them that a pass does not use are declared as storage buffers and left unwritten.
-  bindings.resize(std::max<size_t>(bindings.size(), graph::kSceneTrianglesBinding + 1), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  bindings[graph::kSceneTlasBinding] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-  bindings[graph::kSceneTrianglesBinding] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  return bindings;
-}
-
-void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
-  const auto* acceleration = ctx.scene().built_acceleration();
-  assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
-  writer.acceleration_structure(graph::kSceneTlasBinding, acceleration->tlas())
-      .storage_buffer(graph::kSceneTrianglesBinding, acceleration->triangles());
-}
-
 void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
   if (!traced_) return;
   const auto* acceleration = ctx.scene().built_acceleration();

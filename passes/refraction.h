@@ -43,12 +43,6 @@ uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std
 // that holds it.
 std::vector<shader::MirroredMember> refraction_push_members(size_t at = 0);
 
-// For a user pass's layout (graph/user_pass_type.h numbers it): bindings 14 (the scene's top-level
-// acceleration structure) and 15 (its triangles), as shaders/scene/ray_query.glsl declares them:
-// `bindings` padded to them, and their descriptors.
-std::vector<VkDescriptorType> with_ray_query_bindings(std::vector<VkDescriptorType> bindings);
-void bind_ray_query_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
-
 // What a pass that traces exact paths needs where its parameters ask for them: the shader variant
 // (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid), which then declares the scene's
 // top-level acceleration structure (scene_tlas) and its triangles (TriangleBlock), as

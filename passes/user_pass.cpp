@@ -1,8 +1,8 @@
 // compute and fullscreen: passes whose shader, ports and parameters the graph file declares
 // (graph/user_pass_type.h). The compiler has compiled the shader and checked it against the
-// declarations; here each port is pushed at its binding, the parameters as push constants or into
-// the pass's uniform buffer at their offsets, and the shader dispatched over its port or
-// invocations, or drawn full screen.
+// declarations; here its pipeline is laid out as the shader declares, each port bound by its name
+// there, the parameters pushed as push constants or written into the pass's uniform buffer at their
+// offsets, and the shader dispatched over its port or invocations, or drawn full screen.
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -20,77 +20,56 @@
 namespace caustica::passes {
 namespace {
 
-// The scene's blocks at the first bindings of a user pass's layout, where graph/user_pass_type.h
-// places them (kUserSceneBindings: frame, vertices, objects).
-vk::DescriptorWriter user_scene_descriptors(const graph::PassContext& ctx) {
-  const auto& scene = ctx.scene();
-  return vk::DescriptorWriter().uniform_buffer(0, scene.frame()).storage_buffer(1, scene.vertices()).storage_buffer(2, scene.objects());
-}
-
 class UserPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
     decl_ = setup.pass().decl;
-    const graph::PassTypeDecl& decl = *decl_;
-    shader_ = decl.user_shader.get();
+    shader_ = decl_->user_shader.get();
     assert(shader_ && "a user pass compiled without its shader");
-    // Binding i has the type of the port there; the scene's take 0..2, and 14 and 15 where the shader
-    // traces it. Bindings the shader does not declare stay in the layout, unwritten.
-    std::vector<VkDescriptorType> bindings(shader_->scene ? graph::kUserSceneBindings : 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    if (shader_->scene) bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    if (shader_->ray_queries) bindings = with_ray_query_bindings(std::move(bindings));
-    std::vector<std::pair<uint32_t, VkFormat>> colors;
-    for (const auto& b : shader_->bindings) {
-      const graph::PortDecl& port = *decl.find_port(b.port);
-      if (port.usage == graph::PortUsage::color_attachment) {
-        colors.emplace_back(b.binding, graph::format_info(setup.resource(b.port).format).vk);
-        continue;
-      }
-      if (bindings.size() <= b.binding) bindings.resize(b.binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-      bindings[b.binding] =
-          port.kind == graph::ResourceKind::buffer
-              ? (port.usage == graph::PortUsage::uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
-              : (port.usage == graph::PortUsage::sampled ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
-    }
-    setup_counters(setup, bindings);
-    if (shader_->params_binding) {
-      if (bindings.size() <= *shader_->params_binding) bindings.resize(*shader_->params_binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-      bindings[*shader_->params_binding] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    setup_counters(setup);
+    if (shader_->params_block) {
       params_ = vk::make_buffer(setup.vk(), shader_->params_bytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                 setup.pass().name + " parameters");
     }
-    const vk::PipelineDesc layout{setup.pass().name, bindings, shader_->params_binding ? 0u : shader_->params_bytes,
-                                  shader_->scene_textures ? CAUSTICA_MAX_TEXTURES : 0u};
+    // Laid out as the shaders declare, as a built-in pass's pipeline is (vk::reflected_desc).
+    const std::string& name = setup.pass().name;
+    std::vector<shader::NamedReflection> stages{{shader_->path, &shader_->reflection}};
     if (shader_->kind == graph::UserShaderKind::compute) {
-      pipeline_ = vk::make_compute_pipeline(setup.vk(), layout, shader_->spirv);
+      pipeline_ = vk::make_compute_pipeline(
+          setup.vk(), vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, stages)), shader_->spirv);
       return;
+    }
+    const char* vertex_path = "common/fullscreen.vert";
+    const shader::ReflectedShader vertex =
+        setup.shaders().compile_reflected(vertex_path, shader_->reads_uv ? shader::Defines{{"FULLSCREEN_UV", "1"}} : shader::Defines{});
+    stages.insert(stages.begin(), {vertex_path, &vertex.reflection});
+    std::vector<std::pair<uint32_t, VkFormat>> colors;
+    for (const auto& b : shader_->bindings) {
+      if (decl_->find_port(b.port)->usage == graph::PortUsage::color_attachment)
+        colors.emplace_back(b.binding, graph::format_info(setup.resource(b.port).format).vk);
     }
     std::sort(colors.begin(), colors.end());
     std::vector<VkFormat> formats;
     for (const auto& [location, format] : colors) formats.push_back(format);
-    pipeline_ = vk::make_fullscreen_pipeline(
-        setup.vk(), layout,
-        setup.shaders().compile("common/fullscreen.vert", shader_->reads_uv ? shader::Defines{{"FULLSCREEN_UV", "1"}} : shader::Defines{}),
-        shader_->spirv, formats);
+    pipeline_ =
+        vk::make_fullscreen_pipeline(setup.vk(), vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, stages)),
+                                     vertex.spirv, shader_->spirv, formats);
   }
 
   void execute(graph::PassContext& ctx) override {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
-    vk::DescriptorWriter writer = shader_->scene ? user_scene_descriptors(ctx) : vk::DescriptorWriter();
-    if (shader_->ray_queries) bind_ray_query_scene(ctx, writer);
+    vk::DescriptorWriter writer;
+    bind_scene(ctx, writer);
     std::vector<std::pair<uint32_t, VkImageView>> colors;
     for (const auto& b : shader_->bindings) {
       const graph::PortDecl& port = *decl.find_port(b.port);
       if (port.kind == graph::ResourceKind::buffer) {
-        if (port.usage == graph::PortUsage::uniform)
-          writer.uniform_buffer(b.binding, ctx.buffer(b.port));
-        else
-          writer.storage_buffer(b.binding, ctx.buffer(b.port));
+        writer.buffer(b.name, ctx.buffer(b.port));
       } else if (port.usage == graph::PortUsage::sampled) {
-        writer.sampled_image(b.binding, ctx.view(b.port), ctx.nearest_sampler());
+        writer.image(b.name, ctx.view(b.port), ctx.nearest_sampler());
       } else if (port.usage == graph::PortUsage::storage) {
-        writer.storage_image(b.binding, ctx.view(b.port));
+        writer.image(b.name, ctx.view(b.port));
       } else {
         colors.emplace_back(b.binding, ctx.view(b.port));
       }
@@ -102,15 +81,35 @@ class UserPass final : public graph::Pass {
           cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
-      if (shader_->counts_binding) writer.storage_buffer(*shader_->counts_binding, counters_.get());
-      if (shader_->sums_binding) writer.storage_buffer(*shader_->sums_binding, counters_.get());
+      if (shader_->counts_buffer) writer.buffer(shader_->counts_buffer->name, counters_.get());
+      if (shader_->sums_buffer) writer.buffer(shader_->sums_buffer->name, counters_.get());
     }
-    if (params_.buffer) writer.uniform_buffer(*shader_->params_binding, params_.get());
+    if (params_.buffer) writer.buffer(shader_->params_block->name, params_.get());
     record(ctx, writer, colors);
     if (counters_.buffer) copy_counters(ctx);
   }
 
  private:
+  // The scene's blocks, acceleration structure and triangles, each under the shader's name for it.
+  void bind_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+    const auto& scene = ctx.scene();
+    for (const graph::UserSceneBinding& b : shader_->scene_bindings) {
+      switch (b.resource) {
+        case graph::SceneResource::frame: writer.buffer(b.name, scene.frame()); break;
+        case graph::SceneResource::vertices: writer.buffer(b.name, scene.vertices()); break;
+        case graph::SceneResource::objects: writer.buffer(b.name, scene.objects()); break;
+        case graph::SceneResource::acceleration_structure: writer.structure(b.name, traced(ctx).tlas()); break;
+        case graph::SceneResource::triangles: writer.buffer(b.name, traced(ctx).triangles()); break;
+      }
+    }
+  }
+
+  static const scene::AccelerationStructures& traced(const graph::PassContext& ctx) {
+    const auto* acceleration = ctx.scene().built_acceleration();
+    assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
+    return *acceleration;
+  }
+
   void record(graph::PassContext& ctx, const vk::DescriptorWriter& writer, std::vector<std::pair<uint32_t, VkImageView>>& colors) const {
     const graph::PassTypeDecl& decl = *decl_;
     VkCommandBuffer cmd = ctx.cmd();
@@ -153,7 +152,7 @@ class UserPass final : public graph::Pass {
   // the engine's counters after it has run: the engine's slots of a pass's counters need not be
   // consecutive, nor aligned for a descriptor's offset, and no user shader can reach the slots of
   // another pass's counters.
-  void setup_counters(graph::PassSetup& setup, std::vector<VkDescriptorType>& bindings) {
+  void setup_counters(graph::PassSetup& setup) {
     if (shader_->counters.empty()) return;
     slots_.clear();
     for (const auto& counter : shader_->counters) {
@@ -164,9 +163,6 @@ class UserPass final : public graph::Pass {
       }
       slots_.push_back(
           setup.add_counter(counter.name, counter.sum ? graph::PassSetup::CounterKind::sum : graph::PassSetup::CounterKind::count));
-    }
-    for (const auto& binding : {shader_->counts_binding, shader_->sums_binding}) {
-      if (binding && bindings.size() <= *binding) bindings.resize(*binding + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     }
     counters_ = vk::make_buffer(setup.vk(), shader_->counters.size() * sizeof(uint32_t),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,

@@ -128,7 +128,7 @@ TEST(UserPass, CompilesAsABuiltInPassDoes) {
   EXPECT_EQ(shader.params[1].name, "unused_count");
   EXPECT_EQ(shader.params[1].offset, 4u);
   EXPECT_EQ(shader.params_bytes, 8u);
-  EXPECT_FALSE(shader.params_binding);
+  EXPECT_FALSE(shader.params_block);
   ASSERT_EQ(shader.bindings.size(), 2u);
   // No scene: what it computes follows from its input and parameters, so a plan may reuse it.
   EXPECT_TRUE(scale.reusable(true));
@@ -295,8 +295,9 @@ TEST(UserPass, CountersAreCheckedAgainstTheShadersCounterBuffer) {
   ASSERT_EQ(shader.counters.size(), 2u);
   EXPECT_EQ(shader.counters[1].name, "red");
   EXPECT_TRUE(shader.counters[1].sum);
-  EXPECT_EQ(shader.counts_binding, 2u);
-  EXPECT_EQ(shader.sums_binding, 3u);
+  ASSERT_TRUE(shader.counts_buffer && shader.sums_buffer);
+  EXPECT_EQ(shader.counts_buffer->binding, 2u);
+  EXPECT_EQ(shader.sums_buffer->binding, 3u);
 
   // A sum without the float view of the buffer.
   write(dir / "count.comp", replaced(replaced(kCountingShader, "layout(binding = 3, std430) buffer Sums { float sums[]; };\n", ""),
@@ -656,7 +657,8 @@ TEST(UserPass, AUniformParameterBlockIsCheckedAsThePushConstantsAre) {
   write(dir / "scale.comp", shader);
   const Plan plan = compile_in(dir, scale_graph());  // holds the pass type, and so its shader
   const UserShader& compiled = *pass_named(plan, "scale").decl->user_shader;
-  EXPECT_EQ(compiled.params_binding, 2u);
+  ASSERT_TRUE(compiled.params_block);
+  EXPECT_EQ(compiled.params_block->binding, 2u);
   EXPECT_EQ(compiled.params_bytes, 8u);
   auto refused = [&](const std::string& text, const std::vector<std::string>& expected) {
     write(dir / "scale.comp", text);

@@ -63,6 +63,14 @@ void bench_compile() {
   }
 }
 
+// A pipeline laid out as its shaders declare, as the executor's passes are (vk::reflected_desc).
+vk::PipelineDesc declared_layout(const std::string& name,
+                                 const std::vector<std::pair<std::string, const shader::ReflectedShader*>>& stages) {
+  std::vector<shader::NamedReflection> reflections;
+  for (const auto& [path, compiled] : stages) reflections.push_back({path, &compiled->reflection});
+  return vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, reflections));
+}
+
 // The chain of bench_overhead recorded by hand: the same shaders, pipelines, push constants and
 // dispatches, images allocated one by one, barriers written out, no labels and no timestamps. It
 // is the baseline the executor's recording cost is measured against.
@@ -74,14 +82,15 @@ class HandChain {
       add_image(VK_FORMAT_R16G16B16A16_SFLOAT,
                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
     add_image(VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT);
-    pattern_ = vk::make_fullscreen_pipeline(vk, {"pattern", {}, 28}, shaders.compile("common/fullscreen.vert"),
-                                            shaders.compile("core/pattern.frag"), {VK_FORMAT_R16G16B16A16_SFLOAT});
-    blur_ = vk::make_compute_pipeline(vk, {"box_blur", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 20},
-                                      shaders.compile("core/box_blur.comp", {{"OUT_FORMAT", "rgba16f"}}));
-    tonemap_ = vk::make_compute_pipeline(
-        vk,
-        {"tonemap", {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, 16},
-        shaders.compile("core/tonemap.comp"));
+    const shader::ReflectedShader vertex = shaders.compile_reflected("common/fullscreen.vert");
+    const shader::ReflectedShader pattern = shaders.compile_reflected("core/pattern.frag");
+    const shader::ReflectedShader blur = shaders.compile_reflected("core/box_blur.comp", {{"OUT_FORMAT", "rgba16f"}});
+    const shader::ReflectedShader tonemap = shaders.compile_reflected("core/tonemap.comp");
+    pattern_ =
+        vk::make_fullscreen_pipeline(vk, declared_layout("pattern", {{"common/fullscreen.vert", &vertex}, {"core/pattern.frag", &pattern}}),
+                                     vertex.spirv, pattern.spirv, {VK_FORMAT_R16G16B16A16_SFLOAT});
+    blur_ = vk::make_compute_pipeline(vk, declared_layout("box_blur", {{"core/box_blur.comp", &blur}}), blur.spirv);
+    tonemap_ = vk::make_compute_pipeline(vk, declared_layout("tonemap", {{"core/tonemap.comp", &tonemap}}), tonemap.spirv);
     VkBufferCreateInfo buffer_info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     buffer_info.size = 1024;
     buffer_info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -151,8 +160,8 @@ class HandChain {
       const vk::Pipeline& pipeline = last ? tonemap_ : blur_;
       vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline.get());
       vk::DescriptorWriter writer;
-      writer.sampled_image(0, views_[i - 1].get(), sampler_.get()).storage_image(1, views_[i].get());
-      if (last) writer.storage_buffer(2, counters_.get());
+      writer.image("source", views_[i - 1].get(), sampler_.get()).image("target", views_[i].get());
+      if (last) writer.buffer("Counters", counters_.get());
       writer.push(vk_, cmd_, pipeline);
       const int32_t size[2] = {static_cast<int32_t>(width_), static_cast<int32_t>(height_)};
       if (last) {

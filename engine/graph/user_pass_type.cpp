@@ -33,6 +33,14 @@ BindingKind scene_binding_kind(uint32_t binding) {
                                         : BindingKind::storage_buffer;
 }
 
+SceneResource scene_resource(uint32_t binding) {
+  return binding == 0                   ? SceneResource::frame
+         : binding == 1                 ? SceneResource::vertices
+         : binding == 2                 ? SceneResource::objects
+         : binding == kSceneTlasBinding ? SceneResource::acceleration_structure
+                                        : SceneResource::triangles;
+}
+
 const char* scene_library_of(uint32_t binding) {
   return binding < kUserSceneBindings ? "shaders/scene/scene.glsl" : "shaders/scene/ray_query.glsl";
 }
@@ -161,7 +169,7 @@ class Checker {
                                       "' is not readonly: declare it readonly, or the port read_write");
     }
     if (b.kind == BindingKind::storage_image) check_format(port, b, pointer);
-    shader_.bindings.push_back({port.name, b.binding});
+    shader_.bindings.push_back({port.name, b.name, b.binding});
   }
 
   void check_format(PortDecl& port, const ReflectedBinding& b, const std::string& pointer) {
@@ -198,7 +206,7 @@ class Checker {
     }
     // Outputs of one draw cover one extent.
     if (port.extent_group.empty()) port.extent_group = "fullscreen outputs";
-    shader_.bindings.push_back({port.name, found->binding});
+    shader_.bindings.push_back({port.name, found->name, found->binding});
   }
 
   // A counter buffer: a storage buffer block whose one member is `counters` or `sums` (the names
@@ -224,22 +232,23 @@ class Checker {
     if (shader_.scene && is_scene_binding(b.binding)) {
       throw graph_.error(user_.counters_pointer, at + "counter buffer '" + b.block + "' takes " + taken_by_the_scene(b.binding));
     }
-    std::optional<uint32_t>& binding = counts ? shader_.counts_binding : shader_.sums_binding;
-    if (binding) {
+    std::optional<UserShaderBinding>& buffer = counts ? shader_.counts_buffer : shader_.sums_buffer;
+    if (buffer) {
       throw graph_.error(user_.counters_pointer, at + "a second counter buffer of " + member.name + " (binding " +
-                                                     std::to_string(b.binding) + "); the first is at binding " + std::to_string(*binding));
+                                                     std::to_string(b.binding) + "); the first is at binding " +
+                                                     std::to_string(buffer->binding));
     }
-    binding = b.binding;
+    buffer = UserShaderBinding{b.name, b.binding};
   }
 
   void check_counters() const {
     shader_.counters = user_.counters;
     const bool counts = std::any_of(user_.counters.begin(), user_.counters.end(), [](const auto& c) { return !c.sum; });
     const bool sums = std::any_of(user_.counters.begin(), user_.counters.end(), [](const auto& c) { return c.sum; });
-    const char* missing = counts && !shader_.counts_binding
+    const char* missing = counts && !shader_.counts_buffer
                               ? "layout(set = 0, binding = N) buffer Counts { uint counters[]; } for its counts"
-                          : sums && !shader_.sums_binding ? "layout(set = 0, binding = N) buffer Sums { float sums[]; } for its sums"
-                                                          : nullptr;
+                          : sums && !shader_.sums_buffer ? "layout(set = 0, binding = N) buffer Sums { float sums[]; } for its sums"
+                                                         : nullptr;
     if (missing) {
       throw graph_.error(user_.counters_pointer,
                          "pass '" + pass_.name + "' declares counters, and " + shader_.path + " declares no counter buffer " + missing);
@@ -263,6 +272,7 @@ class Checker {
       }
       // The acceleration structure, or the triangles that only its hits index.
       if (b.binding >= kUserSceneBindings) shader_.ray_queries = true;
+      shader_.scene_bindings.push_back({b.name, scene_resource(b.binding)});
       return;
     }
     if (b.kind == BindingKind::acceleration_structure) {
@@ -387,7 +397,7 @@ class Checker {
     }
     errors.throw_if_any();
     shader_.params_bytes = uniform ? uniform->size : reflection_.push_size;
-    if (uniform) shader_.params_binding = uniform->binding;
+    if (uniform) shader_.params_block = UserShaderBinding{uniform->name, uniform->binding};
   }
 
   void check_dispatch_port() const {
@@ -444,6 +454,7 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   decl->depends_on = [scene = user.scene](const nlohmann::json&) { return scene ? kDependsOnScene : 0u; };
   decl->result_source = std::move(compiled.sources);
   Checker(graph, pass, compiled.reflection, *shader, *decl).run();
+  shader->reflection = std::move(compiled.reflection);
   if (shader->ray_queries) {
     decl->uses_ray_queries = [](const nlohmann::json&) { return true; };
     decl->ray_query_alternative =

@@ -12,12 +12,23 @@
 #include <vector>
 
 #include "graph/graph_desc.h"
+#include "shader/shader_compiler.h"
 
 namespace caustica::graph {
 
-// Where a port binds in set 0 (a fragment output: its location).
+// What a port is in the shader: the name the pass binds it by (shader::ShaderInterface's: the
+// variable, or a block's instance name, its type name where it has none) and its binding in set 0
+// (a fragment output: its location, which orders the colour attachments).
 struct UserPortBinding {
   std::string port;
+  std::string name;
+  uint32_t binding = 0;
+};
+
+// A binding of the shader's own that is no port (the parameter block, a counter buffer): its name
+// as the pass binds it, and its number for messages.
+struct UserShaderBinding {
+  std::string name;
   uint32_t binding = 0;
 };
 
@@ -36,6 +47,14 @@ constexpr bool is_scene_binding(uint32_t binding) {
   return binding < kUserSceneBindings || binding == kSceneTlasBinding || binding == kSceneTrianglesBinding;
 }
 
+// What the scene gives at each of those bindings, in order: 0, 1, 2, 14, 15.
+enum class SceneResource { frame, vertices, objects, acceleration_structure, triangles };
+// A binding of the scene's that a user shader declares: under the shader's own name for it.
+struct UserSceneBinding {
+  std::string name;
+  SceneResource resource = SceneResource::frame;
+};
+
 // A uniform block of this type name in a user pass's shader, and no port of it, holds the pass's
 // parameters instead of a push-constant block (docs/shader_passes.md): for more than the 128 bytes
 // of push constants, up to kMaxParamsBlockBytes, the uniform buffer range every device allows.
@@ -52,9 +71,10 @@ struct UserShader {
   std::string path;                          // the shader file as found
   std::vector<std::filesystem::path> files;  // it and everything it includes: what a reload watches
   std::vector<uint32_t> spirv;
+  shader::Reflection reflection;          // what the pass's pipeline is laid out and bound by
   std::vector<UserPortBinding> bindings;  // one per port
   // Where the parameters go: the push-constant block, or the uniform block kParamsBlock at
-  // `params_binding` (a buffer of the pass's own, written each time it records). Each is a 4-byte
+  // `params_block` (a buffer of the pass's own, written each time it records). Each is a 4-byte
   // member at its offset in the block (a choice is the index of its value, a bool 0 or 1).
   struct ParamMember {
     std::string name;
@@ -62,8 +82,9 @@ struct UserShader {
   };
   std::vector<ParamMember> params;
   uint32_t params_bytes = 0;
-  std::optional<uint32_t> params_binding;
+  std::optional<UserShaderBinding> params_block;
   bool scene = false;
+  std::vector<UserSceneBinding> scene_bindings;  // those the shader declares
   // With the scene: whether the shader samples its textures (set 1), and whether it traces it with
   // ray queries (declares binding 14 or 15): the pass then needs a device that has them.
   bool scene_textures = false;
@@ -71,7 +92,7 @@ struct UserShader {
   // The pass's counters, in order, and where the shader declares its counter buffer: as uints
   // (a block holding `uint counters[]`) and as floats (`float sums[]`), the same buffer.
   std::vector<UserPassDesc::Counter> counters;
-  std::optional<uint32_t> counts_binding, sums_binding;
+  std::optional<UserShaderBinding> counts_buffer, sums_buffer;
   std::array<uint32_t, 3> local_size{1, 1, 1};
   // Fullscreen: the fragment shader reads kFullscreenUv, which the vertex stage then gives.
   bool reads_uv = false;

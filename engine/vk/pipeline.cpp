@@ -1,5 +1,6 @@
 #include "vk/pipeline.h"
 
+#include <cassert>
 #include <type_traits>
 
 #include "common/scene_types.h"  // CAUSTICA_MAX_TEXTURES, the size of set 1
@@ -254,33 +255,6 @@ DescriptorWriter& DescriptorWriter::structure(const std::string& name, VkAcceler
   return *this;
 }
 
-DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view, VkSampler sampler) {
-  items_.push_back({binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}, {}});
-  return *this;
-}
-
-DescriptorWriter& DescriptorWriter::storage_image(uint32_t binding, VkImageView view) {
-  items_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL}, {}});
-  return *this;
-}
-
-DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize range) {
-  items_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, {}, {buffer, offset, range}});
-  return *this;
-}
-
-DescriptorWriter& DescriptorWriter::uniform_buffer(uint32_t binding, VkBuffer buffer) {
-  items_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, {}, {buffer, 0, VK_WHOLE_SIZE}});
-  return *this;
-}
-
-DescriptorWriter& DescriptorWriter::acceleration_structure(uint32_t binding, VkAccelerationStructureKHR structure) {
-  Item item{binding, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, {}, {}};
-  item.structure = structure;
-  items_.push_back(item);
-  return *this;
-}
-
 void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) const {
   const std::vector<Item> items = resolved(pipeline);
   std::vector<VkWriteDescriptorSet> writes;
@@ -311,12 +285,10 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
 
 std::vector<DescriptorWriter::Item> DescriptorWriter::resolved(const Pipeline& pipeline) const {
   std::vector<Item> items = items_;
-  if (!pipeline.interface) return items;
+  assert(pipeline.interface && "every pipeline is laid out as its shaders declare (reflected_desc)");
   const shader::ShaderInterface& interface = *pipeline.interface;
   std::vector<size_t> written;
   for (Item& item : items) {
-    if (item.name.empty())
-      throw InputError("pass '" + interface.pass() + "' writes binding " + std::to_string(item.binding) + " by number");
     const shader::InterfaceBinding& b = interface.find(item.name, kinds_of(item.type));
     item.binding = b.binding;
     item.type = descriptor_type(b.kind);

@@ -76,11 +76,10 @@ Pipeline make_fullscreen_pipeline(Context& vk, const PipelineDesc& desc, const s
 Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std::vector<uint32_t>& vertex_spirv,
                                 const std::vector<uint32_t>& fragment_spirv, const RasterState& state);
 
-// Collects descriptor writes and pushes them in one call. A pipeline made from reflected_desc is
-// written by the names its shaders declare: push() refuses a name they do not declare, a resource
-// of another kind, and a declared binding left unwritten, naming the pass, shader and variable.
-// Numbered writes are for a pipeline whose layout the pass built itself (a user pass's, which the
-// graph compiler has checked against its shader).
+// Collects descriptor writes by the names the pipeline's shaders declare (every pipeline is laid out
+// by reflected_desc) and pushes them in one call: push() refuses a name they do not declare, a
+// resource of another kind, and a declared binding left unwritten, naming the pass, shader and
+// variable. No binding number is written by hand.
 class DescriptorWriter {
  public:
   DescriptorWriter& image(const std::string& name, VkImageView view, VkSampler sampler);  // a sampler2D
@@ -89,11 +88,6 @@ class DescriptorWriter {
   DescriptorWriter& buffer(const std::string& name, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& structure(const std::string& name, VkAccelerationStructureKHR structure);
 
-  DescriptorWriter& sampled_image(uint32_t binding, VkImageView view, VkSampler sampler);
-  DescriptorWriter& storage_image(uint32_t binding, VkImageView view);
-  DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
-  DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer);
-  DescriptorWriter& acceleration_structure(uint32_t binding, VkAccelerationStructureKHR structure);
   void push(const Context& vk, VkCommandBuffer cmd, const Pipeline& pipeline) const;
 
  private:
@@ -103,7 +97,7 @@ class DescriptorWriter {
     VkDescriptorImageInfo image;
     VkDescriptorBufferInfo buffer;
     VkAccelerationStructureKHR structure = VK_NULL_HANDLE;
-    std::string name;  // a named write's; its binding and type come from the pipeline
+    std::string name;  // its binding and type come from the pipeline's interface
   };
   Item& named(const std::string& name, VkDescriptorType type);
   // The items with their bindings: a named one's from `pipeline`'s interface, checked there.
