@@ -75,10 +75,7 @@ class AdaptiveCausticMapPass final : public graph::Pass {
   explicit AdaptiveCausticMapPass(bool hierarchical) : hierarchical_(hierarchical) {}
 
   void setup(graph::PassSetup& setup) override {
-    if (!setup.vk().float_atomics()) {
-      throw DeviceError(setup.vk().device_name() +
-                        " lacks VK_EXT_shader_atomic_float's float32 add, which adaptive_caustic_map splats with");
-    }
+    require_photon_features(setup, setup.pass().type);
     const auto& p = setup.pass().params;
     const uint32_t grid = p["grid"].get<uint32_t>();
     max_level_ = log2_exact(grid / 64);

@@ -29,11 +29,7 @@ struct PhotonPush {
 class CausticMapPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    if (!setup.vk().float_atomics()) {
-      throw DeviceError(setup.vk().device_name() +
-                        " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd "
-                        "(VK_EXT_shader_atomic_float), which caustic_map splats photons with");
-    }
+    require_photon_features(setup, "caustic_map");
     using Kind = graph::PassSetup::CounterKind;
     const char* counts[] = {"photons.processed", "photons.splatted", "photons.dropped_miss", "photons.dropped_tir",
                             "photons.processed.level0"};

@@ -92,6 +92,19 @@ std::vector<graph::PortDecl> photon_ports() {
           RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "light")};
 }
 
+void require_photon_features(const graph::PassSetup& setup, const std::string& pass_type) {
+  const vk::Context& vk = setup.vk();
+  if (!vk.float_atomics()) {
+    throw DeviceError(vk.device_name() +
+                      " lacks shaderImageFloat32AtomicAdd / shaderBufferFloat32AtomicAdd (VK_EXT_shader_atomic_float), which " + pass_type +
+                      " splats photons with");
+  }
+  if (!vk.subgroup_arithmetic()) {
+    throw DeviceError(vk.device_name() + " lacks subgroup arithmetic in compute shaders (VK_SUBGROUP_FEATURE_ARITHMETIC_BIT), which " +
+                      pass_type + " adds its counters up with");
+  }
+}
+
 vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, const ExactPaths& exact) {
   vk::DescriptorWriter writer = scene_descriptors(ctx, pipeline);
   writer.image("front_tex", ctx.view("front"), ctx.nearest_sampler())

@@ -39,6 +39,10 @@ class ExactPaths : public RayQueryScene {
 // The ports of every caustic method: the light-view refractor surfaces and receiver depth in, the
 // caustic map (flux per texel) out.
 std::vector<graph::PortDecl> photon_ports();
+
+// Refuses a device without what every photon kernel needs, naming the pass type: float atomic adds
+// (the splats and sums) and subgroup arithmetic (caustics/group_totals.glsl's counters).
+void require_photon_features(const graph::PassSetup& setup, const std::string& pass_type);
 // Scene bindings plus the photon shaders' (caustics/photon.glsl): front, back, receiver depth,
 // caustic map, counters as uint and as float, the ray-query scene where `exact` traces, and the
 // front tint where bound; for `pipeline`.

@@ -92,6 +92,7 @@ class UserPass final : public graph::Pass {
  private:
   // The scene's blocks, acceleration structure and triangles, each under the shader's name for it.
   void bind_scene(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+    if (shader_->scene_bindings.empty()) return;  // a pass without the scene may not ask for it
     const auto& scene = ctx.scene();
     for (const graph::UserSceneBinding& b : shader_->scene_bindings) {
       switch (b.resource) {

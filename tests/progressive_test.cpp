@@ -60,7 +60,7 @@ std::pair<graph::FramePart, std::vector<std::string>> run_part(graph::Executor& 
   const graph::FrameResult frame = executor.run_frame(read_back, {part, step});
   std::vector<std::string> ran;
   for (const auto& pass : frame.passes) {
-    if (pass.ran) ran.push_back(pass.name);
+    if (pass.ran()) ran.push_back(pass.name);
   }
   return {frame.part, ran};
 }
@@ -268,7 +268,7 @@ TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
     const graph::FrameResult result = engine.executor.run_frame(true);
     ran.clear();
     for (const auto& pass : result.passes) {
-      if (pass.ran) ran.insert(pass.name);
+      if (pass.ran()) ran.insert(pass.name);
     }
     return result;
   };
@@ -323,7 +323,7 @@ TEST(Progressive, RefiningAndShowingFramesApartGiveTheWholeFramesPictures) {
     const graph::FrameResult frame = apart.executor.run_frame(read_back, {part});
     std::set<std::string> ran;
     for (const auto& pass : frame.passes) {
-      if (pass.ran) ran.insert(pass.name);
+      if (pass.ran()) ran.insert(pass.name);
     }
     return std::make_pair(frame, ran);
   };
@@ -386,7 +386,7 @@ TEST(Progressive, ANewPlanCarriesOverTheResultsOfPassesItDidNotChange) {
     engine.configure(graph, width, height, {"caustics"});
     std::set<std::string> ran;
     for (const auto& pass : engine.executor.run_frame(true).passes) {
-      if (pass.ran) ran.insert(pass.name);
+      if (pass.ran()) ran.insert(pass.name);
     }
     return ran;
   };
@@ -836,7 +836,7 @@ TEST(Progressive, ACounterOfTwoPassesSumsWhatEachLastCountedWhenOneIsKept) {
   const graph::FrameResult first = e.executor.run_frame(false);
   const graph::FrameResult second = e.executor.run_frame(false);
   auto ran = [](const graph::FrameResult& frame, const std::string& name) {
-    return std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == name; })->ran;
+    return std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == name; })->ran();
   };
   ASSERT_TRUE(ran(second, "caustics"));
   ASSERT_FALSE(ran(second, "kept_caustics"));
@@ -898,8 +898,10 @@ TEST(Progressive, AStillCamerasJitteredFramesAverageToASupersampledPicture) {
   for (int f = 1; f < 16; ++f) last = e.executor.run_frame(f == 15);
   EXPECT_EQ(last.counters.at("still_mean.frames"), 16.0);
   const double one_gap = edge_gap(one), mean_gap = edge_gap(e.executor.read_image("still_mean"));
-  std::printf("sphere_plane 320x180 against 1280x720 box-filtered, on %zu edge pixel channels: the first frame %.4f, the mean of 16 jittered frames %.4f\n",
-              edges, one_gap, mean_gap);
+  std::printf(
+      "sphere_plane 320x180 against 1280x720 box-filtered, on %zu edge pixel channels: the first frame %.4f, the mean of 16 jittered "
+      "frames %.4f\n",
+      edges, one_gap, mean_gap);
   EXPECT_GT(edges, 300u);
   EXPECT_LT(mean_gap, 0.6 * one_gap);
 

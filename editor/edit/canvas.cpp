@@ -217,7 +217,7 @@ GraphEditor::Hovered GraphEditor::draw_nodes(const ScreenView& view, const graph
                         std::none_of(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return p.name == n.name; });
     const auto timing = std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == n.name; });
     std::string stats;
-    if (timing != frame.passes.end() && !timing->ran) {
+    if (timing != frame.passes.end() && !timing->ran()) {
       stats = "reused (unchanged)";
     } else if (timing != frame.passes.end()) {
       char text[64];

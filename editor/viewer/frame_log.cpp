@@ -18,7 +18,7 @@ constexpr const char* kPartNames[] = {"whole", "refine", "display"};  // graph::
 
 void FrameLog::add(double wall_ms, const graph::FrameResult& frame, const FrameSettings& settings) {
   Entry entry{wall_ms, frame.gpu_ms, frame.cpu_ms, settings, frame.converging, frame.accumulated, frame.part, {}, {}};
-  for (const auto& pass : frame.passes) (pass.ran ? entry.ran : entry.reused).push_back(pass.name);
+  for (const auto& pass : frame.passes) (pass.ran() ? entry.ran : entry.reused).push_back(pass.name);
   entries_.push_back(std::move(entry));
 }
 

@@ -24,7 +24,7 @@ void frame_panel(const graph::FrameResult& frame, const graph::Plan& plan, std::
       if (history.size() > 120) history.erase(history.begin());
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      if (p.ran) {
+      if (p.ran()) {
         ImGui::TextUnformatted(p.name.c_str());
       } else {
         ImGui::TextDisabled("%s (reused)", p.name.c_str());  // nothing it depends on changed

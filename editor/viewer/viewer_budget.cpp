@@ -33,7 +33,7 @@ void Viewer::Impl::fit_frame_budget(bool moved) {
 ViewBudget::Measured Viewer::Impl::measured(double wall_ms) const {
   ViewBudget::Measured m{
       now_s(), wall_ms, last_result_.gpu_ms, false, last_result_.part, last_result_.frame.index == 0, last_result_.accumulated, 0, {}};
-  m.rendered = std::any_of(last_result_.passes.begin(), last_result_.passes.end(), [](const auto& p) { return p.ran; });
+  m.rendered = std::any_of(last_result_.passes.begin(), last_result_.passes.end(), [](const auto& p) { return p.ran(); });
   const graph::Plan& plan = executor_.plan();
   if (!plan.refines_apart) return m;  // PlannedPass::showing numbers nothing else
   m.showing_passes = static_cast<size_t>(std::count_if(plan.passes.begin(), plan.passes.end(), [](const auto& p) { return !p.refines; }));
@@ -45,7 +45,7 @@ ViewBudget::Measured Viewer::Impl::measured(double wall_ms) const {
     // by a display, which runs at rest: it costs its barriers alone, whatever it took when it ran.
     if (plan.passes[i].reusable(plan.reuses_unchanged_passes)) {
       m.showing_ms[plan.passes[i].showing] = 0.0;
-    } else if (last_result_.passes[i].ran) {
+    } else if (last_result_.passes[i].ran()) {
       m.showing_ms[plan.passes[i].showing] = last_result_.passes[i].gpu_ms;
     }
   }

@@ -90,8 +90,11 @@ void Viewer::Impl::configure(bool showing_passes_kept, bool picture_may_stand) {
   const ViewBudget::Setting& setting = budget_.setting();
   for (auto& p : graph.parameters) {
     if (setting.step.lowered && p.while_moving) p.value = *p.while_moving;
-    if (setting.still_values && !p.while_still.empty() && !session_.edits.count(p.decl.name))
-      p.value = p.while_still[std::min(setting.still_level, p.while_still.size() - 1)];
+  }
+  if (setting.still_values) {
+    std::set<std::string> edited;  // the user's values stand at rest
+    for (const auto& [name, value] : session_.edits) edited.insert(name);
+    graph::apply_still_values(graph, edited, setting.still_level);
   }
   try {
     executor_.configure(graph, size.width, size.height, configure);

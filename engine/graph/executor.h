@@ -25,10 +25,10 @@ struct PassTiming {
   double cpu_ms = 0;
   double gpu_start_ms = 0;  // from the frame's first timestamp
   double cpu_start_ms = 0;  // from the start of recording
-  // What the run policy decided for it, and why (run_policy.h); `ran`: runs(run). A skipped pass
-  // had its barriers recorded, its work not.
+  // What the run policy decided for it, and why (run_policy.h). A skipped pass had its barriers
+  // recorded, its work not.
   PassRun run = PassRun::start_over;
-  bool ran = true;
+  bool ran() const { return runs(run); }
 };
 
 // An output or retained image as the last frame left it, for commands recorded after the frame in
@@ -137,8 +137,8 @@ class Executor {
   // executor_frame.cpp: a frame's steps.
   std::optional<SceneKeys> scene_keys() const;
   // The passes as decided, with their timestamps (two for each, the second a dummy).
-  void record_passes(VkCommandBuffer cmd, const FrameDecision& decision, std::chrono::steady_clock::time_point frame_start, FrameResult& result,
-                     std::vector<std::pair<uint32_t, uint32_t>>& stamps, uint32_t& next_query);
+  void record_passes(VkCommandBuffer cmd, const FrameDecision& decision, std::chrono::steady_clock::time_point frame_start,
+                     FrameResult& result, std::vector<std::pair<uint32_t, uint32_t>>& stamps, uint32_t& next_query);
   void submit_and_wait(const FrameDecision& decision);
   [[noreturn]] void throw_frame_timeout(const FrameDecision& decision, double limit_s) const;
   void collect_counters(const FrameDecision& decision, FrameResult& result);

@@ -89,7 +89,8 @@ FrameResult Executor::run_frame(bool read_back, FrameRequest request) {
   if (real.run.frame_index == 0) {
     std::vector<PlannedBarrier> kept = kept_images_to_final_layouts(p);
     std::erase_if(kept, [&](const PlannedBarrier& b) {
-      return std::any_of(carried_.images.begin(), carried_.images.end(), [&](const ImageMove& m) { return m.handed && m.to == b.resource; });
+      return std::any_of(carried_.images.begin(), carried_.images.end(),
+                         [&](const ImageMove& m) { return m.handed && m.to == b.resource; });
     });
     record_barriers(cmd, kept);
     record_carried(cmd);
@@ -161,13 +162,14 @@ void Executor::record_passes(VkCommandBuffer cmd, const FrameDecision& decision,
     }
     const uint32_t end = stamp();
     if (runs(run)) {
-      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_NONE);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                         VK_ACCESS_2_NONE);
       vkCmdFillBuffer(cmd, real.finished.get(), i * sizeof(uint32_t), sizeof(uint32_t), 1);
     }
     vk_.end_label(cmd);
     stamps.emplace_back(start, end);
     result.passes.push_back(
-        {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count(), run, runs(run)});
+        {pass.name, 0, ms_since(pass_start), 0, std::chrono::duration<double, std::milli>(pass_start - frame_start).count(), run});
   }
   stamps.front().second = stamp();
 }

@@ -45,7 +45,7 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
     for (size_t f = first; f < run.frames.size(); ++f) {
       gpu.push_back(run.frames[f].passes[p].gpu_ms);
       cpu.push_back(run.frames[f].passes[p].cpu_ms);
-      frames_run += run.frames[f].passes[p].ran ? 1 : 0;
+      frames_run += run.frames[f].passes[p].ran() ? 1 : 0;
     }
     out["passes"].push_back({{"name", plan.passes[p].name},
                              {"type", plan.passes[p].type},
@@ -90,17 +90,37 @@ nlohmann::json chrome_trace_json(const Plan& plan, const RunRecord& run) {
     const FrameResult& frame = run.frames[f];
     // The GPU track starts each frame where its recording started; lavapipe has no shared clock.
     const double base_us = run.frame_start_ms[f] * 1000.0;
-    events.push_back({{"name", "frame " + std::to_string(f)}, {"ph", "X"}, {"pid", kPid}, {"tid", kGpu}, {"ts", base_us},
-                      {"dur", frame.gpu_ms * 1000.0}, {"args", {{"frame", f}}}});
-    events.push_back({{"name", "frame " + std::to_string(f)}, {"ph", "X"}, {"pid", kPid}, {"tid", kCpu}, {"ts", base_us},
-                      {"dur", frame.cpu_ms * 1000.0}, {"args", {{"frame", f}}}});
+    events.push_back({{"name", "frame " + std::to_string(f)},
+                      {"ph", "X"},
+                      {"pid", kPid},
+                      {"tid", kGpu},
+                      {"ts", base_us},
+                      {"dur", frame.gpu_ms * 1000.0},
+                      {"args", {{"frame", f}}}});
+    events.push_back({{"name", "frame " + std::to_string(f)},
+                      {"ph", "X"},
+                      {"pid", kPid},
+                      {"tid", kCpu},
+                      {"ts", base_us},
+                      {"dur", frame.cpu_ms * 1000.0},
+                      {"args", {{"frame", f}}}});
     for (size_t p = 0; p < frame.passes.size(); ++p) {
       const PassTiming& t = frame.passes[p];
       json args = {{"type", plan.passes[p].type}, {"frame", f}};
-      events.push_back({{"name", t.name}, {"ph", "X"}, {"pid", kPid}, {"tid", kGpu}, {"ts", base_us + t.gpu_start_ms * 1000.0},
-                        {"dur", t.gpu_ms * 1000.0}, {"args", args}});
-      events.push_back({{"name", t.name}, {"ph", "X"}, {"pid", kPid}, {"tid", kCpu}, {"ts", base_us + t.cpu_start_ms * 1000.0},
-                        {"dur", t.cpu_ms * 1000.0}, {"args", args}});
+      events.push_back({{"name", t.name},
+                        {"ph", "X"},
+                        {"pid", kPid},
+                        {"tid", kGpu},
+                        {"ts", base_us + t.gpu_start_ms * 1000.0},
+                        {"dur", t.gpu_ms * 1000.0},
+                        {"args", args}});
+      events.push_back({{"name", t.name},
+                        {"ph", "X"},
+                        {"pid", kPid},
+                        {"tid", kCpu},
+                        {"ts", base_us + t.cpu_start_ms * 1000.0},
+                        {"dur", t.cpu_ms * 1000.0},
+                        {"args", args}});
     }
     for (const auto& [name, value] : frame.counters) {
       events.push_back({{"name", name}, {"ph", "C"}, {"pid", kPid}, {"ts", base_us}, {"args", {{"value", counter_value(value)}}}});

@@ -229,6 +229,15 @@ struct DeviceFeatures {
   }
 };
 
+bool has_subgroup_arithmetic(VkPhysicalDevice physical) {
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(physical, &properties);
+  const VkSubgroupFeatureFlags needed = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  return (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (subgroup.supportedOperations & needed) == needed;
+}
+
 Context::RayTracingFunctions load_ray_tracing_functions(VkDevice device) {
   const auto load = [&](const char* name) { return vkGetDeviceProcAddr(device, name); };
   Context::RayTracingFunctions rt;
@@ -304,6 +313,7 @@ Context::Context(const ContextOptions& options)
   }
   vkGetPhysicalDeviceProperties(physical_, &properties_);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
+  subgroup_arithmetic_ = has_subgroup_arithmetic(physical_);
   device_name_ = properties_.deviceName;
 
   std::tie(queue_family_, timestamp_valid_bits_) = graphics_compute_family(physical_);

@@ -17,8 +17,8 @@ namespace caustica::vk {
 class PipelineCache;
 
 struct ContextOptions {
-  std::string device_name;  // substring of the device name; empty picks lavapipe, else the first 1.3 device
-  bool validation = false;  // Khronos validation with synchronization validation
+  std::string device_name;        // substring of the device name; empty picks lavapipe, else the first 1.3 device
+  bool validation = false;        // Khronos validation with synchronization validation
   bool quiet_validation = false;  // count messages without printing them
   // Fault injection for tests of the error paths, which lavapipe cannot be made to take:
   // VK_ERROR_DEVICE_LOST replaces the result of every frame's fence wait, and
@@ -72,6 +72,9 @@ class Context {
   uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // VK_EXT_shader_atomic_float's buffer and image float32 add (lavapipe and most GPUs have them).
   bool float_atomics() const { return float_atomics_; }
+  // Subgroup arithmetic in compute shaders (Vulkan 1.1's optional KHR_shader_subgroup_arithmetic;
+  // lavapipe and desktop GPUs have it): the photon kernels add their counters up by subgroup.
+  bool subgroup_arithmetic() const { return subgroup_arithmetic_; }
   // shaderSampledImageArrayNonUniformIndexing (lavapipe and desktop GPUs have it): scene textures.
   bool nonuniform_textures() const { return nonuniform_textures_; }
   // VK_KHR_acceleration_structure + VK_KHR_ray_query, enabled (see RayQuerySupport).
@@ -106,7 +109,7 @@ class Context {
   // Deferred destruction: queued destroys run after the GPU finished everything submitted so far.
   void defer(std::function<void(VkDevice)> destroy);
   uint64_t begin_submission() { return ++submission_; }  // the serial of the submission being built
-  void retire(uint64_t completed_submission);             // call once that submission's fence signalled
+  void retire(uint64_t completed_submission);            // call once that submission's fence signalled
   void wait_idle();
   // The device runs work that will not finish (a frame past its timeout, a signal during a wait):
   // from now on nothing waits for it and nothing is destroyed (the objects may still be in use), so
@@ -128,6 +131,7 @@ class Context {
   uint32_t timestamp_valid_bits_ = 0;
   bool float_atomics_ = false;
   bool nonuniform_textures_ = false;
+  bool subgroup_arithmetic_ = false;
   RayQuerySupport ray_queries_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_properties_{};
@@ -148,8 +152,7 @@ class Context {
   VkResult injected_fault_ = VK_SUCCESS;
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
 
-  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                                   VkDebugUtilsMessageTypeFlagsEXT types,
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
                                                    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
 };
 

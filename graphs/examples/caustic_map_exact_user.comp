@@ -70,7 +70,7 @@ void trace_and_splat(uvec2 id, bool in_grid, LightData light) {
 }
 
 void main() {
-  begin_exact_jobs();  // before begin_group_totals' barrier
+  begin_exact_jobs();
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));

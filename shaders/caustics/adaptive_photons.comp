@@ -180,7 +180,9 @@ void trace_last_level(inout Photon ph[4], uvec2 cluster, uint side, float texel,
   }
 }
 
+#ifdef CAUSTICA_RAY_QUERY
 shared uint any_second_look;
+#endif
 
 // A cluster whose four photons all met a refractor and none landed ends there, dropped (the
 // paper's rule, for total internal reflection in image space), unless a photon's exact path
@@ -352,20 +354,28 @@ void adaptive_level(uvec2 cluster, bool has_cluster, uint side, float texel, Lig
         converged = converged && cells_on_refractor(cluster, side);
         bool early = look.any_hit && params.level < params.max_level && params.level >= params.converge_level && (look.all_lost || converged);
         tracing = early && look.any_random;
+#ifdef CAUSTICA_RAY_QUERY
         if (tracing) atomicOr(any_second_look, 1u);
+#endif
       }
     }
     if (stream == 1u) break;
-    barrier();  // any_second_look is the workgroup's: all take the second look together, or none
+#ifdef CAUSTICA_RAY_QUERY
+    barrier();  // finish_photon's barriers: the workgroup takes the second look together, or none does
     if (any_second_look == 0u) break;
+#else
+    if (!tracing) break;  // image space alone: each invocation its own
+#endif
   }
   if (has_cluster) decide_cluster(ph, cluster, look, converged, second_look);
 }
 #endif
 
 void main() {
-  begin_exact_jobs();  // before begin_group_totals' barrier
+#ifdef CAUSTICA_RAY_QUERY
   if (gl_LocalInvocationIndex == 0u) any_second_look = 0u;
+#endif
+  begin_exact_jobs();
   begin_group_totals();
   uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * GROUP + gl_LocalInvocationID.x;
   uint clusters_here = params.level == 0u ? params.batch >> 16 : min(counts[params.level], list_capacity());

@@ -385,10 +385,12 @@ shared uint exact_job_count[2];
 uint exact_job_parity = 0u;
 #endif
 
-// Zeroes the queue's counts: the kernel calls it before its first barrier.
+// Zeroes the queue's counts, and with them what else the kernel zeroed in shared memory before it,
+// for the whole workgroup (a barrier where the kernel traces exact paths; nothing otherwise).
 void begin_exact_jobs() {
 #ifdef CAUSTICA_RAY_QUERY
   if (gl_LocalInvocationIndex < 2u) exact_job_count[gl_LocalInvocationIndex] = 0u;
+  barrier();
 #endif
 }
 

@@ -89,7 +89,7 @@ bool trace_and_splat(uvec2 id, bool in_grid, bool tracing, LightData light) {
 }
 
 void main() {
-  begin_exact_jobs();  // before begin_group_totals' barrier
+  begin_exact_jobs();
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy * params.slice_side + params.slice_offset;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));
