@@ -35,8 +35,7 @@ class UserPass final : public graph::Pass {
     const std::string& name = setup.pass().name;
     std::vector<shader::NamedReflection> stages{{shader_->path, &shader_->reflection}};
     if (shader_->kind == graph::UserShaderKind::compute) {
-      pipeline_ = vk::make_compute_pipeline(
-          setup.vk(), vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, stages)), shader_->spirv);
+      pipeline_ = vk::make_compute_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), shader_->spirv);
       return;
     }
     const char* vertex_path = "common/fullscreen.vert";
@@ -51,9 +50,7 @@ class UserPass final : public graph::Pass {
     std::sort(colors.begin(), colors.end());
     std::vector<VkFormat> formats;
     for (const auto& [location, format] : colors) formats.push_back(format);
-    pipeline_ =
-        vk::make_fullscreen_pipeline(setup.vk(), vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, stages)),
-                                     vertex.spirv, shader_->spirv, formats);
+    pipeline_ = vk::make_fullscreen_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), vertex.spirv, shader_->spirv, formats);
   }
 
   void execute(graph::PassContext& ctx) override {

@@ -63,14 +63,6 @@ void bench_compile() {
   }
 }
 
-// A pipeline laid out as its shaders declare, as the executor's passes are (vk::reflected_desc).
-vk::PipelineDesc declared_layout(const std::string& name,
-                                 const std::vector<std::pair<std::string, const shader::ReflectedShader*>>& stages) {
-  std::vector<shader::NamedReflection> reflections;
-  for (const auto& [path, compiled] : stages) reflections.push_back({path, &compiled->reflection});
-  return vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(name, reflections));
-}
-
 // The chain of bench_overhead recorded by hand: the same shaders, pipelines, push constants and
 // dispatches, images allocated one by one, barriers written out, no labels and no timestamps. It
 // is the baseline the executor's recording cost is measured against.
@@ -86,11 +78,15 @@ class HandChain {
     const shader::ReflectedShader pattern = shaders.compile_reflected("core/pattern.frag");
     const shader::ReflectedShader blur = shaders.compile_reflected("core/box_blur.comp", {{"OUT_FORMAT", "rgba16f"}});
     const shader::ReflectedShader tonemap = shaders.compile_reflected("core/tonemap.comp");
-    pattern_ =
-        vk::make_fullscreen_pipeline(vk, declared_layout("pattern", {{"common/fullscreen.vert", &vertex}, {"core/pattern.frag", &pattern}}),
-                                     vertex.spirv, pattern.spirv, {VK_FORMAT_R16G16B16A16_SFLOAT});
-    blur_ = vk::make_compute_pipeline(vk, declared_layout("box_blur", {{"core/box_blur.comp", &blur}}), blur.spirv);
-    tonemap_ = vk::make_compute_pipeline(vk, declared_layout("tonemap", {{"core/tonemap.comp", &tonemap}}), tonemap.spirv);
+    pattern_ = vk::make_fullscreen_pipeline(
+        vk,
+        vk::reflected_desc("pattern", "pattern",
+                           {{"common/fullscreen.vert", &vertex.reflection}, {"core/pattern.frag", &pattern.reflection}}),
+        vertex.spirv, pattern.spirv, {VK_FORMAT_R16G16B16A16_SFLOAT});
+    blur_ =
+        vk::make_compute_pipeline(vk, vk::reflected_desc("box_blur", "box_blur", {{"core/box_blur.comp", &blur.reflection}}), blur.spirv);
+    tonemap_ = vk::make_compute_pipeline(vk, vk::reflected_desc("tonemap", "tonemap", {{"core/tonemap.comp", &tonemap.reflection}}),
+                                         tonemap.spirv);
     VkBufferCreateInfo buffer_info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     buffer_info.size = 1024;
     buffer_info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;

@@ -40,7 +40,7 @@ vk::PipelineDesc PassSetup::shared_layout(const std::string& name, const std::ve
   for (const ShaderFile& shader : shaders) compiled.push_back(this->shaders().compile_reflected(shader.path, shader.defines));
   std::vector<shader::NamedReflection> reflections;
   for (size_t i = 0; i < shaders.size(); ++i) reflections.push_back({shaders[i].path, &compiled[i].reflection});
-  return vk::reflected_desc(name, std::make_shared<const shader::ShaderInterface>(pass_.name, reflections));
+  return vk::reflected_desc(name, pass_.name, reflections);
 }
 vk::Pipeline PassSetup::compute_pipeline(const vk::PipelineDesc& layout, const ShaderFile& shader) {
   return vk::make_compute_pipeline(vk(), layout, shaders().compile(shader.path, shader.defines));
@@ -49,9 +49,8 @@ vk::Pipeline PassSetup::graphics_pipeline(const std::string& name, const ShaderF
                                           const vk::RasterState& state) {
   const shader::ReflectedShader v = shaders().compile_reflected(vertex.path, vertex.defines);
   const shader::ReflectedShader f = shaders().compile_reflected(fragment.path, fragment.defines);
-  auto interface = std::make_shared<const shader::ShaderInterface>(
-      pass_.name, std::vector<shader::NamedReflection>{{vertex.path, &v.reflection}, {fragment.path, &f.reflection}});
-  return vk::make_graphics_pipeline(vk(), vk::reflected_desc(name, std::move(interface)), v.spirv, f.spirv, state);
+  return vk::make_graphics_pipeline(
+      vk(), vk::reflected_desc(name, pass_.name, {{vertex.path, &v.reflection}, {fragment.path, &f.reflection}}), v.spirv, f.spirv, state);
 }
 
 vk::Context& PassContext::vk() const {

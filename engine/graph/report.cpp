@@ -86,41 +86,22 @@ nlohmann::json chrome_trace_json(const Plan& plan, const RunRecord& run) {
   events.push_back({{"name", "process_name"}, {"ph", "M"}, {"pid", kPid}, {"args", {{"name", "caustica: " + plan.graph_name}}}});
   events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", kPid}, {"tid", kGpu}, {"args", {{"name", "GPU (" + run.device + ")"}}}});
   events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", kPid}, {"tid", kCpu}, {"args", {{"name", "CPU recording"}}}});
+  // A span on a track: Chrome's "complete" event, times in microseconds.
+  const auto complete = [&](const std::string& name, int track, double start_us, double ms, const json& args) {
+    events.push_back({{"name", name}, {"ph", "X"}, {"pid", kPid}, {"tid", track}, {"ts", start_us}, {"dur", ms * 1000.0}, {"args", args}});
+  };
   for (size_t f = 0; f < run.frames.size(); ++f) {
     const FrameResult& frame = run.frames[f];
     // The GPU track starts each frame where its recording started; lavapipe has no shared clock.
     const double base_us = run.frame_start_ms[f] * 1000.0;
-    events.push_back({{"name", "frame " + std::to_string(f)},
-                      {"ph", "X"},
-                      {"pid", kPid},
-                      {"tid", kGpu},
-                      {"ts", base_us},
-                      {"dur", frame.gpu_ms * 1000.0},
-                      {"args", {{"frame", f}}}});
-    events.push_back({{"name", "frame " + std::to_string(f)},
-                      {"ph", "X"},
-                      {"pid", kPid},
-                      {"tid", kCpu},
-                      {"ts", base_us},
-                      {"dur", frame.cpu_ms * 1000.0},
-                      {"args", {{"frame", f}}}});
+    const std::string frame_name = "frame " + std::to_string(f);
+    complete(frame_name, kGpu, base_us, frame.gpu_ms, {{"frame", f}});
+    complete(frame_name, kCpu, base_us, frame.cpu_ms, {{"frame", f}});
     for (size_t p = 0; p < frame.passes.size(); ++p) {
       const PassTiming& t = frame.passes[p];
-      json args = {{"type", plan.passes[p].type}, {"frame", f}};
-      events.push_back({{"name", t.name},
-                        {"ph", "X"},
-                        {"pid", kPid},
-                        {"tid", kGpu},
-                        {"ts", base_us + t.gpu_start_ms * 1000.0},
-                        {"dur", t.gpu_ms * 1000.0},
-                        {"args", args}});
-      events.push_back({{"name", t.name},
-                        {"ph", "X"},
-                        {"pid", kPid},
-                        {"tid", kCpu},
-                        {"ts", base_us + t.cpu_start_ms * 1000.0},
-                        {"dur", t.cpu_ms * 1000.0},
-                        {"args", args}});
+      const json args = {{"type", plan.passes[p].type}, {"frame", f}};
+      complete(t.name, kGpu, base_us + t.gpu_start_ms * 1000.0, t.gpu_ms, args);
+      complete(t.name, kCpu, base_us + t.cpu_start_ms * 1000.0, t.cpu_ms, args);
     }
     for (const auto& [name, value] : frame.counters) {
       events.push_back({{"name", name}, {"ph", "C"}, {"pid", kPid}, {"ts", base_us}, {"args", {{"value", counter_value(value)}}}});

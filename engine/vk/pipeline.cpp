@@ -118,6 +118,10 @@ PipelineDesc reflected_desc(std::string name, std::shared_ptr<const shader::Shad
   return desc;
 }
 
+PipelineDesc reflected_desc(std::string name, std::string pass, const std::vector<shader::NamedReflection>& shaders) {
+  return reflected_desc(std::move(name), std::make_shared<const shader::ShaderInterface>(std::move(pass), shaders));
+}
+
 OwnedSetLayout texture_array_layout(Context& vk, uint32_t count) {
   const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count, VK_SHADER_STAGE_ALL, nullptr};
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};

@@ -27,6 +27,8 @@ struct PipelineDesc {
 // The layout `interface` declares: set 0's bindings, set 1 where a shader samples the scene's
 // textures (shaders/scene/textures.glsl), the push-constant block's size.
 PipelineDesc reflected_desc(std::string name, std::shared_ptr<const shader::ShaderInterface> interface);
+// The same with the interface of `shaders` (a pipeline's stages), its messages naming pass `pass`.
+PipelineDesc reflected_desc(std::string name, std::string pass, const std::vector<shader::NamedReflection>& shaders);
 
 // Copies share their objects: the process keeps the pipelines it made (PipelineCache) and hands
 // the same ones to every pass that asks for an identical pipeline.
