@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "vk/host_heap.h"
 #include "vk/pipeline.h"
 
 namespace caustica::vk {
@@ -313,6 +314,7 @@ Context::Context(const ContextOptions& options)
   }
   vkGetPhysicalDeviceProperties(physical_, &properties_);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
+  host_heap_ = keep_freed_memory(properties_.deviceType);
   subgroup_arithmetic_ = has_subgroup_arithmetic(physical_);
   device_name_ = properties_.deviceName;
 
