@@ -82,7 +82,9 @@ std::string log_messages(const std::string& log) {
 }
 
 std::string preamble(const Defines& defines) {
-  std::string text;
+  // Every shader may keep a loop rolled ([[dont_unroll]]): the library's image-space searches do
+  // (refraction/refraction.glsl), and a user pass that includes them needs the extension too.
+  std::string text = "#extension GL_EXT_control_flow_attributes : enable\n";
   for (const auto& [name, value] : defines) text += "#define " + name + " " + value + "\n";
   return text;
 }
