@@ -314,7 +314,7 @@ Context::Context(const ContextOptions& options)
   }
   vkGetPhysicalDeviceProperties(physical_, &properties_);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
-  host_heap_ = keep_freed_memory(properties_.deviceType);
+  keep_freed_memory(properties_.deviceType);  // before lavapipe allocates per frame (vk/host_heap.h)
   subgroup_arithmetic_ = has_subgroup_arithmetic(physical_);
   device_name_ = properties_.deviceName;
 

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "vk/host_heap.h"
 #include "vk/owned.h"
 
 namespace caustica::vk {
@@ -76,8 +75,6 @@ class Context {
   // Subgroup arithmetic in compute shaders (Vulkan 1.1's optional KHR_shader_subgroup_arithmetic;
   // lavapipe and desktop GPUs have it): the photon kernels add their counters up by subgroup.
   bool subgroup_arithmetic() const { return subgroup_arithmetic_; }
-  // Whether freed host memory stays with the process (a CPU device: vk/host_heap.h).
-  const HostHeapPolicy& host_heap() const { return host_heap_; }
   // shaderSampledImageArrayNonUniformIndexing (lavapipe and desktop GPUs have it): scene textures.
   bool nonuniform_textures() const { return nonuniform_textures_; }
   // VK_KHR_acceleration_structure + VK_KHR_ray_query, enabled (see RayQuerySupport).
@@ -135,7 +132,6 @@ class Context {
   bool float_atomics_ = false;
   bool nonuniform_textures_ = false;
   bool subgroup_arithmetic_ = false;
-  HostHeapPolicy host_heap_;
   RayQuerySupport ray_queries_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_properties_{};

@@ -18,7 +18,7 @@ namespace caustica::vk {
 
 struct HostHeapPolicy {
   bool kept = false;   // freed memory stays with the process (up to kHeapTrimThreshold a heap)
-  std::string reason;  // why it is or is not, for --help's readers and the tests
+  std::string reason;  // why it is or is not (the tests check it)
 };
 
 // glibc's heap, kept up to this many bytes free at the top of each heap before it goes back to

@@ -235,8 +235,8 @@ vec3 buffer_normal(sampler2D surfaces, vec2 uv, vec4 here) {
 // converges superlinearly on smooth surfaces; bisection where an end has no value).
 // The searches' loops stay rolled ([[dont_unroll]]): each step calls exit_gap or project_with, and
 // unrolled, every call is one more inlined copy for the driver: lavapipe took 375 ms to create the
-// default graph's photon pipeline with them unrolled and 290 rolled, and its first LLVM compile
-// 18% less, the pictures bit for bit the same (docs/lavapipe.md).
+// default graph's photon pipeline with them unrolled and 290 rolled, the pictures bit for bit the
+// same (docs/lavapipe.md).
 const int EXIT_SEARCH_STEPS = 8;
 const int EXIT_REFINEMENTS = 4;
 const uint GAP_BEHIND_BACK = 0u;      // behind the refractor's back surface (distance beyond it)
