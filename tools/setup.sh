@@ -53,15 +53,18 @@ case "$mode" in
     phase_done "install"
     build build/release -DCMAKE_BUILD_TYPE=Release
     phase_done "Release build"
-    run_tests build/release
-    phase_done "Release tests (full size)"
-    # The suite under AddressSanitizer and UndefinedBehaviorSanitizer: every test binary, the render
-    # loops small, the long accuracy tests left to the Release run (tests/CMakeLists.txt). Leak
-    # checking is off because Mesa's LLVM JIT keeps allocations until exit that LeakSanitizer
-    # reports as leaks. A 32 MB quarantine (freed memory held back from reuse, for use-after-free
-    # reports) instead of 256: lavapipe's shader code allocates and frees per dispatch, and with
-    # 256 MB each such block came from fresh pages: a sanitized 20-frame render took 12.1 s with
-    # the default and 6.4 s with 32 MB (docs/testing.md).
+    # Each test runs once where it checks most (tests/CMakeLists.txt, docs/testing.md): here the
+    # accuracy tests, the stability suite and the matrix at full size, the CPU tests, packaging and
+    # Slurm; the sanitizer run below takes the rest. `ctest` alone in either build runs everything.
+    run_tests build/release -L 'accuracy|release'
+    phase_done "Release tests (accuracy, full size, CPU)"
+    # The suite under AddressSanitizer and UndefinedBehaviorSanitizer: every test but the accuracy
+    # tests, the render loops small (tests/CMakeLists.txt). Leak checking is off because Mesa's
+    # LLVM JIT keeps allocations until exit that LeakSanitizer reports as leaks. A 32 MB quarantine
+    # (freed memory held back from reuse, for use-after-free reports) instead of 256: lavapipe's
+    # shader code allocates and frees per dispatch, and with 256 MB each such block came from fresh
+    # pages: a sanitized 20-frame render took 12.1 s with the default and 6.4 s with 32 MB
+    # (docs/testing.md).
     # Built with clang, with the libFuzzer targets in the same build (CAUSTICA_FUZZ: the libraries
     # carry the fuzzer's coverage instrumentation), so that the sanitized libraries are compiled
     # once for both: this build and a separate fuzz build took 536 + 141 s of CPU with GCC, this one

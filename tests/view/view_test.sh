@@ -7,16 +7,10 @@
 #    still exits 0 when closed (Ctrl-C);
 # 4. a broken shader keeps the last good pipelines, a mended one is picked up;
 # 5. so for a user pass's shader beside its graph, and only the passes it touches run again.
-#
-# Under the sanitizers (a third argument, "sanitized") every viewer run stays, and the headless
-# renders and image comparisons that check its pixels are left to the Release run: they add no
-# viewer code to what the sanitizers see, and the command-line tests run render and compare there.
 set -euo pipefail
 bin=$1
 src=$2
-sanitized=${3:-}
 DISPLAY_BASE=90 source "$(dirname "$0")/xvfb.sh"
-pixels() { [ -z "$sanitized" ]; }  # whether this run checks the viewer's pixels
 # The sphere on its plane: every viewer feature here is the same on it, and its frames cost a
 # third of the bunny's (whose 70k triangles the light-space passes draw every frame).
 scene="$src/scenes/sphere_plane.json"
@@ -25,13 +19,11 @@ scene="$src/scenes/sphere_plane.json"
 "$bin" view --scene "$scene" --size 160x90 --frames 3 --screenshot "$dir/shot.png" --validate > "$dir/log" 2>&1 || fail "view --screenshot exited $?"
 # The resource inspector shows any image of the graph: the lit G-buffer as render --dump writes it.
 "$bin" view --scene "$scene" --size 160x90 --frames 2 --inspect lit --screenshot "$dir/lit_view.exr" --validate > "$dir/log" 2>&1 || fail "view --inspect exited $?"
-if pixels; then
-  "$bin" render --scene "$scene" --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
-  "$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
-  echo "ok: screenshot matches the headless render"
-  "$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
-  echo "ok: the inspector shows the image --dump writes"
-fi
+"$bin" render --scene "$scene" --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
+"$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
+echo "ok: screenshot matches the headless render"
+"$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
+echo "ok: the inspector shows the image --dump writes"
 
 # The inspector panel shows its image fitted into the window: cut out of a shot of the whole
 # window (UI included), it is the headless render scaled down to the panel's size.
@@ -42,21 +34,19 @@ where=$(sed -n 's/^view: window shot .*; inspector image ldr at \([0-9]*\),\([0-
 # Without a screenshot or the inspector the output reaches the window by a blit on the device, with
 # no read-back.
 grep -q "goes to the window by a blit on the device" "$dir/log" || fail "the device blit is not used: $(head -3 "$dir/log")"
-if pixels; then
-  "$bin" render --scene "$scene" --size 1100x500 --out "$dir/full.png" 2> /dev/null
-  oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
-  oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
-  "$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
-  # The same place in a shot without the inspector shows something else (the control must differ).
-  oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
-  if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
-  echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
-  # Right of the main panel the blitted window shows the headless render exactly.
-  oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
-  oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
-  "$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
-  echo "ok: the output blitted into the window is the headless render"
-fi
+"$bin" render --scene "$scene" --size 1100x500 --out "$dir/full.png" 2> /dev/null
+oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
+oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
+"$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
+# The same place in a shot without the inspector shows something else (the control must differ).
+oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
+if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
+echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
+# Right of the main panel the blitted window shows the headless render exactly.
+oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
+oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
+"$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
+echo "ok: the output blitted into the window is the headless render"
 
 # 2 and 3. Hot reload, then a broken edit.
 # A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
@@ -89,12 +79,10 @@ echo "ok: while orbiting, the light's passes are reused; --every-pass runs them 
 # as set.
 progressive="$src/graphs/caustics_progressive.json"
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
-if pixels; then
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --moving --out "$dir/image4.png" 2> /dev/null
-  "$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
-  if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
-fi
+"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
+"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --moving --out "$dir/image4.png" 2> /dev/null
+"$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
+if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 # At rest with a budget that no whole frame meets, frames refine the mean (the caustic passes alone)
 # from the second on, the first frame's GPU time standing for a whole frame's (a second whole frame
 # to measure it was one more over the budget), and now and then show it (the camera's passes alone,
@@ -166,11 +154,9 @@ PY
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
 # the search, not the while_still ray queries; the other while_still value, slice_side 2, holds).
 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --set distance=search --screenshot "$dir/still_search.png" --validate > "$dir/log" 2>&1 || fail "view --set distance=search exited $?: $(cat "$dir/log")"
-if pixels; then
-  "$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --set slice_side=2 --accumulate 4 --out "$dir/search4.png" 2> /dev/null
-  "$bin" compare "$dir/still_search.png" "$dir/search4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "view --set distance=search is not four accumulated search frames: $(cat "$dir/compare")"
-  if "$bin" compare "$dir/still_search.png" "$dir/exact4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell the search from ray queries"; fi
-fi
+"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --set slice_side=2 --accumulate 4 --out "$dir/search4.png" 2> /dev/null
+"$bin" compare "$dir/still_search.png" "$dir/search4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "view --set distance=search is not four accumulated search frames: $(cat "$dir/compare")"
+if "$bin" compare "$dir/still_search.png" "$dir/exact4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell the search from ray queries"; fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 1 --set distanse=search > "$dir/log" 2>&1 && fail "view --set with an unknown parameter exited 0"
 grep -q "has no parameter 'distanse' (did you mean 'distance'?)" "$dir/log" || fail "view --set distanse=search: $(cat "$dir/log")"
 # A graph that does not compile at the start: its message and exit 1, and no claim of last good files.
