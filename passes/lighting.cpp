@@ -1,6 +1,10 @@
-// lighting: direct light on the G-buffer (all lights, the first one shadowed), ambient, sky.
+// lighting: direct light on the G-buffer (every light, each shadowed by its map where bound), ambient, sky.
+#include <algorithm>
+
 #include "builtin_passes.h"
+#include "common/scene_types.h"
 #include "core/error.h"
+#include "graph/per_light.h"
 #include "scene_draw.h"
 
 namespace caustica::passes {
@@ -8,17 +12,20 @@ namespace {
 
 struct LightingParams {
   float shadow_bias;
-  uint32_t has_shadow;
+  uint32_t shadowed;  // bit i: light i's shadow map is bound
 };
 
 class LightingPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    has_shadow_ = setup.bound("shadow");
+    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
+      if (setup.bound(graph::port_element("shadow", light))) shadow_maps_.push_back(light);
+    }
     has_caustics_ = setup.bound("caustics");
     has_caustic_depth_ = has_caustics_ && setup.bound("caustic_depth");
     has_emission_ = setup.bound("emission");
     shader::Defines defines;
+    if (!shadow_maps_.empty()) defines["SHADOWS"] = "1";
     if (has_caustics_) defines["CAUSTICS"] = "1";
     if (has_caustic_depth_) defines["CAUSTIC_DEPTH"] = "1";
     if (has_emission_) defines["EMISSION"] = "1";
@@ -26,7 +33,7 @@ class LightingPass final : public graph::Pass {
     state.color_formats = {graph::format_info(setup.resource("color").format).vk};
     pipeline_ = setup.graphics_pipeline("lighting", {"common/fullscreen.vert", {}}, {"scene/lighting.frag", defines}, state);
     pipeline_.interface->check_push("LightingParams", sizeof(LightingParams),
-                                    {CAUSTICA_MIRRORED(LightingParams, shadow_bias), CAUSTICA_MIRRORED(LightingParams, has_shadow)});
+                                    {CAUSTICA_MIRRORED(LightingParams, shadow_bias), CAUSTICA_MIRRORED(LightingParams, shadowed)});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -39,20 +46,36 @@ class LightingPass final : public graph::Pass {
         .image("depth_tex", ctx.view("depth"), ctx.nearest_sampler())
         .image("normal_tex", ctx.view("normal"), ctx.nearest_sampler())
         .image("albedo_tex", ctx.view("albedo"), ctx.nearest_sampler())
-        .image("shadow_tex", ctx.view(has_shadow_ ? "shadow" : "depth"), ctx.nearest_sampler())  // unread without a shadow map
         .image("caustic_depth_tex", ctx.view(has_caustic_depth_ ? "caustic_depth" : "depth"), ctx.nearest_sampler());  // unread without it
     if (has_caustics_) writer.image("caustics_tex", ctx.view("caustics"), ctx.linear_sampler());
     if (has_emission_) writer.image("emission_tex", ctx.view("emission"), ctx.nearest_sampler());
+    const uint32_t shadowed = write_shadow_maps(ctx, writer);
     writer.push(ctx.vk(), cmd, pipeline_);
-    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), has_shadow_ ? 1u : 0u};
+    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), shadowed};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
   }
 
  private:
+  // Every element of the shadow maps' array: a light's own where it has one (a point light's only
+  // with its six faces), the first bound one elsewhere (unread). Returns the lights shadowed.
+  uint32_t write_shadow_maps(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+    if (shadow_maps_.empty()) return 0;
+    const auto& lights = ctx.scene().lights();
+    uint32_t shadowed = 0;
+    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
+      const bool bound = std::find(shadow_maps_.begin(), shadow_maps_.end(), light) != shadow_maps_.end();
+      const std::string port = graph::port_element("shadow", bound ? light : shadow_maps_.front());
+      writer.image_element("shadow_maps", light, ctx.array_view(port), ctx.nearest_sampler());
+      const bool point = light < lights.size() && lights[light].type == scene::LightType::point;
+      if (bound && light < lights.size() && (!point || ctx.resource(port).layers == 6)) shadowed |= 1u << light;
+    }
+    return shadowed;
+  }
+
   vk::Pipeline pipeline_;
-  bool has_shadow_ = false;
+  std::vector<uint32_t> shadow_maps_;  // the lights whose shadow map is bound
   bool has_caustics_ = false;
   bool has_caustic_depth_ = false;
   bool has_emission_ = false;
@@ -64,8 +87,8 @@ graph::PassTypeDecl lighting_pass_type() {
   using namespace graph;
   PassTypeDecl decl{
       "lighting",
-      "Full-screen pass: direct light from every scene light on the G-buffer (inverse square, spot cone; the first light shadowed "
-      "when a shadow map is bound) through each surface's BRDF (Lambertian, or glTF's metallic-roughness), ambient sky light, "
+      "Full-screen pass: direct light from every scene light on the G-buffer (inverse square, spot cone; each light shadowed "
+      "by its shadow map where one is bound) through each surface's BRDF (Lambertian, or glTF's metallic-roughness), ambient sky light, "
       "emitted light when bound, the sky where there is no geometry. Linear HDR radiance out.",
       PassQueue::graphics,
       {{"depth", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, false, "frame", "camera depth"},
@@ -79,7 +102,15 @@ graph::PassTypeDecl lighting_pass_type() {
         true,
         "frame",
         "emitted radiance, added as it is; alpha: ambient occlusion, which scales the sky light"},
-       {"shadow", PortAccess::read, ResourceKind::image, PortUsage::sampled, {Format::d32f}, true, "", "shadow map of the first light"},
+       {"shadow",
+        PortAccess::read,
+        ResourceKind::image,
+        PortUsage::sampled,
+        {Format::d32f},
+        true,
+        "",
+        "each light's shadow map (a per-light port: element K is light K's; one map bound alone is light 0's); a point light's "
+        "has six layers, its cube faces"},
        {"caustics",
         PortAccess::read,
         ResourceKind::image,
@@ -110,6 +141,9 @@ graph::PassTypeDecl lighting_pass_type() {
       {{"shadow_bias", ParamType::float_, 0.02, 0.0, 10.0, {}, "bias of the shadow test, in scene units along the light's axis", true}},
       false,
       [] { return std::make_unique<LightingPass>(); }};
+  for (PortDecl& port : decl.ports) {
+    if (port.name == "shadow") port.per_light = port.cube_layers = true;
+  }
   decl.needs_scene = true;
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
   // Either half of the caustic pair alone renders (one port at a time is how the editor connects

@@ -1,4 +1,5 @@
-// shadow_map: depth of the scene from a light, for shadowed direct lighting.
+// shadow_map: depth of the scene from a light, for shadowed direct lighting: a spot light's frustum,
+// a directional light's prism, or a point light's six cube faces into the layers of its image.
 #include "builtin_passes.h"
 #include "scene_draw.h"
 
@@ -14,10 +15,27 @@ class ShadowMapPass final : public graph::Pass {
   }
 
   void execute(graph::PassContext& ctx) override {
-    const VkExtent2D extent = ctx.extent("depth");
-    const SceneView view = light_view(ctx, ctx.params()["light"].get<uint32_t>());
+    const uint32_t light = ctx.params()["light"].get<uint32_t>();
+    const auto& lights = ctx.scene().lights();
+    const scene::Light& l = lights[std::min<size_t>(light, lights.size() - 1)];
+    if (l.type != scene::LightType::point) {
+      draw(ctx, light_view(ctx, light), ctx.view("depth"));
+    } else if (ctx.resource("depth").layers == 6) {
+      static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      for (uint32_t face = 0; face < 6; ++face)
+        draw(ctx, SceneView{l.face_view_projection(face), l.view.position, axes[face], false}, ctx.layer_view("depth", face));
+    } else {
+      // A point light's map of one layer (a graph made for a spot light) is left cleared: lighting
+      // reads a point light's map only where it has the six faces.
+      begin_rendering(ctx.cmd(), ctx.extent("depth"), {}, Attachment{ctx.view("depth")});
+      vkCmdEndRendering(ctx.cmd());
+    }
+  }
+
+ private:
+  void draw(graph::PassContext& ctx, const SceneView& view, VkImageView target) const {
     VkCommandBuffer cmd = ctx.cmd();
-    begin_rendering(cmd, extent, {}, Attachment{ctx.view("depth")});
+    begin_rendering(cmd, ctx.extent("depth"), {}, Attachment{target});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx, pipeline_).push(ctx.vk(), cmd, pipeline_);
     bind_scene_textures(ctx, cmd, pipeline_);
@@ -28,7 +46,6 @@ class ShadowMapPass final : public graph::Pass {
     vkCmdEndRendering(cmd);
   }
 
- private:
   vk::Pipeline pipeline_;
 };
 
@@ -36,17 +53,24 @@ class ShadowMapPass final : public graph::Pass {
 
 graph::PassTypeDecl shadow_map_pass_type() {
   using namespace graph;
-  PassTypeDecl decl{"shadow_map",
-                    "Depth of the scene from a spot light's frustum.",
-                    PassQueue::graphics,
-                    {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
-                    {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
-                     {"refractors_cast_shadows", ParamType::bool_, true, {}, {}, {},
-                      "refractors block direct light (caustics then bring the refracted light back)"}},
-                    false,
-                    [] { return std::make_unique<ShadowMapPass>(); }};
+  PassTypeDecl decl{
+      "shadow_map",
+      "Depth of the scene from a light: a spot light's frustum, a directional light's prism, a point light's six "
+      "cube faces (the image then has six layers: \"layers\": \"1 + 5 * light.point\" in a per-light graph).",
+      PassQueue::graphics,
+      {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
+      {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
+       {"refractors_cast_shadows",
+        ParamType::bool_,
+        true,
+        {},
+        {},
+        {},
+        "refractors block direct light (caustics then bring the refracted light back)"}},
+      false,
+      [] { return std::make_unique<ShadowMapPass>(); }};
+  decl.ports.front().cube_layers = true;
   decl.needs_scene = true;
-  decl.uses_light_view = [](const nlohmann::json&) { return true; };
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnGeometry | kDependsOnLights; };
   return decl;
 }

@@ -268,11 +268,11 @@ TEST(Compiler, LayeredImagesMatchTheirPorts) {
 
   g["passes"].erase(1);
   g["resources"]["c"]["layers"] = 2;
-  EXPECT_NE(compile_error(g).find("'c' is rgba16f; only r32f images can have layers (at /resources/c/layers)"), std::string::npos)
+  EXPECT_NE(compile_error(g).find("'c' is rgba16f; only r32f and d32f images can have layers (at /resources/c/layers)"), std::string::npos)
       << compile_error(g);
   g["resources"]["c"] = layered;
-  g["resources"]["c"]["layers"] = 5;
-  EXPECT_NE(compile_error(g).find("'c' asks for 5 array layers; an image has 1 to 4"), std::string::npos) << compile_error(g);
+  g["resources"]["c"]["layers"] = 7;
+  EXPECT_NE(compile_error(g).find("'c' asks for 7 array layers; an image has 1 to 6"), std::string::npos) << compile_error(g);
 }
 
 TEST(Compiler, ParametersResolveDefaultsReferencesAndRanges) {
@@ -688,13 +688,14 @@ TEST(Compiler, FallbackAndEnabledErrorsNameTheProblem) {
 // reusable passes write is kept, and a kept image's first barrier starts from the layout the last
 // frame left it in instead of discarding it.
 TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
-  const nlohmann::json graph = {{"resources", {{"lit", image()}, {"filtered", image()}, {"viewed", image()}, {"out", image()}}},
-                                {"passes",
-                                 {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
-                                  {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}}}, {"outputs", {{"color", "viewed"}}}},
-                                  {{"name", "f"}, {"type", "filter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "filtered"}}}},
-                                  {{"name", "mix"}, {"type", "blend"}, {"inputs", {{"a", "filtered"}, {"b", "viewed"}}}, {"outputs", {{"color", "out"}}}}}},
-                                {"outputs", {"out"}}};
+  const nlohmann::json graph = {
+      {"resources", {{"lit", image()}, {"filtered", image()}, {"viewed", image()}, {"out", image()}}},
+      {"passes",
+       {{{"name", "light"}, {"type", "source"}, {"outputs", {{"color", "lit"}}}},
+        {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}}}, {"outputs", {{"color", "viewed"}}}},
+        {{"name", "f"}, {"type", "filter"}, {"inputs", {{"source", "lit"}}}, {"outputs", {{"target", "filtered"}}}},
+        {{"name", "mix"}, {"type", "blend"}, {"inputs", {{"a", "filtered"}, {"b", "viewed"}}}, {"outputs", {{"color", "out"}}}}}},
+      {"outputs", {"out"}}};
   auto depends = [](const Plan& plan, const std::string& pass) {
     for (const auto& p : plan.passes) {
       if (p.name == pass) return dependency_names(p.depends);
@@ -713,7 +714,8 @@ TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
   CompileOptions reuse;
   reuse.reuse_unchanged_passes = true;
   const Plan reused = compile(graph, reuse);
-  for (const char* name : {"lit", "filtered", "viewed"}) EXPECT_FALSE(reused.resources[static_cast<size_t>(reused.find_resource(name))].transient) << name;
+  for (const char* name : {"lit", "filtered", "viewed"})
+    EXPECT_FALSE(reused.resources[static_cast<size_t>(reused.find_resource(name))].transient) << name;
   const PlannedBarrier& first = reused.passes[0].barriers.at(0);
   ASSERT_EQ(reused.resources[first.resource].name, reused.passes[0].name == "light" ? "lit" : "viewed");
   EXPECT_EQ(first.old_layout, reused.resources[first.resource].final_state.layout);
@@ -724,7 +726,8 @@ TEST(Compiler, PassesDependOnTheirInputsAndReusedResultsAreKept) {
   const Plan accumulating = compile(rewritten, reuse);
   EXPECT_EQ(depends(accumulating, "light"), (std::vector<std::string>{"geometry", "lights", "frame"}));
   for (const char* name : {"lit", "filtered"}) {
-    EXPECT_TRUE(accumulating.resources[static_cast<size_t>(accumulating.find_resource(name))].transient) << name << " is rewritten every frame";
+    EXPECT_TRUE(accumulating.resources[static_cast<size_t>(accumulating.find_resource(name))].transient)
+        << name << " is rewritten every frame";
   }
 }
 
@@ -861,15 +864,17 @@ TEST(Compiler, HistoryInputsReadTheLastFramesResource) {
   EXPECT_TRUE(source.image_usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   EXPECT_EQ(dependency_names(history.history_depends), (std::vector<std::string>{"geometry", "lights", "frame"}));
   for (const auto& p : plan.passes) {
-    const std::vector<std::string> expected = p.name == "light" ? std::vector<std::string>{"geometry", "lights"}
-                                                                 : std::vector<std::string>{"geometry", "lights", "frame"};
+    const std::vector<std::string> expected =
+        p.name == "light" ? std::vector<std::string>{"geometry", "lights"} : std::vector<std::string>{"geometry", "lights", "frame"};
     EXPECT_EQ(dependency_names(p.depends), expected) << p.name;
     if (p.name != "average") continue;
     // Both start from where the last frame left them, not from "undefined".
     for (int r : {mean, previous}) {
-      auto first = std::find_if(p.barriers.begin(), p.barriers.end(), [&](const PlannedBarrier& b) { return b.resource == static_cast<uint32_t>(r); });
+      auto first = std::find_if(p.barriers.begin(), p.barriers.end(),
+                                [&](const PlannedBarrier& b) { return b.resource == static_cast<uint32_t>(r); });
       ASSERT_NE(first, p.barriers.end()) << plan.resources[static_cast<size_t>(r)].name;
-      EXPECT_EQ(first->old_layout, plan.resources[static_cast<size_t>(r)].final_state.layout) << plan.resources[static_cast<size_t>(r)].name;
+      EXPECT_EQ(first->old_layout, plan.resources[static_cast<size_t>(r)].final_state.layout)
+          << plan.resources[static_cast<size_t>(r)].name;
       EXPECT_NE(first->old_layout, VK_IMAGE_LAYOUT_UNDEFINED);
     }
   }
@@ -903,7 +908,8 @@ TEST(Compiler, HistoryInputsReadTheLastFramesResource) {
 
   nlohmann::json missing = graph;
   missing["passes"][1]["inputs"]["b"] = "maen@previous";
-  EXPECT_NE(compile_error(missing).find("'maen@previous' reads the previous frame's 'maen', which is not a resource of this graph (did you mean 'mean'?)"),
+  EXPECT_NE(compile_error(missing).find(
+                "'maen@previous' reads the previous frame's 'maen', which is not a resource of this graph (did you mean 'mean'?)"),
             std::string::npos)
       << compile_error(missing);
   nlohmann::json written = graph;

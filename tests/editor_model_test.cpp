@@ -813,6 +813,8 @@ TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
       EXPECT_TRUE(check_edit_and_undo(model, "move " + name, [&] { model.set_position(name, 10, 20); }));
       count(check_edit_and_undo(model, "remove " + name, [&] { model.remove_pass(name); }));
       count(check_edit_and_undo(model, "disable " + name, [&] { model.set_enabled(name, false); }));
+      const bool per_light = pass.value("for_each", "") == "light";
+      count(check_edit_and_undo(model, "per light " + name, [&] { model.set_per_light(name, !per_light); }));
       for (const auto& param : decl.params) {
         // A literal value, not a graph parameter ("$NAME") or an expression (a string for a number).
         auto literal = [&](const ordered_json& value) {
@@ -833,7 +835,8 @@ TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
       }
     }
     for (const auto& [resource, description] : doc["resources"].items()) {
-      EXPECT_TRUE(check_edit_and_undo(model, "rename resource " + resource, [&, &resource = resource] { model.rename_resource(resource, resource + "_2"); }));
+      EXPECT_TRUE(check_edit_and_undo(model, "rename resource " + resource,
+                                      [&, &resource = resource] { model.rename_resource(resource, resource + "_2"); }));
       count(check_edit_and_undo(model, "remove resource " + resource, [&, &resource = resource] { model.remove_resource(resource); }));
     }
     for (const auto& type : registry().names()) {
@@ -1152,10 +1155,12 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
       checked([&, &name = name, &declaration = declaration](GraphModel& m) { m.add_parameter(name, declaration); });
       continue;
     }
-    for (const auto& [field, value] : declaration.items()) checked([&, &name = name, &field = field, &value = value](GraphModel& m) { m.set_parameter_field(name, field, value); });
+    for (const auto& [field, value] : declaration.items())
+      checked([&, &name = name, &field = field, &value = value](GraphModel& m) { m.set_parameter_field(name, field, value); });
   }
   for (const auto& [name, description] : target["resources"].items()) {
-    if (!model.json()["resources"].contains(name)) checked([&, &name = name, &description = description](GraphModel& m) { m.add_resource(name, description); });
+    if (!model.json()["resources"].contains(name))
+      checked([&, &name = name, &description = description](GraphModel& m) { m.add_resource(name, description); });
   }
   std::set<std::string> kept;
   for (const auto& pass : target["passes"]) {
@@ -1169,15 +1174,19 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
       const ordered_json outputs = model.json()["passes"].back().value("outputs", ordered_json::object());
       for (const auto& [port, resource] : outputs.items()) made.push_back(resource);
     }
+    // Once per light before its bindings: what it writes is per light too.
+    if (pass.value("for_each", "") == "light") checked([&](GraphModel& m) { m.set_per_light(name, true); });
     for (const char* section : {"inputs", "outputs"}) {
       const ordered_json bindings = pass.value(section, ordered_json::object());
-      for (const auto& [port, resource] : bindings.items()) checked([&, &port = port, &resource = resource](GraphModel& m) { m.connect(name, port, resource); });
+      for (const auto& [port, resource] : bindings.items())
+        checked([&, &port = port, &resource = resource](GraphModel& m) { m.connect(name, port, resource); });
     }
     for (const auto& r : made) {
       if (!target["resources"].contains(r)) checked([&](GraphModel& m) { m.remove_resource(r); });
     }
     const ordered_json params = pass.value("params", ordered_json::object());
-    for (const auto& [param, value] : params.items()) checked([&, &param = param, &value = value](GraphModel& m) { m.set_param(name, param, value); });
+    for (const auto& [param, value] : params.items())
+      checked([&, &param = param, &value = value](GraphModel& m) { m.set_param(name, param, value); });
     if (pass.contains("enabled")) checked([&](GraphModel& m) { m.set_enabled(name, pass["enabled"]); });
   }
   checked([&](GraphModel& m) { m.set_outputs(target["outputs"]); });
@@ -1391,4 +1400,38 @@ TEST(EditorModel, AUserPassIsDeclaredFromItsShader) {
   EXPECT_THROW(model.add_pass("compute"), InputError) << "a user pass needs its shader";
   EXPECT_EQ(model.json(), before);
   std::filesystem::remove_all(dir);
+}
+
+// A graph written for one light (its shadow map made once, for light 0): "once per light" on the
+// shadow pass makes it and its map per light, its light the instance's, and the lighting pass's
+// per-light port then reads every light's map; once again undoes it to the byte.
+TEST(GraphModel, APassMadeOncePerLightTakesWhatItWritesWithIt) {
+  ordered_json doc = ordered_json::parse(file_text(graphs_dir() / "caustics_adaptive.json"));
+  for (auto& p : doc["passes"]) {
+    if (p["name"] != "shadow") continue;
+    p.erase("for_each");
+    p.erase("enabled");
+    p.erase("params");
+  }
+  for (const char* key : {"for_each", "layers", "fallback"}) doc["resources"]["shadow"].erase(key);
+  const std::string one_light = doc.dump(2) + "\n";
+  GraphModel model(one_light, "one_light.json", registry());
+  ASSERT_TRUE(model.refusal().empty()) << model.refusal();
+  EXPECT_TRUE(check_edit_and_undo(model, "per light shadow", [&] { model.set_per_light("shadow", true); }));
+  model.set_per_light("shadow", true);
+  const ordered_json& made = model.json();
+  for (const auto& p : made["passes"]) {
+    if (p["name"] != "shadow") continue;
+    EXPECT_EQ(p["for_each"], "light");
+    EXPECT_EQ(p["params"]["light"], "$light");
+  }
+  EXPECT_EQ(made["resources"]["shadow"]["for_each"], "light");
+  graph::CompileOptions options;
+  options.scene_values = graph::typical_scene_values();
+  const graph::Plan plan = graph::compile_graph(graph::load_graph(JsonDocument::parse(model.text(), "made.json")), registry(), options);
+  const auto lighting = std::find_if(plan.passes.begin(), plan.passes.end(), [](const auto& p) { return p.name == "lighting"; });
+  ASSERT_NE(lighting, plan.passes.end());
+  EXPECT_EQ(plan.resources[lighting->ports.at("shadow[0]")].name, "shadow#0");
+  model.set_per_light("shadow", false);
+  EXPECT_EQ(model.text(), one_light);
 }

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "core/paths.h"
@@ -83,11 +85,32 @@ TEST_F(ShaderBinding, AResourceOfTheWrongKindIsRefused) {
 }
 
 TEST_F(ShaderBinding, ADeclaredBindingLeftUnwrittenIsRefusedWithItsName) {
-  EXPECT_EQ(refusal([&] { interface.check_written({index_of("source"), index_of("target")}); }), "");
-  const std::string message = refusal([&] { interface.check_written({index_of("source")}); });
+  EXPECT_EQ(refusal([&] { interface.check_written({{index_of("source"), 0}, {index_of("target"), 0}}); }), "");
+  const std::string message = refusal([&] { interface.check_written({{index_of("source"), 0}}); });
   EXPECT_NE(message.find("'target'"), std::string::npos) << message;
   EXPECT_NE(message.find("leaves unbound"), std::string::npos) << message;
   EXPECT_NE(message.find("core/box_blur.comp"), std::string::npos) << message;
+}
+
+// An array of samplers (lighting's shadow maps, one per light) is as long as the shader declares
+// it, and each of its elements must be written.
+TEST_F(ShaderBinding, EveryElementOfAnArrayMustBeWritten) {
+  const ReflectedShader lighting = compiler.compile_reflected("scene/lighting.frag", {{"SHADOWS", "1"}});
+  const ShaderInterface lit("lighting", {{"scene/lighting.frag", &lighting.reflection}});
+  const InterfaceBinding& maps = lit.find("shadow_maps", {BindingKind::sampled_image});
+  EXPECT_EQ(maps.count, 8u);  // CAUSTICA_MAX_LIGHTS
+  const size_t index = static_cast<size_t>(&maps - lit.bindings().data());
+  std::vector<std::pair<size_t, uint32_t>> written;
+  for (size_t i = 0; i < lit.bindings().size(); ++i) {
+    if (i != index) written.emplace_back(i, 0);
+  }
+  for (uint32_t element = 0; element < 8; ++element) {
+    if (element != 3) written.emplace_back(index, element);
+  }
+  const std::string message = refusal([&] { lit.check_written(written); });
+  EXPECT_NE(message.find("element 3 of 'shadow_maps'"), std::string::npos) << message;
+  written.emplace_back(index, 3);
+  EXPECT_EQ(refusal([&] { lit.check_written(written); }), "");
 }
 
 TEST_F(ShaderBinding, AFaithfulMirrorOfThePushConstantsIsAccepted) {

@@ -15,9 +15,14 @@ inline graph::PassRegistry make_test_registry() {
     return PortDecl{name, PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, optional, "", ""};
   };
   // Mode "a" draws from a light's view, "b" from the camera's (for the dependency tests).
-  PassTypeDecl source{"source", "writes an image", PassQueue::graphics, {color_out("color")},
-                      {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, "brightness"}, {"mode", ParamType::choice, "a", {}, {}, {"a", "b"}, ""}},
-                      false, nullptr};
+  PassTypeDecl source{
+      "source",
+      "writes an image",
+      PassQueue::graphics,
+      {color_out("color")},
+      {{"gain", ParamType::float_, 1.0, 0.0, 10.0, {}, "brightness"}, {"mode", ParamType::choice, "a", {}, {}, {"a", "b"}, ""}},
+      false,
+      nullptr};
   source.depends_on = [](const nlohmann::json& params) {
     return params.value("mode", "a") == "a" ? kDependsOnGeometry | kDependsOnLights : kDependsOnCamera;
   };
@@ -40,15 +45,24 @@ inline graph::PassRegistry make_test_registry() {
                       nullptr};
   filter.depends_on = inputs_alone;
   registry.add(filter);
-  PassTypeDecl blend{"blend", "two inputs into one output of the same extent", PassQueue::graphics,
+  PassTypeDecl blend{"blend",
+                     "two inputs into one output of the same extent",
+                     PassQueue::graphics,
                      {{"a", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
                       {"b", PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "frame", ""},
                       color_out("color")},
-                     {}, false, nullptr};
+                     {},
+                     false,
+                     nullptr};
   blend.depends_on = inputs_alone;
   registry.add(blend);
-  registry.add({"accumulate", "adds into an image that another pass wrote", PassQueue::compute,
-                {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}}, {}, false, nullptr});
+  registry.add({"accumulate",
+                "adds into an image that another pass wrote",
+                PassQueue::compute,
+                {{"target", PortAccess::read_write, ResourceKind::image, PortUsage::storage, {}, false, "", ""}},
+                {},
+                false,
+                nullptr});
   // Draws over an image that another pass wrote, from its parameter alone (reusable).
   PassTypeDecl overlay{"overlay",
                        "draws over an image",
@@ -65,6 +79,16 @@ inline graph::PassRegistry make_test_registry() {
   mean.accumulates = true;
   registry.add(mean);
   registry.add({"report", "reads an image and reports on it (side effect)", PassQueue::compute, {sampled_in("source")}, {}, true, nullptr});
+  // Reads one image per light (a per-light port, element K light K's) and the camera's image.
+  PortDecl per_light_in = sampled_in("lights", true);
+  per_light_in.per_light = true;
+  registry.add({"gather",
+                "reads an image per light into one",
+                PassQueue::graphics,
+                {per_light_in, sampled_in("base"), color_out("color")},
+                {},
+                false,
+                nullptr});
   registry.add({"splat",
                 "writes an r32f array of three layers (a colour per layer) and reads it back",
                 PassQueue::compute,

@@ -11,6 +11,7 @@
 #include <imgui_internal.h>
 
 #include "edit/graph_editor.h"
+#include "graph/per_light.h"
 #include "viewer/parameter_panel.h"
 
 namespace caustica::editor {
@@ -213,15 +214,24 @@ GraphEditor::Hovered GraphEditor::draw_nodes(const ScreenView& view, const graph
   const float zoom = view.view.zoom;
   Hovered hovered;
   for (const auto& n : nodes_) {
+    // A per-light pass is its instances (graph/per_light.h): shown with their time together.
+    const auto is_node = [&](const std::string& pass) { return pass == n.name || graph::instance_of(pass) == n.name; };
     const bool culled = std::find(plan.culled.begin(), plan.culled.end(), n.name) != plan.culled.end() ||
-                        std::none_of(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return p.name == n.name; });
-    const auto timing = std::find_if(frame.passes.begin(), frame.passes.end(), [&](const auto& p) { return p.name == n.name; });
+                        std::none_of(plan.passes.begin(), plan.passes.end(), [&](const auto& p) { return is_node(p.name); });
+    double gpu_ms = 0;
+    bool timed = false, ran = false;
+    for (const auto& p : frame.passes) {
+      if (!is_node(p.name)) continue;
+      timed = true;
+      ran = ran || p.ran();
+      gpu_ms += p.gpu_ms;
+    }
     std::string stats;
-    if (timing != frame.passes.end() && !timing->ran()) {
+    if (timed && !ran) {
       stats = "reused (unchanged)";
-    } else if (timing != frame.passes.end()) {
+    } else if (timed) {
       char text[64];
-      std::snprintf(text, sizeof text, "GPU %.2f ms", timing->gpu_ms);
+      std::snprintf(text, sizeof text, "GPU %.2f ms", gpu_ms);
       stats = text;
     }
     const auto error = node_errors_.find(n.name);
@@ -447,6 +457,8 @@ void GraphEditor::draw_pass_panel() {
   ImGui::SameLine();
   if (ImGui::Button("rename") && rename_[0]) rename(name, rename_);
   if (ImGui::Button("remove pass")) remove_selected();
+  bool per_light = pass.value("for_each", "") == "light";
+  if (ImGui::Checkbox("once per light", &per_light)) set_per_light(name, per_light);
   ImGui::Separator();
   for (const auto& d : decl->params) {
     const ordered_json current =

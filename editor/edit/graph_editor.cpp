@@ -19,6 +19,7 @@ would do it, and logs "edit: LINE: ok" or "edit: LINE: refused: MESSAGE":
   connect PASS PORT RESOURCE     bind a port to a resource
   disconnect PASS PORT           unbind a port
   set PASS PARAM JSON            set a parameter of a pass
+  per-light PASS on|off          make a pass (and what it writes) once per light, or once
   param NAME JSON                set a graph parameter (its default in the file)
   select PASS...                 select passes;  remove  removes the selected ones
   rename PASS NEW_NAME           rename a pass
@@ -169,6 +170,10 @@ bool GraphEditor::disconnect(const std::string& pass, const std::string& port) {
   return act("disconnect " + pass + "." + port, [&] { model_.disconnect(pass, port); });
 }
 
+bool GraphEditor::set_per_light(const std::string& pass, bool per_light) {
+  return act(std::string(per_light ? "make " : "unmake ") + pass + " per light", [&] { model_.set_per_light(pass, per_light); });
+}
+
 bool GraphEditor::set_param(const std::string& pass, const std::string& param, const nlohmann::json& value) {
   return act("set " + pass + "." + param, [&] { model_.set_param(pass, param, value); });
 }
@@ -257,6 +262,9 @@ void GraphEditor::step_script() {
     need(3);
     const auto value = nlohmann::json::parse(args[2], nullptr, false);
     ok = set_param(args[0], args[1], value.is_discarded() ? nlohmann::json(args[2]) : value);
+  } else if (verb == "per-light") {  // per-light PASS on|off
+    need(2);
+    ok = set_per_light(args[0], args[1] == "on");
   } else if (verb == "param") {
     need(2);
     const auto value = nlohmann::json::parse(args[1], nullptr, false);

@@ -31,6 +31,7 @@ class GraphEditor {
   bool remove_selected();
   bool connect(const std::string& pass, const std::string& port, const std::string& resource);
   bool disconnect(const std::string& pass, const std::string& port);
+  bool set_per_light(const std::string& pass, bool per_light);
   bool set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
   bool rename(const std::string& pass, const std::string& new_name);
   // A graph parameter's value, as the file's default.
@@ -81,13 +82,13 @@ class GraphEditor {
   TextMeasure text_;  // the panels' font, at the canvas's zoom 1
   std::vector<CanvasNode> nodes_;
   std::vector<graph::GraphParameter> parameters_;  // the graph's, as of the last refresh
-  std::map<std::string, std::string> bindings_;  // "pass.port" -> resource, as of the last refresh
+  std::map<std::string, std::string> bindings_;    // "pass.port" -> resource, as of the last refresh
   std::set<std::string> selected_;
   std::map<std::string, std::string> node_errors_;  // pass -> the message of the edit it refused
   std::string status_;
   bool status_is_error_ = false;
   CanvasView view_;
-  bool fitted_ = false;  // the view was fitted to the graph once
+  bool fitted_ = false;    // the view was fitted to the graph once
   float dock_height_ = 0;  // the editor's window at the bottom; its top edge is the splitter
   bool viewer_panel_arranged_ = false;
   // Where the canvas and its wire labels were drawn last, in window pixels.

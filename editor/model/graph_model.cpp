@@ -434,6 +434,13 @@ void GraphModel::set_enabled(const std::string& pass, const nlohmann::json& valu
         [&](ordered_json& doc) { pass_json(doc, pass)["enabled"] = ordered_json::parse(value.dump()); });
 }
 
+void GraphModel::set_per_light(const std::string& pass, bool per_light) {
+  apply(std::string(per_light ? "make " : "unmake ") + pass + " per light", [&](ordered_json& doc) {
+    ordered_json& p = pass_json(doc, pass);
+    wire_per_light(doc, p, registry_->find(p.value("type", "")), per_light);
+  });
+}
+
 void GraphModel::add_resource(const std::string& name, const ordered_json& description) {
   if (doc_["resources"].contains(name)) throw InputError(path_ + ": a resource named '" + name + "' already exists");
   apply("add resource " + name, [&](ordered_json& doc) { doc["resources"][name] = description; });

@@ -149,4 +149,27 @@ bool PassWiring::try_each(const ordered_json& pass, const std::function<bool(ord
   return choose(0);
 }
 
+void wire_per_light(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, bool per_light) {
+  auto mark = [per_light](nlohmann::ordered_json& part) {
+    if (per_light)
+      part["for_each"] = "light";
+    else
+      part.erase("for_each");
+  };
+  mark(pass);
+  if (pass.contains("outputs") && pass["outputs"].is_object()) {
+    for (const auto& [port, resource] : pass["outputs"].items()) {
+      if (resource.is_string() && doc["resources"].contains(resource.get<std::string>()))
+        mark(doc["resources"][resource.get<std::string>()]);
+    }
+  }
+  if (!type || !type->find_param("light")) return;
+  if (per_light) {
+    pass["params"]["light"] = "$light";
+  } else if (pass.contains("params") && pass["params"].value("light", nlohmann::ordered_json()) == "$light") {
+    pass["params"].erase("light");
+    if (pass["params"].empty()) pass.erase("params");
+  }
+}
+
 }  // namespace caustica::editor

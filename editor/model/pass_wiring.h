@@ -10,6 +10,11 @@
 
 namespace caustica::editor {
 
+// Pass `pass` of `doc` made once per light ("for_each": "light"), or once again: the resources it
+// writes with it, and its "light" parameter, where its type (`type`, if known) has one, following
+// its instance's light ("$light").
+void wire_per_light(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, bool per_light);
+
 class PassWiring {
  public:
   // The candidates for each of `decl`'s inputs in `doc`, for a pass named `name`. Throws

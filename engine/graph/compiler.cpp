@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "graph/compiler_internal.h"
+#include "graph/per_light.h"
 
 namespace caustica::graph {
 
@@ -55,12 +56,19 @@ Plan Compiler::run() {
 }  // namespace compiler_internal
 
 std::map<std::string, double> typical_scene_values() {
-  return {{"scene.refractors", 1}, {"scene.lights", 1},    {"scene.objects", 2},
-          {"scene.dispersive", 0}, {"scene.diagonal", 10}, {"scene.ray_epsilon", 1e-3}};
+  return {{"scene.refractors", 1},         {"scene.lights", 1},         {"scene.objects", 2},
+          {"scene.dispersive", 0},         {"scene.diagonal", 10},      {"scene.ray_epsilon", 1e-3},
+          {"scene.light0.view", 1},        {"scene.light0.spot", 1},    {"scene.light0.point", 0},
+          {"scene.light0.directional", 0}, {"scene.light0.objects", 2}, {"scene.light0.refractors", 1}};
 }
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {
-  return compiler_internal::Compiler(graph, registry, options).run();
+  if (!has_per_light(graph)) return compiler_internal::Compiler(graph, registry, options).run();
+  // Without a scene (a device-less check), the typical scene's one light.
+  const auto lights = options.scene_values.find("scene.lights");
+  const double count = lights == options.scene_values.end() ? 1.0 : lights->second;
+  const GraphDesc expanded = expand_per_light(graph, static_cast<uint32_t>(std::clamp(count, 0.0, 64.0)));
+  return compiler_internal::Compiler(expanded, registry, options).run();
 }
 
 }  // namespace caustica::graph

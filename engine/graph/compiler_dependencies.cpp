@@ -84,9 +84,9 @@ std::vector<ResultIdentity> Compiler::result_identities(bool running) const {
     std::vector<ResultIdentity> inputs;
     for (const auto& b : node.bindings) {
       const PlannedResource& r = plan_.resources[b.resource];
-      text += "\n" + b.port->name + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) +
-              " " + std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " +
-              std::to_string(r.layers) + " " + std::to_string(r.buffer_size);
+      text += "\n" + b.key + " " + std::to_string(static_cast<int>(r.kind)) + " " + std::to_string(static_cast<int>(r.format)) + " " +
+              std::to_string(r.width) + "x" + std::to_string(r.height) + " " + std::to_string(r.mips) + " " + std::to_string(r.layers) +
+              " " + std::to_string(r.buffer_size);
       if (b.port->access == PortAccess::write) continue;
       text += " reads";
       if (const auto& written = content[b.resource]) {
@@ -96,7 +96,7 @@ std::vector<ResultIdentity> Compiler::result_identities(bool running) const {
     }
     identities.emplace_back(std::move(text), std::move(inputs));
     for (const auto& b : node.bindings) {
-      if (b.port->access != PortAccess::read) content[b.resource] = std::pair{size_t{i}, b.port->name};
+      if (b.port->access != PortAccess::read) content[b.resource] = std::pair{size_t{i}, b.key};
     }
   }
   // A later pass that rewrites what a pass wrote leaves the frame's end state of it: the pass's

@@ -22,6 +22,7 @@ struct Binding {
   const PortDecl* port;
   uint32_t resource;
   std::string pointer;
+  std::string key;  // in PlannedPass::ports: the port's name, or "PORT[K]" for element K of a per-light port
 };
 
 class Compiler {

@@ -69,7 +69,7 @@ void Compiler::check_pass_rules() {
     if (!node.decl->check) continue;
     const PassCheck result = node.decl->check(node.params, [&](std::string_view port) -> const PlannedResource* {
       for (const auto& b : node.bindings) {
-        if (b.port->name == port) return &plan_.resources[b.resource];
+        if (b.port->name == port || b.key == port) return &plan_.resources[b.resource];
       }
       return nullptr;
     });

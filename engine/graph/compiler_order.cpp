@@ -42,7 +42,8 @@ void Compiler::build_edges() {
       const uint32_t written = read.previous_of != kNoResource ? read.previous_of : b.resource;
       if (!writers_[written].empty()) continue;
       std::string why = "input '" + b.port->name + "' of pass '" + nodes_[i].desc->name + "' reads '" + read.name + "', " +
-                        (written != b.resource ? "the previous frame's '" + plan_.resources[written].name + "', " : "") + "which no pass writes";
+                        (written != b.resource ? "the previous frame's '" + plan_.resources[written].name + "', " : "") +
+                        "which no pass writes";
       for (const auto& other : nodes_) {
         if (other.decl) continue;
         for (const auto& [port, resource] : other.desc->outputs) {
@@ -297,7 +298,7 @@ void Compiler::cull_and_order() {
       const ExpressionScope compile_time = scope();
       for (const auto& name : compile_time.known_names) plan_.expression_values[name] = *compile_time.lookup(name);
     }
-    for (const auto& b : node.bindings) pass.ports[b.port->name] = b.resource;
+    for (const auto& b : node.bindings) pass.ports[b.key] = b.resource;
     if (pass.decl->uses_ray_queries && pass.decl->uses_ray_queries(pass.params)) {
       if (!options_.ray_queries) {
         throw graph_.error(pass.pointer, "pass '" + pass.name + "' (" + pass.type +
@@ -317,8 +318,8 @@ void Compiler::cull_and_order() {
   }
   for (const auto& [light, names] : unlit) {
     plan_.warnings.push_back("light " + std::to_string(light) +
-                             " is a point light, which has no light view: only spot and directional lights cast shadows "
-                             "and caustics (a point light's cube map is not implemented), so the passes that draw from its "
+                             " is a point light, which has no light view: a point light casts its shadow (a cube map) but "
+                             "throws no caustic yet (only spot and directional lights do), so the passes that draw from its "
                              "view add nothing to the picture (" +
                              names + "); give the scene a spot or directional light, or use a graph without them");
   }

@@ -8,6 +8,7 @@
 #include "core/suggest.h"
 #include "graph/compiler_internal.h"
 #include "graph/expression.h"
+#include "graph/per_light.h"
 #include "graph/user_pass_type.h"
 #include "io/json_reader.h"
 
@@ -27,6 +28,7 @@ void Compiler::decide_enabled_and_fallbacks() {
     enabled_.push_back(on);
     if (!on) {
       plan_.disabled.push_back(pass.name);
+      plan_.disabled_by[pass.name] = pass.enabled;
       continue;
     }
     for (const auto& [port, resource] : pass.outputs) written.insert(resource);
@@ -148,9 +150,10 @@ void Compiler::size_resources() {
                                                            " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
         }
         r.layers = static_cast<uint32_t>(layers);
-        if (r.layers > 1 && r.format != Format::r32f) {
+        // Read back a layer to a colour channel, or side by side: single-channel formats only.
+        if (r.layers > 1 && r.format != Format::r32f && r.format != Format::d32f) {
           throw graph_.error(desc.pointer + "/layers",
-                             "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f images can have layers");
+                             "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f and d32f images can have layers");
         }
       } else {
         double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size"));
@@ -314,10 +317,23 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
   for (const auto& [port_name, resource_name] : section) {
     const bool bound = errors_.attempt([&, &port_name = port_name, &resource_name = resource_name] {
       std::string pointer = json_pointer_append(pass.pointer + "/" + section_name, port_name);
-      const PortDecl* port = decl.find_port(port_name);
+      const auto [base_name, element] = split_port_element(port_name);
+      const PortDecl* port = decl.find_port(base_name);
       if (!port) {
         throw graph_.error(pointer, "pass type '" + decl.type + "' has no port '" + port_name + "'" + did_you_mean(port_name, port_names));
       }
+      if (element >= 0 && !port->per_light) {
+        const size_t instance = resource_name.find('#');
+        if (instance != std::string::npos) {
+          throw graph_.error(pointer, "'" + resource_name.substr(0, instance) + "' is a per-light resource (one per light), and port '" +
+                                          base_name + "' of pass type '" + decl.type +
+                                          "' takes one resource; read it in a pass with \"for_each\": \"light\", whose instances "
+                                          "each read their light's");
+        }
+        throw graph_.error(pointer, "'" + port_name + "' names an element of port '" + base_name + "' of pass type '" + decl.type +
+                                        "', which takes one resource, not one per light");
+      }
+      const std::string key = port->per_light ? port_element(base_name, static_cast<uint32_t>(std::max(element, 0))) : base_name;
       bool port_writes = port->access != PortAccess::read;
       if (port_writes != outputs) {
         throw graph_.error(pointer, std::string("port '") + port_name + "' of pass type '" + decl.type + "' is an " +
@@ -351,7 +367,8 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
       }
       if (r.kind == ResourceKind::image) check_format(*port, r, pass, pointer);
       for (const auto& other : node.bindings) {
-        if (other.resource == static_cast<uint32_t>(index)) {
+        if (other.key == key) throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + key + "' twice");
+        if (other.resource == static_cast<uint32_t>(index) && other.port != port) {
           throw graph_.error(pointer, "pass '" + pass.name + "' binds '" + r.name + "' to two ports ('" + other.port->name + "' and '" +
                                           port_name + "'); use one read_write port instead");
         }
@@ -360,7 +377,7 @@ void Compiler::bind_section(Node& node, const std::map<std::string, std::string>
       // unbound, so the pass skips the work and the resource takes no memory; one the pass samples
       // itself (scratch, such as refraction_layers' front_tint) is bound wherever it is connected.
       if (outputs && port->optional && !port->also_sampled && !wanted(resource_name)) return;
-      node.bindings.push_back({port, static_cast<uint32_t>(index), pointer});
+      node.bindings.push_back({port, static_cast<uint32_t>(index), pointer, key});
     });
     if (!bound) node.refused_binding = true;
   }
@@ -409,10 +426,11 @@ void Compiler::check_format(const PortDecl& port, const PlannedResource& r, cons
     throw graph_.error(pointer, "format mismatch: port '" + port.name + "' of pass '" + pass.name + "' accepts " + accepted + ", but '" +
                                     r.name + "' is " + info.name);
   }
-  if (port.kind == ResourceKind::image && r.layers != port.layers) {
+  if (port.kind == ResourceKind::image && r.layers != port.layers && !(port.cube_layers && r.layers == 6)) {
     throw graph_.error(pointer, "layer mismatch: port '" + port.name + "' of pass '" + pass.name + "' takes an image of " +
-                                    std::to_string(port.layers) + (port.layers == 1 ? " layer" : " array layers") + ", but '" + r.name +
-                                    "' has " + std::to_string(r.layers) + " (its \"layers\")");
+                                    std::to_string(port.layers) + (port.layers == 1 ? " layer" : " array layers") +
+                                    (port.cube_layers ? " or 6 (a point light's cube faces)" : "") + ", but '" + r.name + "' has " +
+                                    std::to_string(r.layers) + " (its \"layers\")");
   }
   if (port.usage == PortUsage::storage && std::string_view(info.glsl_qualifier).empty()) {
     throw graph_.error(pointer, "'" + r.name + "' (" + info.name + ") cannot be a storage image (port '" + port.name + "')");

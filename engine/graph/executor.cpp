@@ -122,8 +122,8 @@ void Executor::hand_over(std::unique_ptr<const Plan> before, std::unique_ptr<Rea
   for (const RunningResult& r : parked_running_) parked.push_back(r.running_id);
   const PlanRecord running_from{before.get(), realized_before ? &realized_before->run : nullptr,
                                 realized_before ? &realized_before->shader_files : nullptr};
-  const PlanRecord results_from = results_plan ? PlanRecord{results_plan.get(), &results_realized->run, &results_realized->shader_files}
-                                               : running_from;
+  const PlanRecord results_from =
+      results_plan ? PlanRecord{results_plan.get(), &results_realized->run, &results_realized->shader_files} : running_from;
   const HandOver h = plan_hand_over(running_from, results_from, parked, *plan_, options);
 
   Realized& real = *realized_;
@@ -213,6 +213,34 @@ FrameImage Executor::frame_image(const std::string& name) const {
   return {realized_->images[static_cast<size_t>(index)].image.get(), layout, res.format, {res.width, res.height}};
 }
 
+namespace {
+
+// More layers than colour channels (a point light's six cube faces): the layers side by side, each
+// single-channel image's value in red, green and blue.
+io::ImageData layer_strip(const PlannedResource& res, const uint8_t* bytes) {
+  if (res.format != Format::r32f && res.format != Format::d32f) {
+    throw InputError("'" + res.name + "' has " + std::to_string(res.layers) + " layers of " + format_info(res.format).name +
+                     ", which read back only as r32f or d32f");
+  }
+  io::ImageData image;
+  image.width = res.width * res.layers;
+  image.height = res.height;
+  image.rgba.assign(size_t{image.width} * image.height * 4, 1.0f);
+  for (uint32_t layer = 0; layer < res.layers; ++layer) {
+    for (uint32_t y = 0; y < res.height; ++y) {
+      for (uint32_t x = 0; x < res.width; ++x) {
+        float v = 0;
+        std::memcpy(&v, bytes + ((size_t{layer} * res.height + y) * res.width + x) * 4, 4);
+        float* out = &image.rgba[(size_t{y} * image.width + layer * res.width + x) * 4];
+        out[0] = out[1] = out[2] = v;
+      }
+    }
+  }
+  return image;
+}
+
+}  // namespace
+
 io::ImageData Executor::read_image(const std::string& name) const {
   const int index = plan_->find_resource(plan_->resolve(name));
   const auto& real = *realized_;
@@ -223,12 +251,13 @@ io::ImageData Executor::read_image(const std::string& name) const {
   }
   if (!real.read_back_done) throw DeviceError("read_image('" + name + "') before a frame that read back");
   const PlannedResource& res = plan_->resources[static_cast<size_t>(index)];
+  const auto* bytes = static_cast<const uint8_t*>(rb->buffer.mapped);
+  if (res.layers > 4) return layer_strip(res, bytes);
   io::ImageData image;
   image.width = res.width;
   image.height = res.height;
   const size_t texels = size_t{res.width} * res.height;
   image.rgba.assign(texels * 4, 0.0f);
-  const auto* bytes = static_cast<const uint8_t*>(rb->buffer.mapped);
   const FormatInfo& info = format_info(res.format);
   for (size_t t = 0; t < texels; ++t) {
     float* out = &image.rgba[t * 4];

@@ -19,7 +19,9 @@ inline constexpr uint32_t kMaxCounters = 256;
 
 struct Executor::RealImage {
   vk::OwnedImage image;
-  vk::OwnedImageView view;
+  vk::OwnedImageView view;                      // every layer: 2D, or 2D array where it has more than one
+  vk::OwnedImageView array_view;                // a one-layer image as a 2D array (a shader's array of light maps)
+  std::vector<vk::OwnedImageView> layer_views;  // a layered image's layers, each 2D (render targets)
 };
 
 struct Executor::RealBuffer {
@@ -29,8 +31,8 @@ struct Executor::RealBuffer {
 struct Executor::Realized {
   std::vector<vk::OwnedMemory> blocks;
   std::vector<vk::OwnedMemory> dedicated;  // by resource index: a persistent resource's own allocation
-  std::vector<RealImage> images;    // by resource index (empty for buffers and unused resources)
-  std::vector<RealBuffer> buffers;  // by resource index
+  std::vector<RealImage> images;           // by resource index (empty for buffers and unused resources)
+  std::vector<RealBuffer> buffers;         // by resource index
   struct Readback {
     uint32_t resource;
     vk::Buffer buffer;

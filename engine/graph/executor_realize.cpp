@@ -63,12 +63,21 @@ void Executor::realize_passes_and_resources() {
       vk_.set_name(VK_OBJECT_TYPE_IMAGE, reinterpret_cast<uint64_t>(image), res.name);
       VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
       view_info.image = image;
-      view_info.viewType = res.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
       view_info.format = create.format;
-      view_info.subresourceRange = {aspect_of(res.format), 0, res.mips, 0, res.layers};
-      VkImageView view = VK_NULL_HANDLE;
-      vk::check(vkCreateImageView(device, &view_info, nullptr, &view), "vkCreateImageView");
-      real.images[i].view = vk::OwnedImageView(vk_, view);
+      auto make_view = [&](VkImageViewType type, uint32_t first_layer, uint32_t layers) {
+        view_info.viewType = type;
+        view_info.subresourceRange = {aspect_of(res.format), 0, res.mips, first_layer, layers};
+        VkImageView view = VK_NULL_HANDLE;
+        vk::check(vkCreateImageView(device, &view_info, nullptr, &view), "vkCreateImageView");
+        return vk::OwnedImageView(vk_, view);
+      };
+      real.images[i].view = make_view(res.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D, 0, res.layers);
+      if (res.layers == 1 && (create.usage & VK_IMAGE_USAGE_SAMPLED_BIT))
+        real.images[i].array_view = make_view(VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
+      if (res.layers > 1 && (create.usage & (VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT))) {
+        for (uint32_t layer = 0; layer < res.layers; ++layer)
+          real.images[i].layer_views.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, layer, 1));
+      }
     } else {
       VkBufferCreateInfo create = buffer_info(res);
       VkBuffer buffer = VK_NULL_HANDLE;

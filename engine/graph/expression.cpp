@@ -7,10 +7,15 @@
 #include "core/suggest.h"
 
 namespace caustica::graph {
-namespace {
 
-bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; }
+bool is_name_start(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+}
+bool is_name_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+}
+
+namespace {
 
 class Evaluator {
  public:
@@ -31,8 +36,7 @@ class Evaluator {
   int depth_ = 0;
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::invalid_argument("in expression \"" + std::string(text_) + "\" at character " +
-                                std::to_string(pos_ + 1) + ": " + what);
+    throw std::invalid_argument("in expression \"" + std::string(text_) + "\" at character " + std::to_string(pos_ + 1) + ": " + what);
   }
 
   void skip() {
@@ -50,9 +54,12 @@ class Evaluator {
   double sum() {
     double v = product();
     while (true) {
-      if (accept('+')) v += product();
-      else if (accept('-')) v -= product();
-      else return v;
+      if (accept('+'))
+        v += product();
+      else if (accept('-'))
+        v -= product();
+      else
+        return v;
     }
   }
 
@@ -134,19 +141,38 @@ class Evaluator {
     }
     auto arity = [&](size_t n) {
       if (args.size() != n) {
-        fail(function + " takes " + std::to_string(n) + " argument" + (n == 1 ? "" : "s") + ", not " +
-             std::to_string(args.size()));
+        fail(function + " takes " + std::to_string(n) + " argument" + (n == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
       }
     };
-    if (function == "min") { arity(2); return std::min(args[0], args[1]); }
-    if (function == "max") { arity(2); return std::max(args[0], args[1]); }
-    if (function == "floor") { arity(1); return std::floor(args[0]); }
-    if (function == "ceil") { arity(1); return std::ceil(args[0]); }
-    if (function == "round") { arity(1); return std::round(args[0]); }
-    if (function == "log2") { arity(1); return std::log2(args[0]); }
-    if (function == "pow") { arity(2); return std::pow(args[0], args[1]); }
-    fail("unknown function '" + function + "'" +
-         did_you_mean(function, {"min", "max", "floor", "ceil", "round", "log2", "pow"}));
+    if (function == "min") {
+      arity(2);
+      return std::min(args[0], args[1]);
+    }
+    if (function == "max") {
+      arity(2);
+      return std::max(args[0], args[1]);
+    }
+    if (function == "floor") {
+      arity(1);
+      return std::floor(args[0]);
+    }
+    if (function == "ceil") {
+      arity(1);
+      return std::ceil(args[0]);
+    }
+    if (function == "round") {
+      arity(1);
+      return std::round(args[0]);
+    }
+    if (function == "log2") {
+      arity(1);
+      return std::log2(args[0]);
+    }
+    if (function == "pow") {
+      arity(2);
+      return std::pow(args[0], args[1]);
+    }
+    fail("unknown function '" + function + "'" + did_you_mean(function, {"min", "max", "floor", "ceil", "round", "log2", "pow"}));
   }
 };
 

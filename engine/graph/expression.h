@@ -19,4 +19,8 @@ struct ExpressionScope {
 // Throws std::invalid_argument with a message that says what and where in the expression.
 double evaluate_expression(std::string_view text, const ExpressionScope& scope);
 
+// A name in an expression ("scene.light0.spot"): a letter or '_', then letters, digits, '_' and '.'.
+bool is_name_start(char c);
+bool is_name_char(char c);
+
 }  // namespace caustica::graph

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/suggest.h"
+#include "graph/per_light.h"
 #include "graph/plan.h"
 #include "io/json_reader.h"
 
@@ -116,6 +117,16 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   }
 }
 
+// "for_each": what a pass or resource is made once per; the scene's lights are all there is.
+std::string read_for_each(const GraphDesc& graph, const Reader& read, const nlohmann::json& value, const std::string& pointer) {
+  const std::string text = read.string(value, pointer, "\"for_each\"");
+  if (text != kForEachLight) {
+    throw graph.error(pointer, "unknown \"for_each\" '" + text + "'" + did_you_mean(text, {std::string(kForEachLight)}) +
+                                   "; passes and resources are made once per light (\"light\") or once");
+  }
+  return text;
+}
+
 void load_resources(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   const auto& root = graph.doc.root();
   if (!root.contains("resources")) throw graph.error("", "a graph needs \"resources\"");
@@ -127,8 +138,9 @@ void load_resources(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       r.pointer = pointer;
       r.name = read.name(nlohmann::json(key), pointer, "a resource name");
       read.object(value, pointer, "a resource");
-      read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "layers", "size", "fallback", "description"},
+      read.only_keys(value, pointer, {"type", "format", "width", "height", "mips", "layers", "size", "fallback", "for_each", "description"},
                      "a resource");
+      if (value.contains("for_each")) r.for_each = read_for_each(graph, read, value["for_each"], pointer + "/for_each");
       std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "\"type\"") : "image";
       if (type == "image") {
         r.kind = ResourceKind::image;
@@ -335,7 +347,7 @@ void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
       if (!value.contains("type")) throw graph.error(pointer, "pass needs a \"type\"");
       p.type = read.string(value["type"], pointer + "/type", "\"type\"");
       const bool user = std::find(std::begin(kUserPassTypes), std::end(kUserPassTypes), p.type) != std::end(kUserPassTypes);
-      std::vector<std::string> keys{"name", "type", "params", "inputs", "outputs", "after", "enabled", "description"};
+      std::vector<std::string> keys{"name", "type", "params", "inputs", "outputs", "after", "enabled", "for_each", "description"};
       const std::vector<std::string> user_keys{"shader", "ports", "parameters", "dispatch", "scene", "counters"};
       if (user) keys.insert(keys.end(), user_keys.begin(), user_keys.end());
       for (const auto& key : user_keys) {
@@ -359,6 +371,7 @@ void load_passes(GraphDesc& graph, const Reader& read, ErrorList& errors) {
           p.after.push_back(read.name(after[j], pointer + "/after/" + std::to_string(j), "a pass name"));
         }
       }
+      if (value.contains("for_each")) p.for_each = read_for_each(graph, read, value["for_each"], pointer + "/for_each");
       if (value.contains("enabled")) {
         const auto& enabled = value["enabled"];
         if (enabled.is_boolean())

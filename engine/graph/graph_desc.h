@@ -43,6 +43,8 @@ struct ResourceDesc {
   std::string fallback;
   // "fallback": null: when no enabled pass writes it, optional inputs bound to it are left unbound.
   bool fallback_to_nothing = false;
+  // "light": one resource per light of the scene, its expressions read per light (graph/per_light.h).
+  std::string for_each;
   std::string pointer;
 };
 
@@ -76,6 +78,7 @@ struct PassDesc {
   std::map<std::string, std::string> outputs;
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
   std::string enabled = "1";       // an expression (true/false in the file are 1/0); the pass runs when non-zero
+  std::string for_each;            // "light": one instance per light of the scene (graph/per_light.h)
   std::string pointer;
   std::optional<UserPassDesc> user;  // a "compute" or "fullscreen" pass
 };

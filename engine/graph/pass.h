@@ -67,6 +67,10 @@ class PassContext {
   const PlannedResource& resource(const std::string& port) const;
   VkImage image(const std::string& port) const;
   VkImageView view(const std::string& port) const;
+  // The image as a 2D array whatever its layers (a sampler2DArray reads a spot light's one-layer
+  // shadow map and a point light's six alike), and one layer of a layered render target.
+  VkImageView array_view(const std::string& port) const;
+  VkImageView layer_view(const std::string& port, uint32_t layer) const;
   VkBuffer buffer(const std::string& port) const;
   VkExtent2D extent(const std::string& port) const;
   VkSampler linear_sampler() const;

@@ -65,6 +65,16 @@ VkImage PassContext::image(const std::string& port) const {
 VkImageView PassContext::view(const std::string& port) const {
   return executor_.realized_->images[pass_.ports.at(port)].view.get();
 }
+VkImageView PassContext::array_view(const std::string& port) const {
+  const auto& real = executor_.realized_->images[pass_.ports.at(port)];
+  return resource(port).layers > 1 ? real.view.get() : real.array_view.get();
+}
+VkImageView PassContext::layer_view(const std::string& port, uint32_t layer) const {
+  const auto& real = executor_.realized_->images[pass_.ports.at(port)];
+  if (resource(port).layers == 1) return real.view.get();
+  assert(layer < real.layer_views.size() && "layer_view of a layered render target");
+  return real.layer_views[layer].get();
+}
 VkBuffer PassContext::buffer(const std::string& port) const {
   return executor_.realized_->buffers[pass_.ports.at(port)].buffer.get();
 }

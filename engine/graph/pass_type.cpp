@@ -5,11 +5,19 @@
 #include <cmath>
 #include <sstream>
 
+#include "graph/per_light.h"
+
 namespace caustica::graph {
 
 const PortDecl* PassTypeDecl::find_port(std::string_view name) const {
   for (const auto& port : ports) {
     if (port.name == name) return &port;
+  }
+  // An element of a per-light port, as PlannedPass::ports names it ("shadow[2]").
+  const auto [base, element] = split_port_element(name);
+  if (element < 0) return nullptr;
+  for (const auto& port : ports) {
+    if (port.name == base && port.per_light) return &port;
   }
   return nullptr;
 }

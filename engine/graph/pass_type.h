@@ -63,6 +63,11 @@ struct PortDecl {
   bool also_sampled = false;
   // Array layers the bound image must have: the shader declares an array (image2DArray) when above 1.
   uint32_t layers = 1;
+  // Also takes an image of six layers: a point light's cube faces (shadow maps).
+  bool cube_layers = false;
+  // One resource per light (graph/per_light.h): bound to a per-light resource, element K is light K's
+  // instance ("PORT[K]" in PlannedPass::ports); bound to one resource, that is element 0.
+  bool per_light = false;
 };
 
 enum class ParamType { float_, int_, bool_, choice };
@@ -151,7 +156,7 @@ struct PassTypeDecl {
   // text, includes and all): part of PlannedPass::result_id, so that an edited shader runs again.
   std::string result_source;
 
-  const PortDecl* find_port(std::string_view name) const;
+  const PortDecl* find_port(std::string_view name) const;  // also "PORT[K]", element K of a per-light port
   const ParamDecl* find_param(std::string_view name) const;
 };
 

@@ -90,6 +90,7 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["ray_query_passes"] = plan.ray_query_passes;
   out["warnings"] = plan.warnings;
   out["disabled"] = plan.disabled;
+  out["disabled_by"] = plan.disabled_by;
   out["fallbacks"] = plan.fallbacks;
   out["reuses_unchanged_passes"] = plan.reuses_unchanged_passes;
   out["jitters_camera"] = plan.jitters_camera;

@@ -6,9 +6,9 @@
 
 #include <cstdint>
 #include <map>
-#include <optional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,8 +32,9 @@ inline std::string history_of(std::string_view resource) {
   return std::string(resource) + std::string(kPreviousSuffix);
 }
 // Layered images hold one value per layer (an RGB caustic map: three r32f layers, because image
-// atomics are single-channel); they read back and dump with layer k as colour channel k.
-inline constexpr uint32_t kMaxImageLayers = 4;
+// atomics are single-channel), or a point light's six cube faces; up to four read back and dump
+// with layer k as colour channel k, more as a strip of layers side by side.
+inline constexpr uint32_t kMaxImageLayers = 6;
 
 struct MemoryRequirements {
   uint64_t size = 0;
@@ -148,9 +149,12 @@ struct Plan {
   std::string graph_path;
   uint32_t output_width = 0;
   uint32_t output_height = 0;
-  std::vector<PlannedPass> passes;               // execution order
-  std::vector<std::string> culled;               // enabled passes that reach no output and have no side effect
-  std::vector<std::string> disabled;             // passes whose "enabled" is 0 for this scene and these parameters
+  std::vector<PlannedPass> passes;    // execution order
+  std::vector<std::string> culled;    // enabled passes that reach no output and have no side effect
+  std::vector<std::string> disabled;  // passes whose "enabled" is 0 for this scene and these parameters
+  // Each disabled pass's "enabled" as it was evaluated: a per-light instance's with its light's
+  // names ("scene.light2.objects": light 2 reaches no object), so that a plan says why.
+  std::map<std::string, std::string> disabled_by;
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
   std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
   std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built

@@ -137,6 +137,9 @@ json resource_schema(const json& expression) {
              {{"type", {"string", "null"}},
               {"description",
                "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
+            {"for_each",
+             {{"enum", {"light"}},
+              {"description", "one resource per light of the scene, named NAME#K; its expressions may name light.index and light.*"}}},
             {"description", {{"type", "string"}}}}},
           {"additionalProperties", false}};
 }
@@ -165,6 +168,11 @@ json pass_schema(const PassRegistry& registry, const json& expression) {
         {"enabled",
          {{"type", {"boolean", "string"}},
           {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
+        {"for_each",
+         {{"enum", {"light"}},
+          {"description",
+           "one instance per light of the scene, named NAME#K: \"$light\" and light.index are K, light.NAME the scene's "
+           "scene.lightK.NAME (spot, point, directional, objects, refractors); its per-light resources are light K's"}}},
         {"description", {{"type", "string"}}},
         {"shader", {{"type", "string"}, {"description", "compute and fullscreen: the .comp or .frag file, relative to the graph file"}}},
         {"ports",

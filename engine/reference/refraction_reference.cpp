@@ -42,8 +42,8 @@ class Tracer {
       const glm::vec3 l = to_light / std::sqrt(d2);
       const float reach = directional ? std::numeric_limits<float>::infinity() : std::sqrt(d2) - epsilon_;
       float cone = spot_cone(light, -l);
-      // The engine shadows the first light with a view only (through its shadow map); so does the reference.
-      if (light.has_view() && i == 0 && cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
+      // The engine shadows every light (through its shadow map); the reference with an exact ray.
+      if (cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
       // The caustic's light arrives through the refractor from many directions: diffuse only.
       if (light.has_view() && i == 0 && caustic_map_)
         radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(light, p, n);

@@ -140,8 +140,11 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
     // A square frustum's inscribed cone: the half angle is half the field of view.
     l.direction_cos = glm::vec4(light.axis(), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
     l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
-    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane,
-                       directional ? light.extent : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f), 0.0f);
+    const float tan_half = light.type == LightType::point ? kCubeFaceTan : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
+    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, directional ? light.extent : tan_half, 0.0f);
+    if (light.type == LightType::point) {
+      for (uint32_t face = 0; face < 6; ++face) l.faces[face] = light.face_view_projection(face);
+    }
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
   lights_key_ = fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count);

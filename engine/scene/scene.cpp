@@ -45,6 +45,31 @@ glm::mat4 Light::view_projection() const {
   return p * view.view_matrix();
 }
 
+glm::mat4 Light::face_view_projection(uint32_t face) const {
+  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  View face_view = view;
+  face_view.target = view.position + axes[face % 6];
+  face_view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCubeFaceTan));
+  return face_view.view_projection(1.0f);
+}
+
+bool Light::reaches(glm::vec3 bounds_min, glm::vec3 bounds_max) const {
+  if (type == LightType::point) return true;
+  const glm::vec3 center = 0.5f * (bounds_min + bounds_max);
+  const float radius = 0.5f * glm::length(bounds_max - bounds_min);
+  const glm::vec3 to_center = center - view.position;
+  const float along = glm::dot(to_center, axis());
+  if (along + radius < view.near_plane || along - radius > view.far_plane) return false;
+  const float across = glm::length(to_center - along * axis());
+  if (type == LightType::directional) return across - radius <= extent * std::sqrt(2.0f);
+  // The sphere around the box against the cone through the square frustum's corners.
+  const float distance = glm::length(to_center);
+  if (distance <= radius) return true;
+  const float corner = std::atan(std::sqrt(2.0f) * std::tan(glm::radians(view.fov_y_degrees) * 0.5f));
+  const float off_axis = std::atan2(across, along);
+  return off_axis - std::asin(std::min(1.0f, radius / distance)) <= corner;
+}
+
 namespace {
 
 // A directional light's orthographic view is a prism along its direction: one that holds the first
@@ -86,7 +111,8 @@ glm::mat4 View::projection(float aspect) const {
 }
 
 bool Scene::disperses() const {
-  return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
+  return std::any_of(objects.begin(), objects.end(),
+                     [](const Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
 }
 
 bool Scene::tints_per_texel() const {
@@ -104,8 +130,22 @@ std::map<std::string, double> Scene::expression_values() const {
       {"scene.refractors", static_cast<double>(refractor_count())}, {"scene.lights", static_cast<double>(lights.size())},
       {"scene.objects", static_cast<double>(objects.size())},       {"scene.dispersive", disperses() ? 1.0 : 0.0},
       {"scene.diagonal", static_cast<double>(diagonal())},          {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
-  for (size_t i = 0; i < lights.size(); ++i)
-    values["scene.light" + std::to_string(i) + ".view"] = lights[i].has_view() ? 1 : 0;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    const std::string prefix = "scene.light" + std::to_string(i) + ".";
+    values[prefix + "view"] = light.has_view() ? 1 : 0;
+    values[prefix + "spot"] = light.type == LightType::spot ? 1 : 0;
+    values[prefix + "point"] = light.type == LightType::point ? 1 : 0;
+    values[prefix + "directional"] = light.type == LightType::directional ? 1 : 0;
+    double objects_reached = 0, refractors_reached = 0;
+    for (const Object& o : objects) {
+      if (!light.reaches(o.bounds_min, o.bounds_max)) continue;
+      objects_reached += 1;
+      refractors_reached += o.material.refractor ? 1 : 0;
+    }
+    values[prefix + "objects"] = objects_reached;
+    values[prefix + "refractors"] = refractors_reached;
+  }
   return values;
 }
 
@@ -256,9 +296,8 @@ Object object_from_part(MeshPart&& part, size_t texture_base) {
   Object o;
   o.mesh = std::move(part.mesh);
   if (part.material) o.material = *part.material;
-  for (TextureRef* ref :
-       {&o.material.base_color_texture, &o.material.metallic_roughness_texture, &o.material.normal_texture, &o.material.emissive_texture,
-        &o.material.occlusion_texture}) {
+  for (TextureRef* ref : {&o.material.base_color_texture, &o.material.metallic_roughness_texture, &o.material.normal_texture,
+                          &o.material.emissive_texture, &o.material.occlusion_texture}) {
     if (ref->used()) ref->texture += static_cast<int>(texture_base);
   }
   return o;
@@ -317,7 +356,8 @@ Scene load_scene(const JsonDocument& doc) {
       throw doc.error(pointer + "/type", "unknown light type '" + type + "' (known: spot, point, directional)" + did_you_mean(type, types));
     if (value.contains("extent")) {
       if (light.type != LightType::directional) throw doc.error(pointer + "/extent", "\"extent\" is for directional lights only");
-      light.extent = static_cast<float>(read.number(value["extent"], pointer + "/extent", "\"extent\" (half the light view's side)", 1e-3, 1e5));
+      light.extent =
+          static_cast<float>(read.number(value["extent"], pointer + "/extent", "\"extent\" (half the light view's side)", 1e-3, 1e5));
     }
     if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
     if (value.contains("intensity"))

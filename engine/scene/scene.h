@@ -141,6 +141,11 @@ struct View {
 
 enum class LightType { spot, point, directional };
 
+// A point light's shadow map is a cube: six square views along +x, -x, +y, -y, +z, -z, a little wider
+// than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver
+// near a face's edge still finds its taps inside that face.
+inline constexpr float kCubeFaceTan = 1.05f;
+
 struct Light {
   LightType type = LightType::spot;
   // spot: position, target and the cone as a square frustum; directional: the direction from
@@ -154,6 +159,11 @@ struct Light {
   bool has_view() const { return type != LightType::point; }
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;
+  // A point light's cube face `face` (0..5, kCubeFaceTan).
+  glm::mat4 face_view_projection(uint32_t face) const;
+  // Whether light from it can reach a part of the box (a spot light's frustum, conservatively as the
+  // cone through its corners; a directional light's prism; a point light every direction).
+  bool reaches(glm::vec3 bounds_min, glm::vec3 bounds_max) const;
 };
 
 struct Scene {
@@ -183,7 +193,10 @@ struct Scene {
   float diagonal() const;
   // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects,
   // scene.dispersive (1 where a refractor disperses light, else 0), scene.diagonal and
-  // scene.ray_epsilon (a user pass's exact tracer offsets its rays as the built-ins do).
+  // scene.ray_epsilon (a user pass's exact tracer offsets its rays as the built-ins do); per light K,
+  // scene.lightK.spot, .point and .directional (1 for its type), .view (1 but for a point light),
+  // .objects and .refractors (how many its light reaches, Light::reaches), which a per-light pass
+  // reads as light.NAME (graph/per_light.h).
   std::map<std::string, double> expression_values() const;
 };
 

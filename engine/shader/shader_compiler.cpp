@@ -200,6 +200,7 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
     b.binding = q.hasBinding() ? q.layoutBinding : 0;
     b.readonly = q.readonly;
     b.writeonly = q.writeonly;
+    if (type.isSizedArray()) b.count = static_cast<uint32_t>(type.getOuterArraySize());
     if (type.getBasicType() == glslang::EbtSampler) {
       const glslang::TSampler& sampler = type.getSampler();
       b.arrayed = sampler.isArrayed();

@@ -38,6 +38,7 @@ struct ReflectedBinding {
   BindingKind kind = BindingKind::other;
   std::string format;  // a storage image's format qualifier ("r32f"), else empty
   bool arrayed = false;
+  uint32_t count = 1;  // descriptors: an array's size (uniform sampler2DArray shadow_maps[8])
   bool readonly = false;
   bool writeonly = false;
   SourcePlace place;

@@ -25,8 +25,8 @@ ShaderInterface::ShaderInterface(std::string pass, const std::vector<NamedReflec
       const auto same = std::find_if(bindings_.begin(), bindings_.end(),
                                      [&](const InterfaceBinding& known) { return known.set == b.set && known.binding == b.binding; });
       if (same == bindings_.end()) {
-        bindings_.push_back({b.name, b.set, b.binding, b.kind, shader.path});
-      } else if (same->name != b.name || same->kind != b.kind) {
+        bindings_.push_back({b.name, b.set, b.binding, b.kind, b.count, shader.path});
+      } else if (same->name != b.name || same->kind != b.kind || same->count != b.count) {
         throw InputError(where(shader.path) + ": declares '" + b.name + "' at set " + std::to_string(b.set) + " binding " +
                          std::to_string(b.binding) + ", where " + same->shader + " declares '" + same->name + "'");
       }
@@ -66,11 +66,16 @@ const InterfaceBinding& ShaderInterface::find(const std::string& name, const std
   return *found;
 }
 
-void ShaderInterface::check_written(const std::vector<size_t>& written) const {
+void ShaderInterface::check_written(const std::vector<std::pair<size_t, uint32_t>>& written) const {
   for (size_t i = 0; i < bindings_.size(); ++i) {
-    if (bindings_[i].set != 0 || std::find(written.begin(), written.end(), i) != written.end()) continue;
-    throw InputError(where(bindings_[i].shader) + ": declares '" + bindings_[i].name + "' (binding " +
-                     std::to_string(bindings_[i].binding) + "), which the pass leaves unbound");
+    if (bindings_[i].set != 0) continue;
+    for (uint32_t element = 0; element < bindings_[i].count; ++element) {
+      if (std::find(written.begin(), written.end(), std::pair(i, element)) != written.end()) continue;
+      const std::string which =
+          bindings_[i].count > 1 ? "element " + std::to_string(element) + " of '" + bindings_[i].name + "'" : "'" + bindings_[i].name + "'";
+      throw InputError(where(bindings_[i].shader) + ": declares " + which + " (binding " + std::to_string(bindings_[i].binding) +
+                       "), which the pass leaves unbound");
+    }
   }
 }
 

@@ -24,6 +24,7 @@ struct InterfaceBinding {
   uint32_t set = 0;
   uint32_t binding = 0;
   BindingKind kind = BindingKind::other;
+  uint32_t count = 1;  // descriptors: an array's elements, each written by the pass
   std::string shader;  // the first of the pipeline's shaders that declares it
 };
 
@@ -56,9 +57,10 @@ class ShaderInterface {
   // The binding the shaders declare as `name`; refuses a name none declares, and one whose kind is
   // none of `kinds` (what the pass writes there).
   const InterfaceBinding& find(const std::string& name, const std::vector<BindingKind>& kinds) const;
-  // Refuses a set-0 binding whose index in bindings() is not in `written`: every descriptor a
-  // shader declares is written each time the pass binds it.
-  void check_written(const std::vector<size_t>& written) const;
+  // Refuses a set-0 binding with an element that `written` (index in bindings(), element) lacks:
+  // every descriptor a shader declares, each element of an array, is written each time the pass
+  // binds it.
+  void check_written(const std::vector<std::pair<size_t, uint32_t>>& written) const;
   // Refuses `cpp_type` (a C++ struct of `size` bytes) as the mirror of the push-constant block
   // unless it has the block's size and every member of the block at the block's offset, by name.
   void check_push(const std::string& cpp_type, size_t size, const std::vector<MirroredMember>& members) const;

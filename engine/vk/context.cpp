@@ -187,6 +187,8 @@ struct DeviceFeatures {
     features13.synchronization2 = VK_TRUE;
     features13.dynamicRendering = VK_TRUE;
     features13.maintenance4 = VK_TRUE;  // required in 1.3; glslang emits LocalSizeId for SPIR-V 1.6
+    // Required in 1.3 (with descriptorIndexing): lighting loops over every light's shadow map in an array.
+    features.features.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
     features.pNext = &features13;
     if (presentation) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     enable_float_atomics(physical);

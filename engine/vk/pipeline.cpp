@@ -22,7 +22,7 @@ OwnedShaderModule make_module(Context& vk, const std::vector<uint32_t>& spirv) {
 class Key {
  public:
   explicit Key(const char* kind, const PipelineDesc& desc) : text_(kind) {
-    *this << desc.name << desc.bindings << desc.push_constant_bytes << desc.texture_array;
+    *this << desc.name << desc.bindings << desc.counts << desc.push_constant_bytes << desc.texture_array;
   }
   Key& operator<<(const std::string& s) { return bytes(s.data(), s.size()) << '\0'; }
   template <typename T>
@@ -48,7 +48,8 @@ class Key {
 void make_layout(Context& vk, const PipelineDesc& desc, VkShaderStageFlags stages, Pipeline& out) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (uint32_t i = 0; i < desc.bindings.size(); ++i) {
-    if (desc.bindings[i] != VK_DESCRIPTOR_TYPE_MAX_ENUM) bindings.push_back({i, desc.bindings[i], 1, stages, nullptr});
+    const uint32_t count = i < desc.counts.size() ? desc.counts[i] : 1;
+    if (desc.bindings[i] != VK_DESCRIPTOR_TYPE_MAX_ENUM) bindings.push_back({i, desc.bindings[i], count, stages, nullptr});
   }
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
@@ -106,14 +107,18 @@ std::vector<shader::BindingKind> kinds_of(VkDescriptorType type) {
 }  // namespace
 
 PipelineDesc reflected_desc(std::string name, std::shared_ptr<const shader::ShaderInterface> interface) {
-  PipelineDesc desc{std::move(name), {}, interface->push_size(), 0, interface};
+  PipelineDesc desc{std::move(name), {}, {}, interface->push_size(), 0, interface};
   for (const shader::InterfaceBinding& b : interface->bindings()) {
     if (b.set == 1) {
       desc.texture_array = CAUSTICA_MAX_TEXTURES;
       continue;
     }
-    if (desc.bindings.size() <= b.binding) desc.bindings.resize(b.binding + 1, VK_DESCRIPTOR_TYPE_MAX_ENUM);
+    if (desc.bindings.size() <= b.binding) {
+      desc.bindings.resize(b.binding + 1, VK_DESCRIPTOR_TYPE_MAX_ENUM);
+      desc.counts.resize(b.binding + 1, 1);
+    }
     desc.bindings[b.binding] = descriptor_type(b.kind);
+    desc.counts[b.binding] = b.count;
   }
   return desc;
 }
@@ -234,13 +239,20 @@ const Pipeline& PipelineCache::insert(const std::string& key, Pipeline pipeline)
 }
 
 DescriptorWriter::Item& DescriptorWriter::named(const std::string& name, VkDescriptorType type) {
-  Item& item = items_.emplace_back(Item{0, type, {}, {}});
+  Item& item = items_.emplace_back(Item{0, type, 0, {}, {}});
   item.name = name;
   return item;
 }
 
 DescriptorWriter& DescriptorWriter::image(const std::string& name, VkImageView view, VkSampler sampler) {
   named(name, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER).image = {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::image_element(const std::string& name, uint32_t element, VkImageView view, VkSampler sampler) {
+  Item& item = named(name, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
+  item.image = {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  item.element = element;
   return *this;
 }
 
@@ -268,6 +280,7 @@ void DescriptorWriter::push(const Context& vk, VkCommandBuffer cmd, const Pipeli
   for (const auto& item : items) {
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstBinding = item.binding;
+    w.dstArrayElement = item.element;
     w.descriptorCount = 1;
     w.descriptorType = item.type;
     if (item.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || item.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) {
@@ -291,12 +304,16 @@ std::vector<DescriptorWriter::Item> DescriptorWriter::resolved(const Pipeline& p
   std::vector<Item> items = items_;
   assert(pipeline.interface && "every pipeline is laid out as its shaders declare (reflected_desc)");
   const shader::ShaderInterface& interface = *pipeline.interface;
-  std::vector<size_t> written;
+  std::vector<std::pair<size_t, uint32_t>> written;
   for (Item& item : items) {
     const shader::InterfaceBinding& b = interface.find(item.name, kinds_of(item.type));
+    if (item.element >= b.count) {
+      throw InputError("pass '" + interface.pass() + "' writes element " + std::to_string(item.element) + " of '" + item.name +
+                       "', which has " + std::to_string(b.count));
+    }
     item.binding = b.binding;
     item.type = descriptor_type(b.kind);
-    written.push_back(static_cast<size_t>(&b - interface.bindings().data()));
+    written.emplace_back(static_cast<size_t>(&b - interface.bindings().data()), item.element);
   }
   interface.check_written(written);
   return items;

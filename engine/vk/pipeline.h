@@ -17,6 +17,7 @@ namespace caustica::vk {
 struct PipelineDesc {
   std::string name;
   std::vector<VkDescriptorType> bindings;  // binding i has type bindings[i]; VK_DESCRIPTOR_TYPE_MAX_ENUM: none
+  std::vector<uint32_t> counts;            // and counts[i] descriptors (an array), where given; else 1
   uint32_t push_constant_bytes = 0;
   uint32_t texture_array = 0;  // > 0: set 1 is an array of this many combined image samplers
   // Where the shaders' declarations give the layout (reflected_desc): the pipeline's descriptors are
@@ -85,7 +86,9 @@ Pipeline make_graphics_pipeline(Context& vk, const PipelineDesc& desc, const std
 class DescriptorWriter {
  public:
   DescriptorWriter& image(const std::string& name, VkImageView view, VkSampler sampler);  // a sampler2D
-  DescriptorWriter& image(const std::string& name, VkImageView view);                     // an image2D
+  // Element `element` of an array of samplers (sampler2DArray shadow_maps[8]).
+  DescriptorWriter& image_element(const std::string& name, uint32_t element, VkImageView view, VkSampler sampler);
+  DescriptorWriter& image(const std::string& name, VkImageView view);  // an image2D
   // A storage or uniform buffer, as the shader declares it.
   DescriptorWriter& buffer(const std::string& name, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& structure(const std::string& name, VkAccelerationStructureKHR structure);
@@ -96,6 +99,7 @@ class DescriptorWriter {
   struct Item {
     uint32_t binding;
     VkDescriptorType type;
+    uint32_t element = 0;
     VkDescriptorImageInfo image;
     VkDescriptorBufferInfo buffer;
     VkAccelerationStructureKHR structure = VK_NULL_HANDLE;

@@ -26,7 +26,7 @@ using uint = uint32_t;
 #define CAUSTICA_LINE_F_NM 486.13
 
 struct Vertex {
-  vec4 position_dn;   // xyz world position, w: d_N (distance through the object along -normal)
+  vec4 position_dn;    // xyz world position, w: d_N (distance through the object along -normal)
   vec4 normal_object;  // xyz world normal, w: object index as a float
   vec4 texcoords;      // TEXCOORD_0 in xy, TEXCOORD_1 in zw
   vec4 tangent;        // xyz world tangent, w the bitangent's sign (glTF TANGENT); w 0: none
@@ -40,15 +40,15 @@ struct TextureSlot {
 };
 
 struct ObjectData {
-  vec4 albedo_refractor;      // rgb albedo, a: 0 opaque, 1 a refractor, 2 a convex solid refractor (Object::convex)
-  vec4 absorption_ior;        // rgb absorption per unit length, a: index of refraction
-  vec4 tint_transmission;     // rgb: colour of transmitted light, a: transmission factor (refractors)
-  vec4 bounds_min_thin;       // xyz: world-space bounding box; w: 1 for a thin-walled refractor
-  vec4 bounds_max_spread;     // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
-  TextureSlot base_color;     // multiplies albedo_refractor.rgb and alpha_cutoff.x
-  vec4 alpha_cutoff;          // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -2 for a BLEND
-                              // surface drawn as a thin wall (Material::coverage_transmits), else -1;
-                              // z: 1 when single-sided (the camera's view culls its back faces); w: occlusion strength
+  vec4 albedo_refractor;               // rgb albedo, a: 0 opaque, 1 a refractor, 2 a convex solid refractor (Object::convex)
+  vec4 absorption_ior;                 // rgb absorption per unit length, a: index of refraction
+  vec4 tint_transmission;              // rgb: colour of transmitted light, a: transmission factor (refractors)
+  vec4 bounds_min_thin;                // xyz: world-space bounding box; w: 1 for a thin-walled refractor
+  vec4 bounds_max_spread;              // xyz: world-space bounding box; w: n_F - n_C (dispersion; 0: none)
+  TextureSlot base_color;              // multiplies albedo_refractor.rgb and alpha_cutoff.x
+  vec4 alpha_cutoff;                   // x: base colour alpha; y: MASK cutoff (coverage below it cuts out), -2 for a BLEND
+                                       // surface drawn as a thin wall (Material::coverage_transmits), else -1;
+                                       // z: 1 when single-sided (the camera's view culls its back faces); w: occlusion strength
   TextureSlot metallic_roughness_map;  // b scales metallic, g roughness
   TextureSlot normal;                  // tangent-space normal map
   TextureSlot emissive;                // multiplies emissive_normal_scale.rgb
@@ -62,12 +62,14 @@ struct ObjectData {
 };
 
 struct LightData {
-  mat4 view_proj;        // the light's frustum (spot lights; shadow map lookups)
+  mat4 view_proj;  // the light's frustum (spot lights; shadow map lookups)
   mat4 inv_view_proj;
-  vec4 position_type;    // xyz, w: 0 spot, 1 point, 2 directional (view_proj orthographic from the plane through xyz)
-  vec4 direction_cos;    // xyz axis, w: cosine of the cone's half angle (spot)
-  vec4 radiant;          // rgb: colour * intensity (W/sr; directional: irradiance, W/m^2), a: intensity
-  vec4 clip;             // near and far plane of view_proj (for linear depth), tan(fov / 2) (directional: half the view's side)
+  vec4 position_type;  // xyz, w: 0 spot, 1 point, 2 directional (view_proj orthographic from the plane through xyz)
+  vec4 direction_cos;  // xyz axis, w: cosine of the cone's half angle (spot)
+  vec4 radiant;        // rgb: colour * intensity (W/sr; directional: irradiance, W/m^2), a: intensity
+  vec4 clip;           // near and far plane of view_proj (for linear depth), tan(fov / 2) (directional: half the view's side;
+                       // point: of a cube face's view)
+  mat4 faces[6];       // a point light's cube faces (+x, -x, +y, -y, +z, -z): its shadow map's layers
 };
 
 struct FrameData {

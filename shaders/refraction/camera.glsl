@@ -10,7 +10,7 @@
 #endif
 
 // scene/lighting.frag's model at p (ambient sky and every light); with `shadowed`, and ray
-// queries, an exact shadow ray for the first spot light, as the ray-traced reference has.
+// queries, an exact shadow ray for every light, as the ray-traced reference has.
 vec3 lambert(vec3 p, vec3 n, vec3 albedo, bool shadowed) {
   vec3 irradiance = vec3(0.0);
   for (uint i = 0u; i < frame.light_count; ++i) {
@@ -20,7 +20,7 @@ vec3 lambert(vec3 p, vec3 n, vec3 albedo, bool shadowed) {
     float cone = spot_cone(light, -l);
 #ifdef CAUSTICA_RAY_QUERY
     float reach = light_is_directional(light) ? 1e30 : sqrt(d2) - params.exact_epsilon;
-    if (shadowed && i == 0u && light_has_view(light) && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, reach)) cone = 0.0;
+    if (shadowed && cone > 0.0 && occluded(p + n * params.exact_epsilon, l, reach)) cone = 0.0;
 #endif
     irradiance += light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }

@@ -1,15 +1,18 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
-// the surface's BRDF, the first light shadowed through its shadow map (3x3 PCF) and adding its
-// caustic map when one is bound, plus ambient sky light (occluded by the emission target's alpha)
-// and emitted light. Sky where empty.
+// the surface's BRDF, each shadowed through its shadow map where it has one (3x3 PCF; a point light's
+// six cube faces), the first light adding its caustic map when one is bound, plus ambient sky light
+// (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_FRAME
 layout(set = 0, binding = 1) uniform sampler2D depth_tex;
 layout(set = 0, binding = 2) uniform sampler2D normal_tex;
 layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
-layout(set = 0, binding = 4) uniform sampler2D shadow_tex;
+// Light i's shadow map where bit i of params.shadowed is set: one layer, or a point light's six faces.
+#ifdef SHADOWS
+layout(set = 0, binding = 4) uniform sampler2DArray shadow_maps[CAUSTICA_MAX_LIGHTS];
+#endif
 // Flux per texel in the first light's image plane, a layer per colour channel. Without a caustic map
 // the pass binds a plain image here and compiles without CAUSTICS (the two view types differ).
 #ifdef CAUSTICS
@@ -22,7 +25,7 @@ layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 
 layout(push_constant) uniform Params {
   float shadow_bias;
-  uint has_shadow;
+  uint shadowed;  // bit i: light i has a shadow map
 } params;
 
 layout(location = 0) out vec4 out_color;
@@ -66,31 +69,41 @@ vec3 normal_offset(vec3 p, vec3 n, float texel, float cos_theta) {
   return p + n * (2.0 * texel * sqrt(1.0 - cos_theta * cos_theta));
 }
 
-float shadow_factor(LightData light, vec3 p, vec3 n) {
+#ifdef SHADOWS
+float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
   // The 3x3 filter compares with the neighbouring texels, which see the receiver one texel further
   // along; on a surface the light meets at angle theta its depth changes by texel tan(theta) there:
   // a bias in units of the map's texels, so that it holds at any scale of the scene.
+  vec2 size = vec2(textureSize(shadow_maps[i], 0).xy);
   float cos_theta;
-  float texel = light_texel(light, p, n, float(textureSize(shadow_tex, 0).x), cos_theta);
+  float texel = light_texel(light, p, n, size.x, cos_theta);
   float slope_bias = texel * min(sqrt(1.0 - cos_theta * cos_theta) / max(cos_theta, 1e-3), 8.0);
   p = normal_offset(p, n, texel, cos_theta);
-  vec4 clip = light.view_proj * vec4(p, 1.0);
+  mat4 view_proj = light.view_proj;
+  float layer = 0.0;
+  if (light_is_point(light)) {
+    uint face = cube_face(p - light.position_type.xyz);
+    view_proj = light.faces[face];
+    layer = float(face);
+  }
+  vec4 clip = view_proj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   // Outside a spot's frustum is outside its cone; outside a directional light's prism nothing that
-  // casts a shadow lies (it is fitted around the scene).
+  // casts a shadow lies (it is fitted around the scene); a point light's faces cover every direction.
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return light_is_directional(light) ? 1.0 : 0.0;
-  vec2 uv_texel = 1.0 / vec2(textureSize(shadow_tex, 0));
   // The bias is a distance: a fixed bias in depth-buffer units would grow with the square of the
   // distance from the light.
   float z = linear_depth(light, ndc.z);
   float receiver = z - depth_bias(light, z) - slope_bias;
   float lit = 0.0;
   for (int y = -1; y <= 1; ++y)
-    for (int x = -1; x <= 1; ++x) lit += receiver <= linear_depth(light, texture(shadow_tex, uv + vec2(x, y) * uv_texel).r) ? 1.0 : 0.0;
+    for (int x = -1; x <= 1; ++x)
+      lit += receiver <= linear_depth(light, texture(shadow_maps[i], vec3(uv + vec2(x, y) / size, layer)).r) ? 1.0 : 0.0;
   return lit / 9.0;
 }
+#endif
 
 // Irradiance from the caustic map: a texel's flux spread over the receiver area its solid angle
 // covers at this point, dw r^2 / cos(theta); with the receivers' depth bound, only on the surface
@@ -174,8 +187,10 @@ void main() {
     float d2;
     vec3 l = toward_light(light, p, d2);
     float cone = spot_cone(light, -l);
+#ifdef SHADOWS
+    if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, n);
+#endif
     if (light_has_view(light)) {
-      if (i == 0 && params.has_shadow != 0) cone *= shadow_factor(light, p, n);
 #ifdef CAUSTICS
       // The caustic's light arrives through the refractor from many directions: diffuse only.
       if (i == 0) radiance += diffuse_color(s) / PI * caustic_irradiance(light, p, n);

@@ -51,6 +51,14 @@ vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
 // Lights: position_type.w 0 spot, 1 point, 2 directional (common/scene_types.h).
 bool light_is_directional(LightData light) { return light.position_type.w == 2.0; }
 bool light_has_view(LightData light) { return light.position_type.w != 1.0; }  // spot or directional
+bool light_is_point(LightData light) { return light.position_type.w == 1.0; }
+// The cube face (LightData::faces) that holds direction d from a point light: its major axis.
+uint cube_face(vec3 d) {
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x > 0.0 ? 0u : 1u;
+  if (a.y >= a.z) return d.y > 0.0 ? 2u : 3u;
+  return d.z > 0.0 ? 4u : 5u;
+}
 // The unit direction from p towards the light, and the squared distance its light falls off with
 // (1 for a directional light, which is infinitely far along -axis).
 vec3 toward_light(LightData light, vec3 p, out float d2) {

@@ -1,0 +1,185 @@
+// Per-light passes and resources ("for_each": "light", graph/per_light.h), on the CPU against the
+// test registry: the instances, their names, parameters, sizes and bindings, the culling of a light's
+// instance by its "enabled", and the messages for per-light parts that do not fit together.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "graph/compiler.h"
+#include "graph/per_light.h"
+#include "test_registry.h"
+
+using namespace caustica;
+using namespace caustica::graph;
+
+namespace {
+
+const PassRegistry& lights_registry() {
+  static const PassRegistry r = test::make_test_registry();
+  return r;
+}
+
+// Three lights: a spot, a point light and a directional light.
+std::map<std::string, double> three_lights() {
+  std::map<std::string, double> values = typical_scene_values();
+  values["scene.lights"] = 3;
+  const char* types[] = {"spot", "point", "directional"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string prefix = "scene.light" + std::to_string(k) + ".";
+    for (const char* type : types) values[prefix + type] = type == types[k] ? 1 : 0;
+    values[prefix + "view"] = k == 1 ? 0 : 1;
+    values[prefix + "objects"] = 2;
+    values[prefix + "refractors"] = 1;
+  }
+  return values;
+}
+
+Plan compile_for_lights(const nlohmann::json& j, const std::map<std::string, double>& scene_values = three_lights()) {
+  CompileOptions options;
+  options.output_width = 64;
+  options.output_height = 32;
+  options.scene_values = scene_values;
+  return compile_graph(load_graph(JsonDocument::parse(j.dump(2), "lights.json")), lights_registry(), options);
+}
+
+std::string per_light_error(const nlohmann::json& j) {
+  try {
+    compile_for_lights(j);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+const PlannedPass& pass_named(const Plan& plan, const std::string& name) {
+  for (const auto& p : plan.passes) {
+    if (p.name == name) return p;
+  }
+  throw std::runtime_error("no pass " + name);
+}
+
+std::string resource_at(const Plan& plan, const PlannedPass& pass, const std::string& port) {
+  const auto it = pass.ports.find(port);
+  return it == pass.ports.end() ? "(unbound)" : plan.resources[it->second].name;
+}
+
+// A light-view image per light, blurred per light by its index, gathered by a pass that runs once.
+nlohmann::json per_light_graph() {
+  nlohmann::json per_light_image = {{"type", "image"}, {"format", "rgba16f"}, {"for_each", "light"}, {"width", "16 * (1 + light.point)"},
+                                    {"height", "16"},  {"fallback", nullptr}};
+  return {
+      {"resources",
+       {{"view", per_light_image},
+        {"blurred", per_light_image},
+        {"base", {{"type", "image"}, {"format", "rgba16f"}}},
+        {"out", {{"type", "image"}, {"format", "rgba8"}}}}},
+      {"passes",
+       {{{"name", "gather"}, {"type", "gather"}, {"inputs", {{"lights", "blurred"}, {"base", "base"}}}, {"outputs", {{"color", "out"}}}},
+        {{"name", "camera"}, {"type", "source"}, {"outputs", {{"color", "base"}}}},
+        {{"name", "light_view"}, {"type", "source"}, {"for_each", "light"}, {"outputs", {{"color", "view"}}}},
+        {{"name", "blur"},
+         {"type", "filter"},
+         {"for_each", "light"},
+         {"enabled", "1 - light.directional"},
+         {"params", {{"radius", "$light"}}},
+         {"inputs", {{"source", "view"}}},
+         {"outputs", {{"target", "blurred"}}}}}},
+      {"outputs", {"out"}}};
+}
+
+}  // namespace
+
+TEST(PerLight, EachLightGetsItsInstancesNamedByItsIndex) {
+  const Plan plan = compile_for_lights(per_light_graph());
+  std::vector<std::string> names;
+  for (const auto& p : plan.passes) names.push_back(p.name);
+  for (const char* name : {"light_view#0", "light_view#1", "blur#0", "blur#1", "camera", "gather"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  // Each instance reads and writes its own light's images, with its light's index as "$light".
+  for (int k = 0; k < 2; ++k) {
+    const PlannedPass& blur = pass_named(plan, "blur#" + std::to_string(k));
+    EXPECT_EQ(resource_at(plan, blur, "source"), "view#" + std::to_string(k));
+    EXPECT_EQ(resource_at(plan, blur, "target"), "blurred#" + std::to_string(k));
+    EXPECT_EQ(blur.params["radius"], k);
+  }
+  // Sized per light: the point light's (light 1) twice as wide.
+  EXPECT_EQ(plan.resources[static_cast<size_t>(plan.find_resource("view#0"))].width, 16u);
+  EXPECT_EQ(plan.resources[static_cast<size_t>(plan.find_resource("view#1"))].width, 32u);
+}
+
+TEST(PerLight, ALightsInstanceIsCulledByItsEnabledAndItsElementLeftUnbound) {
+  const Plan plan = compile_for_lights(per_light_graph());
+  // "1 - light.directional": light 2 is directional.
+  EXPECT_NE(std::find(plan.disabled.begin(), plan.disabled.end(), "blur#2"), plan.disabled.end());
+  EXPECT_EQ(plan.disabled_by.at("blur#2"), "1 - scene.light2.directional");
+  const PlannedPass& gather = pass_named(plan, "gather");
+  EXPECT_EQ(resource_at(plan, gather, "lights[0]"), "blurred#0");
+  EXPECT_EQ(resource_at(plan, gather, "lights[1]"), "blurred#1");
+  EXPECT_EQ(resource_at(plan, gather, "lights[2]"), "(unbound)");
+  // What only the culled instance would read is culled with it.
+  EXPECT_NE(std::find(plan.culled.begin(), plan.culled.end(), "light_view#2"), plan.culled.end());
+  EXPECT_EQ(plan.find_resource("blurred"), -1);  // the per-light resource itself is only its instances
+}
+
+TEST(PerLight, WithoutASceneThereIsOneLight) {
+  const Plan plan = compile_for_lights(per_light_graph(), typical_scene_values());
+  EXPECT_EQ(plan.find_resource("view#1"), -1);
+  EXPECT_EQ(resource_at(plan, pass_named(plan, "gather"), "lights[0]"), "blurred#0");
+}
+
+TEST(PerLight, OneResourceOnAPerLightPortIsElementZero) {
+  nlohmann::json g = per_light_graph();
+  g["passes"][0]["inputs"]["lights"] = "base";
+  g["passes"][0]["inputs"]["base"] = "base";
+  const std::string error = per_light_error(g);
+  // The same image on two ports of one pass is refused as before, but by its element's name.
+  EXPECT_NE(error.find("binds 'base' to two ports ('base' and 'lights')"), std::string::npos) << error;
+  g["resources"]["other"] = {{"type", "image"}, {"format", "rgba16f"}};
+  g["passes"].push_back({{"name", "other"}, {"type", "source"}, {"outputs", {{"color", "other"}}}});
+  g["passes"][0]["inputs"]["lights"] = "other";
+  const Plan plan = compile_for_lights(g);
+  EXPECT_EQ(resource_at(plan, pass_named(plan, "gather"), "lights[0]"), "other");
+}
+
+TEST(PerLight, PartsThatDoNotFitTogetherAreRefusedAtTheirPlace) {
+  auto expect_error = [](const nlohmann::json& g, const std::string& where, const std::string& what) {
+    const std::string error = per_light_error(g);
+    EXPECT_NE(error.find(where), std::string::npos) << error;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+  };
+  nlohmann::json once_writes = per_light_graph();
+  once_writes["passes"][1]["outputs"]["color"] = "view";
+  expect_error(once_writes, "/passes/1/outputs/color", "'view' is a per-light resource (one image per light), which only a pass");
+  nlohmann::json each_writes_one = per_light_graph();
+  each_writes_one["passes"][2]["outputs"]["color"] = "base";
+  expect_error(each_writes_one, "/passes/2/outputs/color", "runs once per light and writes 'base', which is one resource");
+  nlohmann::json one_port = per_light_graph();
+  one_port["passes"][0]["inputs"]["base"] = "view";
+  expect_error(one_port, "/passes/0/inputs/base", "'view' is a per-light resource (one per light), and port 'base'");
+  nlohmann::json output = per_light_graph();
+  output["outputs"] = {"view"};
+  expect_error(output, "/outputs/0", "'view' is a per-light resource (one image per light), which a graph output cannot be");
+  nlohmann::json misspelt = per_light_graph();
+  misspelt["passes"][2]["for_each"] = "lights";
+  expect_error(misspelt, "/passes/2/for_each", "unknown \"for_each\" 'lights' (did you mean 'light'?)");
+  nlohmann::json unknown = per_light_graph();
+  unknown["passes"][3]["enabled"] = "light.spott";
+  expect_error(unknown, "/passes/3/enabled", "spott");
+}
+
+TEST(PerLight, ExpressionsReadTheirLightsValuesAndNothingElse) {
+  EXPECT_EQ(light_instance("shadow", 3), "shadow#3");
+  EXPECT_EQ(port_element("shadow", 3), "shadow[3]");
+  EXPECT_EQ(split_port_element("shadow[12]"), (std::pair<std::string, int>{"shadow", 12}));
+  EXPECT_EQ(split_port_element("shadow"), (std::pair<std::string, int>{"shadow", -1}));
+  EXPECT_EQ(split_port_element("shadow[x]"), (std::pair<std::string, int>{"shadow[x]", -1}));
+  nlohmann::json g = per_light_graph();
+  // light.index, and a name that only ends in "light." is not the light's.
+  g["parameters"] = {{"spotlight", {{"type", "int"}, {"default", 2}, {"min", 0}, {"max", 8}}}};
+  g["passes"][3]["params"]["radius"] = "light.index * 4 + spotlight";
+  const Plan plan = compile_for_lights(g);
+  EXPECT_EQ(pass_named(plan, "blur#0").params["radius"], 2);
+  EXPECT_EQ(pass_named(plan, "blur#1").params["radius"], 6);
+}
