@@ -8,10 +8,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/paths.h"
 #include "graph/graph_desc.h"
 #include "io/json_document.h"
 #include "reference/refraction_reference.h"
@@ -130,4 +132,28 @@ TEST(LightShadows, ShadowMapsPutEveryLightsShadowWhereShadowRaysDo) {
     // shadowed the three lights' picture is 0.023 away.
     EXPECT_LT(difference / total, 0.005) << lights.size() << " light(s)";
   }
+}
+
+// A light that moves starts over its own shadow pass and what reads every light's (lighting), not
+// the other lights' (the viewer, reusing unchanged passes, on the bundled three-light scene).
+TEST(LightShadows, MovingOneLightRedrawsOnlyItsOwnShadow) {
+  test::SceneEngine engine;
+  engine.reuse = true;
+  const auto scene = test::load_bundled_scene("three_lights");
+  auto graph = graph::load_graph_file((data_dir() / "graphs/caustics_adaptive.json").string());
+  graph::apply_overrides(graph, {"grid=256", "light_size=256", "shadow_size=256", "caustic_size=128"});
+  engine.executor.set_scene(scene);
+  engine.configure(graph, 160, 90);
+  engine.executor.run_frame(false);
+  std::vector<scene::Light> lights = scene->lights;
+  lights[1].view.position.x += 0.5f;
+  engine.executor.set_view(scene->camera, lights);
+  const graph::FrameResult moved = engine.executor.run_frame(false);
+  std::map<std::string, bool> ran;
+  for (const auto& p : moved.passes) ran[p.name] = p.ran();
+  EXPECT_TRUE(ran.at("shadow#1"));
+  EXPECT_FALSE(ran.at("shadow#0"));
+  EXPECT_FALSE(ran.at("shadow#2"));
+  EXPECT_FALSE(ran.at("caustics")) << "light 0's caustic";
+  EXPECT_TRUE(ran.at("lighting"));
 }

@@ -77,7 +77,7 @@ nlohmann::json per_light_graph() {
         {"out", {{"type", "image"}, {"format", "rgba8"}}}}},
       {"passes",
        {{{"name", "gather"}, {"type", "gather"}, {"inputs", {{"lights", "blurred"}, {"base", "base"}}}, {"outputs", {{"color", "out"}}}},
-        {{"name", "camera"}, {"type", "source"}, {"outputs", {{"color", "base"}}}},
+        {{"name", "camera"}, {"type", "source"}, {"params", {{"mode", "b"}}}, {"outputs", {{"color", "base"}}}},
         {{"name", "light_view"}, {"type", "source"}, {"for_each", "light"}, {"outputs", {{"color", "view"}}}},
         {{"name", "blur"},
          {"type", "filter"},
@@ -121,6 +121,16 @@ TEST(PerLight, ALightsInstanceIsCulledByItsEnabledAndItsElementLeftUnbound) {
   // What only the culled instance would read is culled with it.
   EXPECT_NE(std::find(plan.culled.begin(), plan.culled.end(), "light_view#2"), plan.culled.end());
   EXPECT_EQ(plan.find_resource("blurred"), -1);  // the per-light resource itself is only its instances
+}
+
+// Each instance follows its own light (PlannedPass::lights), and what reads every light's instances
+// follows them all; moving another light leaves an instance (RunPolicy.MovingOneLight...).
+TEST(PerLight, EachInstanceFollowsItsOwnLight) {
+  const Plan plan = compile_for_lights(per_light_graph());
+  EXPECT_EQ(pass_named(plan, "light_view#1").lights, 1u << 1);
+  EXPECT_EQ(pass_named(plan, "blur#1").lights, 1u << 1) << "through its input";
+  EXPECT_EQ(pass_named(plan, "gather").lights, (1u << 0) | (1u << 1)) << "light 2's instance is disabled";
+  EXPECT_EQ(pass_named(plan, "camera").lights, kAllLights) << "a pass that does not follow the lights";
 }
 
 TEST(PerLight, WithoutASceneThereIsOneLight) {

@@ -116,6 +116,31 @@ TEST(RunPolicy, AChangeStartsOverThePassesThatDependOnThePartAndNoOthers) {
   EXPECT_EQ(frame(t.plan, state, scene(3, 2, 2)).passes, (std::vector<PassRun>{R::start_over, R::start_over, R::start_over}));
 }
 
+// Per-light passes (graph/per_light.h) follow their own light: moving light 1 starts over its
+// shadow and what reads every light's, and leaves light 0's.
+TEST(RunPolicy, MovingOneLightStartsOverOnlyThePassesThatFollowIt) {
+  TestPlan t;
+  const size_t shadow0 = t.pass("shadow#0", kLight);
+  const size_t shadow1 = t.pass("shadow#1", kLight);
+  t.plan.passes[shadow0].lights = 1u << 0;
+  t.plan.passes[shadow1].lights = 1u << 1;
+  t.pass("lighting", kCamera | kDependsOnLights, {"shadow#0", "shadow#1"});
+  t.output("lighting");
+  RunState state = initial_run_state(t.plan);
+  auto keys = [](uint64_t light0, uint64_t light1, uint64_t camera) {
+    SceneKeys k = scene(1, light0 * 31 + light1, camera);
+    k.lights = {light0, light1};
+    return k;
+  };
+  frame(t.plan, state, keys(1, 1, 1));
+  EXPECT_EQ(frame(t.plan, state, keys(1, 2, 1)).passes, (std::vector<PassRun>{R::keep, R::start_over, R::start_over}))
+      << "light 1 moved";
+  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 1)).passes, (std::vector<PassRun>{R::start_over, R::keep, R::start_over}))
+      << "light 0 moved";
+  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 4)).passes, (std::vector<PassRun>{R::keep, R::keep, R::start_over}))
+      << "the camera moved";
+}
+
 TEST(RunPolicy, APlanThatDoesNotReuseRunsEveryPassEveryFrame) {
   const TestPlan t = light_camera_frame(false);
   RunState state = initial_run_state(t.plan);

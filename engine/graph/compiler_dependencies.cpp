@@ -8,28 +8,53 @@
 
 namespace caustica::graph::compiler_internal {
 
+// The lights a pass whose type depends on the lights follows by itself: a per-light instance its
+// own, a built-in pass with a "light" parameter (which light it draws from, the last where there
+// are fewer) that one, any other every light (a user pass's shader may read them all).
+uint32_t Compiler::own_lights(const Node& node) const {
+  int light = node.desc->light;
+  if (light < 0 && !node.desc->user && node.decl->find_param("light") && node.params.contains("light") &&
+      node.params["light"].is_number_integer()) {
+    light = node.params["light"].get<int>();
+    const auto count = options_.scene_values.find("scene.lights");
+    if (count != options_.scene_values.end() && count->second >= 1) light = std::min(light, static_cast<int>(count->second) - 1);
+  }
+  return light >= 0 && light < 32 ? 1u << light : kAllLights;
+}
+
 void Compiler::find_dependencies() {
   // Per resource: its writers' dependencies; for a history resource, its source's, and the frame
   // (it changes every frame). A history input carries a later pass's dependencies to an earlier
   // one, so the walk over the order repeats until nothing grows (a few rounds: four bits).
-  std::vector<uint32_t> written_from(plan_.resources.size(), 0);
-  for (std::vector<uint32_t> before; before != written_from;) {
-    before = written_from;
+  // The lights followed walk alongside: a per-light instance follows its own light where its type
+  // depends on the lights, and every pass the lights its inputs' writers follow.
+  std::vector<uint32_t> written_from(plan_.resources.size(), 0), lights_from(plan_.resources.size(), 0);
+  for (bool grew = true; grew;) {
+    const std::vector<uint32_t> before = written_from, lights_before = lights_from;
     for (uint32_t i = 0; i < order_.size(); ++i) {
       const Node& node = nodes_[order_[i]];
       uint32_t depends = node.decl->depends_on ? node.decl->depends_on(node.params) : kDependsOnFrame;
       if (!node.frame_params.empty()) depends |= kDependsOnFrame;
+      uint32_t lights = (depends & kDependsOnLights) ? own_lights(node) : 0u;
       for (const auto& b : node.bindings) {
-        if (b.port->access != PortAccess::write) depends |= written_from[b.resource];
+        if (b.port->access == PortAccess::write) continue;
+        depends |= written_from[b.resource];
+        lights |= lights_from[b.resource];
       }
       for (const auto& b : node.bindings) {
-        if (b.port->access != PortAccess::read) written_from[b.resource] |= depends;
+        if (b.port->access == PortAccess::read) continue;
+        written_from[b.resource] |= depends;
+        lights_from[b.resource] |= lights;
       }
       plan_.passes[i].depends = depends;
+      plan_.passes[i].lights = depends & kDependsOnLights ? lights : kAllLights;
     }
     for (uint32_t r = 0; r < plan_.resources.size(); ++r) {
-      if (plan_.resources[r].previous_of != kNoResource) written_from[r] = written_from[plan_.resources[r].previous_of] | kDependsOnFrame;
+      if (plan_.resources[r].previous_of == kNoResource) continue;
+      written_from[r] = written_from[plan_.resources[r].previous_of] | kDependsOnFrame;
+      lights_from[r] = kAllLights;
     }
+    grew = before != written_from || lights_before != lights_from;
   }
   for (uint32_t r = 0; r < plan_.resources.size(); ++r) {
     if (plan_.resources[r].previous_of != kNoResource) plan_.resources[r].history_depends = written_from[r];
@@ -46,7 +71,9 @@ void Compiler::find_dependencies() {
       if (b.port->access != PortAccess::read_write) continue;
       for (uint32_t earlier = 0; earlier < i; ++earlier) {
         for (const auto& e : nodes_[order_[earlier]].bindings) {
-          if (e.resource == b.resource && e.port->access != PortAccess::read) plan_.passes[earlier].depends |= plan_.passes[i].depends;
+          if (e.resource != b.resource || e.port->access == PortAccess::read) continue;
+          plan_.passes[earlier].depends |= plan_.passes[i].depends;
+          plan_.passes[earlier].lights |= plan_.passes[i].lights;
         }
       }
     }

@@ -91,6 +91,7 @@ class Compiler {
   void cull_and_order();
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
+  uint32_t own_lights(const Node& node) const;
   void find_dependencies();
   // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.
   void find_refining_passes();

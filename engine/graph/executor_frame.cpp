@@ -54,7 +54,8 @@ nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const
 
 std::optional<SceneKeys> Executor::scene_keys() const {
   if (!scene_) return std::nullopt;
-  return SceneKeys{{scene_->parts_key(true, false, false), scene_->parts_key(false, true, false), scene_->parts_key(false, false, true)}};
+  return SceneKeys{{scene_->parts_key(true, false, false), scene_->parts_key(false, true, false), scene_->parts_key(false, false, true)},
+                   scene_->light_keys()};
 }
 
 FrameResult Executor::run_frame(bool read_back, FrameRequest request) {

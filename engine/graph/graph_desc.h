@@ -79,6 +79,7 @@ struct PassDesc {
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
   std::string enabled = "1";       // an expression (true/false in the file are 1/0); the pass runs when non-zero
   std::string for_each;            // "light": one instance per light of the scene (graph/per_light.h)
+  int light = -1;                  // an instance's light (made by expand_per_light)
   std::string pointer;
   std::optional<UserPassDesc> user;  // a "compute" or "fullscreen" pass
 };

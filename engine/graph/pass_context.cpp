@@ -107,7 +107,7 @@ bool PassContext::scene_unchanged_since_last_run(uint32_t parts) const {
   const Executor::Realized& real = *executor_.realized_;
   const auto& then = real.run.passes[real.recording_pass].last_run_scene;
   if (!then || executor_.plan_->jitters_camera || !pass_.frame_params.empty()) return false;
-  return then->masked(parts) == real.scene_now.value_or(SceneKeys{}).masked(parts);
+  return then->masked(parts, pass_.lights) == real.scene_now.value_or(SceneKeys{}).masked(parts, pass_.lights);
 }
 bool PassContext::kept_since_last_run(const std::string& port) const {
   const PlannedResource& r = resource(port);

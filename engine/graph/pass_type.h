@@ -44,6 +44,8 @@ enum SceneDependency : uint32_t {
   kDependsOnFrame = 1u << 3,   // differs every frame (a jittered grid, history): never skipped
 };
 inline constexpr uint32_t kDependsOnScene = kDependsOnGeometry | kDependsOnLights | kDependsOnCamera;
+// Of the lights, every one (bit K: light K; PlannedPass::lights).
+inline constexpr uint32_t kAllLights = ~0u;
 inline constexpr std::array<uint32_t, 3> kSceneParts = {kDependsOnGeometry, kDependsOnLights, kDependsOnCamera};
 // "geometry", "lights", "camera", "frame": for plans, traces and messages.
 std::vector<std::string> dependency_names(uint32_t dependencies);

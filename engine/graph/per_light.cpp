@@ -123,6 +123,7 @@ class Expansion {
   PassDesc instance(const PassDesc& pass, uint32_t light) const {
     PassDesc p = pass;
     p.for_each.clear();
+    p.light = static_cast<int>(light);
     p.name = light_instance(pass.name, light);
     p.enabled = for_light(pass.enabled, light);
     for (auto it = p.params.begin(); it != p.params.end(); ++it) {

@@ -106,6 +106,14 @@ nlohmann::json plan_to_json(const Plan& plan) {
     // What its result depends on besides parameters (its inputs' dependencies included), and whether
     // a plan that reuses unchanged passes may skip it.
     pass["depends_on"] = dependency_names(p.depends);
+    // Of the lights, those it follows where not every one (a per-light pass's own): moving another
+    // light leaves it.
+    if ((p.depends & kDependsOnLights) && p.lights != kAllLights) {
+      pass["follows_lights"] = json::array();
+      for (uint32_t k = 0; k < 32; ++k) {
+        if (p.lights >> k & 1u) pass["follows_lights"].push_back(k);
+      }
+    }
     if (plan.refines_apart) pass["refines"] = p.refines;
     pass["ports"] = json::object();
     for (const auto& [port, r] : p.ports) pass["ports"][port] = plan.resources[r].name;

@@ -110,6 +110,9 @@ struct PlannedPass {
   // rewrites what it wrote (which needs it to run first). Without kDependsOnFrame in a plan that
   // reuses unchanged passes, it runs only when one of these changed.
   uint32_t depends = kDependsOnFrame;
+  // With kDependsOnLights, the lights whose changes it follows (bit K: light K): a per-light
+  // instance's own light and what its inputs follow (graph/per_light.h); kAllLights otherwise.
+  uint32_t lights = kAllLights;
   bool reusable(bool plan_reuses) const { return plan_reuses && !(depends & kDependsOnFrame); }
   // With Plan::refines_apart: the pass moves a running result or writes what such a pass reads, and
   // runs in FramePart::refine frames; the others run in FramePart::display frames.

@@ -4,10 +4,18 @@
 
 namespace caustica::graph {
 
-SceneKeys SceneKeys::masked(uint32_t depends) const {
+SceneKeys SceneKeys::masked(uint32_t depends, uint32_t lights_followed) const {
   SceneKeys kept;
   for (size_t k = 0; k < kSceneParts.size(); ++k) {
     if (depends & kSceneParts[k]) kept.parts[k] = parts[k];
+  }
+  // Some lights only: the key of those (a light added or removed recompiles the plan).
+  if ((depends & kDependsOnLights) && parts[1] && lights_followed != kAllLights && !lights.empty()) {
+    uint64_t key = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < lights.size() && i < 32; ++i) {
+      if (lights_followed >> i & 1u) key = (key ^ lights[i]) * 0x100000001b3ull;
+    }
+    kept.parts[1] = key;
   }
   return kept;
 }
@@ -53,7 +61,7 @@ FrameDecision decide_frame(const Plan& plan, const RunState& state, const std::o
   decision.part = plan.refines_apart ? request.part : FramePart::whole;
   // Something new to work on: no result yet, or a scene part the pass depends on changed since its
   // result started.
-  const auto has_new_work = [&](size_t i) { return state.passes[i].started_from != scene.masked(plan.passes[i].depends); };
+  const auto has_new_work = [&](size_t i) { return state.passes[i].started_from != scene.masked(plan.passes[i].depends, plan.passes[i].lights); };
   // While the picture of the plan before stands for this scene, a showing pass that has not run yet
   // waits for its display step; one that a step would need before it has to run now.
   const bool picture_stands = state.standing == scene;
@@ -99,7 +107,7 @@ void begin_frame(const Plan& plan, RunState& state, const FrameDecision& decisio
     pass.frames.index = state.frame_index;
     pass.frames.camera_jitter = camera_jitter;
     if (decision.passes[i] == PassRun::start_over) {
-      pass.started_from = scene.masked(plan.passes[i].depends);
+      pass.started_from = scene.masked(plan.passes[i].depends, plan.passes[i].lights);
       pass.frames.since_reset = 0;
     }
     if (runs(decision.passes[i])) {

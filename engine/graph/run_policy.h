@@ -40,10 +40,12 @@ struct DisplayStep {
 
 // The scene as a frame sees it: the content key of each part (kSceneParts: geometry, lights,
 // camera). A pass compares only the parts it depends on (masked), so a part it does not follow has
-// no key at all rather than a stand-in value.
+// no key at all rather than a stand-in value; of the lights, only those it follows
+// (PlannedPass::lights: a per-light instance follows its own light).
 struct SceneKeys {
   std::array<std::optional<uint64_t>, 3> parts;
-  SceneKeys masked(uint32_t depends) const;
+  std::vector<uint64_t> lights;  // each light's key; parts[1] is theirs together
+  SceneKeys masked(uint32_t depends, uint32_t lights_followed = kAllLights) const;
   bool operator==(const SceneKeys&) const = default;
 };
 

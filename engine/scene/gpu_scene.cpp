@@ -148,6 +148,8 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
   lights_key_ = fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count);
+  light_keys_.resize(f.light_count);
+  for (uint32_t i = 0; i < f.light_count; ++i) light_keys_[i] = fold_bytes(0, &f.lights[i], 1);
   const glm::vec4 camera[] = {f.view_proj[0], f.view_proj[1], f.view_proj[2], f.view_proj[3], f.camera_position, f.sky_ambient, f.sizes};
   camera_key_ = fold_bytes(0, camera, std::size(camera));
 }

@@ -67,6 +67,8 @@ class GpuScene {
   // textures), lights, camera (with the sky and the output size). What a pass that depends on just
   // those parts is skipped by while it does not change, and what restarts its history.
   uint64_t parts_key(bool geometry, bool lights, bool camera) const;
+  // Each light's key alone, as of the last update_frame(): what a per-light pass follows.
+  const std::vector<uint64_t>& light_keys() const { return light_keys_; }
   const gpu::FrameData& frame_data() const { return frame_data_; }
 
  private:
@@ -83,6 +85,7 @@ class GpuScene {
   gpu::FrameData frame_data_{};
   uint64_t content_key_ = 0;  // geometry, materials and textures, as uploaded
   uint64_t lights_key_ = 0, camera_key_ = 0;
+  std::vector<uint64_t> light_keys_;
 };
 
 }  // namespace caustica::scene
