@@ -3,10 +3,12 @@
 // instance by its "enabled", and the messages for per-light parts that do not fit together.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "builtin_passes.h"
 #include "graph/compiler.h"
 #include "graph/per_light.h"
 #include "test_registry.h"
@@ -192,4 +194,26 @@ TEST(PerLight, ExpressionsReadTheirLightsValuesAndNothingElse) {
   const Plan plan = compile_for_lights(g);
   EXPECT_EQ(pass_named(plan, "blur#0").params["radius"], 2);
   EXPECT_EQ(pass_named(plan, "blur#1").params["radius"], 6);
+}
+
+// A point light's shadow drawn into an image of one layer (a graph made for spot lights) compiles,
+// and the plan says that the light stays unshadowed; the bundled graphs' per-light maps say nothing.
+TEST(PerLight, APointLightsShadowInOneLayerIsWarnedOf) {
+  CompileOptions options;
+  options.scene_values = three_lights();
+  auto warnings_with = [&](int receivers_light) {
+    nlohmann::json g = nlohmann::json::parse(std::ifstream(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/caustics_adaptive.json"));
+    for (auto& p : g["passes"]) {
+      if (p["name"] == "receivers") p["params"]["light"] = receivers_light;
+    }
+    return compile_graph(load_graph(JsonDocument::parse(g.dump(2), "lights.json")), passes::builtin_registry(), options).warnings;
+  };
+  const std::vector<std::string> spot = warnings_with(0);
+  EXPECT_TRUE(spot.empty()) << spot.front();
+  const std::vector<std::string> point = warnings_with(1);
+  ASSERT_EQ(point.size(), 1u);
+  EXPECT_NE(point[0].find("pass 'receivers' draws light 1's shadow into 'receiver_depth', which has one layer; light 1 is a point "
+                          "light"),
+            std::string::npos)
+      << point[0];
 }

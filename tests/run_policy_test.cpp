@@ -43,7 +43,8 @@ struct TestPlan {
       decl->ports.push_back({port, PortAccess::read, ResourceKind::image, PortUsage::sampled, {}, false, "", ""});
       p.ports[port] = static_cast<uint32_t>(plan.find_resource(reads[k]));
     }
-    if (!refines) p.showing = static_cast<uint32_t>(std::count_if(plan.passes.begin(), plan.passes.end(), [](const auto& q) { return !q.refines; }));
+    if (!refines)
+      p.showing = static_cast<uint32_t>(std::count_if(plan.passes.begin(), plan.passes.end(), [](const auto& q) { return !q.refines; }));
     if (p.reusable(plan.reuses_unchanged_passes)) p.result_id = ResultIdentity(name, {});
     if (refines) p.running_id = ResultIdentity(name, {});
     decls.push_back(decl);
@@ -133,12 +134,9 @@ TEST(RunPolicy, MovingOneLightStartsOverOnlyThePassesThatFollowIt) {
     return k;
   };
   frame(t.plan, state, keys(1, 1, 1));
-  EXPECT_EQ(frame(t.plan, state, keys(1, 2, 1)).passes, (std::vector<PassRun>{R::keep, R::start_over, R::start_over}))
-      << "light 1 moved";
-  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 1)).passes, (std::vector<PassRun>{R::start_over, R::keep, R::start_over}))
-      << "light 0 moved";
-  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 4)).passes, (std::vector<PassRun>{R::keep, R::keep, R::start_over}))
-      << "the camera moved";
+  EXPECT_EQ(frame(t.plan, state, keys(1, 2, 1)).passes, (std::vector<PassRun>{R::keep, R::start_over, R::start_over})) << "light 1 moved";
+  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 1)).passes, (std::vector<PassRun>{R::start_over, R::keep, R::start_over})) << "light 0 moved";
+  EXPECT_EQ(frame(t.plan, state, keys(3, 2, 4)).passes, (std::vector<PassRun>{R::keep, R::keep, R::start_over})) << "the camera moved";
 }
 
 TEST(RunPolicy, APlanThatDoesNotReuseRunsEveryPassEveryFrame) {
@@ -190,7 +188,8 @@ TEST(RunPolicy, AFrameApartRunsWholeWhenAPassOutsideItHasNewWorkOrThePlanDoesNot
   RunState state = initial_run_state(t.plan);
   EXPECT_EQ(frame(t.plan, state, scene(1, 1, 1), {FramePart::refine}).part, FramePart::whole) << "nothing has a result yet";
   EXPECT_EQ(frame(t.plan, state, scene(1, 1, 1), {FramePart::refine}).part, FramePart::refine);
-  EXPECT_EQ(frame(t.plan, state, scene(1, 1, 2), {FramePart::refine}).part, FramePart::whole) << "the camera moved: the picture must follow";
+  EXPECT_EQ(frame(t.plan, state, scene(1, 1, 2), {FramePart::refine}).part, FramePart::whole)
+      << "the camera moved: the picture must follow";
   TestPlan together = progressive();
   together.plan.refines_apart = false;
   RunState s2 = initial_run_state(together.plan);
@@ -339,7 +338,8 @@ TEST(RunHandOver, RunningResultsContinueFromThePlanBeforeOrAParkedOneAndTheRestI
 TEST(RunHandOver, StartingOverHandsNothingAndForgetsWhatIsParked) {
   const TestPlan before = progressive(), after = progressive();
   const Ran r = ran(before.plan, 2);
-  const HandOver h = plan_hand_over(r.record(before.plan), r.record(before.plan), {ResultIdentity("photons", {})}, after.plan, {.start_over = true});
+  const HandOver h =
+      plan_hand_over(r.record(before.plan), r.record(before.plan), {ResultIdentity("photons", {})}, after.plan, {.start_over = true});
   EXPECT_TRUE(h.clear_parked);
   EXPECT_FALSE(h.continues[0] || h.continues_parked[0] || h.takes_result[2]);
   EXPECT_TRUE(h.images.empty());
@@ -349,12 +349,15 @@ TEST(RunHandOver, ASavedShaderInvalidatesItsPassesAndThoseThatReadWhatTheyWrite)
   const TestPlan before = light_camera_frame(), after = light_camera_frame();
   Ran r = ran(before.plan);
   r.files[0] = {"shaders/shadow.frag"};
-  const HandOver h = plan_hand_over(r.record(before.plan), r.record(before.plan), {}, after.plan, {.edited_shaders = {"shaders/shadow.frag"}});
+  const HandOver h =
+      plan_hand_over(r.record(before.plan), r.record(before.plan), {}, after.plan, {.edited_shaders = {"shaders/shadow.frag"}});
   EXPECT_EQ(h.stale, (std::vector<bool>{true, true, true}));
   EXPECT_FALSE(h.takes_result[0] || h.takes_result[1]);
   EXPECT_TRUE(h.clear_parked);
   r.files[0] = {"shaders/unrelated.frag"};
-  EXPECT_EQ(plan_hand_over(r.record(before.plan), r.record(before.plan), {}, after.plan, {.edited_shaders = {"shaders/other.glsl"}}).takes_result[0], 0u);
+  EXPECT_EQ(plan_hand_over(r.record(before.plan), r.record(before.plan), {}, after.plan, {.edited_shaders = {"shaders/other.glsl"}})
+                .takes_result[0],
+            0u);
 }
 
 TEST(RunHandOver, AQualityChangeAtRestLeavesThePictureStandingWhereEveryOutputIsCovered) {

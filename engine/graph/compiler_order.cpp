@@ -245,6 +245,24 @@ std::vector<uint32_t> Compiler::least_memory_order(const std::vector<bool>& live
   return order;
 }
 
+// A point light's shadow pass that writes an image of one layer (a graph made for spot lights): the
+// map stays cleared and the light unshadowed, which compiles but is rarely what the graph means.
+void Compiler::warn_of_flat_cube_maps(const Node& node) {
+  for (const auto& b : node.bindings) {
+    if (!b.port->cube_layers || b.port->access == PortAccess::read || plan_.resources[b.resource].layers == 6) continue;
+    int light = node.params.value("light", 0);
+    const auto count = options_.scene_values.find("scene.lights");
+    if (count != options_.scene_values.end() && count->second >= 1) light = std::min(light, static_cast<int>(count->second) - 1);
+    const auto point = options_.scene_values.find("scene.light" + std::to_string(light) + ".point");
+    if (point == options_.scene_values.end() || point->second == 0.0) continue;
+    const std::string message = "pass '" + node.desc->name + "' draws light " + std::to_string(light) + "'s shadow into '" +
+                                plan_.resources[b.resource].name + "', which has one layer; light " + std::to_string(light) +
+                                " is a point light, whose shadow map needs its six cube faces (\"layers\": \"1 + 5 * light.point\" "
+                                "in a per-light graph), so it stays unshadowed";
+    plan_.warnings.push_back(graph_.error(node.desc->pointer, message).what());
+  }
+}
+
 void Compiler::cull_and_order() {
   std::vector<bool> live(nodes_.size(), false);
   std::vector<uint32_t> stack;
@@ -314,6 +332,7 @@ void Compiler::cull_and_order() {
       const auto view = options_.scene_values.find("scene.light" + std::to_string(light) + ".view");
       if (view != options_.scene_values.end() && view->second == 0.0) unlit[light] += (unlit[light].empty() ? "" : ", ") + pass.name;
     }
+    warn_of_flat_cube_maps(node);
     plan_.passes.push_back(std::move(pass));
   }
   for (const auto& [light, names] : unlit) {

@@ -61,7 +61,9 @@ FrameDecision decide_frame(const Plan& plan, const RunState& state, const std::o
   decision.part = plan.refines_apart ? request.part : FramePart::whole;
   // Something new to work on: no result yet, or a scene part the pass depends on changed since its
   // result started.
-  const auto has_new_work = [&](size_t i) { return state.passes[i].started_from != scene.masked(plan.passes[i].depends, plan.passes[i].lights); };
+  const auto has_new_work = [&](size_t i) {
+    return state.passes[i].started_from != scene.masked(plan.passes[i].depends, plan.passes[i].lights);
+  };
   // While the picture of the plan before stands for this scene, a showing pass that has not run yet
   // waits for its display step; one that a step would need before it has to run now.
   const bool picture_stands = state.standing == scene;
@@ -145,7 +147,8 @@ FrameAccount end_frame(const Plan& plan, RunState& state, const FrameDecision& d
     }
   }
   // Every pass has a result of this plan's: the picture is its own.
-  if (state.standing && std::all_of(state.passes.begin(), state.passes.end(), [](const PassRunState& p) { return p.started_from.has_value(); }))
+  if (state.standing &&
+      std::all_of(state.passes.begin(), state.passes.end(), [](const PassRunState& p) { return p.started_from.has_value(); }))
     state.standing.reset();
   state.last_scene = scene;
   ++state.frame_index;

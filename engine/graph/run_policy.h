@@ -51,11 +51,11 @@ struct SceneKeys {
 
 // What the policy decided for one pass, and why.
 enum class PassRun {
-  start_over,       // runs from scratch: it has no result yet, or a scene part it depends on changed
-  run,              // runs on: it follows the frame (a jittered grid, a running mean)
-  keep,             // skipped: its result stands, nothing it depends on changed since it ran
-  outside_part,     // skipped: not in this frame's part (a refine or display frame, a display step)
-  waits_for_step,   // skipped: the picture of the plan before stands until its display step
+  start_over,      // runs from scratch: it has no result yet, or a scene part it depends on changed
+  run,             // runs on: it follows the frame (a jittered grid, a running mean)
+  keep,            // skipped: its result stands, nothing it depends on changed since it ran
+  outside_part,    // skipped: not in this frame's part (a refine or display frame, a display step)
+  waits_for_step,  // skipped: the picture of the plan before stands until its display step
 };
 bool runs(PassRun run);
 const char* pass_run_name(PassRun run);
@@ -64,7 +64,7 @@ const char* pass_run_name(PassRun run);
 struct PassRunState {
   // The scene (the parts the pass depends on) its result started from; none: it has no result.
   std::optional<SceneKeys> started_from;
-  FrameInfo frames;  // index and since_reset as the pass last saw them
+  FrameInfo frames;                         // index and since_reset as the pass last saw them
   std::optional<SceneKeys> last_run_scene;  // every part's keys the frame it last ran (PassContext::scene_unchanged_since_last_run)
   bool converging = false;                  // PassContext::still_converging, as it last ran
   std::optional<uint64_t> frames_held;      // PassContext::holds_frames, as it last ran
@@ -158,7 +158,7 @@ struct HandOver {
   std::vector<ImageMove> images;  // the carried results' images, then the standing picture's
   // Every output holds the plan before's picture, drawn for this scene: RunState::standing.
   std::optional<SceneKeys> standing;
-  bool clear_parked = false;      // start over, or a shader saved: no parked result is to be trusted
+  bool clear_parked = false;  // start over, or a shader saved: no parked result is to be trusted
   // Per pass of the plan before: invalidated (its shader saved, or it reads what such a pass wrote).
   std::vector<bool> stale;
   // The plan before's running results not continued: parked for a later plan.
