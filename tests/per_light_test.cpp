@@ -11,10 +11,12 @@
 #include "builtin_passes.h"
 #include "graph/compiler.h"
 #include "graph/per_light.h"
+#include "plan_queries.h"
 #include "test_registry.h"
 
 using namespace caustica;
 using namespace caustica::graph;
+using test::pass_named;
 
 namespace {
 
@@ -53,13 +55,6 @@ std::string per_light_error(const nlohmann::json& j) {
     return e.what();
   }
   return "(no error)";
-}
-
-const PlannedPass& pass_named(const Plan& plan, const std::string& name) {
-  for (const auto& p : plan.passes) {
-    if (p.name == name) return p;
-  }
-  throw std::runtime_error("no pass " + name);
 }
 
 std::string resource_at(const Plan& plan, const PlannedPass& pass, const std::string& port) {

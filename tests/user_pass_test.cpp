@@ -9,10 +9,12 @@
 #include "builtin_passes.h"
 #include "graph/compiler.h"
 #include "graph/user_pass_type.h"
+#include "plan_queries.h"
 #include "scene_engine.h"
 
 using namespace caustica;
 using namespace caustica::graph;
+using test::pass_named;
 
 namespace {
 
@@ -86,13 +88,6 @@ std::string error_of(const std::filesystem::path& dir, const nlohmann::json& gra
     return e.what();
   }
   return "(no error)";
-}
-
-const PlannedPass& pass_named(const Plan& plan, const std::string& name) {
-  for (const auto& p : plan.passes) {
-    if (p.name == name) return p;
-  }
-  throw std::runtime_error("no pass " + name);
 }
 
 // `text` with every `from` made `to`; there must be one.
