@@ -21,9 +21,9 @@ class ShadowMapPass final : public graph::Pass {
     if (l.type != scene::LightType::point) {
       draw(ctx, light_view(ctx, light), ctx.view("depth"));
     } else if (ctx.resource("depth").layers == 6) {
-      static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
       for (uint32_t face = 0; face < 6; ++face)
-        draw(ctx, SceneView{l.face_view_projection(face), l.view.position, axes[face], false}, ctx.layer_view("depth", face));
+        draw(ctx, SceneView{l.face_view_projection(face), l.view.position, scene::Light::face_axis(face), false},
+             ctx.layer_view("depth", face));
     } else {
       // A point light's map of one layer (a graph made for a spot light) is left cleared: lighting
       // reads a point light's map only where it has the six faces.

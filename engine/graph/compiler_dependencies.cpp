@@ -8,6 +8,11 @@
 
 namespace caustica::graph::compiler_internal {
 
+int Compiler::scene_light(int light) const {
+  const auto count = options_.scene_values.find("scene.lights");
+  return count != options_.scene_values.end() && count->second >= 1 ? std::min(light, static_cast<int>(count->second) - 1) : light;
+}
+
 // The lights a pass whose type depends on the lights follows by itself: a per-light instance its
 // own, a built-in pass with a "light" parameter (which light it draws from, the last where there
 // are fewer) that one, any other every light (a user pass's shader may read them all).
@@ -15,9 +20,7 @@ uint32_t Compiler::own_lights(const Node& node) const {
   int light = node.desc->light;
   if (light < 0 && !node.desc->user && node.decl->find_param("light") && node.params.contains("light") &&
       node.params["light"].is_number_integer()) {
-    light = node.params["light"].get<int>();
-    const auto count = options_.scene_values.find("scene.lights");
-    if (count != options_.scene_values.end() && count->second >= 1) light = std::min(light, static_cast<int>(count->second) - 1);
+    light = scene_light(node.params["light"].get<int>());
   }
   return light >= 0 && light < 32 ? 1u << light : kAllLights;
 }

@@ -92,6 +92,8 @@ class Compiler {
   void cull_and_order();
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
+  // A pass's "light" parameter as the scene has it: the last light where it has fewer.
+  int scene_light(int light) const;
   uint32_t own_lights(const Node& node) const;
   void find_dependencies();
   // In a plan that reuses unchanged passes: PlannedPass::refines and Plan::refines_apart.

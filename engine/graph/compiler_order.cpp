@@ -250,9 +250,7 @@ std::vector<uint32_t> Compiler::least_memory_order(const std::vector<bool>& live
 void Compiler::warn_of_flat_cube_maps(const Node& node) {
   for (const auto& b : node.bindings) {
     if (!b.port->cube_layers || b.port->access == PortAccess::read || plan_.resources[b.resource].layers == 6) continue;
-    int light = node.params.value("light", 0);
-    const auto count = options_.scene_values.find("scene.lights");
-    if (count != options_.scene_values.end() && count->second >= 1) light = std::min(light, static_cast<int>(count->second) - 1);
+    const int light = scene_light(node.params.value("light", 0));
     const auto point = options_.scene_values.find("scene.light" + std::to_string(light) + ".point");
     if (point == options_.scene_values.end() || point->second == 0.0) continue;
     const std::string message = "pass '" + node.desc->name + "' draws light " + std::to_string(light) + "'s shadow into '" +

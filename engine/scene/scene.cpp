@@ -45,10 +45,14 @@ glm::mat4 Light::view_projection() const {
   return p * view.view_matrix();
 }
 
-glm::mat4 Light::face_view_projection(uint32_t face) const {
+glm::vec3 Light::face_axis(uint32_t face) {
   static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  return axes[face % 6];
+}
+
+glm::mat4 Light::face_view_projection(uint32_t face) const {
   View face_view = view;
-  face_view.target = view.position + axes[face % 6];
+  face_view.target = view.position + face_axis(face);
   face_view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCubeFaceTan));
   return face_view.view_projection(1.0f);
 }

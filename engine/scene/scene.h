@@ -159,7 +159,8 @@ struct Light {
   bool has_view() const { return type != LightType::point; }
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;
-  // A point light's cube face `face` (0..5, kCubeFaceTan).
+  // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).
+  static glm::vec3 face_axis(uint32_t face);
   glm::mat4 face_view_projection(uint32_t face) const;
   // Whether light from it can reach a part of the box (a spot light's frustum, conservatively as the
   // cone through its corners; a directional light's prism; a point light every direction).
