@@ -53,12 +53,7 @@ StabilityRun run_stability() {
   StabilityRun run;
   const fs::path dir = fs::temp_directory_path() / ("caustica_stability_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-#ifdef CAUSTICA_SMALL_RENDERS
-  // Three cases: a convex lens, a concave refractor whose light moves (the flicker path), none.
-  const char* size = "--cases sphere_plane,bunny_plane,no_refractor --grid 128 --caustic-size 64 --reference-photons 2e5";
-#else
   const char* size = "--grid 512 --caustic-size 256 --reference-photons 4e6";
-#endif
   const std::string command =
       "'" CAUSTICA_BIN "' bench stability " + std::string(size) + " --frames 0 --validate --out '" + dir.string() + "'";
   run.exit_code = std::system(command.c_str());
@@ -83,11 +78,7 @@ bool follows_bounces(const Row& r) {
   return r.method.find("search") != std::string::npos || r.method.find("exact") != std::string::npos || r.method == "ray query";
 }
 constexpr size_t kMethods = 9;
-#ifdef CAUSTICA_SMALL_RENDERS
-constexpr size_t kCases = 3;
-#else
 constexpr size_t kCases = 11;
-#endif
 
 }  // namespace
 
@@ -111,11 +102,6 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
       EXPECT_EQ(r["relative_l1"], 0.0) << r.method;
     }
   }
-#ifdef CAUSTICA_SMALL_RENDERS
-  // Under the sanitizers the run is small: it checks memory safety on every case and method's path.
-  // The numbers below are stated for the full size, which the Release run asserts.
-  return;
-#endif
   // The reference is itself a sample: its landed flux is uncertain by about 1 / sqrt(photons
   // landed), allowed three times over in every bound on an energy ratio below. (The tiny
   // refractor's 4e6 photons land few: seeds 1, 2, 3 gave 1.081, 0.969, 0.955 of a 4e7 reference.)
