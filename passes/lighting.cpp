@@ -1,5 +1,8 @@
-// lighting: direct light on the G-buffer (every light, each shadowed by its map where bound), ambient, sky.
+// lighting: direct light on the G-buffer (every light, each shadowed by its map and adding its caustic map
+// where bound), ambient, sky.
 #include <algorithm>
+#include <string_view>
+#include <vector>
 
 #include "builtin_passes.h"
 #include "common/scene_types.h"
@@ -12,28 +15,41 @@ namespace {
 
 struct LightingParams {
   float shadow_bias;
-  uint32_t shadowed;  // bit i: light i's shadow map is bound
+  uint32_t shadowed;        // bit i: light i's shadow map is bound
+  uint32_t caustic_lights;  // bit i: light i's caustic map is bound (and the light has a view)
+  uint32_t caustic_depths;  // bit i: and its receiver depth
 };
+
+// The lights whose element of a per-light port is bound.
+std::vector<uint32_t> bound_lights(const graph::PassSetup& setup, std::string_view port) {
+  std::vector<uint32_t> lights;
+  for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
+    if (setup.bound(graph::port_element(port, light))) lights.push_back(light);
+  }
+  return lights;
+}
+
+bool holds(const std::vector<uint32_t>& lights, uint32_t light) {
+  return std::find(lights.begin(), lights.end(), light) != lights.end();
+}
 
 class LightingPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
-      if (setup.bound(graph::port_element("shadow", light))) shadow_maps_.push_back(light);
-    }
-    has_caustics_ = setup.bound("caustics");
-    has_caustic_depth_ = has_caustics_ && setup.bound("caustic_depth");
+    shadow_maps_ = bound_lights(setup, "shadow");
+    caustic_maps_ = bound_lights(setup, "caustics");
+    caustic_depths_ = bound_lights(setup, "caustic_depth");
     has_emission_ = setup.bound("emission");
     shader::Defines defines;
     if (!shadow_maps_.empty()) defines["SHADOWS"] = "1";
-    if (has_caustics_) defines["CAUSTICS"] = "1";
-    if (has_caustic_depth_) defines["CAUSTIC_DEPTH"] = "1";
+    if (!caustic_maps_.empty()) defines["CAUSTICS"] = "1";
     if (has_emission_) defines["EMISSION"] = "1";
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource("color").format).vk};
     pipeline_ = setup.graphics_pipeline("lighting", {"common/fullscreen.vert", {}}, {"scene/lighting.frag", defines}, state);
     pipeline_.interface->check_push("LightingParams", sizeof(LightingParams),
-                                    {CAUSTICA_MIRRORED(LightingParams, shadow_bias), CAUSTICA_MIRRORED(LightingParams, shadowed)});
+                                    {CAUSTICA_MIRRORED(LightingParams, shadow_bias), CAUSTICA_MIRRORED(LightingParams, shadowed),
+                                     CAUSTICA_MIRRORED(LightingParams, caustic_lights), CAUSTICA_MIRRORED(LightingParams, caustic_depths)});
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -45,13 +61,11 @@ class LightingPass final : public graph::Pass {
     writer.buffer("FrameBlock", ctx.scene().frame())
         .image("depth_tex", ctx.view("depth"), ctx.nearest_sampler())
         .image("normal_tex", ctx.view("normal"), ctx.nearest_sampler())
-        .image("albedo_tex", ctx.view("albedo"), ctx.nearest_sampler())
-        .image("caustic_depth_tex", ctx.view(has_caustic_depth_ ? "caustic_depth" : "depth"), ctx.nearest_sampler());  // unread without it
-    if (has_caustics_) writer.image("caustics_tex", ctx.view("caustics"), ctx.linear_sampler());
+        .image("albedo_tex", ctx.view("albedo"), ctx.nearest_sampler());
     if (has_emission_) writer.image("emission_tex", ctx.view("emission"), ctx.nearest_sampler());
-    const uint32_t shadowed = write_shadow_maps(ctx, writer);
+    LightingParams params{ctx.params()["shadow_bias"].get<float>(), write_shadow_maps(ctx, writer), 0, 0};
+    write_caustic_maps(ctx, writer, params);
     writer.push(ctx.vk(), cmd, pipeline_);
-    const LightingParams params{ctx.params()["shadow_bias"].get<float>(), shadowed};
     vkCmdPushConstants(cmd, pipeline_.layout.get(), pipeline_.stages, 0, sizeof(params), &params);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
@@ -65,7 +79,7 @@ class LightingPass final : public graph::Pass {
     const auto& lights = ctx.scene().lights();
     uint32_t shadowed = 0;
     for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
-      const bool bound = std::find(shadow_maps_.begin(), shadow_maps_.end(), light) != shadow_maps_.end();
+      const bool bound = holds(shadow_maps_, light);
       const std::string port = graph::port_element("shadow", bound ? light : shadow_maps_.front());
       writer.image_element("shadow_maps", light, ctx.array_view(port), ctx.nearest_sampler());
       const bool point = light < lights.size() && lights[light].type == scene::LightType::point;
@@ -74,10 +88,26 @@ class LightingPass final : public graph::Pass {
     return shadowed;
   }
 
+  // Every element of the caustic maps' and receiver depths' arrays, as the shadow maps'; a light
+  // counts only with a view (a point light's is fitted to its refractors, or it has none).
+  void write_caustic_maps(const graph::PassContext& ctx, vk::DescriptorWriter& writer, LightingParams& params) const {
+    if (caustic_maps_.empty()) return;
+    const auto& lights = ctx.scene().lights();
+    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
+      const bool mapped = holds(caustic_maps_, light), tested = holds(caustic_depths_, light);
+      writer.image_element("caustic_maps", light, ctx.view(graph::port_element("caustics", mapped ? light : caustic_maps_.front())),
+                           ctx.linear_sampler());
+      const std::string depth =
+          caustic_depths_.empty() ? "depth" : graph::port_element("caustic_depth", tested ? light : caustic_depths_.front());
+      writer.image_element("caustic_depths", light, ctx.view(depth), ctx.nearest_sampler());
+      if (!mapped || light >= lights.size() || !lights[light].has_view()) continue;
+      params.caustic_lights |= 1u << light;
+      if (tested) params.caustic_depths |= 1u << light;
+    }
+  }
+
   vk::Pipeline pipeline_;
-  std::vector<uint32_t> shadow_maps_;  // the lights whose shadow map is bound
-  bool has_caustics_ = false;
-  bool has_caustic_depth_ = false;
+  std::vector<uint32_t> shadow_maps_, caustic_maps_, caustic_depths_;  // the lights whose element of each is bound
   bool has_emission_ = false;
 };
 
@@ -118,7 +148,8 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::r32f},
         true,
         "",
-        "caustic map of the first light: flux per texel of its image plane, a layer per colour channel (caustic_map)",
+        "each light's caustic map (a per-light port, as shadow): flux per texel of its image plane, a layer per colour channel "
+        "(caustic_map)",
         false,
         3},
        {"caustic_depth",
@@ -128,8 +159,8 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::d32f},
         true,
         "",
-        "the first light's depth of opaque geometry, for the caustic map's receiver test (without it the caustic also lands "
-        "on surfaces that the light does not see first)"},
+        "each light's depth of opaque geometry (a per-light port), for its caustic map's receiver test (without it the "
+        "caustic also lands on surfaces that the light does not see first)"},
        {"color",
         PortAccess::write,
         ResourceKind::image,
@@ -143,6 +174,7 @@ graph::PassTypeDecl lighting_pass_type() {
       [] { return std::make_unique<LightingPass>(); }};
   for (PortDecl& port : decl.ports) {
     if (port.name == "shadow") port.per_light = port.cube_layers = true;
+    if (port.name == "caustics" || port.name == "caustic_depth") port.per_light = true;
   }
   decl.needs_scene = true;
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };

@@ -18,15 +18,16 @@ class ShadowMapPass final : public graph::Pass {
     const uint32_t light = ctx.params()["light"].get<uint32_t>();
     const auto& lights = ctx.scene().lights();
     const scene::Light& l = lights[std::min<size_t>(light, lights.size() - 1)];
-    if (l.type != scene::LightType::point) {
-      draw(ctx, light_view(ctx, light), ctx.view("depth"));
-    } else if (ctx.resource("depth").layers == 6) {
+    if (l.type == scene::LightType::point && ctx.resource("depth").layers == 6) {
       for (uint32_t face = 0; face < 6; ++face)
         draw(ctx, SceneView{l.face_view_projection(face), l.view.position, scene::Light::face_axis(face), false},
              ctx.layer_view("depth", face));
+    } else if (l.has_view()) {
+      // A point light's map of one layer is its caustic view's (the receivers of its caustic map).
+      draw(ctx, light_view(ctx, light), ctx.view("depth"));
     } else {
-      // A point light's map of one layer (a graph made for a spot light) is left cleared: lighting
-      // reads a point light's map only where it has the six faces.
+      // A point light without a caustic view and a map of one layer (a graph made for a spot
+      // light) is left cleared: lighting reads a point light's shadow only where it has six faces.
       begin_rendering(ctx.cmd(), ctx.extent("depth"), {}, Attachment{ctx.view("depth")});
       vkCmdEndRendering(ctx.cmd());
     }

@@ -195,7 +195,7 @@ TEST(Caustics, TheLevelsImageShowsEveryLevelAsSplatted) {
   }
   e.SceneEngine::render("caustics_adaptive", scene, {"caustic_size=256"}, {"caustics"});
   const auto& plan = e.executor.plan();
-  const int levels_index = plan.find_resource("caustic_levels");
+  const int levels_index = plan.find_resource(plan.resolve("caustic_levels"));
   ASSERT_GE(levels_index, 0);
   EXPECT_FALSE(plan.resources[static_cast<size_t>(levels_index)].used());
 }

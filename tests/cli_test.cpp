@@ -352,31 +352,42 @@ TEST(Cli, CompressedModelsRenderAsTheirOriginal) {
   fs::remove_all(dir);
 }
 
-// A caustic graph on a scene lit only by a point light compiles, and says that its light-view passes
-// add nothing (a point light throws no caustic yet), the shadow not among them (a point light casts
-// its shadow through a cube map); with a spot light it says nothing.
-TEST(Cli, PassesThatNeedASpotLightSayWhenTheyHaveNone) {
+// A point light throws its caustic through a view fitted to its refractors: over a glass ball the
+// caustic graph plans and runs its per-light passes without a word; inside the ball no frustum
+// holds it, and render, validate --scene and graph plan say that its caustic passes are culled
+// (its shadow, a cube map, is not among them). A spot or directional light says nothing.
+TEST(Cli, APointLightAmongItsRefractorsSaysItThrowsNoCaustic) {
   fs::path dir = scratch("point_light");
-  CliRun point = run("render --size 96x54 --scene " + (kSource / "tests/data/point_light.json").string() + " --out p.png", dir);
+  const std::string graph = (kSource / "graphs/caustics_adaptive.json").string();
+  const std::string over = (kSource / "tests/data/point_light.json").string(),
+                    inside = (kSource / "tests/data/point_light_inside.json").string();
+  CliRun lit = run("render --size 96x54 --scene " + over + " --out p.png", dir);
+  ASSERT_EQ(lit.code, 0) << lit.output;
+  EXPECT_EQ(lit.output.find("warning:"), std::string::npos) << lit.output;
+  CliRun lit_plan = run("graph plan " + graph + " --scene " + over, dir);
+  ASSERT_EQ(lit_plan.code, 0) << lit_plan.output;
+  EXPECT_NE(lit_plan.output.find("\"caustics#0\""), std::string::npos) << lit_plan.output;
+  EXPECT_NE(lit_plan.output.find("\"warnings\": []"), std::string::npos) << lit_plan.output;
+
+  CliRun point = run("render --size 96x54 --scene " + inside + " --out i.png", dir);
   ASSERT_EQ(point.code, 0) << point.output;
-  EXPECT_NE(point.output.find("warning: light 0 is a point light, which has no light view"), std::string::npos) << point.output;
-  for (const char* pass : {"light_refractors", "caustics"}) {
+  EXPECT_NE(point.output.find("warning: light 0 is a point light without a caustic view"), std::string::npos) << point.output;
+  for (const char* pass : {"light_refractors#0", "caustics#0"}) {
     EXPECT_NE(point.output.find(pass), std::string::npos) << pass << " not named in " << point.output;
   }
   EXPECT_EQ(point.output.find("shadow#0"), std::string::npos) << point.output;
-  CliRun plan = run("graph plan " + (kSource / "graphs/caustics_adaptive.json").string() + " --scene " +
-                        (kSource / "tests/data/point_light.json").string(),
-                    dir);
+  CliRun plan = run("graph plan " + graph + " --scene " + inside, dir);
   ASSERT_EQ(plan.code, 0) << plan.output;
-  EXPECT_NE(plan.output.find("\"warnings\": ["), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("\"caustics#0\": \"scene.light0.view * scene.light0.refractors\""), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("point light without a caustic view"), std::string::npos) << plan.output;
   CliRun spot = run("render --size 96x54 --scene " + (kSource / "scenes/sphere_plane.json").string() + " --out s.png", dir);
   ASSERT_EQ(spot.code, 0) << spot.output;
   EXPECT_EQ(spot.output.find("warning:"), std::string::npos) << spot.output;
   // validate --scene says the same without a device; a directional light has a view.
-  const std::string graph = (kSource / "graphs/caustics_adaptive.json").string();
-  CliRun validated = run("validate " + graph + " --scene " + (kSource / "tests/data/point_light.json").string(), dir);
+  CliRun validated = run("validate " + graph + " --scene " + inside, dir);
   EXPECT_EQ(validated.code, 0) << validated.output;
-  EXPECT_NE(validated.output.find("caustics_adaptive.json: warning: light 0 is a point light"), std::string::npos) << validated.output;
+  EXPECT_NE(validated.output.find("caustics_adaptive.json: warning: light 0 is a point light without a caustic view"), std::string::npos)
+      << validated.output;
   CliRun directional = run("validate " + graph + " --scene " + (kSource / "scenes/sphere_sun.json").string(), dir);
   EXPECT_EQ(directional.code, 0) << directional.output;
   EXPECT_EQ(directional.output.find("warning:"), std::string::npos) << directional.output;
@@ -517,7 +528,7 @@ TEST(Cli, AnOrbitReusesTheLightsPassesAndEndsAtThePictureOfItsLastCamera) {
   ASSERT_EQ(stats["frames_timed"].get<int>(), 3);
   std::map<std::string, int> frames_run;
   for (const auto& p : stats["passes"]) frames_run[p["name"].get<std::string>()] = p["frames_run"].get<int>();
-  for (const char* light_pass : {"shadow#0", "receivers", "light_refractors", "caustics"})
+  for (const char* light_pass : {"shadow#0", "receivers#0", "light_refractors#0", "caustics#0"})
     EXPECT_EQ(frames_run.at(light_pass), 0) << light_pass;
   for (const char* camera_pass : {"gbuffer", "lighting", "refraction", "tonemap"}) EXPECT_EQ(frames_run.at(camera_pass), 3) << camera_pass;
   const auto& frame = stats["frame"];
@@ -654,7 +665,7 @@ TEST(Cli, ThePhotonGridIsAnIntegerAndOldFilesStillRead) {
   const CliRun validated = run("validate old.json", dir);
   EXPECT_EQ(validated.code, 0) << validated.output;
   EXPECT_NE(validated.output.find("warning: old.json:"), std::string::npos) << validated.output;
-  EXPECT_NE(validated.output.find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics' "
+  EXPECT_NE(validated.output.find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics#0' "
                                   "(adaptive_caustic_map) takes an integer, so it reads \"2048\" as 2048; declare 'grid' as "
                                   "\"type\": \"int\" with numbers and \"power_of_two\": true"),
             std::string::npos)
@@ -1239,7 +1250,7 @@ TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
   for (const CliRun* r : {&validate, &render}) {
     EXPECT_EQ(r->code, 1) << r->output;
     EXPECT_NE(r->output.find("caustics_raytraced.json:"), std::string::npos) << r->output;
-    EXPECT_NE(r->output.find("pass 'caustics' (caustic_map)"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find("pass 'caustics#0' (caustic_map)"), std::string::npos) << r->output;
     EXPECT_NE(r->output.find("VK_KHR_ray_query"), std::string::npos) << r->output;
     EXPECT_NE(r->output.find("graphs/caustics_adaptive.json"), std::string::npos) << r->output;
   }

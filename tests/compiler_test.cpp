@@ -979,7 +979,7 @@ TEST(Compiler, ThePhotonGridIsAnIntegerInEveryCausticPassType) {
 
   caustic_pass_params(g)["grid"] = 1000;
   const std::string refused = builtin_compile_error(g);
-  EXPECT_TRUE(std::regex_search(refused, std::regex("^test\\.json:[0-9]+:[0-9]+: parameter 'grid' of pass 'caustics' is 1000, not a "
+  EXPECT_TRUE(std::regex_search(refused, std::regex("^test\\.json:[0-9]+:[0-9]+: parameter 'grid' of pass 'caustics#0' is 1000, not a "
                                                     "power of two; the nearest are 512 and 1024 \\(at /passes/[0-9]+/params/grid\\)")))
       << refused;
   caustic_pass_params(g)["grid"] = 131072;
@@ -1007,7 +1007,7 @@ TEST(Compiler, AGridWrittenAsAStringInAnOldFileStillReads) {
   Plan plan = compile_builtin(graph_from(g));
   EXPECT_EQ(caustic_grid(plan), 2048);
   ASSERT_EQ(plan.warnings.size(), 1u);
-  EXPECT_NE(plan.warnings[0].find("parameter 'grid' of pass 'caustics' is the string \"2048\", read as the number 2048; write it without "
+  EXPECT_NE(plan.warnings[0].find("parameter 'grid' of pass 'caustics#0' is the string \"2048\", read as the number 2048; write it without "
                                   "quotes (at /passes/"),
             std::string::npos)
       << plan.warnings[0];
@@ -1021,7 +1021,7 @@ TEST(Compiler, AGridWrittenAsAStringInAnOldFileStillReads) {
   plan = compile_builtin(old);
   EXPECT_EQ(caustic_grid(plan), 2048);
   ASSERT_EQ(plan.warnings.size(), 1u);
-  EXPECT_NE(plan.warnings[0].find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics' "
+  EXPECT_NE(plan.warnings[0].find("graph parameter 'grid' is a choice of strings, and parameter 'grid' of pass 'caustics#0' "
                                   "(adaptive_caustic_map) takes an integer, so it reads \"2048\" as 2048; declare 'grid' as \"type\": "
                                   "\"int\" with numbers and \"power_of_two\": true (at /parameters/grid)"),
             std::string::npos)
@@ -1031,7 +1031,7 @@ TEST(Compiler, AGridWrittenAsAStringInAnOldFileStillReads) {
 
   // A choice that is no number stays an error.
   g["parameters"]["grid"] = {{"type", "choice"}, {"default", "fine"}, {"choices", {"fine", "coarse"}}};
-  EXPECT_NE(builtin_compile_error(g).find("parameter 'grid' of pass 'caustics' expects an integer, got \"fine\" (through graph parameter "
+  EXPECT_NE(builtin_compile_error(g).find("parameter 'grid' of pass 'caustics#0' expects an integer, got \"fine\" (through graph parameter "
                                           "'grid')"),
             std::string::npos)
       << builtin_compile_error(g);

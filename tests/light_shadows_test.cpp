@@ -15,6 +15,7 @@
 
 #include "core/paths.h"
 #include "graph/graph_desc.h"
+#include "graph/per_light.h"
 #include "io/json_document.h"
 #include "reference/refraction_reference.h"
 #include "scene/scene.h"
@@ -134,9 +135,10 @@ TEST(LightShadows, ShadowMapsPutEveryLightsShadowWhereShadowRaysDo) {
   }
 }
 
-// A light that moves starts over its own shadow pass and what reads every light's (lighting), not
-// the other lights' (the viewer, reusing unchanged passes, on the bundled three-light scene).
-TEST(LightShadows, MovingOneLightRedrawsOnlyItsOwnShadow) {
+// A light that moves starts over its own shadow and caustic passes and what reads every light's
+// (lighting), not the other lights' (the viewer, reusing unchanged passes, on the bundled
+// three-light scene, where the point light throws its caustic through its fitted view).
+TEST(LightShadows, MovingOneLightRedrawsOnlyItsOwnShadowAndCaustic) {
   test::SceneEngine engine;
   engine.reuse = true;
   const auto scene = test::load_bundled_scene("three_lights");
@@ -151,9 +153,9 @@ TEST(LightShadows, MovingOneLightRedrawsOnlyItsOwnShadow) {
   const graph::FrameResult moved = engine.executor.run_frame(false);
   std::map<std::string, bool> ran;
   for (const auto& p : moved.passes) ran[p.name] = p.ran();
-  EXPECT_TRUE(ran.at("shadow#1"));
-  EXPECT_FALSE(ran.at("shadow#0"));
-  EXPECT_FALSE(ran.at("shadow#2"));
-  EXPECT_FALSE(ran.at("caustics")) << "light 0's caustic";
+  for (const char* pass : {"shadow", "receivers", "light_refractors", "caustics"}) {
+    EXPECT_TRUE(ran.at(graph::light_instance(pass, 1))) << pass << " of the moved light";
+    for (uint32_t light : {0u, 2u}) EXPECT_FALSE(ran.at(graph::light_instance(pass, light))) << pass << " of light " << light;
+  }
   EXPECT_TRUE(ran.at("lighting"));
 }

@@ -40,6 +40,11 @@ std::map<std::string, double> three_lights() {
   return values;
 }
 
+// Whether the plan's lighting pass reads element `light` of its per-light port `port`.
+bool lighting_reads(const Plan& plan, const std::string& port, uint32_t light) {
+  return test::pass_named(plan, "lighting").ports.count(port_element(port, light)) > 0;
+}
+
 Plan compile_for_lights(const nlohmann::json& j, const std::map<std::string, double>& scene_values = three_lights()) {
   CompileOptions options;
   options.output_width = 64;
@@ -192,23 +197,56 @@ TEST(PerLight, ExpressionsReadTheirLightsValuesAndNothingElse) {
 }
 
 // A point light's shadow drawn into an image of one layer (a graph made for spot lights) compiles,
-// and the plan says that the light stays unshadowed; the bundled graphs' per-light maps say nothing.
+// and the plan says that the light stays unshadowed; the bundled graphs' per-light maps say nothing
+// (a receiver map of one layer is the caustic view's, not a shadow).
 TEST(PerLight, APointLightsShadowInOneLayerIsWarnedOf) {
   CompileOptions options;
   options.scene_values = three_lights();
-  auto warnings_with = [&](int receivers_light) {
+  options.scene_values["scene.light1.view"] = 1;  // the point light's caustic view is fitted
+  auto warnings_with = [&](bool cube) {
     nlohmann::json g = nlohmann::json::parse(std::ifstream(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/caustics_adaptive.json"));
-    for (auto& p : g["passes"]) {
-      if (p["name"] == "receivers") p["params"]["light"] = receivers_light;
-    }
+    if (!cube) g["resources"]["shadow"].erase("layers");
     return compile_graph(load_graph(JsonDocument::parse(g.dump(2), "lights.json")), passes::builtin_registry(), options).warnings;
   };
-  const std::vector<std::string> spot = warnings_with(0);
-  EXPECT_TRUE(spot.empty()) << spot.front();
-  const std::vector<std::string> point = warnings_with(1);
-  ASSERT_EQ(point.size(), 1u);
-  EXPECT_NE(point[0].find("pass 'receivers' draws light 1's shadow into 'receiver_depth', which has one layer; light 1 is a point "
-                          "light"),
+  const std::vector<std::string> cube = warnings_with(true);
+  EXPECT_TRUE(cube.empty()) << cube.front();
+  const std::vector<std::string> flat = warnings_with(false);
+  ASSERT_EQ(flat.size(), 1u);
+  EXPECT_NE(flat[0].find("pass 'shadow#1' draws light 1's shadow into 'shadow#1', which has one layer; light 1 is a point light"),
             std::string::npos)
-      << point[0];
+      << flat[0];
+}
+
+// Every bundled caustic graph throws each light's caustic through its own instances (receivers,
+// light-view refractors, photons, their maps), which lighting reads as its per-light ports; a point
+// light without a caustic view (its refractors around it) gets none, and the plan says so.
+TEST(PerLight, EveryBundledCausticGraphGivesEachLightWithAViewItsCausticPasses) {
+  for (const char* name : {"caustics_regular", "caustics_adaptive", "caustics_progressive", "caustics_raytraced", "full_hybrid"}) {
+    SCOPED_TRACE(name);
+    const GraphDesc graph = load_graph_file(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/" + name + ".json");
+    CompileOptions options;
+    options.scene_values = three_lights();
+    options.scene_values["scene.light1.view"] = 1;
+    options.ray_queries = true;
+    const Plan all = compile_graph(graph, passes::builtin_registry(), options);
+    EXPECT_TRUE(all.warnings.empty()) << all.warnings.front();
+    const PlannedPass& lighting = pass_named(all, "lighting");
+    for (uint32_t light = 0; light < 3; ++light) {
+      for (const char* pass : {"receivers", "light_refractors"}) {
+        EXPECT_EQ(pass_named(all, light_instance(pass, light)).params["light"], light) << pass;
+      }
+      const auto map = lighting.ports.find(port_element("caustics", light));
+      ASSERT_NE(map, lighting.ports.end()) << "light " << light;
+      EXPECT_EQ(all.resources[map->second].name, light_instance("caustics", light));
+      EXPECT_EQ(all.resources[lighting.ports.at(port_element("caustic_depth", light))].name, light_instance("receiver_depth", light));
+    }
+    options.scene_values["scene.light1.view"] = 0;
+    const Plan unviewed = compile_graph(graph, passes::builtin_registry(), options);
+    EXPECT_EQ(unviewed.disabled_by.count("light_refractors#1"), 1u);
+    EXPECT_FALSE(lighting_reads(unviewed, "caustics", 1));
+    EXPECT_TRUE(lighting_reads(unviewed, "caustics", 2));
+    ASSERT_EQ(unviewed.warnings.size(), 1u);
+    EXPECT_NE(unviewed.warnings[0].find("light 1 is a point light without a caustic view"), std::string::npos) << unviewed.warnings[0];
+    EXPECT_NE(unviewed.warnings[0].find("light_refractors#1"), std::string::npos) << unviewed.warnings[0];
+  }
 }

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "graph/format.h"
+#include "graph/per_light.h"
 
 namespace caustica::editor {
 namespace {
@@ -65,6 +66,10 @@ PassWiring::PassWiring(const ordered_json& doc, const graph::PassTypeDecl& decl,
     for (const auto& r : written) {
       if (port_accepts(port, resources_, r)) candidates_.back().push_back(r);
     }
+    // One resource before a per-light one, which would make the new pass run once per light (wired()).
+    std::stable_partition(candidates_.back().begin(), candidates_.back().end(), [&](const std::string& r) {
+      return port.per_light || resources_[r].value("for_each", "") != std::string(graph::kForEachLight);
+    });
     if (candidates_.back().empty()) {
       std::string formats;
       for (auto f : port.formats) formats += std::string(formats.empty() ? "" : ", ") + graph::format_info(f).name;
@@ -122,6 +127,14 @@ ordered_json PassWiring::wired(const ordered_json& pass, const std::vector<std::
   if (!out.empty()) candidate["outputs"] = out;
   for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
   next["passes"].push_back(candidate);
+  // A pass that reads a per-light resource through a port of one resource runs once per light, and
+  // what it writes is per light too (a pass that runs once cannot read it so).
+  for (size_t k = 0; k < inputs_.size(); ++k) {
+    if (!inputs_[k]->per_light && resources_[chosen[k]].value("for_each", "") == std::string(graph::kForEachLight)) {
+      wire_per_light(next, next["passes"].back(), &decl_, true);
+      break;
+    }
+  }
   return next;
 }
 

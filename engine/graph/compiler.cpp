@@ -68,7 +68,15 @@ Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const C
   const auto lights = options.scene_values.find("scene.lights");
   const double count = lights == options.scene_values.end() ? 1.0 : lights->second;
   const GraphDesc expanded = expand_per_light(graph, static_cast<uint32_t>(std::clamp(count, 0.0, 64.0)));
-  return compiler_internal::Compiler(expanded, registry, options).run();
+  // A per-light resource kept by its own name is light 0's (Plan::resolve reads it so).
+  CompileOptions per_light = options;
+  per_light.retained.clear();
+  for (const std::string& name : options.retained) {
+    const bool follows_lights = std::any_of(graph.resources.begin(), graph.resources.end(),
+                                            [&](const ResourceDesc& r) { return r.name == name && !r.for_each.empty(); });
+    per_light.retained.insert(follows_lights ? light_instance(name, 0) : name);
+  }
+  return compiler_internal::Compiler(expanded, registry, per_light).run();
 }
 
 }  // namespace caustica::graph

@@ -89,6 +89,7 @@ class Compiler {
   void check_writer_order() const;
   std::vector<uint32_t> least_memory_order(const std::vector<bool>& live) const;
   void warn_of_flat_cube_maps(const Node& node);
+  void warn_of_culled_point_caustics();
   void cull_and_order();
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.

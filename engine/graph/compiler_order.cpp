@@ -10,6 +10,13 @@
 
 namespace caustica::graph::compiler_internal {
 
+namespace {
+constexpr const char* kAmongRefractors =
+    "its refractors lie around it (no frustum narrower than 140 degrees holds them, or it is inside one), and a point light "
+    "throws caustics through one frustum fitted to its refractors (cube-face caustic maps are not implemented), so it throws "
+    "none; its shadow is cast as every light's";
+}  // namespace
+
 // ---- dependencies --------------------------------------------------------------------------
 
 int Compiler::node_index(std::string_view name) const {
@@ -250,6 +257,8 @@ std::vector<uint32_t> Compiler::least_memory_order(const std::vector<bool>& live
 void Compiler::warn_of_flat_cube_maps(const Node& node) {
   for (const auto& b : node.bindings) {
     if (!b.port->cube_layers || b.port->access == PortAccess::read || plan_.resources[b.resource].layers == 6) continue;
+    // Without refractors the map is a caustic's receivers, drawn from the caustic view.
+    if (!node.params.value("refractors_cast_shadows", true)) continue;
     const int light = scene_light(node.params.value("light", 0));
     const auto point = options_.scene_values.find("scene.light" + std::to_string(light) + ".point");
     if (point == options_.scene_values.end() || point->second == 0.0) continue;
@@ -274,7 +283,9 @@ void Compiler::cull_and_order() {
     if (!nodes_[i].decl) continue;
     if (nodes_[i].decl->side_effects) keep(i);
     for (const auto& b : nodes_[i].bindings) {
-      if (b.port->access != PortAccess::read && plan_.resources[b.resource].output) keep(i);
+      // What is kept (--dump, the viewer's inspector) is wanted as an output is (Compiler::wanted).
+      const PlannedResource& written = plan_.resources[b.resource];
+      if (b.port->access != PortAccess::read && (written.output || options_.retained.count(written.name))) keep(i);
     }
   }
   for (size_t i = 0; i < graph_.outputs.size(); ++i) {
@@ -334,11 +345,32 @@ void Compiler::cull_and_order() {
     plan_.passes.push_back(std::move(pass));
   }
   for (const auto& [light, names] : unlit) {
-    plan_.warnings.push_back("light " + std::to_string(light) +
-                             " is a point light, which has no light view: a point light casts its shadow (a cube map) but "
-                             "throws no caustic yet (only spot and directional lights do), so the passes that draw from its "
-                             "view add nothing to the picture (" +
-                             names + "); give the scene a spot or directional light, or use a graph without them");
+    plan_.warnings.push_back("light " + std::to_string(light) + " is a point light without a caustic view: " + kAmongRefractors +
+                             ", so the passes that draw from its view add nothing to the picture (" + names + ")");
+  }
+  warn_of_culled_point_caustics();
+}
+
+// A per-light graph culls a point light's caustic passes where it has no view (their "enabled"
+// reads light.view): said once per light, as the passes of a graph made for one light are above.
+void Compiler::warn_of_culled_point_caustics() {
+  std::map<int, std::string> culled;
+  for (const PassDesc& pass : graph_.passes) {
+    const PassTypeDecl* decl = registry_.find(pass.type);
+    if (pass.light < 0 || !plan_.disabled_by.count(pass.name) || !decl || !decl->uses_light_view || !decl->uses_light_view(pass.params)) {
+      continue;
+    }
+    const std::string prefix = "scene.light" + std::to_string(pass.light) + ".";
+    const auto value = [&](const char* name) {
+      const auto it = options_.scene_values.find(prefix + name);
+      return it == options_.scene_values.end() ? 0.0 : it->second;
+    };
+    if (value("point") == 0.0 || value("view") != 0.0 || value("refractors") == 0.0) continue;
+    culled[pass.light] += (culled[pass.light].empty() ? "" : ", ") + pass.name;
+  }
+  for (const auto& [light, names] : culled) {
+    plan_.warnings.push_back("light " + std::to_string(light) + " is a point light without a caustic view: " + kAmongRefractors +
+                             "; its caustic passes are culled (" + names + ")");
   }
 }
 

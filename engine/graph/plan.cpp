@@ -1,12 +1,19 @@
 #include "graph/plan.h"
 
+#include "graph/per_light.h"
+
 #include <utility>
 
 namespace caustica::graph {
 
 std::string Plan::resolve(const std::string& name) const {
   auto it = fallbacks.find(name);
-  return it == fallbacks.end() ? name : it->second;
+  if (it != fallbacks.end()) return it->second;
+  // A per-light resource's own name stands for light 0's instance, as a plain resource bound to a
+  // per-light port is its element 0 (graph/per_light.h).
+  const std::string first = light_instance(name, 0);
+  if (find_resource(name) < 0 && (find_resource(first) >= 0 || fallbacks.count(first))) return resolve(first);
+  return name;
 }
 
 int Plan::find_resource(std::string_view name) const {

@@ -188,7 +188,8 @@ struct Plan {
   bool refines_apart = false;
 
   int find_resource(std::string_view name) const;
-  // `name`, or the resource read in its place when it fell back.
+  // `name`, or the resource read in its place when it fell back; a per-light resource's own name is
+  // light 0's instance ("caustics" -> "caustics#0").
   std::string resolve(const std::string& name) const;
 };
 

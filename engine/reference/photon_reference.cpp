@@ -230,7 +230,9 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
 
 PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options) {
   if (scene.lights.empty() || !scene.lights.front().has_view()) {
-    throw InputError(scene.path + ": the photon reference traces from the first light, which must be a spot or directional light");
+    throw InputError(scene.path +
+                     ": the photon reference traces from the first light, which must be a spot or directional light, or a point light "
+                     "with a caustic view (one not among its refractors)");
   }
   if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
   const uint64_t first = options.first_photon, end = options.end_photon > 0 ? options.end_photon : options.photons;

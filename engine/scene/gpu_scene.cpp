@@ -93,6 +93,10 @@ void GpuScene::replace_view(const View& camera, std::vector<Light> lights) {
   assert(lights.size() == scene_->lights.size() && "graph expressions counted the scene's lights (scene.lights)");
   camera_ = camera;
   lights_ = std::move(lights);
+  // A moved point light aims its caustic view at the refractors again (or keeps the last one).
+  for (Light& light : lights_) {
+    if (light.type == LightType::point && light.point_view) fit_point_light_view(light, *scene_);
+  }
 }
 
 const AccelerationStructures& GpuScene::acceleration() {
@@ -140,8 +144,8 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
     // A square frustum's inscribed cone: the half angle is half the field of view.
     l.direction_cos = glm::vec4(light.axis(), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
     l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
-    const float tan_half = light.type == LightType::point ? kCubeFaceTan : std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
-    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, directional ? light.extent : tan_half, 0.0f);
+    const float tan_half = std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
+    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, directional ? light.extent : tan_half, kCubeFaceTan);
     if (light.type == LightType::point) {
       for (uint32_t face = 0; face < 6; ++face) l.faces[face] = light.face_view_projection(face);
     }

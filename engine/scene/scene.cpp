@@ -34,74 +34,6 @@ glm::mat4 View::view_matrix() const {
   return glm::lookAt(position, target, up);
 }
 
-glm::mat4 Light::view_projection() const {
-  if (type != LightType::directional) return view.view_projection(1.0f);
-  // Orthographic, Vulkan conventions as View::projection: depth 0..1 from near to far, y down.
-  glm::mat4 p(1.0f);
-  p[0][0] = 1.0f / extent;
-  p[1][1] = -1.0f / extent;
-  p[2][2] = 1.0f / (view.near_plane - view.far_plane);
-  p[3][2] = view.near_plane / (view.near_plane - view.far_plane);
-  return p * view.view_matrix();
-}
-
-glm::vec3 Light::face_axis(uint32_t face) {
-  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  return axes[face % 6];
-}
-
-glm::mat4 Light::face_view_projection(uint32_t face) const {
-  View face_view = view;
-  face_view.target = view.position + face_axis(face);
-  face_view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCubeFaceTan));
-  return face_view.view_projection(1.0f);
-}
-
-bool Light::reaches(glm::vec3 bounds_min, glm::vec3 bounds_max) const {
-  if (type == LightType::point) return true;
-  const glm::vec3 center = 0.5f * (bounds_min + bounds_max);
-  const float radius = 0.5f * glm::length(bounds_max - bounds_min);
-  const glm::vec3 to_center = center - view.position;
-  const float along = glm::dot(to_center, axis());
-  if (along + radius < view.near_plane || along - radius > view.far_plane) return false;
-  const float across = glm::length(to_center - along * axis());
-  if (type == LightType::directional) return across - radius <= extent * std::sqrt(2.0f);
-  // The sphere around the box against the cone through the square frustum's corners.
-  const float distance = glm::length(to_center);
-  if (distance <= radius) return true;
-  const float corner = std::atan(std::sqrt(2.0f) * std::tan(glm::radians(view.fov_y_degrees) * 0.5f));
-  const float off_axis = std::atan2(across, along);
-  return off_axis - std::asin(std::min(1.0f, radius / distance)) <= corner;
-}
-
-namespace {
-
-// A directional light's orthographic view is a prism along its direction: one that holds the first
-// `fitted` objects (every bounding-box corner) shadows and throws caustics for all of them. Only
-// lights whose extent the scene did not give are fitted; the far plane reaches past every object.
-void fit_directional_lights(Scene& scene, size_t fitted) {
-  for (Light& light : scene.lights) {
-    if (light.type != LightType::directional) continue;
-    const glm::vec3 axis = light.axis();
-    float radial = 0.0f, depth = 0.0f;
-    for (size_t i = 0; i < scene.objects.size(); ++i) {
-      const Object& o = scene.objects[i];
-      for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 c((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
-                          (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
-        const glm::vec3 d = c - light.view.position;
-        const float along = glm::dot(d, axis);
-        depth = std::max(depth, along);
-        if (i < fitted) radial = std::max(radial, glm::length(d - along * axis));
-      }
-    }
-    if (light.extent <= 0.0f) light.extent = std::max(1.02f * radial, 1e-3f);
-    light.view.far_plane = std::max(light.view.far_plane, 1.05f * depth + light.view.near_plane);
-  }
-}
-
-}  // namespace
-
 glm::mat4 View::projection(float aspect) const {
   // Vulkan: depth 0..1 and framebuffer y pointing down.
   const float f = 1.0f / std::tan(glm::radians(fov_y_degrees) * 0.5f);
@@ -414,7 +346,7 @@ Scene load_scene(const JsonDocument& doc) {
     }
   }
   if (scene.objects.empty()) throw doc.error("/objects", "a scene needs at least one object");
-  fit_directional_lights(scene, scene.objects.size());
+  fit_light_views(scene, scene.objects.size());
   return scene;
 }
 
@@ -506,7 +438,7 @@ Scene load_model_scene(const std::string& path, bool stage) {
     light.intensity = 1.8f * distance * distance;
     scene.lights.push_back(light);
   }
-  fit_directional_lights(scene, model_objects);
+  fit_light_views(scene, model_objects);
   return scene;
 }
 

@@ -145,6 +145,11 @@ enum class LightType { spot, point, directional };
 // than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver
 // near a face's edge still finds its taps inside that face.
 inline constexpr float kCubeFaceTan = 1.05f;
+// A point light's caustic view (fit_point_light_view): a frustum around its refractors, its tangent
+// widened by a tenth so that light bent outwards still lands inside, and none where the refractors
+// spread over more than a cone of 70 degrees about it (the light stands among them).
+inline constexpr float kPointViewMargin = 1.1f;
+inline constexpr float kMaxPointViewHalfDegrees = 70.0f;
 
 struct Light {
   LightType type = LightType::spot;
@@ -154,9 +159,13 @@ struct Light {
   float intensity = 10.0f;  // radiant intensity (W/sr) along the axis; directional: irradiance (W/m^2)
   glm::vec3 color{1.0f};
   float extent = 0.0f;  // directional: half the side of the orthographic view's square (world units)
+  // point: `view` aims a frustum at the refractors (fit_point_light_view) for its caustics; its
+  // shadow is the six cube faces about view.position either way.
+  bool point_view = false;
 
-  // Spot and directional lights have a view (shadow map, light-space refractor buffers, caustics).
-  bool has_view() const { return type != LightType::point; }
+  // Spot and directional lights have a view (shadow map, light-space refractor buffers, caustics);
+  // a point light where one is fitted around its refractors (caustics only).
+  bool has_view() const { return type != LightType::point || point_view; }
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;
   // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).
@@ -200,6 +209,13 @@ struct Scene {
   // reads as light.NAME (graph/per_light.h).
   std::map<std::string, double> expression_values() const;
 };
+
+// The views fitted to the scene's objects (scene/light_views.cpp): a directional light's prism
+// around the first `fitted` objects (where the scene gave no extent), and a point light's caustic
+// view. fit_point_light_view returns false, leaving the light as it was, where no frustum narrower
+// than kMaxPointViewHalfDegrees holds its refractors or there is none (a moved light refits).
+void fit_light_views(Scene& scene, size_t fitted);
+bool fit_point_light_view(Light& light, const Scene& scene);
 
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
 // A scene file, or a model file opened as a scene (load_model_scene).

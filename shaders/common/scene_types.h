@@ -62,13 +62,13 @@ struct ObjectData {
 };
 
 struct LightData {
-  mat4 view_proj;  // the light's frustum (spot lights; shadow map lookups)
+  mat4 view_proj;  // the light's frustum (spot and directional: shadow and caustic maps; point: its caustic view)
   mat4 inv_view_proj;
   vec4 position_type;  // xyz, w: 0 spot, 1 point, 2 directional (view_proj orthographic from the plane through xyz)
   vec4 direction_cos;  // xyz axis, w: cosine of the cone's half angle (spot)
   vec4 radiant;        // rgb: colour * intensity (W/sr; directional: irradiance, W/m^2), a: intensity
-  vec4 clip;           // near and far plane of view_proj (for linear depth), tan(fov / 2) (directional: half the view's side;
-                       // point: of a cube face's view)
+  vec4 clip;           // near and far plane of view_proj (for linear depth), tan(fov / 2) (directional: half the view's side),
+                       // w: tan of half a point light's cube face (kCubeFaceTan)
   mat4 faces[6];       // a point light's cube faces (+x, -x, +y, -y, +z, -z): its shadow map's layers
 };
 

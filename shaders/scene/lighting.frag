@@ -1,7 +1,7 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
 // the surface's BRDF, each shadowed through its shadow map where it has one (3x3 PCF; a point light's
-// six cube faces), the first light adding its caustic map when one is bound, plus ambient sky light
+// six cube faces) and adding its caustic map where one is bound, plus ambient sky light
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
@@ -13,19 +13,22 @@ layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
 #ifdef SHADOWS
 layout(set = 0, binding = 4) uniform sampler2DArray shadow_maps[CAUSTICA_MAX_LIGHTS];
 #endif
-// Flux per texel in the first light's image plane, a layer per colour channel. Without a caustic map
-// the pass binds a plain image here and compiles without CAUSTICS (the two view types differ).
+// Light i's caustic map where bit i of params.caustic_lights is set: flux per texel in its image
+// plane, a layer per colour channel; where bit i of params.caustic_depths is, what that light sees
+// without refractors (the receiver test). Unset elements hold another light's (unread).
 #ifdef CAUSTICS
-layout(set = 0, binding = 5) uniform sampler2DArray caustics_tex;
+layout(set = 0, binding = 5) uniform sampler2DArray caustic_maps[CAUSTICA_MAX_LIGHTS];
+layout(set = 0, binding = 6) uniform sampler2D caustic_depths[CAUSTICA_MAX_LIGHTS];
 #endif
-layout(set = 0, binding = 6) uniform sampler2D caustic_depth_tex;  // what that light sees without refractors
 #ifdef EMISSION
 layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 #endif
 
 layout(push_constant) uniform Params {
   float shadow_bias;
-  uint shadowed;  // bit i: light i has a shadow map
+  uint shadowed;        // bit i: light i has a shadow map
+  uint caustic_lights;  // bit i: light i has a caustic map
+  uint caustic_depths;  // bit i: and its receiver depth
 } params;
 
 layout(location = 0) out vec4 out_color;
@@ -53,10 +56,11 @@ float depth_bias(LightData light, float z) {
 
 // A texel's side at p in a light-view map of `size` texels: the view's side over its texels, times
 // the distance for a perspective one; and the cosine of the light's angle to the normal n.
-float light_texel(LightData light, vec3 p, vec3 n, float size, out float cos_theta) {
+// `tan_half`: the view's (clip.z), or a point light's cube face's (clip.w).
+float light_texel(LightData light, float tan_half, vec3 p, vec3 n, float size, out float cos_theta) {
   float d2;
   cos_theta = clamp(dot(n, toward_light(light, p, d2)), 0.0, 1.0);
-  return 2.0 * light.clip.z * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
+  return 2.0 * tan_half * (light_is_directional(light) ? 1.0 : sqrt(d2)) / size;
 }
 
 // Where a receiver at p with normal n looks itself up in a light-view depth map whose texel at p is
@@ -76,7 +80,7 @@ float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
   // a bias in units of the map's texels, so that it holds at any scale of the scene.
   vec2 size = vec2(textureSize(shadow_maps[i], 0).xy);
   float cos_theta;
-  float texel = light_texel(light, p, n, size.x, cos_theta);
+  float texel = light_texel(light, light_is_point(light) ? light.clip.w : light.clip.z, p, n, size.x, cos_theta);
   float slope_bias = texel * min(sqrt(1.0 - cos_theta * cos_theta) / max(cos_theta, 1e-3), 8.0);
   p = normal_offset(p, n, texel, cos_theta);
   mat4 view_proj = light.view_proj;
@@ -105,30 +109,26 @@ float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
 }
 #endif
 
-// Irradiance from the caustic map: a texel's flux spread over the receiver area its solid angle
-// covers at this point, dw r^2 / cos(theta); with the receivers' depth bound, only on the surface
+// Irradiance from light i's caustic map: a texel's flux spread over the receiver area its solid
+// angle covers at this point, dw r^2 / cos(theta); with its receivers' depth, only on the surface
 // the light sees first (the receiver depth test, like a shadow map).
 #ifdef CAUSTICS
-vec3 caustic_irradiance(LightData light, vec3 p, vec3 n) {
+vec3 caustic_irradiance(uint i, LightData light, vec3 p, vec3 n) {
+  bool receiver_test = (params.caustic_depths & (1u << i)) != 0u;
   float cos_light;
-#ifdef CAUSTIC_DEPTH
-  float texel = light_texel(light, p, n, float(textureSize(caustic_depth_tex, 0).x), cos_light);
-#else
-  float texel = light_texel(light, p, n, float(textureSize(caustics_tex, 0).x), cos_light);
-#endif
+  float size_x = float(receiver_test ? textureSize(caustic_depths[i], 0).x : textureSize(caustic_maps[i], 0).x);
+  float texel = light_texel(light, light.clip.z, p, n, size_x, cos_light);
   vec4 clip = light.view_proj * vec4(normal_offset(p, n, texel, cos_light), 1.0);
   if (clip.w <= 0.0) return vec3(0.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   float z = linear_depth(light, ndc.z);
-#ifdef CAUSTIC_DEPTH
-  if (z - depth_bias(light, z) > linear_depth(light, texture(caustic_depth_tex, uv).r)) return vec3(0.0);
-#endif
-  vec2 size = vec2(textureSize(caustics_tex, 0).xy);
+  if (receiver_test && z - depth_bias(light, z) > linear_depth(light, texture(caustic_depths[i], uv).r)) return vec3(0.0);
+  vec2 size = vec2(textureSize(caustic_maps[i], 0).xy);
   float r2;
   float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
-  vec3 flux = vec3(texture(caustics_tex, vec3(uv, 0.0)).r, texture(caustics_tex, vec3(uv, 1.0)).r, texture(caustics_tex, vec3(uv, 2.0)).r);
+  vec3 flux = vec3(texture(caustic_maps[i], vec3(uv, 0.0)).r, texture(caustic_maps[i], vec3(uv, 1.0)).r, texture(caustic_maps[i], vec3(uv, 2.0)).r);
   // The area a texel covers across the light's direction: its share of a directional light's square,
   // or its solid angle times r^2.
   float texel_area = 4.0 * light.clip.z * light.clip.z / (size.x * size.y);
@@ -190,12 +190,10 @@ void main() {
 #ifdef SHADOWS
     if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, n);
 #endif
-    if (light_has_view(light)) {
 #ifdef CAUSTICS
-      // The caustic's light arrives through the refractor from many directions: diffuse only.
-      if (i == 0) radiance += diffuse_color(s) / PI * caustic_irradiance(light, p, n);
+    // The caustic's light arrives through the refractor from many directions: diffuse only.
+    if ((params.caustic_lights & (1u << i)) != 0u) radiance += diffuse_color(s) / PI * caustic_irradiance(i, light, p, n);
 #endif
-    }
     radiance += brdf(s, v, l) * light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }
   out_color = vec4(radiance, 1.0);

@@ -50,7 +50,6 @@ vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
 
 // Lights: position_type.w 0 spot, 1 point, 2 directional (common/scene_types.h).
 bool light_is_directional(LightData light) { return light.position_type.w == 2.0; }
-bool light_has_view(LightData light) { return light.position_type.w != 1.0; }  // spot or directional
 bool light_is_point(LightData light) { return light.position_type.w == 1.0; }
 // The cube face (LightData::faces) that holds direction d from a point light: its major axis.
 uint cube_face(vec3 d) {

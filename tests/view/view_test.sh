@@ -67,7 +67,7 @@ assert all(f["divider"] == 1 for f in orbit["frames"] + every["frames"]), "--bud
 assert orbit["summary"]["frames"] == 3 and orbit["summary"]["moving_frames"] == 3, orbit["summary"]
 assert not orbit["frames"][0]["reused"], orbit["frames"][0]
 for f in orbit["frames"][1:]:
-    assert {"shadow#0", "caustics"} <= set(f["reused"]) and {"gbuffer", "tonemap"} <= set(f["ran"]), f
+    assert {"shadow#0", "caustics#0"} <= set(f["reused"]) and {"gbuffer", "tonemap"} <= set(f["ran"]), f
 assert all(not f["reused"] for f in every["frames"]), every["frames"]
 assert all(f["wall_ms"] > 0 for f in orbit["frames"] + every["frames"])
 PY
@@ -100,7 +100,7 @@ frames = json.load(open(sys.argv[1]))["frames"]
 parts = [f["part"] for f in frames]
 assert parts[0] == "whole" and parts[1] != "whole" and parts[-1] == "whole" and "refine" in parts, parts
 for f in frames:
-    if f["part"] == "refine": assert f["ran"] == ["caustics", "accumulate"], f
+    if f["part"] == "refine": assert f["ran"] == ["caustics#0", "accumulate#0"], f
     if f["part"] == "display": assert f["ran"], f  # a step that runs nothing would be a frame lost
 # With every pass over the budget, a display shows in steps of one pass each, in order.
 shown = [p for f in frames if f["part"] == "display" for p in f["ran"]]
@@ -149,7 +149,7 @@ import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
 assert [f["moving"] for f in frames] == [False, True, False, False], frames
 assert frames[1]["part"] == "whole" and frames[1]["presented"], frames[1]
-assert frames[2]["still"] and frames[2]["part"] == "refine" and frames[2]["ran"] == ["caustics", "accumulate"], frames[2]
+assert frames[2]["still"] and frames[2]["part"] == "refine" and frames[2]["ran"] == ["caustics#0", "accumulate#0"], frames[2]
 assert frames[2]["accumulated"] == 2, frames[2]
 PY
 # A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:

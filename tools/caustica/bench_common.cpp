@@ -14,6 +14,7 @@
 #include "builtin_passes.h"
 #include "core/paths.h"
 #include "flags.h"
+#include "graph/per_light.h"
 #include "io/files.h"
 #include "io/json_document.h"
 #include "reference/photon_shard.h"
@@ -59,15 +60,20 @@ std::set<std::string> caustic_passes(const graph::GraphDesc& graph) {
   return names;
 }
 
+// The GPU time of the frame's passes that are `passes` or a light's instance of one.
+double passes_ms(const graph::FrameResult& frame, const std::set<std::string>& passes) {
+  double ms = 0;
+  for (const auto& p : frame.passes) ms += passes.count(std::string(graph::instance_of(p.name))) ? p.gpu_ms : 0.0;
+  return ms;
+}
+
 Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<std::string>& method_passes) {
   executor.run_frame(false);
   std::vector<double> method, frame;
   Timings t;
   for (uint32_t f = 0; f < frames; ++f) {
     t.last = executor.run_frame(f + 1 == frames);
-    double ms = 0;
-    for (const auto& p : t.last.passes) ms += method_passes.count(p.name) ? p.gpu_ms : 0.0;
-    method.push_back(ms);
+    method.push_back(passes_ms(t.last, method_passes));
     frame.push_back(t.last.gpu_ms);
   }
   t.method_ms = median(method);
@@ -84,9 +90,7 @@ std::vector<Timings> time_interleaved(const std::vector<graph::Executor*>& execu
     for (size_t e = 0; e < executors.size(); ++e) {
       timings[e].last = executors[e]->run_frame(f + 1 == warmup + frames);
       if (f < warmup) continue;
-      double ms = 0;
-      for (const auto& p : timings[e].last.passes) ms += method_passes[e].count(p.name) ? p.gpu_ms : 0.0;
-      method[e].push_back(ms);
+      method[e].push_back(passes_ms(timings[e].last, method_passes[e]));
       frame[e].push_back(timings[e].last.gpu_ms);
     }
     progress.update(f + 1);

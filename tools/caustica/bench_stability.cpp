@@ -167,10 +167,10 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
     prepare(std::move(s));
     executor.run_frame(true);
   };
-  // Without a refractor the caustic pass is culled ("enabled": "scene.refractors") and its map
-  // never exists: an empty map, which is the right answer.
+  // Without a refractor the caustic pass is culled ("enabled": "light.view * light.refractors") and
+  // its map never exists: an empty map, which is the right answer.
   auto caustic_map = [&] {
-    const int index = executor.plan().find_resource("caustics");
+    const int index = executor.plan().find_resource(executor.plan().resolve("caustics"));
     if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
     io::ImageData empty;
     empty.width = empty.height = o.caustic_size;

@@ -1,0 +1,134 @@
+// A light's geometry: its views (the shadow map's, the caustic map's, a point light's cube faces),
+// what it reaches, and the views fitted to the scene when it is loaded.
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace caustica::scene {
+
+glm::mat4 Light::view_projection() const {
+  if (type != LightType::directional) return view.view_projection(1.0f);
+  // Orthographic, Vulkan conventions as View::projection: depth 0..1 from near to far, y down.
+  glm::mat4 p(1.0f);
+  p[0][0] = 1.0f / extent;
+  p[1][1] = -1.0f / extent;
+  p[2][2] = 1.0f / (view.near_plane - view.far_plane);
+  p[3][2] = view.near_plane / (view.near_plane - view.far_plane);
+  return p * view.view_matrix();
+}
+
+glm::vec3 Light::face_axis(uint32_t face) {
+  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  return axes[face % 6];
+}
+
+glm::mat4 Light::face_view_projection(uint32_t face) const {
+  View face_view = view;
+  face_view.target = view.position + face_axis(face);
+  face_view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCubeFaceTan));
+  return face_view.view_projection(1.0f);
+}
+
+bool Light::reaches(glm::vec3 bounds_min, glm::vec3 bounds_max) const {
+  if (type == LightType::point) return true;  // its caustic view is fitted to what it reaches
+  const glm::vec3 center = 0.5f * (bounds_min + bounds_max);
+  const float radius = 0.5f * glm::length(bounds_max - bounds_min);
+  const glm::vec3 to_center = center - view.position;
+  const float along = glm::dot(to_center, axis());
+  if (along + radius < view.near_plane || along - radius > view.far_plane) return false;
+  const float across = glm::length(to_center - along * axis());
+  if (type == LightType::directional) return across - radius <= extent * std::sqrt(2.0f);
+  // The sphere around the box against the cone through the square frustum's corners.
+  const float distance = glm::length(to_center);
+  if (distance <= radius) return true;
+  const float corner = std::atan(std::sqrt(2.0f) * std::tan(glm::radians(view.fov_y_degrees) * 0.5f));
+  const float off_axis = std::atan2(across, along);
+  return off_axis - std::asin(std::min(1.0f, radius / distance)) <= corner;
+}
+
+namespace {
+
+// A directional light's orthographic view is a prism along its direction: one that holds the first
+// `fitted` objects (every bounding-box corner) shadows and throws caustics for all of them. Only
+// lights whose extent the scene did not give are fitted; the far plane reaches past every object.
+void fit_directional_light(Light& light, const Scene& scene, size_t fitted) {
+  const glm::vec3 axis = light.axis();
+  float radial = 0.0f, depth = 0.0f;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 c((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
+                        (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
+      const glm::vec3 d = c - light.view.position;
+      const float along = glm::dot(d, axis);
+      depth = std::max(depth, along);
+      if (i < fitted) radial = std::max(radial, glm::length(d - along * axis));
+    }
+  }
+  if (light.extent <= 0.0f) light.extent = std::max(1.02f * radial, 1e-3f);
+  light.view.far_plane = std::max(light.view.far_plane, 1.05f * depth + light.view.near_plane);
+}
+
+// The half angle of the narrowest cone about `axis` from the light that holds every sphere.
+float cone_half_angle(glm::vec3 axis, const std::vector<std::pair<glm::vec3, float>>& spheres) {
+  float half = 0.0f;
+  for (const auto& [direction, angle] : spheres)
+    half = std::max(half, std::acos(std::clamp(glm::dot(axis, direction), -1.0f, 1.0f)) + angle);
+  return half;
+}
+
+}  // namespace
+
+bool fit_point_light_view(Light& light, const Scene& scene) {
+  // Each refractor's bounding sphere as seen from the light: its direction and angular radius.
+  std::vector<std::pair<glm::vec3, float>> spheres;
+  glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  float farthest = 0.0f;
+  for (const Object& o : scene.objects) {
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 c((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
+                        (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
+      farthest = std::max(farthest, glm::length(c - light.view.position));
+    }
+    if (!o.material.refractor) continue;
+    // The sphere about the box's centre through its farthest vertex: a ball's own, where the box's
+    // corners would widen the view by a factor of sqrt(3).
+    float radius = 0.0f;
+    for (const glm::vec3& p : o.mesh.positions) radius = std::max(radius, glm::length(p - o.center()));
+    if (o.mesh.positions.empty()) radius = 0.5f * glm::length(o.bounds_max - o.bounds_min);
+    const glm::vec3 to_center = o.center() - light.view.position;
+    const float distance = glm::length(to_center);
+    if (distance <= 1.001f * radius) return false;  // the light is inside the refractor's sphere
+    spheres.emplace_back(to_center / distance, std::asin(radius / distance));
+    sum += to_center / distance;
+    lo = glm::min(lo, o.bounds_min);
+    hi = glm::max(hi, o.bounds_max);
+  }
+  if (spheres.empty() || glm::length(sum) < 1e-6f) return false;
+  // Of two axes, towards the refractors' box and their mean direction, the one with the narrower cone.
+  glm::vec3 axis = glm::normalize(sum);
+  const glm::vec3 to_box = 0.5f * (lo + hi) - light.view.position;
+  if (glm::length(to_box) > 1e-6f && cone_half_angle(glm::normalize(to_box), spheres) < cone_half_angle(axis, spheres)) {
+    axis = glm::normalize(to_box);
+  }
+  const float half = cone_half_angle(axis, spheres);
+  if (half > glm::radians(kMaxPointViewHalfDegrees)) return false;
+  light.view.target = light.view.position + axis;
+  light.view.fov_y_degrees = glm::degrees(2.0f * std::atan(kPointViewMargin * std::tan(half)));
+  light.view.far_plane = std::max(light.view.far_plane, 1.05f * farthest + light.view.near_plane);
+  light.point_view = true;
+  return true;
+}
+
+void fit_light_views(Scene& scene, size_t fitted) {
+  for (Light& light : scene.lights) {
+    if (light.type == LightType::directional) fit_directional_light(light, scene, fitted);
+    if (light.type == LightType::point) fit_point_light_view(light, scene);
+  }
+}
+
+}  // namespace caustica::scene

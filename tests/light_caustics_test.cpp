@@ -1,0 +1,106 @@
+// Every light throws its caustic (per-light caustic passes in the bundled graphs, graph/per_light.h):
+// a point light through a view fitted to its refractors, with the flux the ball subtends from it and
+// the photon reference's map; and on a scene of three lights each light's caustic map is the one it
+// throws alone, which lighting adds as it adds their direct light.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "graph/per_light.h"
+#include "reference/image_metrics.h"
+#include "reference/photon_reference.h"
+#include "scene/scene.h"
+#include "scene_engine.h"
+
+using namespace caustica;
+
+namespace {
+
+constexpr const char* kSmallMaps[] = {"grid=512", "light_size=256", "shadow_size=256", "caustic_size=128"};
+
+std::vector<std::string> small_maps() {
+  return {std::begin(kSmallMaps), std::end(kSmallMaps)};
+}
+
+// The scene with only light `light` of the three (index 0 in it), or with light 0 dark.
+std::shared_ptr<const scene::Scene> with_light(const scene::Scene& all, size_t light, bool dark = false) {
+  auto one = std::make_shared<scene::Scene>(all);
+  one->lights = {all.lights.at(light)};
+  if (dark) one->lights.front().intensity = 0.0f;
+  return one;
+}
+
+}  // namespace
+
+// tests/data/point_light.json: a point light of 40 W/sr 4.5 above the centre of a glass ball of
+// radius 1. The ball subtends the cone of half angle asin(1 / 4.5), whose solid angle is
+// 2 pi (1 - sqrt(1 - 1 / 4.5^2)) = 0.157105 sr: 6.2842 W enter it. Its photons all land (the floor
+// is wide) or are counted dropped, and the ray-query map matches the photon reference's.
+TEST(LightCaustics, APointLightThrowsTheFluxItsBallSubtends) {
+  test::SceneEngine e;
+  auto scene =
+      std::make_shared<const scene::Scene>(scene::load_scene_file(std::string(CAUSTICA_SOURCE_DIR) + "/tests/data/point_light.json"));
+  ASSERT_TRUE(scene->lights.front().has_view());
+  const double expected = 40.0 * 2.0 * 3.14159265358979 * (1.0 - std::sqrt(1.0 - 1.0 / (4.5 * 4.5)));
+  const graph::FrameResult frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"}, {});
+  const double in = frame.counters.at("caustic.flux_entering"), splatted = frame.counters.at("caustic.flux"),
+               dropped = frame.counters.at("caustic.flux_dropped");
+  std::printf("point light: entering %.4f (expected %.4f), splatted %.4f, dropped %.4f\n", in, expected, splatted, dropped);
+  EXPECT_NEAR(in, expected, 0.015 * expected);
+  EXPECT_NEAR(splatted + dropped, in, 1e-3 * in);
+
+  reference::PhotonOptions options;
+  options.photons = 8'000'000;
+  options.fresnel = false;
+  const auto reference = reference::trace_photon_reference(*scene, options);
+  e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
+  const auto exact = reference::compare_images(e.executor.read_image("caustics"), reference.caustic_map, 1.5);
+  std::printf("point light: ray-query map against the reference: energy %.4f, relative L1 %.4f\n", exact.energy_ratio, exact.relative_l1);
+  EXPECT_NEAR(exact.energy_ratio, 1.0, 0.03);
+  EXPECT_LT(exact.relative_l1, 0.15);
+}
+
+// scenes/three_lights.json: two spots and a point light, each over its own ball. In one render each
+// light's caustic map (caustics#K) is the map that light throws alone; were every instance to
+// follow light 0, or the point light to throw nothing, the maps would differ. And lighting adds
+// the lights' caustics as it adds their direct light: the picture under three lights is the sum of
+// the pictures under each, less the ambient light counted twice over.
+TEST(LightCaustics, EachLightThrowsItsOwnCausticAndLightingAddsThem) {
+  test::SceneEngine e;
+  e.width = 160;
+  e.height = 90;
+  const auto scene = test::load_bundled_scene("three_lights");
+  ASSERT_EQ(scene->lights.size(), 3u);
+  std::set<std::string> maps{"lit"};
+  for (uint32_t light = 0; light < 3; ++light) maps.insert(graph::light_instance("caustics", light));
+  e.render("caustics_regular", scene, small_maps(), maps);
+  std::vector<io::ImageData> thrown;
+  for (uint32_t light = 0; light < 3; ++light) thrown.push_back(e.executor.read_image(graph::light_instance("caustics", light)));
+  const io::ImageData all = e.executor.read_image("lit");
+
+  std::vector<double> sum(all.rgba.size(), 0.0);
+  for (uint32_t light = 0; light < 3; ++light) {
+    e.render("caustics_regular", with_light(*scene, light), small_maps(), {"caustics", "lit"});
+    const io::ImageData alone = e.executor.read_image("caustics");
+    std::printf("light %u: caustic flux %.4f, alone %.4f\n", light, test::map_flux(thrown[light]), test::map_flux(alone));
+    EXPECT_GT(test::map_flux(alone), 0.0) << "light " << light << " throws no caustic";
+    EXPECT_LT(test::relative_difference(thrown[light], alone), 1e-4) << "light " << light;
+    const io::ImageData lit = e.executor.read_image("lit");
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += double(lit.rgba[i]);
+  }
+  e.render("caustics_regular", with_light(*scene, 0, true), small_maps(), {"lit"});
+  const io::ImageData ambient = e.executor.read_image("lit");
+  double difference = 0, total = 0;
+  for (size_t i = 0; i < sum.size(); ++i) {
+    if (i % 4 == 3) continue;
+    difference += std::abs(sum[i] - 2.0 * double(ambient.rgba[i]) - double(all.rgba[i]));
+    total += std::abs(double(all.rgba[i]));
+  }
+  std::printf("three lights against the sum of each alone: relative L1 %.5f\n", difference / total);
+  EXPECT_LT(difference / total, 3e-3);
+}
