@@ -100,7 +100,7 @@ class LightingPass final : public graph::Pass {
       const std::string depth =
           caustic_depths_.empty() ? "depth" : graph::port_element("caustic_depth", tested ? light : caustic_depths_.front());
       writer.image_element("caustic_depths", light, ctx.view(depth), ctx.nearest_sampler());
-      if (!mapped || light >= lights.size() || !lights[light].has_view()) continue;
+      if (!mapped || light >= lights.size() || !lights[light].has_caustic_view) continue;
       params.caustic_lights |= 1u << light;
       if (tested) params.caustic_depths |= 1u << light;
     }

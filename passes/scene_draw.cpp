@@ -10,20 +10,22 @@ SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
   return {scene::shifted_by_pixels(camera.view_projection(size.x / size.y), ctx.frame().camera_jitter, size), camera.position};
 }
 
-SceneView light_view(const graph::PassContext& ctx, uint32_t light) {
+SceneView light_view(const graph::PassContext& ctx, uint32_t light, bool caustic) {
   const auto& lights = ctx.scene().lights();
   const auto& l = lights[std::min<size_t>(light, lights.size() - 1)];  // the scene always has one light
-  return {l.view_projection(), l.view.position, l.axis(), l.type == scene::LightType::directional};
+  const scene::Light seen = caustic ? l.as_caustic_view() : l;
+  return {seen.view_projection(), seen.view.position, seen.axis(), l.type == scene::LightType::directional};
 }
 
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent) {
-  if (ctx.params()["view"].get<std::string>() == "light") return light_view(ctx, ctx.params()["light"].get<uint32_t>());
+  if (ctx.params()["view"].get<std::string>() == "light") return light_view(ctx, ctx.params()["light"].get<uint32_t>(), true);
   return camera_view(ctx, extent);
 }
 
 std::vector<graph::ParamDecl> view_params() {
-  return {{"view", graph::ParamType::choice, "camera", {}, {}, {"camera", "light"}, "look from the camera or from a light"},
-          {"light", graph::ParamType::int_, 0, 0.0, 7.0, {}, "which light, for view = light (the last one if fewer)"}};
+  return {
+      {"view", graph::ParamType::choice, "camera", {}, {}, {"camera", "light"}, "look from the camera or from a light (its caustic view)"},
+      {"light", graph::ParamType::int_, 0, 0.0, 7.0, {}, "which light, for view = light (the last one if fewer)"}};
 }
 
 std::vector<shader::MirroredMember> draw_push_members(size_t at) {

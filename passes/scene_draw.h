@@ -28,7 +28,9 @@ struct DrawPush {
       : view_proj(view.view_proj), eye(view.eye, 1.0f), axis(view.axis, view.orthographic ? 1.0f : 0.0f) {}
 };
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent);
-SceneView light_view(const graph::PassContext& ctx, uint32_t light);
+// `caustic`: its caustic view (scene::Light::caustic_view), which light-space refractor buffers and
+// receiver depths are drawn from; else its shadow map's.
+SceneView light_view(const graph::PassContext& ctx, uint32_t light, bool caustic);
 // The view named by a pass's "view" and "light" parameters.
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
 

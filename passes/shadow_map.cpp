@@ -18,16 +18,21 @@ class ShadowMapPass final : public graph::Pass {
     const uint32_t light = ctx.params()["light"].get<uint32_t>();
     const auto& lights = ctx.scene().lights();
     const scene::Light& l = lights[std::min<size_t>(light, lights.size() - 1)];
-    if (l.type == scene::LightType::point && ctx.resource("depth").layers == 6) {
+    // Without refractors the map is a caustic's receivers, drawn from the light's caustic view, as
+    // its refractor buffers and photons are.
+    const bool receivers = !ctx.params()["refractors_cast_shadows"].get<bool>();
+    if (receivers && l.has_caustic_view) {
+      draw(ctx, light_view(ctx, light, true), ctx.view("depth"));
+    } else if (!receivers && l.type == scene::LightType::point && ctx.resource("depth").layers == 6) {
       for (uint32_t face = 0; face < 6; ++face)
         draw(ctx, SceneView{l.face_view_projection(face), l.view.position, scene::Light::face_axis(face), false},
              ctx.layer_view("depth", face));
-    } else if (l.has_view()) {
-      // A point light's map of one layer is its caustic view's (the receivers of its caustic map).
-      draw(ctx, light_view(ctx, light), ctx.view("depth"));
+    } else if (!receivers && l.type != scene::LightType::point) {
+      draw(ctx, light_view(ctx, light, false), ctx.view("depth"));
     } else {
-      // A point light without a caustic view and a map of one layer (a graph made for a spot
-      // light) is left cleared: lighting reads a point light's shadow only where it has six faces.
+      // A point light's shadow in a map of one layer (a graph made for a spot light), or a point
+      // light's receivers without a caustic view, is left cleared: lighting reads a point light's
+      // shadow only where it has six faces, and its caustic passes are culled.
       begin_rendering(ctx.cmd(), ctx.extent("depth"), {}, Attachment{ctx.view("depth")});
       vkCmdEndRendering(ctx.cmd());
     }
@@ -57,7 +62,9 @@ graph::PassTypeDecl shadow_map_pass_type() {
   PassTypeDecl decl{
       "shadow_map",
       "Depth of the scene from a light: a spot light's frustum, a directional light's prism, a point light's six "
-      "cube faces (the image then has six layers: \"layers\": \"1 + 5 * light.point\" in a per-light graph).",
+      "cube faces (the image then has six layers: \"layers\": \"1 + 5 * light.point\" in a per-light graph). Without "
+      "refractors (refractors_cast_shadows false) it is a caustic's receiver depth, drawn from the light's caustic view "
+      "(a frustum or prism fitted to its refractors) as the light-space refractor buffers and photons are.",
       PassQueue::graphics,
       {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
       {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
@@ -67,7 +74,8 @@ graph::PassTypeDecl shadow_map_pass_type() {
         {},
         {},
         {},
-        "refractors block direct light (caustics then bring the refracted light back)"}},
+        "refractors block direct light (caustics then bring the refracted light back); false: the receivers of the light's "
+        "caustic, from its caustic view"}},
       false,
       [] { return std::make_unique<ShadowMapPass>(); }};
   decl.ports.front().cube_layers = true;

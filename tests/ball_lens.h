@@ -60,12 +60,12 @@ inline ExactLens exact_ball_lens(const scene::Scene& scene, const std::vector<do
   return exact;
 }
 
-// Visits every lit texel of a light-space caustic map (flux per texel and channel of the first
-// light's image plane) with the point where its centre sees the floor y = 0.
+// Visits every lit texel of a light-space caustic map (flux per texel and channel of the image plane
+// of the first light's caustic view) with the point where its centre sees the floor y = 0.
 template <typename Visit>
 void for_each_floor_point(const scene::Scene& scene, const io::ImageData& map, Visit&& visit) {
   const glm::dvec3 light(scene.lights[0].view.position);
-  const glm::dmat4 inverse = glm::inverse(glm::dmat4(scene.lights[0].view.view_projection(1.0f)));
+  const glm::dmat4 inverse = glm::inverse(glm::dmat4(scene.lights[0].caustic_view_projection()));
   for (uint32_t y = 0; y < map.height; ++y) {
     for (uint32_t x = 0; x < map.width; ++x) {
       const float* rgb = &map.rgba[(size_t{y} * map.width + x) * 4];

@@ -32,7 +32,9 @@ void scale_scene(scene::Scene& scene, float k) {
     for (auto& d : object.mesh.normal_distance) d *= k;
     object.bounds_min *= k;
     object.bounds_max *= k;
+    object.radius *= k;
   }
+  for (auto& light : scene.lights) scene::fit_caustic_view(light, scene);
 }
 
 }  // namespace

@@ -368,6 +368,13 @@ TEST(Cli, APointLightAmongItsRefractorsSaysItThrowsNoCaustic) {
   ASSERT_EQ(lit_plan.code, 0) << lit_plan.output;
   EXPECT_NE(lit_plan.output.find("\"caustics#0\""), std::string::npos) << lit_plan.output;
   EXPECT_NE(lit_plan.output.find("\"warnings\": []"), std::string::npos) << lit_plan.output;
+  // Which light got which passes, and its caustic view fitted to the ball (not the floor).
+  const nlohmann::json lit_lights = nlohmann::json::parse(lit_plan.output)["lights"];
+  ASSERT_EQ(lit_lights.size(), 1u) << lit_plan.output;
+  EXPECT_EQ(lit_lights[0]["passes"].get<std::set<std::string>>(),
+            (std::set<std::string>{"shadow#0", "receivers#0", "light_refractors#0", "caustics#0"}))
+      << lit_plan.output;
+  EXPECT_EQ(lit_lights[0]["caustic_view"]["fitted_to_refractors"], true) << lit_plan.output;
 
   CliRun point = run("render --size 96x54 --scene " + inside + " --out i.png", dir);
   ASSERT_EQ(point.code, 0) << point.output;
@@ -380,6 +387,10 @@ TEST(Cli, APointLightAmongItsRefractorsSaysItThrowsNoCaustic) {
   ASSERT_EQ(plan.code, 0) << plan.output;
   EXPECT_NE(plan.output.find("\"caustics#0\": \"scene.light0.view * scene.light0.refractors\""), std::string::npos) << plan.output;
   EXPECT_NE(plan.output.find("point light without a caustic view"), std::string::npos) << plan.output;
+  const nlohmann::json inside_light = nlohmann::json::parse(plan.output)["lights"].at(0);
+  EXPECT_TRUE(inside_light["caustic_view"].is_null()) << plan.output;
+  EXPECT_EQ(inside_light["passes"], nlohmann::json::array({"shadow#0"})) << plan.output;
+  EXPECT_EQ(inside_light["not_planned"]["caustics#0"], "disabled: scene.light0.view * scene.light0.refractors is 0") << plan.output;
   CliRun spot = run("render --size 96x54 --scene " + (kSource / "scenes/sphere_plane.json").string() + " --out s.png", dir);
   ASSERT_EQ(spot.code, 0) << spot.output;
   EXPECT_EQ(spot.output.find("warning:"), std::string::npos) << spot.output;

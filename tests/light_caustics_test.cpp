@@ -45,7 +45,7 @@ TEST(LightCaustics, APointLightThrowsTheFluxItsBallSubtends) {
   test::SceneEngine e;
   auto scene =
       std::make_shared<const scene::Scene>(scene::load_scene_file(std::string(CAUSTICA_SOURCE_DIR) + "/tests/data/point_light.json"));
-  ASSERT_TRUE(scene->lights.front().has_view());
+  ASSERT_TRUE(scene->lights.front().has_caustic_view);
   const double expected = 40.0 * 2.0 * 3.14159265358979 * (1.0 - std::sqrt(1.0 - 1.0 / (4.5 * 4.5)));
   const graph::FrameResult frame = e.render("caustics_regular", scene, {"fresnel=false", "grid=1024"}, {});
   const double in = frame.counters.at("caustic.flux_entering"), splatted = frame.counters.at("caustic.flux"),

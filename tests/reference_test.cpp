@@ -183,7 +183,7 @@ TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
   options.fresnel = false;
   const auto t = reference::trace_photon_reference(scene, options).totals;
   expect_flux_accounted(t);
-  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().extent);
+  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().caustic_extent);
   std::printf("emitted %.5f (exact %.5f), entering %.5f (pi R^2 E = %.5f), landed %.5f\n", t.emitted, irradiance * 4 * extent * extent,
               t.entering, glm::pi<double>() * irradiance, t.landed);
   EXPECT_NEAR(t.emitted, irradiance * 4 * extent * extent, 1e-6 * t.emitted);

@@ -510,7 +510,7 @@ TEST(SceneFiles, DirectionalLightsFitTheirViewAroundTheScene) {
                                                  "directional.json"));
   const Light& light = s.lights.at(0);
   ASSERT_EQ(light.type, LightType::directional);
-  EXPECT_TRUE(light.has_view());
+  EXPECT_TRUE(light.has_caustic_view);
   // The floor's corner (-3, 0, +-2) is the farthest from the axis x = 1, z = 0: sqrt(16 + 4).
   EXPECT_NEAR(light.extent, 1.02f * std::sqrt(20.0f), 1e-4f);
   EXPECT_GE(light.view.far_plane, 10.0f);

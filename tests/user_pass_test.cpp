@@ -806,7 +806,9 @@ TEST(UserPass, TheUserCausticMapEqualsTheBuiltInOnTheBundledScenes) {
   size_t compared = 0;
   for (const auto& name : scenes) {
     SCOPED_TRACE(name);
+    // The example is a graph made for one light: both graphs see the scene's first light alone.
     const auto scene = test::load_bundled_scene(name);
+    scene->lights.resize(1);
     if (scene->refractor_count() == 0) continue;  // the caustic passes are culled
     const FrameResult ours = e.render(user, scene, {"caustics"});
     const io::ImageData map = e.executor.read_image("caustics");

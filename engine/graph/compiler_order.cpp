@@ -257,7 +257,7 @@ std::vector<uint32_t> Compiler::least_memory_order(const std::vector<bool>& live
 void Compiler::warn_of_flat_cube_maps(const Node& node) {
   for (const auto& b : node.bindings) {
     if (!b.port->cube_layers || b.port->access == PortAccess::read || plan_.resources[b.resource].layers == 6) continue;
-    // Without refractors the map is a caustic's receivers, drawn from the caustic view.
+    // Without refractors the map is a caustic's receivers, drawn from the caustic view (shadow_map).
     if (!node.params.value("refractors_cast_shadows", true)) continue;
     const int light = scene_light(node.params.value("light", 0));
     const auto point = options_.scene_values.find("scene.light" + std::to_string(light) + ".point");

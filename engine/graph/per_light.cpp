@@ -193,6 +193,12 @@ std::string_view instance_of(std::string_view name) {
   return name.substr(0, hash);
 }
 
+int instance_light(std::string_view name) {
+  const std::string_view file = instance_of(name);
+  if (file.size() == name.size() || name.size() - file.size() > 3) return -1;
+  return std::stoi(std::string(name.substr(file.size() + 1)));
+}
+
 std::string port_element(std::string_view port, uint32_t element) {
   return std::string(port) + "[" + std::to_string(element) + "]";
 }

@@ -23,6 +23,8 @@ std::string light_instance(std::string_view name, uint32_t light);
 // The pass or resource of the file that `name` is an instance of ("shadow#2" -> "shadow"); `name`
 // itself where it is none.
 std::string_view instance_of(std::string_view name);
+// The light of an instance ("shadow#2" -> 2), or -1 for a name that is none.
+int instance_light(std::string_view name);
 // "caustics[2]": element 2 of a per-light port.
 std::string port_element(std::string_view port, uint32_t element);
 // The port of "caustics[2]" and 2, or the name and -1 where it names no element.

@@ -31,12 +31,13 @@ struct Accumulator {
 class PhotonTracer {
  public:
   PhotonTracer(const scene::Scene& scene, const PhotonOptions& options) : exact_(scene), options_(options), light_(scene.lights.front()) {
-    light_view_proj_ = light_.view_projection();
+    // Its photons leave through the light's caustic view, the engine's caustic map's image plane.
+    light_view_proj_ = light_.caustic_view_projection();
     disperses_ = scene.disperses();
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
     // The image plane at distance 1 (spot), or the orthographic view's square itself (directional).
     directional_ = light_.type == scene::LightType::directional;
-    half_plane_ = directional_ ? light_.extent : std::tan(glm::radians(light_.view.fov_y_degrees) * 0.5f);
+    half_plane_ = directional_ ? light_.caustic_extent : std::tan(glm::radians(light_.caustic_view.fov_y_degrees) * 0.5f);
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
@@ -229,7 +230,7 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
 }
 
 PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options) {
-  if (scene.lights.empty() || !scene.lights.front().has_view()) {
+  if (scene.lights.empty() || !scene.lights.front().has_caustic_view) {
     throw InputError(scene.path +
                      ": the photon reference traces from the first light, which must be a spot or directional light, or a point light "
                      "with a caustic view (one not among its refractors)");

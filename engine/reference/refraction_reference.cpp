@@ -24,7 +24,7 @@ class Tracer {
  public:
   Tracer(const scene::Scene& scene, const io::ImageData* caustic_map)
       : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_map_(caustic_map) {
-    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().view_projection();
+    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().caustic_view_projection();
   }
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
@@ -45,7 +45,7 @@ class Tracer {
       // The engine shadows every light (through its shadow map); the reference with an exact ray.
       if (cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
       // The caustic's light arrives through the refractor from many directions: diffuse only.
-      if (light.has_view() && i == 0 && caustic_map_)
+      if (light.has_caustic_view && i == 0 && caustic_map_)
         radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(light, p, n);
       radiance += surface.brdf(v, l) * light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
@@ -54,7 +54,7 @@ class Tracer {
 
   // lighting.frag's caustic_irradiance on the exact geometry: only where the light sees p past
   // the refractors (the engine's receiver depth map), the map sampled bilinearly at p's place in
-  // the light's image plane, its flux spread over the area the texel's solid angle covers at p.
+  // the image plane of the light's caustic view, its flux spread over the area the texel's solid angle covers at p.
   glm::vec3 caustic_irradiance(const scene::Light& light, glm::vec3 p, glm::vec3 n) const {
     const glm::vec4 clip = light_view_proj_ * glm::vec4(p, 1.0f);
     if (clip.w <= 0.0f) return glm::vec3(0.0f);
@@ -73,10 +73,10 @@ class Tracer {
     const auto& map = *caustic_map_;
     const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
     if (directional) {  // the texel's flux over the area it covers across the light's direction
-      const float texel = 2.0f * light.extent / float(map.width);
+      const float texel = 2.0f * light.caustic_extent / float(map.width);
       return light.color * sample_bilinear(map, uv) * cos_theta / (texel * texel);
     }
-    const float half = std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
+    const float half = std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);
     const glm::vec2 plane = (uv * 2.0f - 1.0f) * half;
     const float cos_axis = 1.0f / std::sqrt(1.0f + glm::dot(plane, plane));
     const float texel_solid_angle = 4.0f * half * half / float(map.width * map.height) * cos_axis * cos_axis * cos_axis;

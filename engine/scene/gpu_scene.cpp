@@ -92,11 +92,21 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
 void GpuScene::replace_view(const View& camera, std::vector<Light> lights) {
   assert(lights.size() == scene_->lights.size() && "graph expressions counted the scene's lights (scene.lights)");
   camera_ = camera;
-  lights_ = std::move(lights);
-  // A moved point light aims its caustic view at the refractors again (or keeps the last one).
-  for (Light& light : lights_) {
-    if (light.type == LightType::point && light.point_view) fit_point_light_view(light, *scene_);
+  // A moved light's caustic view is fitted again; a point light that then has none keeps its last
+  // (the plan was compiled for the scene's lights as loaded: scene.lightK.view).
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const View& was = lights_[i].view;
+    Light& light = lights[i];
+    if (light.view.position == was.position && light.view.target == was.target && light.view.fov_y_degrees == was.fov_y_degrees &&
+        light.extent == lights_[i].extent)
+      continue;
+    const Light before = light;
+    if (!fit_caustic_view(light, *scene_) && before.has_caustic_view) {
+      light.caustic_view = before.caustic_view;
+      light.has_caustic_view = true;
+    }
   }
+  lights_ = std::move(lights);
 }
 
 const AccelerationStructures& GpuScene::acceleration() {
@@ -123,6 +133,29 @@ std::vector<uint32_t> GpuScene::refractors_back_to_front(glm::vec3 eye) const {
   return order;
 }
 
+namespace {
+
+// `light` as the shaders see it through `seen`'s view (the light itself, or as_caustic_view()); the
+// spot cone is the light's own either way.
+gpu::LightData light_data(const Light& seen, const Light& light) {
+  gpu::LightData l{};
+  const bool directional = light.type == LightType::directional;
+  l.view_proj = seen.view_projection();
+  l.inv_view_proj = glm::inverse(l.view_proj);
+  l.position_type = glm::vec4(seen.view.position, light.type == LightType::spot ? 0.0f : directional ? 2.0f : 1.0f);
+  // A square frustum's inscribed cone: the half angle is half the field of view.
+  l.direction_cos = glm::vec4(light.axis(), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
+  l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
+  const float tan_half = std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
+  l.clip = glm::vec4(seen.view.near_plane, seen.view.far_plane, directional ? seen.extent : tan_half, kCubeFaceTan);
+  if (light.type == LightType::point) {
+    for (uint32_t face = 0; face < 6; ++face) l.faces[face] = light.face_view_projection(face);
+  }
+  return l;
+}
+
+}  // namespace
+
 void GpuScene::update_frame(uint32_t width, uint32_t height) {
   const Scene& s = *scene_;
   gpu::FrameData& f = frame_data_;
@@ -135,25 +168,14 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
       glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
   f.light_count = static_cast<uint32_t>(std::min<size_t>(lights_.size(), CAUSTICA_MAX_LIGHTS));
   for (uint32_t i = 0; i < f.light_count; ++i) {
-    const Light& light = lights_[i];
-    gpu::LightData& l = f.lights[i];
-    const bool directional = light.type == LightType::directional;
-    l.view_proj = light.view_projection();
-    l.inv_view_proj = glm::inverse(l.view_proj);
-    l.position_type = glm::vec4(light.view.position, light.type == LightType::spot ? 0.0f : directional ? 2.0f : 1.0f);
-    // A square frustum's inscribed cone: the half angle is half the field of view.
-    l.direction_cos = glm::vec4(light.axis(), std::cos(glm::radians(light.view.fov_y_degrees) * 0.5f));
-    l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
-    const float tan_half = std::tan(glm::radians(light.view.fov_y_degrees) * 0.5f);
-    l.clip = glm::vec4(light.view.near_plane, light.view.far_plane, directional ? light.extent : tan_half, kCubeFaceTan);
-    if (light.type == LightType::point) {
-      for (uint32_t face = 0; face < 6; ++face) l.faces[face] = light.face_view_projection(face);
-    }
+    f.lights[i] = light_data(lights_[i], lights_[i]);
+    // Its caustic view's: the light as its caustic passes see it, with the light's own cone.
+    f.caustic_lights[i] = light_data(lights_[i].as_caustic_view(), lights_[i]);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
-  lights_key_ = fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count);
+  lights_key_ = fold_bytes(fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count), f.caustic_lights, f.light_count);
   light_keys_.resize(f.light_count);
-  for (uint32_t i = 0; i < f.light_count; ++i) light_keys_[i] = fold_bytes(0, &f.lights[i], 1);
+  for (uint32_t i = 0; i < f.light_count; ++i) light_keys_[i] = fold_bytes(fold_bytes(0, &f.lights[i], 1), &f.caustic_lights[i], 1);
   const glm::vec4 camera[] = {f.view_proj[0], f.view_proj[1], f.view_proj[2], f.view_proj[3], f.camera_position, f.sky_ambient, f.sizes};
   camera_key_ = fold_bytes(0, camera, std::size(camera));
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "scene/scene.h"
@@ -81,53 +82,102 @@ float cone_half_angle(glm::vec3 axis, const std::vector<std::pair<glm::vec3, flo
   return half;
 }
 
-}  // namespace
-
-bool fit_point_light_view(Light& light, const Scene& scene) {
-  // Each refractor's bounding sphere as seen from the light: its direction and angular radius.
+// The refractors the light reaches, each as the sphere about its centre through its farthest vertex.
+std::vector<std::pair<glm::vec3, float>> reached_refractors(const Light& light, const Scene& scene) {
   std::vector<std::pair<glm::vec3, float>> spheres;
-  glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  float farthest = 0.0f;
   for (const Object& o : scene.objects) {
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 c((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
-                        (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
-      farthest = std::max(farthest, glm::length(c - light.view.position));
-    }
-    if (!o.material.refractor) continue;
-    // The sphere about the box's centre through its farthest vertex: a ball's own, where the box's
-    // corners would widen the view by a factor of sqrt(3).
-    float radius = 0.0f;
-    for (const glm::vec3& p : o.mesh.positions) radius = std::max(radius, glm::length(p - o.center()));
-    if (o.mesh.positions.empty()) radius = 0.5f * glm::length(o.bounds_max - o.bounds_min);
-    const glm::vec3 to_center = o.center() - light.view.position;
-    const float distance = glm::length(to_center);
-    if (distance <= 1.001f * radius) return false;  // the light is inside the refractor's sphere
-    spheres.emplace_back(to_center / distance, std::asin(radius / distance));
-    sum += to_center / distance;
-    lo = glm::min(lo, o.bounds_min);
-    hi = glm::max(hi, o.bounds_max);
+    if (o.material.refractor && light.reaches(o.bounds_min, o.bounds_max)) spheres.emplace_back(o.center(), o.bounding_radius());
   }
-  if (spheres.empty() || glm::length(sum) < 1e-6f) return false;
-  // Of two axes, towards the refractors' box and their mean direction, the one with the narrower cone.
+  return spheres;
+}
+
+// A frustum from the light around the spheres, or nothing where the light is inside one or they
+// spread over more than `max_half` radians about it.
+std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pair<glm::vec3, float>>& spheres, float max_half) {
+  std::vector<std::pair<glm::vec3, float>> seen;  // direction and angular radius of each
+  glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& [center, radius] : spheres) {
+    const glm::vec3 to_center = center - light.view.position;
+    const float distance = glm::length(to_center);
+    if (distance <= 1.001f * radius) return std::nullopt;
+    seen.emplace_back(to_center / distance, std::asin(radius / distance));
+    sum += to_center / distance;
+    lo = glm::min(lo, center - radius);
+    hi = glm::max(hi, center + radius);
+  }
+  if (seen.empty() || glm::length(sum) < 1e-6f) return std::nullopt;
+  // Of two axes, towards the spheres' box and their mean direction, the one with the narrower cone.
   glm::vec3 axis = glm::normalize(sum);
   const glm::vec3 to_box = 0.5f * (lo + hi) - light.view.position;
-  if (glm::length(to_box) > 1e-6f && cone_half_angle(glm::normalize(to_box), spheres) < cone_half_angle(axis, spheres)) {
+  if (glm::length(to_box) > 1e-6f && cone_half_angle(glm::normalize(to_box), seen) < cone_half_angle(axis, seen))
     axis = glm::normalize(to_box);
+  const float half = cone_half_angle(axis, seen);
+  if (half > max_half) return std::nullopt;
+  View view = light.view;
+  view.target = view.position + axis;
+  view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCausticViewMargin * std::tan(half)));
+  return view;
+}
+
+// A directional light's prism around the spheres: its axis the light's, its square centred on
+// their middle across it; the half side, the farthest sphere's edge from that middle.
+void fit_directional_caustic_prism(Light& light, const std::vector<std::pair<glm::vec3, float>>& spheres) {
+  const glm::vec3 axis = light.axis();
+  auto across = [&](glm::vec3 p) { return (p - light.view.position) - glm::dot(p - light.view.position, axis) * axis; };
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& [center, radius] : spheres) {
+    lo = glm::min(lo, across(center) - radius);
+    hi = glm::max(hi, across(center) + radius);
   }
-  const float half = cone_half_angle(axis, spheres);
-  if (half > glm::radians(kMaxPointViewHalfDegrees)) return false;
-  light.view.target = light.view.position + axis;
-  light.view.fov_y_degrees = glm::degrees(2.0f * std::atan(kPointViewMargin * std::tan(half)));
-  light.view.far_plane = std::max(light.view.far_plane, 1.05f * farthest + light.view.near_plane);
-  light.point_view = true;
-  return true;
+  const glm::vec3 middle = 0.5f * (lo + hi);
+  float half = 0.0f;
+  for (const auto& [center, radius] : spheres) half = std::max(half, glm::length(across(center) - middle) + radius);
+  if (kCausticViewMargin * half >= light.extent) return;  // the light's own prism is no wider
+  light.caustic_view.position = light.view.position + middle;
+  light.caustic_view.target = light.caustic_view.position + axis;
+  light.caustic_extent = kCausticViewMargin * half;
+}
+
+}  // namespace
+
+glm::mat4 Light::caustic_view_projection() const {
+  return as_caustic_view().view_projection();
+}
+
+Light Light::as_caustic_view() const {
+  Light seen = *this;
+  seen.view = caustic_view;
+  seen.extent = caustic_extent;
+  return seen;
+}
+
+bool fit_caustic_view(Light& light, const Scene& scene) {
+  light.caustic_view = light.view;
+  light.caustic_extent = light.extent;
+  light.has_caustic_view = light.type != LightType::point;
+  const auto spheres = reached_refractors(light, scene);
+  if (spheres.empty()) return light.has_caustic_view;
+  if (light.type == LightType::directional) {
+    fit_directional_caustic_prism(light, spheres);
+  } else if (light.type == LightType::spot) {
+    const auto fitted = fitted_frustum(light, spheres, glm::radians(89.0f));
+    if (fitted && fitted->fov_y_degrees < light.view.fov_y_degrees) light.caustic_view = *fitted;
+  } else if (const auto fitted = fitted_frustum(light, spheres, glm::radians(kMaxPointViewHalfDegrees))) {
+    light.caustic_view = *fitted;
+    // Its far plane beyond every object: where the caustic lands.
+    float farthest = 0.0f;
+    for (const Object& o : scene.objects)
+      farthest = std::max(farthest, glm::length(o.center() - light.view.position) + o.bounding_radius());
+    light.caustic_view.far_plane = std::max(light.caustic_view.far_plane, 1.05f * farthest + light.caustic_view.near_plane);
+    light.has_caustic_view = true;
+  }
+  return light.has_caustic_view;
 }
 
 void fit_light_views(Scene& scene, size_t fitted) {
   for (Light& light : scene.lights) {
     if (light.type == LightType::directional) fit_directional_light(light, scene, fitted);
-    if (light.type == LightType::point) fit_point_light_view(light, scene);
+    fit_caustic_view(light, scene);
   }
 }
 

@@ -69,7 +69,7 @@ std::map<std::string, double> Scene::expression_values() const {
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i];
     const std::string prefix = "scene.light" + std::to_string(i) + ".";
-    values[prefix + "view"] = light.has_view() ? 1 : 0;
+    values[prefix + "view"] = light.has_caustic_view ? 1 : 0;
     values[prefix + "spot"] = light.type == LightType::spot ? 1 : 0;
     values[prefix + "point"] = light.type == LightType::point ? 1 : 0;
     values[prefix + "directional"] = light.type == LightType::directional ? 1 : 0;
@@ -248,6 +248,8 @@ void finish_object(Object& o, const glm::mat4& transform) {
     for (size_t t = 0; t + 2 < o.mesh.indices.size(); t += 3) std::swap(o.mesh.indices[t + 1], o.mesh.indices[t + 2]);
   }
   std::tie(o.bounds_min, o.bounds_max) = mesh_bounds(o.mesh);
+  o.radius = 0.0f;
+  for (const glm::vec3& p : o.mesh.positions) o.radius = std::max(o.radius, glm::length(p - o.center()));
   if (o.material.refractor) o.mesh.normal_distance = normal_distances(o.mesh);
 }
 

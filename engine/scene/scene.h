@@ -122,7 +122,11 @@ struct Object {
   Mesh mesh;
   Material material;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+  // The sphere about center() through its farthest vertex (a ball's own, where the box's corners
+  // would make it sqrt(3) times larger); 0 where it was not measured (then the box's).
+  float radius = 0.0f;
   glm::vec3 center() const { return 0.5f * (bounds_min + bounds_max); }
+  float bounding_radius() const { return radius > 0.0f ? radius : 0.5f * glm::length(bounds_max - bounds_min); }
 };
 
 // A perspective view with Vulkan clip conventions (depth 0..1, y down in framebuffer space).
@@ -145,10 +149,12 @@ enum class LightType { spot, point, directional };
 // than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver
 // near a face's edge still finds its taps inside that face.
 inline constexpr float kCubeFaceTan = 1.05f;
-// A point light's caustic view (fit_point_light_view): a frustum around its refractors, its tangent
-// widened by a tenth so that light bent outwards still lands inside, and none where the refractors
-// spread over more than a cone of 70 degrees about it (the light stands among them).
-inline constexpr float kPointViewMargin = 1.1f;
+// A light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent (a
+// prism's half side) twice theirs so that light bent outwards still lands in it: on the bundled
+// ball lenses and prisms the exact photons landing off the map stayed within 1% of those off the
+// light's whole view at twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md); a point light
+// has none where its refractors spread over more than a cone of 70 degrees about it.
+inline constexpr float kCausticViewMargin = 2.0f;
 inline constexpr float kMaxPointViewHalfDegrees = 70.0f;
 
 struct Light {
@@ -159,15 +165,21 @@ struct Light {
   float intensity = 10.0f;  // radiant intensity (W/sr) along the axis; directional: irradiance (W/m^2)
   glm::vec3 color{1.0f};
   float extent = 0.0f;  // directional: half the side of the orthographic view's square (world units)
-  // point: `view` aims a frustum at the refractors (fit_point_light_view) for its caustics; its
-  // shadow is the six cube faces about view.position either way.
-  bool point_view = false;
+  // What its caustic passes draw and emit photons through (light-space refractor buffers, receiver
+  // depth, photons, the caustic map; fit_caustic_view): a frustum from it (spot, point) or a prism
+  // along it (directional, from the plane through caustic_view.position) fitted around the
+  // refractors it reaches; `view` and `extent` themselves where that is no narrower. A point
+  // light's shadow is the six cube faces about view.position, its caustic view a frustum or none.
+  View caustic_view;
+  float caustic_extent = 0.0f;  // directional: half the side of the caustic prism's square
+  bool has_caustic_view = false;
 
-  // Spot and directional lights have a view (shadow map, light-space refractor buffers, caustics);
-  // a point light where one is fitted around its refractors (caustics only).
-  bool has_view() const { return type != LightType::point || point_view; }
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
-  glm::mat4 view_projection() const;
+  glm::mat4 view_projection() const;  // its shadow map's (spot, directional)
+  glm::mat4 caustic_view_projection() const;
+  // This light with its caustic view for its view (and extent): what its caustic passes see;
+  // its spot cone is still the light's own (axis() and view.fov_y_degrees of *this).
+  Light as_caustic_view() const;
   // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).
   static glm::vec3 face_axis(uint32_t face);
   glm::mat4 face_view_projection(uint32_t face) const;
@@ -204,18 +216,17 @@ struct Scene {
   // What graph expressions see of the scene: scene.refractors, scene.lights, scene.objects,
   // scene.dispersive (1 where a refractor disperses light, else 0), scene.diagonal and
   // scene.ray_epsilon (a user pass's exact tracer offsets its rays as the built-ins do); per light K,
-  // scene.lightK.spot, .point and .directional (1 for its type), .view (1 but for a point light),
+  // scene.lightK.spot, .point and .directional (1 for its type), .view (1 where it has a caustic view),
   // .objects and .refractors (how many its light reaches, Light::reaches), which a per-light pass
   // reads as light.NAME (graph/per_light.h).
   std::map<std::string, double> expression_values() const;
 };
 
 // The views fitted to the scene's objects (scene/light_views.cpp): a directional light's prism
-// around the first `fitted` objects (where the scene gave no extent), and a point light's caustic
-// view. fit_point_light_view returns false, leaving the light as it was, where no frustum narrower
-// than kMaxPointViewHalfDegrees holds its refractors or there is none (a moved light refits).
+// around the first `fitted` objects (where the scene gave no extent), and every light's caustic
+// view. fit_caustic_view fits one light's again (a moved light) and returns has_caustic_view.
 void fit_light_views(Scene& scene, size_t fitted);
-bool fit_point_light_view(Light& light, const Scene& scene);
+bool fit_caustic_view(Light& light, const Scene& scene);
 
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
 // A scene file, or a model file opened as a scene (load_model_scene).

@@ -74,7 +74,7 @@ void main() {
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));
-  LightData light = frame.lights[params.light];
+  LightData light = frame.caustic_lights[params.light];
   // With a dispersive refractor each photon once per colour band, as the built-in's three
   // dispatches trace it. One call site in a loop the compiler cannot unroll: each inlined copy of
   // the exact tracer lengthens lavapipe's compile by seconds.

@@ -77,7 +77,7 @@ void main() {
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));
-  LightData light = frame.lights[params.light];
+  LightData light = frame.caustic_lights[params.light];
   if (params.dispersive != 0u) {
     // Each photon once per colour band; one that meets no refractor in the first band meets none
     // in the others.

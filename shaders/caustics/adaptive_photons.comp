@@ -382,7 +382,7 @@ void main() {
   bool has_cluster = index < clusters_here;
   uvec2 cluster = cluster_at(index, has_cluster);
   splat_rng = pcg_hash((cluster.x | cluster.y << 16) ^ pcg_hash(params.jitter ^ pcg_hash(params.level | params.band << 8)));
-  LightData light = frame.lights[params.light];
+  LightData light = frame.caustic_lights[params.light];
   uint side = 64u << params.level;
   float texel = 2.0 * light.clip.z / float(side);
 #ifdef HIERARCHICAL

@@ -93,7 +93,7 @@ void main() {
   begin_group_totals();
   uvec2 id = gl_GlobalInvocationID.xy * params.slice_side + params.slice_offset;
   bool in_grid = all(lessThan(id, uvec2(params.grid)));
-  LightData light = frame.lights[params.light];
+  LightData light = frame.caustic_lights[params.light];
 #ifdef PHOTON_BAND_LOOP
   bool met_refractor = true;
   for (uint band = 0u; band < 3u; ++band) {

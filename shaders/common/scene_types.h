@@ -81,6 +81,11 @@ struct FrameData {
   uint light_count;
   uint pad0, pad1, pad2;
   LightData lights[CAUSTICA_MAX_LIGHTS];
+  // Each light as its caustic passes see it (scene::Light::as_caustic_view): its view, clip and
+  // position those of its caustic view (a frustum or prism fitted to its refractors), its cone,
+  // colour and intensity its own. Light-space refractor buffers, receiver depths, photons and
+  // caustic maps are all in this view.
+  LightData caustic_lights[CAUSTICA_MAX_LIGHTS];
 };
 
 #ifdef __cplusplus

@@ -109,7 +109,8 @@ float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
 }
 #endif
 
-// Irradiance from light i's caustic map: a texel's flux spread over the receiver area its solid
+// Irradiance from light i's caustic map (`light` as its caustic view sees it, FrameData::
+// caustic_lights): a texel's flux spread over the receiver area its solid
 // angle covers at this point, dw r^2 / cos(theta); with its receivers' depth, only on the surface
 // the light sees first (the receiver depth test, like a shadow map).
 #ifdef CAUSTICS
@@ -192,7 +193,7 @@ void main() {
 #endif
 #ifdef CAUSTICS
     // The caustic's light arrives through the refractor from many directions: diffuse only.
-    if ((params.caustic_lights & (1u << i)) != 0u) radiance += diffuse_color(s) / PI * caustic_irradiance(i, light, p, n);
+    if ((params.caustic_lights & (1u << i)) != 0u) radiance += diffuse_color(s) / PI * caustic_irradiance(i, frame.caustic_lights[i], p, n);
 #endif
     radiance += brdf(s, v, l) * light.radiant.rgb * max(dot(n, l), 0.0) / d2 * cone;
   }

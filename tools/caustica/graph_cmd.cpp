@@ -1,6 +1,7 @@
 // caustica graph: plans, Graphviz, the schema, new defaults and the parameter table of graph files.
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "core/suggest.h"
 #include "flags.h"
 #include "graph/compiler.h"
+#include "graph/per_light.h"
 #include "graph/report.h"
 #include "graph/schema.h"
 #include "io/files.h"
@@ -21,6 +23,48 @@
 
 namespace caustica::cli {
 namespace {
+
+// What each light of the scene got (graph plan --scene S): what it reaches, its shadow and caustic
+// views, the instances of the graph's per-light passes planned for it, and why the others are not.
+nlohmann::ordered_json lights_report(const scene::Scene& scene, const graph::Plan& plan) {
+  using json = nlohmann::ordered_json;
+  const std::map<std::string, double> values = scene.expression_values();
+  auto view_of = [](const scene::Light& light, const scene::View& view, float extent) {
+    if (light.type == scene::LightType::directional) return json{{"half_side", extent}};
+    return json{{"fov_degrees", view.fov_y_degrees}};
+  };
+  json lights = json::array();
+  for (uint32_t k = 0; k < scene.lights.size(); ++k) {
+    const scene::Light& light = scene.lights[k];
+    const std::string prefix = "scene.light" + std::to_string(k) + ".";
+    static const char* const kTypes[] = {"spot", "point", "directional"};
+    json entry{{"light", k},
+               {"type", kTypes[static_cast<int>(light.type)]},
+               {"reaches", {{"objects", values.at(prefix + "objects")}, {"refractors", values.at(prefix + "refractors")}}}};
+    if (light.type != scene::LightType::point) entry["shadow_view"] = view_of(light, light.view, light.extent);
+    if (light.has_caustic_view) {
+      const bool fitted = light.caustic_view.target != light.view.target || light.caustic_view.fov_y_degrees != light.view.fov_y_degrees ||
+                          light.caustic_extent != light.extent || light.caustic_view.position != light.view.position;
+      entry["caustic_view"] = view_of(light, light.caustic_view, light.caustic_extent);
+      entry["caustic_view"]["fitted_to_refractors"] = fitted;
+    } else {
+      entry["caustic_view"] = nullptr;
+    }
+    entry["passes"] = json::array();
+    for (const auto& pass : plan.passes) {
+      if (graph::instance_light(pass.name) == static_cast<int>(k)) entry["passes"].push_back(pass.name);
+    }
+    entry["not_planned"] = json::object();
+    for (const auto& [name, enabled] : plan.disabled_by) {
+      if (graph::instance_light(name) == static_cast<int>(k)) entry["not_planned"][name] = "disabled: " + enabled + " is 0";
+    }
+    for (const auto& name : plan.culled) {
+      if (graph::instance_light(name) == static_cast<int>(k)) entry["not_planned"][name] = "culled: nothing planned reads what it writes";
+    }
+    lights.push_back(std::move(entry));
+  }
+  return lights;
+}
 
 // caustica graph params: what a graph takes, as a table a user reads before --set.
 std::string value_text(const nlohmann::json& value) {
@@ -159,6 +203,7 @@ int cmd_graph(Args& args) {
     return 0;
   }
   nlohmann::json out = graph::plan_to_json(plan);
+  if (scene) out["lights"] = lights_report(*scene, plan);
   if (!plan.ray_query_passes.empty()) {
     if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
     const scene::AccelerationEstimate estimate = scene::estimate_acceleration(*scene);
