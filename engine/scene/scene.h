@@ -149,11 +149,11 @@ enum class LightType { spot, point, directional };
 // than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver
 // near a face's edge still finds its taps inside that face.
 inline constexpr float kCubeFaceTan = 1.05f;
-// A light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent (a
-// prism's half side) twice theirs so that light bent outwards still lands in it: on the bundled
-// ball lenses and prisms the exact photons landing off the map stayed within 1% of those off the
-// light's whole view at twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md); a point light
-// has none where its refractors spread over more than a cone of 70 degrees about it.
+// A point light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent
+// twice theirs so that light bent outwards still lands in it: on the bundled ball lenses and prisms
+// the exact photons landing off such a map stayed within 1% of those off the light's whole view at
+// twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md); none where its refractors spread
+// over more than a cone of 70 degrees about it.
 inline constexpr float kCausticViewMargin = 2.0f;
 inline constexpr float kMaxPointViewHalfDegrees = 70.0f;
 
@@ -166,10 +166,9 @@ struct Light {
   glm::vec3 color{1.0f};
   float extent = 0.0f;  // directional: half the side of the orthographic view's square (world units)
   // What its caustic passes draw and emit photons through (light-space refractor buffers, receiver
-  // depth, photons, the caustic map; fit_caustic_view): a frustum from it (spot, point) or a prism
-  // along it (directional, from the plane through caustic_view.position) fitted around the
-  // refractors it reaches; `view` and `extent` themselves where that is no narrower. A point
-  // light's shadow is the six cube faces about view.position, its caustic view a frustum or none.
+  // depth, photons, the caustic map; fit_caustic_view): a spot or directional light's own view and
+  // extent; a point light's frustum fitted around the refractors it reaches, or none. A point
+  // light's shadow is the six cube faces about view.position.
   View caustic_view;
   float caustic_extent = 0.0f;  // directional: half the side of the caustic prism's square
   bool has_caustic_view = false;
