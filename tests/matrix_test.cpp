@@ -3,7 +3,8 @@
 // validation message, without NaN or Inf in its output, and with its first output written. Small
 // frames and small photon grids keep it quick; the shapes of the work (passes, barriers, aliasing,
 // batches) are the same as at full size. Under the sanitizers (CAUSTICA_SMALL_RENDERS) each graph and
-// each scene renders once, paired in turn: the Release run covers every pair.
+// each scene renders once, paired in turn: the Release run covers every pair of a graph and a
+// bundled scene, and each graph on one of the stability cases.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -47,8 +48,15 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
 #ifdef CAUSTICA_SMALL_RENDERS
   for (size_t i = 0; i < std::max(scenes.size(), graphs.size()); ++i) pairs.emplace_back(i % scenes.size(), i % graphs.size());
 #else
+  // The stability cases are paired with the graphs in turn (each graph on one of them): they differ
+  // from the bundled scenes in their numbers, not in the passes a graph plans for them, and the
+  // stability suite renders every caustic method on every one of them with validation.
+  const size_t first_case = scenes.size() - stability.size() - 1;  // the tinted pane comes after them
   for (size_t s = 0; s < scenes.size(); ++s) {
-    for (size_t g = 0; g < graphs.size(); ++g) pairs.emplace_back(s, g);
+    const bool is_case = s >= first_case && s < first_case + stability.size();
+    for (size_t g = 0; g < graphs.size(); ++g) {
+      if (!is_case || g % stability.size() == s - first_case) pairs.emplace_back(s, g);
+    }
   }
 #endif
   int renders = 0;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# caustica view under Xvfb on lavapipe, validation on (any message makes view exit 3):
-# 1. --frames N --screenshot writes the frame the headless render of the same graph gives, and
-#    --inspect shows the image that render --dump writes;
+# caustica view under Xvfb on lavapipe, validation on (any message makes view exit 3), in the
+# sanitizer run (the pictures it shows are compared with headless renders by view_pixels_test.sh,
+# in the Release run):
+# 1. while orbiting the light's passes are reused, over the budget the size steps down, at rest the
+#    progressive graph refines apart, level by level, and rests once converged;
 # 2. an edit of the graph file is picked up while the viewer runs (within a second or two);
 # 3. a broken edit keeps the old graph running, shows the error with its location, and the viewer
 #    still exits 0 when closed (Ctrl-C);
@@ -14,39 +16,6 @@ DISPLAY_BASE=90 source "$(dirname "$0")/xvfb.sh"
 # The sphere on its plane: every viewer feature here is the same on it, and its frames cost a
 # third of the bunny's (whose 70k triangles the light-space passes draw every frame).
 scene="$src/scenes/sphere_plane.json"
-
-# 1. The screenshot is the headless render of the same graph and scene at the window's size.
-"$bin" view --scene "$scene" --size 160x90 --frames 3 --screenshot "$dir/shot.png" --validate > "$dir/log" 2>&1 || fail "view --screenshot exited $?"
-# The resource inspector shows any image of the graph: the lit G-buffer as render --dump writes it.
-"$bin" view --scene "$scene" --size 160x90 --frames 2 --inspect lit --screenshot "$dir/lit_view.exr" --validate > "$dir/log" 2>&1 || fail "view --inspect exited $?"
-"$bin" render --scene "$scene" --size 160x90 --dump "lit=$dir/lit_dump.exr" --out "$dir/headless.png" 2> /dev/null
-"$bin" compare "$dir/shot.png" "$dir/headless.png" --max-l1 0.001 > /dev/null || fail "the screenshot differs from the headless render"
-echo "ok: screenshot matches the headless render"
-"$bin" compare "$dir/lit_view.exr" "$dir/lit_dump.exr" --max-l1 0.001 > /dev/null || fail "the inspected image differs from --dump"
-echo "ok: the inspector shows the image --dump writes"
-
-# The inspector panel shows its image fitted into the window: cut out of a shot of the whole
-# window (UI included), it is the headless render scaled down to the panel's size.
-"$bin" view --scene "$scene" --size 1100x500 --frames 2 --inspect ldr --window-shot "$dir/window.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
-where=$(sed -n 's/^view: window shot .*; inspector image ldr at \([0-9]*\),\([0-9]*\) \([0-9]*\)x\([0-9]*\)$/\3x\4+\1+\2/p' "$dir/log")
-[ -n "$where" ] || fail "view did not say where the inspector's image lies"
-"$bin" view --scene "$scene" --size 1100x500 --frames 2 --window-shot "$dir/no_panel.png" --validate > "$dir/log" 2>&1 || fail "view --window-shot exited $?"
-# Without a screenshot or the inspector the output reaches the window by a blit on the device, with
-# no read-back.
-grep -q "goes to the window by a blit on the device" "$dir/log" || fail "the device blit is not used: $(head -3 "$dir/log")"
-"$bin" render --scene "$scene" --size 1100x500 --out "$dir/full.png" 2> /dev/null
-oiiotool "$dir/window.png" --cut "$where" -o "$dir/panel.png"
-oiiotool "$dir/full.png" --resize "${where%%+*}" -o "$dir/expected_panel.png"
-"$bin" compare "$dir/panel.png" "$dir/expected_panel.png" --max-l1 0.03 > "$dir/compare" 2>&1 || fail "the inspector panel does not show the image: $(cat "$dir/compare")"
-# The same place in a shot without the inspector shows something else (the control must differ).
-oiiotool "$dir/no_panel.png" --cut "$where" -o "$dir/no_panel_cut.png"
-if "$bin" compare "$dir/no_panel_cut.png" "$dir/expected_panel.png" --max-l1 0.03 > /dev/null 2>&1; then fail "the check cannot tell a panel from none"; fi
-echo "ok: the inspector panel shows the image, fitted ($where), in a shot of the whole window"
-# Right of the main panel the blitted window shows the headless render exactly.
-oiiotool "$dir/no_panel.png" --cut 600x400+460+50 -o "$dir/window_cut.png"
-oiiotool "$dir/full.png" --cut 600x400+460+50 -o "$dir/full_cut.png"
-"$bin" compare "$dir/window_cut.png" "$dir/full_cut.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the blitted output differs: $(cat "$dir/compare")"
-echo "ok: the output blitted into the window is the headless render"
 
 # 2 and 3. Hot reload, then a broken edit.
 # A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
@@ -73,17 +42,8 @@ assert all(f["wall_ms"] > 0 for f in orbit["frames"] + every["frames"])
 PY
 echo "ok: while orbiting, the light's passes are reused; --every-pass runs them all; over the budget the size halves"
 
-# Left still, the progressive graph takes its while_still values (exact ray-query photons) and goes
-# on drawing while its mean converges: the fourth still frame is the headless render of four
-# accumulated exact frames, and not the image-space mean's (the control). Moving, the values stay
-# as set. Without a frame budget (--budget 0): on a machine slow enough (the sanitizer build under
-# load) the default budget takes the next, cheaper, slice level, whose frames differ (below).
+# The progressive graph at rest and moving (its still pictures: view_pixels_test.sh).
 progressive="$src/graphs/caustics_progressive.json"
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --budget 0 --screenshot "$dir/still.png" --stats "$dir/still.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph exited $?"
-"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=ray_query --set slice_side=2 --accumulate 4 --out "$dir/exact4.png" 2> /dev/null
-"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --accumulate 4 --moving --out "$dir/image4.png" 2> /dev/null
-"$bin" compare "$dir/still.png" "$dir/exact4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "the still view is not four accumulated exact frames: $(cat "$dir/compare")"
-if "$bin" compare "$dir/still.png" "$dir/image4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell exact photons from image-space ones"; fi
 # At rest with a budget that no whole frame meets, frames refine the mean (the caustic passes alone)
 # from the second on, the first frame's GPU time standing for a whole frame's (a second whole frame
 # to measure it was one more over the budget), and now and then show it (the camera's passes alone,
@@ -152,12 +112,6 @@ assert frames[1]["part"] == "whole" and frames[1]["presented"], frames[1]
 assert frames[2]["still"] and frames[2]["part"] == "refine" and frames[2]["ran"] == ["caustics#0", "accumulate#0"], frames[2]
 assert frames[2]["accumulated"] == 2, frames[2]
 PY
-# A parameter set on the command line stays as set at rest, as one set in the panel does (a choice:
-# the search, not the while_still ray queries; the other while_still value, slice_side 2, holds).
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --budget 0 --set distance=search --screenshot "$dir/still_search.png" --validate > "$dir/log" 2>&1 || fail "view --set distance=search exited $?: $(cat "$dir/log")"
-"$bin" render --scene "$scene" --graph "$progressive" --size 160x90 --set distance=search --set slice_side=2 --accumulate 4 --out "$dir/search4.png" 2> /dev/null
-"$bin" compare "$dir/still_search.png" "$dir/search4.png" --max-l1 0.001 > "$dir/compare" 2>&1 || fail "view --set distance=search is not four accumulated search frames: $(cat "$dir/compare")"
-if "$bin" compare "$dir/still_search.png" "$dir/exact4.png" --max-l1 0.001 > /dev/null 2>&1; then fail "the check cannot tell the search from ray queries"; fi
 "$bin" view --graph "$progressive" --size 160x90 --frames 1 --set distanse=search > "$dir/log" 2>&1 && fail "view --set with an unknown parameter exited 0"
 grep -q "has no parameter 'distanse' (did you mean 'distance'?)" "$dir/log" || fail "view --set distanse=search: $(cat "$dir/log")"
 # A graph that does not compile at the start: its message and exit 1, and no claim of last good files.
@@ -169,10 +123,9 @@ if grep -q "kept the last good" "$dir/log"; then fail "view of a broken graph cl
 # A device without ray queries refuses the exact photons: the values as set, and a message.
 CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
 grep -q "view: not using the while_still values: .*VK_KHR_ray_query" "$dir/log" || fail "no message that the while_still values were refused"
-python3 - "$dir/still.json" "$dir/moving.json" "$dir/refused.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
+python3 - "$dir/moving.json" "$dir/refused.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
 import json, sys
-still, moving, refused = (json.load(open(f))["frames"] for f in sys.argv[1:])
-assert all(f["still"] and f["converging"] and not f["moving"] for f in still), still
+moving, refused = (json.load(open(f))["frames"] for f in sys.argv[1:])
 assert all(f["moving"] and not f["still"] for f in moving), moving
 assert all(not f["still"] and f["converging"] for f in refused), refused
 PY
