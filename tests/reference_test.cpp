@@ -20,9 +20,13 @@ using namespace caustica;
 
 namespace {
 
-scene::Scene bundled(const std::string& name) { return scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string()); }
+scene::Scene bundled(const std::string& name) {
+  return scene::load_scene_file((data_dir() / "scenes" / (name + ".json")).string());
+}
 
-scene::Scene from_text(const std::string& text) { return scene::load_scene(JsonDocument::parse(text, "test_scene.json")); }
+scene::Scene from_text(const std::string& text) {
+  return scene::load_scene(JsonDocument::parse(text, "test_scene.json"));
+}
 
 // The map's flux as the totals count it: the mean of the three channels.
 double map_sum(const io::ImageData& map) {
@@ -88,7 +92,8 @@ TEST(PhotonReference, BallLensMatchesTheExactLens) {
   const auto& t = result.totals;
   expect_flux_accounted(t);
   const double exact_entering = test::flux_into_ball(scene);
-  std::printf("entering %.4f (exact %.4f), landed %.4f, off the map %.4f, escaped %.4f\n", t.entering, exact_entering, t.landed, t.off_map, t.escaped);
+  std::printf("entering %.4f (exact %.4f), landed %.4f, off the map %.4f, escaped %.4f\n", t.entering, exact_entering, t.landed, t.off_map,
+              t.escaped);
   EXPECT_NEAR(t.entering, exact_entering, 0.006 * exact_entering);
   EXPECT_LE(t.entering, exact_entering * 1.001);  // an inscribed mesh never covers more than the sphere
   EXPECT_EQ(t.reflected, 0.0);
@@ -141,7 +146,8 @@ TEST(PhotonReference, ThinWallTransmitsItsShareUnbent) {
       "lights": [{"type": "spot", "position": [0, 40, 0], "target": [0, 0, 0], "fov": 2, "intensity": 1000}],
       "objects": [
         {"name": "floor", "primitive": {"type": "plane", "size": [20, 20]}},
-        {"name": "pane", "primitive": {"type": "plane", "size": [4, 4]}, "transform": {"translate": [0, 1, 0], "rotate": [)") + rotate +
+        {"name": "pane", "primitive": {"type": "plane", "size": [4, 4]}, "transform": {"translate": [0, 1, 0], "rotate": [)") +
+                                         rotate +
                                          R"(, 0, 0]},
          "material": {"refractor": true, "thin": true, "ior": 1.5, "tint": [1, 0.5, 0.25], "transmission": 0.8}}
       ]})");
@@ -183,7 +189,7 @@ TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
   options.fresnel = false;
   const auto t = reference::trace_photon_reference(scene, options).totals;
   expect_flux_accounted(t);
-  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().caustic_extent);
+  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().extent);
   std::printf("emitted %.5f (exact %.5f), entering %.5f (pi R^2 E = %.5f), landed %.5f\n", t.emitted, irradiance * 4 * extent * extent,
               t.entering, glm::pi<double>() * irradiance, t.landed);
   EXPECT_NEAR(t.emitted, irradiance * 4 * extent * extent, 1e-6 * t.emitted);
@@ -443,15 +449,15 @@ TEST(ImageMetrics, KnownAnswers) {
   a.rgba = {1, 1, 1, 1, 0, 0, 0, 1, 2, 2, 2, 1, 0, 0, 0, 1};
   b.rgba = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 1};
   const auto c = reference::compare_images(a, b, 0.0);
-  EXPECT_DOUBLE_EQ(c.energy_ratio, 1.0);            // 3 against 3
-  EXPECT_NEAR(c.relative_l1, 2.0 / 3.0, 1e-12);     // |0 - 1| + |2 - 1| over 3
-  EXPECT_NEAR(c.shape_l1, 2.0 / 3.0, 1e-12);        // the same, both sums being 3
+  EXPECT_DOUBLE_EQ(c.energy_ratio, 1.0);         // 3 against 3
+  EXPECT_NEAR(c.relative_l1, 2.0 / 3.0, 1e-12);  // |0 - 1| + |2 - 1| over 3
+  EXPECT_NEAR(c.shape_l1, 2.0 / 3.0, 1e-12);     // the same, both sums being 3
   io::ImageData half = a;
   for (float& v : half.rgba) v *= 0.5f;
   EXPECT_NEAR(reference::compare_images(half, a, 0.0).shape_l1, 0.0, 1e-12);  // less energy, same place
   EXPECT_NEAR(reference::compare_images(half, a, 0.0).energy_ratio, 0.5, 1e-12);
   EXPECT_NEAR(c.max_error, 1.0, 1e-6);
-  EXPECT_NEAR(c.mean_error, 0.5, 1e-6);              // 6 of 12 colour values off by 1
+  EXPECT_NEAR(c.mean_error, 0.5, 1e-6);  // 6 of 12 colour values off by 1
   EXPECT_NEAR(c.rms_error, std::sqrt(0.5), 1e-6);
   EXPECT_NEAR(c.psnr, 20 * std::log10(1 / std::sqrt(0.5)), 1e-6);  // b's peak is 1
   // A flux map's values are far below 1: the peak is the reference's, so scaling both images

@@ -37,7 +37,7 @@ class PhotonTracer {
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
     // The image plane at distance 1 (spot), or the orthographic view's square itself (directional).
     directional_ = light_.type == scene::LightType::directional;
-    half_plane_ = directional_ ? light_.caustic_extent : std::tan(glm::radians(light_.caustic_view.fov_y_degrees) * 0.5f);
+    half_plane_ = directional_ ? light_.extent : std::tan(glm::radians(light_.caustic_view.fov_y_degrees) * 0.5f);
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;

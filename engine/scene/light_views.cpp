@@ -82,21 +82,16 @@ float cone_half_angle(glm::vec3 axis, const std::vector<std::pair<glm::vec3, flo
   return half;
 }
 
-// The refractors the light reaches, each as the sphere about its centre through its farthest vertex.
-std::vector<std::pair<glm::vec3, float>> reached_refractors(const Light& light, const Scene& scene) {
-  std::vector<std::pair<glm::vec3, float>> spheres;
-  for (const Object& o : scene.objects) {
-    if (o.material.refractor && light.reaches(o.bounds_min, o.bounds_max)) spheres.emplace_back(o.center(), o.bounding_radius());
-  }
-  return spheres;
-}
-
-// A frustum from the light around the spheres, or nothing where the light is inside one or they
-// spread over more than `max_half` radians about it.
-std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pair<glm::vec3, float>>& spheres, float max_half) {
+// A frustum from a point light around the refractors' bounding spheres (Object::bounding_radius), or
+// nothing where the light is inside one or they spread over more than kMaxPointViewHalfDegrees
+// about it.
+std::optional<View> fitted_frustum(const Light& light, const Scene& scene) {
   std::vector<std::pair<glm::vec3, float>> seen;  // direction and angular radius of each
   glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const auto& [center, radius] : spheres) {
+  for (const Object& o : scene.objects) {
+    if (!o.material.refractor) continue;
+    const glm::vec3 center = o.center();
+    const float radius = o.bounding_radius();
     const glm::vec3 to_center = center - light.view.position;
     const float distance = glm::length(to_center);
     if (distance <= 1.001f * radius) return std::nullopt;
@@ -112,7 +107,7 @@ std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pa
   if (glm::length(to_box) > 1e-6f && cone_half_angle(glm::normalize(to_box), seen) < cone_half_angle(axis, seen))
     axis = glm::normalize(to_box);
   const float half = cone_half_angle(axis, seen);
-  if (half > max_half) return std::nullopt;
+  if (half > glm::radians(kMaxPointViewHalfDegrees)) return std::nullopt;
   View view = light.view;
   view.target = view.position + axis;
   view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCausticViewMargin * std::tan(half)));
@@ -128,20 +123,18 @@ glm::mat4 Light::caustic_view_projection() const {
 Light Light::as_caustic_view() const {
   Light seen = *this;
   seen.view = caustic_view;
-  seen.extent = caustic_extent;
   return seen;
 }
 
 bool fit_caustic_view(Light& light, const Scene& scene) {
   light.caustic_view = light.view;
-  light.caustic_extent = light.extent;
   light.has_caustic_view = light.type != LightType::point;
   // Spot and directional lights throw through their own view. Fitted to their refractors too (a
   // frustum or prism twice their tangent), the stability suite's tiny refractor filled the view
   // (the paper's traversal no longer lost it) and a 1e-4 light move changed its maps by 0.09-0.13
   // (bound 0.05): docs/caustics.md.
   if (light.type != LightType::point) return true;
-  if (const auto fitted = fitted_frustum(light, reached_refractors(light, scene), glm::radians(kMaxPointViewHalfDegrees))) {
+  if (const auto fitted = fitted_frustum(light, scene)) {
     light.caustic_view = *fitted;
     // Its far plane beyond every object: where the caustic lands.
     float farthest = 0.0f;

@@ -170,13 +170,12 @@ struct Light {
   // extent; a point light's frustum fitted around the refractors it reaches, or none. A point
   // light's shadow is the six cube faces about view.position.
   View caustic_view;
-  float caustic_extent = 0.0f;  // directional: half the side of the caustic prism's square
   bool has_caustic_view = false;
 
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;  // its shadow map's (spot, directional)
   glm::mat4 caustic_view_projection() const;
-  // This light with its caustic view for its view (and extent): what its caustic passes see;
+  // This light with its caustic view for its view: what its caustic passes see;
   // its spot cone is still the light's own (axis() and view.fov_y_degrees of *this).
   Light as_caustic_view() const;
   // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).

@@ -60,7 +60,6 @@ std::set<std::string> caustic_passes(const graph::GraphDesc& graph) {
   return names;
 }
 
-// The GPU time of the frame's passes that are `passes` or a light's instance of one.
 double passes_ms(const graph::FrameResult& frame, const std::set<std::string>& passes) {
   double ms = 0;
   for (const auto& p : frame.passes) ms += passes.count(std::string(graph::instance_of(p.name))) ? p.gpu_ms : 0.0;

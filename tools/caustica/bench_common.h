@@ -54,6 +54,8 @@ struct Timings {
 
 // One warm-up frame (pipelines compile on first use), then the median of `frames`.
 Timings time_frames(graph::Executor& executor, uint32_t frames, const std::set<std::string>& method_passes);
+// The GPU time of the frame's passes that are `passes` or a light's instance of one.
+double passes_ms(const graph::FrameResult& frame, const std::set<std::string>& passes);
 
 // Several executors' frames interleaved, so that machine noise hits each alike: `warmup` frames of
 // each first (pipelines compile on first use on lavapipe), then the median of `frames` of each.

@@ -13,7 +13,6 @@
 #include "builtin_passes.h"
 #include "core/paths.h"
 #include "flags.h"
-#include "graph/per_light.h"
 #include "io/image_io.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
@@ -296,9 +295,7 @@ int cmd_bench_photons(Args& args) {
       double processed = 0;
       for (uint32_t f = 0; f < frames; ++f) {
         auto result = executor.run_frame(false);
-        double frame_ms = 0;  // every light's instance of the pass
-        for (const auto& p : result.passes) frame_ms += graph::instance_of(p.name) == "caustics" ? p.gpu_ms : 0.0;
-        ms.push_back(frame_ms);
+        ms.push_back(passes_ms(result, {"caustics"}));  // every light's instance of the pass
         processed = result.counters.count("photons.processed") ? result.counters.at("photons.processed") : 0;
       }
       char cell[128];

@@ -43,10 +43,8 @@ nlohmann::ordered_json lights_report(const scene::Scene& scene, const graph::Pla
                {"reaches", {{"objects", values.at(prefix + "objects")}, {"refractors", values.at(prefix + "refractors")}}}};
     if (light.type != scene::LightType::point) entry["shadow_view"] = view_of(light, light.view, light.extent);
     if (light.has_caustic_view) {
-      const bool fitted = light.caustic_view.target != light.view.target || light.caustic_view.fov_y_degrees != light.view.fov_y_degrees ||
-                          light.caustic_extent != light.extent || light.caustic_view.position != light.view.position;
-      entry["caustic_view"] = view_of(light, light.caustic_view, light.caustic_extent);
-      entry["caustic_view"]["fitted_to_refractors"] = fitted;
+      entry["caustic_view"] = view_of(light, light.caustic_view, light.extent);
+      entry["caustic_view"]["fitted_to_refractors"] = light.caustic_view_projection() != light.view_projection();
     } else {
       entry["caustic_view"] = nullptr;
     }
