@@ -56,6 +56,9 @@ fs::path scratch(const std::string& name) {
 
 const fs::path kSource = CAUSTICA_SOURCE_DIR;
 const std::string kCoreDemo = "--graph '" + (kSource / "graphs/core_demo.json").string() + "' ";
+// Light-space maps of 256 texels for renders that check what a command does, not the maps' detail:
+// a fresh 1024^2 map's first touch is most of a one-frame render under the sanitizers.
+const std::string kSmallMaps = " --set light_size=256 --set shadow_size=256";
 
 // Runs `caustica validate` on every FOLDER/*.json and checks exit code 1 and the message in its
 // .expect file; returns the number of cases.
@@ -124,7 +127,7 @@ TEST(Cli, EveryBadCommandGivesItsMessageAndExitCode) {
 // results (CAUSTICA_FAULT) where a real device would report them.
 TEST(Cli, DeviceLossAndOutOfMemoryExit3AndWriteNothing) {
   fs::path dir = scratch("faults");
-  const std::string outputs = "--size 64x48 --frames 2 --stats stats.json --dump lit=lit.exr --out frame.png";
+  const std::string outputs = "--size 64x48 --frames 2 --stats stats.json --dump lit=lit.exr --out frame.png" + kSmallMaps;
   ::setenv("CAUSTICA_FAULT", "device_lost", 1);
   CliRun lost = run("render " + outputs, dir);
   ::setenv("CAUSTICA_FAULT", "out_of_memory", 1);
@@ -260,7 +263,7 @@ TEST(Cli, EveryFlagThatHelpListsIsOneTheCommandTakes) {
 // values with a note, rather than failing.
 TEST(Cli, HeadlessRendersAtRestUnlessMovingOrSet) {
   fs::path dir = scratch("at_rest");
-  const std::string base = "render --graph caustics_progressive --scene sphere_plane --size 64x36 --out x.png --stats ";
+  const std::string base = "render --graph caustics_progressive --scene sphere_plane --size 64x36" + kSmallMaps + " --out x.png --stats ";
   const auto exact_photons = [&](const std::string& stats) {
     return nlohmann::json::parse(read(dir / stats))["counters"].value("photons.exact", 0.0);
   };
@@ -533,7 +536,7 @@ TEST(Cli, RenderStatsDumpAndTraceWithValidation) {
 // bunny moves by a texel in a few places (relative L1 8e-4); the unturned picture is 0.76 away.
 TEST(Cli, AnOrbitReusesTheLightsPassesAndEndsAtThePictureOfItsLastCamera) {
   fs::path dir = scratch("orbit");
-  CliRun orbit = run("render --validate --size 160x90 --frames 4 --orbit 10 --stats stats.json --out orbit.exr", dir);
+  CliRun orbit = run("render --validate --size 160x90 --frames 4 --orbit 10 --stats stats.json --out orbit.exr" + kSmallMaps, dir);
   ASSERT_EQ(orbit.code, 0) << orbit.output;
   const auto stats = nlohmann::json::parse(read(dir / "stats.json"));
   ASSERT_EQ(stats["frames_timed"].get<int>(), 3);
@@ -554,9 +557,9 @@ TEST(Cli, AnOrbitReusesTheLightsPassesAndEndsAtThePictureOfItsLastCamera) {
   position[0] = scene["camera"]["target"][0].get<double>() + std::cos(turn) * x + std::sin(turn) * z;
   position[2] = scene["camera"]["target"][2].get<double>() - std::sin(turn) * x + std::cos(turn) * z;
   std::ofstream(dir / "turned.json") << scene.dump(2);
-  CliRun turned = run("render --size 160x90 --scene turned.json --out turned.exr", dir);
+  CliRun turned = run("render --size 160x90 --scene turned.json --out turned.exr" + kSmallMaps, dir);
   ASSERT_EQ(turned.code, 0) << turned.output;
-  CliRun unturned = run("render --size 160x90 --out unturned.exr", dir);
+  CliRun unturned = run("render --size 160x90 --out unturned.exr" + kSmallMaps, dir);
   ASSERT_EQ(unturned.code, 0) << unturned.output;
   EXPECT_EQ(run("compare orbit.exr turned.exr --blur 0 --max-l1 0.003", dir).code, 0);
   EXPECT_NE(run("compare orbit.exr unturned.exr --blur 0 --max-l1 1e-3", dir).code, 0) << "the camera did not turn";
@@ -1241,13 +1244,15 @@ TEST(Cli, AccuracyBenchmarkWithoutMatplotlibStopsBeforeItStarts) {
 TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
   fs::path dir = scratch("no_ray_query");
   const std::string raytraced = "'" + (kSource / "graphs/caustics_raytraced.json").string() + "'";
-  const std::string sphere = " --scene '" + (kSource / "scenes/sphere_plane.json").string() + "'";
+  const std::string sphere = " --scene '" + (kSource / "scenes/sphere_plane.json").string() + "' --set shadow_size=256";
   ::setenv("CAUSTICA_NO_RAY_QUERY", "1", 1);
   const CliRun validate = run("validate " + raytraced, dir);
   const CliRun render = run("render --graph " + raytraced + sphere + " --size 64x36 --out x.png", dir);
-  const CliRun image_space =
-      run("render --graph '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere + " --size 64x36 --out y.png", dir);
-  const CliRun search = run("render --graph " + raytraced + sphere + " --set distance=search --size 64x36 --out z.png", dir);
+  const CliRun image_space = run("render --graph '" + (kSource / "graphs/caustics_adaptive.json").string() + "'" + sphere +
+                                     " --set light_size=256 --size 64x36 --out y.png",
+                                 dir);
+  const CliRun search =
+      run("render --graph " + raytraced + sphere + " --set light_size=256 --set distance=search --size 64x36 --out z.png", dir);
   // Camera refraction the same: the hybrid graph names its deferred pass and the image-space graph.
   const std::string hybrid = "'" + (kSource / "graphs/refraction_hybrid.json").string() + "'";
   const CliRun camera = run("render --graph " + hybrid + sphere + " --size 64x36 --out c.png", dir);
@@ -1270,7 +1275,8 @@ TEST(Cli, RayQueryGraphsAreRefusedClearlyWithoutRayQueries) {
   EXPECT_EQ(search.code, 0) << search.output;  // the image-space search needs no ray queries
   // With ray queries (lavapipe 25), the same graph validates and renders.
   EXPECT_EQ(run("validate " + raytraced, dir).code, 0);
-  const CliRun traced = run("render --graph " + raytraced + sphere + " --set grid=128 --size 64x36 --out x.png --stats s.json", dir);
+  const CliRun traced =
+      run("render --graph " + raytraced + sphere + " --set light_size=256 --set grid=128 --size 64x36 --out x.png --stats s.json", dir);
   ASSERT_EQ(traced.code, 0) << traced.output;
   const auto stats = nlohmann::json::parse(read(dir / "s.json"));
   EXPECT_GT(stats["memory"]["acceleration_bytes"].get<double>(), 0.0);

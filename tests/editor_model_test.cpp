@@ -10,6 +10,9 @@
 #include <fstream>
 #include <optional>
 #include <random>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "builtin_passes.h"
 #include "graph/compiler.h"
@@ -794,8 +797,43 @@ TEST(GraphModel, EveryBundledGraphRoundTripsByteForByte) {
   std::filesystem::remove_all(dir);
 }
 
+// Under the sanitizers (CAUSTICA_SMALL_LOOPS), ten times slower there, on a few graphs that between
+// them hold every pass type the bundled graphs use (taken greedily, the graph adding most types
+// first); the Release run edits every graph.
+std::vector<std::filesystem::path> graphs_to_edit() {
+  std::vector<std::filesystem::path> graphs = bundled_graphs();
+#ifdef CAUSTICA_SMALL_LOOPS
+  std::vector<std::set<std::string>> types;
+  for (const auto& path : graphs) {
+    std::set<std::string>& in_graph = types.emplace_back();
+    const ordered_json graph = ordered_json::parse(file_text(path));
+    for (const auto& pass : graph["passes"]) in_graph.insert(pass["type"].get<std::string>());
+  }
+  std::set<std::string> covered;
+  std::vector<std::filesystem::path> chosen;
+  for (;;) {
+    size_t best = 0, best_new = 0;
+    for (size_t i = 0; i < graphs.size(); ++i) {
+      const auto adds =
+          static_cast<size_t>(std::count_if(types[i].begin(), types[i].end(), [&](const std::string& t) { return !covered.count(t); }));
+      if (adds > best_new) {
+        best = i;
+        best_new = adds;
+      }
+    }
+    if (best_new == 0) break;
+    covered.insert(types[best].begin(), types[best].end());
+    chosen.push_back(graphs[best]);
+  }
+  graphs = chosen;
+#endif
+  return graphs;
+}
+
 TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
-  for (const auto& path : bundled_graphs()) {
+  const auto graphs = graphs_to_edit();
+  ASSERT_FALSE(graphs.empty());
+  for (const auto& path : graphs) {
     SCOPED_TRACE(path.filename().string());
     GraphModel model = GraphModel::open(path.string(), registry());
     const std::string original = model.text();

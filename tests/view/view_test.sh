@@ -16,17 +16,21 @@ DISPLAY_BASE=90 source "$(dirname "$0")/xvfb.sh"
 # The sphere on its plane: every viewer feature here is the same on it, and its frames cost a
 # third of the bunny's (whose 70k triangles the light-space passes draw every frame).
 scene="$src/scenes/sphere_plane.json"
+# Light-space maps of 256 texels instead of the graphs' 1024: what is checked here is what the
+# viewer runs and when, not the maps' detail, and a fresh 1024^2 map's first touch is most of a
+# sanitized frame's cost.
+small_maps=(--set light_size=256 --set shadow_size=256)
 
 # 2 and 3. Hot reload, then a broken edit.
 # A scripted orbit (without the frame budget, whose size changes start a new plan): after the first
 # frame only the passes that see the camera run, the light's keep their results (reused); with
 # --every-pass every pass runs every frame.
-"$bin" view --scene "$scene" --size 160x90 --frames 3 --orbit 5 --budget 0 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
-"$bin" view --scene "$scene" --size 160x90 --frames 3 --orbit 5 --budget 0 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
+"$bin" view --scene "$scene" --size 160x90 "${small_maps[@]}" --frames 3 --orbit 5 --budget 0 --stats "$dir/orbit.json" --validate > "$dir/log" 2>&1 || fail "view --orbit exited $?"
+"$bin" view --scene "$scene" --size 160x90 "${small_maps[@]}" --frames 3 --orbit 5 --budget 0 --every-pass --stats "$dir/every.json" --validate > "$dir/log" 2>&1 || fail "view --every-pass exited $?"
 # A budget no frame meets: the size halves, to a quarter, and then the default graph's while_moving
 # values are taken, a step after each frame that is not the first of its plan (a new plan's first
 # frame runs every pass, the light's too, and says little of the frames after it).
-"$bin" view --scene "$scene" --size 160x90 --frames 7 --orbit 5 --budget 1 --stats "$dir/budget.json" --validate > "$dir/log" 2>&1 || fail "view --budget exited $?"
+"$bin" view --scene "$scene" --size 160x90 "${small_maps[@]}" --frames 7 --orbit 5 --budget 1 --stats "$dir/budget.json" --validate > "$dir/log" 2>&1 || fail "view --budget exited $?"
 python3 - "$dir/orbit.json" "$dir/every.json" "$dir/budget.json" <<'PY' || fail "the frame logs do not show the light's passes reused while orbiting, or the budget's sizes"
 import json, sys
 orbit, every, budget = (json.load(open(f)) for f in sys.argv[1:])
@@ -52,7 +56,7 @@ progressive="$src/graphs/caustics_progressive.json"
 # showing passes' pictures carried over; slice_side is sampling-only, so the mean goes on), up to
 # the last; the last frame runs whole. (That the mean carried across slices is the one of as many
 # photons: Progressive.AMeanGoesOnWhenTheSliceChanges.)
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 30 --still-after 0 --budget 1 --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 "${small_maps[@]}" --frames 30 --still-after 0 --budget 1 --stats "$dir/apart.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph with --budget 1 exited $?"
 grep -q "view: refining frames too slow for the 1 ms budget (median .* ms): the while_still values of level 3 of 3" "$dir/log" || fail "no message of the last level: $(cat "$dir/log")"
 python3 - "$dir/apart.json" <<'PY' || fail "the frame log does not show refining frames apart at rest, at each level in turn"
 import json, sys
@@ -90,7 +94,7 @@ for f in frames:
 PY
 # Resting, orbiting and resting again: the still plan's mean goes on where it stood (it is parked
 # while the moving plan averages its own photons, and the camera is not what it depends on).
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 10 --still-after 0 --budget 0 --orbit 5 --move-frames 4:6 --stats "$dir/rest_orbit.json" --validate > "$dir/log" 2>&1 || fail "view --move-frames exited $?: $(cat "$dir/log")"
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 "${small_maps[@]}" --frames 10 --still-after 0 --budget 0 --orbit 5 --move-frames 4:6 --stats "$dir/rest_orbit.json" --validate > "$dir/log" 2>&1 || fail "view --move-frames exited $?: $(cat "$dir/log")"
 python3 - "$dir/rest_orbit.json" <<'PY' || fail "the still mean did not go on after an orbit"
 import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
@@ -103,7 +107,7 @@ PY
 # the move). Without the picture let stand, that frame ran whole. (The move is on the frame after
 # the plan's first, which the budget does not judge: the moving frame keeps the still one's size
 # on a slow build too.)
-"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 4 --still-after 0 --budget 1 --orbit 5 --move-frames 1:2 --stats "$dir/stop.json" --validate > "$dir/log" 2>&1 || fail "view --budget 1 --move-frames exited $?: $(cat "$dir/log")"
+"$bin" view --scene "$scene" --graph "$progressive" --size 160x90 "${small_maps[@]}" --frames 4 --still-after 0 --budget 1 --orbit 5 --move-frames 1:2 --stats "$dir/stop.json" --validate > "$dir/log" 2>&1 || fail "view --budget 1 --move-frames exited $?: $(cat "$dir/log")"
 python3 - "$dir/stop.json" <<'PY' || fail "the first still frame after a move did not refine with the picture standing"
 import json, sys
 frames = json.load(open(sys.argv[1]))["frames"]
@@ -119,9 +123,9 @@ printf '{"name": "broken", "passes": [], "outputs": []}\n' > "$dir/broken.json"
 "$bin" view --graph "$dir/broken.json" --size 160x90 --frames 1 > "$dir/log" 2>&1 && fail "view of a broken graph exited 0"
 grep -q "broken.json" "$dir/log" || fail "view of a broken graph does not name it: $(cat "$dir/log")"
 if grep -q "kept the last good" "$dir/log"; then fail "view of a broken graph claims to keep last good files: $(cat "$dir/log")"; fi
-"$bin" view --graph "$progressive" --size 160x90 --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
+"$bin" view --graph "$progressive" --size 160x90 "${small_maps[@]}" --frames 3 --orbit 5 --still-after 0 --stats "$dir/moving.json" --validate > "$dir/log" 2>&1 || fail "view --orbit of the progressive graph exited $?"
 # A device without ray queries refuses the exact photons: the values as set, and a message.
-CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
+CAUSTICA_NO_RAY_QUERY=1 "$bin" view --scene "$scene" --graph "$progressive" --size 160x90 "${small_maps[@]}" --frames 2 --still-after 0 --stats "$dir/refused.json" --validate > "$dir/log" 2>&1 || fail "view of the progressive graph without ray queries exited $?"
 grep -q "view: not using the while_still values: .*VK_KHR_ray_query" "$dir/log" || fail "no message that the while_still values were refused"
 python3 - "$dir/moving.json" "$dir/refused.json" <<'PY' || fail "the frame logs do not show the while_still values at rest only, or the converging frames"
 import json, sys
@@ -147,7 +151,7 @@ wait_for() {  # TEXT SECONDS: until the log holds TEXT; prints the seconds it to
 # cheaper while_still level (a new plan, whose mean starts again).
 python3 -c 'import json, sys; g = json.load(open(sys.argv[1])); g["parameters"]["max_frames"]["default"] = 6; json.dump(g, open(sys.argv[2], "w"), indent=2)' \
   "$progressive" "$dir/prog6.json"
-"$bin" view --scene "$scene" --graph "$dir/prog6.json" --size 160x90 --still-after 0 --budget 0 --validate > "$dir/log" 2>&1 &
+"$bin" view --scene "$scene" --graph "$dir/prog6.json" --size 160x90 "${small_maps[@]}" --still-after 0 --budget 0 --validate > "$dir/log" 2>&1 &
 view_pid=$!
 wait_for "view: converged after 6 frames at rest" 120 > /dev/null
 sleep 1
