@@ -1,5 +1,5 @@
-// The viewer's frame budget (editor/model/frame_budget.h) on made-up frame times: down a step on
-// a frame over the budget, up again when the richer step is predicted to stay well under it, never
+// The viewer's frame budget (editor/model/frame_budget.h) on made-up frame times: down as many
+// steps as a frame over the budget predicts, up again when the richer step is predicted to stay well under it, never
 // judged on the first frame of a new plan, whole again when the view stops.
 #include <gtest/gtest.h>
 
@@ -21,31 +21,56 @@ std::vector<Step> moving(FrameBudget& budget, const std::vector<double>& frame_m
 
 constexpr Step kWhole{1, false}, kHalf{2, false}, kQuarter{4, false}, kLowered{4, true};
 
-TEST(FrameBudget, GoesDownAStepPerRepresentativeFrameOverTheBudget) {
-  FrameBudget budget(100);
-  // The first frame at each step (a new plan) decides nothing.
-  const std::vector<Step> expected{kWhole, kHalf, kHalf, kQuarter, kQuarter, kLowered, kLowered, kLowered};
-  EXPECT_EQ(moving(budget, {500, 500, 300, 200, 150, 120, 90, 70}), expected);
+TEST(FrameBudget, GoesDownAsManyStepsAsTheFramePredictsItTakesToFit) {
+  // A size step is predicted to cost at least twice the next (kLeastSizeRatio), the while_moving
+  // values' step nothing until measured; the first frame at each step (a new plan) decides nothing.
+  FrameBudget half(100);
+  EXPECT_EQ(moving(half, {150, 150}), (std::vector<Step>{kWhole, kHalf}));  // predicted 75 at half
+  FrameBudget quarter(100);
+  EXPECT_EQ(moving(quarter, {300, 300}), (std::vector<Step>{kWhole, kQuarter}));  // 150 at half, 75 at a quarter
+  FrameBudget lowered(100);
+  EXPECT_EQ(moving(lowered, {500, 500}), (std::vector<Step>{kWhole, kLowered}));  // 125 at a quarter
+  FrameBudget unlowered(100);
+  EXPECT_EQ(moving(unlowered, {500, 500}, false), (std::vector<Step>{kWhole, kQuarter}));
+  // Frames over the budget at the step reached go on down.
+  FrameBudget steps(100);
+  EXPECT_EQ(moving(steps, {150, 150, 150, 130, 120, 110}), (std::vector<Step>{kWhole, kHalf, kHalf, kQuarter, kQuarter, kLowered}));
+}
+
+// Whole to a quarter, then a frame over the budget there: the while_moving values, one step, whose
+// cost over the quarter the next judged frame measures.
+std::vector<Step> to_lowered_one_step(FrameBudget& budget) {
+  return moving(budget, {300, 300, 120, 120});
 }
 
 TEST(FrameBudget, GoesBackUpWhenTheRicherStepIsPredictedWellUnderTheBudget) {
   FrameBudget budget(100);
-  moving(budget, {500, 500, 300, 200, 150, 120, 90});
+  to_lowered_one_step(budget);
   ASSERT_EQ(budget.step(), kLowered);
   // The while_moving values made the frame 2x cheaper (120 -> 60): at 60 a return would cost
   // about 120, over the budget; at 30 about 60, within 0.8 of it.
   EXPECT_EQ(moving(budget, {60, 60, 60}), (std::vector<Step>{kLowered, kLowered, kLowered}));
   EXPECT_EQ(moving(budget, {30}), (std::vector<Step>{kQuarter}));
-  // The half cost 200 / 120 times the quarter: at 40 the half is predicted at 67 ms.
-  EXPECT_EQ(moving(budget, {45, 40}), (std::vector<Step>{kQuarter, kHalf}));
+  // The half was never measured: predicted at twice the quarter, 90 ms at 45 (no), 80 at 40 (up).
+  EXPECT_EQ(moving(budget, {45, 45, 40}), (std::vector<Step>{kQuarter, kQuarter, kHalf}));
+}
+
+TEST(FrameBudget, ARaiseIsPredictedAtNoLessThanTwiceTheSmallerSize) {
+  FrameBudget budget(100);
+  // Down to half on 150 ms; half-size frames measured at 100 (the first judged one still settling
+  // after the new plan) would make the whole predicted at 1.5 times: 45 -> 68 ms. Predicted at
+  // twice, 90: no raise.
+  EXPECT_EQ(moving(budget, {150, 150, 120, 100}), (std::vector<Step>{kWhole, kHalf, kHalf, kHalf}));
+  EXPECT_EQ(moving(budget, {45, 45, 45}), (std::vector<Step>{kHalf, kHalf, kHalf}));
+  EXPECT_EQ(moving(budget, {38}), (std::vector<Step>{kWhole}));  // 76 ms predicted
 }
 
 TEST(FrameBudget, ARaiseThatDoesNotHoldWaitsLongerBeforeTheNext) {
   FrameBudget budget(100);
-  moving(budget, {500, 500, 300, 200, 150, 120, 90});
+  to_lowered_one_step(budget);
   ASSERT_EQ(budget.step(), kLowered);
   // The quarter is predicted at 2 times the lowered frame (120 / 60): at 30, up.
-  EXPECT_EQ(moving(budget, {60, 30}), (std::vector<Step>{kLowered, kQuarter}));
+  EXPECT_EQ(moving(budget, {60, 60, 30}), (std::vector<Step>{kLowered, kLowered, kQuarter}));
   // The raise does not hold: its first judged frame is over the budget.
   EXPECT_EQ(moving(budget, {70, 110}), (std::vector<Step>{kQuarter, kLowered}));
   // Predicted at 2 times again (110 / 55), but the next raise waits 8 judged frames.
@@ -65,7 +90,7 @@ TEST(FrameBudget, HoldsASteadyFrameTimeWithoutGoingUpAndDown) {
 
 TEST(FrameBudget, WholeAgainWhenTheViewStops) {
   FrameBudget budget(100);
-  moving(budget, {500, 500, 300, 200});
+  moving(budget, {300, 300});
   ASSERT_EQ(budget.step(), kQuarter);
   EXPECT_EQ(budget.next(200, false, true, true), kWhole);
 }
@@ -88,7 +113,7 @@ TEST(FrameBudget, ANewPlanForAnotherReasonIsNotJudgedOnItsFirstFrame) {
   moving(budget, {50, 50});
   budget.new_plan();  // say the while_still values were dropped when the view began to move
   EXPECT_EQ(moving(budget, {700}), (std::vector<Step>{kWhole}));
-  EXPECT_EQ(moving(budget, {700}), (std::vector<Step>{kHalf}));
+  EXPECT_EQ(moving(budget, {150}), (std::vector<Step>{kHalf}));
 }
 
 // The showing passes at rest in steps within the budget (the bunny's lighting, refraction and tone

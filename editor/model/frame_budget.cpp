@@ -8,6 +8,12 @@ namespace {
 // Raising is worth it only when the richer step is predicted to stay this far under the budget, so
 // that the size does not go up and down from frame to frame.
 constexpr double kRaiseMargin = 0.8;
+// A size step (half the size each way, a quarter of the pixels) is predicted to cost at least this
+// many times the next: the part of a frame that does not shrink with the pixels keeps it under 4,
+// and on lavapipe the default graph's halvings measured 2.2 to 2.4 (issue 61's drags). A ratio
+// measured lower comes from frames still settling after a new plan (the first frames at a step run
+// slower, their images new to the heap) and made raises that did not hold.
+constexpr double kLeastSizeRatio = 2.0;
 // A level is kept when its refining frames' median leaves this much of the budget: the frames
 // spread about their median (a p95 a quarter above it on this machine), and the window's answer is
 // judged by the slow ones.
@@ -20,6 +26,23 @@ constexpr double kLevelRaiseMargin = 0.7;
 // raise waits this many judged frames, twice as many after each raise that does not hold.
 constexpr size_t kHeldAfterFailedRaise = 8, kMostHeld = 64;
 }  // namespace
+
+double FrameBudget::ratio_over_next(size_t level) const {
+  const bool size_step = kSteps[level + 1].divider != kSteps[level].divider;
+  return size_step ? std::max(cost_over_next_[level], kLeastSizeRatio) : cost_over_next_[level];
+}
+
+size_t FrameBudget::fitting_level(double frame_ms, size_t cheapest) const {
+  size_t level = level_;
+  double predicted = frame_ms;
+  while (level < cheapest && predicted > budget_ms_) {
+    const double ratio = ratio_over_next(level);
+    ++level;
+    if (ratio <= 1) break;  // not measured: its frames are judged first
+    predicted /= ratio;
+  }
+  return level;
+}
 
 FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale, bool can_lower) {
   const size_t before = level_;
@@ -35,11 +58,12 @@ FrameBudget::Step FrameBudget::next(double frame_ms, bool moving, bool can_scale
     if (frame_ms > budget_ms_ && level_ < cheapest) {
       if (raised_) hold_ = std::min(kMostHeld, std::max(kHeldAfterFailedRaise, 2 * hold_));  // the raise did not hold
       raised_ = false;
-      ++level_;
-      going_down_ = true;
+      const size_t to = fitting_level(frame_ms, cheapest);
+      going_down_ = to == level_ + 1;  // a cost is measured over one step only
+      level_ = to;
       held_ = 0;
-    } else if (frame_ms <= budget_ms_ && level_ > 0 && held_ > hold_ && cost_over_next_[level_ - 1] > 0 &&
-               frame_ms * cost_over_next_[level_ - 1] <= kRaiseMargin * budget_ms_) {
+    } else if (frame_ms <= budget_ms_ && level_ > 0 && held_ > hold_ && ratio_over_next(level_ - 1) > 0 &&
+               frame_ms * ratio_over_next(level_ - 1) <= kRaiseMargin * budget_ms_) {
       --level_;
       raised_ = true;
       held_ = 0;

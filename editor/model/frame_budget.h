@@ -1,7 +1,9 @@
 #pragma once
 // The viewer's frame budget while the view moves, Cycles-style: a frame over the budget lowers the
-// quality of the next, a frame well under it raises it again (after a raise that did not hold, only
-// once the step has held a while, longer each time), and the first still frame is whole.
+// quality of the next, by as many steps as the frame predicts it takes to fit (each a new plan whose
+// first frame costs more, so one move rather than several), a frame well under it raises it again
+// (after a raise that did not hold, only once the step has held a while, longer each time), and the
+// first still frame is whole.
 // No window and no device here, so that its rules are tested on the CPU with made-up frame times
 // (tests/frame_budget_test.cpp); the viewer feeds it the measured ones.
 #include <array>
@@ -35,6 +37,13 @@ class FrameBudget {
  private:
   // From whole to cheapest: each halving of the size each way, then the while_moving values.
   static constexpr std::array<Step, 4> kSteps{{{1, false}, {2, false}, {4, false}, {4, true}}};
+  // How many times the frame at `level` costs the one at the next cheaper step, as predicted: the
+  // measured ratio, for a size step at least kLeastSizeRatio (frame_budget.cpp); 0 where a step
+  // with the while_moving values has not been measured.
+  double ratio_over_next(size_t level) const;
+  // The step a frame of `frame_ms` over the budget goes down to: the first predicted to fit, or the
+  // first whose cost is not known yet, or the cheapest.
+  size_t fitting_level(double frame_ms, size_t cheapest) const;
   double budget_ms_;
   size_t level_ = 0;
   // The frame just measured was the first at its step: a new plan, whose first frame runs every
@@ -44,7 +53,7 @@ class FrameBudget {
   // measured on frames after the first at each: what raising back is predicted to cost.
   std::array<double, kSteps.size()> cost_over_next_{};
   double last_at_step_ms_ = 0;  // the last representative frame time at the current step
-  bool going_down_ = false;     // the step was just lowered: its first representative frame sets cost_over_next_
+  bool going_down_ = false;     // lowered by one step: its first representative frame sets cost_over_next_
   bool raised_ = false;         // the step was reached by going up, and has not held yet
   size_t held_ = 0;             // judged frames at the current step
   size_t hold_ = 0;             // judged frames a step is held before going up: longer after each raise that did not hold
