@@ -160,7 +160,7 @@ TEST(Caustics, TheReferencePictureProjectsACausticMapAsTheEngineDoes) {
   const io::ImageData lit = e.executor.read_image("lit");
   e.SceneEngine::render("refraction_deferred", scene, {}, {"lit"});
   const io::ImageData lit_without = e.executor.read_image("lit");
-  const auto picture = reference::render_refraction_reference(*scene, kWidth, kHeight, &map);
+  const auto picture = reference::render_refraction_reference(*scene, kWidth, kHeight, {&map});
   const auto picture_without = reference::render_refraction_reference(*scene, kWidth, kHeight);
   double engine_sum = 0, reference_sum = 0, difference = 0;
   for (size_t i = 0; i < picture.refractor.size(); ++i) {

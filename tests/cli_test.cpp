@@ -823,6 +823,39 @@ TEST(Cli, ReferenceAndBenchmarksRun) {
   fs::remove_all(dir);
 }
 
+// reference --picture: every light's photons, shared by flux (the shares printed), then the picture
+// lit by their maps; the same as each light's map traced alone with its share and the picture
+// traced from those maps (--caustics I=MAP), bit for bit: the way a cluster makes it.
+TEST(Cli, TheReferencePictureIsEveryLightsMapThenThePictureTheyLight) {
+  fs::path dir = scratch("picture");
+  const std::string scene = " --scene '" + (kSource / "scenes/three_lights.json").string() + "' --map-size 32";
+  const CliRun picture = run("reference" + scene + " --photons 30000 --size 48x27 --picture picture.exr", dir);
+  ASSERT_EQ(picture.code, 0) << picture.output;
+  std::string maps;
+  uint64_t shared = 0;
+  for (int light = 0; light < 3; ++light) {
+    const std::string said = "--light " + std::to_string(light) + " --photons ";
+    const size_t at = picture.output.find(said);
+    ASSERT_NE(at, std::string::npos) << picture.output;
+    const uint64_t share = std::stoull(picture.output.substr(at + said.size()));
+    EXPECT_GT(share, 0u);
+    shared += share;
+    const std::string map = "map" + std::to_string(light) + ".exr";
+    const CliRun alone =
+        run("reference" + scene + " --light " + std::to_string(light) + " --photons " + std::to_string(share) + " --out " + map, dir);
+    ASSERT_EQ(alone.code, 0) << alone.output;
+    maps += " --caustics " + std::to_string(light) + "=" + map;
+  }
+  EXPECT_EQ(shared, 30000u);
+  const CliRun lit = run("reference" + scene + " --size 48x27" + maps + " --out lit.exr", dir);
+  ASSERT_EQ(lit.code, 0) << lit.output;
+  EXPECT_EQ(run("compare picture.exr lit.exr --blur 0 --max-l1 0", dir).code, 0);
+  const CliRun unlit = run("reference" + scene + " --size 48x27 --out unlit.exr", dir);
+  ASSERT_EQ(unlit.code, 0) << unlit.output;
+  EXPECT_NE(run("compare picture.exr unlit.exr --blur 0 --max-l1 1e-3", dir).code, 0) << "the maps lit nothing";
+  fs::remove_all(dir);
+}
+
 // The photon reference, compare on it, and the speed-accuracy benchmark with its chart.
 TEST(Cli, PhotonReferenceCompareAndAccuracyBenchmark) {
   fs::path dir = scratch("accuracy");

@@ -318,7 +318,8 @@ TEST(PhotonShards, MergeNamesEveryShardThatDoesNotBelong) {
 // Traces camera shard `index` of `count` and writes it into `dir` as the command line does; returns its path.
 std::string write_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustics, uint64_t seed,
                                uint64_t index, uint64_t count, const std::filesystem::path& dir, const std::string& name) {
-  const reference::TracedCameraShard traced = reference::trace_camera_shard(scene, width, height, caustics, seed, index, count);
+  const reference::TracedCameraShard traced =
+      reference::trace_camera_shard(scene, width, height, reference::CausticMaps{caustics}, seed, index, count);
   const std::string path = (dir / name).string();
   reference::write_camera_shard(path, traced.shard, traced.rows);
   return path;
@@ -344,7 +345,7 @@ TEST(CameraShards, AnyShardingMergesToTheUnshardedImage) {
   caustics.width = caustics.height = 16;
   caustics.rgba.assign(16 * 16 * 4, 0.0f);
   for (size_t i = 0; i < caustics.rgba.size(); ++i) caustics.rgba[i] = float(i % 7) * 1e-3f;
-  const auto whole = reference::render_refraction_reference(scene, width, height, &caustics);
+  const auto whole = reference::render_refraction_reference(scene, width, height, {&caustics});
   const auto dir = scratch("camera_shards");
   for (const uint64_t count : {1u, 2u, 5u}) {
     SCOPED_TRACE(count);
@@ -359,7 +360,7 @@ TEST(CameraShards, AnyShardingMergesToTheUnshardedImage) {
     EXPECT_EQ(merged.whole.seed, 1u);
   }
   // The seed reaches the rough pixels: seed 2's image differs, and its shards merge into it.
-  const auto seed2 = reference::render_refraction_reference(scene, width, height, &caustics, 2);
+  const auto seed2 = reference::render_refraction_reference(scene, width, height, {&caustics}, 2);
   EXPECT_NE(seed2.radiance.rgba, whole.radiance.rgba);
   std::vector<std::string> paths;
   for (uint64_t i = 0; i < 3; ++i)
@@ -433,12 +434,163 @@ TEST(CameraShards, MergeNamesEveryShardThatDoesNotBelong) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(PhotonReference, RefusesASceneWhoseFirstLightIsNotASpot) {
+TEST(PhotonReference, RefusesALightWithoutACausticViewOrNotInTheScene) {
   const scene::Scene scene = from_text(R"({
     "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
     "lights": [{"type": "point", "position": [0, 5, 0]}],
     "objects": [{"name": "floor", "primitive": {"type": "plane"}}]})");
-  EXPECT_THROW(reference::trace_photon_reference(scene, {}), InputError);
+  EXPECT_THROW(reference::trace_photon_reference(scene, {}), InputError);  // no refractor to fit a view about
+  reference::PhotonOptions second;
+  second.light = 1;
+  try {
+    reference::trace_photon_reference(bundled("sphere_plane"), second);
+    ADD_FAILURE() << "light 1 of a one-light scene was traced";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("traces from light 1, and the scene has 1 light"), std::string::npos) << e.what();
+  }
+}
+
+// The flux through a caustic view, against the geometry of its solid angle: a point light's view
+// is a square pyramid of half-side a at distance 1, 4 asin(a^2 / (1 + a^2)) sr; a directional
+// light's is its irradiance over the square; a spot's is its cone, 2 pi (1 - cos half-angle), less
+// a little for the cone's soft edge (2% of the cosine's range, smoothstep).
+TEST(PhotonReference, ACausticViewsFluxIsTheIntensityOverItsSolidAngle) {
+  scene::Light point;
+  point.type = scene::LightType::point;
+  point.intensity = 7.0f;
+  point.view.position = {0.0f, 3.0f, 0.0f};
+  point.caustic_view = point.view;
+  point.caustic_view.target = {0.5f, 0.0f, 0.2f};
+  point.caustic_view.fov_y_degrees = 40.0f;
+  point.has_caustic_view = true;
+  const double a = std::tan(20.0 * M_PI / 180.0);
+  EXPECT_NEAR(reference::caustic_view_flux(point) / (7.0 * 4.0 * std::asin(a * a / (1.0 + a * a))), 1.0, 1e-4);
+
+  scene::Light sun;
+  sun.type = scene::LightType::directional;
+  sun.intensity = 2.5f;
+  sun.extent = 1.5f;
+  sun.view.position = {0.0f, 5.0f, 0.0f};
+  sun.view.target = {0.0f, 0.0f, 0.0f};
+  sun.caustic_view = sun.view;
+  sun.has_caustic_view = true;
+  EXPECT_NEAR(reference::caustic_view_flux(sun), 2.5 * 3.0 * 3.0, 1e-9);
+
+  scene::Light spot;
+  spot.intensity = 10.0f;
+  spot.view.position = {1.0f, 4.0f, 0.0f};
+  spot.view.target = {0.0f, 0.0f, 0.0f};
+  spot.view.fov_y_degrees = 50.0f;
+  spot.caustic_view = spot.view;
+  spot.has_caustic_view = true;
+  const double cone = 10.0 * 2.0 * M_PI * (1.0 - std::cos(25.0 * M_PI / 180.0));
+  EXPECT_LT(reference::caustic_view_flux(spot), cone);
+  EXPECT_GT(reference::caustic_view_flux(spot), 0.98 * cone);
+  spot.has_caustic_view = false;
+  EXPECT_EQ(reference::caustic_view_flux(spot), 0.0);
+}
+
+// The photons of the whole picture are shared by flux: two spots alike but for their intensity
+// (3:1) take 3:1 of them, a light without a caustic view none, and the shares add up.
+TEST(PhotonReference, PhotonsAreSharedAmongTheLightsByTheirFlux) {
+  const scene::Scene scene = from_text(R"({
+    "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
+    "lights": [{"type": "spot", "position": [-2, 5, 0], "target": [-1, 0, 0], "fov": 30, "intensity": 30},
+               {"type": "point", "position": [0, 0.3, 0], "intensity": 5},
+               {"type": "spot", "position": [2, 5, 0], "target": [1, 0, 0], "fov": 30, "intensity": 10}],
+    "objects": [{"name": "floor", "primitive": {"type": "plane"}},
+                {"name": "ball", "primitive": {"type": "sphere", "radius": 0.5}, "transform": {"translate": [0, 0.5, 0]},
+                 "material": {"refractor": true}}]})");
+  ASSERT_FALSE(scene.lights[1].has_caustic_view);  // inside the ball
+  const std::vector<uint64_t> shares = reference::photons_per_light(scene, 1'000'001);
+  ASSERT_EQ(shares.size(), 3u);
+  EXPECT_EQ(shares[0] + shares[1] + shares[2], 1'000'001u);
+  EXPECT_EQ(shares[1], 0u);
+  EXPECT_NEAR(double(shares[0]), 750'000.75, 1.0);
+  EXPECT_NEAR(double(shares[2]), 250'000.25, 1.0);
+}
+
+// The whole reference picture (caustica reference --picture): each light's map projected through
+// its own caustic view onto what the camera sees, against an independent path of the same photons,
+// deposited straight into the camera's pixels where they land in sight (PhotonOptions::camera_width).
+// Where the camera sees the floor, the picture's caustic (lit by the maps, less unlit) is the
+// floor's albedo over pi times each light's colour times the irradiance its photons left there.
+// The picture's pixels sample the caustic at their centres and the focused caustics are smaller
+// than a pixel here, so the picture is traced at 4x4 samples a pixel and averaged. Were every map
+// projected through light 0's view, the other two lights' caustics would land elsewhere.
+TEST(PhotonReference, TheWholePictureHasEveryLightsCausticWhereItsPhotonsLand) {
+  const scene::Scene scene = bundled("three_lights");
+  ASSERT_EQ(scene.objects.front().name, "floor");
+  constexpr uint32_t kWidth = 160, kHeight = 90;
+  const size_t pixels = size_t{kWidth} * kHeight;
+  const std::vector<uint64_t> shares = reference::photons_per_light(scene, 6'000'000);
+  std::vector<io::ImageData> maps(scene.lights.size());
+  reference::CausticMaps lit(scene.lights.size(), nullptr);
+  std::vector<double> expected(pixels * 3, 0.0);
+  const glm::vec3 albedo = scene.objects.front().material.albedo;
+  for (uint32_t light = 0; light < scene.lights.size(); ++light) {
+    ASSERT_GT(shares[light], 0u) << "light " << light;
+    reference::PhotonOptions options;
+    options.light = light;
+    options.photons = shares[light];
+    options.map_size = 256;
+    options.camera_width = kWidth;
+    options.camera_height = kHeight;
+    reference::PhotonReference traced = reference::trace_photon_reference(scene, options);
+    for (size_t p = 0; p < pixels; ++p) {
+      for (int c = 0; c < 3; ++c)
+        expected[p * 3 + size_t(c)] +=
+            double(albedo[c] * scene.lights[light].color[c]) / M_PI * double(traced.camera.rgba[p * 4 + size_t(c)]);
+    }
+    maps[light] = std::move(traced.caustic_map);
+    lit[light] = &maps[light];
+  }
+  constexpr uint32_t kSub = 4;
+  const reference::RefractionImage with = reference::render_refraction_reference(scene, kWidth * kSub, kHeight * kSub, lit);
+  const reference::RefractionImage without = reference::render_refraction_reference(scene, kWidth * kSub, kHeight * kSub);
+  double difference = 0, total = 0, got_sum = 0;
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      glm::dvec3 got(0.0);
+      bool through_glass = false;  // where the photons' own deposit does not look
+      for (uint32_t sy = 0; sy < kSub; ++sy) {
+        for (uint32_t sx = 0; sx < kSub; ++sx) {
+          const size_t sub = size_t{y * kSub + sy} * kWidth * kSub + x * kSub + sx;
+          through_glass = through_glass || with.refractor[sub];
+          for (int c = 0; c < 3; ++c)
+            got[c] += double(with.radiance.rgba[sub * 4 + size_t(c)]) - double(without.radiance.rgba[sub * 4 + size_t(c)]);
+        }
+      }
+      if (through_glass) continue;
+      got /= double(kSub * kSub);
+      const size_t p = size_t{y} * kWidth + x;
+      for (int c = 0; c < 3; ++c) {
+        difference += std::abs(got[c] - expected[p * 3 + size_t(c)]);
+        total += expected[p * 3 + size_t(c)];
+        got_sum += got[c];
+      }
+    }
+  }
+  std::printf("three lights' caustics in the picture against their photons' deposits: energy %.4f, relative L1 %.4f\n", got_sum / total,
+              difference / total);
+  EXPECT_NEAR(got_sum / total, 1.0, 0.03);  // 1.0027 when this was written
+  EXPECT_LT(difference / total, 0.2);       // 0.110: the maps' bilinear blur and photon noise
+}
+
+// A map is of one light: shards of another light's photons do not merge with it.
+TEST(PhotonShards, ShardsOfAnotherLightAreRefused) {
+  const scene::Scene scene = bundled("three_lights");
+  reference::PhotonOptions options;
+  options.photons = 2000;
+  options.map_size = 8;
+  const auto dir = scratch("lights");
+  std::vector<std::string> shards;
+  for (uint64_t i = 0; i < 2; ++i) shards.push_back(write_shard(scene, options, i, 2, dir, std::to_string(i) + ".exr"));
+  ASSERT_EQ(merge_refusal(shards), "");
+  options.light = 2;
+  shards[1] = write_shard(scene, options, 1, 2, dir, "point.exr");
+  EXPECT_NE(merge_refusal(shards).find("point.exr: light 2, where"), std::string::npos) << merge_refusal(shards);
+  std::filesystem::remove_all(dir);
 }
 
 // The metrics of caustica compare on images whose answers are known by hand.

@@ -87,7 +87,16 @@ std::string caustics_identity(const io::ImageData& caustic_map) {
   return hex(hash.value());
 }
 
-TracedCameraShard trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map,
+std::string caustics_identity(const CausticMaps& caustic_maps) {
+  std::string identity;
+  for (size_t i = 0; i < caustic_maps.size(); ++i) {
+    if (caustic_maps[i]) identity += (identity.empty() ? "" : ",") + std::to_string(i) + ":" + caustics_identity(*caustic_maps[i]);
+  }
+  if (identity.empty()) return "none";
+  return identity.rfind("0:", 0) == 0 && identity.find(',') == std::string::npos ? identity.substr(2) : identity;
+}
+
+TracedCameraShard trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const CausticMaps& caustic_maps,
                                      uint64_t seed, uint64_t index, uint64_t count) {
   TracedCameraShard traced;
   CameraShard& shard = traced.shard;
@@ -97,12 +106,12 @@ TracedCameraShard trace_camera_shard(const scene::Scene& scene, uint32_t width, 
   shard.index = index;
   shard.count = count;
   shard.width = width;
-  shard.caustics_identity = caustic_map ? caustics_identity(*caustic_map) : "none";
+  shard.caustics_identity = caustics_identity(caustic_maps);
   shard.scene_name = scene.name;
   shard.scene_identity = camera_scene_identity(scene);
   shard.engine_identity = engine_identity();
   const ImageRows rows{static_cast<uint32_t>(shard.first), static_cast<uint32_t>(shard.end)};
-  traced.rows = render_refraction_reference(scene, width, height, caustic_map, seed, rows).radiance;
+  traced.rows = render_refraction_reference(scene, width, height, caustic_maps, seed, rows).radiance;
   return traced;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/image_io.h"
+#include "reference/refraction_reference.h"
 #include "reference/shard_file.h"
 #include "scene/scene.h"
 
@@ -19,21 +20,23 @@ namespace caustica::reference {
 // height), the image's width and the caustic map that lit it.
 struct CameraShard : ShardHeader {
   uint32_t width = 0;
-  std::string caustics_identity = "none";  // caustics_identity() of the --caustics map, "none" without
+  std::string caustics_identity = "none";  // caustics_identity() of the --caustics maps, "none" without
 };
 
 // A hash of what the camera reference sees in a loaded scene: scene_identity() and the camera,
 // the sky and the ambient light.
 std::string camera_scene_identity(const scene::Scene& scene);
-// A hash of a caustic map's size and values.
+// A hash of a caustic map's size and values; of several, each light's with its index ("0:HASH,2:HASH"),
+// or the hash alone where light 0 has the only one; "none" without.
 std::string caustics_identity(const io::ImageData& caustic_map);
+std::string caustics_identity(const CausticMaps& caustic_maps);
 
 struct TracedCameraShard {
   CameraShard shard;
   io::ImageData rows;  // width x (end - first): the radiance of the shard's rows
 };
-// Traces shard `index` of `count` of a width x height camera reference, lit by `caustic_map` where given.
-TracedCameraShard trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map,
+// Traces shard `index` of `count` of a width x height camera reference, lit by `caustic_maps` (per light).
+TracedCameraShard trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const CausticMaps& caustic_maps,
                                      uint64_t seed, uint64_t index, uint64_t count);
 
 // An EXR of the shard's rows (RGBA floats; its data window is the rows, its display window the whole

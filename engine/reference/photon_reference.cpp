@@ -1,5 +1,6 @@
 #include "reference/photon_reference.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -30,7 +31,8 @@ struct Accumulator {
 
 class PhotonTracer {
  public:
-  PhotonTracer(const scene::Scene& scene, const PhotonOptions& options) : exact_(scene), options_(options), light_(scene.lights.front()) {
+  PhotonTracer(const scene::Scene& scene, const PhotonOptions& options)
+      : exact_(scene), options_(options), light_(scene.lights[options.light]) {
     // Its photons leave through the light's caustic view, the engine's caustic map's image plane.
     light_view_proj_ = light_.caustic_view_projection();
     disperses_ = scene.disperses();
@@ -229,11 +231,58 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
   to.absorbed += from.absorbed;
 }
 
+double caustic_view_flux(const scene::Light& light) {
+  if (!light.has_caustic_view) return 0.0;
+  if (light.type == scene::LightType::directional) return double(light.intensity) * 4.0 * double(light.extent) * double(light.extent);
+  // The tracer's emission (a photon's power at its place on the image plane at distance 1: its
+  // area, cos^3 of its angle to the axis, the spot's cone) integrated on a grid of the plane.
+  constexpr int kSide = 512;
+  const glm::mat4 inverse_view = glm::inverse(light.caustic_view_projection());
+  const double half = std::tan(double(glm::radians(light.caustic_view.fov_y_degrees)) * 0.5);
+  double sum = 0;
+  for (int y = 0; y < kSide; ++y) {
+    for (int x = 0; x < kSide; ++x) {
+      const glm::vec2 ndc((float(x) + 0.5f) / kSide * 2.0f - 1.0f, (float(y) + 0.5f) / kSide * 2.0f - 1.0f);
+      const glm::vec4 far = inverse_view * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - light.view.position);
+      const glm::dvec2 plane = glm::dvec2(ndc) * half;
+      const double cos_axis = 1.0 / std::sqrt(1.0 + glm::dot(plane, plane));
+      sum += cos_axis * cos_axis * cos_axis * double(spot_cone(light, direction));
+    }
+  }
+  return double(light.intensity) * 4.0 * half * half * sum / double(kSide * kSide);
+}
+
+std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t photons) {
+  std::vector<double> flux;
+  for (const auto& light : scene.lights) flux.push_back(caustic_view_flux(light));
+  double total = 0;
+  for (double f : flux) total += f;
+  std::vector<uint64_t> share(flux.size(), 0);
+  if (total <= 0) return share;
+  // Each its floor, then what rounding left to the largest remainders: they add up to `photons`.
+  uint64_t given = 0;
+  std::vector<std::pair<double, size_t>> remainders;
+  for (size_t i = 0; i < flux.size(); ++i) {
+    const double exact = double(photons) * flux[i] / total;
+    share[i] = static_cast<uint64_t>(exact);
+    given += share[i];
+    if (flux[i] > 0) remainders.emplace_back(exact - std::floor(exact), i);
+  }
+  std::stable_sort(remainders.begin(), remainders.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (size_t k = 0; given < photons && k < remainders.size(); ++k, ++given) ++share[remainders[k].second];
+  return share;
+}
+
 PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options) {
-  if (scene.lights.empty() || !scene.lights.front().has_caustic_view) {
-    throw InputError(scene.path +
-                     ": the photon reference traces from the first light, which must be a spot or directional light, or a point light "
-                     "with a caustic view (one not among its refractors)");
+  if (options.light >= scene.lights.size()) {
+    throw InputError(scene.path + ": the photon reference traces from light " + std::to_string(options.light) + ", and the scene has " +
+                     std::to_string(scene.lights.size()) + (scene.lights.size() == 1 ? " light" : " lights"));
+  }
+  if (!scene.lights[options.light].has_caustic_view) {
+    throw InputError(scene.path + ": light " + std::to_string(options.light) +
+                     " is a point light among its refractors (or with them over more than a 70-degree cone): it has no caustic "
+                     "view to trace photons through, and throws no caustic in the engine either");
   }
   if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
   const uint64_t first = options.first_photon, end = options.end_photon > 0 ? options.end_photon : options.photons;

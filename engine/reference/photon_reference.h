@@ -1,6 +1,7 @@
 #pragma once
-// The ground truth for caustics: photons from the scene's first (spot) light traced on the exact
-// geometry with Embree through every interface, with exact Fresnel and total internal reflection
+// The ground truth for caustics: photons from one of the scene's lights, through its caustic view
+// (scene::Light::caustic_view: a spot or directional light's own view, a point light's frustum
+// about its refractors), traced on the exact geometry with Embree through every interface, with exact Fresnel and total internal reflection
 // (reflect or transmit chosen at random by the reflectance), until they land on an opaque
 // receiver. What lands is accumulated as the engine's caustic map holds it (flux per texel of the
 // light's image plane) and, optionally, as the caustic irradiance the camera sees.
@@ -10,6 +11,7 @@
 // nor a split into shards (processes that each trace a range of the photons) changes a single bit.
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "io/image_io.h"
 #include "scene/scene.h"
@@ -17,15 +19,16 @@
 namespace caustica::reference {
 
 struct PhotonOptions {
+  uint32_t light = 0;  // the scene's light whose photons are traced
   uint64_t photons = 10'000'000;
   uint64_t seed = 1;
   // The range of the `photons` traced here, [first_photon, end_photon); end 0: to the last. Each
   // photon still carries 1 / `photons` of the light, so shards' sums add up to the whole map.
   uint64_t first_photon = 0, end_photon = 0;
-  uint32_t map_size = 512;  // the light-space map's side, as the graphs' caustic_size
+  uint32_t map_size = 512;                       // the light-space map's side, as the graphs' caustic_size
   uint32_t camera_width = 0, camera_height = 0;  // 0: no camera image
-  bool fresnel = true;      // false: every photon transmits unless total internal reflection (docs/oracles.md's "no Fresnel")
-  unsigned threads = 0;     // 0: every core
+  bool fresnel = true;   // false: every photon transmits unless total internal reflection (docs/oracles.md's "no Fresnel")
+  unsigned threads = 0;  // 0: every core
   std::function<void(uint64_t done, uint64_t total)> progress;  // called from the calling thread
 };
 
@@ -36,15 +39,15 @@ struct PhotonOptions {
 struct PhotonTotals {
   uint64_t photons = 0;
   uint64_t landed_photons = 0;  // how many photons make up `landed`: its sampling error is about 1 / sqrt of it
-  double emitted = 0;    // everything the light sent into its view
-  double direct = 0;     // met an opaque surface or nothing before any refractor: not a caustic
-  double entering = 0;   // met a refractor first
-  double landed = 0;     // reached an opaque receiver inside the light's view: in the map
-  double off_map = 0;    // reached a receiver outside the light's view
-  double reflected = 0;  // reflected off a refractor's outside at its first meeting (Fresnel), then followed
-  double escaped = 0;    // left the scene after refracting
-  double trapped = 0;    // still bouncing inside after the interface limit
-  double absorbed = 0;   // by the refractors' absorption
+  double emitted = 0;           // everything the light sent into its view
+  double direct = 0;            // met an opaque surface or nothing before any refractor: not a caustic
+  double entering = 0;          // met a refractor first
+  double landed = 0;            // reached an opaque receiver inside the light's view: in the map
+  double off_map = 0;           // reached a receiver outside the light's view
+  double reflected = 0;         // reflected off a refractor's outside at its first meeting (Fresnel), then followed
+  double escaped = 0;           // left the scene after refracting
+  double trapped = 0;           // still bouncing inside after the interface limit
+  double absorbed = 0;          // by the refractors' absorption
 };
 
 struct PhotonReference {
@@ -61,12 +64,21 @@ struct PhotonSums {
   PhotonTotals totals;
 };
 
-// Throws InputError when the scene's first light is a point light (it has no light view).
+// Throws InputError when options.light is not one of the scene's lights, or has no caustic view.
 PhotonReference trace_photon_reference(const scene::Scene& scene, const PhotonOptions& options);
 // The photons of options' range only, as sums (a shard of the reference).
 PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options);
 // The caustic map (flux per texel) of sums of a map_size^2 map.
 io::ImageData caustic_map_from_sums(const std::vector<uint64_t>& units, uint32_t map_size, double unit);
 void add_totals(PhotonTotals& to, const PhotonTotals& from);
+
+// The flux a light sends through its caustic view (its photons' emitted total, the light's units):
+// a directional light's irradiance over the view's square, a spot or point light's intensity over
+// the solid angle of the view (within a spot's cone). 0 without a caustic view.
+double caustic_view_flux(const scene::Light& light);
+// `photons` shared among the scene's lights in proportion to caustic_view_flux, so that every
+// photon carries about the same flux whichever light sent it: per light (0 where it sends none, or
+// its share rounds to none); they add up to `photons`.
+std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t photons);
 
 }  // namespace caustica::reference

@@ -111,6 +111,7 @@ TracedShard trace_photon_shard(const scene::Scene& scene, PhotonOptions options,
   shard.seed = options.seed;
   shard.index = index;
   shard.count = count;
+  shard.light = options.light;
   shard.map_size = options.map_size;
   shard.fresnel = options.fresnel;
   shard.unit = sums.unit;
@@ -132,6 +133,7 @@ void write_photon_shard(const std::string& path, const PhotonShard& shard, const
   write_shard_header(header, kPhotons, shard);
   set_shard_count(header, "landed_photons", shard.totals.landed_photons);
   header.insert("caustica.fresnel", Imf::IntAttribute(shard.fresnel ? 1 : 0));
+  header.insert("caustica.light", Imf::IntAttribute(static_cast<int>(shard.light)));
   header.insert("caustica.unit", Imf::DoubleAttribute(shard.unit));
   for (const auto& [name, member] : kTotals)
     header.insert(std::string("caustica.totals.") + name, Imf::DoubleAttribute(shard.totals.*member));
@@ -156,6 +158,9 @@ PhotonShard read_shard(const std::string& path, std::vector<uint64_t>* add_to, S
     const Imf::Header& header = file.header();
     shard.totals.landed_photons = attributes.count("landed_photons");
     shard.fresnel = attributes.integer("fresnel") != 0;
+    const int light = attributes.integer("light");
+    if (light < 0) attributes.damaged("its light is " + std::to_string(light));
+    shard.light = static_cast<uint32_t>(light);
     shard.unit = attributes.number("unit");
     for (const auto& [name, member] : kTotals) shard.totals.*member = attributes.number(std::string("totals.") + name);
     const Imath::Box2i window = header.dataWindow();
@@ -188,8 +193,8 @@ PhotonShard read_photon_shard(const std::string& path) {
 
 MergedPhotons merge_photon_shards(const std::vector<std::string>& paths) {
   const auto shards = read_checked_shards<PhotonShard>(kPhotons, paths, read_photon_shard, [](const PhotonShard& s) {
-    return std::vector<std::pair<std::string, std::string>>{{"map size", std::to_string(s.map_size)},
-                                                            {"Fresnel", s.fresnel ? "on" : "off"}};
+    return std::vector<std::pair<std::string, std::string>>{
+        {"light", std::to_string(s.light)}, {"map size", std::to_string(s.map_size)}, {"Fresnel", s.fresnel ? "on" : "off"}};
   });
   const PhotonShard& base = shards.front().first;
   MergedPhotons merged;

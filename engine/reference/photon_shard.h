@@ -18,6 +18,7 @@ namespace caustica::reference {
 // What a photon shard file's header says about it: its photons [first, end) of `total` (the
 // photon count), what else makes its map, and the flux totals of its photons.
 struct PhotonShard : ShardHeader {
+  uint32_t light = 0;  // the scene's light whose photons these are
   uint32_t map_size = 0;
   bool fresnel = true;
   double unit = 1;  // flux per unit of the sums
@@ -50,8 +51,8 @@ struct MergedPhotons {
 
 // Adds the shards in the order of their photon ranges, one file at a time (memory: two maps' sums).
 // Throws InputError naming every problem: a missing range (and the shard indices that trace it), an
-// overlap, a duplicate, a shard of another scene, seed, photon count, map size, Fresnel setting or
-// engine build.
+// overlap, a duplicate, a shard of another scene, light, seed, photon count, map size, Fresnel
+// setting or engine build.
 MergedPhotons merge_photon_shards(const std::vector<std::string>& paths);
 
 }  // namespace caustica::reference

@@ -22,9 +22,13 @@ float luminance(const float* rgb) {
 
 class Tracer {
  public:
-  Tracer(const scene::Scene& scene, const io::ImageData* caustic_map)
-      : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_map_(caustic_map) {
-    if (caustic_map_ && !scene.lights.empty()) light_view_proj_ = scene.lights.front().caustic_view_projection();
+  Tracer(const scene::Scene& scene, const CausticMaps& caustic_maps)
+      : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_maps_(caustic_maps) {
+    caustic_maps_.resize(scene.lights.size(), nullptr);
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      if (!scene.lights[i].has_caustic_view) caustic_maps_[i] = nullptr;
+      light_view_projs_.push_back(caustic_maps_[i] ? scene.lights[i].caustic_view_projection() : glm::mat4(1.0f));
+    }
   }
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
@@ -45,8 +49,7 @@ class Tracer {
       // The engine shadows every light (through its shadow map); the reference with an exact ray.
       if (cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
       // The caustic's light arrives through the refractor from many directions: diffuse only.
-      if (light.has_caustic_view && i == 0 && caustic_map_)
-        radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(light, p, n);
+      if (caustic_maps_[i]) radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(i, p, n);
       radiance += surface.brdf(v, l) * light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
     return radiance;
@@ -55,8 +58,9 @@ class Tracer {
   // lighting.frag's caustic_irradiance on the exact geometry: only where the light sees p past
   // the refractors (the engine's receiver depth map), the map sampled bilinearly at p's place in
   // the image plane of the light's caustic view, its flux spread over the area the texel's solid angle covers at p.
-  glm::vec3 caustic_irradiance(const scene::Light& light, glm::vec3 p, glm::vec3 n) const {
-    const glm::vec4 clip = light_view_proj_ * glm::vec4(p, 1.0f);
+  glm::vec3 caustic_irradiance(size_t light_index, glm::vec3 p, glm::vec3 n) const {
+    const scene::Light& light = scene_.lights[light_index];
+    const glm::vec4 clip = light_view_projs_[light_index] * glm::vec4(p, 1.0f);
     if (clip.w <= 0.0f) return glm::vec3(0.0f);
     const glm::vec2 uv = glm::vec2(clip) / clip.w * 0.5f + 0.5f;
     if (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f) return glm::vec3(0.0f);
@@ -70,7 +74,7 @@ class Tracer {
       if (!scene_.objects[hit->geometry].material.refractor) return glm::vec3(0.0f);
       origin += to_light / r * (hit->distance + epsilon_);
     }
-    const auto& map = *caustic_map_;
+    const auto& map = *caustic_maps_[light_index];
     const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
     if (directional) {  // the texel's flux over the area it covers across the light's direction
       const float texel = 2.0f * light.extent / float(map.width);
@@ -170,16 +174,16 @@ class Tracer {
   const scene::Scene& scene_;
   const RayScene& rays_;
   float epsilon_;
-  const io::ImageData* caustic_map_;
-  glm::mat4 light_view_proj_{1.0f};
+  CausticMaps caustic_maps_;                 // per light
+  std::vector<glm::mat4> light_view_projs_;  // per light with a map: its caustic view's
 };
 
 }  // namespace
 
-RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map,
+RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height, const CausticMaps& caustic_maps,
                                             uint64_t seed, ImageRows range) {
   if (range.end == 0) range.end = height;
-  Tracer tracer(scene, caustic_map);
+  Tracer tracer(scene, caustic_maps);
   const bool disperses = scene.disperses();
   RefractionImage out;
   const uint32_t rows_traced = range.end - range.first;

@@ -6,6 +6,7 @@
 // direct lighting (exact shadow rays instead of a shadow map), the same sky, and reflection off a
 // refractor's entry surface seeing the sky.
 #include <cstdint>
+#include <vector>
 
 #include "io/image_io.h"
 #include "scene/scene.h"
@@ -17,11 +18,12 @@ struct RefractionImage {
   std::vector<uint8_t> refractor;  // 1 where the primary ray hits a refractor first
 };
 
-// With `caustic_map` (flux per texel of the first light's image plane, as the photon reference
-// and the engine hold it), opaque surfaces the first spot light sees past the refractors also
-// receive that map's caustic irradiance, projected as the engine's lighting pass projects its own
-// (bilinear, flux over the texel's solid angle at the receiver): the same scene's picture with
-// the reference's caustics, seen directly and through the glass.
+// With `caustic_maps` (per light, by its index in the scene: flux per texel of its caustic view's
+// image plane, as the photon reference and the engine hold it; null or missing: none), opaque
+// surfaces each such light sees past the refractors also receive its map's caustic irradiance,
+// projected as the engine's lighting pass projects its own (bilinear, flux over the texel's solid
+// angle at the receiver): the scene's picture with the reference's caustics of every light, seen
+// directly and through the glass.
 //
 // Rough refractors draw random numbers keyed on (seed, the pixel's index in the whole image): with
 // `rows` (a range [first, end) of the image's rows, end 0: to the last), the rows traced alone are
@@ -30,8 +32,9 @@ struct RefractionImage {
 struct ImageRows {
   uint32_t first = 0, end = 0;
 };
+using CausticMaps = std::vector<const io::ImageData*>;
 RefractionImage render_refraction_reference(const scene::Scene& scene, uint32_t width, uint32_t height,
-                                            const io::ImageData* caustic_map = nullptr, uint64_t seed = 1, ImageRows rows = {});
+                                            const CausticMaps& caustic_maps = {}, uint64_t seed = 1, ImageRows rows = {});
 
 // Error between an engine image and the reference, over the reference's refractor pixels:
 // sum |engine - reference| / sum |reference|, on luminance.

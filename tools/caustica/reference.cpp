@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <optional>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "bench_common.h"
@@ -90,11 +90,11 @@ int trace_photon_shard(const scene::Scene& scene, reference::PhotonOptions photo
 }
 
 // One shard of the ray-traced camera reference: its range of rows, exactly, with what it is a part of.
-int trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const io::ImageData* caustic_map, uint64_t seed,
-                       const Shard& shard, const std::string& out) {
+int trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t height, const reference::CausticMaps& caustic_maps,
+                       uint64_t seed, const Shard& shard, const std::string& out) {
   const auto start = std::chrono::steady_clock::now();
   const reference::TracedCameraShard traced =
-      reference::trace_camera_shard(scene, width, height, caustic_map, seed, shard.index, shard.count);
+      reference::trace_camera_shard(scene, width, height, caustic_maps, seed, shard.index, shard.count);
   const reference::CameraShard& header = traced.shard;
   reference::write_camera_shard(out, header, traced.rows);
   std::printf("shard %llu/%llu: rows %llu to %llu of %ux%u in %.2f s, seed %llu\n", static_cast<unsigned long long>(shard.index),
@@ -108,7 +108,8 @@ int trace_camera_shard(const scene::Scene& scene, uint32_t width, uint32_t heigh
 
 // What reference is told.
 struct ReferenceOptions {
-  std::string scene = (data_dir() / kDefaultScene).string(), out, camera_out, caustics_file;
+  std::string scene = (data_dir() / kDefaultScene).string(), out, camera_out, picture_out;
+  std::vector<std::pair<uint32_t, std::string>> caustics_files;  // --caustics [LIGHT=]MAP.exr: the light's map
   uint32_t width = 1280, height = 720;
   double exposure = 1.0;
   bool exposure_given = false;
@@ -118,6 +119,24 @@ struct ReferenceOptions {
   ReferenceOptions() { photons.photons = 0; }
 };
 
+// --caustics [I=]MAP.exr: light I's map (a bare file is light 0's; a file may start with digits
+// and '=' only as I=).
+std::pair<uint32_t, std::string> parse_caustics_file(const std::string& value, const std::vector<std::pair<uint32_t, std::string>>& given) {
+  const size_t eq = value.find('=');
+  uint32_t light = 0;
+  std::string file = value;
+  if (eq != std::string::npos && eq > 0 && value.find_first_not_of("0123456789") == eq) {
+    light = static_cast<uint32_t>(parse_uint("--caustics", value.substr(0, eq), 0, 1023));
+    file = value.substr(eq + 1);
+  }
+  if (file.empty()) throw UsageError("--caustics " + value + ": expected [LIGHT=]MAP.exr");
+  for (const auto& [other, other_file] : given) {
+    if (other == light)
+      throw UsageError("--caustics " + value + ": light " + std::to_string(light) + " has a map already (" + other_file + ")");
+  }
+  return {light, file};
+}
+
 FlagTable reference_flags(ReferenceOptions& o) {
   return {
       scene_flag(o.scene, nullptr, "the scene (default: scenes/glass_bunny.json), or a model file (as for render)"),
@@ -126,6 +145,11 @@ FlagTable reference_flags(ReferenceOptions& o) {
       size_flag(o.width, o.height, "camera image size (default 1280x720)"),
       uint_flag("--photons", "N", "photons to trace, e.g. 1e8", o.photons.photons, 1, 100'000'000'000ull),
       uint_flag("--seed", "K", "random seed (default 1): the photons', or the rough refractors' paths", o.photons.seed, 0, ~0ull),
+      uint32_flag("--light", "I", "with --photons: the light whose photons are traced (default 0, the first)", o.photons.light, 0, 1023),
+      text_flag("--picture", "FILE.exr|.png",
+                "with --photons: every light's photons (N shared by the flux each sends through its\n"
+                "caustic view), then the camera picture lit by all their maps (--size, --exposure)",
+                o.picture_out),
       uint32_flag("--map-size", "N", "side of the light-space map (default 512, the graphs' caustic_size)", o.photons.map_size, 1, 8192),
       text_flag("--camera", "FILE.exr", "also write the caustic irradiance seen by the camera", o.camera_out),
       switch_flag("--no-fresnel", "transmit every photon unless total internal reflection (the graphs' fresnel=false)", o.photons.fresnel,
@@ -134,8 +158,11 @@ FlagTable reference_flags(ReferenceOptions& o) {
        "trace the I-th of K parts of the photons, or without --photons of the image's\n"
        "rows (I from 0; auto/K: from the scheduler)",
        [&o](const std::string& v) { o.shard = parse_shard(v); }},
-      text_flag("--caustics", "MAP.exr", "without --photons: light the picture with this caustic map too", o.caustics_file),
-      {"--exposure", "E", "without --photons: the PNG's exposure (default 1, as the graphs')", [&o](const std::string& v) {
+      {"--caustics", "[I=]MAP.exr",
+       "without --photons: light the picture with light I's caustic map too (I default 0;\n"
+       "repeatable, one map a light)",
+       [&o](const std::string& v) { o.caustics_files.push_back(parse_caustics_file(v, o.caustics_files)); }, true},
+      {"--exposure", "E", "a PNG picture's exposure (default 1, as the graphs')", [&o](const std::string& v) {
          o.exposure = parse_number("--exposure", v, 0.0, 100.0);
          o.exposure_given = true;
        }}};
@@ -144,9 +171,20 @@ FlagTable reference_flags(ReferenceOptions& o) {
 // The combinations of flags that cannot go together, refused before any work; returns --out's extension.
 std::string check_reference(const ReferenceOptions& o) {
   const uint64_t photons = o.photons.photons;
-  if (o.out.empty()) throw UsageError("reference needs --out FILE.exr");
-  if (photons == 0 && (!o.camera_out.empty() || !o.photons.fresnel)) throw UsageError("--camera and --no-fresnel go with --photons");
-  if (photons > 0 && (!o.caustics_file.empty() || o.exposure_given)) throw UsageError("--caustics and --exposure go without --photons");
+  const bool picture = !o.picture_out.empty();
+  if (picture) {
+    if (photons == 0) throw UsageError("--picture goes with --photons N: the photons of every light, then the picture they light");
+    if (!o.out.empty() || !o.camera_out.empty() || o.shard.count > 0 || o.photons.light != 0)
+      throw UsageError(
+          "--picture writes the picture alone: a light's map is --light I --out MAP.exr, and on a cluster its shards, "
+          "merged, light the picture through --caustics I=MAP.exr (docs/cluster.md)");
+    return io::check_image_output(o.picture_out);
+  }
+  if (o.out.empty()) throw UsageError("reference needs --out FILE.exr (or, with --photons, --picture FILE)");
+  if (photons == 0 && (!o.camera_out.empty() || !o.photons.fresnel || o.photons.light != 0))
+    throw UsageError("--camera, --light and --no-fresnel go with --photons");
+  if (photons > 0 && (!o.caustics_files.empty() || o.exposure_given))
+    throw UsageError("--caustics and --exposure go without --photons (or with --picture)");
   const std::string out_extension = io::check_image_output(o.out);
   if (!o.camera_out.empty()) io::check_image_output(o.camera_out);
   const std::string shard = "--shard " + std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count);
@@ -186,28 +224,80 @@ int trace_photons(const scene::Scene& scene, ReferenceOptions o) {
   return 0;
 }
 
+// Linear radiance as EXR, or tone mapped to a PNG as the engine's tonemap pass does.
+void write_radiance(const std::string& path, io::ImageData image, const std::string& extension, double exposure) {
+  if (extension == ".png") {
+    for (size_t i = 0; i < image.rgba.size(); ++i) {
+      if (i % 4 != 3) image.rgba[i] = 1.0f - std::exp(-static_cast<float>(exposure) * image.rgba[i]);
+    }
+  }
+  io::write_image(path, image);
+}
+
+// The scene's whole reference picture: every light's photons, --photons shared among them by the
+// flux each sends through its caustic view, then the camera picture lit by all their maps.
+int trace_picture(const scene::Scene& scene, const ReferenceOptions& o, const std::string& extension) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<uint64_t> shares = reference::photons_per_light(scene, o.photons.photons);
+  std::vector<io::ImageData> maps(scene.lights.size());
+  reference::CausticMaps lit(scene.lights.size(), nullptr);
+  for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+    if (shares[i] == 0) {
+      std::printf("light %u: no photons (%s)\n", i,
+                  scene.lights[i].has_caustic_view ? "its share of the flux rounds to none" : "no caustic view: among its refractors");
+      continue;
+    }
+    reference::PhotonOptions photons = o.photons;
+    photons.light = i;
+    photons.photons = shares[i];
+    ProgressLine progress("light " + std::to_string(i) + " photons", shares[i]);
+    if (shares[i] >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
+    reference::PhotonReference traced = reference::trace_photon_reference(scene, photons);
+    std::printf("light %u: photons %llu (--light %u --photons %llu), flux through its caustic view %.6g\n", i,
+                static_cast<unsigned long long>(shares[i]), i, static_cast<unsigned long long>(shares[i]),
+                reference::caustic_view_flux(scene.lights[i]));
+    print_photon_flux(traced.totals);
+    maps[i] = std::move(traced.caustic_map);
+    lit[i] = &maps[i];
+  }
+  const auto image = reference::render_refraction_reference(scene, o.width, o.height, lit, o.photons.seed);
+  write_radiance(o.picture_out, image.radiance, extension, o.exposure);
+  std::fprintf(stderr, "reference: %s picture %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.picture_out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int cmd_reference(Args& args) {
   ReferenceOptions o;
   if (args.wants_help()) {
-    std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics MAP.exr] [--exposure E]\n"
-                 "                          [--seed K] [--shard I/K]\n"
-                 "       caustica reference --scene FILE --photons N --out MAP.exr [--seed K] [--map-size N]\n"
-                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel] [--shard I/K]\n\n"
+    std::cout << "usage: caustica reference --scene FILE --out FILE.exr|.png [--size WxH] [--caustics [I=]MAP.exr]...\n"
+                 "                          [--exposure E] [--seed K] [--shard I/K]\n"
+                 "       caustica reference --scene FILE --photons N --out MAP.exr [--light I] [--seed K] [--map-size N]\n"
+                 "                          [--camera IMAGE.exr [--size WxH]] [--no-fresnel] [--shard I/K]\n"
+                 "       caustica reference --scene FILE --photons N --picture FILE.exr|.png [--size WxH] [--map-size N]\n"
+                 "                          [--exposure E] [--seed K] [--no-fresnel]\n\n"
                  "Without --photons: ray traces the scene's camera image on its exact geometry with Embree (every\n"
                  "core): refraction at every interface, total internal reflection followed inside, Fresnel\n"
                  "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
                  "that image-space refraction is measured against (docs/refraction.md). Writes linear radiance (EXR)\n"
                  "or an 8-bit PNG tone mapped as the engine's tonemap pass does (1 - exp(-E L), sRGB). With --caustics\n"
-                 "MAP.exr (a map from --photons), surfaces the first light sees past the refractors also receive that\n"
-                 "map's caustic, projected as the engine's lighting pass projects its own: the scene's reference picture\n"
-                 "with caustics, seen directly and through the glass. A pixel whose ray meets a rough refractor averages\n"
-                 "paths drawn from random numbers keyed on the seed and the pixel's place in the image.\n\n"
-                 "With --photons: traces N photons from the first (spot or directional) light through every interface, Fresnel and\n"
-                 "total internal reflection exact, to the receivers, and writes the caustic map as the engine holds it\n"
-                 "(flux per texel of the light's image plane, --map-size texels a side) and, with --camera, the caustic\n"
-                 "irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "I=MAP.exr (light I's map from --photons; one per light, I default 0), surfaces light I sees past the\n"
+                 "refractors also receive that map's caustic, projected as the engine's lighting pass projects its own:\n"
+                 "the scene's reference picture with caustics, seen directly and through the glass. A pixel whose ray\n"
+                 "meets a rough refractor averages paths drawn from random numbers keyed on the seed and the pixel's\n"
+                 "place in the image.\n\n"
+                 "With --photons: traces N photons from light I (--light, default 0) through its caustic view (a spot or\n"
+                 "directional light's own, a point light's frustum about its refractors) and every interface, Fresnel\n"
+                 "and total internal reflection exact, to the receivers, and writes the caustic map as the engine holds\n"
+                 "it (flux per texel of the view's image plane, --map-size texels a side) and, with --camera, the\n"
+                 "caustic irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "With --photons and --picture: the scene's whole reference picture. The N photons are shared among the\n"
+                 "lights by the flux each sends through its caustic view (each light's share is printed: --light I\n"
+                 "--photons SHARE traces the same map alone), each light's map is traced, and the camera picture is\n"
+                 "traced lit by all of them: every light's direct light and exact shadows and its caustic, seen\n"
+                 "directly and through the glass; the ground truth a multi-light render is compared with.\n\n"
                  "With --shard I/K: traces only the I-th of K contiguous ranges of the N photons (each photon's random\n"
                  "numbers depend on the seed and its index alone) and writes their sums, exactly, to --out (an EXR whose\n"
                  "header holds the range, the photon count, the seed and the scene's and the engine's identity, written\n"
@@ -227,21 +317,25 @@ int cmd_reference(Args& args) {
   reference_flags(o).parse(args);
   const std::string out_extension = check_reference(o);
   const scene::Scene scene = scene::load_scene_file(o.scene, o.stage);
+  if (!o.picture_out.empty()) return trace_picture(scene, o, out_extension);
   if (o.shard.count > 0 && o.photons.photons > 0) return trace_photon_shard(scene, o.photons, o.shard, o.out);
   if (o.photons.photons > 0) return trace_photons(scene, o);
   const auto start = std::chrono::steady_clock::now();
-  std::optional<io::ImageData> caustic_map;
-  if (!o.caustics_file.empty()) caustic_map = io::read_image(o.caustics_file);
-  const io::ImageData* map = caustic_map ? &*caustic_map : nullptr;
-  if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, map, o.photons.seed, o.shard, o.out);
-  auto image = reference::render_refraction_reference(scene, o.width, o.height, map, o.photons.seed);
-  if (out_extension == ".png") {
-    const float exposure = static_cast<float>(o.exposure);
-    for (size_t i = 0; i < image.radiance.rgba.size(); ++i) {
-      if (i % 4 != 3) image.radiance.rgba[i] = 1.0f - std::exp(-exposure * image.radiance.rgba[i]);
-    }
+  std::vector<io::ImageData> maps(scene.lights.size());
+  reference::CausticMaps lit(scene.lights.size(), nullptr);
+  for (const auto& [light, file] : o.caustics_files) {
+    if (light >= scene.lights.size())
+      throw UsageError("--caustics " + std::to_string(light) + "=" + file + ": the scene has " + std::to_string(scene.lights.size()) +
+                       (scene.lights.size() == 1 ? " light" : " lights") + " (from 0)");
+    if (!scene.lights[light].has_caustic_view)
+      throw InputError(file + ": light " + std::to_string(light) +
+                       " has no caustic view (a point light among its refractors) to project it through");
+    maps[light] = io::read_image(file);
+    lit[light] = &maps[light];
   }
-  io::write_image(o.out, image.radiance);
+  if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, lit, o.photons.seed, o.shard, o.out);
+  const auto image = reference::render_refraction_reference(scene, o.width, o.height, lit, o.photons.seed);
+  write_radiance(o.out, image.radiance, out_extension, o.exposure);
   std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.out.c_str());
   return 0;
