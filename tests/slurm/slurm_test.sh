@@ -268,13 +268,27 @@ sweep="--scenes sphere_plane --graphs caustics_adaptive,refraction_deferred --gr
 grep -q 'array 0-1 of 2 cells' "$dir/submit6.stdout" || fail "submit.sh --bench did not count 2 cells: $(cat "$dir/submit6.stdout")"
 "$submit" --scene "$scene" --size 64x36 --shards 2 --out "$dir/camera.exr" --caustica "$bin" > "$dir/submit7.stdout" 2>&1 ||
   fail "submit.sh --size exited $?: $(cat "$dir/submit7.stdout")"
+# Three lights' point light: its map by shards (--light), and the picture lit by a map of it by rows
+# (--caustics 2=MAP), each against one process's file.
+lights="$src/scenes/three_lights.json"
+"$bin" reference --scene "$lights" --light 2 --photons 20000 --map-size 32 --out "$dir/light2_whole.exr" > "$dir/light2_whole.stdout" 2>&1 ||
+  fail "the one-process map of light 2 exited $?: $(cat "$dir/light2_whole.stdout")"
+"$submit" --scene "$lights" --light 2 --photons 20000 --map-size 32 --shards 2 --out "$dir/light2.exr" --caustica "$bin" > "$dir/submit_light.stdout" 2>&1 ||
+  fail "submit.sh --light exited $?: $(cat "$dir/submit_light.stdout")"
+"$submit" --scene "$lights" --size 32x18 --caustics "2=$dir/light2_whole.exr" --shards 2 --out "$dir/lit2.exr" --caustica "$bin" > "$dir/submit_lit.stdout" 2>&1 ||
+  fail "submit.sh --caustics exited $?: $(cat "$dir/submit_lit.stdout")"
+"$bin" reference --scene "$lights" --size 32x18 --caustics "2=$dir/light2_whole.exr" --out "$dir/lit2_whole.exr" > "$dir/lit2_whole.stdout" 2>&1 ||
+  fail "the one-process picture lit by light 2's map exited $?: $(cat "$dir/lit2_whole.stdout")"
 # shellcheck disable=SC2086  # the sweep's options are words
 "$bin" bench accuracy $sweep --out "$dir/sweep_whole" > "$dir/sweep_whole.stdout" 2>&1 || fail "the one-process sweep exited $?"
 "$bin" reference --scene "$scene" --size 64x36 --out "$dir/camera_whole.exr" > "$dir/camera_whole.stdout" 2>&1 ||
   fail "the unsharded camera reference exited $?"
 cells=$(job_of cells "$dir/submit6.stdout") sweep_merge=$(job_of merge "$dir/submit6.stdout")
 shards=$(job_of shards "$dir/submit7.stdout") merge=$(job_of merge "$dir/submit7.stdout")
-wait_for 90 "the cells $cells, the camera's shards $shards and their merges did not finish" gone "$cells" "$sweep_merge" "$shards" "$merge"
+light_shards=$(job_of shards "$dir/submit_light.stdout") light_merge=$(job_of merge "$dir/submit_light.stdout")
+lit_shards=$(job_of shards "$dir/submit_lit.stdout") lit_merge=$(job_of merge "$dir/submit_lit.stdout")
+wait_for 90 "the cells $cells, the camera's shards $shards and their merges did not finish" gone "$cells" "$sweep_merge" "$shards" "$merge" \
+  "$light_shards" "$light_merge" "$lit_shards" "$lit_merge"
 [ "$(state "$sweep_merge")" = COMPLETED ] || fail "the bench merge job $sweep_merge ended $(state "$sweep_merge") (cells: $(states "$cells")): $(tail -n 20 "$dir"/sweep/cells/*.out)"
 no_timings() { cut -d, -f1-5,8- "$1"; }  # results.csv without method_ms and frame_ms
 [ "$(head -n 1 "$dir/sweep/results.csv" | cut -d, -f6,7)" = method_ms,frame_ms ] || fail "results.csv's columns moved: $(head -n 1 "$dir/sweep/results.csv")"
@@ -286,6 +300,12 @@ echo "ok: bench accuracy as an array of 2 cells and bench merge: results.csv one
 cmp -s "$dir/camera.exr" "$dir/camera_whole.exr" || fail "the merged camera image differs from the unsharded run's file"
 ls "$dir/camera.shards"/shard_{0,1}.exr > /dev/null || fail "the camera's shards are missing: $(ls -a "$dir/camera.shards")"
 echo "ok: the camera reference as 2 shards of rows and the merge: the unsharded run's file byte for byte ($((SECONDS - t0)) s for the sweep and the camera)"
+[ "$(state "$light_merge")" = COMPLETED ] || fail "light 2's merge job $light_merge ended $(state "$light_merge") (shards: $(states "$light_shards"))"
+"$bin" compare "$dir/light2.exr" "$dir/light2_whole.exr" --max-l1 0 > "$dir/compare6.stdout" 2>&1 ||
+  fail "light 2's merged map differs from one process's: $(cat "$dir/compare6.stdout")"
+[ "$(state "$lit_merge")" = COMPLETED ] || fail "the lit picture's merge job $lit_merge ended $(state "$lit_merge") (shards: $(states "$lit_shards"))"
+cmp -s "$dir/lit2.exr" "$dir/lit2_whole.exr" || fail "the merged picture lit by light 2's map differs from the unsharded run's file"
+echo "ok: a light's map by shards (--light 2) and a picture lit by it by rows (--caustics 2=MAP): one process's, bit for bit"
 
 # The jobs wrote only beside their shards, nothing in the folder they were submitted from.
 [ -z "$(ls -A "$dir/run")" ] || fail "the jobs wrote into the folder they were submitted from: $(ls -A "$dir/run")"

@@ -15,7 +15,9 @@ Submits K array tasks (tools/slurm/reference.sbatch), each `caustica reference -
 writing MAP.shards/shard_I.exr, and a merge job (merge.sbatch) after them that writes MAP.exr.
 With --size instead of --photons: the camera reference (`caustica reference --size WxH`), each
 task tracing one K-th of the image's rows, the merge writing IMAGE.exr. Prints the array's and the
-merge's job ids.
+merge's job ids. A scene's whole picture of several lights (`caustica reference --picture`) on a
+cluster: each light's map with --light I (its --photons share as --picture prints it), then the
+picture with --size and --caustics I=MAP.exr for each light's merged map.
 
 With --bench: one array task per cell of `caustica bench BENCH OPTIONS` (as many as --list-cells
 prints here), each `--cell auto` through tools/slurm/bench.sbatch writing DIR/cells/cell_I.csv, the
@@ -25,6 +27,9 @@ writes DIR/results.csv and the rest (stability: DIR/stability.csv). OPTIONS are 
 options:
   --seed K            random seed (default 1)
   --map-size N        side of the caustic map (default 512)
+  --light I           with --photons: the light whose photons are traced (default 0)
+  --caustics I=MAP    with --size: light the picture with light I's map (repeatable; a path
+                      without spaces)
   --partition P       sbatch --partition for both jobs
   --account A         sbatch --account for both jobs
   --time T            sbatch --time per shard (e.g. 00:30:00); the merge gets 10 minutes
@@ -38,8 +43,8 @@ options:
 USAGE
 }
 
-seed=1 map_size=512 scene="" photons="" size="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run="" bench="" sweep="" cache=""
-common=() shard_time=()
+seed=1 map_size=512 light=0 scene="" photons="" size="" shards="" out="" caustica=caustica throttle="" resubmit="" dry_run="" bench="" sweep="" cache=""
+common=() shard_time=() caustics=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --scene) scene=$2; shift 2 ;;
@@ -52,6 +57,8 @@ while [[ $# -gt 0 ]]; do
     --sweep) sweep=$2; shift 2 ;;
     --reference-cache) cache=$2; shift 2 ;;
     --map-size) map_size=$2; shift 2 ;;
+    --light) light=$2; shift 2 ;;
+    --caustics) caustics+=("$2"); shift 2 ;;
     --partition) common+=(--partition "$2"); shift 2 ;;
     --account) common+=(--account "$2"); shift 2 ;;
     --time) shard_time+=(--time "$2"); shift 2 ;;
@@ -74,6 +81,8 @@ elif [[ -n $photons && -n $size ]]; then
   echo "submit.sh: --photons or --size, not both: the photon reference or the camera image" >&2
   exit 2
 elif ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --shards $shards: expected a whole number from 1" >&2; exit 2; fi
+if [[ ${#caustics[@]} -gt 0 && -z $size ]]; then echo "submit.sh: --caustics goes with --size: the maps light the camera picture" >&2; exit 2; fi
+if [[ $light != 0 && -z $photons ]]; then echo "submit.sh: --light goes with --photons: the light whose photons are traced" >&2; exit 2; fi
 if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then echo "submit.sh: --throttle $throttle: expected a whole number from 1" >&2; exit 2; fi
 if [[ -n $resubmit && ! $resubmit =~ ^[0-9]+(,[0-9]+)*$ ]]; then echo "submit.sh: --resubmit $resubmit: expected indices, e.g. 3 or 3,17" >&2; exit 2; fi
 
@@ -112,8 +121,14 @@ fi
 
 shard_dir=${out%.exr}.shards
 mkdir -p "$shard_dir"
+# The maps through the environment (their paths absolute, as the nodes see them), each I=MAP.
+maps=()
+for map in "${caustics[@]+"${caustics[@]}"}"; do
+  if [[ $map =~ ^[0-9]+= ]]; then maps+=("${map%%=*}=$(realpath -m "${map#*=}")"); else maps+=("$(realpath -m "$map")"); fi
+done
+export REFERENCE_CAUSTICS="${maps[*]+"${maps[*]}"}"
 array=${resubmit:-0-$((shards - 1))}${throttle:+%$throttle}
-env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SIZE=$size,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,SHARD_DIR=$shard_dir,OUT=$out"
+env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SIZE=$size,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,LIGHT=$light,SHARD_DIR=$shard_dir,OUT=$out"
 # The jobs' output beside the shards, not in the folder sbatch was called from.
 shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export="$env" "$here/reference.sbatch")
 merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export="$env" "$here/merge.sbatch")
