@@ -29,6 +29,34 @@ struct Accumulator {
   PhotonTotals totals;                // per thread in double; summed in thread order (only the printout uses them)
 };
 
+// Half the side of a light's caustic view's image plane: at distance 1 (spot, point), or the
+// orthographic view's square itself (directional).
+float caustic_half_plane(const scene::Light& light) {
+  return light.type == scene::LightType::directional ? light.extent : std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);
+}
+
+// A photon leaving through `ndc` of a light's caustic view: where it starts, where it goes, and its
+// share of the power of the piece of image plane it stands for. A directional light's starts on the
+// view's near plane and travels along the axis (irradiance times its part of the square); a spot's
+// or point light's stands for a piece of the image plane at distance 1, whose solid angle is its
+// area times cos^3 of its angle to the axis, within the spot's cone.
+struct Emission {
+  glm::vec3 eye, direction;
+  double share;
+};
+Emission emission(const scene::Light& light, const glm::mat4& inverse_view, float half_plane, glm::vec2 ndc) {
+  const bool directional = light.type == scene::LightType::directional;
+  const glm::vec4 far = inverse_view * glm::vec4(ndc, 0.5f, 1.0f);
+  const glm::vec4 near = inverse_view * glm::vec4(ndc, 0.0f, 1.0f);
+  Emission e;
+  e.eye = directional ? glm::vec3(near) / near.w : light.view.position;
+  e.direction = directional ? light.axis() : glm::normalize(glm::vec3(far) / far.w - e.eye);
+  const glm::vec2 plane = ndc * half_plane;
+  const double cos_axis = directional ? 1.0 : 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
+  e.share = cos_axis * cos_axis * cos_axis * double(spot_cone(light, e.direction));
+  return e;
+}
+
 class PhotonTracer {
  public:
   PhotonTracer(const scene::Scene& scene, const PhotonOptions& options)
@@ -37,9 +65,7 @@ class PhotonTracer {
     light_view_proj_ = light_.caustic_view_projection();
     disperses_ = scene.disperses();
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
-    // The image plane at distance 1 (spot), or the orthographic view's square itself (directional).
-    directional_ = light_.type == scene::LightType::directional;
-    half_plane_ = directional_ ? light_.extent : std::tan(glm::radians(light_.caustic_view.fov_y_degrees) * 0.5f);
+    half_plane_ = caustic_half_plane(light_);
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
@@ -62,17 +88,9 @@ class PhotonTracer {
  private:
   void trace(Random& random, Accumulator& acc) const {
     const glm::vec2 uv(random.uniform(), random.uniform());
-    const glm::vec2 ndc = uv * 2.0f - 1.0f;
-    const glm::vec4 far = inv_light_view_proj_ * glm::vec4(ndc, 0.5f, 1.0f);
-    // A directional light's photon starts on the view's near plane and travels along the axis, and
-    // carries irradiance times its share of the square; a spot's stands for photon_area_ of the
-    // image plane at distance 1: solid angle area cos^3.
-    const glm::vec4 near = inv_light_view_proj_ * glm::vec4(ndc, 0.0f, 1.0f);
-    const glm::vec3 eye = directional_ ? glm::vec3(near) / near.w : light_.view.position;
-    glm::vec3 direction = directional_ ? light_.axis() : glm::normalize(glm::vec3(far) / far.w - eye);
-    const glm::vec2 plane = ndc * half_plane_;
-    const double cos_axis = directional_ ? 1.0 : 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
-    const double emitted = max_power_ * cos_axis * cos_axis * cos_axis * double(spot_cone(light_, direction));
+    const Emission leaving = emission(light_, inv_light_view_proj_, half_plane_, uv * 2.0f - 1.0f);
+    const glm::vec3 eye = leaving.eye, direction = leaving.direction;
+    const double emitted = max_power_ * leaving.share;  // photon_area_ of the image plane
     if (emitted <= 0) return;
     acc.totals.emitted += emitted;
     if (!disperses_) {
@@ -191,7 +209,6 @@ class PhotonTracer {
   const scene::Light& light_;
   glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
   float half_plane_ = 1.0f;
-  bool directional_ = false;
   bool disperses_ = false;  // Scene::disperses: every photon is traced once per colour band
   std::vector<glm::vec3> band_iors_;
   double photon_area_ = 0, max_power_ = 0, unit_ = 1;
@@ -233,24 +250,18 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
 
 double caustic_view_flux(const scene::Light& light) {
   if (!light.has_caustic_view) return 0.0;
-  if (light.type == scene::LightType::directional) return double(light.intensity) * 4.0 * double(light.extent) * double(light.extent);
-  // The tracer's emission (a photon's power at its place on the image plane at distance 1: its
-  // area, cos^3 of its angle to the axis, the spot's cone) integrated on a grid of the plane.
+  // The tracer's emission integrated on a grid of the image plane (midpoints).
   constexpr int kSide = 512;
   const glm::mat4 inverse_view = glm::inverse(light.caustic_view_projection());
-  const double half = std::tan(double(glm::radians(light.caustic_view.fov_y_degrees)) * 0.5);
+  const float half = caustic_half_plane(light);
   double sum = 0;
   for (int y = 0; y < kSide; ++y) {
     for (int x = 0; x < kSide; ++x) {
       const glm::vec2 ndc((float(x) + 0.5f) / kSide * 2.0f - 1.0f, (float(y) + 0.5f) / kSide * 2.0f - 1.0f);
-      const glm::vec4 far = inverse_view * glm::vec4(ndc, 0.5f, 1.0f);
-      const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - light.view.position);
-      const glm::dvec2 plane = glm::dvec2(ndc) * half;
-      const double cos_axis = 1.0 / std::sqrt(1.0 + glm::dot(plane, plane));
-      sum += cos_axis * cos_axis * cos_axis * double(spot_cone(light, direction));
+      sum += emission(light, inverse_view, half, ndc).share;
     }
   }
-  return double(light.intensity) * 4.0 * half * half * sum / double(kSide * kSide);
+  return double(light.intensity) * 4.0 * double(half) * double(half) * sum / double(kSide * kSide);
 }
 
 std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t photons) {
