@@ -210,6 +210,40 @@ TEST(Cli, EveryCommandHasHelp) {
   }
 }
 
+// Compiled shaders are kept between runs (engine/shader/shader_disk_cache.h): the first run writes
+// them into the folder CAUSTICA_SHADER_CACHE_DIR names, the second reads them (it rewrites none),
+// and both pictures are the one a run that keeps nothing renders.
+TEST(Cli, CompiledShadersAreKeptBetweenRunsAndChangeNoPicture) {
+  const fs::path dir = scratch("shader_cache");
+  const auto render = [&](const std::string& cache, const std::string& out) {
+    return run_binary("/usr/bin/env",
+                      "CAUSTICA_SHADER_CACHE_DIR=" + cache + " '" + std::string(CAUSTICA_BIN) +
+                          "' render --scene sphere_plane --size 32x18" + kSmallMaps + " --out " + out,
+                      dir);
+  };
+  const auto entries = [&] {
+    std::map<fs::path, fs::file_time_type> found;
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "cache"))
+      if (entry.is_regular_file()) found[entry.path()] = entry.last_write_time();
+    return found;
+  };
+  const CliRun off = render("off", "off.png");
+  ASSERT_EQ(off.code, 0) << off.output;
+  EXPECT_FALSE(fs::exists(dir / "off"));
+  const CliRun cold = render("'" + (dir / "cache").string() + "'", "cold.png");
+  ASSERT_EQ(cold.code, 0) << cold.output;
+  const auto written = entries();
+  EXPECT_GT(written.size(), 5u);
+  const CliRun warm = render("'" + (dir / "cache").string() + "'", "warm.png");
+  ASSERT_EQ(warm.code, 0) << warm.output;
+  EXPECT_EQ(entries(), written) << "the second run compiled again";
+  EXPECT_EQ(read(dir / "cold.png"), read(dir / "off.png"));
+  EXPECT_EQ(read(dir / "warm.png"), read(dir / "off.png"));
+  const CliRun help = run_binary("/usr/bin/env", "CAUSTICA_SHADER_CACHE_DIR=/some/where '" + std::string(CAUSTICA_BIN) + "' --help", dir);
+  EXPECT_NE(help.output.find("compiled shaders kept in: /some/where (CAUSTICA_SHADER_CACHE_DIR"), std::string::npos) << help.output;
+  fs::remove_all(dir);
+}
+
 // Every flag a command's --help lists is one its parsing takes, with a value where the help shows
 // one: the help and the parsing come from one table. A misspelling of each is refused with it as
 // the suggestion.

@@ -23,7 +23,7 @@ namespace {
 
 struct Engine {
   vk::Context vk{{"", true, false}};
-  shader::ShaderCompiler shaders{data_dir() / "shaders"};
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   graph::Executor executor{vk, shaders, passes::builtin_registry()};
 };
 

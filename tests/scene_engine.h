@@ -17,7 +17,9 @@ namespace caustica::test {
 
 struct SceneEngine {
   vk::Context vk{{"", true, false}};
-  shader::ShaderCompiler shaders{data_dir() / "shaders"};
+  // The process's, with its disk cache: each test is a process of its own, and most of a small
+  // test's start would otherwise be compiling the same shaders again.
+  shader::ShaderCompiler& shaders = shader::process_shader_compiler();
   graph::Executor executor{vk, shaders, passes::builtin_registry()};
   uint32_t width = 320, height = 180;
   // The viewer's setting: skip passes whose dependencies are unchanged (ConfigureOptions).
@@ -26,7 +28,8 @@ struct SceneEngine {
   graph::HandOverOptions next;
 
   bool configure(const graph::GraphDesc& graph, uint32_t w, uint32_t h, std::set<std::string> retained = {}) {
-    const bool compiled = executor.configure(graph, w, h, {.retained = std::move(retained), .reuse_unchanged_passes = reuse, .hand_over = next});
+    const bool compiled =
+        executor.configure(graph, w, h, {.retained = std::move(retained), .reuse_unchanged_passes = reuse, .hand_over = next});
     next = {};
     return compiled;
   }

@@ -15,6 +15,9 @@ bash tools/install-deps.sh
 # cache. The suite keeps its own under build/, so that every run from a clean clone starts alike
 # and the sanitizer run reuses what the Release run compiled.
 export MESA_SHADER_CACHE_DIR="$PWD/build/mesa-shader-cache"
+# caustica's own cache of compiled SPIR-V (engine/shader/shader_disk_cache.h), likewise: every
+# `caustica` process and test would otherwise run glslang over the same library again.
+export CAUSTICA_SHADER_CACHE_DIR="$PWD/build/shader-cache"
 
 phases=()
 started=$SECONDS

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "io/json_document.h"
+#include "shader/shader_disk_cache.h"
 
 namespace caustica::shader {
 namespace {
@@ -79,6 +80,15 @@ std::string log_messages(const std::string& log) {
     out += (out.empty() ? "" : "\n") + line;
   }
   return out;
+}
+
+// Whether every file a compile read still has the text it had.
+bool unchanged(const std::vector<std::pair<std::filesystem::path, std::string>>& sources) {
+  for (const auto& [file, text] : sources) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec) || read_text_file(file.string(), kMaxShaderBytes) != text) return false;
+  }
+  return true;
 }
 
 std::string preamble(const Defines& defines) {
@@ -223,15 +233,24 @@ Reflection reflect(const glslang::TIntermediate& intermediate, const std::vector
 }  // namespace
 
 ShaderCompiler& process_shader_compiler() {
-  static ShaderCompiler compiler(data_dir() / "shaders");
+  static ShaderCompiler compiler = [] {
+    const auto folder = ShaderDiskCache::default_folder();
+    if (!folder) return ShaderCompiler(data_dir() / "shaders");
+    return ShaderCompiler(data_dir() / "shaders", std::make_unique<ShaderDiskCache>(*folder, ShaderDiskCache::build_id()));
+  }();
   return compiler;
 }
 
-ShaderCompiler::ShaderCompiler(std::filesystem::path root) : root_(std::move(root)) {
+ShaderCompiler::ShaderCompiler(std::filesystem::path root) : ShaderCompiler(std::move(root), nullptr) {}
+
+ShaderCompiler::ShaderCompiler(std::filesystem::path root, std::unique_ptr<ShaderDiskCache> disk)
+    : root_(std::move(root)), disk_(std::move(disk)) {
   initialize_glslang();
 }
 
-ReflectedShader ShaderCompiler::compiled(const Entry& entry) {
+ShaderCompiler::~ShaderCompiler() = default;
+
+ReflectedShader ShaderCompiler::compiled(const CompiledShader& entry) {
   ReflectedShader out{entry.spirv, entry.reflection, {}, {}};
   for (const auto& [file, source] : entry.sources) {
     out.sources += file.string() + "\n" + source + "\n";
@@ -259,19 +278,26 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   std::lock_guard lock(mutex_);
   const std::filesystem::path path = root_ / relative;
   const std::string key = relative + "\n" + preamble(defines);
-  if (auto it = cache_.find(key); it != cache_.end()) {
-    bool unchanged = true;
-    for (const auto& [file, text] : it->second.sources) {
-      std::error_code ec;
-      unchanged = unchanged && std::filesystem::exists(file, ec) && read_text_file(file.string(), kMaxShaderBytes) == text;
-    }
-    if (unchanged) {
-      ++stats_.cache_hits;
-      return compiled(it->second);
+  if (auto it = cache_.find(key); it != cache_.end() && unchanged(it->second.sources)) {
+    ++stats_.cache_hits;
+    return compiled(it->second);
+  }
+  // On disk by the absolute path: another process may resolve the same relative path elsewhere.
+  const std::string disk_key = path.string() + "\n" + preamble(defines);
+  if (disk_) {
+    if (std::optional<CompiledShader> stored = disk_->load(disk_key)) {
+      ++stats_.disk_hits;
+      return compiled(cache_[key] = std::move(*stored));
     }
   }
+  CompiledShader entry = compile_now(path, defines);
+  ++stats_.compiles;
+  if (disk_) disk_->store(disk_key, entry);
+  return compiled(cache_[key] = std::move(entry));
+}
 
-  Entry entry;
+CompiledShader ShaderCompiler::compile_now(const std::filesystem::path& path, const Defines& defines) const {
+  CompiledShader entry;
   const EShLanguage stage = stage_of(path);
   std::string source = read_text_file(path.string(), kMaxShaderBytes);
   entry.sources.emplace_back(path, source);
@@ -300,9 +326,7 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   options.validate = true;
   glslang::GlslangToSpv(*program.getIntermediate(stage), entry.spirv, &options);
   entry.reflection = reflect(*program.getIntermediate(stage), entry.sources);
-  ++stats_.compiles;
-  auto& stored = cache_[key] = std::move(entry);
-  return compiled(stored);
+  return entry;
 }
 
 }  // namespace caustica::shader

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -21,12 +22,14 @@ enum class BindingKind { sampled_image, storage_image, storage_buffer, uniform_b
 struct SourcePlace {
   std::string file;
   int line = 0;
+  bool operator==(const SourcePlace&) const = default;
 };
 struct ReflectedMember {
   std::string name;
   std::string type;  // GLSL's name of it: "float", "int", "uint", "bool", "vec2", "uint[]"...
   SourcePlace place;
   uint32_t offset = 0;  // in the block, by its layout (std140, std430, or an explicit offset)
+  bool operator==(const ReflectedMember&) const = default;
 };
 struct ReflectedBinding {
   std::string name;                      // the variable, or a block's instance name (its type name where it has none)
@@ -42,6 +45,7 @@ struct ReflectedBinding {
   bool readonly = false;
   bool writeonly = false;
   SourcePlace place;
+  bool operator==(const ReflectedBinding&) const = default;
 };
 // A shader's user input (a fragment shader's varying): what its stage before must give.
 struct ReflectedInput {
@@ -49,6 +53,7 @@ struct ReflectedInput {
   std::string type;
   uint32_t location = 0;
   SourcePlace place;
+  bool operator==(const ReflectedInput&) const = default;
 };
 struct Reflection {
   std::vector<ReflectedBinding> bindings;
@@ -59,6 +64,7 @@ struct Reflection {
   std::vector<ReflectedMember> push_members;
   uint32_t push_size = 0;
   std::array<uint32_t, 3> local_size{1, 1, 1};
+  bool operator==(const Reflection&) const = default;
 };
 struct ReflectedShader {
   std::vector<uint32_t> spirv;
@@ -68,14 +74,27 @@ struct ReflectedShader {
   std::vector<std::filesystem::path> files;  // the file and everything it includes
 };
 
-struct CompileStats {
-  uint64_t compiles = 0;
-  uint64_t cache_hits = 0;
+// What a compile made, and from what: the cache's entry, in memory and on disk (ShaderDiskCache).
+struct CompiledShader {
+  std::vector<std::pair<std::filesystem::path, std::string>> sources;  // every file read, with its text
+  std::vector<uint32_t> spirv;
+  Reflection reflection;
 };
+
+struct CompileStats {
+  uint64_t compiles = 0;    // by glslang
+  uint64_t cache_hits = 0;  // in this compiler's memory
+  uint64_t disk_hits = 0;   // from its disk cache
+};
+
+class ShaderDiskCache;
 
 class ShaderCompiler {
  public:
   explicit ShaderCompiler(std::filesystem::path root);
+  // Also keeping what it compiles in `disk` and looking there first (the process's compiler does).
+  ShaderCompiler(std::filesystem::path root, std::unique_ptr<ShaderDiskCache> disk);
+  ~ShaderCompiler();
 
   // `path` is relative to the root (e.g. "core/box_blur.comp"); the stage comes from the extension
   // (.vert .frag .comp .geom). Throws InputError with "file:line: message" lines from glslang.
@@ -90,14 +109,11 @@ class ShaderCompiler {
   void log_files_to(std::vector<std::filesystem::path>* files);
 
  private:
-  struct Entry {
-    std::vector<std::pair<std::filesystem::path, std::string>> sources;  // every file read, with its text
-    std::vector<uint32_t> spirv;
-    Reflection reflection;
-  };
-  ReflectedShader compiled(const Entry& entry);
+  ReflectedShader compiled(const CompiledShader& entry);
+  CompiledShader compile_now(const std::filesystem::path& path, const Defines& defines) const;
   std::filesystem::path root_;
-  std::map<std::string, Entry> cache_;  // by path + defines
+  std::map<std::string, CompiledShader> cache_;  // by path + defines
+  std::unique_ptr<ShaderDiskCache> disk_;
   mutable std::mutex mutex_;
   CompileStats stats_;
   std::vector<std::filesystem::path>* file_log_ = nullptr;
@@ -105,7 +121,8 @@ class ShaderCompiler {
 
 // The process's one compiler of the engine's shader library (data_dir()/shaders), which user
 // shaders #include too: every executor, user pass type and viewer in a process shares its cache,
-// so a shader compiles once however many of them ask for it.
+// so a shader compiles once however many of them ask for it, and with the disk cache of
+// ShaderDiskCache::default_folder(), once however many processes do.
 ShaderCompiler& process_shader_compiler();
 
 }  // namespace caustica::shader

@@ -15,6 +15,7 @@
 #include "core/paths.h"
 #include "core/suggest.h"
 #include "io/json_document.h"
+#include "shader/shader_disk_cache.h"
 #include "vk/context.h"
 
 using namespace caustica;
@@ -117,6 +118,9 @@ int main(int argc, char** argv) {
     Args args(argc, argv, 2);
     if (command == "--help" || command == "-h" || command == "help") {
       std::cout << kMainHelp << "data folder (graphs, shaders, scenes): " << data_dir().string() << " (CAUSTICA_DATA_DIR overrides)\n";
+      const auto cache = shader::ShaderDiskCache::default_folder();
+      std::cout << "compiled shaders kept in: " << (cache ? cache->string() : "nowhere")
+                << " (CAUSTICA_SHADER_CACHE_DIR overrides; off keeps none)\n";
       return 0;
     }
     if (command == "render") return cmd_render(args);
