@@ -23,7 +23,7 @@ packages=(
   libopenexr-dev libstb-dev openimageio-tools
   libgtest-dev libgmock-dev
   libembree-dev glmark2-data libcgal-demo assimp-testmodels
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev lld
   python3 python3-matplotlib graphviz
   munge slurmctld slurmd slurm-client
 )
