@@ -196,6 +196,33 @@ TEST(PerLight, ExpressionsReadTheirLightsValuesAndNothingElse) {
   EXPECT_EQ(pass_named(plan, "blur#1").params["radius"], 6);
 }
 
+// An instance's expressions are read as written: a mistake in one is quoted in the user's words
+// (not "scene.light0.view"), a misspelt light name is offered its light's spelling, and the plan
+// still says with the light's own names why an instance is off.
+TEST(PerLight, AMistakeInAnInstancesExpressionIsQuotedAsWritten) {
+  nlohmann::json g = per_light_graph();
+  g["passes"][3]["enabled"] = "light.spot * nosuch";
+  const std::string unknown = per_light_error(g);
+  EXPECT_NE(unknown.find("in expression \"light.spot * nosuch\""), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("unknown name 'nosuch'"), std::string::npos) << unknown;
+  EXPECT_EQ(unknown.find("scene.light"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("/passes/3/enabled"), std::string::npos) << unknown;
+  g["passes"][3]["enabled"] = "light.sopt";
+  const std::string misspelt = per_light_error(g);
+  EXPECT_NE(misspelt.find("did you mean 'light.spot'"), std::string::npos) << misspelt;
+  g["resources"]["view"]["height"] = "16 * light.pointt";
+  g["passes"][3]["enabled"] = "1";
+  const std::string resource = per_light_error(g);
+  EXPECT_NE(resource.find("in expression \"16 * light.pointt\""), std::string::npos) << resource;
+  EXPECT_NE(resource.find("did you mean 'light.point'"), std::string::npos) << resource;
+  // A pass made once has no light to read.
+  g = per_light_graph();
+  g["passes"][0]["enabled"] = "light.spot";
+  EXPECT_NE(per_light_error(g).find("unknown name 'light.spot'"), std::string::npos) << per_light_error(g);
+  const Plan plan = compile_for_lights(per_light_graph());
+  EXPECT_EQ(plan.disabled_by.at("blur#2"), "1 - scene.light2.directional");
+}
+
 // A point light's shadow drawn into an image of one layer (a graph made for spot lights) compiles,
 // and the plan says that the light stays unshadowed; the bundled graphs' per-light maps say nothing
 // (a receiver map of one layer is the caustic view's, not a shadow).

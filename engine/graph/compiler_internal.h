@@ -63,9 +63,10 @@ class Compiler {
   std::string redirected(const std::string& name) const;
   void decide_enabled_and_fallbacks();
   std::vector<std::string> resource_names_of_file() const;
-  ExpressionScope scope() const;
-  double evaluate(const std::string& text, const std::string& pointer) const;
-  uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const std::string& resource) const;
+  // The names an expression reads; a per-light instance's (light >= 0) through graph::light_scope.
+  ExpressionScope scope(int light = -1) const;
+  double evaluate(const std::string& text, const std::string& pointer, int light = -1) const;
+  uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const ResourceDesc& resource) const;
   void size_resources();
   std::vector<std::string> resource_names() const;
   // Every declared parameter's value (for the first frame), and in `frame_params` those that are

@@ -13,6 +13,7 @@
 #include "core/low_discrepancy.h"
 #include "graph/executor_internal.h"
 #include "graph/expression.h"
+#include "graph/per_light.h"
 
 namespace caustica::graph {
 namespace {
@@ -38,6 +39,7 @@ nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const
     const auto it = plan.expression_values.find(std::string(name));
     return it == plan.expression_values.end() ? std::nullopt : std::optional<double>(it->second);
   };
+  scope = light_scope(std::move(scope), instance_light(pass.name));
   nlohmann::json params = pass.params;
   for (const auto& [name, expression] : pass.frame_params) {
     try {

@@ -45,6 +45,7 @@ struct ResourceDesc {
   bool fallback_to_nothing = false;
   // "light": one resource per light of the scene, its expressions read per light (graph/per_light.h).
   std::string for_each;
+  int light = -1;  // an instance's light (made by expand_per_light)
   std::string pointer;
 };
 

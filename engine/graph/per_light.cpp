@@ -3,37 +3,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <set>
+#include <vector>
 
-#include "graph/expression.h"
 #include "graph/plan.h"
 
 namespace caustica::graph {
 namespace {
-
-// `text` (an expression) as light K's instance reads it: light.index is K, light.NAME the scene's
-// scene.lightK.NAME.
-std::string for_light(std::string_view text, uint32_t light) {
-  std::string out;
-  size_t i = 0;
-  while (i < text.size()) {
-    if (!is_name_start(text[i]) || (i > 0 && is_name_char(text[i - 1]))) {
-      out += text[i++];
-      continue;
-    }
-    size_t end = i;
-    while (end < text.size() && is_name_char(text[end])) ++end;
-    const std::string_view name = text.substr(i, end - i);
-    if (name == "light.index")
-      out += std::to_string(light);
-    else if (name.starts_with("light."))
-      out += "scene.light" + std::to_string(light) + "." + std::string(name.substr(6));
-    else
-      out += name;
-    i = end;
-  }
-  return out;
-}
 
 class Expansion {
  public:
@@ -97,8 +74,7 @@ class Expansion {
       ResourceDesc instance = r;
       instance.for_each.clear();
       instance.name = light_instance(r.name, light);
-      for (std::string* expression : {&instance.width, &instance.height, &instance.mips, &instance.layers, &instance.size})
-        *expression = for_light(*expression, light);
+      instance.light = static_cast<int>(light);
       if (per_light_resources_.count(r.fallback)) instance.fallback = light_instance(r.fallback, light);
       out.resources.push_back(std::move(instance));
     }
@@ -125,12 +101,8 @@ class Expansion {
     p.for_each.clear();
     p.light = static_cast<int>(light);
     p.name = light_instance(pass.name, light);
-    p.enabled = for_light(pass.enabled, light);
-    for (auto it = p.params.begin(); it != p.params.end(); ++it) {
-      if (*it == "$light")
-        *it = light;
-      else if (it->is_string() && !it->get<std::string>().starts_with('$'))
-        *it = for_light(it->get<std::string>(), light);
+    for (auto& value : p.params) {
+      if (value == "$light") value = light;
     }
     for (auto* section : {&p.inputs, &p.outputs}) {
       for (auto& [port, resource] : *section) {
@@ -179,6 +151,44 @@ class Expansion {
 };
 
 }  // namespace
+
+ExpressionScope light_scope(ExpressionScope scope, int light) {
+  if (light < 0) return scope;
+  const std::string prefix = "scene.light" + std::to_string(light) + ".";
+  std::vector<std::string> names{"light.index"};
+  for (const auto& name : scope.known_names) {
+    if (name.starts_with(prefix)) names.push_back("light." + name.substr(prefix.size()));
+  }
+  scope.known_names.insert(scope.known_names.end(), names.begin(), names.end());
+  scope.lookup = [lookup = std::move(scope.lookup), prefix, light](std::string_view name) -> std::optional<double> {
+    if (name == "light.index") return light;
+    if (name.starts_with("light.")) return lookup(prefix + std::string(name.substr(6)));
+    return lookup(name);
+  };
+  return scope;
+}
+
+std::string as_read_by_light(std::string_view text, uint32_t light) {
+  std::string out;
+  size_t i = 0;
+  while (i < text.size()) {
+    if (!is_name_start(text[i]) || (i > 0 && is_name_char(text[i - 1]))) {
+      out += text[i++];
+      continue;
+    }
+    size_t end = i;
+    while (end < text.size() && is_name_char(text[end])) ++end;
+    const std::string_view name = text.substr(i, end - i);
+    if (name == "light.index")
+      out += std::to_string(light);
+    else if (name.starts_with("light."))
+      out += "scene.light" + std::to_string(light) + "." + std::string(name.substr(6));
+    else
+      out += name;
+    i = end;
+  }
+  return out;
+}
 
 std::string light_instance(std::string_view name, uint32_t light) {
   return std::string(name) + "#" + std::to_string(light);

@@ -7,11 +7,14 @@
 // - an instance's ports bound to a per-light resource bind that light's instance of it;
 // - a pass that runs once reads a per-light resource through a per-light port (PortDecl::per_light):
 //   element K ("PORT[K]" in PlannedPass::ports) is light K's instance.
-// The graph file keeps what the user wrote; only the compiled plan holds the instances.
+// The graph file keeps what the user wrote; only the compiled plan holds the instances, whose
+// expressions stay as written (so that a message about one quotes the user's text) and are read
+// through light_scope.
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "graph/expression.h"
 #include "graph/graph_desc.h"
 
 namespace caustica::graph {
@@ -29,6 +32,13 @@ int instance_light(std::string_view name);
 std::string port_element(std::string_view port, uint32_t element);
 // The port of "caustics[2]" and 2, or the name and -1 where it names no element.
 std::pair<std::string, int> split_port_element(std::string_view key);
+
+// `scope` as light `light`'s instance reads it: light.index is the light, light.NAME the scene's
+// scene.lightK.NAME, every other name as `scope` has it; `scope` itself for -1 (made once).
+ExpressionScope light_scope(ExpressionScope scope, int light);
+// `text` with light `light`'s names written out ("light.view" -> "scene.light2.view"): how a plan
+// shows what an instance read.
+std::string as_read_by_light(std::string_view text, uint32_t light);
 
 // Whether the graph declares a per-light pass or resource.
 bool has_per_light(const GraphDesc& graph);
