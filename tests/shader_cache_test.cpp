@@ -140,18 +140,25 @@ TEST_F(ShaderDiskCacheTest, AFolderThatCannotBeWrittenOnlyMeansCompiling) {
   EXPECT_FALSE(std::filesystem::exists(dir / "elsewhere"));
 }
 
-TEST_F(ShaderDiskCacheTest, KeepsTheFoldersOfTheLastFewBuilds) {
+// A build's folder goes when unused for a week, or when 31 others were used since; a folder in
+// use is marked so each time a compiler opens it; what is not a build's folder stays.
+TEST_F(ShaderDiskCacheTest, KeepsTheFoldersOfBuildsInUse) {
   const auto now = std::filesystem::file_time_type::clock::now();
-  for (int i = 0; i < 6; ++i) {
-    const auto build = dir / "cache" / ("000000000000000" + std::to_string(i));
-    std::filesystem::create_directories(build);
-    std::filesystem::last_write_time(build, now - std::chrono::hours(10 - i));  // build 5 the most recent
+  const auto build = [&](int i) { return dir / "cache" / ("00000000000000" + std::string(i < 10 ? "0" : "") + std::to_string(i)); };
+  for (int i = 0; i < 40; ++i) {
+    std::filesystem::create_directories(build(i));
+    std::filesystem::last_write_time(build(i), now - std::chrono::hours(i == 39 ? 24 * 8 : 40 - i));  // 38 the most recent
   }
-  std::filesystem::create_directories(dir / "cache" / "notes");  // not a build's: left alone
+  std::filesystem::create_directories(dir / "cache" / "notes");
+  ShaderDiskCache used(dir / "cache", "0000000000000000");  // build 0's, the oldest but a week: now in use
+  EXPECT_GT(std::filesystem::last_write_time(build(0)), now - std::chrono::minutes(1));
   ShaderDiskCache cache(dir / "cache", "ffffffffffffffff");
   EXPECT_EQ(cache.folder(), dir / "cache" / "ffffffffffffffff");
-  for (int i = 0; i < 6; ++i)
-    EXPECT_EQ(std::filesystem::exists(dir / "cache" / ("000000000000000" + std::to_string(i))), i >= 2) << "build " << i;
+  // Kept: the new one, build 0 (just used) and the 30 most recent of the others (9 to 38).
+  EXPECT_TRUE(std::filesystem::exists(build(0)));
+  for (int i = 1; i < 9; ++i) EXPECT_FALSE(std::filesystem::exists(build(i))) << "build " << i;
+  for (int i = 9; i < 39; ++i) EXPECT_TRUE(std::filesystem::exists(build(i))) << "build " << i;
+  EXPECT_FALSE(std::filesystem::exists(build(39))) << "unused for eight days";
   EXPECT_TRUE(std::filesystem::exists(dir / "cache" / "notes"));
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -33,8 +34,10 @@ namespace {
 
 // The first line of an entry: a file in another format (an older one, or not an entry) is a miss.
 constexpr std::string_view kMagic = "caustica shader cache 1\n";
-// Builds whose folders are kept beside the running one's.
-constexpr size_t kKeepBuilds = 4;
+// Builds' folders are removed when unused this long, and beyond this many the least recently used
+// go: a test suite runs a score of programs, each a build of its own, side by side.
+constexpr auto kUnusedFor = std::chrono::hours(24 * 7);
+constexpr size_t kMaxBuilds = 32;
 constexpr size_t kMaxFileBytes = 4u << 20;
 
 // An entry's fields in order, each prefixed by its length: the key, the sources (path, text), the
@@ -109,14 +112,17 @@ bool is_build_folder(const std::filesystem::directory_entry& entry) {
   return entry.is_directory() && name.size() >= 16 && std::all_of(name.begin(), name.end(), [](char c) { return std::isxdigit(c); });
 }
 
-// Removes the folders of all but the kKeepBuilds builds that used theirs last, `kept` aside.
+// Removes the folders of builds unused for kUnusedFor, and beyond kMaxBuilds the least recently
+// used (a folder's time is its last use), `kept` aside.
 void remove_old_builds(const std::filesystem::path& root, const std::filesystem::path& kept) {
   std::error_code ec;
   std::vector<std::pair<std::filesystem::file_time_type, std::filesystem::path>> others;
   for (const auto& entry : std::filesystem::directory_iterator(root, ec))
     if (entry.path() != kept && is_build_folder(entry)) others.emplace_back(entry.last_write_time(ec), entry.path());
   std::sort(others.rbegin(), others.rend());
-  for (size_t i = kKeepBuilds; i < others.size(); ++i) std::filesystem::remove_all(others[i].second, ec);
+  const auto stale = std::filesystem::file_time_type::clock::now() - kUnusedFor;
+  for (size_t i = 0; i < others.size(); ++i)
+    if (i + 1 >= kMaxBuilds || others[i].first < stale) std::filesystem::remove_all(others[i].second, ec);
 }
 
 }  // namespace
@@ -165,7 +171,9 @@ ShaderDiskCache::ShaderDiskCache(const std::filesystem::path& folder, const std:
   if (build_id.empty()) return;
   std::error_code ec;
   const std::filesystem::path mine = folder / build_id;
-  if (!std::filesystem::exists(mine, ec)) {
+  if (std::filesystem::exists(mine, ec)) {
+    std::filesystem::last_write_time(mine, std::filesystem::file_time_type::clock::now(), ec);  // in use
+  } else {
     if (!std::filesystem::create_directories(mine, ec) && !std::filesystem::is_directory(mine, ec)) return;
     remove_old_builds(folder, mine);
   }

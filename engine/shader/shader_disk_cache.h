@@ -9,9 +9,9 @@
 // holds the text of every file the compile read: it is used only while each of those files still
 // has that text, byte for byte, so an edited shader or include compiles again. Entries live in a
 // folder per build of the running program (its GNU build ID), so that a program built from other
-// code (another glslang, another reflection) never reads what this one wrote; the folders of all
-// but the few most recent builds are removed. A cache that cannot be read or written is a miss,
-// never an error.
+// code (another glslang, another reflection) never reads what this one wrote; a build's folder is
+// removed when unused for a week or when 31 others were used since. A cache that cannot be read or
+// written is a miss, never an error.
 #include <filesystem>
 #include <optional>
 #include <string>
