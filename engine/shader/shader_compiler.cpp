@@ -285,7 +285,7 @@ ReflectedShader ShaderCompiler::compile_reflected(const std::string& relative, c
   // On disk by the absolute path: another process may resolve the same relative path elsewhere.
   const std::string disk_key = path.string() + "\n" + preamble(defines);
   if (disk_) {
-    if (std::optional<CompiledShader> stored = disk_->load(disk_key)) {
+    if (std::optional<CompiledShader> stored = disk_->load(disk_key); stored && unchanged(stored->sources)) {
       ++stats_.disk_hits;
       return compiled(cache_[key] = std::move(*stored));
     }

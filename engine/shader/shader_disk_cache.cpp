@@ -197,9 +197,7 @@ std::optional<CompiledShader> ShaderDiskCache::load(const std::string& key) cons
   CompiledShader out;
   for (uint64_t i = 0, count = in.number(); in.ok() && i < count; ++i) {
     std::filesystem::path file = in.text();
-    std::string text = in.text();
-    if (!in.ok() || read_file(file) != text) return std::nullopt;  // a file read then has changed
-    out.sources.emplace_back(std::move(file), std::move(text));
+    out.sources.emplace_back(std::move(file), in.text());
   }
   const std::string reflection = in.text();
   out.spirv = in.words();

@@ -31,6 +31,8 @@ class ShaderDiskCache {
   // Entries under folder/<build_id>; with an empty build_id, none.
   ShaderDiskCache(const std::filesystem::path& folder, const std::string& build_id);
 
+  // The entry stored under `key` as it was stored: whether its sources still have their text is
+  // the compiler's check, the same as for what it keeps in memory.
   std::optional<CompiledShader> load(const std::string& key) const;
   void store(const std::string& key, const CompiledShader& shader) const;
   const std::filesystem::path& folder() const { return folder_; }
