@@ -128,10 +128,14 @@ for map in "${caustics[@]+"${caustics[@]}"}"; do
 done
 export REFERENCE_CAUSTICS="${maps[*]+"${maps[*]}"}"
 array=${resubmit:-0-$((shards - 1))}${throttle:+%$throttle}
-env="ALL,CAUSTICA=$caustica,SCENE=$scene,PHOTONS=$photons,SIZE=$size,SHARDS=$shards,SEED=$seed,MAP_SIZE=$map_size,LIGHT=$light,SHARD_DIR=$shard_dir,OUT=$out"
+# Through the environment and --export=ALL, not --export=ALL,NAME=VALUE: with a list Slurm also
+# loads the user's login environment on the node (slurmd runs `su - USER` per job: a login shell
+# and whatever the user's profile starts, 1 s of the node's time a job on the test machine).
+export CAUSTICA=$caustica SCENE=$scene PHOTONS=$photons SIZE=$size SHARDS=$shards SEED=$seed MAP_SIZE=$map_size LIGHT=$light \
+  SHARD_DIR=$shard_dir OUT=$out
 # The jobs' output beside the shards, not in the folder sbatch was called from.
-shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export="$env" "$here/reference.sbatch")
-merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export="$env" "$here/merge.sbatch")
+shard_job=$(submit "${common[@]}" "${shard_time[@]}" --array="$array" --output="$shard_dir/caustica-shard-%A_%a.out" --export=ALL "$here/reference.sbatch")
+merge_job=$(submit "${common[@]}" --time=00:10:00 --dependency="afterok:$shard_job" --kill-on-invalid-dep=yes --output="$shard_dir/caustica-merge-%j.out" --export=ALL "$here/merge.sbatch")
 echo "shards: job $shard_job (array $array, $shard_dir/shard_I.exr)"
 echo "merge:  job $merge_job (after every shard succeeded; writes $out)"
 echo "a failed shard: tools/slurm/submit.sh ... --resubmit I (the same options, the indices that failed)"
