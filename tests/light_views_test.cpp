@@ -1,6 +1,6 @@
-// A point light's caustic view (scene/light_views.cpp): a frustum from the light that holds every
-// refractor's bounding sphere, no wider than the margin asks, and none where the refractors lie
-// around the light; spot and directional lights keep their own view. On the CPU.
+// A light's caustic view (scene/light_views.cpp): a frustum (a directional light's prism) from the
+// light that holds every refractor's bounding sphere it reaches, no wider than the margin asks, and
+// for a point light none where the refractors lie around it. On the CPU.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -81,13 +81,46 @@ TEST(CausticViews, ALightAmongItsRefractorsHasNoView) {
   EXPECT_FALSE(none.lights.at(0).has_caustic_view);
 }
 
-// A spot or directional light throws its caustic through its own view (docs/caustics.md says why).
-TEST(CausticViews, SpotAndDirectionalLightsKeepTheirOwnView) {
-  const Scene spot =
-      point_light_over_balls(R"({"type": "spot", "position": [0.5, 6, 0], "target": [0, 0, 0], "fov": 60})", ball(0.5f, 1, 0, 0.5f));
-  EXPECT_TRUE(spot.lights.at(0).has_caustic_view);
-  EXPECT_EQ(spot.lights.at(0).caustic_view_projection(), spot.lights.at(0).view_projection());
-  const Scene sun = point_light_over_balls(R"({"type": "directional", "position": [0, 10, 0], "target": [0, 0, 0]})", ball(2, 1, -1, 0.5f));
-  EXPECT_TRUE(sun.lights.at(0).has_caustic_view);
-  EXPECT_EQ(sun.lights.at(0).caustic_view_projection(), sun.lights.at(0).view_projection());
+// A spot's caustic view is narrowed to the refractors it reaches: the ball's own cone widened by the
+// margin, about the axis to it; a ball outside the spot's cone does not widen it. (Left with its
+// own 60-degree view the ball, 10 degrees across, would cover a 36th of the caustic map.)
+TEST(CausticViews, ASpotsViewIsFittedToTheRefractorsItReaches) {
+  const Scene s = point_light_over_balls(R"({"type": "spot", "position": [0.5, 6, 0], "target": [0, 0, 0], "fov": 60})",
+                                         ball(0.5f, 1, 0, 0.5f) + ball(9, 1, 0, 0.5f));
+  const Light& light = s.lights.at(0);
+  ASSERT_TRUE(light.has_caustic_view);
+  EXPECT_NEAR(glm::dot(light.as_caustic_view().axis(), glm::vec3(0, -1, 0)), 1.0f, 1e-5f);
+  const float tan_half = std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);
+  EXPECT_NEAR(tan_half, kCausticViewMargin * std::tan(std::asin(0.5f / 5.0f)), 2e-3f);
+  // Its cone is still the spot's own: the caustic passes weigh their photons by it.
+  EXPECT_EQ(light.as_caustic_view().view.fov_y_degrees, light.caustic_view.fov_y_degrees);
+  EXPECT_EQ(light.axis(), glm::normalize(glm::vec3(-0.5f, -6, 0)));
+  // A ball that fills the spot's cone leaves it its own view, as does the scene's "caustic_view": "light".
+  const Scene filling =
+      point_light_over_balls(R"({"type": "spot", "position": [0, 6, 0], "target": [0, 0, 0], "fov": 20})", ball(0, 1, 0, 1.5f));
+  EXPECT_EQ(filling.lights.at(0).caustic_view_projection(), filling.lights.at(0).view_projection());
+  const Scene own = point_light_over_balls(
+      R"({"type": "spot", "position": [0.5, 6, 0], "target": [0, 0, 0], "fov": 60, "caustic_view": "light"})", ball(0.5f, 1, 0, 0.5f));
+  EXPECT_TRUE(own.lights.at(0).has_caustic_view);
+  EXPECT_EQ(own.lights.at(0).caustic_view_projection(), own.lights.at(0).view_projection());
+}
+
+// A directional light's prism is narrowed across its direction to a square about the ball, twice its
+// radius in half side, the ball at the square's middle; one that would reach outside the light's own
+// prism is not (there is no light there).
+TEST(CausticViews, ASunsPrismIsFittedToTheRefractorsItReaches) {
+  const Scene s = point_light_over_balls(R"({"type": "directional", "position": [0, 10, 0], "target": [0, 0, 0]})", ball(2, 1, -1, 0.5f));
+  const Light& light = s.lights.at(0);
+  ASSERT_TRUE(light.has_caustic_view);
+  EXPECT_NEAR(light.caustic_extent, kCausticViewMargin * 0.5f, 1e-5f);
+  EXPECT_GT(light.extent, 5.0f);  // fitted to the floor when loaded
+  const glm::vec4 middle = light.caustic_view_projection() * glm::vec4(2, 1, -1, 1);
+  EXPECT_NEAR(middle.x / middle.w, 0.0f, 1e-5f);
+  EXPECT_NEAR(middle.y / middle.w, 0.0f, 1e-5f);
+  const glm::vec4 edge = light.caustic_view_projection() * glm::vec4(2 + kCausticViewMargin * 0.5f, 0, -1, 1);
+  EXPECT_NEAR(std::abs(edge.x / edge.w), 1.0f, 1e-5f);
+  EXPECT_EQ(light.as_caustic_view().axis(), light.axis());
+  const Scene edge_of_light = point_light_over_balls(
+      R"({"type": "directional", "position": [0, 10, 0], "target": [0, 0, 0], "extent": 2.5})", ball(2, 1, -1, 0.5f));
+  EXPECT_EQ(edge_of_light.lights.at(0).caustic_view_projection(), edge_of_light.lights.at(0).view_projection());
 }

@@ -178,9 +178,9 @@ TEST(PhotonReference, ThinWallTransmitsItsShareUnbent) {
   }
 }
 
-// A directional light sends its irradiance across its orthographic view's square: what the light
-// emits is E (2 extent)^2 exactly, and what enters the ball lens is E times the sphere's cross
-// section, pi R^2 (the tessellated sphere's a little less).
+// A directional light sends its irradiance across its caustic view's square (fitted to the ball): what
+// the light emits through it is E (2 caustic_extent)^2 exactly, and what enters the ball lens is E
+// times the sphere's cross section, pi R^2 (the tessellated sphere's a little less).
 TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
   const scene::Scene scene = bundled("sphere_sun");
   ASSERT_EQ(scene.lights.front().type, scene::LightType::directional);
@@ -189,7 +189,9 @@ TEST(PhotonReference, DirectionalLightFluxIsIrradianceTimesArea) {
   options.fresnel = false;
   const auto t = reference::trace_photon_reference(scene, options).totals;
   expect_flux_accounted(t);
-  const double irradiance = static_cast<double>(scene.lights.front().intensity), extent = static_cast<double>(scene.lights.front().extent);
+  const double irradiance = static_cast<double>(scene.lights.front().intensity);
+  const double extent = static_cast<double>(scene.lights.front().caustic_extent);
+  EXPECT_LT(extent, static_cast<double>(scene.lights.front().extent));
   std::printf("emitted %.5f (exact %.5f), entering %.5f (pi R^2 E = %.5f), landed %.5f\n", t.emitted, irradiance * 4 * extent * extent,
               t.entering, glm::pi<double>() * irradiance, t.landed);
   EXPECT_NEAR(t.emitted, irradiance * 4 * extent * extent, 1e-6 * t.emitted);
@@ -473,6 +475,7 @@ TEST(PhotonReference, ACausticViewsFluxIsTheIntensityOverItsSolidAngle) {
   sun.view.position = {0.0f, 5.0f, 0.0f};
   sun.view.target = {0.0f, 0.0f, 0.0f};
   sun.caustic_view = sun.view;
+  sun.caustic_extent = sun.extent;
   sun.has_caustic_view = true;
   EXPECT_NEAR(reference::caustic_view_flux(sun), 2.5 * 3.0 * 3.0, 1e-9);
 

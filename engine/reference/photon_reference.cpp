@@ -32,7 +32,8 @@ struct Accumulator {
 // Half the side of a light's caustic view's image plane: at distance 1 (spot, point), or the
 // orthographic view's square itself (directional).
 float caustic_half_plane(const scene::Light& light) {
-  return light.type == scene::LightType::directional ? light.extent : std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);
+  const scene::Light seen = light.as_caustic_view();
+  return light.type == scene::LightType::directional ? seen.extent : std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
 }
 
 // A photon leaving through `ndc` of a light's caustic view: where it starts, where it goes, and its

@@ -77,7 +77,7 @@ class Tracer {
     const auto& map = *caustic_maps_[light_index];
     const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
     if (directional) {  // the texel's flux over the area it covers across the light's direction
-      const float texel = 2.0f * light.extent / float(map.width);
+      const float texel = 2.0f * light.caustic_extent / float(map.width);
       return light.color * sample_bilinear(map, uv) * cos_theta / (texel * texel);
     }
     const float half = std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);

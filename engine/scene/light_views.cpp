@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "scene/scene.h"
@@ -82,16 +83,22 @@ float cone_half_angle(glm::vec3 axis, const std::vector<std::pair<glm::vec3, flo
   return half;
 }
 
-// A frustum from a point light around the refractors' bounding spheres (Object::bounding_radius), or
-// nothing where the light is inside one or they spread over more than kMaxPointViewHalfDegrees
-// about it.
-std::optional<View> fitted_frustum(const Light& light, const Scene& scene) {
+// The refractors' bounding spheres (Object::bounding_radius) that light from it reaches.
+std::vector<std::pair<glm::vec3, float>> reached_refractors(const Light& light, const Scene& scene) {
+  std::vector<std::pair<glm::vec3, float>> spheres;
+  for (const Object& o : scene.objects) {
+    if (o.material.refractor && light.reaches(o.bounds_min, o.bounds_max)) spheres.emplace_back(o.center(), o.bounding_radius());
+  }
+  return spheres;
+}
+
+// A frustum from a point or spot light around the refractors it reaches, its tangent
+// kCausticViewMargin times theirs, or nothing where the light is inside one or they spread over
+// more than kMaxPointViewHalfDegrees about it.
+std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pair<glm::vec3, float>>& refractors) {
   std::vector<std::pair<glm::vec3, float>> seen;  // direction and angular radius of each
   glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const Object& o : scene.objects) {
-    if (!o.material.refractor) continue;
-    const glm::vec3 center = o.center();
-    const float radius = o.bounding_radius();
+  for (const auto& [center, radius] : refractors) {
     const glm::vec3 to_center = center - light.view.position;
     const float distance = glm::length(to_center);
     if (distance <= 1.001f * radius) return std::nullopt;
@@ -114,6 +121,30 @@ std::optional<View> fitted_frustum(const Light& light, const Scene& scene) {
   return view;
 }
 
+// A directional light's prism narrowed to the refractors it reaches: the same direction, its square
+// about their bounding spheres' box across it, kCausticViewMargin times its half side; nothing
+// where that square would reach outside the light's own (whose light is all there is).
+std::optional<std::pair<View, float>> fitted_prism(const Light& light, const std::vector<std::pair<glm::vec3, float>>& refractors) {
+  if (refractors.empty()) return std::nullopt;
+  // The light's view across its direction: the rows of its view matrix.
+  const glm::mat4 v = light.view.view_matrix();
+  const glm::vec3 right(v[0][0], v[1][0], v[2][0]), up(v[0][1], v[1][1], v[2][1]);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& [center, radius] : refractors) {
+    const glm::vec3 d = center - light.view.position;
+    const glm::vec2 across(glm::dot(d, right), glm::dot(d, up));
+    lo = glm::min(lo, across - radius);
+    hi = glm::max(hi, across + radius);
+  }
+  const glm::vec2 middle = 0.5f * (lo + hi);
+  const float half_side = kCausticViewMargin * 0.5f * std::max(hi.x - lo.x, hi.y - lo.y);
+  if (std::max(std::abs(middle.x), std::abs(middle.y)) + half_side > light.extent) return std::nullopt;
+  View view = light.view;
+  view.position += middle.x * right + middle.y * up;
+  view.target = view.position + light.axis();
+  return std::pair{view, half_side};
+}
+
 }  // namespace
 
 glm::mat4 Light::caustic_view_projection() const {
@@ -123,27 +154,30 @@ glm::mat4 Light::caustic_view_projection() const {
 Light Light::as_caustic_view() const {
   Light seen = *this;
   seen.view = caustic_view;
+  seen.extent = caustic_extent;
   return seen;
 }
 
 bool fit_caustic_view(Light& light, const Scene& scene) {
   light.caustic_view = light.view;
+  light.caustic_extent = light.extent;
   light.has_caustic_view = light.type != LightType::point;
-  // Spot and directional lights throw through their own view. Fitted to their refractors too (a
-  // frustum or prism twice their tangent), the stability suite's tiny refractor filled the view
-  // (the paper's traversal no longer lost it) and a 1e-4 light move changed its maps by 0.09-0.13
-  // (bound 0.05): docs/caustics.md.
-  if (light.type != LightType::point) return true;
-  if (const auto fitted = fitted_frustum(light, scene)) {
-    light.caustic_view = *fitted;
-    // Its far plane beyond every object: where the caustic lands.
-    float farthest = 0.0f;
-    for (const Object& o : scene.objects)
-      farthest = std::max(farthest, glm::length(o.center() - light.view.position) + o.bounding_radius());
-    light.caustic_view.far_plane = std::max(light.caustic_view.far_plane, 1.05f * farthest + light.caustic_view.near_plane);
-    light.has_caustic_view = true;
+  if (light.type != LightType::point && light.own_caustic_view) return true;
+  const auto refractors = reached_refractors(light, scene);
+  if (light.type == LightType::directional) {
+    if (const auto prism = fitted_prism(light, refractors)) std::tie(light.caustic_view, light.caustic_extent) = *prism;
+    return true;
   }
-  return light.has_caustic_view;
+  const auto fitted = fitted_frustum(light, refractors);
+  // A spot light keeps its own view where that is the narrower.
+  if (!fitted || (light.type == LightType::spot && fitted->fov_y_degrees >= light.view.fov_y_degrees)) return light.has_caustic_view;
+  light.caustic_view = *fitted;
+  // Its far plane beyond every object: where the caustic lands.
+  float farthest = 0.0f;
+  for (const Object& o : scene.objects) farthest = std::max(farthest, glm::length(o.center() - light.view.position) + o.bounding_radius());
+  light.caustic_view.far_plane = std::max(light.caustic_view.far_plane, 1.05f * farthest + light.caustic_view.near_plane);
+  light.has_caustic_view = true;
+  return true;
 }
 
 void fit_light_views(Scene& scene, size_t fitted) {

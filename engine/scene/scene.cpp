@@ -281,7 +281,7 @@ Scene load_scene(const JsonDocument& doc) {
     const std::string pointer = "/lights/" + std::to_string(i);
     const auto& value = lights[i];
     Light light;
-    light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color", "extent"});
+    light.view = load_view(doc, read, value, pointer, "a light", {"type", "intensity", "color", "extent", "caustic_view"});
     static const std::vector<std::string> types{"spot", "point", "directional"};
     const std::string type = value.contains("type") ? read.string(value["type"], pointer + "/type", "a light type") : "spot";
     if (type == "spot")
@@ -296,6 +296,16 @@ Scene load_scene(const JsonDocument& doc) {
       if (light.type != LightType::directional) throw doc.error(pointer + "/extent", "\"extent\" is for directional lights only");
       light.extent =
           static_cast<float>(read.number(value["extent"], pointer + "/extent", "\"extent\" (half the light view's side)", 1e-3, 1e5));
+    }
+    if (value.contains("caustic_view")) {
+      const std::string view = read.string(value["caustic_view"], pointer + "/caustic_view", "\"caustic_view\"");
+      if (view != "fitted" && view != "light")
+        throw doc.error(pointer + "/caustic_view",
+                        "\"caustic_view\" is \"fitted\" (to the refractors it reaches, the default) or \"light\" (its own view), not '" +
+                            view + "'" + did_you_mean(view, {"fitted", "light"}));
+      if (view == "light" && light.type == LightType::point)
+        throw doc.error(pointer + "/caustic_view", "a point light has no view of its own: its caustic view is always fitted");
+      light.own_caustic_view = view == "light";
     }
     if (light.type == LightType::spot && !value.contains("fov")) light.view.fov_y_degrees = 60.0f;
     if (value.contains("intensity"))

@@ -149,11 +149,12 @@ enum class LightType { spot, point, directional };
 // than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver
 // near a face's edge still finds its taps inside that face.
 inline constexpr float kCubeFaceTan = 1.05f;
-// A point light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent
-// twice theirs so that light bent outwards still lands in it: on the bundled ball lenses and prisms
-// the exact photons landing off such a map stayed within 1% of those off the light's whole view at
-// twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md); none where its refractors spread
-// over more than a cone of 70 degrees about it.
+// A light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent (a
+// directional light's half side) twice theirs so that light bent outwards still lands in it: on the
+// bundled ball lenses and prisms the exact photons landing off such a map stayed within 1% of those
+// off the light's whole view at twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md). A
+// point light has none where its refractors spread over more than a cone of 70 degrees about it; a
+// spot or directional light then, or where the fit is no narrower, throws through its own view.
 inline constexpr float kCausticViewMargin = 2.0f;
 inline constexpr float kMaxPointViewHalfDegrees = 70.0f;
 
@@ -166,17 +167,20 @@ struct Light {
   glm::vec3 color{1.0f};
   float extent = 0.0f;  // directional: half the side of the orthographic view's square (world units)
   // What its caustic passes draw and emit photons through (light-space refractor buffers, receiver
-  // depth, photons, the caustic map; fit_caustic_view): a spot or directional light's own view and
-  // extent; a point light's frustum fitted around the refractors it reaches, or none. A point
-  // light's shadow is the six cube faces about view.position.
+  // depth, photons, the caustic map; fit_caustic_view): a frustum (a directional light's prism,
+  // caustic_extent its half side) fitted around the refractors it reaches, or a spot or directional
+  // light's own view where the scene asks for it (own_caustic_view) or the fit is no narrower; a
+  // point light may have none. A point light's shadow is the six cube faces about view.position.
   View caustic_view;
+  float caustic_extent = 0.0f;
   bool has_caustic_view = false;
+  bool own_caustic_view = false;  // the scene's "caustic_view": "light"
 
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;  // its shadow map's (spot, directional)
   glm::mat4 caustic_view_projection() const;
-  // This light with its caustic view for its view: what its caustic passes see;
-  // its spot cone is still the light's own (axis() and view.fov_y_degrees of *this).
+  // This light with its caustic view for its view (and caustic_extent for its extent): what its
+  // caustic passes see; its spot cone is still the light's own (axis() and view.fov_y_degrees of *this).
   Light as_caustic_view() const;
   // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).
   static glm::vec3 face_axis(uint32_t face);

@@ -43,7 +43,7 @@ nlohmann::ordered_json lights_report(const scene::Scene& scene, const graph::Pla
                {"reaches", {{"objects", values.at(prefix + "objects")}, {"refractors", values.at(prefix + "refractors")}}}};
     if (light.type != scene::LightType::point) entry["shadow_view"] = view_of(light, light.view, light.extent);
     if (light.has_caustic_view) {
-      entry["caustic_view"] = view_of(light, light.caustic_view, light.extent);
+      entry["caustic_view"] = view_of(light, light.caustic_view, light.caustic_extent);
       entry["caustic_view"]["fitted_to_refractors"] = light.caustic_view_projection() != light.view_projection();
     } else {
       entry["caustic_view"] = nullptr;
