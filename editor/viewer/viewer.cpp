@@ -10,8 +10,9 @@ namespace caustica::editor {
 
 const char* const kViewerKeys = R"(keys and mouse:
   left drag   orbit the camera around its target       wheel      move the camera closer or farther
-  arrows      move the first light (x, z)              PgUp/PgDn  move the light up or down
-  R           reset camera and light                   P          screenshot (caustica_view_N.png)
+  arrows      move the chosen light (x, z)             PgUp/PgDn  move the light up or down
+  L           choose the next light (light 0 first)    P          screenshot (caustica_view_N.png)
+  R           reset the camera and the lights
   Tab         hide or show the panels                  C          continuous rendering on or off
   F1          this help on screen                      Esc        quit (as do Ctrl-C and SIGTERM, exit code 0)
 )";
@@ -47,7 +48,11 @@ Viewer::Impl::Impl(Viewer& owner, const ViewerOptions& o)
   if (inspector_.inspected != o.inspect)
     throw InputError("--inspect " + o.inspect + ": not an image of " + session_.graph_file + " that a running pass writes");
   home_camera_ = session_.scene->camera;
-  home_light_ = session_.scene->lights.empty() ? glm::vec3(0.0f) : session_.scene->lights.front().view.position;
+  for (const scene::Light& light : session_.scene->lights) home_lights_.push_back(light.view.position);
+  if (o.moved_light >= home_lights_.size())
+    throw InputError(session_.scene_file + ": --light " + std::to_string(o.moved_light) + ": the scene has " +
+                     std::to_string(home_lights_.size()) + (home_lights_.size() == 1 ? " light" : " lights") + " (from 0)");
+  moved_light_ = o.moved_light;
   window_.capture_events();  // before ImGui's backend, which chains to these callbacks
   init_imgui();
 }

@@ -28,7 +28,8 @@ struct ViewerOptions {
   bool stage = true;             // a model file as the scene gets a floor
   std::string stats;             // --stats: every frame's times and passes, written at exit (frame_log.h)
   float orbit_degrees = 0.0f;    // --orbit: turn the camera about its target by this much each frame
-  float move_light = 0.0f;       // --move-light: move the first light along x by this much each frame
+  float move_light = 0.0f;       // --move-light: move the chosen light along x by this much each frame
+  uint32_t moved_light = 0;      // --light: the light that the arrows and --move-light move (L picks the next)
   // --move-frames FIRST:END: the scripted motion (--orbit, --move-light) on frames FIRST to END-1
   // only, counted from 0, so that a run can rest, move and rest again.
   uint32_t move_first = 0, move_end = UINT32_MAX;
@@ -90,6 +91,5 @@ class Viewer {
   class Impl;
   std::unique_ptr<Impl> impl_;
 };
-
 
 }  // namespace caustica::editor

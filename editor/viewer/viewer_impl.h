@@ -147,7 +147,8 @@ class Viewer::Impl {
   Inspector inspector_;
   WindowShot window_shot_;
   scene::View home_camera_;
-  glm::vec3 home_light_{0.0f};
+  std::vector<glm::vec3> home_lights_;  // where R puts the lights back
+  uint32_t moved_light_ = 0;            // the light the arrows move (L: the next)
   vk::OwnedDescriptorPool imgui_pool_;
   vk::FrameCommands commands_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // commands_.cmd

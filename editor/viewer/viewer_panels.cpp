@@ -52,8 +52,10 @@ bool Viewer::Impl::handle_input(const WindowEvents& events) {
     moved.camera.orbit(options_.orbit_degrees);
     changed = true;
   }
-  if (scripted && options_.move_light != 0.0f && !moved.lights.empty()) {
-    moved.lights.front().view.position.x += options_.move_light;
+  // The light the arrows move (a reloaded scene may have fewer).
+  scene::Light* chosen = moved_light_ < moved.lights.size() ? &moved.lights[moved_light_] : nullptr;
+  if (scripted && options_.move_light != 0.0f && chosen) {
+    chosen->view.position.x += options_.move_light;
     changed = true;
   }
   // A drag moves the view only on frames where the mouse moved: a held button between a hand's
@@ -82,8 +84,17 @@ bool Viewer::Impl::handle_input(const WindowEvents& events) {
       case GLFW_KEY_P: ++screenshot_keys_; break;
       case GLFW_KEY_R:
         moved.camera = home_camera_;
-        if (!moved.lights.empty()) moved.lights.front().view.position = home_light_;
+        for (size_t i = 0; i < std::min(moved.lights.size(), home_lights_.size()); ++i) moved.lights[i].view.position = home_lights_[i];
         changed = true;
+        break;
+      case GLFW_KEY_L:
+        if (!moved.lights.empty()) {
+          moved_light_ = (moved_light_ + 1) % static_cast<uint32_t>(moved.lights.size());
+          chosen = &moved.lights[moved_light_];
+          static const char* const kTypes[] = {"spot", "point", "directional"};
+          std::printf("view: the arrows move light %u (%s)\n", moved_light_, kTypes[static_cast<int>(chosen->type)]);
+          std::fflush(stdout);
+        }
         break;
       case GLFW_KEY_LEFT: light_step.x = -kStep; break;
       case GLFW_KEY_RIGHT: light_step.x = kStep; break;
@@ -93,8 +104,8 @@ bool Viewer::Impl::handle_input(const WindowEvents& events) {
       case GLFW_KEY_PAGE_DOWN: light_step.y = -kStep; break;
       default: break;
     }
-    if (light_step != glm::vec3(0.0f) && !moved.lights.empty()) {
-      moved.lights.front().view.position += light_step;
+    if (light_step != glm::vec3(0.0f) && chosen) {
+      chosen->view.position += light_step;
       changed = true;
     }
   }

@@ -2,8 +2,9 @@
 # caustica view under Xvfb on lavapipe, validation on (any message makes view exit 3), in the
 # sanitizer run (the pictures it shows are compared with headless renders by view_pixels_test.sh,
 # in the Release run):
-# 1. while orbiting the light's passes are reused, over the budget the size steps down, at rest the
-#    progressive graph refines apart, level by level, and rests once converged;
+# 1. while orbiting the light's passes are reused, while moving one light of three only its passes
+#    run, over the budget the size steps down, at rest the progressive graph refines apart, level by
+#    level, and rests once converged;
 # 2. an edit of the graph file is picked up while the viewer runs (within a second or two);
 # 3. a broken edit keeps the old graph running, shows the error with its location, and the viewer
 #    still exits 0 when closed (Ctrl-C);
@@ -46,6 +47,22 @@ assert all(not f["reused"] for f in every["frames"]), every["frames"]
 assert all(f["wall_ms"] > 0 for f in orbit["frames"] + every["frames"])
 PY
 echo "ok: while orbiting, the light's passes are reused; --every-pass runs them all; over the budget the cheapest step at once"
+
+# Moving the second of three lights (--light 1, as L then the arrows do) runs its passes alone; the
+# other lights' keep their results. A light the scene does not have is refused, naming the scene.
+lights="$src/scenes/three_lights.json"
+"$bin" view --scene "$lights" --size 160x90 "${small_maps[@]}" --frames 3 --light 1 --move-light 0.05 --budget 0 --stats "$dir/drag.json" --validate > "$dir/log" 2>&1 || fail "view --light 1 --move-light exited $?: $(cat "$dir/log")"
+python3 - "$dir/drag.json" <<'PY' || fail "moving light 1 of three did not run its passes alone"
+import json, sys
+frames = json.load(open(sys.argv[1]))["frames"]
+for f in frames[1:]:
+    assert {"shadow#1", "receivers#1", "light_refractors#1", "caustics#1", "lighting"} <= set(f["ran"]), f
+    assert {"shadow#0", "shadow#2", "caustics#0", "caustics#2", "gbuffer"} <= set(f["reused"]), f
+PY
+status=0
+"$bin" view --scene "$lights" --size 160x90 --frames 1 --light 3 > "$dir/log" 2>&1 || status=$?
+[ "$status" -eq 1 ] && grep -q "three_lights.json: --light 3: the scene has 3 lights (from 0)" "$dir/log" || fail "view --light 3 on three lights: exit $status, $(cat "$dir/log")"
+echo "ok: moving light 1 of three runs its passes alone; --light 3 is refused"
 
 # The progressive graph at rest and moving (its still pictures: view_pixels_test.sh).
 progressive="$src/graphs/caustics_progressive.json"

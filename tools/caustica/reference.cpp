@@ -234,13 +234,34 @@ void write_radiance(const std::string& path, io::ImageData image, const std::str
   io::write_image(path, image);
 }
 
+// Each light's caustic map, where it has one, and the pointers to them that the camera reference
+// projects (null: a light without a map).
+struct LightMaps {
+  explicit LightMaps(size_t lights) : maps(lights), lit(lights, nullptr) {}
+  void set(uint32_t light, io::ImageData map) {
+    maps[light] = std::move(map);
+    lit[light] = &maps[light];
+  }
+  std::vector<io::ImageData> maps;
+  reference::CausticMaps lit;
+};
+
+// The camera picture lit by `maps`, written to `out`.
+int write_camera_picture(const scene::Scene& scene, const ReferenceOptions& o, const LightMaps& maps, const std::string& out,
+                         const std::string& extension, std::chrono::steady_clock::time_point start) {
+  const auto image = reference::render_refraction_reference(scene, o.width, o.height, maps.lit, o.photons.seed);
+  write_radiance(out, image.radiance, extension, o.exposure);
+  std::fprintf(stderr, "reference: %s picture %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), out.c_str());
+  return 0;
+}
+
 // The scene's whole reference picture: every light's photons, --photons shared among them by the
 // flux each sends through its caustic view, then the camera picture lit by all their maps.
 int trace_picture(const scene::Scene& scene, const ReferenceOptions& o, const std::string& extension) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<uint64_t> shares = reference::photons_per_light(scene, o.photons.photons);
-  std::vector<io::ImageData> maps(scene.lights.size());
-  reference::CausticMaps lit(scene.lights.size(), nullptr);
+  LightMaps maps(scene.lights.size());
   for (uint32_t i = 0; i < scene.lights.size(); ++i) {
     if (shares[i] == 0) {
       std::printf("light %u: no photons (%s)\n", i,
@@ -257,14 +278,9 @@ int trace_picture(const scene::Scene& scene, const ReferenceOptions& o, const st
                 static_cast<unsigned long long>(shares[i]), i, static_cast<unsigned long long>(shares[i]),
                 reference::caustic_view_flux(scene.lights[i]));
     print_photon_flux(traced.totals);
-    maps[i] = std::move(traced.caustic_map);
-    lit[i] = &maps[i];
+    maps.set(i, std::move(traced.caustic_map));
   }
-  const auto image = reference::render_refraction_reference(scene, o.width, o.height, lit, o.photons.seed);
-  write_radiance(o.picture_out, image.radiance, extension, o.exposure);
-  std::fprintf(stderr, "reference: %s picture %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.picture_out.c_str());
-  return 0;
+  return write_camera_picture(scene, o, maps, o.picture_out, extension, start);
 }
 
 }  // namespace
@@ -321,8 +337,7 @@ int cmd_reference(Args& args) {
   if (o.shard.count > 0 && o.photons.photons > 0) return trace_photon_shard(scene, o.photons, o.shard, o.out);
   if (o.photons.photons > 0) return trace_photons(scene, o);
   const auto start = std::chrono::steady_clock::now();
-  std::vector<io::ImageData> maps(scene.lights.size());
-  reference::CausticMaps lit(scene.lights.size(), nullptr);
+  LightMaps maps(scene.lights.size());
   for (const auto& [light, file] : o.caustics_files) {
     if (light >= scene.lights.size())
       throw UsageError("--caustics " + std::to_string(light) + "=" + file + ": the scene has " + std::to_string(scene.lights.size()) +
@@ -330,15 +345,10 @@ int cmd_reference(Args& args) {
     if (!scene.lights[light].has_caustic_view)
       throw InputError(file + ": light " + std::to_string(light) +
                        " has no caustic view (a point light among its refractors) to project it through");
-    maps[light] = io::read_image(file);
-    lit[light] = &maps[light];
+    maps.set(light, io::read_image(file));
   }
-  if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, lit, o.photons.seed, o.shard, o.out);
-  const auto image = reference::render_refraction_reference(scene, o.width, o.height, lit, o.photons.seed);
-  write_radiance(o.out, image.radiance, out_extension, o.exposure);
-  std::fprintf(stderr, "reference: %s %ux%u in %.2f s -> %s\n", scene.name.c_str(), o.width, o.height,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), o.out.c_str());
-  return 0;
+  if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, maps.lit, o.photons.seed, o.shard, o.out);
+  return write_camera_picture(scene, o, maps, o.out, out_extension, start);
 }
 
 int cmd_merge(Args& args) {

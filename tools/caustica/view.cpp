@@ -130,8 +130,10 @@ FlagTable window_flags(RenderOptions& o, editor::ViewerOptions& v, std::string s
           orbit_flag(v.orbit_degrees, "turn the camera about its target by DEG each frame (scripted motion, for --stats)"),
           frame_timeout_flag(v.frame_timeout_s, &v.first_frame_timeout_s,
                              "default 5, a plan's first frame 60; the editor first writes\nunsaved edits to FILE.recovered.json"),
-          {"--move-light", "D", "move the first light by D along x each frame (scripted motion, for --stats)",
+          {"--move-light", "D", "move the chosen light (--light) by D along x each frame (scripted motion, for --stats)",
            [&v](const std::string& text) { v.move_light = static_cast<float>(parse_number("--move-light", text, -10, 10)); }},
+          {"--light", "I", "the light that the arrows and --move-light move (default 0, the first; L picks the next)",
+           [&v](const std::string& text) { v.moved_light = static_cast<uint32_t>(parse_uint("--light", text, 0, 7)); }},
           {"--move-frames", "A:B",
            "the scripted motion on frames A to B-1 only (from 0), e.g. --frames 90\n"
            "--orbit 2 --move-frames 20:50 rests, orbits and rests again",
