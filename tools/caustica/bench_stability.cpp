@@ -37,6 +37,7 @@ const StabilityCase kStabilityCases[] = {
     {"tiny refractor", "stability/tiny_refractor"},
     {"refractor filling the view", "stability/filling_refractor"},
     {"light close to the refractor", "stability/close_light"},
+    {"point light close to the refractor", "stability/close_point_light"},
     {"n = 1", "stability/index_one"},
     {"no refractor", "no_refractor"},
 };
