@@ -580,6 +580,18 @@ TEST(PhotonReference, TheWholePictureHasEveryLightsCausticWhereItsPhotonsLand) {
   EXPECT_LT(difference / total, 0.2);       // 0.110: the maps' bilinear blur and photon noise
 }
 
+// A light's caustic view is part of what its photons meet: the same scene with the light's own view
+// instead of one fitted to its refractors ("caustic_view": "light") is another scene to a merge and
+// to a cache of references.
+TEST(PhotonShards, ALightsOwnCausticViewIsAnotherScene) {
+  const scene::Scene fitted = bundled("sphere_sun");
+  scene::Scene own = fitted;
+  own.lights.front().own_caustic_view = true;
+  scene::fit_caustic_view(own.lights.front(), own);
+  ASSERT_LT(fitted.lights.front().caustic_extent, own.lights.front().caustic_extent);
+  EXPECT_NE(reference::scene_identity(own), reference::scene_identity(fitted));
+}
+
 // A map is of one light: shards of another light's photons do not merge with it.
 TEST(PhotonShards, ShardsOfAnotherLightAreRefused) {
   const scene::Scene scene = bundled("three_lights");

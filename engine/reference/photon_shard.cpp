@@ -65,6 +65,11 @@ std::string scene_identity(const scene::Scene& scene) {
     hash.add(light.intensity);
     hash.add(light.color);
     hash.add(light.extent);
+    // What its photons leave through: fitted to the refractors or the light's own (a scene's
+    // "caustic_view"), a cached reference of one is not the other's.
+    hash.add(light.caustic_view);
+    hash.add(light.caustic_extent);
+    hash.add(light.has_caustic_view);
   }
   for (const auto& object : scene.objects) {
     const scene::Mesh& mesh = object.mesh;
