@@ -1,11 +1,13 @@
 # Sourced by the window tests: a scratch folder, an Xvfb of their own, and cleanup of both and of
-# the program under test ($view_pid) on exit. Sets dir, DISPLAY; defines fail.
+# the programs under test ($view_pid: one process id, or several apart by spaces) on exit. Sets
+# dir, DISPLAY; defines fail.
 dir=$(mktemp -d)
 display=$(( ${DISPLAY_BASE:-90} + $$ % 100 ))
 xvfb_pid=""
 view_pid=""
 cleanup() {
-  [ -n "$view_pid" ] && kill "$view_pid" 2>/dev/null || true
+  # shellcheck disable=SC2086 # one word a process
+  [ -n "$view_pid" ] && kill $view_pid 2>/dev/null || true
   [ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null || true
   rm -rf "$dir"
 }
