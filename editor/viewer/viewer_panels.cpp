@@ -91,8 +91,7 @@ bool Viewer::Impl::handle_input(const WindowEvents& events) {
         if (!moved.lights.empty()) {
           moved_light_ = (moved_light_ + 1) % static_cast<uint32_t>(moved.lights.size());
           chosen = &moved.lights[moved_light_];
-          static const char* const kTypes[] = {"spot", "point", "directional"};
-          std::printf("view: the arrows move light %u (%s)\n", moved_light_, kTypes[static_cast<int>(chosen->type)]);
+          std::printf("view: the arrows move light %u (%s)\n", moved_light_, scene::light_type_name(chosen->type));
           std::fflush(stdout);
         }
         break;

@@ -12,6 +12,11 @@
 
 namespace caustica::scene {
 
+const char* light_type_name(LightType type) {
+  static const char* const kNames[] = {"spot", "point", "directional"};
+  return kNames[static_cast<int>(type)];
+}
+
 glm::mat4 Light::view_projection() const {
   if (type != LightType::directional) return view.view_projection(1.0f);
   // Orthographic, Vulkan conventions as View::projection: depth 0..1 from near to far, y down.

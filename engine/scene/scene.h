@@ -144,6 +144,8 @@ struct View {
 };
 
 enum class LightType { spot, point, directional };
+// As scene files write it: "spot", "point" or "directional".
+const char* light_type_name(LightType type);
 
 // A point light's shadow map is a cube: six square views along +x, -x, +y, -y, +z, -z, a little wider
 // than a quarter turn (tan of the half angle 1.05 against 1), so that the 3x3 filter of a receiver

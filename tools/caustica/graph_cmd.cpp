@@ -37,9 +37,8 @@ nlohmann::ordered_json lights_report(const scene::Scene& scene, const graph::Pla
   for (uint32_t k = 0; k < scene.lights.size(); ++k) {
     const scene::Light& light = scene.lights[k];
     const std::string prefix = "scene.light" + std::to_string(k) + ".";
-    static const char* const kTypes[] = {"spot", "point", "directional"};
     json entry{{"light", k},
-               {"type", kTypes[static_cast<int>(light.type)]},
+               {"type", scene::light_type_name(light.type)},
                {"reaches", {{"objects", values.at(prefix + "objects")}, {"refractors", values.at(prefix + "refractors")}}}};
     if (light.type != scene::LightType::point) entry["shadow_view"] = view_of(light, light.view, light.extent);
     if (light.has_caustic_view) {
