@@ -17,6 +17,7 @@
 #include "core/low_discrepancy.h"
 #include "graph/plan.h"
 #include "photon_kernel.h"
+#include "scene_draw.h"
 
 namespace caustica::passes {
 namespace {
@@ -379,7 +380,7 @@ std::vector<graph::ParamDecl> traversal_params(bool adaptive) {
                     "levels of the multi-resolution caustic map: a photon whose cluster's landing points spread n texels splats "
                     "into the level with texels n wide; 1: everything into the finest"});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
-  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  params.push_back(caustic_view_param());
   params.push_back({"jitter",
                     ParamType::bool_,
                     false,

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/low_discrepancy.h"
 #include "photon_kernel.h"
+#include "scene_draw.h"
 
 namespace caustica::passes {
 namespace {
@@ -142,7 +143,7 @@ graph::PassTypeDecl caustic_map_pass_type() {
   auto params = photon_path_params();
   params.push_back({"grid", ParamType::int_, 512, 16.0, 16384.0, {}, "photons per side of the grid over the light's image plane", true});
   params.push_back({"fresnel", ParamType::bool_, true, {}, {}, {}, "weight photons by the Fresnel transmittance of both interfaces"});
-  params.push_back({"light", ParamType::int_, 0, 0.0, 7.0, {}, "the spot light that emits the photons"});
+  params.push_back(caustic_view_param());
   params.push_back({"jitter",
                     ParamType::bool_,
                     false,

@@ -16,17 +16,17 @@ namespace {
 struct LightingParams {
   float shadow_bias;
   uint32_t shadowed;        // bit i: light i's shadow map is bound
-  uint32_t caustic_lights;  // bit i: light i's caustic map is bound (and the light has a view)
+  uint32_t caustic_lights;  // bit i: caustic view i's map is bound (and the view is present)
   uint32_t caustic_depths;  // bit i: and its receiver depth
 };
 
-// The lights whose element of a per-light port is bound.
-std::vector<uint32_t> bound_lights(const graph::PassSetup& setup, std::string_view port) {
-  std::vector<uint32_t> lights;
-  for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
-    if (setup.bound(graph::port_element(port, light))) lights.push_back(light);
+// The elements of a per-light (or per-view) port that are bound, of the first `count`.
+std::vector<uint32_t> bound_elements(const graph::PassSetup& setup, std::string_view port, uint32_t count) {
+  std::vector<uint32_t> elements;
+  for (uint32_t element = 0; element < count; ++element) {
+    if (setup.bound(graph::port_element(port, element))) elements.push_back(element);
   }
-  return lights;
+  return elements;
 }
 
 bool holds(const std::vector<uint32_t>& lights, uint32_t light) {
@@ -36,13 +36,25 @@ bool holds(const std::vector<uint32_t>& lights, uint32_t light) {
 class LightingPass final : public graph::Pass {
  public:
   void setup(graph::PassSetup& setup) override {
-    shadow_maps_ = bound_lights(setup, "shadow");
-    caustic_maps_ = bound_lights(setup, "caustics");
-    caustic_depths_ = bound_lights(setup, "caustic_depth");
+    shadow_maps_ = bound_elements(setup, "shadow", CAUSTICA_MAX_LIGHTS);
+    caustic_maps_ = bound_elements(setup, "caustics", CAUSTICA_MAX_CAUSTIC_VIEWS);
+    caustic_depths_ = bound_elements(setup, "caustic_depth", CAUSTICA_MAX_CAUSTIC_VIEWS);
     has_emission_ = setup.bound("emission");
+    // The samplers' arrays as long as the elements bound, so that the pushed set stays within the
+    // device's limit (32 descriptors on lavapipe: eight lights' shadows and 32 views' maps and
+    // depths would be 77).
+    shadow_count_ = shadow_maps_.empty() ? 0 : shadow_maps_.back() + 1;
+    caustic_count_ = caustic_maps_.empty() ? 0 : std::max(caustic_maps_.back(), caustic_depths_.empty() ? 0 : caustic_depths_.back()) + 1;
+    const uint32_t descriptors = 5 + shadow_count_ + 2 * caustic_count_, limit = setup.vk().max_push_descriptors();
+    if (descriptors > limit) {
+      throw InputError("pass '" + setup.pass().name + "' reads " + std::to_string(shadow_count_) + " lights' shadow maps and " +
+                       std::to_string(caustic_count_) + " caustic views' maps and receiver depths: " + std::to_string(descriptors) +
+                       " descriptors, and this device pushes at most " + std::to_string(limit) + " to a pipeline (VkPhysicalDevice" +
+                       "PushDescriptorPropertiesKHR::maxPushDescriptors); the scene has more lights or cube faces than lighting takes");
+    }
     shader::Defines defines;
-    if (!shadow_maps_.empty()) defines["SHADOWS"] = "1";
-    if (!caustic_maps_.empty()) defines["CAUSTICS"] = "1";
+    if (!shadow_maps_.empty()) defines["SHADOWS"] = std::to_string(shadow_count_);
+    if (!caustic_maps_.empty()) defines["CAUSTICS"] = std::to_string(caustic_count_);
     if (has_emission_) defines["EMISSION"] = "1";
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource("color").format).vk};
@@ -78,7 +90,7 @@ class LightingPass final : public graph::Pass {
     if (shadow_maps_.empty()) return 0;
     const auto& lights = ctx.scene().lights();
     uint32_t shadowed = 0;
-    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
+    for (uint32_t light = 0; light < shadow_count_; ++light) {
       const bool bound = holds(shadow_maps_, light);
       const std::string port = graph::port_element("shadow", bound ? light : shadow_maps_.front());
       writer.image_element("shadow_maps", light, ctx.array_view(port), ctx.nearest_sampler());
@@ -88,26 +100,27 @@ class LightingPass final : public graph::Pass {
     return shadowed;
   }
 
-  // Every element of the caustic maps' and receiver depths' arrays, as the shadow maps'; a light
-  // counts only with a view (a point light's is fitted to its refractors, or it has none).
+  // Every element of the caustic maps' and receiver depths' arrays (one per caustic view), as the
+  // shadow maps'; a view counts only where it is present (a point light may have none).
   void write_caustic_maps(const graph::PassContext& ctx, vk::DescriptorWriter& writer, LightingParams& params) const {
     if (caustic_maps_.empty()) return;
-    const auto& lights = ctx.scene().lights();
-    for (uint32_t light = 0; light < CAUSTICA_MAX_LIGHTS; ++light) {
-      const bool mapped = holds(caustic_maps_, light), tested = holds(caustic_depths_, light);
-      writer.image_element("caustic_maps", light, ctx.view(graph::port_element("caustics", mapped ? light : caustic_maps_.front())),
+    const auto& views = ctx.scene().caustic_views();
+    for (uint32_t view = 0; view < caustic_count_; ++view) {
+      const bool mapped = holds(caustic_maps_, view), tested = holds(caustic_depths_, view);
+      writer.image_element("caustic_maps", view, ctx.view(graph::port_element("caustics", mapped ? view : caustic_maps_.front())),
                            ctx.linear_sampler());
       const std::string depth =
-          caustic_depths_.empty() ? "depth" : graph::port_element("caustic_depth", tested ? light : caustic_depths_.front());
-      writer.image_element("caustic_depths", light, ctx.view(depth), ctx.nearest_sampler());
-      if (!mapped || light >= lights.size() || !lights[light].has_caustic_view) continue;
-      params.caustic_lights |= 1u << light;
-      if (tested) params.caustic_depths |= 1u << light;
+          caustic_depths_.empty() ? "depth" : graph::port_element("caustic_depth", tested ? view : caustic_depths_.front());
+      writer.image_element("caustic_depths", view, ctx.view(depth), ctx.nearest_sampler());
+      if (!mapped || view >= views.size() || !views[view].present) continue;
+      params.caustic_lights |= 1u << view;
+      if (tested) params.caustic_depths |= 1u << view;
     }
   }
 
   vk::Pipeline pipeline_;
-  std::vector<uint32_t> shadow_maps_, caustic_maps_, caustic_depths_;  // the lights whose element of each is bound
+  std::vector<uint32_t> shadow_maps_, caustic_maps_, caustic_depths_;  // the lights (views) whose element of each is bound
+  uint32_t shadow_count_ = 0, caustic_count_ = 0;                      // the arrays' lengths: the last bound element and those before
   bool has_emission_ = false;
 };
 
@@ -148,8 +161,8 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::r32f},
         true,
         "",
-        "each light's caustic map (a per-light port, as shadow): flux per texel of its image plane, a layer per colour channel "
-        "(caustic_map)",
+        "each caustic view's map (a per-view port: element K is caustic view K's, light K's own for K below the lights; one "
+        "map bound alone is light 0's): flux per texel of its image plane, a layer per colour channel (caustic_map)",
         false,
         3},
        {"caustic_depth",
@@ -159,8 +172,8 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::d32f},
         true,
         "",
-        "each light's depth of opaque geometry (a per-light port), for its caustic map's receiver test (without it the "
-        "caustic also lands on surfaces that the light does not see first)"},
+        "each caustic view's depth of opaque geometry (a per-view port, as caustics), for its caustic map's receiver test "
+        "(without it the caustic also lands on surfaces that the light does not see first)"},
        {"color",
         PortAccess::write,
         ResourceKind::image,

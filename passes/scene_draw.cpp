@@ -10,22 +10,36 @@ SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent) {
   return {scene::shifted_by_pixels(camera.view_projection(size.x / size.y), ctx.frame().camera_jitter, size), camera.position};
 }
 
-SceneView light_view(const graph::PassContext& ctx, uint32_t light, bool caustic) {
+namespace {
+SceneView seen_from(const scene::Light& seen) {
+  return {seen.view_projection(), seen.view.position, seen.axis(), seen.type == scene::LightType::directional};
+}
+}  // namespace
+
+SceneView light_view(const graph::PassContext& ctx, uint32_t light) {
   const auto& lights = ctx.scene().lights();
-  const auto& l = lights[std::min<size_t>(light, lights.size() - 1)];  // the scene always has one light
-  const scene::Light seen = caustic ? l.as_caustic_view() : l;
-  return {seen.view_projection(), seen.view.position, seen.axis(), l.type == scene::LightType::directional};
+  return seen_from(lights[std::min<size_t>(light, lights.size() - 1)]);  // the scene always has one light
+}
+
+SceneView caustic_view(const graph::PassContext& ctx, uint32_t view) {
+  const auto& views = ctx.scene().caustic_views();
+  return seen_from(views[std::min<size_t>(view, views.size() - 1)].seen);  // one per light at least
 }
 
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent) {
-  if (ctx.params()["view"].get<std::string>() == "light") return light_view(ctx, ctx.params()["light"].get<uint32_t>(), true);
+  if (ctx.params()["view"].get<std::string>() == "light") return caustic_view(ctx, ctx.params()["light"].get<uint32_t>());
   return camera_view(ctx, extent);
+}
+
+graph::ParamDecl caustic_view_param(const char* what) {
+  return {"light", graph::ParamType::int_, 0, 0.0, CAUSTICA_MAX_CAUSTIC_VIEWS - 1, {}, what};
 }
 
 std::vector<graph::ParamDecl> view_params() {
   return {
       {"view", graph::ParamType::choice, "camera", {}, {}, {"camera", "light"}, "look from the camera or from a light (its caustic view)"},
-      {"light", graph::ParamType::int_, 0, 0.0, 7.0, {}, "which light, for view = light (the last one if fewer)"}};
+      caustic_view_param("which caustic view, for view = light: light K's is K, a point light's further cube faces follow the lights' "
+                         "(a \"for_each\": \"caustic_view\" instance's $light); the last one if fewer")};
 }
 
 std::vector<shader::MirroredMember> draw_push_members(size_t at) {

@@ -28,9 +28,15 @@ struct DrawPush {
       : view_proj(view.view_proj), eye(view.eye, 1.0f), axis(view.axis, view.orthographic ? 1.0f : 0.0f) {}
 };
 SceneView camera_view(const graph::PassContext& ctx, VkExtent2D extent);
-// `caustic`: its caustic view (scene::Light::caustic_view), which light-space refractor buffers and
-// receiver depths are drawn from; else its shadow map's.
-SceneView light_view(const graph::PassContext& ctx, uint32_t light, bool caustic);
+// A light's shadow map's view (spot and directional).
+SceneView light_view(const graph::PassContext& ctx, uint32_t light);
+// Caustic view `view` (scene::caustic_views), which light-space refractor buffers and receiver
+// depths are drawn from.
+SceneView caustic_view(const graph::PassContext& ctx, uint32_t view);
+// A caustic pass's "light" parameter: which caustic view it draws from and emits photons into.
+graph::ParamDecl caustic_view_param(
+    const char* what =
+        "the caustic view whose light emits the photons (light K's is K; a point light's further cube faces follow the lights')");
 // The view named by a pass's "view" and "light" parameters.
 SceneView chosen_view(const graph::PassContext& ctx, VkExtent2D extent);
 

@@ -17,18 +17,19 @@ class ShadowMapPass final : public graph::Pass {
   void execute(graph::PassContext& ctx) override {
     const uint32_t light = ctx.params()["light"].get<uint32_t>();
     const auto& lights = ctx.scene().lights();
+    const auto& views = ctx.scene().caustic_views();
     const scene::Light& l = lights[std::min<size_t>(light, lights.size() - 1)];
-    // Without refractors the map is a caustic's receivers, drawn from the light's caustic view, as
-    // its refractor buffers and photons are.
+    // Without refractors the map is a caustic's receivers, drawn from caustic view `light`, as its
+    // refractor buffers and photons are.
     const bool receivers = !ctx.params()["refractors_cast_shadows"].get<bool>();
-    if (receivers && l.has_caustic_view) {
-      draw(ctx, light_view(ctx, light, true), ctx.view("depth"));
+    if (receivers && views[std::min<size_t>(light, views.size() - 1)].present) {
+      draw(ctx, caustic_view(ctx, light), ctx.view("depth"));
     } else if (!receivers && l.type == scene::LightType::point && ctx.resource("depth").layers == 6) {
       for (uint32_t face = 0; face < 6; ++face)
         draw(ctx, SceneView{l.face_view_projection(face), l.view.position, scene::Light::face_axis(face), false},
              ctx.layer_view("depth", face));
     } else if (!receivers && l.type != scene::LightType::point) {
-      draw(ctx, light_view(ctx, light, false), ctx.view("depth"));
+      draw(ctx, light_view(ctx, light), ctx.view("depth"));
     } else {
       // A point light's shadow in a map of one layer (a graph made for a spot light), or a point
       // light's receivers without a caustic view, is left cleared: lighting reads a point light's
@@ -67,7 +68,14 @@ graph::PassTypeDecl shadow_map_pass_type() {
       "(a frustum or prism fitted to its refractors) as the light-space refractor buffers and photons are.",
       PassQueue::graphics,
       {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "", "light-view depth"}},
-      {{"light", ParamType::int_, 0, 0.0, 7.0, {}, "which light (the last one if fewer)"},
+      {{"light",
+        ParamType::int_,
+        0,
+        0.0,
+        CAUSTICA_MAX_CAUSTIC_VIEWS - 1,
+        {},
+        "which light (the last one if fewer); with refractors_cast_shadows false, which caustic view (light K's is K, a point "
+        "light's further cube faces follow the lights')"},
        {"refractors_cast_shadows",
         ParamType::bool_,
         true,

@@ -852,7 +852,8 @@ TEST(GraphModel, EveryOperationAndItsUndoOnEveryBundledGraph) {
       count(check_edit_and_undo(model, "remove " + name, [&] { model.remove_pass(name); }));
       count(check_edit_and_undo(model, "disable " + name, [&] { model.set_enabled(name, false); }));
       const bool per_light = pass.value("for_each", "") == "light";
-      count(check_edit_and_undo(model, "per light " + name, [&] { model.set_per_light(name, !per_light); }));
+      count(check_edit_and_undo(model, "per light " + name, [&] { model.set_for_each(name, per_light ? "" : "light"); }));
+      count(check_edit_and_undo(model, "per view " + name, [&] { model.set_for_each(name, "caustic_view"); }));
       for (const auto& param : decl.params) {
         // A literal value, not a graph parameter ("$NAME") or an expression (a string for a number).
         auto literal = [&](const ordered_json& value) {
@@ -1213,7 +1214,7 @@ TEST(GraphModel, AnEditScriptRebuildsCausticsAdaptiveFromCoreDemo) {
       for (const auto& [port, resource] : outputs.items()) made.push_back(resource);
     }
     // Once per light before its bindings: what it writes is per light too.
-    if (pass.value("for_each", "") == "light") checked([&](GraphModel& m) { m.set_per_light(name, true); });
+    if (pass.contains("for_each")) checked([&](GraphModel& m) { m.set_for_each(name, pass["for_each"]); });
     for (const char* section : {"inputs", "outputs"}) {
       const ordered_json bindings = pass.value(section, ordered_json::object());
       for (const auto& [port, resource] : bindings.items())
@@ -1455,8 +1456,9 @@ TEST(GraphModel, APassMadeOncePerLightTakesWhatItWritesWithIt) {
   const std::string one_light = doc.dump(2) + "\n";
   GraphModel model(one_light, "one_light.json", registry());
   ASSERT_TRUE(model.refusal().empty()) << model.refusal();
-  EXPECT_TRUE(check_edit_and_undo(model, "per light shadow", [&] { model.set_per_light("shadow", true); }));
-  model.set_per_light("shadow", true);
+  EXPECT_TRUE(check_edit_and_undo(model, "per light shadow", [&] { model.set_for_each("shadow", "light"); }));
+  EXPECT_THROW(model.set_for_each("shadow", "lights"), InputError);
+  model.set_for_each("shadow", "light");
   const ordered_json& made = model.json();
   for (const auto& p : made["passes"]) {
     if (p["name"] != "shadow") continue;
@@ -1470,6 +1472,6 @@ TEST(GraphModel, APassMadeOncePerLightTakesWhatItWritesWithIt) {
   const auto lighting = std::find_if(plan.passes.begin(), plan.passes.end(), [](const auto& p) { return p.name == "lighting"; });
   ASSERT_NE(lighting, plan.passes.end());
   EXPECT_EQ(plan.resources[lighting->ports.at("shadow[0]")].name, "shadow#0");
-  model.set_per_light("shadow", false);
+  model.set_for_each("shadow", "");
   EXPECT_EQ(model.text(), one_light);
 }

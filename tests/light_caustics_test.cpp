@@ -121,7 +121,7 @@ TEST(LightCaustics, AThreeLightRenderIsNearTheWholeReferencePicture) {
   e.render("caustics_raytraced", scene, {"grid=1024", "caustic_size=256"}, {"refracted"});
   const io::ImageData render = e.executor.read_image("refracted");
 
-  const std::vector<uint64_t> shares = reference::photons_per_light(*scene, 4'000'000);
+  const std::vector<uint64_t> shares = reference::photons_per_view(*scene, 4'000'000);
   std::vector<io::ImageData> maps(scene->lights.size());
   reference::CausticMaps lit(scene->lights.size(), nullptr);
   for (uint32_t light = 0; light < scene->lights.size(); ++light) {
@@ -147,4 +147,67 @@ TEST(LightCaustics, AThreeLightRenderIsNearTheWholeReferencePicture) {
               first_only);
   EXPECT_LT(whole, 0.05);
   EXPECT_GT(first_only, 1.2 * whole);
+}
+
+// tests/data/point_light_inside.json: a point light of 40 W/sr at the centre of a glass ball of
+// radius 1, 1.5 over a 10 x 10 floor. Every ray from it meets the glass square on and leaves
+// unbent, so with Fresnel off the glass changes nothing: the floor receives what the light sends
+// into its solid angle, 4 atan(a b / (h sqrt(h^2 + a^2 + b^2))) = 4.6489 sr (a = b = 5, h = 1.5),
+// 185.96 W, all of it through the caustics of the six cube faces (the glass casts the shadow), and
+// the floor in front of the ball looks as it does without the ball. Each face's map holds the flux
+// the photon reference's does, whose photons start in the glass as the engine's.
+TEST(LightCaustics, APointLightInsideAGlassBallLightsTheFloorAsIfItWereNotThere) {
+  test::SceneEngine e;
+  e.width = 160;
+  e.height = 90;
+  auto scene = std::make_shared<const scene::Scene>(
+      scene::load_scene_file(std::string(CAUSTICA_SOURCE_DIR) + "/tests/data/point_light_inside.json"));
+  const std::vector<scene::CausticView> views = scene::caustic_views(scene->lights);
+  ASSERT_EQ(views.size(), 6u);
+  const std::vector<std::string> settings{"fresnel=false", "grid=512", "light_size=256", "shadow_size=256", "caustic_size=256"};
+  std::set<std::string> kept{"lit"};
+  for (uint32_t view = 0; view < 6; ++view) kept.insert(graph::light_instance("caustics", view));
+  e.render("caustics_raytraced", scene, settings, kept);
+  double flux = 0;
+  std::vector<io::ImageData> maps;
+  for (uint32_t view = 0; view < 6; ++view) {
+    maps.push_back(e.executor.read_image(graph::light_instance("caustics", view)));
+    flux += test::map_flux(maps.back());
+  }
+  const double expected = 40.0 * 4.0 * std::atan(25.0 / (1.5 * std::sqrt(1.5 * 1.5 + 50.0)));
+  std::printf("point light inside a ball: caustic flux on the floor %.3f (expected %.3f)\n", flux, expected);
+  EXPECT_NEAR(flux, expected, 0.02 * expected);
+  const io::ImageData lit = e.executor.read_image("lit");
+
+  auto bare = std::make_shared<scene::Scene>(*scene);
+  bare->objects.resize(1);  // the floor alone
+  e.render("caustics_raytraced", bare, settings, {"lit"});
+  const io::ImageData unblocked = e.executor.read_image("lit");
+  double difference = 0, total = 0;
+  for (uint32_t y = e.height * 4 / 5; y < e.height; ++y) {  // the floor in front of the ball
+    for (uint32_t x = 0; x < e.width; ++x) {
+      for (uint32_t c = 0; c < 3; ++c) {
+        const size_t i = (size_t{y} * e.width + x) * 4 + c;
+        difference += std::abs(double(lit.rgba[i]) - double(unblocked.rgba[i]));
+        total += double(unblocked.rgba[i]);
+      }
+    }
+  }
+  std::printf("point light inside a ball: the floor in front against no ball, relative L1 %.4f\n", difference / total);
+  EXPECT_LT(difference / total, 0.08);
+
+  const std::vector<uint64_t> shares = reference::photons_per_view(*scene, 3'000'000);
+  for (uint32_t view = 0; view < 6; ++view) {
+    reference::PhotonOptions options;
+    options.light = view;
+    options.photons = shares[view];
+    options.fresnel = false;
+    options.map_size = 256;
+    const io::ImageData map = reference::trace_photon_reference(*scene, options).caustic_map;
+    const double ratio = test::map_flux(maps[view]) / std::max(test::map_flux(map), 1e-12);
+    std::printf("face %d: engine %.3f, reference %.3f\n", views[view].face, test::map_flux(maps[view]), test::map_flux(map));
+    if (test::map_flux(map) > 0.01 * expected) {
+      EXPECT_NEAR(ratio, 1.0, 0.03) << "face " << views[view].face;
+    }
+  }
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "io/json_document.h"
 #include "scene/scene.h"
@@ -69,16 +70,58 @@ TEST(CausticViews, AViewHoldsEveryRefractorTheLightReaches) {
 
 // A light inside a ball, or among balls on every side of it, has no single frustum: no view, and
 // the graph's caustic passes for it are culled by light.view.
-TEST(CausticViews, ALightAmongItsRefractorsHasNoView) {
+// A point light that no frustum holds its refractors in throws through the faces of a cube about
+// it: inside a ball every face holds glass (and the light stands in it); among three balls on
+// the +x, -x and +z sides only those three faces, each one caustic view, the first light 0's and
+// the others after the lights. Without refractors there is nothing to aim at.
+TEST(CausticViews, ALightAmongItsRefractorsThrowsThroughTheCubeFacesThatHoldThem) {
   const Scene inside = point_light_over_balls(R"({"type": "point", "position": [0, 1.5, 0]})", ball(0, 1.5f, 0, 1));
-  EXPECT_FALSE(inside.lights.at(0).has_caustic_view);
-  EXPECT_EQ(inside.expression_values().at("scene.light0.view"), 0.0);
+  const Light& bulb = inside.lights.at(0);
+  EXPECT_TRUE(bulb.has_caustic_view);
+  EXPECT_EQ(bulb.caustic_faces, 0x3fu);
+  EXPECT_EQ(bulb.inside, 1) << "the ball, object 1";
+  EXPECT_EQ(bulb.caustic_view_count(), 6u);
+  const std::vector<CausticView> views = caustic_views(inside.lights);
+  ASSERT_EQ(views.size(), 6u);
+  for (int face = 0; face < 6; ++face) {
+    EXPECT_EQ(views[static_cast<size_t>(face)].face, face);
+    EXPECT_EQ(views[static_cast<size_t>(face)].light, 0u);
+    EXPECT_NEAR(std::tan(glm::radians(views[static_cast<size_t>(face)].seen.view.fov_y_degrees) * 0.5f), kCubeFaceCausticTan, 1e-5f);
+    EXPECT_NEAR(glm::dot(views[static_cast<size_t>(face)].seen.axis(), Light::face_axis(static_cast<uint32_t>(face))), 1.0f, 1e-6f);
+  }
+  EXPECT_EQ(inside.expression_values().at("scene.caustic_views"), 6.0);
+  EXPECT_EQ(inside.expression_values().at("scene.caustic5.face"), 5.0);
+  EXPECT_EQ(inside.expression_values().at("scene.caustic5.point"), 1.0);
+
   const Scene among = point_light_over_balls(R"({"type": "point", "position": [0, 1, 0]})",
                                              ball(3, 1, 0, 0.5f) + ball(-3, 1, 0, 0.5f) + ball(0, 1, 3, 0.5f));
-  EXPECT_FALSE(among.lights.at(0).has_caustic_view);
-  // Without refractors there is nothing to aim at.
+  EXPECT_EQ(among.lights.at(0).caustic_faces, (1u << 0) | (1u << 1) | (1u << 4));
+  EXPECT_EQ(among.lights.at(0).inside, -1);
+  const std::vector<CausticView> faces = caustic_views(among.lights);
+  ASSERT_EQ(faces.size(), 3u);
+  EXPECT_EQ(faces[0].face, 0);
+  EXPECT_EQ(faces[1].face, 1);
+  EXPECT_EQ(faces[2].face, 4);
   const Scene none = point_light_over_balls(R"({"type": "point", "position": [0, 3, 0]})", "");
   EXPECT_FALSE(none.lights.at(0).has_caustic_view);
+  EXPECT_FALSE(caustic_views(none.lights).at(0).present);
+}
+
+// The faces share out every direction: each leaves through exactly one face, the one whose axis
+// its largest component lies along (ties to x, then y, as the shaders' cube_face).
+TEST(CausticViews, EveryDirectionLeavesThroughOneCubeFace) {
+  const glm::vec3 directions[] = {{1, 0.2f, -0.3f}, {-0.1f, -2, 0.5f}, {0.3f, 0.3f, -0.9f}, {1, 1, 0}, {0, -1, -1}, {-1, 1, 1}};
+  const int expected[] = {0, 3, 5, 0, 3, 1};
+  for (size_t i = 0; i < std::size(directions); ++i) {
+    int through = 0;
+    for (int face = 0; face < 6; ++face) {
+      if (leaves_through_face(directions[i], face)) {
+        ++through;
+        EXPECT_EQ(face, expected[i]) << i;
+      }
+    }
+    EXPECT_EQ(through, 1) << i;
+  }
 }
 
 // A spot's caustic view is narrowed to the refractors it reaches: the ball's own cone widened by the

@@ -244,36 +244,103 @@ TEST(PerLight, APointLightsShadowInOneLayerIsWarnedOf) {
       << flat[0];
 }
 
-// Every bundled caustic graph throws each light's caustic through its own instances (receivers,
-// light-view refractors, photons, their maps), which lighting reads as its per-light ports; a point
-// light without a caustic view (its refractors around it) gets none, and the plan says so.
-TEST(PerLight, EveryBundledCausticGraphGivesEachLightWithAViewItsCausticPasses) {
+namespace {
+// three_lights() whose light `light` stands among its refractors and throws its caustics through
+// three cube faces: caustic views 0..2 are the lights', views 3 and 4 that light's further faces.
+std::map<std::string, double> with_cube_faces(int light) {
+  std::map<std::string, double> values = three_lights();
+  values["scene.light" + std::to_string(light) + ".view"] = 1;
+  values["scene.caustic_views"] = 5;
+  const int lights_of[] = {0, 1, 2, light, light};
+  for (int k = 0; k < 5; ++k) {
+    const std::string from = "scene.light" + std::to_string(lights_of[k]) + ".", to = "scene.caustic" + std::to_string(k) + ".";
+    for (const char* name : {"spot", "point", "directional", "objects", "refractors", "view"}) values[to + name] = values[from + name];
+    values[to + "light"] = lights_of[k];
+    values[to + "face"] = lights_of[k] == light ? k : -1;
+  }
+  return values;
+}
+}  // namespace
+
+// Every bundled caustic graph throws each caustic view's caustic through its own instances
+// (receivers, light-view refractors, photons, their maps), which lighting reads as its per-view
+// ports: a point light among its refractors (light 1) through each of its cube faces, each
+// instance its light's; the shadows stay one per light. A light without a caustic view gets none.
+TEST(PerLight, EveryBundledCausticGraphGivesEachCausticViewItsPasses) {
   for (const char* name : {"caustics_regular", "caustics_adaptive", "caustics_progressive", "caustics_raytraced", "full_hybrid"}) {
     SCOPED_TRACE(name);
     const GraphDesc graph = load_graph_file(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/" + name + ".json");
     CompileOptions options;
-    options.scene_values = three_lights();
-    options.scene_values["scene.light1.view"] = 1;
+    options.scene_values = with_cube_faces(1);
     options.ray_queries = true;
     const Plan all = compile_graph(graph, passes::builtin_registry(), options);
     EXPECT_TRUE(all.warnings.empty()) << all.warnings.front();
     const PlannedPass& lighting = pass_named(all, "lighting");
-    for (uint32_t light = 0; light < 3; ++light) {
+    const int lights_of[] = {0, 1, 2, 1, 1};
+    for (uint32_t view = 0; view < 5; ++view) {
       for (const char* pass : {"receivers", "light_refractors"}) {
-        EXPECT_EQ(pass_named(all, light_instance(pass, light)).params["light"], light) << pass;
+        EXPECT_EQ(pass_named(all, light_instance(pass, view)).params["light"], view) << pass;
+        EXPECT_EQ(all.instances.at(light_instance(pass, view)).light, lights_of[view]) << pass;
       }
-      const auto map = lighting.ports.find(port_element("caustics", light));
-      ASSERT_NE(map, lighting.ports.end()) << "light " << light;
-      EXPECT_EQ(all.resources[map->second].name, light_instance("caustics", light));
-      EXPECT_EQ(all.resources[lighting.ports.at(port_element("caustic_depth", light))].name, light_instance("receiver_depth", light));
+      const auto map = lighting.ports.find(port_element("caustics", view));
+      ASSERT_NE(map, lighting.ports.end()) << "view " << view;
+      EXPECT_EQ(all.resources[map->second].name, light_instance("caustics", view));
+      EXPECT_EQ(all.resources[lighting.ports.at(port_element("caustic_depth", view))].name, light_instance("receiver_depth", view));
     }
-    options.scene_values["scene.light1.view"] = 0;
+    // Moving light 1 re-runs its three faces' passes, and no other light's.
+    EXPECT_EQ(pass_named(all, "light_refractors#4").lights, 1u << 1);
+    EXPECT_EQ(all.find_resource("shadow#3"), -1);
+    EXPECT_EQ(pass_named(all, "shadow#1").params["light"], 1);
+
+    options.scene_values = three_lights();  // light 1 without a view: one view per light, its own
     const Plan unviewed = compile_graph(graph, passes::builtin_registry(), options);
-    EXPECT_EQ(unviewed.disabled_by.count("light_refractors#1"), 1u);
+    EXPECT_EQ(unviewed.disabled_by.at("light_refractors#1"), "scene.caustic1.view * scene.caustic1.refractors");
     EXPECT_FALSE(lighting_reads(unviewed, "caustics", 1));
     EXPECT_TRUE(lighting_reads(unviewed, "caustics", 2));
-    ASSERT_EQ(unviewed.warnings.size(), 1u);
-    EXPECT_NE(unviewed.warnings[0].find("light 1 is a point light without a caustic view"), std::string::npos) << unviewed.warnings[0];
-    EXPECT_NE(unviewed.warnings[0].find("light_refractors#1"), std::string::npos) << unviewed.warnings[0];
+    EXPECT_FALSE(lighting_reads(unviewed, "caustics", 3));
+    EXPECT_TRUE(unviewed.warnings.empty()) << unviewed.warnings.front();
   }
+}
+
+// A graph whose caustic passes are made once draws from caustic view 0 alone: light 0's first
+// cube face of three, and the plan says that the rest of its caustic is lost.
+TEST(PerLight, AGraphThatDrawsOneOfAPointLightsFacesIsWarnedOf) {
+  CompileOptions options;
+  options.scene_values = with_cube_faces(0);
+  const GraphDesc graph = load_graph_file(std::string(CAUSTICA_SOURCE_DIR) + "/graphs/examples/caustic_filter.json");
+  const Plan plan = compile_graph(graph, passes::builtin_registry(), options);
+  ASSERT_EQ(plan.warnings.size(), 1u);
+  EXPECT_NE(plan.warnings[0].find("light 0 is a point light among its refractors, which throws its caustics through 3 cube faces"),
+            std::string::npos)
+      << plan.warnings[0];
+  EXPECT_NE(plan.warnings[0].find("the graph draws from 1 of them"), std::string::npos) << plan.warnings[0];
+  options.scene_values = three_lights();
+  EXPECT_TRUE(compile_graph(graph, passes::builtin_registry(), options).warnings.empty());
+}
+
+// Per-view parts bind per-light ones as their light's, and refuse what has no one answer.
+TEST(PerLight, AViewsInstanceReadsItsLightsAndALightsCannotReadAView) {
+  nlohmann::json g = per_light_graph();
+  g["resources"]["face"] = {{"type", "image"}, {"format", "rgba16f"}, {"for_each", "caustic_view"}, {"width", "16"}, {"height", "16"}};
+  g["passes"].push_back({{"name", "per_face"},
+                         {"type", "filter"},
+                         {"for_each", "caustic_view"},
+                         {"params", {{"radius", "$light"}}},
+                         {"inputs", {{"source", "view"}}},
+                         {"outputs", {{"target", "face"}}}});
+  g["passes"][0]["inputs"]["lights"] = "face";
+  CompileOptions options;
+  options.output_width = 64;
+  options.output_height = 32;
+  options.scene_values = with_cube_faces(1);
+  const Plan plan = compile_graph(load_graph(JsonDocument::parse(g.dump(2), "lights.json")), lights_registry(), options);
+  EXPECT_EQ(resource_at(plan, pass_named(plan, "per_face#4"), "source"), "view#1") << "view 4 is light 1's";
+  EXPECT_EQ(pass_named(plan, "per_face#4").params["radius"], 4);
+  EXPECT_EQ(resource_at(plan, pass_named(plan, "gather"), "lights[4]"), "face#4");
+  nlohmann::json light_reads_view = per_light_graph();
+  light_reads_view["resources"]["face"] = g["resources"]["face"];
+  light_reads_view["passes"][3]["inputs"]["source"] = "face";
+  const std::string error = per_light_error(light_reads_view);
+  EXPECT_NE(error.find("/passes/3/inputs/source"), std::string::npos) << error;
+  EXPECT_NE(error.find("pass 'blur' runs once per light and reads 'face', one per caustic view"), std::string::npos) << error;
 }

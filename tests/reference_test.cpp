@@ -448,7 +448,7 @@ TEST(PhotonReference, RefusesALightWithoutACausticViewOrNotInTheScene) {
     reference::trace_photon_reference(bundled("sphere_plane"), second);
     ADD_FAILURE() << "light 1 of a one-light scene was traced";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("traces from light 1, and the scene has 1 light"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("traces through caustic view 1, and the scene has 1"), std::string::npos) << e.what();
   }
 }
 
@@ -493,8 +493,27 @@ TEST(PhotonReference, ACausticViewsFluxIsTheIntensityOverItsSolidAngle) {
   EXPECT_EQ(reference::caustic_view_flux(spot), 0.0);
 }
 
+// A point light inside a glass ball throws through all six cube faces, each emitting only the
+// directions of its own face: together they send 4 pi I, each face a sixth of it.
+TEST(PhotonReference, APointLightsCubeFacesShareOutItsWholeSphere) {
+  const scene::Scene scene = from_text(R"({"camera": {"position": [0, 3.5, 6], "target": [0, 1, 0]},
+    "lights": [{"type": "point", "position": [0, 1.5, 0], "intensity": 40}],
+    "objects": [{"primitive": {"type": "plane", "size": [10, 10]}},
+                {"primitive": {"type": "sphere", "radius": 1}, "transform": {"translate": [0, 1.5, 0]}, "material": {"refractor": true}}]})");
+  const scene::Light& bulb = scene.lights.at(0);
+  ASSERT_EQ(bulb.caustic_faces, 0x3fu);
+  // Within the flux integral's grid: its 512 texels over tan 1.5 cut a face's edge (tan 1) inside a texel.
+  EXPECT_NEAR(reference::caustic_view_flux(bulb) / (4.0 * M_PI * 40.0), 1.0, 5e-3);
+  for (const scene::CausticView& face : scene::caustic_views(scene.lights))
+    EXPECT_NEAR(reference::caustic_view_flux(bulb, face) / (4.0 * M_PI * 40.0 / 6.0), 1.0, 5e-3) << "face " << face.face;
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, 6'000'000);
+  ASSERT_EQ(shares.size(), 6u);
+  for (uint64_t share : shares) EXPECT_NEAR(double(share), 1e6, 1e4);
+}
+
 // The photons of the whole picture are shared by flux: two spots alike but for their intensity
-// (3:1) take 3:1 of them, a light without a caustic view none, and the shares add up.
+// (3:1) take 3:1 of them, a point light inside the ball one share for each of its six cube faces
+// alike, and the shares add up.
 TEST(PhotonReference, PhotonsAreSharedAmongTheLightsByTheirFlux) {
   const scene::Scene scene = from_text(R"({
     "camera": {"position": [0, 4, 6], "target": [0, 0, 0]},
@@ -504,13 +523,16 @@ TEST(PhotonReference, PhotonsAreSharedAmongTheLightsByTheirFlux) {
     "objects": [{"name": "floor", "primitive": {"type": "plane"}},
                 {"name": "ball", "primitive": {"type": "sphere", "radius": 0.5}, "transform": {"translate": [0, 0.5, 0]},
                  "material": {"refractor": true}}]})");
-  ASSERT_FALSE(scene.lights[1].has_caustic_view);  // inside the ball
-  const std::vector<uint64_t> shares = reference::photons_per_light(scene, 1'000'001);
-  ASSERT_EQ(shares.size(), 3u);
-  EXPECT_EQ(shares[0] + shares[1] + shares[2], 1'000'001u);
-  EXPECT_EQ(shares[1], 0u);
-  EXPECT_NEAR(double(shares[0]), 750'000.75, 1.0);
-  EXPECT_NEAR(double(shares[2]), 250'000.25, 1.0);
+  ASSERT_EQ(scene.lights[1].caustic_faces, 0x3fu);  // inside the ball
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, 1'000'001);
+  ASSERT_EQ(shares.size(), 8u);  // three lights' views, then the point light's five further faces
+  uint64_t total = 0;
+  for (uint64_t share : shares) total += share;
+  EXPECT_EQ(total, 1'000'001u);
+  EXPECT_NEAR(double(shares[0]), 3.0 * double(shares[2]), 3.0);
+  for (size_t face : {3, 4, 5, 6, 7}) EXPECT_NEAR(double(shares[face]), double(shares[1]), 1.0) << face;
+  const double spots = reference::caustic_view_flux(scene.lights[0]) + reference::caustic_view_flux(scene.lights[2]);
+  EXPECT_NEAR(double(shares[0] + shares[2]) / 1'000'001.0, spots / (spots + 4.0 * M_PI * 5.0), 1e-3);
 }
 
 // The whole reference picture (caustica reference --picture): each light's map projected through
@@ -526,7 +548,7 @@ TEST(PhotonReference, TheWholePictureHasEveryLightsCausticWhereItsPhotonsLand) {
   ASSERT_EQ(scene.objects.front().name, "floor");
   constexpr uint32_t kWidth = 160, kHeight = 90;
   const size_t pixels = size_t{kWidth} * kHeight;
-  const std::vector<uint64_t> shares = reference::photons_per_light(scene, 6'000'000);
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, 6'000'000);
   std::vector<io::ImageData> maps(scene.lights.size());
   reference::CausticMaps lit(scene.lights.size(), nullptr);
   std::vector<double> expected(pixels * 3, 0.0);

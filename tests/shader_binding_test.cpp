@@ -95,10 +95,10 @@ TEST_F(ShaderBinding, ADeclaredBindingLeftUnwrittenIsRefusedWithItsName) {
 // An array of samplers (lighting's shadow maps, one per light) is as long as the shader declares
 // it, and each of its elements must be written.
 TEST_F(ShaderBinding, EveryElementOfAnArrayMustBeWritten) {
-  const ReflectedShader lighting = compiler.compile_reflected("scene/lighting.frag", {{"SHADOWS", "1"}});
+  const ReflectedShader lighting = compiler.compile_reflected("scene/lighting.frag", {{"SHADOWS", "8"}});
   const ShaderInterface lit("lighting", {{"scene/lighting.frag", &lighting.reflection}});
   const InterfaceBinding& maps = lit.find("shadow_maps", {BindingKind::sampled_image});
-  EXPECT_EQ(maps.count, 8u);  // CAUSTICA_MAX_LIGHTS
+  EXPECT_EQ(maps.count, 8u);  // SHADOWS
   const size_t index = static_cast<size_t>(&maps - lit.bindings().data());
   std::vector<std::pair<size_t, uint32_t>> written;
   for (size_t i = 0; i < lit.bindings().size(); ++i) {

@@ -457,8 +457,12 @@ void GraphEditor::draw_pass_panel() {
   ImGui::SameLine();
   if (ImGui::Button("rename") && rename_[0]) rename(name, rename_);
   if (ImGui::Button("remove pass")) remove_selected();
-  bool per_light = pass.value("for_each", "") == "light";
-  if (ImGui::Checkbox("once per light", &per_light)) set_per_light(name, per_light);
+  // Once, once per light, or once per caustic view (a point light's cube faces each their own).
+  static const char* const kForEach[] = {"", "light", "caustic_view"};
+  static const char* const kMadeOnce[] = {"once", "once per light", "once per caustic view"};
+  int made = 0;
+  for (int k = 1; k < 3; ++k) made = pass.value("for_each", "") == kForEach[k] ? k : made;
+  if (ImGui::Combo("made", &made, kMadeOnce, 3)) set_for_each(name, kForEach[made]);
   ImGui::Separator();
   for (const auto& d : decl->params) {
     const ordered_json current =

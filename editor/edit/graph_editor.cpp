@@ -19,7 +19,8 @@ would do it, and logs "edit: LINE: ok" or "edit: LINE: refused: MESSAGE":
   connect PASS PORT RESOURCE     bind a port to a resource
   disconnect PASS PORT           unbind a port
   set PASS PARAM JSON            set a parameter of a pass
-  per-light PASS on|off          make a pass (and what it writes) once per light, or once
+  for-each PASS light|caustic_view|once
+                                 make a pass (and what it writes) once per light, per caustic view, or once
   param NAME JSON                set a graph parameter (its default in the file)
   select PASS...                 select passes;  remove  removes the selected ones
   rename PASS NEW_NAME           rename a pass
@@ -170,8 +171,8 @@ bool GraphEditor::disconnect(const std::string& pass, const std::string& port) {
   return act("disconnect " + pass + "." + port, [&] { model_.disconnect(pass, port); });
 }
 
-bool GraphEditor::set_per_light(const std::string& pass, bool per_light) {
-  return act(std::string(per_light ? "make " : "unmake ") + pass + " per light", [&] { model_.set_per_light(pass, per_light); });
+bool GraphEditor::set_for_each(const std::string& pass, const std::string& kind) {
+  return act(kind.empty() ? "make " + pass + " once" : "make " + pass + " once per " + kind, [&] { model_.set_for_each(pass, kind); });
 }
 
 bool GraphEditor::set_param(const std::string& pass, const std::string& param, const nlohmann::json& value) {
@@ -262,9 +263,9 @@ void GraphEditor::step_script() {
     need(3);
     const auto value = nlohmann::json::parse(args[2], nullptr, false);
     ok = set_param(args[0], args[1], value.is_discarded() ? nlohmann::json(args[2]) : value);
-  } else if (verb == "per-light") {  // per-light PASS on|off
+  } else if (verb == "for-each") {  // for-each PASS light|caustic_view|once
     need(2);
-    ok = set_per_light(args[0], args[1] == "on");
+    ok = set_for_each(args[0], args[1] == "once" ? "" : args[1]);
   } else if (verb == "param") {
     need(2);
     const auto value = nlohmann::json::parse(args[1], nullptr, false);

@@ -31,7 +31,7 @@ class GraphEditor {
   bool remove_selected();
   bool connect(const std::string& pass, const std::string& port, const std::string& resource);
   bool disconnect(const std::string& pass, const std::string& port);
-  bool set_per_light(const std::string& pass, bool per_light);
+  bool set_for_each(const std::string& pass, const std::string& kind);
   bool set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
   bool rename(const std::string& pass, const std::string& new_name);
   // A graph parameter's value, as the file's default.

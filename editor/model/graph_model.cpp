@@ -10,6 +10,7 @@
 #include "core/paths.h"
 #include "core/suggest.h"
 #include "graph/compiler.h"
+#include "graph/per_light.h"
 #include "graph/user_pass_type.h"
 #include "io/files.h"
 #include "io/json_document.h"
@@ -434,10 +435,14 @@ void GraphModel::set_enabled(const std::string& pass, const nlohmann::json& valu
         [&](ordered_json& doc) { pass_json(doc, pass)["enabled"] = ordered_json::parse(value.dump()); });
 }
 
-void GraphModel::set_per_light(const std::string& pass, bool per_light) {
-  apply(std::string(per_light ? "make " : "unmake ") + pass + " per light", [&](ordered_json& doc) {
+void GraphModel::set_for_each(const std::string& pass, const std::string& kind) {
+  if (!kind.empty() && kind != graph::kForEachLight && kind != graph::kForEachCausticView) {
+    throw InputError(path_ + ": unknown \"for_each\" '" + kind + "': a pass is made once per light (\"light\"), once per caustic view " +
+                     "(\"caustic_view\") or once (\"\")");
+  }
+  apply((kind.empty() ? "make " + pass + " once" : "make " + pass + " once per " + kind), [&](ordered_json& doc) {
     ordered_json& p = pass_json(doc, pass);
-    wire_per_light(doc, p, registry_->find(p.value("type", "")), per_light);
+    wire_for_each(doc, p, registry_->find(p.value("type", "")), kind);
   });
 }
 

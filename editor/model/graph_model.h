@@ -61,9 +61,10 @@ class GraphModel {
   void set_param(const std::string& pass, const std::string& param, const nlohmann::json& value);
   void reset_param(const std::string& pass, const std::string& param);     // back to the type's default
   void set_enabled(const std::string& pass, const nlohmann::json& value);  // true, false or an expression
-  // The pass made once per light ("for_each": "light"), or once again: the resources it writes with
-  // it, and its "light" parameter, where its type has one, following its instance's light ("$light").
-  void set_per_light(const std::string& pass, bool per_light);
+  // The pass made once per light or caustic view (`kind`: "light" or "caustic_view", its
+  // "for_each"), or once again (""): the resources it writes with it, and its "light" parameter,
+  // where its type has one, following its instance's light or view ("$light").
+  void set_for_each(const std::string& pass, const std::string& kind);
 
   void add_resource(const std::string& name, const nlohmann::ordered_json& description);
   void remove_resource(const std::string& name);

@@ -66,10 +66,10 @@ PassWiring::PassWiring(const ordered_json& doc, const graph::PassTypeDecl& decl,
     for (const auto& r : written) {
       if (port_accepts(port, resources_, r)) candidates_.back().push_back(r);
     }
-    // One resource before a per-light one, which would make the new pass run once per light (wired()).
-    std::stable_partition(candidates_.back().begin(), candidates_.back().end(), [&](const std::string& r) {
-      return port.per_light || resources_[r].value("for_each", "") != std::string(graph::kForEachLight);
-    });
+    // One resource before a per-light (or per-view) one, which would make the new pass run once per
+    // light (wired()).
+    std::stable_partition(candidates_.back().begin(), candidates_.back().end(),
+                          [&](const std::string& r) { return port.per_light || resources_[r].value("for_each", "").empty(); });
     if (candidates_.back().empty()) {
       std::string formats;
       for (auto f : port.formats) formats += std::string(formats.empty() ? "" : ", ") + graph::format_info(f).name;
@@ -127,11 +127,12 @@ ordered_json PassWiring::wired(const ordered_json& pass, const std::vector<std::
   if (!out.empty()) candidate["outputs"] = out;
   for (auto& [key, value] : new_resources.items()) next["resources"][key] = value;
   next["passes"].push_back(candidate);
-  // A pass that reads a per-light resource through a port of one resource runs once per light, and
-  // what it writes is per light too (a pass that runs once cannot read it so).
+  // A pass that reads a per-light (per-view) resource through a port of one resource runs once per
+  // light (view), and what it writes is too (a pass that runs once cannot read it so).
   for (size_t k = 0; k < inputs_.size(); ++k) {
-    if (!inputs_[k]->per_light && resources_[chosen[k]].value("for_each", "") == std::string(graph::kForEachLight)) {
-      wire_per_light(next, next["passes"].back(), &decl_, true);
+    const std::string kind = resources_[chosen[k]].value("for_each", "");
+    if (!inputs_[k]->per_light && !kind.empty()) {
+      wire_for_each(next, next["passes"].back(), &decl_, kind);
       break;
     }
   }
@@ -162,10 +163,11 @@ bool PassWiring::try_each(const ordered_json& pass, const std::function<bool(ord
   return choose(0);
 }
 
-void wire_per_light(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, bool per_light) {
-  auto mark = [per_light](nlohmann::ordered_json& part) {
-    if (per_light)
-      part["for_each"] = "light";
+void wire_for_each(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, std::string_view kind) {
+  const bool per_light = !kind.empty();
+  auto mark = [kind](nlohmann::ordered_json& part) {
+    if (!kind.empty())
+      part["for_each"] = std::string(kind);
     else
       part.erase("for_each");
   };

@@ -4,16 +4,17 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "graph/pass_type.h"
 
 namespace caustica::editor {
 
-// Pass `pass` of `doc` made once per light ("for_each": "light"), or once again: the resources it
-// writes with it, and its "light" parameter, where its type (`type`, if known) has one, following
-// its instance's light ("$light").
-void wire_per_light(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, bool per_light);
+// Pass `pass` of `doc` made once per `kind` ("light" or "caustic_view": "for_each"), or once again
+// (""): the resources it writes with it, and its "light" parameter, where its type (`type`, if
+// known) has one, following its instance's light or view ("$light").
+void wire_for_each(nlohmann::ordered_json& doc, nlohmann::ordered_json& pass, const graph::PassTypeDecl* type, std::string_view kind);
 
 class PassWiring {
  public:

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <vector>
 
 #include "graph/compiler_internal.h"
 #include "graph/per_light.h"
@@ -62,14 +63,44 @@ std::map<std::string, double> typical_scene_values() {
           {"scene.light0.directional", 0}, {"scene.light0.objects", 2}, {"scene.light0.refractors", 1}};
 }
 
+namespace {
+// The scene's values with its caustic views' (scene.caustic_views, scene.causticK.*); values
+// without them (a scene of an older program, a test's own) have one view per light, its light's.
+std::map<std::string, double> with_caustic_views(std::map<std::string, double> values, uint32_t lights) {
+  if (values.count("scene.caustic_views")) return values;
+  values["scene.caustic_views"] = lights;
+  for (uint32_t light = 0; light < lights; ++light) {
+    const std::string from = "scene.light" + std::to_string(light) + ".", to = "scene.caustic" + std::to_string(light) + ".";
+    for (auto it = values.lower_bound(from); it != values.end() && it->first.starts_with(from); ++it)
+      values[to + it->first.substr(from.size())] = it->second;
+    values[to + "light"] = light;
+    values[to + "face"] = -1;
+  }
+  return values;
+}
+
+// The light of each caustic view (scene.causticK.light).
+std::vector<uint32_t> view_lights(const std::map<std::string, double>& values, uint32_t lights) {
+  std::vector<uint32_t> out;
+  for (uint32_t view = 0; view < static_cast<uint32_t>(std::clamp(values.at("scene.caustic_views"), 0.0, 1024.0)); ++view) {
+    const auto light = values.find("scene.caustic" + std::to_string(view) + ".light");
+    out.push_back(light == values.end() ? view
+                                        : static_cast<uint32_t>(std::clamp(light->second, 0.0, double(lights > 0 ? lights - 1 : 0))));
+  }
+  return out;
+}
+}  // namespace
+
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {
   if (!has_per_light(graph)) return compiler_internal::Compiler(graph, registry, options).run();
   // Without a scene (a device-less check), the typical scene's one light.
   const auto lights = options.scene_values.find("scene.lights");
   const double count = lights == options.scene_values.end() ? 1.0 : lights->second;
-  const GraphDesc expanded = expand_per_light(graph, static_cast<uint32_t>(std::clamp(count, 0.0, 64.0)));
-  // A per-light resource kept by its own name is light 0's (Plan::resolve reads it so).
+  const auto light_count = static_cast<uint32_t>(std::clamp(count, 0.0, 64.0));
   CompileOptions per_light = options;
+  per_light.scene_values = with_caustic_views(options.scene_values, light_count);
+  const GraphDesc expanded = expand_per_light(graph, light_count, view_lights(per_light.scene_values, light_count));
+  // A per-light resource kept by its own name is light 0's (Plan::resolve reads it so).
   per_light.retained.clear();
   for (const std::string& name : options.retained) {
     const bool follows_lights = std::any_of(graph.resources.begin(), graph.resources.end(),

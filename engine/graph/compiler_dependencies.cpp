@@ -17,7 +17,7 @@ int Compiler::scene_light(int light) const {
 // own, a built-in pass with a "light" parameter (which light it draws from, the last where there
 // are fewer) that one, any other every light (a user pass's shader may read them all).
 uint32_t Compiler::own_lights(const Node& node) const {
-  int light = node.desc->light;
+  int light = node.desc->instance.light;
   if (light < 0 && !node.desc->user && node.decl->find_param("light") && node.params.contains("light") &&
       node.params["light"].is_number_integer()) {
     light = scene_light(node.params["light"].get<int>());

@@ -7,6 +7,7 @@
 // compiler_barriers.cpp records the barriers.
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,9 +64,9 @@ class Compiler {
   std::string redirected(const std::string& name) const;
   void decide_enabled_and_fallbacks();
   std::vector<std::string> resource_names_of_file() const;
-  // The names an expression reads; a per-light instance's (light >= 0) through graph::light_scope.
-  ExpressionScope scope(int light = -1) const;
-  double evaluate(const std::string& text, const std::string& pointer, int light = -1) const;
+  // The names an expression reads; a per-light or per-view instance's through graph::light_scope.
+  ExpressionScope scope(Instance instance = {}) const;
+  double evaluate(const std::string& text, const std::string& pointer, Instance instance = {}) const;
   uint32_t extent(const std::string& text, const std::string& pointer, const char* what, const ResourceDesc& resource) const;
   void size_resources();
   std::vector<std::string> resource_names() const;
@@ -90,7 +91,7 @@ class Compiler {
   void check_writer_order() const;
   std::vector<uint32_t> least_memory_order(const std::vector<bool>& live) const;
   void warn_of_flat_cube_maps(const Node& node);
-  void warn_of_culled_point_caustics();
+  void warn_of_undrawn_faces(const std::set<int>& drawn_views);
   void cull_and_order();
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.

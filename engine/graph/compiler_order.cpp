@@ -4,18 +4,12 @@
 #include <algorithm>
 #include <map>
 #include <queue>
+#include <set>
 
 #include "core/suggest.h"
 #include "graph/compiler_internal.h"
 
 namespace caustica::graph::compiler_internal {
-
-namespace {
-constexpr const char* kAmongRefractors =
-    "its refractors lie around it (no frustum narrower than 140 degrees holds them, or it is inside one), and a point light "
-    "throws caustics through one frustum fitted to its refractors (cube-face caustic maps are not implemented), so it throws "
-    "none; its shadow is cast as every light's";
-}  // namespace
 
 // ---- dependencies --------------------------------------------------------------------------
 
@@ -311,7 +305,7 @@ void Compiler::cull_and_order() {
   for (uint32_t i = 0; i < nodes_.size(); ++i) {
     if (nodes_[i].decl && !live[i]) plan_.culled.push_back(nodes_[i].desc->name);
   }
-  std::map<int, std::string> unlit;  // light -> the passes that need it to be a spot light
+  std::set<int> drawn_views;  // the caustic views that planned passes draw from
   for (uint32_t n : order_) {
     const Node& node = nodes_[n];
     PlannedPass pass;
@@ -321,6 +315,7 @@ void Compiler::cull_and_order() {
     pass.decl = node.decl;
     pass.params = node.params;
     pass.frame_params = node.frame_params;
+    pass.instance = node.desc->instance;
     if (!pass.frame_params.empty() && plan_.expression_values.empty()) {
       const ExpressionScope compile_time = scope();
       for (const auto& name : compile_time.known_names) plan_.expression_values[name] = *compile_time.lookup(name);
@@ -336,41 +331,36 @@ void Compiler::cull_and_order() {
       plan_.ray_query_passes.push_back(pass.name);
     }
     if (pass.decl->jitters_camera && pass.decl->jitters_camera(pass.params)) plan_.jitters_camera = true;
-    if (pass.decl->uses_light_view && pass.decl->uses_light_view(pass.params)) {
-      const int light = pass.params.value("light", 0);
-      const auto view = options_.scene_values.find("scene.light" + std::to_string(light) + ".view");
-      if (view != options_.scene_values.end() && view->second == 0.0) unlit[light] += (unlit[light].empty() ? "" : ", ") + pass.name;
-    }
+    if (pass.decl->uses_light_view && pass.decl->uses_light_view(pass.params)) drawn_views.insert(pass.params.value("light", 0));
     warn_of_flat_cube_maps(node);
     plan_.passes.push_back(std::move(pass));
   }
-  for (const auto& [light, names] : unlit) {
-    plan_.warnings.push_back("light " + std::to_string(light) + " is a point light without a caustic view: " + kAmongRefractors +
-                             ", so the passes that draw from its view add nothing to the picture (" + names + ")");
-  }
-  warn_of_culled_point_caustics();
+  warn_of_undrawn_faces(drawn_views);
 }
 
-// A per-light graph culls a point light's caustic passes where it has no view (their "enabled"
-// reads light.view): said once per light, as the passes of a graph made for one light are above.
-void Compiler::warn_of_culled_point_caustics() {
-  std::map<int, std::string> culled;
-  for (const PassDesc& pass : graph_.passes) {
-    const PassTypeDecl* decl = registry_.find(pass.type);
-    if (pass.light < 0 || !plan_.disabled_by.count(pass.name) || !decl || !decl->uses_light_view || !decl->uses_light_view(pass.params)) {
-      continue;
-    }
-    const std::string prefix = "scene.light" + std::to_string(pass.light) + ".";
-    const auto value = [&](const char* name) {
-      const auto it = options_.scene_values.find(prefix + name);
-      return it == options_.scene_values.end() ? 0.0 : it->second;
-    };
-    if (value("point") == 0.0 || value("view") != 0.0 || value("refractors") == 0.0) continue;
-    culled[pass.light] += (culled[pass.light].empty() ? "" : ", ") + pass.name;
+// A point light among its refractors throws its caustics through several cube faces, each a caustic
+// view: a graph whose caustic passes are made once, or once per light, draws from its first alone
+// and loses the rest of its caustic (said once per light).
+void Compiler::warn_of_undrawn_faces(const std::set<int>& drawn_views) {
+  const auto value = [&](const std::string& name, double otherwise) {
+    const auto it = options_.scene_values.find(name);
+    return it == options_.scene_values.end() ? otherwise : it->second;
+  };
+  std::map<int, std::pair<int, int>> faces;  // light -> its views, and how many of them are drawn
+  for (int view = 0; view < static_cast<int>(value("scene.caustic_views", 0)); ++view) {
+    const std::string prefix = "scene.caustic" + std::to_string(view) + ".";
+    if (value(prefix + "face", -1) < 0) continue;
+    auto& [views, drawn] = faces[static_cast<int>(value(prefix + "light", 0))];
+    ++views;
+    drawn += drawn_views.count(view) ? 1 : 0;
   }
-  for (const auto& [light, names] : culled) {
-    plan_.warnings.push_back("light " + std::to_string(light) + " is a point light without a caustic view: " + kAmongRefractors +
-                             "; its caustic passes are culled (" + names + ")");
+  for (const auto& [light, counts] : faces) {
+    if (counts.second == 0 || counts.second == counts.first) continue;
+    plan_.warnings.push_back("light " + std::to_string(light) +
+                             " is a point light among its refractors, which throws its caustics through " + std::to_string(counts.first) +
+                             " cube faces (caustic views), and the graph draws from " + std::to_string(counts.second) +
+                             " of them; make its caustic passes and resources \"for_each\": "
+                             "\"caustic_view\" (the bundled graphs do) to draw them all");
   }
 }
 

@@ -24,11 +24,12 @@ std::string Compiler::redirected(const std::string& name) const {
 void Compiler::decide_enabled_and_fallbacks() {
   std::set<std::string> written;
   for (const auto& pass : graph_.passes) {
-    const bool on = evaluate(pass.enabled, pass.pointer + "/enabled", pass.light) != 0.0;
+    if (pass.instance.any()) plan_.instances[pass.name] = pass.instance;
+    const bool on = evaluate(pass.enabled, pass.pointer + "/enabled", pass.instance) != 0.0;
     enabled_.push_back(on);
     if (!on) {
       plan_.disabled.push_back(pass.name);
-      plan_.disabled_by[pass.name] = pass.light < 0 ? pass.enabled : as_read_by_light(pass.enabled, static_cast<uint32_t>(pass.light));
+      plan_.disabled_by[pass.name] = as_read_by_light(pass.enabled, pass.instance);
       continue;
     }
     for (const auto& [port, resource] : pass.outputs) written.insert(resource);
@@ -78,7 +79,7 @@ std::vector<std::string> Compiler::resource_names_of_file() const {
 
 // ---- parameters and expressions -------------------------------------------------------------
 
-ExpressionScope Compiler::scope(int light) const {
+ExpressionScope Compiler::scope(Instance instance) const {
   ExpressionScope s;
   s.known_names = {"output.width", "output.height"};
   for (const auto& [name, value] : options_.scene_values) s.known_names.push_back(name);
@@ -94,15 +95,15 @@ ExpressionScope Compiler::scope(int light) const {
     if (p->value.is_boolean()) return p->value.get<bool>() ? 1.0 : 0.0;
     return p->value.get<double>();
   };
-  return light_scope(std::move(s), light);
+  return light_scope(std::move(s), instance);
 }
 
 // Every value an expression gives is finite: the sizes, counts and flags computed from it are
 // converted to integers, which is undefined for NaN and infinities.
-double Compiler::evaluate(const std::string& text, const std::string& pointer, int light) const {
+double Compiler::evaluate(const std::string& text, const std::string& pointer, Instance instance) const {
   double v = 0;
   try {
-    v = evaluate_expression(text, scope(light));
+    v = evaluate_expression(text, scope(instance));
   } catch (const std::invalid_argument& e) {
     throw graph_.error(pointer, e.what());
   }
@@ -113,7 +114,7 @@ double Compiler::evaluate(const std::string& text, const std::string& pointer, i
 
 uint32_t Compiler::extent(const std::string& text, const std::string& pointer, const char* what, const ResourceDesc& desc) const {
   const std::string& resource = desc.name;
-  double v = std::floor(evaluate(text, pointer, desc.light));
+  double v = std::floor(evaluate(text, pointer, desc.instance));
   if (v < 1) {
     throw graph_.error(pointer, "the " + std::string(what) + " of '" + resource + "' evaluates to " + JsonReader::format_number(v) +
                                     "; it must be at least 1");
@@ -137,7 +138,7 @@ void Compiler::size_resources() {
       if (desc.kind == ResourceKind::image) {
         r.width = extent(desc.width, desc.pointer + "/width", "width", desc);
         r.height = extent(desc.height, desc.pointer + "/height", "height", desc);
-        double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips", desc.light));
+        double mips = std::floor(evaluate(desc.mips, desc.pointer + "/mips", desc.instance));
         uint32_t max_mips = static_cast<uint32_t>(std::floor(std::log2(std::max(r.width, r.height)))) + 1;
         if (mips < 1 || mips > max_mips) {
           throw graph_.error(desc.pointer + "/mips", "'" + desc.name + "' asks for " + JsonReader::format_number(mips) + " mip levels; a " +
@@ -145,7 +146,7 @@ void Compiler::size_resources() {
                                                          std::to_string(max_mips));
         }
         r.mips = static_cast<uint32_t>(mips);
-        double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers", desc.light));
+        double layers = std::floor(evaluate(desc.layers, desc.pointer + "/layers", desc.instance));
         if (layers < 1 || layers > kMaxImageLayers) {
           throw graph_.error(desc.pointer + "/layers", "'" + desc.name + "' asks for " + JsonReader::format_number(layers) +
                                                            " array layers; an image has 1 to " + std::to_string(kMaxImageLayers));
@@ -157,7 +158,7 @@ void Compiler::size_resources() {
                              "'" + desc.name + "' is " + format_info(r.format).name + "; only r32f and d32f images can have layers");
         }
       } else {
-        double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size", desc.light));
+        double bytes = std::floor(evaluate(desc.size, desc.pointer + "/size", desc.instance));
         if (bytes < 4) {
           throw graph_.error(desc.pointer + "/size", "the size of buffer '" + desc.name + "' evaluates to " +
                                                          JsonReader::format_number(bytes) + " bytes; it must be at least 4");
@@ -264,7 +265,7 @@ nlohmann::json Compiler::resolve_params(const PassDesc& pass, const PassTypeDecl
         // and by the executor before every frame (PlannedPass::frame_params), clamped to the range.
         const std::string text = raw.get<std::string>();
         bool follows_frame = false;
-        ExpressionScope s = scope(pass.light);
+        ExpressionScope s = scope(pass.instance);
         s.known_names.insert(s.known_names.end(), std::begin(kFrameNames), std::end(kFrameNames));
         s.lookup = [compile_time = s.lookup, &follows_frame](std::string_view name) -> std::optional<double> {
           if (std::find(std::begin(kFrameNames), std::end(kFrameNames), name) == std::end(kFrameNames)) return compile_time(name);
@@ -449,7 +450,7 @@ void Compiler::resolve_dispatch(const PassDesc& pass, const nlohmann::json& para
   const UserPassDesc& user = *pass.user;
   // Expressions of the sizes, the scene, the graph's parameters and the pass's own (by name, before
   // a graph parameter of the same name).
-  ExpressionScope s = scope(pass.light);
+  ExpressionScope s = scope(pass.instance);
   for (const auto& p : user.params) {
     if (p.type != ParamType::choice) s.known_names.push_back(p.name);
   }

@@ -39,7 +39,7 @@ nlohmann::json params_for_frame(const Plan& plan, const PlannedPass& pass, const
     const auto it = plan.expression_values.find(std::string(name));
     return it == plan.expression_values.end() ? std::nullopt : std::optional<double>(it->second);
   };
-  scope = light_scope(std::move(scope), instance_light(pass.name));
+  scope = light_scope(std::move(scope), pass.instance);
   nlohmann::json params = pass.params;
   for (const auto& [name, expression] : pass.frame_params) {
     try {

@@ -117,12 +117,14 @@ void load_parameters(GraphDesc& graph, const Reader& read, ErrorList& errors) {
   }
 }
 
-// "for_each": what a pass or resource is made once per; the scene's lights are all there is.
+// "for_each": what a pass or resource is made once per: the scene's lights or its caustic views.
 std::string read_for_each(const GraphDesc& graph, const Reader& read, const nlohmann::json& value, const std::string& pointer) {
   const std::string text = read.string(value, pointer, "\"for_each\"");
-  if (text != kForEachLight) {
-    throw graph.error(pointer, "unknown \"for_each\" '" + text + "'" + did_you_mean(text, {std::string(kForEachLight)}) +
-                                   "; passes and resources are made once per light (\"light\") or once");
+  if (text != kForEachLight && text != kForEachCausticView) {
+    throw graph.error(pointer, "unknown \"for_each\" '" + text + "'" +
+                                   did_you_mean(text, {std::string(kForEachLight), std::string(kForEachCausticView)}) +
+                                   "; passes and resources are made once per light (\"light\"), once per caustic view "
+                                   "(\"caustic_view\": a light's, or each cube face of a point light among its refractors) or once");
   }
   return text;
 }

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "graph/instance.h"
 #include "graph/pass_type.h"
 #include "io/json_document.h"
 
@@ -43,9 +44,10 @@ struct ResourceDesc {
   std::string fallback;
   // "fallback": null: when no enabled pass writes it, optional inputs bound to it are left unbound.
   bool fallback_to_nothing = false;
-  // "light": one resource per light of the scene, its expressions read per light (graph/per_light.h).
+  // "light": one resource per light of the scene, its expressions read per light; "caustic_view":
+  // one per caustic view (graph/per_light.h).
   std::string for_each;
-  int light = -1;  // an instance's light (made by expand_per_light)
+  Instance instance;  // made by expand_per_light
   std::string pointer;
 };
 
@@ -79,8 +81,8 @@ struct PassDesc {
   std::map<std::string, std::string> outputs;
   std::vector<std::string> after;  // explicit ordering for resources written by several passes
   std::string enabled = "1";       // an expression (true/false in the file are 1/0); the pass runs when non-zero
-  std::string for_each;            // "light": one instance per light of the scene (graph/per_light.h)
-  int light = -1;                  // an instance's light (made by expand_per_light)
+  std::string for_each;            // "light" or "caustic_view": one instance per light or caustic view (graph/per_light.h)
+  Instance instance;               // made by expand_per_light
   std::string pointer;
   std::optional<UserPassDesc> user;  // a "compute" or "fullscreen" pass
 };

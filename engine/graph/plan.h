@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "graph/instance.h"
 #include "graph/pass_type.h"
 #include "graph/result_identity.h"
 
@@ -113,6 +114,7 @@ struct PlannedPass {
   // With kDependsOnLights, the lights whose changes it follows (bit K: light K): a per-light
   // instance's own light and what its inputs follow (graph/per_light.h); kAllLights otherwise.
   uint32_t lights = kAllLights;
+  Instance instance;  // a per-light or per-view pass's instance
   bool reusable(bool plan_reuses) const { return plan_reuses && !(depends & kDependsOnFrame); }
   // With Plan::refines_apart: the pass moves a running result or writes what such a pass reads, and
   // runs in FramePart::refine frames; the others run in FramePart::display frames.
@@ -158,6 +160,8 @@ struct Plan {
   // Each disabled pass's "enabled" as it was evaluated: a per-light instance's with its light's
   // names ("scene.light2.objects": light 2 reaches no object), so that a plan says why.
   std::map<std::string, std::string> disabled_by;
+  // Every instance of a per-light or per-view pass (graph/per_light.h), planned or not: whose it is.
+  std::map<std::string, Instance> instances;
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
   std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
   std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built

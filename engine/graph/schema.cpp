@@ -138,8 +138,10 @@ json resource_schema(const json& expression) {
               {"description",
                "resource read in this one's place when no enabled pass writes it; null leaves optional inputs bound to it unbound"}}},
             {"for_each",
-             {{"enum", {"light"}},
-              {"description", "one resource per light of the scene, named NAME#K; its expressions may name light.index and light.*"}}},
+             {{"enum", {"light", "caustic_view"}},
+              {"description",
+               "one resource per light of the scene, or per caustic view (a light's, or each cube face of a point light among its "
+               "refractors), named NAME#K; its expressions may name light.index and light.*"}}},
             {"description", {{"type", "string"}}}}},
           {"additionalProperties", false}};
 }
@@ -169,10 +171,12 @@ json pass_schema(const PassRegistry& registry, const json& expression) {
          {{"type", {"boolean", "string"}},
           {"description", "true, false, or an expression such as \"scene.refractors\"; the pass runs when it is non-zero"}}},
         {"for_each",
-         {{"enum", {"light"}},
+         {{"enum", {"light", "caustic_view"}},
           {"description",
            "one instance per light of the scene, named NAME#K: \"$light\" and light.index are K, light.NAME the scene's "
-           "scene.lightK.NAME (spot, point, directional, objects, refractors); its per-light resources are light K's"}}},
+           "scene.lightK.NAME (spot, point, directional, objects, refractors); its per-light resources are light K's. "
+           "\"caustic_view\": one per caustic view K (light K's for K below the lights, then a point light's further cube "
+           "faces), light.NAME its light's (scene.causticK.NAME, with light.light and light.face)"}}},
         {"description", {{"type", "string"}}},
         {"shader", {{"type", "string"}, {"description", "compute and fullscreen: the .comp or .frag file, relative to the graph file"}}},
         {"ports",

@@ -29,23 +29,24 @@ struct Accumulator {
   PhotonTotals totals;                // per thread in double; summed in thread order (only the printout uses them)
 };
 
-// Half the side of a light's caustic view's image plane: at distance 1 (spot, point), or the
-// orthographic view's square itself (directional).
-float caustic_half_plane(const scene::Light& light) {
-  const scene::Light seen = light.as_caustic_view();
-  return light.type == scene::LightType::directional ? seen.extent : std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
+// Half the side of a caustic view's image plane: at distance 1 (spot, point), or the orthographic
+// view's square itself (directional).
+float caustic_half_plane(const scene::CausticView& view) {
+  const scene::Light& seen = view.seen;
+  return seen.type == scene::LightType::directional ? seen.extent : std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
 }
 
 // A photon leaving through `ndc` of a light's caustic view: where it starts, where it goes, and its
 // share of the power of the piece of image plane it stands for. A directional light's starts on the
 // view's near plane and travels along the axis (irradiance times its part of the square); a spot's
 // or point light's stands for a piece of the image plane at distance 1, whose solid angle is its
-// area times cos^3 of its angle to the axis, within the spot's cone.
+// area times cos^3 of its angle to the axis, within the spot's cone, and for a cube face's view
+// within the face's own directions (so that a point light's faces share its photons out).
 struct Emission {
   glm::vec3 eye, direction;
   double share;
 };
-Emission emission(const scene::Light& light, const glm::mat4& inverse_view, float half_plane, glm::vec2 ndc) {
+Emission emission(const scene::Light& light, int face, const glm::mat4& inverse_view, float half_plane, glm::vec2 ndc) {
   const bool directional = light.type == scene::LightType::directional;
   const glm::vec4 far = inverse_view * glm::vec4(ndc, 0.5f, 1.0f);
   const glm::vec4 near = inverse_view * glm::vec4(ndc, 0.0f, 1.0f);
@@ -55,18 +56,19 @@ Emission emission(const scene::Light& light, const glm::mat4& inverse_view, floa
   const glm::vec2 plane = ndc * half_plane;
   const double cos_axis = directional ? 1.0 : 1.0 / std::sqrt(1.0 + double(glm::dot(plane, plane)));
   e.share = cos_axis * cos_axis * cos_axis * double(spot_cone(light, e.direction));
+  if (face >= 0 && !scene::leaves_through_face(e.direction, face)) e.share = 0.0;
   return e;
 }
 
 class PhotonTracer {
  public:
   PhotonTracer(const scene::Scene& scene, const PhotonOptions& options)
-      : exact_(scene), options_(options), light_(scene.lights[options.light]) {
-    // Its photons leave through the light's caustic view, the engine's caustic map's image plane.
-    light_view_proj_ = light_.caustic_view_projection();
+      : exact_(scene), options_(options), view_(scene::caustic_views(scene.lights).at(options.light)), light_(scene.lights[view_.light]) {
+    // Its photons leave through the caustic view, the engine's caustic map's image plane.
+    light_view_proj_ = view_.seen.view_projection();
     disperses_ = scene.disperses();
     inv_light_view_proj_ = glm::inverse(light_view_proj_);
-    half_plane_ = caustic_half_plane(light_);
+    half_plane_ = caustic_half_plane(view_);
     photon_area_ = 4.0 * double(half_plane_) * double(half_plane_) / double(options.photons);
     max_power_ = double(light_.intensity) * photon_area_;
     unit_ = max_power_ / kUnitsPerMaxPhoton;
@@ -89,7 +91,7 @@ class PhotonTracer {
  private:
   void trace(Random& random, Accumulator& acc) const {
     const glm::vec2 uv(random.uniform(), random.uniform());
-    const Emission leaving = emission(light_, inv_light_view_proj_, half_plane_, uv * 2.0f - 1.0f);
+    const Emission leaving = emission(light_, view_.face, inv_light_view_proj_, half_plane_, uv * 2.0f - 1.0f);
     const glm::vec3 eye = leaving.eye, direction = leaving.direction;
     const double emitted = max_power_ * leaving.share;  // photon_area_ of the image plane
     if (emitted <= 0) return;
@@ -111,7 +113,7 @@ class PhotonTracer {
     const auto& objects = exact_.scene().objects;
     const float epsilon = exact_.epsilon();
     glm::vec3 origin = eye;
-    int inside = -1;  // the refractor the photon travels in
+    int inside = light_.inside;  // the refractor the photon travels in (a light inside a glass globe starts in it)
     bool refracted = false;
     for (int segment = 0; segment < kMaxSegments; ++segment) {
       const auto hit = exact_.rays().intersect(origin, direction, segment == 0 ? 0.0f : epsilon, std::numeric_limits<float>::infinity());
@@ -207,6 +209,7 @@ class PhotonTracer {
 
   ExactScene exact_;
   const PhotonOptions& options_;
+  const scene::CausticView view_;
   const scene::Light& light_;
   glm::mat4 light_view_proj_{1.0f}, inv_light_view_proj_{1.0f}, camera_view_proj_{1.0f};
   float half_plane_ = 1.0f;
@@ -249,25 +252,31 @@ void add_totals(PhotonTotals& to, const PhotonTotals& from) {
   to.absorbed += from.absorbed;
 }
 
-double caustic_view_flux(const scene::Light& light) {
-  if (!light.has_caustic_view) return 0.0;
+double caustic_view_flux(const scene::Light& light, const scene::CausticView& view) {
+  if (!view.present) return 0.0;
   // The tracer's emission integrated on a grid of the image plane (midpoints).
   constexpr int kSide = 512;
-  const glm::mat4 inverse_view = glm::inverse(light.caustic_view_projection());
-  const float half = caustic_half_plane(light);
+  const glm::mat4 inverse_view = glm::inverse(view.seen.view_projection());
+  const float half = caustic_half_plane(view);
   double sum = 0;
   for (int y = 0; y < kSide; ++y) {
     for (int x = 0; x < kSide; ++x) {
       const glm::vec2 ndc((float(x) + 0.5f) / kSide * 2.0f - 1.0f, (float(y) + 0.5f) / kSide * 2.0f - 1.0f);
-      sum += emission(light, inverse_view, half, ndc).share;
+      sum += emission(light, view.face, inverse_view, half, ndc).share;
     }
   }
   return double(light.intensity) * 4.0 * double(half) * double(half) * sum / double(kSide * kSide);
 }
 
-std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t photons) {
+double caustic_view_flux(const scene::Light& light) {
+  double flux = 0;
+  for (const scene::CausticView& view : scene::caustic_views({light})) flux += caustic_view_flux(light, view);
+  return flux;
+}
+
+std::vector<uint64_t> photons_per_view(const scene::Scene& scene, uint64_t photons) {
   std::vector<double> flux;
-  for (const auto& light : scene.lights) flux.push_back(caustic_view_flux(light));
+  for (const auto& view : scene::caustic_views(scene.lights)) flux.push_back(caustic_view_flux(scene.lights[view.light], view));
   double total = 0;
   for (double f : flux) total += f;
   std::vector<uint64_t> share(flux.size(), 0);
@@ -287,14 +296,16 @@ std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t phot
 }
 
 PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& options) {
-  if (options.light >= scene.lights.size()) {
-    throw InputError(scene.path + ": the photon reference traces from light " + std::to_string(options.light) + ", and the scene has " +
-                     std::to_string(scene.lights.size()) + (scene.lights.size() == 1 ? " light" : " lights"));
+  const std::vector<scene::CausticView> views = scene::caustic_views(scene.lights);
+  if (options.light >= views.size()) {
+    throw InputError(scene.path + ": the photon reference traces through caustic view " + std::to_string(options.light) +
+                     ", and the scene has " + std::to_string(views.size()) +
+                     " (one per light, and a point light among its refractors one per cube face that holds one)");
   }
-  if (!scene.lights[options.light].has_caustic_view) {
+  if (!views[options.light].present) {
     throw InputError(scene.path + ": light " + std::to_string(options.light) +
-                     " is a point light among its refractors (or with them over more than a 70-degree cone): it has no caustic "
-                     "view to trace photons through, and throws no caustic in the engine either");
+                     " is a point light that reaches no refractor: it has no caustic view to trace photons through, and throws "
+                     "no caustic in the engine either");
   }
   if (options.photons == 0 || options.map_size == 0) throw InputError("the photon reference needs at least one photon and texel");
   const uint64_t first = options.first_photon, end = options.end_photon > 0 ? options.end_photon : options.photons;

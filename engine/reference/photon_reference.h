@@ -19,7 +19,9 @@
 namespace caustica::reference {
 
 struct PhotonOptions {
-  uint32_t light = 0;  // the scene's light whose photons are traced
+  // The caustic view whose photons are traced (scene::caustic_views): light K's for K below the
+  // scene's lights, a point light's further cube faces after them.
+  uint32_t light = 0;
   uint64_t photons = 10'000'000;
   uint64_t seed = 1;
   // The range of the `photons` traced here, [first_photon, end_photon); end 0: to the last. Each
@@ -72,13 +74,17 @@ PhotonSums trace_photon_sums(const scene::Scene& scene, const PhotonOptions& opt
 io::ImageData caustic_map_from_sums(const std::vector<uint64_t>& units, uint32_t map_size, double unit);
 void add_totals(PhotonTotals& to, const PhotonTotals& from);
 
-// The flux a light sends through its caustic view (its photons' emitted total, the light's units):
-// a directional light's irradiance over the view's square, a spot or point light's intensity over
-// the solid angle of the view (within a spot's cone). 0 without a caustic view.
+// The flux a light sends through a caustic view of its own (its photons' emitted total, the light's
+// units): a directional light's irradiance over the view's square, a spot or point light's
+// intensity over the solid angle of the view (within a spot's cone, a cube face's own directions).
+// 0 for a view that is not present.
+double caustic_view_flux(const scene::Light& light, const scene::CausticView& view);
+// Through every caustic view it has (a point light's cube faces together: 4 pi times its intensity
+// where they cover every direction).
 double caustic_view_flux(const scene::Light& light);
-// `photons` shared among the scene's lights in proportion to caustic_view_flux, so that every
-// photon carries about the same flux whichever light sent it: per light (0 where it sends none, or
-// its share rounds to none); they add up to `photons`.
-std::vector<uint64_t> photons_per_light(const scene::Scene& scene, uint64_t photons);
+// `photons` shared among the scene's caustic views (scene::caustic_views) in proportion to
+// caustic_view_flux, so that every photon carries about the same flux whichever light sent it: per
+// view (0 where it sends none, or its share rounds to none); they add up to `photons`.
+std::vector<uint64_t> photons_per_view(const scene::Scene& scene, uint64_t photons);
 
 }  // namespace caustica::reference

@@ -70,6 +70,7 @@ std::string scene_identity(const scene::Scene& scene) {
     hash.add(light.caustic_view);
     hash.add(light.caustic_extent);
     hash.add(light.has_caustic_view);
+    hash.add(light.caustic_faces);
   }
   for (const auto& object : scene.objects) {
     const scene::Mesh& mesh = object.mesh;

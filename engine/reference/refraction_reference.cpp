@@ -23,11 +23,16 @@ float luminance(const float* rgb) {
 class Tracer {
  public:
   Tracer(const scene::Scene& scene, const CausticMaps& caustic_maps)
-      : exact_(scene), scene_(scene), rays_(exact_.rays()), epsilon_(exact_.epsilon()), caustic_maps_(caustic_maps) {
-    caustic_maps_.resize(scene.lights.size(), nullptr);
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-      if (!scene.lights[i].has_caustic_view) caustic_maps_[i] = nullptr;
-      light_view_projs_.push_back(caustic_maps_[i] ? scene.lights[i].caustic_view_projection() : glm::mat4(1.0f));
+      : exact_(scene),
+        scene_(scene),
+        rays_(exact_.rays()),
+        epsilon_(exact_.epsilon()),
+        views_(scene::caustic_views(scene.lights)),
+        caustic_maps_(caustic_maps) {
+    caustic_maps_.resize(views_.size(), nullptr);
+    for (size_t i = 0; i < views_.size(); ++i) {
+      if (!views_[i].present) caustic_maps_[i] = nullptr;
+      light_view_projs_.push_back(caustic_maps_[i] ? views_[i].seen.view_projection() : glm::mat4(1.0f));
     }
   }
 
@@ -37,6 +42,10 @@ class Tracer {
   glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction) const {
     const glm::vec3 n = surface.normal, v = -direction;
     glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance() * surface.occlusion;
+    // The caustic's light arrives through the refractor from many directions: diffuse only.
+    for (size_t view = 0; view < views_.size(); ++view) {
+      if (caustic_maps_[view]) radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(view, p, n);
+    }
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const auto& light = scene_.lights[i];
       // A directional light comes from infinitely far along its axis, with no falloff.
@@ -48,8 +57,6 @@ class Tracer {
       float cone = spot_cone(light, -l);
       // The engine shadows every light (through its shadow map); the reference with an exact ray.
       if (cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
-      // The caustic's light arrives through the refractor from many directions: diffuse only.
-      if (caustic_maps_[i]) radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(i, p, n);
       radiance += surface.brdf(v, l) * light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
     }
     return radiance;
@@ -57,10 +64,11 @@ class Tracer {
 
   // lighting.frag's caustic_irradiance on the exact geometry: only where the light sees p past
   // the refractors (the engine's receiver depth map), the map sampled bilinearly at p's place in
-  // the image plane of the light's caustic view, its flux spread over the area the texel's solid angle covers at p.
-  glm::vec3 caustic_irradiance(size_t light_index, glm::vec3 p, glm::vec3 n) const {
-    const scene::Light& light = scene_.lights[light_index];
-    const glm::vec4 clip = light_view_projs_[light_index] * glm::vec4(p, 1.0f);
+  // the image plane of caustic view `view`, its flux spread over the area the texel's solid angle covers at p.
+  glm::vec3 caustic_irradiance(size_t view, glm::vec3 p, glm::vec3 n) const {
+    const scene::Light& light = scene_.lights[views_[view].light];
+    const scene::Light& seen = views_[view].seen;
+    const glm::vec4 clip = light_view_projs_[view] * glm::vec4(p, 1.0f);
     if (clip.w <= 0.0f) return glm::vec3(0.0f);
     const glm::vec2 uv = glm::vec2(clip) / clip.w * 0.5f + 0.5f;
     if (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f) return glm::vec3(0.0f);
@@ -74,13 +82,13 @@ class Tracer {
       if (!scene_.objects[hit->geometry].material.refractor) return glm::vec3(0.0f);
       origin += to_light / r * (hit->distance + epsilon_);
     }
-    const auto& map = *caustic_maps_[light_index];
+    const auto& map = *caustic_maps_[view];
     const float cos_theta = std::max(glm::dot(n, to_light / r), 0.0f);
     if (directional) {  // the texel's flux over the area it covers across the light's direction
-      const float texel = 2.0f * light.caustic_extent / float(map.width);
+      const float texel = 2.0f * seen.extent / float(map.width);
       return light.color * sample_bilinear(map, uv) * cos_theta / (texel * texel);
     }
-    const float half = std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f);
+    const float half = std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
     const glm::vec2 plane = (uv * 2.0f - 1.0f) * half;
     const float cos_axis = 1.0f / std::sqrt(1.0f + glm::dot(plane, plane));
     const float texel_solid_angle = 4.0f * half * half / float(map.width * map.height) * cos_axis * cos_axis * cos_axis;
@@ -174,8 +182,9 @@ class Tracer {
   const scene::Scene& scene_;
   const RayScene& rays_;
   float epsilon_;
-  CausticMaps caustic_maps_;                 // per light
-  std::vector<glm::mat4> light_view_projs_;  // per light with a map: its caustic view's
+  std::vector<scene::CausticView> views_;
+  CausticMaps caustic_maps_;                 // per caustic view
+  std::vector<glm::mat4> light_view_projs_;  // per caustic view with a map: its view's
 };
 
 }  // namespace

@@ -18,8 +18,9 @@ struct RefractionImage {
   std::vector<uint8_t> refractor;  // 1 where the primary ray hits a refractor first
 };
 
-// With `caustic_maps` (per light, by its index in the scene: flux per texel of its caustic view's
-// image plane, as the photon reference and the engine hold it; null or missing: none), opaque
+// With `caustic_maps` (per caustic view, scene::caustic_views: light K's for K below the lights;
+// flux per texel of the view's image plane, as the photon reference and the engine hold it; null
+// or missing: none), opaque
 // surfaces each such light sees past the refractors also receive its map's caustic irradiance,
 // projected as the engine's lighting pass projects its own (bilinear, flux over the texel's solid
 // angle at the receiver): the scene's picture with the reference's caustics of every light, seen

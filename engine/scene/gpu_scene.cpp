@@ -28,7 +28,12 @@ uint64_t fold_bytes(uint64_t key, const T* data, size_t count) {
 }  // namespace
 
 GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
-    : vk_(vk), scene_(std::move(scene)), camera_(scene_->camera), lights_(scene_->lights), textures_(vk, *scene_) {
+    : vk_(vk),
+      scene_(std::move(scene)),
+      camera_(scene_->camera),
+      lights_(scene_->lights),
+      views_(scene::caustic_views(lights_)),
+      textures_(vk, *scene_) {
   std::vector<gpu::Vertex> vertices;
   std::vector<uint32_t> indices;
   std::vector<gpu::ObjectData> objects;
@@ -107,6 +112,7 @@ void GpuScene::replace_view(const View& camera, std::vector<Light> lights) {
     }
   }
   lights_ = std::move(lights);
+  views_ = scene::caustic_views(lights_);
 }
 
 const AccelerationStructures& GpuScene::acceleration() {
@@ -148,9 +154,7 @@ gpu::LightData light_data(const Light& seen, const Light& light) {
   l.radiant = glm::vec4(light.color * light.intensity, light.intensity);
   const float tan_half = std::tan(glm::radians(seen.view.fov_y_degrees) * 0.5f);
   l.clip = glm::vec4(seen.view.near_plane, seen.view.far_plane, directional ? seen.extent : tan_half, kCubeFaceTan);
-  if (light.type == LightType::point) {
-    for (uint32_t face = 0; face < 6; ++face) l.faces[face] = light.face_view_projection(face);
-  }
+  l.face = glm::vec4(-1.0f, static_cast<float>(light.inside), 0.0f, 0.0f);
   return l;
 }
 
@@ -169,13 +173,23 @@ void GpuScene::update_frame(uint32_t width, uint32_t height) {
   f.light_count = static_cast<uint32_t>(std::min<size_t>(lights_.size(), CAUSTICA_MAX_LIGHTS));
   for (uint32_t i = 0; i < f.light_count; ++i) {
     f.lights[i] = light_data(lights_[i], lights_[i]);
-    // Its caustic view's: the light as its caustic passes see it, with the light's own cone.
-    f.caustic_lights[i] = light_data(lights_[i].as_caustic_view(), lights_[i]);
+    if (lights_[i].type != LightType::point) continue;
+    for (uint32_t face = 0; face < 6; ++face) f.light_faces[6 * i + face] = lights_[i].face_view_projection(face);
+  }
+  // Each caustic view as its passes see it: its view, with its light's own cone.
+  f.caustic_view_count = static_cast<uint32_t>(std::min<size_t>(views_.size(), CAUSTICA_MAX_CAUSTIC_VIEWS));
+  for (uint32_t v = 0; v < f.caustic_view_count; ++v) {
+    f.caustic_lights[v] = light_data(views_[v].seen, lights_[views_[v].light]);
+    f.caustic_lights[v].face.x = static_cast<float>(views_[v].face);
   }
   std::memcpy(frame_.mapped, &f, sizeof(f));
-  lights_key_ = fold_bytes(fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count), f.caustic_lights, f.light_count);
-  light_keys_.resize(f.light_count);
-  for (uint32_t i = 0; i < f.light_count; ++i) light_keys_[i] = fold_bytes(fold_bytes(0, &f.lights[i], 1), &f.caustic_lights[i], 1);
+  lights_key_ = fold_bytes(fold_bytes(fold_bytes(0, &f.light_count, 1), f.lights, f.light_count), f.caustic_lights, f.caustic_view_count);
+  // A light's key holds all its caustic views: its per-light and per-view passes follow it.
+  light_keys_.assign(f.light_count, 0);
+  for (uint32_t i = 0; i < f.light_count; ++i) light_keys_[i] = fold_bytes(0, &f.lights[i], 1);
+  for (uint32_t v = 0; v < f.caustic_view_count; ++v) {
+    if (views_[v].light < f.light_count) light_keys_[views_[v].light] = fold_bytes(light_keys_[views_[v].light], &f.caustic_lights[v], 1);
+  }
   const glm::vec4 camera[] = {f.view_proj[0], f.view_proj[1], f.view_proj[2], f.view_proj[3], f.camera_position, f.sky_ambient, f.sizes};
   camera_key_ = fold_bytes(0, camera, std::size(camera));
 }

@@ -30,6 +30,8 @@ class GpuScene {
   const Scene& scene() const { return *scene_; }
   const View& camera() const { return camera_; }
   const std::vector<Light>& lights() const { return lights_; }
+  // The caustic views of lights() (scene::caustic_views): FrameData::caustic_lights.
+  const std::vector<CausticView>& caustic_views() const { return views_; }
   // The same objects and textures seen with another camera or other lights (a viewer's move, as
   // many lights as the scene has): nothing is uploaded again, nothing of the scene copied.
   void replace_view(const View& camera, std::vector<Light> lights);
@@ -76,6 +78,7 @@ class GpuScene {
   std::shared_ptr<const Scene> scene_;
   View camera_;
   std::vector<Light> lights_;
+  std::vector<CausticView> views_;
   GpuTextures textures_;
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;

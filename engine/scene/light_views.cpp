@@ -1,6 +1,7 @@
 // A light's geometry: its views (the shadow map's, the caustic map's, a point light's cube faces),
 // what it reaches, and the views fitted to the scene when it is loaded.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
@@ -8,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include "common/scene_types.h"
 #include "scene/scene.h"
 
 namespace caustica::scene {
@@ -99,7 +101,7 @@ std::vector<std::pair<glm::vec3, float>> reached_refractors(const Light& light, 
 
 // A frustum from a point or spot light around the refractors it reaches, its tangent
 // kCausticViewMargin times theirs, or nothing where the light is inside one or they spread over
-// more than kMaxPointViewHalfDegrees about it.
+// more than kMaxFittedViewHalfDegrees about it.
 std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pair<glm::vec3, float>>& refractors) {
   std::vector<std::pair<glm::vec3, float>> seen;  // direction and angular radius of each
   glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -119,7 +121,7 @@ std::optional<View> fitted_frustum(const Light& light, const std::vector<std::pa
   if (glm::length(to_box) > 1e-6f && cone_half_angle(glm::normalize(to_box), seen) < cone_half_angle(axis, seen))
     axis = glm::normalize(to_box);
   const float half = cone_half_angle(axis, seen);
-  if (half > glm::radians(kMaxPointViewHalfDegrees)) return std::nullopt;
+  if (half > glm::radians(kMaxFittedViewHalfDegrees)) return std::nullopt;
   View view = light.view;
   view.target = view.position + axis;
   view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCausticViewMargin * std::tan(half)));
@@ -150,7 +152,116 @@ std::optional<std::pair<View, float>> fitted_prism(const Light& light, const std
   return std::pair{view, half_side};
 }
 
+// The cube faces about a point light whose pyramid holds part of a refractor: each face's pyramid
+// conservatively as the cone through its corners (half angle atan(sqrt 2)).
+uint32_t faces_holding(const Light& light, const std::vector<std::pair<glm::vec3, float>>& refractors) {
+  const float corner = std::atan(std::sqrt(2.0f));
+  uint32_t faces = 0;
+  for (const auto& [center, radius] : refractors) {
+    const glm::vec3 to_center = center - light.view.position;
+    const float distance = glm::length(to_center);
+    if (distance <= radius) return 0x3fu;
+    const float angular_radius = std::asin(radius / distance);
+    for (uint32_t face = 0; face < 6; ++face) {
+      const float off_axis = std::acos(std::clamp(glm::dot(Light::face_axis(face), to_center / distance), -1.0f, 1.0f));
+      if (off_axis - angular_radius <= corner) faces |= 1u << face;
+    }
+  }
+  return faces;
+}
+
+// Whether p lies inside the closed mesh: a ray from it crosses its triangles an odd number of
+// times (Moller-Trumbore; the ray leans off every axis, so it meets no edge of an axis-aligned
+// primitive's triangles exactly).
+bool inside_mesh(const Mesh& mesh, glm::vec3 p) {
+  const glm::vec3 d = glm::normalize(glm::vec3(1.0f, 0.000731f, 0.000417f));
+  int crossings = 0;
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const glm::vec3 a = mesh.positions[mesh.indices[i]], e1 = mesh.positions[mesh.indices[i + 1]] - a,
+                    e2 = mesh.positions[mesh.indices[i + 2]] - a;
+    const glm::vec3 q = glm::cross(d, e2);
+    const float det = glm::dot(e1, q);
+    if (std::abs(det) < 1e-12f) continue;
+    const glm::vec3 s = p - a;
+    const float u = glm::dot(s, q) / det;
+    const glm::vec3 r = glm::cross(s, e1);
+    const float v = glm::dot(d, r) / det;
+    if (u < 0.0f || v < 0.0f || u + v > 1.0f) continue;
+    if (glm::dot(e2, r) / det > 0.0f) ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+// The solid refractor that p lies in (the smallest by its box, where they nest), or -1.
+int enclosing_refractor(const Scene& scene, glm::vec3 p) {
+  int found = -1;
+  float smallest = std::numeric_limits<float>::max();
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (!o.material.refractor || o.material.thin || glm::any(glm::lessThan(p, o.bounds_min)) || glm::any(glm::greaterThan(p, o.bounds_max)))
+      continue;
+    const glm::vec3 size = o.bounds_max - o.bounds_min;
+    if (size.x * size.y * size.z < smallest && inside_mesh(o.mesh, p)) {
+      smallest = size.x * size.y * size.z;
+      found = static_cast<int>(i);
+    }
+  }
+  return found;
+}
+
+// The far plane of a view from the light beyond every object: where the caustic lands.
+float far_beyond_objects(const Light& light, const Scene& scene) {
+  float farthest = 0.0f;
+  for (const Object& o : scene.objects) farthest = std::max(farthest, glm::length(o.center() - light.view.position) + o.bounding_radius());
+  return std::max(light.view.far_plane, 1.05f * farthest + light.view.near_plane);
+}
+
 }  // namespace
+
+uint32_t Light::caustic_view_count() const {
+  if (!has_caustic_view) return 0;
+  return caustic_faces != 0 ? static_cast<uint32_t>(std::popcount(caustic_faces)) : 1u;
+}
+
+View Light::caustic_face_view(uint32_t face) const {
+  View face_view = caustic_faces != 0 ? caustic_view : view;  // caustic_view holds the far plane fitted to the scene
+  face_view.position = view.position;
+  face_view.target = view.position + face_axis(face);
+  face_view.fov_y_degrees = glm::degrees(2.0f * std::atan(kCubeFaceCausticTan));
+  return face_view;
+}
+
+bool leaves_through_face(glm::vec3 d, int face) {
+  const glm::vec3 a = glm::abs(d);
+  const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+  return face == 2 * axis + (d[axis] > 0.0f ? 0 : 1);
+}
+
+std::vector<CausticView> caustic_views(const std::vector<Light>& lights) {
+  std::vector<CausticView> views(lights.size());
+  std::vector<CausticView> further;
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    views[i].light = i;
+    views[i].present = light.has_caustic_view;
+    views[i].seen = light.as_caustic_view();
+    bool first = true;
+    for (uint32_t face = 0; face < 6; ++face) {
+      if (!(light.caustic_faces & (1u << face))) continue;
+      // The device holds CAUSTICA_MAX_CAUSTIC_VIEWS (eight point lights each inside glass would need 48).
+      if (!first && views.size() + further.size() >= CAUSTICA_MAX_CAUSTIC_VIEWS) break;
+      CausticView& view = first ? views[i] : further.emplace_back();
+      view.light = i;
+      view.face = static_cast<int>(face);
+      view.present = true;
+      view.seen = light;
+      view.seen.view = light.caustic_face_view(face);
+      first = false;
+    }
+  }
+  views.insert(views.end(), further.begin(), further.end());
+  return views;
+}
 
 glm::mat4 Light::caustic_view_projection() const {
   return as_caustic_view().view_projection();
@@ -164,6 +275,7 @@ Light Light::as_caustic_view() const {
 }
 
 bool fit_caustic_view(Light& light, const Scene& scene) {
+  light.inside = light.type == LightType::directional ? -1 : enclosing_refractor(scene, light.view.position);
   light.caustic_view = light.view;
   light.caustic_extent = light.extent;
   light.has_caustic_view = light.type != LightType::point;
@@ -173,14 +285,21 @@ bool fit_caustic_view(Light& light, const Scene& scene) {
     if (const auto prism = fitted_prism(light, refractors)) std::tie(light.caustic_view, light.caustic_extent) = *prism;
     return true;
   }
-  const auto fitted = fitted_frustum(light, refractors);
+  // A point light that no frustum fits throws through cube faces; one that did keeps them as it
+  // moves (the graph's instances were made for them).
+  const auto fitted = light.caustic_faces != 0 ? std::nullopt : fitted_frustum(light, refractors);
+  if (light.type == LightType::point && !fitted) {
+    if (light.caustic_faces == 0) light.caustic_faces = faces_holding(light, refractors);
+    if (light.caustic_faces == 0) return false;
+    light.caustic_view.far_plane = far_beyond_objects(light, scene);
+    light.caustic_view = light.caustic_face_view(static_cast<uint32_t>(std::countr_zero(light.caustic_faces)));
+    light.has_caustic_view = true;
+    return true;
+  }
   // A spot light keeps its own view where that is the narrower.
   if (!fitted || (light.type == LightType::spot && fitted->fov_y_degrees >= light.view.fov_y_degrees)) return light.has_caustic_view;
   light.caustic_view = *fitted;
-  // Its far plane beyond every object: where the caustic lands.
-  float farthest = 0.0f;
-  for (const Object& o : scene.objects) farthest = std::max(farthest, glm::length(o.center() - light.view.position) + o.bounding_radius());
-  light.caustic_view.far_plane = std::max(light.caustic_view.far_plane, 1.05f * farthest + light.caustic_view.near_plane);
+  light.caustic_view.far_plane = far_beyond_objects(light, scene);
   light.has_caustic_view = true;
   return true;
 }

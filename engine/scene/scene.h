@@ -154,11 +154,15 @@ inline constexpr float kCubeFaceTan = 1.05f;
 // A light's caustic view (fit_caustic_view) holds the refractors it reaches, its tangent (a
 // directional light's half side) twice theirs so that light bent outwards still lands in it: on the
 // bundled ball lenses and prisms the exact photons landing off such a map stayed within 1% of those
-// off the light's whole view at twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md). A
-// point light has none where its refractors spread over more than a cone of 70 degrees about it; a
-// spot or directional light then, or where the fit is no narrower, throws through its own view.
+// off the light's whole view at twice, and lost 2-7% more at 1.5 and 1.1 (docs/caustics.md). No
+// frustum is fitted wider than a cone of 70 degrees about its axis: a spot or directional light
+// then, or where the fit is no narrower, throws through its own view, and a point light (then among
+// its refractors, or with them all around it) through the faces of a cube about it.
 inline constexpr float kCausticViewMargin = 2.0f;
-inline constexpr float kMaxPointViewHalfDegrees = 70.0f;
+inline constexpr float kMaxFittedViewHalfDegrees = 70.0f;
+// A point light's caustic cube face emits only the directions of its face (tan of the half angle 1)
+// and keeps what lands within tan 1.5 of its axis: light bent out of the face still lands in its map.
+inline constexpr float kCubeFaceCausticTan = 1.5f;
 
 struct Light {
   LightType type = LightType::spot;
@@ -177,6 +181,14 @@ struct Light {
   float caustic_extent = 0.0f;
   bool has_caustic_view = false;
   bool own_caustic_view = false;  // the scene's "caustic_view": "light"
+  // A point light that no frustum holds its refractors in throws through the faces of a cube about
+  // it instead (bit F: face F, face_axis), those whose pyramid holds part of a refractor: each face
+  // a caustic view of its own (caustic_views), caustic_view the first's. They stay the same faces
+  // when the light moves, as the graph's instances were made for them.
+  uint32_t caustic_faces = 0;
+  // The solid refractor it stands in (a bulb inside a glass globe), whose glass its photons start
+  // in; -1 for none (fit_caustic_view finds it: a spot or point light's position inside the mesh).
+  int inside = -1;
 
   glm::vec3 axis() const { return glm::normalize(view.target - view.position); }
   glm::mat4 view_projection() const;  // its shadow map's (spot, directional)
@@ -184,6 +196,11 @@ struct Light {
   // This light with its caustic view for its view (and caustic_extent for its extent): what its
   // caustic passes see; its spot cone is still the light's own (axis() and view.fov_y_degrees of *this).
   Light as_caustic_view() const;
+  // How many caustic views it has (each a graph's "for_each": "caustic_view" instance): 0, 1, or
+  // one per face of caustic_faces.
+  uint32_t caustic_view_count() const;
+  // The view of cube face `face` that it throws caustics through (kCubeFaceCausticTan).
+  View caustic_face_view(uint32_t face) const;
   // A point light's cube face `face` (0..5: +x, -x, +y, -y, +z, -z): its axis, and its view (kCubeFaceTan).
   static glm::vec3 face_axis(uint32_t face);
   glm::mat4 face_view_projection(uint32_t face) const;
@@ -222,9 +239,30 @@ struct Scene {
   // scene.ray_epsilon (a user pass's exact tracer offsets its rays as the built-ins do); per light K,
   // scene.lightK.spot, .point and .directional (1 for its type), .view (1 where it has a caustic view),
   // .objects and .refractors (how many its light reaches, Light::reaches), which a per-light pass
-  // reads as light.NAME (graph/per_light.h).
+  // reads as light.NAME (graph/per_light.h); scene.caustic_views (how many, caustic_views) and per
+  // view K scene.causticK.NAME: its light's values, .view (1 where present), .light (its light) and
+  // .face (its cube face, -1 for none), which a per-view pass reads as light.NAME.
   std::map<std::string, double> expression_values() const;
 };
+
+// One view that a light's caustic passes draw through and emit photons into: one instance of a
+// graph's "for_each": "caustic_view" passes (graph/per_light.h), FrameData::caustic_lights[K] on
+// the device, one map of the photon reference.
+struct CausticView {
+  uint32_t light = 0;  // whose
+  int face = -1;       // a point light's cube face (0..5) whose directions alone it emits; -1: every direction of its view
+  bool present = false;
+  // The light as these passes see it (Light::as_caustic_view): its view (and extent) this view's,
+  // its cone, colour and intensity its own.
+  Light seen;
+};
+// View K < lights.size() is light K's first (present where it has one: has_caustic_view); the
+// further faces of point lights that throw through cube faces follow, light by light, face by face.
+std::vector<CausticView> caustic_views(const std::vector<Light>& lights);
+// Whether `direction` (from the light) leaves through cube face `face` (0..5): its largest
+// component is along the face's axis, ties going to x before y before z (so that every direction
+// has one face, as the shaders' cube_face).
+bool leaves_through_face(glm::vec3 direction, int face);
 
 // The views fitted to the scene's objects (scene/light_views.cpp): a directional light's prism
 // around the first `fitted` objects (where the scene gave no extent), and every light's caustic

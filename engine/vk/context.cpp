@@ -315,6 +315,11 @@ Context::Context(const ContextOptions& options)
     throw;
   }
   vkGetPhysicalDeviceProperties(physical_, &properties_);
+  VkPhysicalDevicePushDescriptorPropertiesKHR push{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PUSH_DESCRIPTOR_PROPERTIES_KHR};
+  VkPhysicalDeviceProperties2 with_push{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  with_push.pNext = &push;
+  vkGetPhysicalDeviceProperties2(physical_, &with_push);
+  max_push_descriptors_ = push.maxPushDescriptors;
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
   keep_freed_memory(properties_.deviceType);  // before lavapipe allocates per frame (vk/host_heap.h)
   subgroup_arithmetic_ = has_subgroup_arithmetic(physical_);

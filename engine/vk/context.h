@@ -66,6 +66,9 @@ class Context {
   PipelineCache& pipelines() { return *pipelines_; }
   uint32_t queue_family() const { return queue_family_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  // How many descriptors one pipeline's pushed set may hold (VK_KHR_push_descriptor; 32 on
+  // lavapipe and most GPUs).
+  uint32_t max_push_descriptors() const { return max_push_descriptors_; }
   const std::string& device_name() const { return device_name_; }
   bool validation_enabled() const { return validation_; }
   uint32_t validation_messages() const { return validation_messages_.load(); }
@@ -134,6 +137,7 @@ class Context {
   bool subgroup_arithmetic_ = false;
   RayQuerySupport ray_queries_;
   VkPhysicalDeviceProperties properties_{};
+  uint32_t max_push_descriptors_ = 32;
   VkPhysicalDeviceMemoryProperties memory_properties_{};
   std::string device_name_;
   bool validation_ = false;

@@ -21,10 +21,10 @@
 // Exact-path counters, at consecutive slots from params.exact_counters (passes/refraction.cpp,
 // add_exact_path_counters, names them in this order).
 const uint EXACT_TRACED = 0u, EXACT_ESCAPED = 1u, EXACT_TRAPPED = 2u, EXACT_OFF_MAP = 3u, EXACT_REFLECTED_OUTSIDE = 4u;
-const uint RETRACED_FIRST = 5u;  // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order,
-const uint RETRACED_NO_LANDING = 9u;  // then one for a trusted exit ray that lands nowhere on the caustic map,
+const uint RETRACED_FIRST = 5u;             // photons.retraced.*: one slot per EXIT_* reason of refraction.glsl, in its order,
+const uint RETRACED_NO_LANDING = 9u;        // then one for a trusted exit ray that lands nowhere on the caustic map,
 const uint RETRACED_REFRACTOR_AHEAD = 10u;  // one for a trusted exit ray that meets a refractor,
-const uint RETRACED_REFLECTION = 11u;  // and one for a Fresnel reflection split off a trusted path (traced from the split)
+const uint RETRACED_REFLECTION = 11u;       // and one for a Fresnel reflection split off a trusted path (traced from the split)
 const uint EXACT_FLUX_ESCAPED = 12u, EXACT_FLUX_TRAPPED = 13u, EXACT_FLUX_OFF_MAP = 14u, EXACT_FLUX_ABSORBED = 15u;
 // Where exact-path counter k goes: the built-ins' slot from params.exact_counters; a user pass
 // defines EXACT_COUNTER_SLOT(k) as the place of that counter among its own (docs/shader_api.md).
@@ -32,7 +32,9 @@ const uint EXACT_FLUX_ESCAPED = 12u, EXACT_FLUX_TRAPPED = 13u, EXACT_FLUX_OFF_MA
 #define EXACT_COUNTER_SLOT(k) (params.exact_counters + (k))
 #endif
 #ifdef CAUSTICA_RAY_QUERY
-void exact_count(uint k) { atomicAdd(counters[EXACT_COUNTER_SLOT(k)], 1u); }
+void exact_count(uint k) {
+  atomicAdd(counters[EXACT_COUNTER_SLOT(k)], 1u);
+}
 #endif
 // Photons are white (BAND_WHITE: one path carries all three channels), or, when the scene has a
 // dispersive refractor, the pass traces every photon once per colour band (photon_band, which the
@@ -40,10 +42,14 @@ void exact_count(uint k) { atomicAdd(counters[EXACT_COUNTER_SLOT(k)], 1u); }
 // band_ior) and its power in that channel only.
 // Flux counters hold the mean of a photon's three channels: the light's own units for a white photon.
 uint photon_band = BAND_WHITE;
-float channel_mean(vec3 power) { return dot(power, vec3(1.0 / 3.0)); }
+float channel_mean(vec3 power) {
+  return dot(power, vec3(1.0 / 3.0));
+}
 
 #ifdef CAUSTICA_RAY_QUERY
-void exact_sum(uint k, vec3 v) { atomicAdd(sums[EXACT_COUNTER_SLOT(k)], channel_mean(v)); }
+void exact_sum(uint k, vec3 v) {
+  atomicAdd(sums[EXACT_COUNTER_SLOT(k)], channel_mean(v));
+}
 #include "refraction/exact_path.glsl"
 #endif
 #ifdef CAUSTICA_HYBRID
@@ -66,10 +72,10 @@ struct Photon {
   bool tir;        // dropped: total internal reflection at the back surface
   bool landed;     // reached a receiver at `texel` of the caustic map
   ivec2 texel;
-  vec2 landing;    // where it landed, in caustic-map texels (texel = floor(landing), clamped)
-  bool random;     // its path drew random numbers (Fresnel choices, rough facets)
-  bool bounced;    // its exact path reflected inside a refractor
-  bool followed;   // its image-space search followed total internal reflection inside
+  vec2 landing;   // where it landed, in caustic-map texels (texel = floor(landing), clamped)
+  bool random;    // its path drew random numbers (Fresnel choices, rough facets)
+  bool bounced;   // its exact path reflected inside a refractor
+  bool followed;  // its image-space search followed total internal reflection inside
   // The hybrid's Fresnel reflection split off an image-space path (below): traced exactly, it
   // lands at side_texel with side_power when side_landed. It draws its own random numbers, which
   // do not touch the photon's own path, so the adaptive traversals decide on that path alone.
@@ -194,7 +200,8 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
       d = through_thin(d, microfacet_normal(n2, d, roughness, rng), n2);
     }
     vec2 landing;
-    if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS) land_on_map(ph, landing);
+    if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS)
+      land_on_map(ph, landing);
     return IMAGE_SPACE_DONE;
   }
   // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
@@ -258,7 +265,33 @@ uint hybrid_side_path(inout Photon ph, inout ExactStart start, TwoInterfaces pat
 #endif
 
 // The image-space part of begin_photon: through the light-view refractor buffers to the receiver.
+// A photon from a light inside a solid refractor (LightData::face.y: a bulb in a glass globe): it
+// starts in the glass, and its one interface is the nearest back face the light sees (the back
+// buffer, drawn from inside), where it leaves into the air for the receivers; refractors beyond
+// that are not followed (image space follows one refractor at a time).
+uint inside_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction) {
+  vec4 back = texture(back_tex, uv);
+  if (back.y <= 0.0) return IMAGE_SPACE_DONE;
+  ObjectData object = objects[uint(back.w)];
+  ph.hit = true;
+  ph.entering = channel_mean(ph.power);
+  vec3 n = unpack_normal(back.x);  // outward, along the photon's way out
+  float ior = band_ior(object, photon_band);
+  vec3 out_direction = refract(direction, -n, ior);
+  if (dot(out_direction, out_direction) == 0.0) {
+    ph.tir = true;
+    return IMAGE_SPACE_DONE;
+  }
+  ph.power *= exp(-object.absorption_ior.rgb * back.y);
+  if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(dot(direction, n), ior, 1.0);
+  vec2 landing;
+  if (march_depth(receiver_depth, light.view_proj, eye + direction * back.y, normalize(out_direction), landing) != MARCH_MISS)
+    land_on_map(ph, landing);
+  return IMAGE_SPACE_DONE;
+}
+
 uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 direction, ViewOrigin origin, inout ExactStart start) {
+  if (light.face.y >= 0.0) return inside_photon(ph, light, uv, eye, direction);
   vec4 front = texture(front_tex, uv);
   if (front.y <= 0.0) return IMAGE_SPACE_DONE;
   ObjectData object = objects[uint(front.w)];
@@ -269,7 +302,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   // no other refractor between it and the receiver), exact paths for the rest; the exact tracer
   // meets the opaque occluders itself.
   if (DISTANCE_MODE == DISTANCE_MATERIAL &&
-      material_traces_exactly(uint(front.w), eye + direction * front.y, eye + direction * min(receiver_distance, front.y + REFRACTION_SEARCH_DISTANCE))) {
+      material_traces_exactly(uint(front.w), eye + direction * front.y,
+                              eye + direction * min(receiver_distance, front.y + REFRACTION_SEARCH_DISTANCE))) {
     return TRACE_FROM_LIGHT;
   }
 #endif
@@ -282,8 +316,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   if (thin_walled(object)) return thin_wall_photon(ph, light, uv, eye, direction, front, object, receiver, receiver_distance, p1);
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, band_ior(object, photon_band), uv,
-                                              transmission_roughness(object), rng);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z,
+                                              band_ior(object, photon_band), uv, transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies).
   vec2 landing;
@@ -347,7 +381,8 @@ Photon begin_photon(LightData light, vec2 uv, float texel, out uint next, out Ex
   float cone = spot_cone(light, direction);
   float emitted = light.radiant.a * texel * texel * cos_axis * cos_axis * cos_axis * cone;
   ph.power = photon_band == BAND_WHITE ? vec3(emitted) : emitted * vec3(equal(uvec3(0u, 1u, 2u), uvec3(photon_band)));
-  start = ExactStart(eye, direction, -1, 0u, photon_rng(uv));
+  // A light inside a solid refractor (a bulb in a glass globe): its photons start in the glass.
+  start = ExactStart(eye, direction, int(light.face.y), 0u, photon_rng(uv));
   if (emitted <= 0.0) return ph;
 #ifdef CAUSTICA_RAY_QUERY
   next = DISTANCE_MODE == DISTANCE_RAY_QUERY ? TRACE_FROM_LIGHT : image_space_photon(ph, light, uv, eye, direction, origin, start);
@@ -371,11 +406,11 @@ struct ExactJob {
   int inside;
   vec3 direction;
   uint interfaces;
-  vec3 power;   // in: as it starts; out: as it lands
+  vec3 power;  // in: as it starts; out: as it lands
   uint rng;
   vec2 landing;  // out, in caustic-map texels
   float entering;
-  uint flags;    // in and out: EXACT_JOB_HIT, EXACT_JOB_RANDOM; out: EXACT_JOB_LANDED, EXACT_JOB_BOUNCED
+  uint flags;  // in and out: EXACT_JOB_HIT, EXACT_JOB_RANDOM; out: EXACT_JOB_LANDED, EXACT_JOB_BOUNCED
 };
 const uint EXACT_JOB_HIT = 1u, EXACT_JOB_RANDOM = 2u, EXACT_JOB_LANDED = 4u, EXACT_JOB_BOUNCED = 8u;
 // Two queues, used by alternate calls, so that a call's queue is not refilled before every invocation
@@ -416,7 +451,8 @@ void finish_photon(inout Photon ph, uint next, ExactStart start, LightData light
       power = ph.side_power;
       flags |= EXACT_JOB_HIT;
     }
-    exact_jobs[parity][slot] = ExactJob(start.origin, start.inside, start.direction, start.interfaces, power, start.rng, vec2(0.0), entering, flags);
+    exact_jobs[parity][slot] =
+        ExactJob(start.origin, start.inside, start.direction, start.interfaces, power, start.rng, vec2(0.0), entering, flags);
   }
   barrier();
   // The other queue's call is over: every invocation has taken its result from it.

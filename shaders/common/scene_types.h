@@ -12,6 +12,9 @@ using uint = uint32_t;
 #endif
 
 #define CAUSTICA_MAX_LIGHTS 8
+// A light's caustic views (scene::caustic_views): one each, or a point light's cube faces; at most
+// one per bit of a uint (lighting's mask of bound caustic maps).
+#define CAUSTICA_MAX_CAUSTIC_VIEWS 32
 // Instance masks of the top-level acceleration structure (engine/scene/acceleration.cpp): a ray
 // query that takes CAUSTICA_RECEIVER_INSTANCES alone passes through every refractor.
 #define CAUSTICA_RECEIVER_INSTANCES 0x01u
@@ -69,7 +72,8 @@ struct LightData {
   vec4 radiant;        // rgb: colour * intensity (W/sr; directional: irradiance, W/m^2), a: intensity
   vec4 clip;           // near and far plane of view_proj (for linear depth), tan(fov / 2) (directional: half the view's side),
                        // w: tan of half a point light's cube face (kCubeFaceTan)
-  mat4 faces[6];       // a point light's cube faces (+x, -x, +y, -y, +z, -z): its shadow map's layers
+  vec4 face;           // x: the cube face (0..5: +x, -x, +y, -y, +z, -z) whose directions alone a caustic view emits, -1: every one;
+                       // y: the solid refractor the light stands in (scene::Light::inside), -1: none
 };
 
 struct FrameData {
@@ -79,13 +83,16 @@ struct FrameData {
   vec4 sky_ambient;      // rgb sky radiance, a: ambient fraction
   vec4 sizes;            // output width, height, 1/width, 1/height
   uint light_count;
-  uint pad0, pad1, pad2;
+  uint caustic_view_count;
+  uint pad0, pad1;
   LightData lights[CAUSTICA_MAX_LIGHTS];
-  // Each light as its caustic passes see it (scene::Light::as_caustic_view): its view, clip and
-  // position those of its caustic view (a frustum or prism fitted to its refractors), its cone,
-  // colour and intensity its own. Light-space refractor buffers, receiver depths, photons and
-  // caustic maps are all in this view.
-  LightData caustic_lights[CAUSTICA_MAX_LIGHTS];
+  // Light i's cube faces (+x, -x, +y, -y, +z, -z) at 6 i + face, where it is a point light: its shadow map's layers.
+  mat4 light_faces[6 * CAUSTICA_MAX_LIGHTS];
+  // Each caustic view (scene::caustic_views; view i < light_count is light i's first) as the caustic
+  // passes see it: its view, clip and position the view's (a frustum or prism fitted to its
+  // refractors, or a cube face), its cone, colour and intensity its light's. Light-space refractor
+  // buffers, receiver depths, photons and caustic maps are all in this view.
+  LightData caustic_lights[CAUSTICA_MAX_CAUSTIC_VIEWS];
 };
 
 #ifdef __cplusplus

@@ -10,15 +10,16 @@ layout(set = 0, binding = 1) uniform sampler2D depth_tex;
 layout(set = 0, binding = 2) uniform sampler2D normal_tex;
 layout(set = 0, binding = 3) uniform sampler2D albedo_tex;
 // Light i's shadow map where bit i of params.shadowed is set: one layer, or a point light's six faces.
+// SHADOWS and CAUSTICS are the arrays' lengths: as far as the pass binds elements (lighting.cpp).
 #ifdef SHADOWS
-layout(set = 0, binding = 4) uniform sampler2DArray shadow_maps[CAUSTICA_MAX_LIGHTS];
+layout(set = 0, binding = 4) uniform sampler2DArray shadow_maps[SHADOWS];
 #endif
-// Light i's caustic map where bit i of params.caustic_lights is set: flux per texel in its image
-// plane, a layer per colour channel; where bit i of params.caustic_depths is, what that light sees
-// without refractors (the receiver test). Unset elements hold another light's (unread).
+// Caustic view i's map where bit i of params.caustic_lights is set: flux per texel in its image
+// plane, a layer per colour channel; where bit i of params.caustic_depths is, what that view sees
+// without refractors (the receiver test). Unset elements hold another view's (unread).
 #ifdef CAUSTICS
-layout(set = 0, binding = 5) uniform sampler2DArray caustic_maps[CAUSTICA_MAX_LIGHTS];
-layout(set = 0, binding = 6) uniform sampler2D caustic_depths[CAUSTICA_MAX_LIGHTS];
+layout(set = 0, binding = 5) uniform sampler2DArray caustic_maps[CAUSTICS];
+layout(set = 0, binding = 6) uniform sampler2D caustic_depths[CAUSTICS];
 #endif
 #ifdef EMISSION
 layout(set = 0, binding = 7) uniform sampler2D emission_tex;
@@ -27,9 +28,10 @@ layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 layout(push_constant) uniform Params {
   float shadow_bias;
   uint shadowed;        // bit i: light i has a shadow map
-  uint caustic_lights;  // bit i: light i has a caustic map
+  uint caustic_lights;  // bit i: caustic view i has a caustic map
   uint caustic_depths;  // bit i: and its receiver depth
-} params;
+}
+params;
 
 layout(location = 0) out vec4 out_color;
 
@@ -87,7 +89,7 @@ float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
   float layer = 0.0;
   if (light_is_point(light)) {
     uint face = cube_face(p - light.position_type.xyz);
-    view_proj = light.faces[face];
+    view_proj = frame.light_faces[6u * i + face];
     layer = float(face);
   }
   vec4 clip = view_proj * vec4(p, 1.0);
@@ -109,8 +111,9 @@ float shadow_factor(uint i, LightData light, vec3 p, vec3 n) {
 }
 #endif
 
-// Irradiance from light i's caustic map (`light` as its caustic view sees it, FrameData::
-// caustic_lights): a texel's flux spread over the receiver area its solid
+// Irradiance from caustic view i's map (`light` as that view sees it, FrameData::caustic_lights;
+// a point light's cube faces each hold the photons of their own directions, so that their maps
+// add up where they overlap): a texel's flux spread over the receiver area its solid
 // angle covers at this point, dw r^2 / cos(theta); with its receivers' depth, only on the surface
 // the light sees first (the receiver depth test, like a shadow map).
 #ifdef CAUSTICS
@@ -129,7 +132,8 @@ vec3 caustic_irradiance(uint i, LightData light, vec3 p, vec3 n) {
   vec2 size = vec2(textureSize(caustic_maps[i], 0).xy);
   float r2;
   float cos_theta = max(dot(n, toward_light(light, p, r2)), 0.0);
-  vec3 flux = vec3(texture(caustic_maps[i], vec3(uv, 0.0)).r, texture(caustic_maps[i], vec3(uv, 1.0)).r, texture(caustic_maps[i], vec3(uv, 2.0)).r);
+  vec3 flux =
+      vec3(texture(caustic_maps[i], vec3(uv, 0.0)).r, texture(caustic_maps[i], vec3(uv, 1.0)).r, texture(caustic_maps[i], vec3(uv, 2.0)).r);
   // The area a texel covers across the light's direction: its share of a directional light's square,
   // or its solid angle times r^2.
   float texel_area = 4.0 * light.clip.z * light.clip.z / (size.x * size.y);
@@ -151,8 +155,12 @@ struct Surface {
   float metallic;
   float roughness;
 };
-vec3 diffuse_color(Surface s) { return s.roughness < 0.0 ? s.base : s.base * (1.0 - s.metallic); }
-vec3 specular_f0(Surface s) { return s.roughness < 0.0 ? vec3(0.0) : mix(vec3(0.04), s.base, s.metallic); }
+vec3 diffuse_color(Surface s) {
+  return s.roughness < 0.0 ? s.base : s.base * (1.0 - s.metallic);
+}
+vec3 specular_f0(Surface s) {
+  return s.roughness < 0.0 ? vec3(0.0) : mix(vec3(0.04), s.base, s.metallic);
+}
 vec3 brdf(Surface s, vec3 v, vec3 l) {
   if (s.roughness < 0.0) return s.base / PI;
   vec3 h = normalize(v + l);
@@ -183,14 +191,17 @@ void main() {
   vec4 emission_occlusion = texture(emission_tex, uv);
   radiance = radiance * emission_occlusion.a + emission_occlusion.rgb;
 #endif
+#ifdef CAUSTICS
+  // The caustic's light arrives through the refractor from many directions: diffuse only.
+  for (uint bits = params.caustic_lights; bits != 0u; bits &= bits - 1u) {
+    uint i = uint(findLSB(bits));
+    radiance += diffuse_color(s) / PI * caustic_irradiance(i, frame.caustic_lights[i], p, n);
+  }
+#endif
   for (uint i = 0; i < frame.light_count; ++i) {
     LightData light = frame.lights[i];
     float d2;
     vec3 l = toward_light(light, p, d2);
-#ifdef CAUSTICS
-    // The caustic's light arrives through the refractor from many directions: diffuse only.
-    if ((params.caustic_lights & (1u << i)) != 0u) radiance += diffuse_color(s) / PI * caustic_irradiance(i, frame.caustic_lights[i], p, n);
-#endif
     // Direct light only where it falls: outside a spot's cone and on faces turned away from the light
     // the shadow map's nine taps would weigh nothing (with three lights, half the pass's time).
     float cone = spot_cone(light, -l), n_l = dot(n, l);

@@ -4,17 +4,30 @@
 #include "common/scene_types.h"
 
 // Bindings every scene pass shares; a shader declares the ones it uses with these macros.
-#define SCENE_FRAME layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameData frame; };
-#define SCENE_VERTICES layout(set = 0, binding = 1, std430) readonly buffer VertexBlock { Vertex vertices[]; };
-#define SCENE_OBJECTS layout(set = 0, binding = 2, std430) readonly buffer ObjectBlock { ObjectData objects[]; };
+#define SCENE_FRAME                                         \
+  layout(set = 0, binding = 0, std140) uniform FrameBlock { \
+    FrameData frame;                                        \
+  };
+#define SCENE_VERTICES                                               \
+  layout(set = 0, binding = 1, std430) readonly buffer VertexBlock { \
+    Vertex vertices[];                                               \
+  };
+#define SCENE_OBJECTS                                                \
+  layout(set = 0, binding = 2, std430) readonly buffer ObjectBlock { \
+    ObjectData objects[];                                            \
+  };
 
 // A refractor's tint and transmission vary over its surface where it has a base colour or a
 // transmission texture (scene/textures.glsl, tint_transmission_from).
-bool transmittance_varies(ObjectData object) { return object.base_color.row_u.w >= 0.0 || object.transmission_map.row_u.w >= 0.0; }
+bool transmittance_varies(ObjectData object) {
+  return object.base_color.row_u.w >= 0.0 || object.transmission_map.row_u.w >= 0.0;
+}
 
 // A solid refractor whose mesh bounds a convex body (engine/scene/convexity.cpp): a ray that leaves
 // it cannot meet it again.
-bool convex_solid(ObjectData object) { return object.albedo_refractor.a > 1.5; }
+bool convex_solid(ObjectData object) {
+  return object.albedo_refractor.a > 1.5;
+}
 
 // Octahedral unit-vector encoding stored in one float's bits (a refractor buffer's first channel).
 // The bits always form a normal, finite float (exponent field 1 to 254): a colour attachment and
@@ -25,7 +38,9 @@ bool convex_solid(ObjectData object) { return object.albedo_refractor.a > 1.5; }
 // whose exponent field is neither 0 nor 255: [128, 32639] (positive floats) and [32896, 65407]
 // (negative ones).
 const uint NORMAL_Y_POSITIVE = 128u, NORMAL_Y_NEGATIVE = 32896u, NORMAL_Y_RUN = 32512u, NORMAL_Y_LEVELS = 2u * NORMAL_Y_RUN - 1u;
-vec2 oct_wrap(vec2 v) { return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }
+vec2 oct_wrap(vec2 v) {
+  return (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
+}
 float pack_normal(vec3 n) {
   n /= abs(n.x) + abs(n.y) + abs(n.z);
   vec2 e = clamp(0.5 * (n.z >= 0.0 ? n.xy : oct_wrap(n.xy)) + 0.5, 0.0, 1.0);
@@ -49,8 +64,12 @@ vec3 world_from_depth(mat4 inv_view_proj, vec2 uv, float depth) {
 }
 
 // Lights: position_type.w 0 spot, 1 point, 2 directional (common/scene_types.h).
-bool light_is_directional(LightData light) { return light.position_type.w == 2.0; }
-bool light_is_point(LightData light) { return light.position_type.w == 1.0; }
+bool light_is_directional(LightData light) {
+  return light.position_type.w == 2.0;
+}
+bool light_is_point(LightData light) {
+  return light.position_type.w == 1.0;
+}
 // The cube face (LightData::faces) that holds direction d from a point light: its major axis.
 uint cube_face(vec3 d) {
   vec3 a = abs(d);
@@ -71,8 +90,11 @@ vec3 toward_light(LightData light, vec3 p, out float d2) {
 }
 
 // A spot light's cone seen along `direction` (unit, from the light), its edge softened over a small
-// band so that it does not alias; 1 for a point or directional light.
+// band so that it does not alias; 1 for a point or directional light, but for a point light's
+// caustic cube face (LightData::face) 0 outside the face's own directions, so that the faces'
+// photons partition the sphere.
 float spot_cone(LightData light, vec3 direction) {
+  if (light.face.x >= 0.0) return cube_face(direction) == uint(light.face.x) ? 1.0 : 0.0;
   if (light.position_type.w != 0.0) return 1.0;
   return smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));
 }

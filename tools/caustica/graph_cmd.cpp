@@ -41,22 +41,34 @@ nlohmann::ordered_json lights_report(const scene::Scene& scene, const graph::Pla
                {"type", scene::light_type_name(light.type)},
                {"reaches", {{"objects", values.at(prefix + "objects")}, {"refractors", values.at(prefix + "refractors")}}}};
     if (light.type != scene::LightType::point) entry["shadow_view"] = view_of(light, light.view, light.extent);
-    if (light.has_caustic_view) {
+    if (light.caustic_faces != 0) {
+      // A point light among its refractors: a caustic view per cube face that holds one.
+      static const char* const kFaces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+      entry["caustic_view"] = view_of(light, light.caustic_view, light.caustic_extent);
+      entry["caustic_view"]["cube_faces"] = json::array();
+      for (uint32_t face = 0; face < 6; ++face) {
+        if (light.caustic_faces & (1u << face)) entry["caustic_view"]["cube_faces"].push_back(kFaces[face]);
+      }
+    } else if (light.has_caustic_view) {
       entry["caustic_view"] = view_of(light, light.caustic_view, light.caustic_extent);
       entry["caustic_view"]["fitted_to_refractors"] = light.caustic_view_projection() != light.view_projection();
     } else {
       entry["caustic_view"] = nullptr;
     }
+    const auto of_this_light = [&](const std::string& name) {
+      const auto it = plan.instances.find(name);
+      return it != plan.instances.end() && it->second.light == static_cast<int>(k);
+    };
     entry["passes"] = json::array();
     for (const auto& pass : plan.passes) {
-      if (graph::instance_light(pass.name) == static_cast<int>(k)) entry["passes"].push_back(pass.name);
+      if (of_this_light(pass.name)) entry["passes"].push_back(pass.name);
     }
     entry["not_planned"] = json::object();
     for (const auto& [name, enabled] : plan.disabled_by) {
-      if (graph::instance_light(name) == static_cast<int>(k)) entry["not_planned"][name] = "disabled: " + enabled + " is 0";
+      if (of_this_light(name)) entry["not_planned"][name] = "disabled: " + enabled + " is 0";
     }
     for (const auto& name : plan.culled) {
-      if (graph::instance_light(name) == static_cast<int>(k)) entry["not_planned"][name] = "culled: nothing planned reads what it writes";
+      if (of_this_light(name)) entry["not_planned"][name] = "culled: nothing planned reads what it writes";
     }
     lights.push_back(std::move(entry));
   }

@@ -145,7 +145,10 @@ FlagTable reference_flags(ReferenceOptions& o) {
       size_flag(o.width, o.height, "camera image size (default 1280x720)"),
       uint_flag("--photons", "N", "photons to trace, e.g. 1e8", o.photons.photons, 1, 100'000'000'000ull),
       uint_flag("--seed", "K", "random seed (default 1): the photons', or the rough refractors' paths", o.photons.seed, 0, ~0ull),
-      uint32_flag("--light", "I", "with --photons: the light whose photons are traced (default 0, the first)", o.photons.light, 0, 1023),
+      uint32_flag("--light", "I",
+                  "with --photons: the caustic view whose photons are traced: light I's (default 0, the first); a point light\n"
+                  "among its refractors has one per cube face, the faces after the first numbered after the lights",
+                  o.photons.light, 0, 1023),
       text_flag("--picture", "FILE.exr|.png",
                 "with --photons: every light's photons (N shared by the flux each sends through its\n"
                 "caustic view), then the camera picture lit by all their maps (--size, --exposure)",
@@ -159,8 +162,8 @@ FlagTable reference_flags(ReferenceOptions& o) {
        "rows (I from 0; auto/K: from the scheduler)",
        [&o](const std::string& v) { o.shard = parse_shard(v); }},
       {"--caustics", "[I=]MAP.exr",
-       "without --photons: light the picture with light I's caustic map too (I default 0;\n"
-       "repeatable, one map a light)",
+       "without --photons: light the picture with caustic view I's map too (light I's;\n"
+       "I default 0; repeatable, one map a view)",
        [&o](const std::string& v) { o.caustics_files.push_back(parse_caustics_file(v, o.caustics_files)); }, true},
       {"--exposure", "E", "a PNG picture's exposure (default 1, as the graphs')", [&o](const std::string& v) {
          o.exposure = parse_number("--exposure", v, 0.0, 100.0);
@@ -234,8 +237,16 @@ void write_radiance(const std::string& path, io::ImageData image, const std::str
   io::write_image(path, image);
 }
 
-// Each light's caustic map, where it has one, and the pointers to them that the camera reference
-// projects (null: a light without a map).
+// How the printout names caustic view `index`: "light K", or "light K's -y face" for a point light's.
+std::string view_name(const scene::CausticView& view, uint32_t index) {
+  static const char* const kFaces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  const std::string light = "light " + std::to_string(view.light);
+  if (view.face < 0) return light;
+  return "view " + std::to_string(index) + " (" + light + "'s " + kFaces[view.face] + " face)";
+}
+
+// Each caustic view's map, where it has one, and the pointers to them that the camera reference
+// projects (null: a view without a map).
 struct LightMaps {
   explicit LightMaps(size_t lights) : maps(lights), lit(lights, nullptr) {}
   void set(uint32_t light, io::ImageData map) {
@@ -256,27 +267,29 @@ int write_camera_picture(const scene::Scene& scene, const ReferenceOptions& o, c
   return 0;
 }
 
-// The scene's whole reference picture: every light's photons, --photons shared among them by the
-// flux each sends through its caustic view, then the camera picture lit by all their maps.
+// The scene's whole reference picture: every caustic view's photons, --photons shared among them
+// by the flux each sends, then the camera picture lit by all their maps.
 int trace_picture(const scene::Scene& scene, const ReferenceOptions& o, const std::string& extension) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<uint64_t> shares = reference::photons_per_light(scene, o.photons.photons);
-  LightMaps maps(scene.lights.size());
-  for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, o.photons.photons);
+  const std::vector<scene::CausticView> views = scene::caustic_views(scene.lights);
+  LightMaps maps(views.size());
+  for (uint32_t i = 0; i < views.size(); ++i) {
+    const std::string name = view_name(views[i], i);
     if (shares[i] == 0) {
-      std::printf("light %u: no photons (%s)\n", i,
-                  scene.lights[i].has_caustic_view ? "its share of the flux rounds to none" : "no caustic view: among its refractors");
+      std::printf("%s: no photons (%s)\n", name.c_str(),
+                  views[i].present ? "its share of the flux rounds to none" : "no caustic view: it reaches no refractor");
       continue;
     }
     reference::PhotonOptions photons = o.photons;
     photons.light = i;
     photons.photons = shares[i];
-    ProgressLine progress("light " + std::to_string(i) + " photons", shares[i]);
+    ProgressLine progress(name + " photons", shares[i]);
     if (shares[i] >= 10'000'000 || ::isatty(STDERR_FILENO)) photons.progress = [&](uint64_t done, uint64_t) { progress.update(done); };
     reference::PhotonReference traced = reference::trace_photon_reference(scene, photons);
-    std::printf("light %u: photons %llu (--light %u --photons %llu), flux through its caustic view %.6g\n", i,
+    std::printf("%s: photons %llu (--light %u --photons %llu), flux through its caustic view %.6g\n", name.c_str(),
                 static_cast<unsigned long long>(shares[i]), i, static_cast<unsigned long long>(shares[i]),
-                reference::caustic_view_flux(scene.lights[i]));
+                reference::caustic_view_flux(scene.lights[views[i].light], views[i]));
     print_photon_flux(traced.totals);
     maps.set(i, std::move(traced.caustic_map));
   }
@@ -299,21 +312,23 @@ int cmd_reference(Args& args) {
                  "transmittance and absorption, and otherwise the engine's own lighting model. It is the ground truth\n"
                  "that image-space refraction is measured against (docs/refraction.md). Writes linear radiance (EXR)\n"
                  "or an 8-bit PNG tone mapped as the engine's tonemap pass does (1 - exp(-E L), sRGB). With --caustics\n"
-                 "I=MAP.exr (light I's map from --photons; one per light, I default 0), surfaces light I sees past the\n"
+                 "I=MAP.exr (caustic view I's map from --photons; one per view, I default 0), surfaces its light sees past the\n"
                  "refractors also receive that map's caustic, projected as the engine's lighting pass projects its own:\n"
                  "the scene's reference picture with caustics, seen directly and through the glass. A pixel whose ray\n"
                  "meets a rough refractor averages paths drawn from random numbers keyed on the seed and the pixel's\n"
                  "place in the image.\n\n"
-                 "With --photons: traces N photons from light I (--light, default 0) through its caustic view (a spot or\n"
-                 "directional light's own, a point light's frustum about its refractors) and every interface, Fresnel\n"
-                 "and total internal reflection exact, to the receivers, and writes the caustic map as the engine holds\n"
-                 "it (flux per texel of the view's image plane, --map-size texels a side) and, with --camera, the\n"
-                 "caustic irradiance the camera sees. Deterministic for a seed on any number of cores (docs/accuracy.md).\n\n"
+                 "With --photons: traces N photons through caustic view I (--light, default 0: light I's own, a spot or\n"
+                 "directional light's view or a frustum fitted to its refractors; a point light among its refractors\n"
+                 "has one per cube face, the faces after its first numbered after the lights) and every interface,\n"
+                 "Fresnel and total internal reflection exact, to the receivers, and writes the caustic map as the\n"
+                 "engine holds it (flux per texel of the view's image plane, --map-size texels a side) and, with\n"
+                 "--camera, the caustic irradiance the camera sees. Deterministic for a seed on any number of cores\n"
+                 "(docs/accuracy.md).\n\n"
                  "With --photons and --picture: the scene's whole reference picture. The N photons are shared among the\n"
-                 "lights by the flux each sends through its caustic view (each light's share is printed: --light I\n"
-                 "--photons SHARE traces the same map alone), each light's map is traced, and the camera picture is\n"
-                 "traced lit by all of them: every light's direct light and exact shadows and its caustic, seen\n"
-                 "directly and through the glass; the ground truth a multi-light render is compared with.\n\n"
+                 "caustic views by the flux each sends (each view's share is printed: --light I --photons SHARE\n"
+                 "traces the same map alone), each view's map is traced, and the camera picture is traced lit by all\n"
+                 "of them: every light's direct light and exact shadows and its caustic, seen directly and through\n"
+                 "the glass; the ground truth a multi-light render is compared with.\n\n"
                  "With --shard I/K: traces only the I-th of K contiguous ranges of the N photons (each photon's random\n"
                  "numbers depend on the seed and its index alone) and writes their sums, exactly, to --out (an EXR whose\n"
                  "header holds the range, the photon count, the seed and the scene's and the engine's identity, written\n"
@@ -337,15 +352,17 @@ int cmd_reference(Args& args) {
   if (o.shard.count > 0 && o.photons.photons > 0) return trace_photon_shard(scene, o.photons, o.shard, o.out);
   if (o.photons.photons > 0) return trace_photons(scene, o);
   const auto start = std::chrono::steady_clock::now();
-  LightMaps maps(scene.lights.size());
-  for (const auto& [light, file] : o.caustics_files) {
-    if (light >= scene.lights.size())
-      throw UsageError("--caustics " + std::to_string(light) + "=" + file + ": the scene has " + std::to_string(scene.lights.size()) +
-                       (scene.lights.size() == 1 ? " light" : " lights") + " (from 0)");
-    if (!scene.lights[light].has_caustic_view)
-      throw InputError(file + ": light " + std::to_string(light) +
-                       " has no caustic view (a point light among its refractors) to project it through");
-    maps.set(light, io::read_image(file));
+  const std::vector<scene::CausticView> views = scene::caustic_views(scene.lights);
+  LightMaps maps(views.size());
+  for (const auto& [view, file] : o.caustics_files) {
+    if (view >= views.size())
+      throw UsageError("--caustics " + std::to_string(view) + "=" + file + ": the scene has " + std::to_string(views.size()) +
+                       (views.size() == 1 ? " caustic view" : " caustic views") +
+                       " (from 0; one per light, then a point light's further cube faces)");
+    if (!views[view].present)
+      throw InputError(file + ": light " + std::to_string(view) +
+                       " has no caustic view (a point light that reaches no refractor) to project it through");
+    maps.set(view, io::read_image(file));
   }
   if (o.shard.count > 0) return trace_camera_shard(scene, o.width, o.height, maps.lit, o.photons.seed, o.shard, o.out);
   return write_camera_picture(scene, o, maps, o.out, out_extension, start);
