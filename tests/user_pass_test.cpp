@@ -806,10 +806,13 @@ TEST(UserPass, TheUserCausticMapEqualsTheBuiltInOnTheBundledScenes) {
   size_t compared = 0;
   for (const auto& name : scenes) {
     SCOPED_TRACE(name);
-    // The example is a graph made for one light: both graphs see the scene's first light alone.
+    // The example is a graph made for one light: both graphs see the scene's first light alone,
+    // where it throws through one caustic view (a point light among its refractors has one per cube
+    // face, which the bundled graph draws each and the example the first of).
     const auto scene = test::load_bundled_scene(name);
     scene->lights.resize(1);
     if (scene->refractor_count() == 0) continue;  // the caustic passes are culled
+    if (scene->lights.front().caustic_view_count() != 1) continue;
     const FrameResult ours = e.render(user, scene, {"caustics"});
     const io::ImageData map = e.executor.read_image("caustics");
     const FrameResult theirs = e.render(builtin, scene, {"caustics"});
