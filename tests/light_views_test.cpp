@@ -55,6 +55,19 @@ TEST(CausticViews, AViewHoldsTheBallItLooksAt) {
   EXPECT_EQ(values, 1.0);
 }
 
+// A light moved in the scene (move_light) has its view fitted again: moved 3 to the side, its view
+// turns to the ball and narrows to the ball's cone from there.
+TEST(CausticViews, AMovedLightsViewIsFittedAgain) {
+  Scene s = point_light_over_balls(R"({"type": "point", "position": [0, 6, 0]})", ball(0, 1.5f, 0, 1));
+  move_light(s, 0, glm::vec3(3, 0, 0));
+  const Light& light = s.lights.at(0);
+  EXPECT_EQ(light.view.position, glm::vec3(3, 6, 0));
+  const glm::vec3 to_ball = glm::normalize(glm::vec3(0, 1.5f, 0) - light.view.position);
+  EXPECT_NEAR(glm::dot(light.as_caustic_view().axis(), to_ball), 1.0f, 1e-4f);
+  EXPECT_NEAR(std::tan(glm::radians(light.caustic_view.fov_y_degrees) * 0.5f),
+              kCausticViewMargin * std::tan(std::asin(1.0f / glm::length(glm::vec3(0, 1.5f, 0) - light.view.position))), 2e-3f);
+}
+
 // Three balls spread under a light low over the middle one: one frustum holds all three spheres.
 TEST(CausticViews, AViewHoldsEveryRefractorTheLightReaches) {
   const Scene s = point_light_over_balls(R"({"type": "point", "position": [0, 2.2, 0.6]})",

@@ -200,7 +200,7 @@ TEST(Progressive, ALightChangeRestartsTheMeanAndACameraMoveDoesNot) {
   EXPECT_EQ(frames, 9.0) << "a camera move reset the light-space mean";
 
   auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
-  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*moved_light, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   const io::ImageData after_move = accumulated(e, moved_light, sets, 1, &frames, true);
   EXPECT_EQ(frames, 1.0) << "a light move kept the old mean";
   SceneEngine fresh;
@@ -293,7 +293,7 @@ TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
   expect_fresh(moved_camera, "a camera move");
 
   auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
-  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*moved_light, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   const graph::FrameResult lit = frame(e, moved_light);
   EXPECT_EQ(ran.size(), first.passes.size() - 1) << "after a light move";
   EXPECT_EQ(ran.count("gbuffer"), 0u) << "the G-buffer does not see the light";
@@ -468,7 +468,7 @@ TEST(Progressive, ARunningMeanGoesOnIntoANewPlanThatDidNotChangeIt) {
   EXPECT_EQ(run(moved_camera, {"grid=128"}, 1), 1.0) << "a new photon grid kept the mean";
   EXPECT_EQ(run(moved_camera, {}, 1), 9.0) << "the 8 frames' mean did not come back after the grid's plan";
   auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
-  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*moved_light, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "a light move kept the mean";
   e.next.start_over = true;
   EXPECT_EQ(run(moved_light, {}, 1), 1.0) << "a start over kept the mean";
@@ -635,7 +635,7 @@ TEST(Progressive, ASingleLayersSurfacesAreKeptWhileTheCameraStandsStill) {
 
   // A light move leaves them (they follow the camera and the geometry alone); the mean restarts.
   auto lit_elsewhere = std::make_shared<scene::Scene>(*moved);
-  lit_elsewhere->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*lit_elsewhere, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   drawn.clear();
   const io::ImageData after_light = run(e, lit_elsewhere, 1, &drawn);
   EXPECT_EQ(drawn, (std::vector<double>{0})) << "a light move drew the surfaces again";
@@ -710,7 +710,7 @@ TEST(Progressive, AHistoryInputAveragesTheCameraImageAndRestartsWithIt) {
   EXPECT_EQ(frames, 3.0);
 
   auto moved_light = std::make_shared<scene::Scene>(*moved_camera);
-  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*moved_light, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   const io::ImageData after_light = run(e, moved_light, 1, true, &frames);
   EXPECT_EQ(frames, 1.0) << "a light move kept the camera image's mean";
   SceneEngine fresh;
@@ -782,7 +782,7 @@ TEST(Progressive, PerFrameParametersFollowTheFrameBlock) {
   check(scene, 128, 1.5, "frame 1");
   check(scene, 192, 2.5, "frame 2");
   auto moved_light = std::make_shared<scene::Scene>(*scene);
-  moved_light->lights[0].view.position += glm::vec3(0.3f, 0.0f, 0.0f);
+  scene::move_light(*moved_light, 0, glm::vec3(0.3f, 0.0f, 0.0f));
   check(moved_light, 64, 3.5, "frame 3, the light moved");
 }
 

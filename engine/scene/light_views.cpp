@@ -304,6 +304,12 @@ bool fit_caustic_view(Light& light, const Scene& scene) {
   return true;
 }
 
+void move_light(Scene& scene, size_t index, glm::vec3 offset) {
+  Light& light = scene.lights.at(index);
+  light.view.position += offset;
+  fit_caustic_view(light, scene);
+}
+
 void fit_light_views(Scene& scene, size_t fitted) {
   for (Light& light : scene.lights) {
     if (light.type == LightType::directional) fit_directional_light(light, scene, fitted);

@@ -269,6 +269,9 @@ bool leaves_through_face(glm::vec3 direction, int face);
 // view. fit_caustic_view fits one light's again (a moved light) and returns has_caustic_view.
 void fit_light_views(Scene& scene, size_t fitted);
 bool fit_caustic_view(Light& light, const Scene& scene);
+// Moves light `index` of the scene by `offset` (its position; a spot keeps its target) and fits its
+// caustic view again, as the engine does for a light the viewer moves (GpuScene::replace_view).
+void move_light(Scene& scene, size_t index, glm::vec3 offset);
 
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
 // A scene file, or a model file opened as a scene (load_model_scene).

@@ -44,12 +44,9 @@ const StabilityCase kStabilityCases[] = {
 
 std::shared_ptr<const scene::Scene> with_light_moved(const scene::Scene& scene, glm::vec3 offset) {
   auto moved = std::make_shared<scene::Scene>(scene);
-  scene::Light& light = moved->lights.front();
-  light.view.position += offset;
-  // Its caustic view moves with it, as the engine's does (GpuScene::replace_view): the photon
-  // reference projects its photons through that view, and one left behind measured the moved
-  // light's map in the unmoved light's frame.
-  scene::fit_caustic_view(light, *moved);
+  // Its caustic view moves with it, as the engine's does: the photon reference projects its photons
+  // through that view, and one left behind measured the moved light's map in the unmoved light's frame.
+  scene::move_light(*moved, 0, offset);
   return moved;
 }
 
