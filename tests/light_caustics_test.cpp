@@ -37,6 +37,23 @@ std::shared_ptr<const scene::Scene> with_light(const scene::Scene& all, size_t l
   return one;
 }
 
+// Each caustic view's photon reference map with Fresnel off, `photons` shared among the views by
+// their flux (empty where a view's share rounds to none).
+std::vector<io::ImageData> reference_maps(const scene::Scene& scene, uint64_t photons, uint32_t map_size) {
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, photons);
+  std::vector<io::ImageData> maps(shares.size());
+  for (uint32_t view = 0; view < shares.size(); ++view) {
+    if (shares[view] == 0) continue;
+    reference::PhotonOptions options;
+    options.light = view;
+    options.photons = shares[view];
+    options.fresnel = false;
+    options.map_size = map_size;
+    maps[view] = reference::trace_photon_reference(scene, options).caustic_map;
+  }
+  return maps;
+}
+
 }  // namespace
 
 // tests/data/point_light.json: a point light of 40 W/sr 4.5 above the centre of a glass ball of
@@ -196,14 +213,9 @@ TEST(LightCaustics, APointLightInsideAGlassBallLightsTheFloorAsIfItWereNotThere)
   std::printf("point light inside a ball: the floor in front against no ball, relative L1 %.4f\n", difference / total);
   EXPECT_LT(difference / total, 0.08);
 
-  const std::vector<uint64_t> shares = reference::photons_per_view(*scene, 3'000'000);
+  const std::vector<io::ImageData> references = reference_maps(*scene, 3'000'000, 256);
   for (uint32_t view = 0; view < 6; ++view) {
-    reference::PhotonOptions options;
-    options.light = view;
-    options.photons = shares[view];
-    options.fresnel = false;
-    options.map_size = 256;
-    const io::ImageData map = reference::trace_photon_reference(*scene, options).caustic_map;
+    const io::ImageData& map = references[view];
     const double ratio = test::map_flux(maps[view]) / std::max(test::map_flux(map), 1e-12);
     std::printf("face %d: engine %.3f, reference %.3f\n", views[view].face, test::map_flux(maps[view]), test::map_flux(map));
     if (test::map_flux(map) > 0.01 * expected) {
@@ -238,14 +250,9 @@ TEST(LightCaustics, ABulbOffTheBallsCentreLeavesTheGlassAsTheReferenceDoes) {
   for (uint32_t view = 0; view < 6; ++view) exact.push_back(e.executor.read_image(graph::light_instance("caustics", view)));
   e.render("caustics_regular", scene, settings, kept);
   for (uint32_t view = 0; view < 6; ++view) image_space.push_back(e.executor.read_image(graph::light_instance("caustics", view)));
-  const std::vector<uint64_t> shares = reference::photons_per_view(*scene, 4'000'000);
+  const std::vector<io::ImageData> references = reference_maps(*scene, 4'000'000, 128);
   for (uint32_t view = 0; view < 6; ++view) {
-    reference::PhotonOptions options;
-    options.light = view;
-    options.photons = shares[view];
-    options.fresnel = false;
-    options.map_size = 128;
-    const io::ImageData reference_map = reference::trace_photon_reference(*scene, options).caustic_map;
+    const io::ImageData& reference_map = references[view];
     if (test::map_flux(reference_map) < 1.0) continue;  // the +y face's photons leave upwards
     const auto by_path = reference::compare_images(exact[view], reference_map, 1.5);
     const auto by_image = reference::compare_images(image_space[view], reference_map, 1.5);
