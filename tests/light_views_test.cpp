@@ -104,7 +104,7 @@ TEST(CausticViews, ALightAmongItsRefractorsThrowsThroughTheCubeFacesThatHoldThem
   }
   EXPECT_EQ(inside.expression_values().at("scene.caustic_views"), 6.0);
   EXPECT_EQ(inside.expression_values().at("scene.caustic5.face"), 5.0);
-  EXPECT_EQ(inside.expression_values().at("scene.caustic5.point"), 1.0);
+  EXPECT_EQ(inside.expression_values().at("scene.caustic5.light"), 0.0);
 
   const Scene among = point_light_over_balls(R"({"type": "point", "position": [0, 1, 0]})",
                                              ball(3, 1, 0, 0.5f) + ball(-3, 1, 0, 0.5f) + ball(0, 1, 3, 0.5f));

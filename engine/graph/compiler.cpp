@@ -64,17 +64,26 @@ std::map<std::string, double> typical_scene_values() {
 }
 
 namespace {
-// The scene's values with its caustic views' (scene.caustic_views, scene.causticK.*); values
-// without them (a scene of an older program, a test's own) have one view per light, its light's.
+// The scene's values with each caustic view's light's values as the view's own (scene.causticK.NAME
+// from scene.lightL.NAME where the scene gives it no value of that name: the scene gives a view its
+// .light, .face and .view). Values without views (a test's own) have one view per light, its light's.
 std::map<std::string, double> with_caustic_views(std::map<std::string, double> values, uint32_t lights) {
-  if (values.count("scene.caustic_views")) return values;
-  values["scene.caustic_views"] = lights;
-  for (uint32_t light = 0; light < lights; ++light) {
-    const std::string from = "scene.light" + std::to_string(light) + ".", to = "scene.caustic" + std::to_string(light) + ".";
+  if (!values.count("scene.caustic_views")) {
+    values["scene.caustic_views"] = lights;
+    for (uint32_t light = 0; light < lights; ++light) {
+      values["scene.caustic" + std::to_string(light) + ".light"] = light;
+      values["scene.caustic" + std::to_string(light) + ".face"] = -1;
+    }
+  }
+  const auto views = static_cast<uint32_t>(std::clamp(values.at("scene.caustic_views"), 0.0, 1024.0));
+  for (uint32_t view = 0; view < views; ++view) {
+    const std::string to = "scene.caustic" + std::to_string(view) + ".";
+    const auto light = values.find(to + "light");
+    if (light == values.end()) continue;
+    const std::string from = "scene.light" + std::to_string(static_cast<int>(light->second)) + ".";
+    // Keys of "scene.caustic" sort before "scene.light": the insertions leave the walk's iterators be.
     for (auto it = values.lower_bound(from); it != values.end() && it->first.starts_with(from); ++it)
-      values[to + it->first.substr(from.size())] = it->second;
-    values[to + "light"] = light;
-    values[to + "face"] = -1;
+      values.try_emplace(to + it->first.substr(from.size()), it->second);
   }
   return values;
 }
@@ -92,13 +101,13 @@ std::vector<uint32_t> view_lights(const std::map<std::string, double>& values, u
 }  // namespace
 
 Plan compile_graph(const GraphDesc& graph, const PassRegistry& registry, const CompileOptions& options) {
-  if (!has_per_light(graph)) return compiler_internal::Compiler(graph, registry, options).run();
   // Without a scene (a device-less check), the typical scene's one light.
   const auto lights = options.scene_values.find("scene.lights");
   const double count = lights == options.scene_values.end() ? 1.0 : lights->second;
   const auto light_count = static_cast<uint32_t>(std::clamp(count, 0.0, 64.0));
   CompileOptions per_light = options;
   per_light.scene_values = with_caustic_views(options.scene_values, light_count);
+  if (!has_per_light(graph)) return compiler_internal::Compiler(graph, registry, per_light).run();
   const GraphDesc expanded = expand_per_light(graph, light_count, view_lights(per_light.scene_values, light_count));
   // A per-light resource kept by its own name is light 0's (Plan::resolve reads it so).
   per_light.retained.clear();

@@ -66,7 +66,9 @@ std::map<std::string, double> Scene::expression_values() const {
       {"scene.refractors", static_cast<double>(refractor_count())}, {"scene.lights", static_cast<double>(lights.size())},
       {"scene.objects", static_cast<double>(objects.size())},       {"scene.dispersive", disperses() ? 1.0 : 0.0},
       {"scene.diagonal", static_cast<double>(diagonal())},          {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
-  const auto light_values = [&](const Light& light, const std::string& prefix) {
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    const std::string prefix = "scene.light" + std::to_string(i) + ".";
     values[prefix + "view"] = light.has_caustic_view ? 1 : 0;
     values[prefix + "spot"] = light.type == LightType::spot ? 1 : 0;
     values[prefix + "point"] = light.type == LightType::point ? 1 : 0;
@@ -79,13 +81,12 @@ std::map<std::string, double> Scene::expression_values() const {
     }
     values[prefix + "objects"] = objects_reached;
     values[prefix + "refractors"] = refractors_reached;
-  };
-  for (size_t i = 0; i < lights.size(); ++i) light_values(lights[i], "scene.light" + std::to_string(i) + ".");
+  }
+  // A view's other values are its light's: the graph compiler copies them (graph::compile_graph).
   const std::vector<CausticView> views = caustic_views(lights);
   values["scene.caustic_views"] = static_cast<double>(views.size());
   for (size_t k = 0; k < views.size(); ++k) {
     const std::string prefix = "scene.caustic" + std::to_string(k) + ".";
-    light_values(lights[views[k].light], prefix);
     values[prefix + "view"] = views[k].present ? 1 : 0;
     values[prefix + "light"] = views[k].light;
     values[prefix + "face"] = views[k].face;

@@ -240,8 +240,9 @@ struct Scene {
   // scene.lightK.spot, .point and .directional (1 for its type), .view (1 where it has a caustic view),
   // .objects and .refractors (how many its light reaches, Light::reaches), which a per-light pass
   // reads as light.NAME (graph/per_light.h); scene.caustic_views (how many, caustic_views) and per
-  // view K scene.causticK.NAME: its light's values, .view (1 where present), .light (its light) and
-  // .face (its cube face, -1 for none), which a per-view pass reads as light.NAME.
+  // view K scene.causticK.view (1 where present), .light (its light) and .face (its cube face, -1
+  // for none), to which the graph compiler adds its light's other values: what a per-view pass
+  // reads as light.NAME.
   std::map<std::string, double> expression_values() const;
 };
 
