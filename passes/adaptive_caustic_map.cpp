@@ -464,8 +464,7 @@ graph::PassTypeDecl traversal_pass_type(bool hierarchical, std::string type, std
   decl.depends_on = [](const nlohmann::json& resolved) {
     return kDependsOnGeometry | kDependsOnLights | (resolved.value("jitter", false) ? kDependsOnFrame : 0u);
   };
-  decl.uses_ray_queries = traces_exact_paths;
-  decl.ray_query_alternative = kPhotonRayQueryAlternative;
+  decl.traces_scene = traces_exact_paths;
   decl.check = [hierarchical](const nlohmann::json& params, const PortResources& resource) {
     return check_traversal(hierarchical, params, resource);
   };

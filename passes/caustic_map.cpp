@@ -183,8 +183,7 @@ graph::PassTypeDecl caustic_map_pass_type() {
     return kDependsOnGeometry | kDependsOnLights |
            (resolved.value("jitter", false) || resolved.value("slice_side", 1) > 1 ? kDependsOnFrame : 0u);
   };
-  decl.uses_ray_queries = traces_exact_paths;
-  decl.ray_query_alternative = kPhotonRayQueryAlternative;
+  decl.traces_scene = traces_exact_paths;
   return decl;
 }
 

@@ -35,7 +35,7 @@ class DeferredRefractionPass final : public graph::Pass {
   }
 
  private:
-  RayQueryScene exact_;
+  TracedScene exact_;
   DeferredRefractionShading shading_;
   uint32_t tir_counter_ = 0, exact_counters_ = 0;
 };
@@ -59,21 +59,21 @@ graph::PassTypeDecl deferred_refraction_pass_type() {
                    false,
                    "frame",
                    "the background with the refractors composited"});
-  PassTypeDecl decl{"deferred_refraction",
-                    "Compute pass: refraction from G-buffer-like refractor surfaces, every pixel shaded once: in image space through two "
-                    "interfaces (Wyman 2005; distance dv, dv_dn, search), or exact with ray queries (ray_query: every interface of every "
-                    "refractor; hybrid: the search, traced exactly where it cannot be trusted). Counters <pass>.tir_pixels (total internal "
-                    "reflection at the back surface), <pass>.exact_pixels (traced exactly), <pass>.retraced.<reason> (hybrid), "
-                    "<pass>.trapped_pixels (still inside after max_interfaces).",
-                    PassQueue::compute,
-                    ports,
-                    exact_path_params("a camera ray"),
-                    false,
-                    [] { return std::make_unique<DeferredRefractionPass>(); }};
+  PassTypeDecl decl{
+      "deferred_refraction",
+      "Compute pass: refraction from G-buffer-like refractor surfaces, every pixel shaded once: in image space through two "
+      "interfaces (Wyman 2005; distance dv, dv_dn, search), or exact (ray_query: every interface of every refractor, by "
+      "either tracer; hybrid: the search, traced exactly where it cannot be trusted). Counters <pass>.tir_pixels (total internal "
+      "reflection at the back surface), <pass>.exact_pixels (traced exactly), <pass>.retraced.<reason> (hybrid), "
+      "<pass>.trapped_pixels (still inside after max_interfaces).",
+      PassQueue::compute,
+      ports,
+      exact_path_params("a camera ray"),
+      false,
+      [] { return std::make_unique<DeferredRefractionPass>(); }};
   decl.needs_scene = true;
   decl.depends_on = [](const nlohmann::json&) { return kDependsOnScene; };
-  decl.uses_ray_queries = traces_exact_paths;
-  decl.ray_query_alternative = kCameraRayQueryAlternative;
+  decl.traces_scene = traces_exact_paths;
   return decl;
 }
 

@@ -28,7 +28,7 @@ std::vector<graph::ParamDecl> photon_path_params() {
 }
 
 void ExactPaths::setup(graph::PassSetup& setup) {
-  RayQueryScene::setup(setup);
+  TracedScene::setup(setup);
   using Kind = graph::PassSetup::CounterKind;
   // The order of caustics/photon.glsl's EXACT_* constants (the retraced ones in refraction.glsl's EXIT_* order, then
   // RETRACED_NO_LANDING, RETRACED_REFRACTOR_AHEAD and RETRACED_REFLECTION).

@@ -27,7 +27,7 @@ std::vector<shader::MirroredMember> exact_path_push_members(size_t at);
 
 // A photon pass's exact paths: the ray-query scene where traced, and the counters always, so that
 // every method reports the same names.
-class ExactPaths : public RayQueryScene {
+class ExactPaths : public TracedScene {
  public:
   void setup(graph::PassSetup& setup);
   ExactPathPush push(const graph::PassContext& ctx) const;

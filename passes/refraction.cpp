@@ -52,11 +52,11 @@ std::vector<graph::ParamDecl> exact_path_params(const std::string& what) {
   params[0].description =
       "where " + what +
       " leaves the refractor: d_V or the d_V/d_N blend (estimates), search (image-space search along the "
-      "refracted ray against the back-surface buffer, from the blend; every device), ray_query (traced exactly through the scene's "
-      "acceleration structures; needs VK_KHR_ray_query), or hybrid (the search, traced exactly where it cannot be trusted: total "
+      "refracted ray against the back-surface buffer, from the blend; every device), ray_query (traced exactly through the scene, by "
+      "ray queries or the compute tracer: every device), or hybrid (the search, traced exactly where it cannot be trusted: total "
       "internal reflection at the exit, no back surface there, an exit point off the back surface by more than hybrid_tolerance, or "
       "another refractor in the way), or material (chosen from the material it meets first: traced exactly through a solid "
-      "refractor, in image space through a thin wall, where image space is exact; needs VK_KHR_ray_query)";
+      "refractor, in image space through a thin wall, where image space is exact)";
   params.push_back({"max_interfaces",
                     ParamType::int_,
                     32,
@@ -123,11 +123,6 @@ bool traces_exact_paths(const nlohmann::json& params) {
   return distance == "ray_query" || distance == "hybrid" || distance == "material";
 }
 
-const char* const kPhotonRayQueryAlternative =
-    "set its 'distance' to search or dv_dn (image space) or use graphs/caustics_adaptive.json, which runs on every device";
-const char* const kCameraRayQueryAlternative =
-    "set its 'distance' to search or dv_dn (image space) or use graphs/refraction_deferred.json, which runs on every device";
-
 uint32_t add_consecutive_counters(graph::PassSetup& setup,
                                   const std::vector<std::pair<std::string, graph::PassSetup::CounterKind>>& names) {
   uint32_t first = 0;
@@ -140,27 +135,35 @@ uint32_t add_consecutive_counters(graph::PassSetup& setup,
   return first;
 }
 
-void RayQueryScene::setup(const graph::PassSetup& setup) {
+void TracedScene::setup(const graph::PassSetup& setup) {
   traced_ = traces_exact_paths(setup.pass().params);
+  tracer_ = setup.tracer();
   mode_ = distance_mode(setup.pass().params);
 }
 
-shader::Defines RayQueryScene::defines(shader::Defines defines) const {
+shader::Defines TracedScene::defines(shader::Defines defines) const {
   if (!traced_) return defines;
   defines["CAUSTICA_RAY_QUERY"] = "1";
+  if (tracer_ == graph::Tracer::compute) defines["CAUSTICA_COMPUTE_TRACER"] = "1";
   if (mode_ == kHybrid) defines["CAUSTICA_HYBRID"] = "1";
   defines["CAUSTICA_DISTANCE_MODE"] = std::to_string(mode_) + "u";
   return defines;
 }
 
-void RayQueryScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
+void TracedScene::bind(const graph::PassContext& ctx, vk::DescriptorWriter& writer) const {
   if (!traced_) return;
+  if (tracer_ == graph::Tracer::compute) {
+    const auto* bvh = ctx.scene().built_tracer_bvh();
+    assert(bvh && "the executor builds the scene's BVH for every plan that traces with the compute tracer");
+    writer.buffer("BvhBlock", bvh->bvh.get()).buffer("TriangleBlock", bvh->triangles.get());
+    return;
+  }
   const auto* acceleration = ctx.scene().built_acceleration();
   assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
   writer.structure("scene_tlas", acceleration->tlas()).buffer("TriangleBlock", acceleration->triangles());
 }
 
-void RayQueryScene::bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const {
+void TracedScene::bind_textures(const graph::PassContext& ctx, const vk::Pipeline& pipeline) const {
   if (traced_) bind_scene_textures(ctx, ctx.cmd(), pipeline);
 }
 
@@ -195,7 +198,7 @@ void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImag
 }
 
 vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background,
-                                            VkImageView back, const RayQueryScene* exact) {
+                                            VkImageView back, const TracedScene* exact) {
   vk::DescriptorWriter writer = scene_descriptors(ctx, pipeline);
   writer.image("background_tex", background, ctx.linear_sampler())
       .image("depth_tex", ctx.view("depth"), ctx.nearest_sampler())
@@ -239,7 +242,7 @@ struct CopyPush {  // shaders/common/copy.comp's
 };
 }  // namespace
 
-void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact) {
+void DeferredRefractionShading::setup(graph::PassSetup& setup, graph::Format target, const TracedScene* exact) {
   exact_ = exact;
   const shader::Defines out_format{{"OUT_FORMAT", graph::format_info(target).glsl_qualifier}};
   refract_ = setup.compute_pipeline("deferred_refraction", {"refraction/deferred_refraction.comp",

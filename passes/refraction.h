@@ -30,10 +30,8 @@ std::vector<graph::ParamDecl> with_search_bounces(std::vector<graph::ParamDecl> 
 // `what` names the rays ("a photon", "a camera ray") in the description.
 std::vector<graph::ParamDecl> exact_path_params(const std::string& what);
 RefractionPush refraction_push(const graph::PassContext& ctx, uint32_t tir_counter, uint32_t exact_counters = 0);
-// Whether a pass with these parameters traces with ray queries (PassTypeDecl::uses_ray_queries).
+// Whether a pass with these parameters traces exact paths (PassTypeDecl::traces_scene).
 bool traces_exact_paths(const nlohmann::json& params);
-extern const char* const kPhotonRayQueryAlternative;
-extern const char* const kCameraRayQueryAlternative;
 
 // Registers `names` as consecutive counters of the pass and returns the first slot (the shaders
 // address them from one base).
@@ -44,10 +42,11 @@ uint32_t add_consecutive_counters(graph::PassSetup& setup, const std::vector<std
 std::vector<shader::MirroredMember> refraction_push_members(size_t at = 0);
 
 // What a pass that traces exact paths needs where its parameters ask for them: the shader variant
-// (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid), which then declares the scene's
-// top-level acceleration structure (scene_tlas) and its triangles (TriangleBlock), as
-// shaders/scene/ray_query.glsl does.
-class RayQueryScene {
+// (CAUSTICA_RAY_QUERY, and CAUSTICA_HYBRID for distance hybrid; CAUSTICA_COMPUTE_TRACER where the
+// plan traces with the compute tracer), which then declares the scene's structure (the top-level
+// acceleration structure scene_tlas, or the BVH's BvhBlock) and its triangles (TriangleBlock), as
+// shaders/scene/trace.glsl does.
+class TracedScene {
  public:
   void setup(const graph::PassSetup& setup);
   bool traced() const { return traced_; }
@@ -63,6 +62,7 @@ class RayQueryScene {
 
  private:
   bool traced_ = false;
+  graph::Tracer tracer_ = graph::Tracer::none;
   uint32_t mode_ = 0;  // refraction.glsl's DISTANCE_* constant
 };
 
@@ -84,7 +84,7 @@ void record_copy(const graph::PassContext& ctx, const vk::Pipeline& copy, VkImag
 // scene where `exact` traces, and the front tint where the pass has it bound; the caller adds its
 // own and pushes them to `pipeline`.
 vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, const vk::Pipeline& pipeline, VkImageView background,
-                                            VkImageView back, const RayQueryScene* exact = nullptr);
+                                            VkImageView back, const TracedScene* exact = nullptr);
 
 // The screen rectangle, one pixel wider on each side, that covers the bounding boxes of `objects`
 // seen by `view_proj`; the whole extent when any box reaches behind the eye.
@@ -97,7 +97,7 @@ VkRect2D screen_rect(const scene::Scene& scene, const glm::mat4& view_proj, cons
 // pass's parameters ask for them.
 class DeferredRefractionShading {
  public:
-  void setup(graph::PassSetup& setup, graph::Format target, const RayQueryScene* exact = nullptr);
+  void setup(graph::PassSetup& setup, graph::Format target, const TracedScene* exact = nullptr);
   void record(const graph::PassContext& ctx, const RefractionPush& push, VkImageView background, VkImageView front, VkImageView back,
               VkImageView target, VkExtent2D extent, VkRect2D rect) const;
   // `source` copied into `target` (general layout), the same extent.
@@ -105,7 +105,7 @@ class DeferredRefractionShading {
 
  private:
   vk::Pipeline refract_, copy_;
-  const RayQueryScene* exact_ = nullptr;
+  const TracedScene* exact_ = nullptr;
 };
 
 }  // namespace caustica::passes

@@ -31,11 +31,15 @@ class UserPass final : public graph::Pass {
       params_ = vk::make_buffer(setup.vk(), shader_->params_bytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0,
                                 setup.pass().name + " parameters");
     }
-    // Laid out as the shaders declare, as a built-in pass's pipeline is (vk::reflected_desc).
+    // Laid out as the shaders declare, as a built-in pass's pipeline is (vk::reflected_desc); the
+    // shader as compiled for the plan's tracer.
+    compute_tracer_ = setup.tracer() == graph::Tracer::compute && shader_->compute_tracer;
+    const std::vector<uint32_t>& spirv = compute_tracer_ ? shader_->compute_tracer->spirv : shader_->spirv;
     const std::string& name = setup.pass().name;
-    std::vector<shader::NamedReflection> stages{{shader_->path, &shader_->reflection}};
+    std::vector<shader::NamedReflection> stages{
+        {shader_->path, compute_tracer_ ? &shader_->compute_tracer->reflection : &shader_->reflection}};
     if (shader_->kind == graph::UserShaderKind::compute) {
-      pipeline_ = vk::make_compute_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), shader_->spirv);
+      pipeline_ = vk::make_compute_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), spirv);
       return;
     }
     const char* vertex_path = "common/fullscreen.vert";
@@ -50,7 +54,7 @@ class UserPass final : public graph::Pass {
     std::sort(colors.begin(), colors.end());
     std::vector<VkFormat> formats;
     for (const auto& [location, format] : colors) formats.push_back(format);
-    pipeline_ = vk::make_fullscreen_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), vertex.spirv, shader_->spirv, formats);
+    pipeline_ = vk::make_fullscreen_pipeline(setup.vk(), vk::reflected_desc(name, name, stages), vertex.spirv, spirv, formats);
   }
 
   void execute(graph::PassContext& ctx) override {
@@ -96,8 +100,16 @@ class UserPass final : public graph::Pass {
         case graph::SceneResource::frame: writer.buffer(b.name, scene.frame()); break;
         case graph::SceneResource::vertices: writer.buffer(b.name, scene.vertices()); break;
         case graph::SceneResource::objects: writer.buffer(b.name, scene.objects()); break;
-        case graph::SceneResource::acceleration_structure: writer.structure(b.name, traced(ctx).tlas()); break;
-        case graph::SceneResource::triangles: writer.buffer(b.name, traced(ctx).triangles()); break;
+        case graph::SceneResource::acceleration_structure:
+          if (compute_tracer_) {
+            writer.buffer("BvhBlock", traced_bvh(ctx).bvh.get());
+          } else {
+            writer.structure(b.name, traced(ctx).tlas());
+          }
+          break;
+        case graph::SceneResource::triangles:
+          writer.buffer(b.name, compute_tracer_ ? traced_bvh(ctx).triangles.get() : traced(ctx).triangles());
+          break;
       }
     }
   }
@@ -106,6 +118,11 @@ class UserPass final : public graph::Pass {
     const auto* acceleration = ctx.scene().built_acceleration();
     assert(acceleration && "the executor builds the scene's acceleration structures for every plan with a ray-query pass");
     return *acceleration;
+  }
+  static const scene::GpuScene::TracerBuffers& traced_bvh(const graph::PassContext& ctx) {
+    const auto* bvh = ctx.scene().built_tracer_bvh();
+    assert(bvh && "the executor builds the scene's BVH for every plan that traces with the compute tracer");
+    return *bvh;
   }
 
   void record(graph::PassContext& ctx, const vk::DescriptorWriter& writer, std::vector<std::pair<uint32_t, VkImageView>>& colors) const {
@@ -218,6 +235,7 @@ class UserPass final : public graph::Pass {
   const graph::PassTypeDecl* decl_ = nullptr;  // the pass's own type, which its plan holds
   const graph::UserShader* shader_ = nullptr;
   vk::Pipeline pipeline_;
+  bool compute_tracer_ = false;
   vk::Buffer counters_;          // the shader's counter buffer, where the pass declares counters
   vk::Buffer params_;            // the uniform parameter block, where the shader declares one
   std::vector<uint32_t> slots_;  // the engine's slot of each

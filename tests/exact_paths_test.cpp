@@ -1,8 +1,8 @@
-// Exact light paths with ray queries (lavapipe 25 or any device with VK_KHR_ray_query), validation
-// on: the ray-query photon tracer against docs/oracles.md's ball lens, its flux bookkeeping, the hybrid's
-// re-trace reasons, and camera refraction (exact and hybrid) against the ray-traced reference. The
-// refusal on a device without ray queries is in cli_test. These tests need ray queries
-// and fail, rather than skip, on a device without them: tools/install-deps.sh installs lavapipe 25.
+// Exact light paths, validation on, by the device's tracer (ray queries where it has them, else the
+// compute tracer; docs/exact_paths.md): the photon tracer against docs/oracles.md's ball lens (with
+// each tracer the device has), its flux bookkeeping, the hybrid's re-trace reasons, and camera
+// refraction (exact and hybrid) against the ray-traced reference. The two tracers against each
+// other are in tracer_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,8 +19,6 @@ using namespace caustica;
 
 namespace {
 
-constexpr const char* kNeedsRayQueries = "this test needs a device with ray queries (tools/install-deps.sh installs lavapipe 25)";
-
 double sum_of(const graph::FrameResult& frame, std::initializer_list<const char*> names) {
   double total = 0;
   for (const char* name : names) total += frame.counters.at(name);
@@ -32,30 +30,36 @@ double sum_of(const graph::FrameResult& frame, std::initializer_list<const char*
 // Without Fresnel, every photon that enters a sphere leaves it (docs/oracles.md): the exact tracer must
 // land the whole entering flux, at the radii the analytic lens gives. The cumulative fraction of
 // the entering flux inside r = 0.05 .. 0.5 R on the floor must be within 0.02 of the exact lens at
-// every radius; the image-space methods miss it by up to 0.14 (caustics_test).
-TEST(ExactPaths, RayQueryPhotonsMatchTheExactBallLens) {
+// every radius; the image-space methods miss it by up to 0.14 (caustics_test). With each tracer the
+// device has: the compute tracer everywhere, ray queries where it has them.
+TEST(ExactPaths, ExactPhotonsMatchTheExactBallLensWithEachTracer) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
-  auto scene = test::load_bundled_scene("sphere_plane");
-  const std::vector<double> radii{0.05, 0.1, 0.2, 0.3, 0.5};
-  const test::ExactLens lens = test::exact_ball_lens(*scene, radii);
-  auto frame = e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
-  const double exact_entering = test::flux_into_ball(*scene);
-  const double entering = frame.counters.at("caustic.flux_entering"), landed = frame.counters.at("caustic.flux");
-  const std::vector<double> inside = test::map_flux_inside(*scene, e.executor.read_image("caustics"), radii);
-  for (size_t k = 0; k < radii.size(); ++k) {
-    std::printf("r = %.2f R: exact %.4f, ray query %.4f of the entering flux\n", radii[k], lens.inside[k], inside[k] / entering);
-    EXPECT_NEAR(inside[k] / entering, lens.inside[k], 0.02) << "r = " << radii[k];
+  std::vector<graph::Tracer> tracers{graph::Tracer::compute};
+  if (e.vk.ray_queries().available) tracers.push_back(graph::Tracer::ray_query);
+  for (graph::Tracer tracer : tracers) {
+    SCOPED_TRACE(graph::tracer_name(tracer));
+    e.tracer = tracer;
+    auto scene = test::load_bundled_scene("sphere_plane");
+    const std::vector<double> radii{0.05, 0.1, 0.2, 0.3, 0.5};
+    const test::ExactLens lens = test::exact_ball_lens(*scene, radii);
+    auto frame = e.render("caustics_raytraced", scene, {"fresnel=false", "grid=1024"}, {"caustics"});
+    const double exact_entering = test::flux_into_ball(*scene);
+    const double entering = frame.counters.at("caustic.flux_entering"), landed = frame.counters.at("caustic.flux");
+    const std::vector<double> inside = test::map_flux_inside(*scene, e.executor.read_image("caustics"), radii);
+    for (size_t k = 0; k < radii.size(); ++k) {
+      std::printf("r = %.2f R: exact %.4f, traced %.4f of the entering flux\n", radii[k], lens.inside[k], inside[k] / entering);
+      EXPECT_NEAR(inside[k] / entering, lens.inside[k], 0.02) << "r = " << radii[k];
+    }
+    // The exact lens counts every ray that reaches the floor; the map holds those inside the light's view.
+    const double on_floor = landed + frame.counters.at("caustic.flux_off_map");
+    std::printf("entering %.4f (exact %.4f), on the floor %.4f (%.4f of it; exact %.4f), in the map %.4f\n", entering, exact_entering,
+                on_floor, on_floor / entering, lens.landed, landed);
+    EXPECT_NEAR(entering, exact_entering, 0.01 * exact_entering);  // the silhouette sampled by 1024^2 photons
+    EXPECT_NEAR(on_floor / entering, lens.landed, 0.005);
+    EXPECT_EQ(frame.counters.at("photons.dropped_tir"), 0.0);
+    EXPECT_EQ(frame.counters.at("photons.reflected_outside"), 0.0);  // no Fresnel: nothing reflects off the outside
+    EXPECT_GT(frame.counters.at("photons.exact"), 0.0);
   }
-  // The exact lens counts every ray that reaches the floor; the map holds those inside the light's view.
-  const double on_floor = landed + frame.counters.at("caustic.flux_off_map");
-  std::printf("entering %.4f (exact %.4f), on the floor %.4f (%.4f of it; exact %.4f), in the map %.4f\n", entering, exact_entering,
-              on_floor, on_floor / entering, lens.landed, landed);
-  EXPECT_NEAR(entering, exact_entering, 0.01 * exact_entering);  // the silhouette sampled by 1024^2 photons
-  EXPECT_NEAR(on_floor / entering, lens.landed, 0.005);
-  EXPECT_EQ(frame.counters.at("photons.dropped_tir"), 0.0);
-  EXPECT_EQ(frame.counters.at("photons.reflected_outside"), 0.0);  // no Fresnel: nothing reflects off the outside
-  EXPECT_GT(frame.counters.at("photons.exact"), 0.0);
 }
 
 // The flux of the caustic map that `graph` renders (its frame, counters included, into *frame when given).
@@ -75,7 +79,6 @@ double rendered_flux(test::SceneEngine& e, const std::string& graph_name, std::s
 // no caustic at all.
 TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto scene = std::make_shared<scene::Scene>(
       scene::load_scene_file((std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/mask_over_lens.json").string()));
   reference::PhotonOptions options;
@@ -101,7 +104,6 @@ TEST(ExactPaths, MaskedSurfacesLetPhotonsThroughTheirHoles) {
 // image-space map, to the photon, with no exact photon at all).
 TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto ball = test::load_bundled_scene("sphere_plane");
   const double exact = rendered_flux(e, "caustics_raytraced", ball, {"distance=ray_query", "grid=1024"});
   graph::FrameResult by_material;
@@ -137,7 +139,6 @@ TEST(ExactPaths, MaterialModeTracesSolidsExactlyAndThinWallsInImageSpace) {
 // second; the panes' transmitted light stays in image space.
 TEST(ExactPaths, MaterialModeTracesWhatImageSpaceCannotSeeBehindAThinWall) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto shared = std::make_shared<scene::Scene>(
       scene::load_scene_file((std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/thin_walls_reflect.json").string()));
   auto map_of = [&](const char* distance, graph::FrameResult* frame = nullptr) {
@@ -177,7 +178,6 @@ TEST(ExactPaths, MaterialModeTracesWhatImageSpaceCannotSeeBehindAThinWall) {
 // reflect (1.035 of the exact map on the thin panes at 2048^2 when it did).
 TEST(ExactPaths, AdaptiveMaterialModeKeepsTheThinWallsFresnelWeights) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries << "; lacks " << e.vk.ray_queries().missing;
   auto panes = test::load_bundled_scene("thin_panes");
   const double exact = rendered_flux(e, "caustics_raytraced", panes, {"distance=ray_query", "grid=2048"});
   const double adaptive = rendered_flux(e, "caustics_adaptive_hybrid", panes, {"distance=material", "grid=2048"});
@@ -194,7 +194,6 @@ TEST(ExactPaths, AdaptiveMaterialModeKeepsTheThinWallsFresnelWeights) {
 // regular grid's hybrid map, as with it.
 TEST(ExactPaths, AdaptiveHybridKeepsTheHighIndexEnergy) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("stability/high_index");
   reference::PhotonOptions options;
   options.photons = 4'000'000;
@@ -232,7 +231,6 @@ struct CausticError {
 // search blends the buffers' normals.
 TEST(ExactPaths, AdaptiveHybridKeepsTheBallLensFocusInPlace) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("sphere_plane");
   const CausticError error_of{e, scene};
   const double exact = error_of("caustics_raytraced", {"distance=ray_query", "grid=2048"});
@@ -248,7 +246,6 @@ TEST(ExactPaths, AdaptiveHybridKeepsTheBallLensFocusInPlace) {
 // reference photons; this reference has 2e7 (seed 1), whose own noise adds to every error.
 TEST(ExactPaths, TheBunnyMeetsTheSearchAndHybridTargets) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("bunny_plane");
   const CausticError error_of{e, scene};
   const double search = error_of("caustics_adaptive", {"grid=2048"});
@@ -269,7 +266,6 @@ TEST(ExactPaths, TheBunnyMeetsTheSearchAndHybridTargets) {
 // Every exact trace has its reason counted.
 TEST(ExactPaths, HybridTracesTheFresnelReflectionsImageSpaceCannotFollow) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");
   const double exact = rendered_flux(e, "caustics_raytraced", scene, {"distance=ray_query", "grid=512"});
   double kept[3];
@@ -301,7 +297,6 @@ TEST(ExactPaths, HybridTracesTheFresnelReflectionsImageSpaceCannotFollow) {
 // trapped, off the map, or absorbed on the way; the sums add up to the entering flux.
 TEST(ExactPaths, EveryEnteringPhotonIsAccountedFor) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("sphere_plane");
   scene->objects.back().material.absorption = glm::vec3(0.3f, 0.2f, 0.1f);
   auto frame = e.render("caustics_raytraced", scene, {"grid=512"}, {});
@@ -321,7 +316,6 @@ TEST(ExactPaths, EveryEnteringPhotonIsAccountedFor) {
 // The same photon and seed take the same path every time; another seed changes the Fresnel choices.
 TEST(ExactPaths, FresnelChoicesAreDeterministicPerSeed) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("sphere_plane");
   auto reflected = [&](const char* seed) {
     return e.render("caustics_raytraced", scene, {"grid=256", std::string("seed=") + seed}, {}).counters.at("photons.reflected_outside");
@@ -339,7 +333,6 @@ TEST(ExactPaths, FresnelChoicesAreDeterministicPerSeed) {
 // taken its result, the adaptive counts changed from run to run).
 TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("three_refractors");
   const std::vector<std::string> counters{"photons.processed",
                                           "photons.exact",
@@ -372,7 +365,6 @@ TEST(ExactPaths, QueuedExactPathsReturnToTheirPhotonsInEveryRun) {
 // hybrid lands (nearly) the exact lens's flux where the d_V/d_N estimate alone loses about 22%.
 TEST(ExactPaths, HybridRetracesWhereTheEstimateFails) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   auto scene = test::load_bundled_scene("sphere_plane");
   const test::ExactLens lens = test::exact_ball_lens(*scene, {0.5});
   auto image_space = e.render("caustics_adaptive", scene, {"fresnel=false", "distance=dv_dn"}, {});
@@ -423,7 +415,6 @@ HybridAgainstExact hybrid_against_ray_query(test::SceneEngine& e, const char* sc
 
 TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   const auto [hybrid, c] = hybrid_against_ray_query(e, "bunny_plane");
   std::printf("bunny, hybrid against the ray-query map: relative L1 %.4f, energy %.4f; %.0f exit rays met the bunny again\n", c.relative_l1,
               c.energy_ratio, hybrid.counters.at("photons.retraced.refractor_ahead"));
@@ -441,7 +432,6 @@ TEST(ExactPaths, HybridRetracesExitRaysThatMeetTheRefractorAgain) {
 // 0.1517 either way.
 TEST(ExactPaths, HybridTracesConvexRefractorsExitRaysPastTheRefractors) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   const auto [hybrid, c] = hybrid_against_ray_query(e, "three_refractors");
   std::printf(
       "stacked refractors, hybrid against the ray-query map: relative L1 %.4f, energy %.4f; exit rays that met a refractor %.0f, "
@@ -478,7 +468,6 @@ CameraRun camera_refraction(test::SceneEngine& e, const std::string& graph, cons
 // bunny, 0.018 three refractors (d_V/d_N: 0.154, 0.480, 0.500); the limits leave some room.
 TEST(ExactPaths, RayQueryRefractionMatchesTheRayTracedReference) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   struct Case {
     const char* scene;
     double limit;
@@ -527,7 +516,6 @@ TEST(ExactPaths, ImageSpaceRefractionReadsTintAndTransmissionPerPixel) {
 // normal, 1.78x, 1.27x and 1.40x.
 TEST(ExactPaths, HybridRefractionTracesOnlyWhereTheSearchFails) {
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << kNeedsRayQueries;
   for (const char* name : {"sphere_plane", "three_refractors", "bunny_plane"}) {
     auto scene = test::load_bundled_scene(name);
     const auto reference = reference::render_refraction_reference(*scene, e.width, e.height);

@@ -26,10 +26,12 @@ struct SceneEngine {
   bool reuse = false;
   // What the next configure() hands over with (HandOverOptions), then cleared.
   graph::HandOverOptions next;
+  // The tracer the plans take (ConfigureOptions::tracer); unset: the device's choice.
+  std::optional<graph::Tracer> tracer;
 
   bool configure(const graph::GraphDesc& graph, uint32_t w, uint32_t h, std::set<std::string> retained = {}) {
-    const bool compiled =
-        executor.configure(graph, w, h, {.retained = std::move(retained), .reuse_unchanged_passes = reuse, .hand_over = next});
+    const bool compiled = executor.configure(
+        graph, w, h, {.retained = std::move(retained), .reuse_unchanged_passes = reuse, .hand_over = next, .tracer = tracer});
     next = {};
     return compiled;
   }
@@ -45,7 +47,7 @@ struct SceneEngine {
   graph::FrameResult render(const graph::GraphDesc& graph, std::shared_ptr<const scene::Scene> scene,
                             const std::set<std::string>& retained) {
     executor.set_scene(std::move(scene));
-    executor.configure(graph, width, height, {.retained = retained});
+    executor.configure(graph, width, height, {.retained = retained, .tracer = tracer});
     return executor.run_frame(true);
   }
 

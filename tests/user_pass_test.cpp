@@ -684,7 +684,8 @@ TEST(UserPass, AUniformParameterBlockIsCheckedAsThePushConstantsAre) {
 }
 
 // A shader that samples the scene's textures (set 1) and traces its acceleration structure (binding
-// 14) as scene/ray_query.glsl declares them, written out here so that each line is known.
+// 14) with ray queries itself, as scene/trace_ray_query.glsl declares it, written out here so that
+// each line is known.
 const char* kTracingShader = R"(#version 460
 #extension GL_EXT_ray_query : require
 #extension GL_EXT_nonuniform_qualifier : require
@@ -698,6 +699,22 @@ void main() {
   while (rayQueryProceedEXT(query)) {}
   float t = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT ? -1.0 : rayQueryGetIntersectionTEXT(query, true);
   imageStore(hits, ivec2(gl_GlobalInvocationID.xy), vec4(t) * textureLod(textures[0], vec2(0.5), 0.0));
+}
+)";
+
+// A shader that traces through the shader library (scene/trace.glsl) rather than declaring the
+// acceleration structure itself: it runs with either tracer (compiled for each).
+const char* kLibraryTracingShader = R"(#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "scene/scene.glsl"
+SCENE_OBJECTS
+#include "scene/trace.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 3, rgba32f) uniform writeonly image2D hits;
+void main() {
+  SurfaceHit h = trace_surface(vec3(0.0, 100.0, 0.0), vec3(0.0, -1.0, 0.0), 0.0, CAUSTICA_ALL_INSTANCES);
+  float t = h.hit ? h.t : -1.0;
+  imageStore(hits, ivec2(gl_GlobalInvocationID.xy), vec4(t) * textureLod(scene_textures[0], vec2(0.5), 0.0));
 }
 )";
 
@@ -716,13 +733,13 @@ TEST(UserPass, TheScenesTexturesAndAccelerationStructureAreCheckedAndNeedRayQuer
   // Without the scene: both named at their lines.
   refused(kTracingShader, false,
           {":6: 'tlas' at binding 14 is an acceleration structure; a user pass has one only as the scene's, binding 14 of set 0 "
-           "(shaders/scene/ray_query.glsl), with \"scene\": true, and then needs a device with ray queries",
+           "(shaders/scene/trace.glsl), with \"scene\": true",
            ":7: 'textures' in set 1 is the scene's texture array (shaders/scene/textures.glsl); give the pass the scene with "
            "\"scene\": true"});
   // With it, at another binding or of another kind, or a port at the scene's binding.
   refused(replaced(kTracingShader, "binding = 14", "binding = 13"), true,
           {":6: 'tlas' at binding 13 is an acceleration structure; a user pass has one only as the scene's, binding 14 of set 0 "
-           "(shaders/scene/ray_query.glsl) (at /passes/0/scene)"});
+           "(shaders/scene/trace.glsl) (at /passes/0/scene)"});
   refused(replaced(replaced(kTracingShader, "uniform sampler2D textures[]", "uniform sampler2DArray textures[]"), "vec2(0.5), 0.0",
                    "vec3(0.5), 0.0"),
           true,
@@ -732,9 +749,10 @@ TEST(UserPass, TheScenesTexturesAndAccelerationStructureAreCheckedAndNeedRayQuer
           {":5: 'hits' takes binding 15, which the scene has (bindings 0 to 2, and 14 and 15 for ray queries, with \"scene\": true); "
            "bind port 'hits' at another binding from 3"});
 
-  // As the library declares them: a ray-query pass, refused where the device lacks them.
+  // Declaring the acceleration structure itself: a pass that traces with ray queries alone, refused
+  // where the device lacks them; through the library it compiles for the compute tracer too.
   write(dir / "trace.comp", kTracingShader);
-  EXPECT_EQ(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8)).ray_query_passes, std::vector<std::string>{"trace"});
+  EXPECT_EQ(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8)).traced_passes, std::vector<std::string>{"trace"});
   CompileOptions without;
   without.ray_queries = false;
   without.ray_queries_missing = "VK_KHR_ray_query (a test device)";
@@ -745,10 +763,12 @@ TEST(UserPass, TheScenesTexturesAndAccelerationStructureAreCheckedAndNeedRayQuer
     EXPECT_NE(
         std::string(e.what()).find("pass 'trace' (compute) traces exact paths with ray queries (VK_KHR_ray_query, "
                                    "VK_KHR_acceleration_structure), and this device lacks VK_KHR_ray_query (a test device); its shader " +
-                                   file + " declares the scene's acceleration structure (binding 14"),
+                                   file + " declares the scene's acceleration structure itself (binding 14"),
         std::string::npos)
         << e.what();
   }
+  write(dir / "trace.comp", kLibraryTracingShader);
+  EXPECT_EQ(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8), without).tracer, graph::Tracer::compute);
   // The textures alone need no ray queries.
   write(dir / "trace.comp", R"(#version 460
 #extension GL_EXT_nonuniform_qualifier : require
@@ -757,14 +777,15 @@ layout(binding = 3, rgba32f) uniform writeonly image2D hits;
 layout(set = 1, binding = 0) uniform sampler2D textures[];
 void main() { imageStore(hits, ivec2(gl_GlobalInvocationID.xy), textureLod(textures[0], vec2(0.5), 0.0)); }
 )");
-  EXPECT_TRUE(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8), without).ray_query_passes.empty());
+  EXPECT_TRUE(compile_in(dir, one_image_pass("trace", "trace.comp", "hits", true, 8, 8), without).traced_passes.empty());
 }
 
-// On the device: the ray down the y axis meets the highest surface there (the top of sphere_plane's
-// ball), and the scene's first texture (a white texel where the scene has none) multiplies it by 1.
-TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
+// On the device, with each tracer the device has: the ray down the y axis meets the highest surface
+// there (the top of sphere_plane's ball), and the scene's first texture (a white texel where the
+// scene has none) multiplies it by 1.
+TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTexturesWithEachTracer) {
   const auto dir = test_dir();
-  write(dir / "trace.comp", kTracingShader);
+  write(dir / "trace.comp", kLibraryTracingShader);
   write(dir / "graph.json", one_image_pass("trace", "trace.comp", "hits", true, 8, 8).dump(2));
   const auto scene = test::load_bundled_scene("sphere_plane");
   float top = -1e30f;
@@ -773,10 +794,16 @@ TEST(UserPass, ATracingPassSeesTheScenesGeometryAndTextures) {
       top = std::max(top, o.bounds_max.y);
   }
   test::SceneEngine e;
-  e.render(load_graph_file((dir / "graph.json").string()), scene, {"hits"});
-  const io::ImageData hits = e.executor.read_image("hits");
-  // The ball is a mesh: its top lies within a fraction of a percent of its box's.
-  for (int c = 0; c < 4; ++c) EXPECT_NEAR(hits.rgba[static_cast<size_t>(c)], 100.0f - top, 0.01f * (1.0f + std::abs(top))) << c;
+  std::vector<graph::Tracer> tracers{graph::Tracer::compute};
+  if (e.vk.ray_queries().available) tracers.push_back(graph::Tracer::ray_query);
+  for (graph::Tracer tracer : tracers) {
+    SCOPED_TRACE(graph::tracer_name(tracer));
+    e.tracer = tracer;
+    e.render(load_graph_file((dir / "graph.json").string()), scene, {"hits"});
+    const io::ImageData hits = e.executor.read_image("hits");
+    // The ball is a mesh: its top lies within a fraction of a percent of its box's.
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(hits.rgba[static_cast<size_t>(c)], 100.0f - top, 0.01f * (1.0f + std::abs(top))) << c;
+  }
 }
 
 // Graph `path` of the data folder with `sets` applied.
@@ -834,32 +861,36 @@ TEST(UserPass, TheUserCausticMapEqualsTheBuiltInOnTheBundledScenes) {
 // same random numbers, same float operations: the maps and every counter agree to the float atomics'
 // order, as for the image-space example above. sphere_plane, rainbow_lens (dispersive: three colour
 // bands) and mask_over_lens (a MASK texture that the rays pass through where it cuts the quad out),
-// at a small grid, the exact kernel's compile being most of the time.
-TEST(UserPass, TheExactUserCausticMapEqualsTheBuiltInWithRayQueries) {
+// at a small grid, the exact kernel's compile being most of the time. With each tracer the device
+// has: the user shader is compiled for the compute tracer too (UserShader::compute_tracer).
+TEST(UserPass, TheExactUserCausticMapEqualsTheBuiltInWithEachTracer) {
   const std::vector<std::string> sets{"grid=32", "caustic_size=48", "light_size=64", "shadow_size=64"};
   const GraphDesc user = data_graph("graphs/examples/caustic_map_exact_user.json", sets);
   const GraphDesc builtin = data_graph("graphs/caustics_raytraced.json", sets);
   test::SceneEngine e;
-  ASSERT_TRUE(e.vk.ray_queries().available) << "lavapipe 25 has ray queries; this device lacks " << e.vk.ray_queries().missing;
   e.width = 32;
   e.height = 18;
+  std::vector<graph::Tracer> tracers{graph::Tracer::compute};
+  if (e.vk.ray_queries().available) tracers.push_back(graph::Tracer::ray_query);
   const std::string mask_over_lens = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/mask_over_lens.json").string();
-  for (const auto& scene : {test::load_bundled_scene("sphere_plane"), test::load_bundled_scene("rainbow_lens"),
-                            std::make_shared<scene::Scene>(scene::load_scene_file(mask_over_lens))}) {
-    SCOPED_TRACE(scene->name);
-    const FrameResult ours = e.render(user, scene, {"caustics"});
-    const io::ImageData map = e.executor.read_image("caustics");
-    const FrameResult theirs = e.render(builtin, scene, {"caustics"});
-    EXPECT_LE(test::relative_difference(map, e.executor.read_image("caustics")), 1e-6);
-    EXPECT_GT(theirs.counters.at("photons.exact"), 0.0);
-    for (const auto& [counter, value] : theirs.counters) {
-      if (!counter.starts_with("photons.") && !counter.starts_with("caustic.")) continue;
-      if (counter == "photons.converged" || counter == "photons.peak_bytes" || counter == "photons.batches")
-        continue;  // the built-in's own
-      ASSERT_TRUE(ours.counters.contains(counter)) << counter;
-      EXPECT_NEAR(ours.counters.at(counter), value, 1e-6 * std::abs(value)) << counter;
+  for (graph::Tracer tracer : tracers)
+    for (const auto& scene : {test::load_bundled_scene("sphere_plane"), test::load_bundled_scene("rainbow_lens"),
+                              std::make_shared<scene::Scene>(scene::load_scene_file(mask_over_lens))}) {
+      SCOPED_TRACE(scene->name + " traced by " + graph::tracer_name(tracer));
+      e.tracer = tracer;
+      const FrameResult ours = e.render(user, scene, {"caustics"});
+      const io::ImageData map = e.executor.read_image("caustics");
+      const FrameResult theirs = e.render(builtin, scene, {"caustics"});
+      EXPECT_LE(test::relative_difference(map, e.executor.read_image("caustics")), 1e-6);
+      EXPECT_GT(theirs.counters.at("photons.exact"), 0.0);
+      for (const auto& [counter, value] : theirs.counters) {
+        if (!counter.starts_with("photons.") && !counter.starts_with("caustic.")) continue;
+        if (counter == "photons.converged" || counter == "photons.peak_bytes" || counter == "photons.batches")
+          continue;  // the built-in's own
+        ASSERT_TRUE(ours.counters.contains(counter)) << counter;
+        EXPECT_NEAR(ours.counters.at(counter), value, 1e-6 * std::abs(value)) << counter;
+      }
     }
-  }
 }
 
 }  // namespace

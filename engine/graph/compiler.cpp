@@ -44,6 +44,7 @@ Plan Compiler::run() {
   find_cycle();
   check_writer_order();
   cull_and_order();
+  choose_tracer();
   find_dependencies();
   compute_lifetimes_and_usage();
   check_extent_groups();

@@ -36,11 +36,15 @@ struct CompileOptions {
   // "scene.dispersive", "scene.diagonal", "scene.ray_epsilon"): a pass's "enabled" can depend on it. Empty when there
   // is no scene.
   std::map<std::string, double> scene_values;
-  // Whether the device has ray queries, and if not what it lacks (for the message): a pass whose
-  // type says it uses them (PassTypeDecl::uses_ray_queries) is then refused. Device-less tools
-  // that cannot ask a device leave it true.
+  // Whether the device has ray queries, and if not what it lacks (for the message): a plan that
+  // traces (PassTypeDecl::traces_scene) then takes the compute tracer, and one that must have ray
+  // queries is refused. Device-less tools that cannot ask a device leave it true.
   bool ray_queries = true;
   std::string ray_queries_missing;
+  // The tracer asked for (render's --tracer, CAUSTICA_TRACER); unset: ray queries where the device
+  // has them (on lavapipe as fast as the compute tracer, on a GPU with hardware for them faster:
+  // docs/benchmarks.md), else the compute tracer.
+  std::optional<Tracer> tracer;
 };
 
 // The scene values `caustica validate` and `graph plan` assume without a scene file.

@@ -93,6 +93,7 @@ class Compiler {
   void warn_of_flat_cube_maps(const Node& node);
   void warn_of_undrawn_faces(const std::set<int>& drawn_views);
   void cull_and_order();
+  void choose_tracer();
 
   // compiler_dependencies.cpp: what each pass depends on; what a plan that reuses passes keeps.
   // A pass's "light" parameter as the scene has it: the last light where it has fewer.

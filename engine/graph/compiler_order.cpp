@@ -321,15 +321,7 @@ void Compiler::cull_and_order() {
       for (const auto& name : compile_time.known_names) plan_.expression_values[name] = *compile_time.lookup(name);
     }
     for (const auto& b : node.bindings) pass.ports[b.key] = b.resource;
-    if (pass.decl->uses_ray_queries && pass.decl->uses_ray_queries(pass.params)) {
-      if (!options_.ray_queries) {
-        throw graph_.error(pass.pointer, "pass '" + pass.name + "' (" + pass.type +
-                                             ") traces exact paths with ray queries (VK_KHR_ray_query, VK_KHR_acceleration_structure), "
-                                             "and this device lacks " +
-                                             options_.ray_queries_missing + "; " + pass.decl->ray_query_alternative);
-      }
-      plan_.ray_query_passes.push_back(pass.name);
-    }
+    if (pass.decl->traces_scene && pass.decl->traces_scene(pass.params)) plan_.traced_passes.push_back(pass.name);
     if (pass.decl->jitters_camera && pass.decl->jitters_camera(pass.params)) plan_.jitters_camera = true;
     if (pass.decl->uses_light_view && pass.decl->uses_light_view(pass.params)) drawn_views.insert(pass.params.value("light", 0));
     warn_of_flat_cube_maps(node);
@@ -362,6 +354,34 @@ void Compiler::warn_of_undrawn_faces(const std::set<int>& drawn_views) {
                              " of them; make its caustic passes and resources \"for_each\": "
                              "\"caustic_view\" (the bundled graphs do) to draw them all");
   }
+}
+
+// One tracer for the whole plan: the one asked for, else ray queries where the device has them (or
+// a pass must have them), else the compute tracer, which every device runs.
+void Compiler::choose_tracer() {
+  if (plan_.traced_passes.empty()) return;
+  const PlannedPass* first = nullptr;
+  const PlannedPass* ray_queries_only = nullptr;
+  for (const PlannedPass& pass : plan_.passes) {
+    if (std::find(plan_.traced_passes.begin(), plan_.traced_passes.end(), pass.name) == plan_.traced_passes.end()) continue;
+    if (!first) first = &pass;
+    if (pass.decl->ray_queries_only && !ray_queries_only) ray_queries_only = &pass;
+  }
+  const Tracer tracer = options_.tracer.value_or(ray_queries_only || options_.ray_queries ? Tracer::ray_query : Tracer::compute);
+  const PlannedPass& named = ray_queries_only ? *ray_queries_only : *first;
+  const std::string pass = "pass '" + named.name + "' (" + named.type + ")";
+  if (tracer == Tracer::ray_query && !options_.ray_queries) {
+    throw graph_.error(named.pointer,
+                       pass + " traces exact paths with ray queries (VK_KHR_ray_query, VK_KHR_acceleration_structure)" +
+                           (ray_queries_only ? std::string() : " as the tracer asked for (ray_query)") + ", and this device lacks " +
+                           options_.ray_queries_missing + "; " +
+                           (ray_queries_only ? named.decl->ray_query_alternative : "trace with the compute tracer (--tracer compute)"));
+  }
+  if (tracer == Tracer::compute && ray_queries_only) {
+    throw graph_.error(named.pointer, pass + " traces with ray queries alone, and the tracer asked for is the compute tracer; " +
+                                          named.decl->ray_query_alternative);
+  }
+  plan_.tracer = tracer;
 }
 
 }  // namespace caustica::graph::compiler_internal

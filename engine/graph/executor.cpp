@@ -36,6 +36,7 @@ CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const 
   options.limits.max_storage_buffer_range = limits.maxStorageBufferRange;
   options.ray_queries = vk_.ray_queries().available;
   options.ray_queries_missing = vk_.ray_queries().missing + " (" + vk_.device_name() + ")";
+  options.tracer = tracer_from_environment();
   VkDevice device = vk_.device();
   options.memory_requirements = [device](const PlannedResource& r) {
     VkMemoryRequirements2 requirements{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
@@ -58,14 +59,15 @@ CompileOptions Executor::compile_options(uint32_t width, uint32_t height) const 
 
 bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height, const ConfigureOptions& options) {
   std::string key = graph.doc.path() + "\n" + graph.doc.root().dump() + "\n" + std::to_string(width) + "x" + std::to_string(height) + "\n" +
-                    std::to_string(options.memory_limit_bytes) + (options.reuse_unchanged_passes ? "\nreuse" : "");
+                    std::to_string(options.memory_limit_bytes) + (options.reuse_unchanged_passes ? "\nreuse" : "") +
+                    (options.tracer ? std::string("\ntracer ") + tracer_name(*options.tracer) : "");
   for (const auto& p : graph.parameters) key += "\n" + p.decl.name + "=" + p.value.dump();
   for (const auto& r : options.retained) key += "\nretain " + r;
   const auto scene_values = scene_ ? scene_->scene().expression_values() : std::map<std::string, double>{};
   for (const auto& [name, value] : scene_values) key += "\n" + name + "=" + std::to_string(value);
   const bool start_over = options.hand_over.start_over || !options.hand_over.edited_shaders.empty();
   if (plan_ && key == configured_key_ && !start_over) {
-    if (!plan_->ray_query_passes.empty()) scene_->acceleration();  // set_scene() may have replaced the scene
+    build_tracer_structures(*plan_);  // set_scene() may have replaced the scene
     return false;
   }
   CompileOptions compile = compile_options(width, height);
@@ -73,17 +75,23 @@ bool Executor::configure(const GraphDesc& graph, uint32_t width, uint32_t height
   compile.memory_limit_bytes = options.memory_limit_bytes;
   compile.scene_values = scene_values;
   compile.reuse_unchanged_passes = options.reuse_unchanged_passes;
+  if (options.tracer) compile.tracer = options.tracer;
   Plan plan = compile_graph(graph, registry_, compile);
   for (const auto& pass : plan.passes) {
     if (pass.decl->needs_scene && !scene_) {
       throw graph.error(pass.pointer, "pass '" + pass.name + "' (" + pass.decl->type + ") draws a scene, and none was given (--scene)");
     }
   }
-  if (!plan.ray_query_passes.empty()) scene_->acceleration();
+  build_tracer_structures(plan);
   realize(std::move(plan), options.hand_over);
   configured_key_ = key;
   ++compile_count_;
   return true;
+}
+
+void Executor::build_tracer_structures(const Plan& plan) {
+  if (plan.tracer == Tracer::ray_query) scene_->acceleration();
+  if (plan.tracer == Tracer::compute) scene_->tracer_bvh();
 }
 
 void Executor::realize(Plan plan, const HandOverOptions& options) {

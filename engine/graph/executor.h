@@ -66,6 +66,9 @@ struct ConfigureOptions {
   // What the plan before may hand the new one (run_policy.h). start_over or edited shaders compile
   // again even where nothing else changed.
   HandOverOptions hand_over;
+  // The tracer asked for (--tracer); unset: CAUSTICA_TRACER's, else the device's choice
+  // (CompileOptions::tracer).
+  std::optional<Tracer> tracer;
 };
 
 class Executor {
@@ -111,6 +114,8 @@ class Executor {
   bool picture_standing() const;
 
  private:
+  // The structures of the plan's tracer for the scene (built once per scene).
+  void build_tracer_structures(const Plan& plan);
   friend class PassSetup;
   friend class PassContext;
   struct RealImage;

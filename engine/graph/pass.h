@@ -33,6 +33,8 @@ class PassSetup {
   // The pass that set up counter `name` first, or "" where none has: passes that count under one
   // name add into one counter.
   std::string counter_owner(const std::string& name) const;
+  // How the plan's passes that trace walk the scene (Tracer::none where none traces).
+  Tracer tracer() const;
   // A shader of a pipeline: its path under the shader root and its defines.
   struct ShaderFile {
     std::string path;

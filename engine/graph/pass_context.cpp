@@ -14,6 +14,9 @@ vk::Context& PassSetup::vk() const {
 shader::ShaderCompiler& PassSetup::shaders() const {
   return executor_.shaders_;
 }
+Tracer PassSetup::tracer() const {
+  return executor_.plan_->tracer;
+}
 const PlannedResource& PassSetup::resource(const std::string& port) const {
   return executor_.plan_->resources[pass_.ports.at(port)];
 }

@@ -123,10 +123,12 @@ struct PassTypeDecl {
   bool side_effects = false;  // kept even when it reaches no output
   std::function<std::unique_ptr<Pass>()> create;
   bool needs_scene = false;  // draws or reads the scene: running it without one is an input error
-  // Whether the pass, with these resolved parameters, traces exact paths with ray queries
-  // (VK_KHR_ray_query over the scene's acceleration structures). A plan with such a pass compiles
-  // only for a device that has them (CompileOptions::ray_queries). Unset: never.
-  std::function<bool(const nlohmann::json& params)> uses_ray_queries;
+  // Whether the pass, with these resolved parameters, traces exact paths through the scene's
+  // geometry (shaders/scene/trace.glsl, by the plan's Tracer). Unset: never.
+  std::function<bool(const nlohmann::json& params)> traces_scene;
+  // A pass that traces with ray queries alone (a user shader that declares the acceleration
+  // structure itself): its plan takes the ray-query tracer, and a device without it refuses the pass.
+  bool ray_queries_only = false;
   // Whether the pass, with these parameters, draws from its light's view (parameter "light", default
   // 0): only spot and directional lights have one, so with a point light the plan warns that the pass
   // contributes nothing (Plan::warnings). Unset: never.
@@ -147,8 +149,8 @@ struct PassTypeDecl {
   // state (a light map a power of two wide, an output twice another's width). The compiler checks
   // it, so that `validate` refuses what a render would. Unset: none.
   std::function<PassCheck(const nlohmann::json& params, const PortResources& resource)> check;
-  // What to suggest instead on a device without ray queries: the parameter value and the bundled
-  // graph that stay in image space.
+  // What to suggest instead where a pass that traces with ray queries alone (ray_queries_only)
+  // cannot: a user pass's, naming its shader.
   std::string ray_query_alternative;
   // The registry's "compute" and "fullscreen": each pass of this type declares its own in the file.
   UserShaderKind user_kind = UserShaderKind::none;

@@ -1,7 +1,9 @@
 #include "graph/plan.h"
 
+#include "core/error.h"
 #include "graph/per_light.h"
 
+#include <cstdlib>
 #include <utility>
 
 namespace caustica::graph {
@@ -85,6 +87,23 @@ std::string layout_name(VkImageLayout layout) {
   }
 }
 
+const char* tracer_name(Tracer tracer) {
+  return tracer == Tracer::ray_query ? "ray_query" : tracer == Tracer::compute ? "compute" : "none";
+}
+
+std::optional<Tracer> parse_tracer(std::string_view name) {
+  if (name == "ray_query") return Tracer::ray_query;
+  if (name == "compute") return Tracer::compute;
+  return std::nullopt;
+}
+
+std::optional<Tracer> tracer_from_environment() {
+  const char* value = std::getenv("CAUSTICA_TRACER");
+  if (!value || !*value || std::string_view(value) == "auto") return std::nullopt;
+  if (auto tracer = parse_tracer(value)) return tracer;
+  throw InputError(std::string("CAUSTICA_TRACER=") + value + ": the tracer is ray_query, compute or auto");
+}
+
 nlohmann::json plan_to_json(const Plan& plan) {
   using json = nlohmann::ordered_json;
   json out;
@@ -94,7 +113,8 @@ nlohmann::json plan_to_json(const Plan& plan) {
   out["order"] = json::array();
   for (const auto& p : plan.passes) out["order"].push_back(p.name);
   out["culled"] = plan.culled;
-  out["ray_query_passes"] = plan.ray_query_passes;
+  out["traced_passes"] = plan.traced_passes;
+  if (plan.tracer != Tracer::none) out["tracer"] = tracer_name(plan.tracer);
   out["warnings"] = plan.warnings;
   out["disabled"] = plan.disabled;
   out["disabled_by"] = plan.disabled_by;

@@ -19,6 +19,17 @@
 
 namespace caustica::graph {
 
+// How the passes that trace exact paths walk the scene (shaders/scene/trace.glsl): with ray queries
+// over the driver's acceleration structures, or with the compute tracer over the host-built BVH
+// (engine/scene/bvh.h), which every device runs.
+enum class Tracer { none, ray_query, compute };
+const char* tracer_name(Tracer tracer);
+// "ray_query" or "compute"; nullopt for anything else.
+std::optional<Tracer> parse_tracer(std::string_view name);
+// CAUSTICA_TRACER (ray_query or compute; what --tracer sets) where it is set, nullopt for auto or
+// unset; an InputError naming it for another value.
+std::optional<Tracer> tracer_from_environment();
+
 inline constexpr uint32_t kNoPass = UINT32_MAX;
 inline constexpr uint32_t kNoBlock = UINT32_MAX;
 inline constexpr uint32_t kNoResource = UINT32_MAX;
@@ -163,8 +174,11 @@ struct Plan {
   // Every instance of a per-light or per-view pass (graph/per_light.h), planned or not: whose it is.
   std::map<std::string, Instance> instances;
   std::map<std::string, std::string> fallbacks;  // resource -> the resource read in its place
-  std::vector<std::string> warnings;          // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
-  std::vector<std::string> ray_query_passes;  // passes that trace with ray queries: the scene's acceleration structures are built
+  std::vector<std::string> warnings;  // what compiles but will not do what the graph is for (a caustic pass lit by a point light)
+  // Passes that trace the scene's exact geometry, and the tracer they all use (none without any):
+  // the executor builds that tracer's structures for the scene.
+  std::vector<std::string> traced_passes;
+  Tracer tracer = Tracer::none;
   std::vector<PlannedResource> resources;
   // The types of the graph's user passes ("compute", "fullscreen"), one per pass, made from the file
   // and their shaders: PlannedPass::decl points here for them.

@@ -72,6 +72,7 @@ nlohmann::json stats_json(const Plan& plan, const RunRecord& run) {
                    {"persistent_bytes", plan.persistent_bytes},
                    {"acceleration_bytes", run.acceleration_bytes}};
   if (run.acceleration_bytes > 0) out["acceleration"] = {{"bytes", run.acceleration_bytes}, {"build_ms", run.acceleration_build_ms}};
+  if (plan.tracer != Tracer::none) out["tracer"] = tracer_name(plan.tracer);
   out["counters"] = json::object();
   if (!run.frames.empty()) {
     for (const auto& [name, value] : run.frames.back().counters) out["counters"][name] = counter_value(value);

@@ -13,7 +13,8 @@ struct RunRecord {
   std::vector<FrameResult> frames;
   std::vector<double> frame_start_ms;  // CPU time of each frame's start, from the first
   std::vector<double> frame_wall_ms;   // each frame's wall time, where the run measured it
-  // The scene's acceleration structures, when a pass traces with ray queries (else all 0).
+  // The structures the plan's tracer walks (the ray queries' acceleration structures or the compute
+  // tracer's BVH), when a pass traces (else all 0).
   uint64_t acceleration_bytes = 0;
   double acceleration_build_ms = 0;  // triangle sort on the host plus the build, waited for
 };

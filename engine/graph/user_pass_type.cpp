@@ -26,7 +26,7 @@ BindingKind binding_kind_of(const PortDecl& port) {
 }
 
 // The scene's bindings of set 0 (is_scene_binding): its blocks at 0..2 (shaders/scene/scene.glsl),
-// its acceleration structure and triangles at 14 and 15 (scene/ray_query.glsl).
+// its tracer's structure and triangles at 14 and 15 (scene/trace.glsl).
 BindingKind scene_binding_kind(uint32_t binding) {
   return binding == 0                   ? BindingKind::uniform_buffer
          : binding == kSceneTlasBinding ? BindingKind::acceleration_structure
@@ -42,7 +42,7 @@ SceneResource scene_resource(uint32_t binding) {
 }
 
 const char* scene_library_of(uint32_t binding) {
-  return binding < kUserSceneBindings ? "shaders/scene/scene.glsl" : "shaders/scene/ray_query.glsl";
+  return binding < kUserSceneBindings ? "shaders/scene/scene.glsl" : "shaders/scene/trace.glsl";
 }
 
 // What a port or counter buffer at one of the scene's bindings is told.
@@ -279,8 +279,8 @@ class Checker {
       throw graph_.error(pass_.pointer + (shader_.scene ? "/scene" : ""),
                          place(b.place) + ": '" + b.name + "' at binding " + std::to_string(b.binding) +
                              " is an acceleration structure; a user pass has one only as the scene's, binding " +
-                             std::to_string(kSceneTlasBinding) + " of set 0 (shaders/scene/ray_query.glsl)" +
-                             (shader_.scene ? "" : ", with \"scene\": true, and then needs a device with ray queries"));
+                             std::to_string(kSceneTlasBinding) + " of set 0 (shaders/scene/trace.glsl)" +
+                             (shader_.scene ? "" : ", with \"scene\": true"));
     }
     std::vector<std::string> ports;
     for (const auto& p : user_.ports) ports.push_back(p.name);
@@ -414,6 +414,23 @@ class Checker {
   }
 };
 
+// The shader compiled for the compute tracer, where it traces through scene/trace.glsl: nothing
+// where it still declares an acceleration structure (its own, not the library's).
+std::optional<UserShader::TracerVariant> compute_tracer_variant(const std::filesystem::path& path, const std::string& shader_pointer,
+                                                                const GraphDesc& graph, const PassDesc& pass) {
+  shader::ReflectedShader compiled;
+  try {
+    compiled = shader::process_shader_compiler().compile_reflected(path.string(), {{"CAUSTICA_COMPUTE_TRACER", "1"}});
+  } catch (const InputError& e) {
+    throw graph.error(shader_pointer, "the shader of pass '" + pass.name + "' does not compile for the compute tracer: " + e.what());
+  }
+  const auto& bindings = compiled.reflection.bindings;
+  if (std::any_of(bindings.begin(), bindings.end(),
+                  [](const ReflectedBinding& b) { return b.kind == BindingKind::acceleration_structure; }))
+    return std::nullopt;
+  return UserShader::TracerVariant{std::move(compiled.spirv), std::move(compiled.reflection)};
+}
+
 }  // namespace
 
 std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, const GraphDesc& graph, const PassDesc& pass,
@@ -456,10 +473,13 @@ std::shared_ptr<PassTypeDecl> make_user_pass_type(const PassTypeDecl& kind, cons
   Checker(graph, pass, compiled.reflection, *shader, *decl).run();
   shader->reflection = std::move(compiled.reflection);
   if (shader->ray_queries) {
-    decl->uses_ray_queries = [](const nlohmann::json&) { return true; };
+    decl->traces_scene = [](const nlohmann::json&) { return true; };
+    shader->compute_tracer = compute_tracer_variant(path, shader_pointer, graph, pass);
+    decl->ray_queries_only = !shader->compute_tracer;
     decl->ray_query_alternative =
-        "its shader " + shader->path + " declares the scene's acceleration structure (binding " + std::to_string(kSceneTlasBinding) +
-        ", shaders/scene/ray_query.glsl); give the pass a shader that does not trace the scene, or run the graph on a device that has them";
+        "its shader " + shader->path + " declares the scene's acceleration structure itself (binding " + std::to_string(kSceneTlasBinding) +
+        "); trace through shaders/scene/trace.glsl's trace_surface and occluded instead, which every device runs, or run the graph "
+        "on a device that has ray queries";
   }
   decl->user_shader = shader;
   return decl;

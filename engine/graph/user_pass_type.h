@@ -36,9 +36,9 @@ struct UserShaderBinding {
 // scene.glsl: SCENE_FRAME, SCENE_VERTICES, SCENE_OBJECTS); its ports bind after them.
 inline constexpr uint32_t kUserSceneBindings = 3;
 // Where the built-in passes' shaders have the rest of the scene, which the shader library declares
-// there: the texture array (set 1, scene/textures.glsl), and for ray queries the top-level
-// acceleration structure and its triangles' vertex indices (set 0, scene/ray_query.glsl). A pass
-// with "scene": true gets those its shader declares.
+// there: the texture array (set 1, scene/textures.glsl), and for tracing the scene's structure (the
+// top-level acceleration structure, or the compute tracer's BVH) and its triangles' vertex indices
+// (set 0, scene/trace.glsl). A pass with "scene": true gets those its shader declares.
 inline constexpr uint32_t kSceneTextureSet = 1;
 inline constexpr uint32_t kSceneTlasBinding = 14;
 inline constexpr uint32_t kSceneTrianglesBinding = 15;
@@ -71,7 +71,15 @@ struct UserShader {
   std::string path;                          // the shader file as found
   std::vector<std::filesystem::path> files;  // it and everything it includes: what a reload watches
   std::vector<uint32_t> spirv;
-  shader::Reflection reflection;          // what the pass's pipeline is laid out and bound by
+  shader::Reflection reflection;  // what the pass's pipeline is laid out and bound by
+  // A shader that traces through the library (scene/trace.glsl) compiled again for the compute
+  // tracer (CAUSTICA_COMPUTE_TRACER), which a plan with that tracer runs; unset where the shader
+  // declares the acceleration structure itself (it then traces with ray queries alone).
+  struct TracerVariant {
+    std::vector<uint32_t> spirv;
+    shader::Reflection reflection;
+  };
+  std::optional<TracerVariant> compute_tracer;
   std::vector<UserPortBinding> bindings;  // one per port
   // Where the parameters go: the push-constant block, or the uniform block kParamsBlock at
   // `params_block` (a buffer of the pass's own, written each time it records). Each is a 4-byte
@@ -85,8 +93,8 @@ struct UserShader {
   std::optional<UserShaderBinding> params_block;
   bool scene = false;
   std::vector<UserSceneBinding> scene_bindings;  // those the shader declares
-  // With the scene: whether the shader samples its textures (set 1), and whether it traces it with
-  // ray queries (declares binding 14 or 15): the pass then needs a device that has them.
+  // With the scene: whether the shader samples its textures (set 1), and whether it traces it
+  // (declares binding 14 or 15, as scene/trace.glsl does).
   bool scene_textures = false;
   bool ray_queries = false;
   // The pass's counters, in order, and where the shader declares its counter buffer: as uints

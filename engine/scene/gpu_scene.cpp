@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <iterator>
 #include <string_view>
+
+#include "core/error.h"
+#include "scene/bvh.h"
 
 namespace caustica::scene {
 namespace {
@@ -118,6 +122,24 @@ void GpuScene::replace_view(const View& camera, std::vector<Light> lights) {
 const AccelerationStructures& GpuScene::acceleration() {
   if (!acceleration_) acceleration_ = std::make_unique<AccelerationStructures>(vk_, *scene_, vertex_base_);
   return *acceleration_;
+}
+
+const GpuScene::TracerBuffers& GpuScene::tracer_bvh() {
+  if (tracer_bvh_) return *tracer_bvh_;
+  const auto start = std::chrono::steady_clock::now();
+  const TracerBvh built = build_scene_bvh(*scene_, vertex_base_);
+  if (built.triangle_count == 0) throw InputError(scene_->path + ": no triangles to trace");
+  auto buffers = std::make_unique<TracerBuffers>();
+  buffers->bvh = vk::make_static_buffer(vk_, built.words.data(), built.words.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                        "tracer bvh");
+  buffers->triangles = vk::make_static_buffer(vk_, built.triangle_vertices.data(), built.triangle_vertices.size() * sizeof(uint32_t),
+                                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "tracer triangles");
+  buffers->bytes = built.bytes();
+  buffers->nodes = built.node_count;
+  buffers->depth = built.depth;
+  buffers->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  tracer_bvh_ = std::move(buffers);
+  return *tracer_bvh_;
 }
 
 std::pair<DrawRange, DrawRange> GpuScene::split_thin(DrawRange range) const {

@@ -56,6 +56,15 @@ class GpuScene {
   // pass that traces with ray queries), so that a graph without one never pays for them.
   const AccelerationStructures& acceleration();
   const AccelerationStructures* built_acceleration() const { return acceleration_.get(); }
+  // The compute tracer's BVH (scene/bvh.h) on the device, built on first request likewise.
+  struct TracerBuffers {
+    vk::Buffer bvh, triangles;  // the shaders' BvhBlock and TriangleBlock
+    uint64_t bytes = 0;
+    double build_ms = 0;  // on the host, with the upload
+    uint32_t nodes = 0, depth = 0;
+  };
+  const TracerBuffers& tracer_bvh();
+  const TracerBuffers* built_tracer_bvh() const { return tracer_bvh_.get(); }
 
   // Writes camera and light data for an output of this size; call before recording a frame.
   void update_frame(uint32_t width, uint32_t height);
@@ -82,6 +91,7 @@ class GpuScene {
   GpuTextures textures_;
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;
+  std::unique_ptr<TracerBuffers> tracer_bvh_;
   vk::Buffer vertices_, indices_, objects_, frame_;
   DrawRange opaque_, refractors_, thin_refractors_;
   std::vector<DrawRange> ranges_;

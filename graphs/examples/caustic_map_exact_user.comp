@@ -1,8 +1,8 @@
 #version 460
 // The regular caustic map's photons traced exactly (the built-in caustic_map with distance
 // ray_query, caustics_raytraced.json) as a user pass: one photon per texel of a grid x grid grid over
-// the light's image plane, started at its cell's centre and traced with ray queries through the
-// scene's acceleration structure by the shader library's exact tracer (caustics/photon.glsl with
+// the light's image plane, started at its cell's centre and traced through the scene (ray queries
+// or the compute tracer, as the plan has it) by the shader library's exact tracer (caustics/photon.glsl with
 // CAUSTICA_RAY_QUERY: every interface, Fresnel choices, total internal reflection, absorption, MASK
 // materials' coverage from the scene's textures), then splatted into the caustic map, which the
 // graph's caustic_clear pass has zeroed. Its counters are the built-in's, in the graph's order: the
@@ -29,8 +29,8 @@ layout(push_constant) uniform Params {
   uint dispersive;
 } params;
 
-// Every photon exact from the light (the scene's acceleration structure and textures, bindings 14
-// and 15 and set 1, come with scene/ray_query.glsl, which photon.glsl includes); the image-space
+// Every photon exact from the light (the scene's structure and textures, bindings 14 and 15 and set
+// 1, come with scene/trace.glsl, which photon.glsl includes, for either tracer); the image-space
 // search is never run, so its steps and reach are nothing.
 #define CAUSTICA_RAY_QUERY 1
 #define CAUSTICA_DISTANCE_MODE DISTANCE_RAY_QUERY

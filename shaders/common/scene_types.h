@@ -20,6 +20,8 @@ using uint = uint32_t;
 #define CAUSTICA_RECEIVER_INSTANCES 0x01u
 #define CAUSTICA_REFRACTOR_INSTANCES 0x02u
 #define CAUSTICA_ALL_INSTANCES 0xFFu
+// The deepest BVH the compute tracer walks (engine/scene/bvh.h; scene/trace_bvh.glsl's stack).
+#define CAUSTICA_BVH_MAX_DEPTH 48
 #define CAUSTICA_MAX_TEXTURES 128  // the scene's texture array (set 1); unused slots hold a white texel
 // Colour bands of a dispersive material (KHR_materials_dispersion): red, green and blue refract with
 // the index at the Fraunhofer C, d and F lines, in nm. scene::Material::band_iors and refraction.glsl's

@@ -12,7 +12,7 @@
 // Needs refraction.glsl's helpers (included before) and `params` with exact_max_interfaces and
 // exact_epsilon. Each caller calls exact_path_step at one site, in its loop: lavapipe inlines every
 // call, and each copy of a ray query lengthens a pipeline's first compile by seconds.
-#include "scene/ray_query.glsl"
+#include "scene/trace.glsl"
 
 struct ExactPath {
   vec3 origin;

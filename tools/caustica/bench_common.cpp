@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "builtin_passes.h"
+#include "core/error.h"
 #include "core/paths.h"
 #include "flags.h"
 #include "graph/per_light.h"
@@ -102,10 +103,16 @@ std::vector<Timings> time_interleaved(const std::vector<graph::Executor*>& execu
 }
 
 bool runs_on(const vk::Context& vk, const graph::GraphDesc& g) {
-  if (vk.ray_queries().available) return true;
   graph::CompileOptions options;
   options.scene_values = graph::typical_scene_values();
-  return graph::compile_graph(g, passes::builtin_registry(), options).ray_query_passes.empty();
+  options.ray_queries = vk.ray_queries().available;
+  options.tracer = graph::tracer_from_environment();
+  try {
+    graph::compile_graph(g, passes::builtin_registry(), options);
+    return true;
+  } catch (const InputError&) {
+    return false;  // traces with ray queries (--tracer ray_query) where the device has none
+  }
 }
 
 // Declared on options that still hold their defaults, which the help texts say.
@@ -116,7 +123,8 @@ void ComparisonOptions::add_flags(FlagTable& table) {
       .add(uint_flag("--reference-photons", "N", "photons of the reference (default 1e8)", reference_photons, 1000, 100'000'000'000ull))
       .add(blur_flag(blur, "Gaussian sigma in pixels before comparing with the reference (default 1.5)"))
       .add(text_flag("--out", "DIR", "the folder of the results (required)", out_dir))
-      .add(device_flag(device));
+      .add(device_flag(device))
+      .add(tracer_flag());
 }
 
 Chart find_chart() {

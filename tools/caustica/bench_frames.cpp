@@ -28,7 +28,7 @@ struct LoadOptions {
 
 FlagTable load_flags(LoadOptions& o) {
   return {text_flag("--scene", "FILE", "the scene or model file to load (required)", o.file),
-          uint32_flag("--runs", "N", "loads to take the median of (default 5)", o.runs, 1, 100), device_flag(o.device)};
+          uint32_flag("--runs", "N", "loads to take the median of (default 5)", o.runs, 1, 100), device_flag(o.device), tracer_flag()};
 }
 
 struct RefractionOptions {
@@ -47,6 +47,7 @@ FlagTable refraction_flags(RefractionOptions& o) {
       size_flag(o.width, o.height, "the frame size (default 1280x720)"),
       frames_flag(o.frames, 1000, "frames timed of each (default 7)"),
       device_flag(o.device),
+      tracer_flag(),
       text_flag("--csv", "FILE", "also write the table as CSV", o.csv)};
 }
 
@@ -59,13 +60,17 @@ struct CompareOptions {
 };
 
 FlagTable compare_flags(CompareOptions& o) {
-  return {names_flag("--graphs", "A,B[,...]", "the graphs (names or files), the first the one the others are compared with", o.names),
+  return {names_flag("--graphs", "A,B[,...]",
+                     "the graphs (names or files), the first the one the others are compared with;\n"
+                     "NAME@ray_query or NAME@compute traces with that tracer (one graph, both tracers)",
+                     o.names),
           {"--scene", "FILE", "the scene (default sphere_plane)", [&o](const std::string& v) { o.scene_file = scene_path(v); }},
           size_flag(o.width, o.height, "the frame size (default 1280x720)"),
           frames_flag(o.frames, 1000, "frames timed of each (default 15)"),
           set_flag(o.sets, "a graph parameter, in every graph (repeatable)"),
           moving_flag(o.moving),
           device_flag(o.device),
+          tracer_flag(),
           text_flag("--csv", "FILE", "also write the table as CSV", o.csv)};
 }
 
@@ -81,7 +86,8 @@ FlagTable photons_flags(PhotonsOptions& o) {
           frames_flag(o.frames, 100, "frames timed of each (default 3)"),
           uint32_flag("--regular-max", "G", "the regular map only up to this grid (default 16384)", o.regular_max, 64, 65536),
           text_flag("--out", "DIR", "also write DIR/photons.csv", o.out_dir),
-          device_flag(o.device)};
+          device_flag(o.device),
+          tracer_flag()};
 }
 
 }  // namespace
@@ -204,7 +210,13 @@ int cmd_bench_compare(Args& args) {
   std::vector<graph::GraphDesc> graphs, declared;
   std::vector<std::vector<std::string>> still;  // each graph's values at rest, unless --moving
   std::vector<std::set<std::string>> method_passes;
-  for (const auto& name : names) {
+  std::vector<std::optional<graph::Tracer>> tracers;
+  for (const auto& named : names) {
+    const size_t at = named.rfind('@');
+    const std::string name = named.substr(0, at);
+    tracers.push_back(std::nullopt);
+    if (at != std::string::npos && !(tracers.back() = graph::parse_tracer(named.substr(at + 1))))
+      throw UsageError("--graphs " + named + ": after @ comes the tracer, ray_query or compute");
     declared.push_back(graph::load_graph_file(graph_path(name)));
     graph::apply_overrides(declared.back(), sets);
     graphs.push_back(declared.back());
@@ -223,8 +235,9 @@ int cmd_bench_compare(Args& args) {
   for (size_t g = 0; g < graphs.size(); ++g) {
     owned.push_back(std::make_unique<graph::Executor>(vk, shaders, passes::builtin_registry()));
     owned.back()->set_scene(scene);
-    configure_at_rest(graph_path(names[g]), graphs[g], declared[g], still[g],
-                      [&, w = width, h = height](const graph::GraphDesc& desc) { owned.back()->configure(desc, w, h); });
+    configure_at_rest(
+        graph_path(names[g].substr(0, names[g].rfind('@'))), graphs[g], declared[g], still[g],
+        [&, w = width, h = height](const graph::GraphDesc& desc) { owned.back()->configure(desc, w, h, {.tracer = tracers[g]}); });
     executors.push_back(owned.back().get());
   }
   const std::vector<Timings> t = time_interleaved(executors, frames, 2, method_passes, scene->name + ": frames");

@@ -80,6 +80,7 @@ FlagTable stability_flags(StabilityOptions& o) {
       uint_flag("--reference-photons", "N", "photons of the reference (default 2e7)", o.reference_photons, 1000, 100'000'000'000ull),
       text_flag("--out", "DIR", "the folder of stability.csv and README.md", o.out_dir),
       device_flag(o.device),
+      tracer_flag(),
       validate_flag(o.validate)};
   o.cells.add_flags(table);
   return table;

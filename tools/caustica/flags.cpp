@@ -1,10 +1,12 @@
 #include "flags.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <set>
 
 #include "core/paths.h"
 #include "core/suggest.h"
+#include "graph/plan.h"
 
 namespace caustica::cli {
 
@@ -144,10 +146,22 @@ Flag device_flag(std::string& device) {
   return text_flag("--device", "NAME", "Vulkan device whose name contains NAME (default: lavapipe)", device);
 }
 
+Flag tracer_flag() {
+  return {"--tracer", "KIND",
+          "how passes that trace exact paths walk the scene: ray_query (the driver's ray\n"
+          "queries), compute (the engine's BVH in compute shaders, every device) or auto\n"
+          "(default: ray queries where the device has them, else compute; CAUSTICA_TRACER)",
+          [](const std::string& v) {
+            if (v != "auto" && !graph::parse_tracer(v)) throw UsageError("--tracer " + v + ": expected ray_query, compute or auto");
+            ::setenv("CAUSTICA_TRACER", v.c_str(), 1);
+          }};
+}
+
 Flag frame_timeout_flag(double& seconds, double* first_frame_seconds, std::string default_help) {
   return {"--frame-timeout", "S",
           "end with exit code 3 and the name of the pass that was running when a frame has not\n"
-          "finished after S seconds (a shader that never ends); " + std::move(default_help),
+          "finished after S seconds (a shader that never ends); " +
+              std::move(default_help),
           [&seconds, first_frame_seconds](const std::string& v) {
             seconds = parse_number("--frame-timeout", v, 0.1, 86400);
             if (first_frame_seconds) *first_frame_seconds = seconds;

@@ -49,6 +49,9 @@ Flag frames_flag(uint32_t& frames, uint32_t max, std::string help);
 Flag orbit_flag(float& degrees, std::string help);
 Flag stats_flag(std::string& stats, std::string help);
 Flag device_flag(std::string& device);
+// --tracer ray_query|compute|auto: how exact paths walk the scene; sets CAUSTICA_TRACER, which
+// every executor of the process reads (graph::tracer_from_environment).
+Flag tracer_flag();
 Flag validate_flag(bool& validate, std::string help = "");
 // --frame-timeout S: every frame's limit, a plan's first included (graph::Executor::set_frame_timeout):
 // `seconds` and, where given, `first_frame_seconds`.

@@ -19,6 +19,7 @@
 #include "io/files.h"
 #include "io/json_reader.h"
 #include "scene/acceleration.h"
+#include "scene/bvh.h"
 #include "scene/scene.h"
 
 namespace caustica::cli {
@@ -201,6 +202,7 @@ int cmd_graph(Args& args) {
   options.output_height = o.height;
   options.memory_limit_bytes = o.memory_limit_mib << 20;
   options.scene_values = graph::typical_scene_values();
+  options.tracer = graph::tracer_from_environment();  // --tracer; without a device, auto means ray queries
   std::optional<scene::Scene> scene;
   if (o.scene_given) {
     scene = scene::load_scene_file(o.scene, o.stage);
@@ -213,7 +215,13 @@ int cmd_graph(Args& args) {
   }
   nlohmann::json out = graph::plan_to_json(plan);
   if (scene) out["lights"] = lights_report(*scene, plan);
-  if (!plan.ray_query_passes.empty()) {
+  if (plan.tracer == graph::Tracer::compute) {
+    if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
+    // The compute tracer's BVH is built on the host: its size here is the device's, to the byte.
+    const scene::TracerBvh bvh = scene::build_scene_bvh(*scene, std::vector<uint32_t>(scene->objects.size(), 0));
+    out["memory"]["bvh"] = {
+        {"scene", o.scene}, {"triangles", bvh.triangle_count}, {"nodes", bvh.node_count}, {"depth", bvh.depth}, {"bytes", bvh.bytes()}};
+  } else if (!plan.traced_passes.empty()) {
     if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
     const scene::AccelerationEstimate estimate = scene::estimate_acceleration(*scene);
     out["memory"]["acceleration"] = {{"scene", o.scene},

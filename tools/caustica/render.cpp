@@ -78,8 +78,10 @@ FlagTable render_flags(RenderOptions& o, bool trace, std::vector<std::string>& c
             },
             true})
       .add(device_flag(o.device))
+      .add(tracer_flag())
       .add(validate_flag(o.validate))
-      .add(frame_timeout_flag(o.frame_timeout_s, nullptr, "default 120, a plan's first frame 900\n(lavapipe compiles its pipelines as they first run)"))
+      .add(frame_timeout_flag(o.frame_timeout_s, nullptr,
+                              "default 120, a plan's first frame 900\n(lavapipe compiles its pipelines as they first run)"))
       .add(uint_flag("--memory-limit", "MIB", "the engine's device-memory limit for the graph (default 1536)", o.memory_limit_mib, 1,
                      1u << 20))
       .add(orbit_flag(o.orbit_degrees,
@@ -136,6 +138,10 @@ graph::RunRecord run_frames(graph::Executor& executor, const scene::Scene* scene
     run.acceleration_bytes = acceleration->bytes();
     run.acceleration_build_ms = acceleration->sort_ms() + acceleration->build_ms();
   }
+  if (const auto* bvh = executor.scene() ? executor.scene()->built_tracer_bvh() : nullptr) {
+    run.acceleration_bytes += bvh->bytes;
+    run.acceleration_build_ms += bvh->build_ms;
+  }
   const bool timed = o.seconds > 0;
   const bool show_progress = timed || o.frames >= 10 || (o.frames > 1 && ::isatty(STDERR_FILENO));
   ProgressLine progress(timed ? "second" : "frame", timed ? o.seconds : o.frames);
@@ -174,10 +180,11 @@ int run_render(const RenderOptions& o, bool trace) {
     if (!outs.back().second.empty()) retained.insert(outs.back().second);
   }
 
-  // Model no more than the graph needs: a graph without scene passes loads no scene.
+  // Model no more than the graph needs: a graph without scene passes (built-in, or user passes with
+  // "scene": true) loads no scene.
   const bool needs_scene = std::any_of(graph.passes.begin(), graph.passes.end(), [](const graph::PassDesc& p) {
     const auto* decl = passes::builtin_registry().find(p.type);
-    return decl && decl->needs_scene;
+    return (decl && decl->needs_scene) || (p.user && p.user->scene);
   });
   std::shared_ptr<const scene::Scene> scene;
   if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene, o.stage));

@@ -87,7 +87,7 @@ int cmd_validate(Args& args) {
         const graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
         for (const auto& warning : plan.warnings) std::cout << file << ": warning: " << warning << "\n";
         // A graph that traces with ray queries is valid only where the device it would run on has them.
-        if (!plan.ray_query_passes.empty()) {
+        if (!plan.traced_passes.empty()) {
           vk::RayQuerySupport support;
           try {
             support = vk::probe_ray_queries("");
@@ -96,6 +96,7 @@ int cmd_validate(Args& args) {
           }
           if (!support.available) {
             options.ray_queries = false;
+            options.tracer = graph::tracer_from_environment();
             options.ray_queries_missing = support.missing;
             graph::compile_graph(graph, passes::builtin_registry(), options);
           }

@@ -139,7 +139,8 @@ FlagTable window_flags(RenderOptions& o, editor::ViewerOptions& v, std::string s
            "--orbit 2 --move-frames 20:50 rests, orbits and rests again",
            [&v](const std::string& text) { parse_move_frames(text, v); }},
           validate_flag(o.validate, "Khronos validation; any message makes the command exit 3"),
-          device_flag(o.device)};
+          device_flag(o.device),
+          tracer_flag()};
 }
 
 // Checks what can be checked before the window opens, and fills in the defaults.

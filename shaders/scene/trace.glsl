@@ -1,16 +1,16 @@
-#ifndef CAUSTICA_RAY_QUERY_GLSL
-#define CAUSTICA_RAY_QUERY_GLSL
-// The scene's exact geometry through ray queries (GL_EXT_ray_query), for the passes that trace exact
-// paths (passes/refraction.h, RayQueryScene): binding 14 is the top-level acceleration structure,
-// 15 the vertex indices of every triangle, whose instance custom index is the object's first
-// triangle (engine/scene/acceleration.cpp). Needs SCENE_OBJECTS-style bindings 0 to 2 in the
-// including shader, and the scene's textures (set 1): MASK materials' geometry is not opaque, and
-// a candidate hit where the coverage is below the cutoff is passed by.
-#extension GL_EXT_ray_query : require
+#ifndef CAUSTICA_TRACE_GLSL
+#define CAUSTICA_TRACE_GLSL
+// The scene's exact geometry, for the passes that trace exact paths (passes/refraction.h,
+// TracedScene): trace_surface (the nearest hit) and occluded (a shadow ray), by one of two tracers
+// that the plan chooses (graph::Tracer): ray queries (GL_EXT_ray_query; binding 14 the top-level
+// acceleration structure, engine/scene/acceleration.cpp), or, with CAUSTICA_COMPUTE_TRACER, a BVH
+// walked by this shader (binding 14 the BvhBlock of engine/scene/bvh.h; scene/trace_bvh.glsl). Both
+// bind at 15 the vertex indices of every triangle in their own order. Needs SCENE_OBJECTS-style
+// bindings 0 to 2 in the including shader, and the scene's textures (set 1): a MASK material's
+// surface is passed by where its coverage is below the cutoff.
 #include "scene/scene.glsl"
 #include "scene/textures.glsl"
 SCENE_VERTICES
-layout(set = 0, binding = 14) uniform accelerationStructureEXT scene_tlas;
 layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
 
 struct SurfaceHit {
@@ -21,37 +21,24 @@ struct SurfaceHit {
   vec4 texcoords;  // interpolated: TEXCOORD_0 in xy, TEXCOORD_1 in zw
 };
 
-// Confirms the query's candidate triangle unless a MASK material cuts it out there (only geometry
-// of MASK materials is built non-opaque, so only it reaches here).
-void confirm_if_covered(rayQueryEXT query) {
-  if (rayQueryGetIntersectionTypeEXT(query, false) != gl_RayQueryCandidateIntersectionTriangleEXT) return;
-  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) + rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
-  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, false);
+// Whether triangle `triangle` (of TriangleBlock) is there at barycentrics `b` (v1's and v2's
+// weights): false where its MASK material cuts it out.
+bool covered(uint triangle, vec2 b) {
   Vertex v0 = vertices[triangle_vertices[3u * triangle]];
   Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
   Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
   vec4 texcoords = (1.0 - b.x - b.y) * v0.texcoords + b.x * v1.texcoords + b.y * v2.texcoords;
-  if (!cut_out_at_full_resolution(objects[uint(v0.normal_object.w + 0.5)], texcoords)) rayQueryConfirmIntersectionEXT(query);
+  return !cut_out_at_full_resolution(objects[uint(v0.normal_object.w + 0.5)], texcoords);
 }
 
-// The nearest surface along a ray among the instances of mask `instances` (scene_types.h).
-SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min, uint instances) {
-  rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsNoneEXT, instances, origin, t_min, direction, 1e30);
-  while (rayQueryProceedEXT(query)) confirm_if_covered(query);
-  SurfaceHit h;
-  h.hit = rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
-  h.t = 0.0;
-  h.normal = vec3(0.0, 1.0, 0.0);
-  h.object = 0u;
-  h.texcoords = vec4(0.0);
-  if (!h.hit) return h;
-  h.t = rayQueryGetIntersectionTEXT(query, true);
-  uint triangle = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) + rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
-  vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
+// The hit at distance `t` on triangle `triangle` at barycentrics `b`.
+SurfaceHit surface_hit(uint triangle, vec2 b, float t) {
   Vertex v0 = vertices[triangle_vertices[3u * triangle]];
   Vertex v1 = vertices[triangle_vertices[3u * triangle + 1u]];
   Vertex v2 = vertices[triangle_vertices[3u * triangle + 2u]];
+  SurfaceHit h;
+  h.hit = true;
+  h.t = t;
   vec3 n = (1.0 - b.x - b.y) * v0.normal_object.xyz + b.x * v1.normal_object.xyz + b.y * v2.normal_object.xyz;
   vec3 geometric = cross(v1.position_dn.xyz - v0.position_dn.xyz, v2.position_dn.xyz - v0.position_dn.xyz);
   h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
@@ -59,6 +46,25 @@ SurfaceHit trace_surface(vec3 origin, vec3 direction, float t_min, uint instance
   h.texcoords = (1.0 - b.x - b.y) * v0.texcoords + b.x * v1.texcoords + b.y * v2.texcoords;
   return h;
 }
+
+SurfaceHit missed_surface() {
+  SurfaceHit h;
+  h.hit = false;
+  h.t = 0.0;
+  h.normal = vec3(0.0, 1.0, 0.0);
+  h.object = 0u;
+  h.texcoords = vec4(0.0);
+  return h;
+}
+
+// trace_surface(origin, direction, t_min, instances): the nearest surface along a ray among the
+// instances of mask `instances` (scene_types.h) at least t_min away; occluded(origin, direction,
+// t_max): whether anything lies on the segment from origin to origin + direction * t_max.
+#ifdef CAUSTICA_COMPUTE_TRACER
+#include "scene/trace_bvh.glsl"
+#else
+#include "scene/trace_ray_query.glsl"
+#endif
 
 // The surface that the exit ray of an image-space path through refractor `own` meets. The estimated
 // exit point `origin` may lie inside the surface it leaves, by up to `slack` along the ray: a first
@@ -103,14 +109,6 @@ vec4 tint_transmission_at(SurfaceHit h) {
   vec4 base_color = object.base_color.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.base_color, h.texcoords) : vec4(1.0);
   float transmission = object.transmission_map.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r : 1.0;
   return tint_transmission_from(object, base_color, transmission);
-}
-
-// Whether anything lies on the segment from origin to origin + direction * t_max (a shadow ray).
-bool occluded(vec3 origin, vec3 direction, float t_max) {
-  rayQueryEXT query;
-  rayQueryInitializeEXT(query, scene_tlas, gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, origin, 0.0, direction, t_max);
-  while (rayQueryProceedEXT(query)) confirm_if_covered(query);
-  return rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT;
 }
 
 #endif
