@@ -58,7 +58,11 @@ void counters_and_memory(const graph::FrameResult& frame, const graph::Plan& pla
     if (const auto* acceleration = scene ? scene->built_acceleration() : nullptr) {
       ImGui::Text("acceleration structures: %.1f MiB", double(acceleration->bytes()) / 1048576.0);
     }
+    if (const auto* bvh = scene ? scene->built_tracer_bvh() : nullptr) {
+      ImGui::Text("compute tracer's BVH: %.1f MiB, %u nodes, %u deep", double(bvh->bytes) / 1048576.0, bvh->nodes, bvh->depth);
+    }
   }
+  if (plan.tracer != graph::Tracer::none) ImGui::Text("exact paths traced by %s", graph::tracer_name(plan.tracer));
 }
 
 }  // namespace caustica::editor

@@ -41,7 +41,7 @@ struct RayQuerySupport {
 };
 
 // The device that Context would pick for `device_name`, probed without creating it: for checking a
-// graph that needs ray queries without a device (caustica validate). Throws as Context does.
+// graph that traces without a device (caustica validate: which tracer it takes). Throws as Context does.
 RayQuerySupport probe_ray_queries(const std::string& device_name, bool disable = false);
 
 struct DeviceInfo {
