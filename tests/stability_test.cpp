@@ -2,10 +2,10 @@
 // and what must hold in every case for every caustic method checked on its CSV. The cases: the
 // ball lens; the bunny with its light moving; n = 2.4; grazing light; a torus; stacked refractors;
 // a refractor smaller than the adaptive start grid's spacing; one filling the light's view; the
-// light close to the refractor; n = 1; no refractor. The methods: the five caustic maps, the hybrid
-// without coverage seeding, and the exact-path ladder (the adaptive hybrid graph with the
-// image-space search and with exact re-traces, and the ray-query tracer: lavapipe 25 has ray
-// queries; a device without them fails this test rather than skipping those rows).
+// light close to the refractor; a point light close to it; a bulb inside a glass globe (every cube
+// face of it a caustic view, and a second light); n = 1; no refractor. A case with several caustic views is measured on all of them at once
+// (their maps stacked). The methods: the five caustic maps, the hybrid without coverage seeding, and the exact-path ladder (the adaptive
+// hybrid graph with the image-space search and with exact re-traces, and the exact tracer, by the device's tracer).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -71,14 +71,16 @@ StabilityRun run_stability() {
   return run;
 }
 
-bool seeded(const Row& r) { return r.method.find("unseeded") == std::string::npos; }
+bool seeded(const Row& r) {
+  return r.method.find("unseeded") == std::string::npos;
+}
 // The methods that follow a path through more than two interfaces (the search follows total
 // internal reflection inside; the others trace exactly).
 bool follows_bounces(const Row& r) {
   return r.method.find("search") != std::string::npos || r.method.find("exact") != std::string::npos || r.method == "ray query";
 }
 constexpr size_t kMethods = 9;
-constexpr size_t kCases = 12;
+constexpr size_t kCases = 13;
 
 }  // namespace
 
@@ -110,7 +112,8 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
     return landed > 0 ? 3.0 / std::sqrt(landed) : 0.0;
   };
   // A method may lose energy, never create it, beyond that and 1% for the engine's grid sampling of
-  // the silhouette.
+  // the silhouette. (Image space landed the photons that slip past the floor's far edge on its
+  // outline: 1.0095 to 1.0149 of the reference's energy in the glass lamp's views.)
   {
     SCOPED_TRACE("NoMethodCreatesEnergy");
     for (const auto& r : run.rows) {
@@ -158,9 +161,21 @@ TEST(Stability, EveryMethodHoldsInEveryCase) {
     const auto rows = run.of_case("tiny refractor");
     ASSERT_EQ(rows.size(), kMethods);
     for (const auto& r : rows) {
-      if (seeded(r)) EXPECT_GT(r["energy_ratio"], 0.5) << r.method;
-      else EXPECT_EQ(r["energy_ratio"], 0.0) << r.method << ": the case no longer exercises the unseeded failure";
+      if (seeded(r))
+        EXPECT_GT(r["energy_ratio"], 0.5) << r.method;
+      else
+        EXPECT_EQ(r["energy_ratio"], 0.0) << r.method << ": the case no longer exercises the unseeded failure";
     }
+  }
+  // A bulb inside a glass globe sees only the inside of it, through six cube faces: every method
+  // starts its photons in the glass and lands the reference's caustic over all the views. The
+  // hierarchical map, its coverage taken from the light's front faces alone, traced none of them
+  // (0.035 of the reference's energy).
+  {
+    SCOPED_TRACE("ALightInsideGlassLandsItsCausticInEveryMethod");
+    const auto rows = run.of_case("light inside a glass shade");
+    ASSERT_EQ(rows.size(), kMethods);
+    for (const auto& r : rows) EXPECT_GT(r["energy_ratio"], 0.95 - reference_noise(r)) << r.method;
   }
   // n = 1: every method puts the light exactly where it would have gone without the sphere.
   {

@@ -20,7 +20,11 @@ void main() {
     // own sample texels, where this frame's jitter puts them, when the grid is coarser than the
     // light view, every texel otherwise.
     // That is what the regular map of the same grid sees, no more, and it saves reading the
-    // whole light view for small grids.
+    // whole light view for small grids. A light inside a glass globe sees only the inside of it
+    // (its photons start in the glass, photon.glsl's inside_photon): there the back faces are
+    // what it sees of a refractor (with the front faces alone the hierarchical map traced none
+    // of its photons: 3.5% of the reference's caustic on glass_lamp).
+    bool inside = frame.caustic_lights[params.light].face.y >= 0.0;
     uint light_side = uint(textureSize(front_tex, 0).x);
     uint grid_side = 64u << params.max_level;
     uint block = light_side >> params.light_size_log2;
@@ -30,7 +34,9 @@ void main() {
     for (uint y = 0u; y < per_side; ++y) {
       for (uint x = 0u; x < per_side; ++x) {
         vec2 uv = (vec2(p * per_side + uvec2(x, y)) + photon_jitter()) / samples_side;
-        any_refractor |= texelFetch(front_tex, ivec2(uv * float(light_side)), 0).y > 0.0 ? 1u : 0u;
+        ivec2 texel = ivec2(uv * float(light_side));
+        float seen = inside ? texelFetch(back_tex, texel, 0).y : texelFetch(front_tex, texel, 0).y;
+        any_refractor |= seen > 0.0 ? 1u : 0u;
       }
     }
     coverage[p.y * side + p.x] = any_refractor;

@@ -102,6 +102,31 @@ void land_on_map(inout Photon ph, vec2 uv) {
   ph.landed = true;
 }
 
+// Whether a ray from `origin` along `direction` meets the bounding box of a receiver (an opaque
+// object) ahead of it.
+bool receiver_box_ahead(vec3 origin, vec3 direction) {
+  vec3 away_from_zero = mix(vec3(1e-30), vec3(-1e-30), lessThan(direction, vec3(0.0)));
+  vec3 inverse_direction = 1.0 / mix(direction, away_from_zero, lessThan(abs(direction), vec3(1e-30)));
+  for (uint o = 0u; o < uint(objects.length()); ++o) {
+    if (objects[o].albedo_refractor.a != 0.0) continue;
+    vec3 t0 = (objects[o].bounds_min_thin.xyz - origin) * inverse_direction, t1 = (objects[o].bounds_max_spread.xyz - origin) * inverse_direction;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    if (max(max(near.x, near.y), max(near.z, 0.0)) <= min(min(far.x, far.y), far.z)) return true;
+  }
+  return false;
+}
+
+// Where a photon leaving a refractor at `origin` along `direction` lands in image space: where its
+// ray meets the receivers the light sees (march_depth), or, where it slips behind the outline of
+// one, on that outline (the light's texel of whatever hides the rest of its path) when a receiver's
+// box lies ahead of it, for the surface hidden from the light that it meets there. With no receiver
+// ahead (a photon past a floor's far edge) it escapes, as it does on the exact paths and in the
+// photon reference.
+bool lands_in_image_space(LightData light, vec3 origin, vec3 direction, out vec2 landing) {
+  uint found = march_depth(receiver_depth, light.view_proj, origin, direction, landing);
+  return found == MARCH_HIT || (found == MARCH_HIDDEN && receiver_box_ahead(origin, direction));
+}
+
 #ifdef CAUSTICA_RAY_QUERY
 // Lands a photon at world point p seen from the light: in the caustic map, or off it.
 void land_at(inout Photon ph, LightData light, vec3 p) {
@@ -200,8 +225,7 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
       d = through_thin(d, microfacet_normal(n2, d, roughness, rng), n2);
     }
     vec2 landing;
-    if (march_depth(receiver_depth, light.view_proj, far_wall ? eye + direction * back.y : p1, d, landing) != MARCH_MISS)
-      land_on_map(ph, landing);
+    if (lands_in_image_space(light, far_wall ? eye + direction * back.y : p1, d, landing)) land_on_map(ph, landing);
     return IMAGE_SPACE_DONE;
   }
   // Unbent, it goes on along its own light ray: it lands on the receiver seen at uv.
@@ -285,8 +309,7 @@ uint inside_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 dir
   ph.power *= exp(-object.absorption_ior.rgb * back.y);
   if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(dot(direction, n), ior, 1.0);
   vec2 landing;
-  if (march_depth(receiver_depth, light.view_proj, eye + direction * back.y, normalize(out_direction), landing) != MARCH_MISS)
-    land_on_map(ph, landing);
+  if (lands_in_image_space(light, eye + direction * back.y, normalize(out_direction), landing)) land_on_map(ph, landing);
   return IMAGE_SPACE_DONE;
 }
 
@@ -328,7 +351,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
 #else
   // A photon whose path the receiver depth hides lands where the light sees what hides it: the map
   // is the light's image, so that is the texel it belongs to, give or take the hidden stretch.
-  lands = !path.tir && march_depth(receiver_depth, light.view_proj, path.exit_point, path.exit_direction, landing) != MARCH_MISS;
+  lands = !path.tir && lands_in_image_space(light, path.exit_point, path.exit_direction, landing);
 #endif
   ph.followed = path.followed;
   if (path.tir) {

@@ -332,8 +332,9 @@ reference::PhotonReference photon_reference(const scene::Scene& scene, const ref
   if (cache.empty()) return reference::trace_photon_reference(scene, options);
   const std::string identity = reference::scene_identity(scene);
   const std::filesystem::path folder =
-      std::filesystem::path(cache) / (identity + "-p" + std::to_string(options.photons) + "-m" + std::to_string(options.map_size) + "-s" +
-                                      std::to_string(options.seed) + ".shards");
+      std::filesystem::path(cache) /
+      (identity + "-p" + std::to_string(options.photons) + "-m" + std::to_string(options.map_size) + "-s" + std::to_string(options.seed) +
+       (options.light ? "-v" + std::to_string(options.light) : "") + ".shards");
   std::vector<std::string> shards;
   if (std::filesystem::is_directory(folder)) {
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {

@@ -6,11 +6,13 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "bench_common.h"
 #include "builtin_passes.h"
 #include "core/paths.h"
 #include "core/suggest.h"
+#include "graph/per_light.h"
 #include "io/image_io.h"
 #include "reference/image_metrics.h"
 #include "reference/photon_reference.h"
@@ -38,6 +40,7 @@ const StabilityCase kStabilityCases[] = {
     {"refractor filling the view", "stability/filling_refractor"},
     {"light close to the refractor", "stability/close_light"},
     {"point light close to the refractor", "stability/close_point_light"},
+    {"light inside a glass shade", "glass_lamp"},
     {"n = 1", "stability/index_one"},
     {"no refractor", "no_refractor"},
 };
@@ -112,26 +115,70 @@ const glm::vec3 kShift(1e-4f, 0.0f, 0.0f);  // the tiny light move
 constexpr int kPathSteps = 6;               // the moving light's positions, kStep apart
 const glm::vec3 kStep(0.02f, 0.0f, 0.0f);
 
-// A case's exact answer: its map, its sensitivity to the tiny move and, for a moving light, the
-// mean change between neighbouring positions of its path.
+io::ImageData empty_map(uint32_t side) {
+  io::ImageData empty;
+  empty.width = empty.height = side;
+  empty.rgba.assign(size_t{side} * side * 4, 0.0f);
+  return empty;
+}
+
+// Every caustic view's map (scene::caustic_views: a light's, or a point light's cube faces) one
+// above another, a gap of empty rows between, so that one comparison weighs every view's light
+// and a blur does not carry one view's into another's. One view: its map as it is.
+io::ImageData stacked(const std::vector<io::ImageData>& maps) {
+  constexpr uint32_t kGap = 8;
+  if (maps.size() == 1) return maps.front();
+  io::ImageData out;
+  out.width = maps.front().width;
+  out.height = static_cast<uint32_t>(maps.size()) * (maps.front().height + kGap) - kGap;
+  out.rgba.assign(size_t{out.width} * out.height * 4, 0.0f);
+  for (size_t k = 0; k < maps.size(); ++k)
+    std::copy(maps[k].rgba.begin(), maps[k].rgba.end(),
+              out.rgba.begin() + static_cast<std::ptrdiff_t>(k * (maps[k].height + kGap) * out.width * 4));
+  return out;
+}
+
+uint32_t caustic_view_count(const scene::Scene& scene) {
+  return static_cast<uint32_t>(std::max<size_t>(1, scene::caustic_views(scene.lights).size()));
+}
+
+// A case's exact answer: every caustic view's map (stacked), each traced with its share of the
+// photons, its sensitivity to the tiny move and, for a moving light, the mean change between
+// neighbouring positions of its path.
 struct CaseReference {
-  reference::PhotonReference traced;
+  io::ImageData map;
+  uint64_t landed_photons = 0;
   double shift = 0, flicker = 0;
 };
 
+io::ImageData reference_maps(const scene::Scene& scene, const StabilityOptions& o, uint64_t* landed = nullptr) {
+  const std::vector<uint64_t> shares = reference::photons_per_view(scene, o.reference_photons);
+  std::vector<io::ImageData> maps;
+  for (uint32_t k = 0; k < caustic_view_count(scene); ++k) {
+    reference::PhotonOptions options;
+    options.light = k;
+    options.photons = k < shares.size() ? shares[k] : o.reference_photons;
+    options.map_size = o.caustic_size;
+    if (options.photons == 0) {
+      maps.push_back(empty_map(o.caustic_size));
+      continue;
+    }
+    reference::PhotonReference traced = photon_reference(scene, options, o.cells.reference_cache);
+    if (landed) *landed += traced.totals.landed_photons;
+    maps.push_back(std::move(traced.caustic_map));
+  }
+  return stacked(maps);
+}
+
 CaseReference trace_case_reference(const StabilityCase& c, const scene::Scene& scene, const StabilityOptions& o) {
-  reference::PhotonOptions options;
-  options.photons = o.reference_photons;
-  options.map_size = o.caustic_size;
-  auto reference_map = [&](const scene::Scene& s) { return photon_reference(s, options, o.cells.reference_cache).caustic_map; };
-  CaseReference r{photon_reference(scene, options, o.cells.reference_cache)};
-  const io::ImageData& reference = r.traced.caustic_map;
+  CaseReference r;
+  r.map = reference_maps(scene, o, &r.landed_photons);
   // The exact answer's own sensitivity to the tiny move, sampled like the reference: where paths
   // bounce many times (n = 2.4) it is large, and a method that follows them can be no calmer.
-  r.shift = reference::compare_images(reference_map(*with_light_moved(scene, kShift)), reference, o.blur).relative_l1;
+  r.shift = reference::compare_images(reference_maps(*with_light_moved(scene, kShift), o), r.map, o.blur).relative_l1;
   if (c.moving_light) {
-    std::vector<io::ImageData> path{reference};  // the path's first position is the light's own
-    for (int i = 1; i < kPathSteps; ++i) path.push_back(reference_map(*with_light_moved(scene, kStep * float(i))));
+    std::vector<io::ImageData> path{r.map};  // the path's first position is the light's own
+    for (int i = 1; i < kPathSteps; ++i) path.push_back(reference_maps(*with_light_moved(scene, kStep * float(i)), o));
     for (int i = 1; i < kPathSteps; ++i)
       r.flicker += reference::compare_images(path[i], path[i - 1], o.blur).relative_l1 / (kPathSteps - 1);
   }
@@ -153,9 +200,12 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
   // between renders, so the geometry and its acceleration structures stay (set_view). Uploading
   // the bunny again for each method and each of its path's positions was most of this bench's time
   // under the sanitizers.
+  const uint32_t views = caustic_view_count(*scene);
+  std::set<std::string> retained;
+  for (uint32_t k = 0; k < views; ++k) retained.insert(graph::light_instance("caustics", k));
   auto prepare = [&](std::shared_ptr<const scene::Scene> s) {
     executor.set_view(s->camera, s->lights);
-    executor.configure(g, o.width, o.height, {.retained = {"caustics"}});
+    executor.configure(g, o.width, o.height, {.retained = retained});
   };
   // --frames 0: one frame, untimed, where only the maps are wanted (the suite's run).
   auto render = [&](std::shared_ptr<const scene::Scene> s) {
@@ -171,15 +221,18 @@ MethodResult measure_method(graph::Executor& executor, const graph::GraphDesc& g
     prepare(std::move(s));
     executor.run_frame(true);
   };
-  // Without a refractor the caustic pass is culled ("enabled": "light.view * light.refractors") and
-  // its map never exists: an empty map, which is the right answer.
+  // Every view's map, stacked as the reference's. Without a refractor the caustic pass is culled
+  // ("enabled": "light.view * light.refractors") and its map never exists: an empty map, which is
+  // the right answer.
   auto caustic_map = [&] {
-    const int index = executor.plan().find_resource(executor.plan().resolve("caustics"));
-    if (index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used()) return executor.read_image("caustics");
-    io::ImageData empty;
-    empty.width = empty.height = o.caustic_size;
-    empty.rgba.assign(size_t{o.caustic_size} * o.caustic_size * 4, 0.0f);
-    return empty;
+    std::vector<io::ImageData> maps;
+    for (uint32_t k = 0; k < views; ++k) {
+      const std::string name = executor.plan().resolve(graph::light_instance("caustics", k));
+      const int index = executor.plan().find_resource(name);
+      const bool drawn = index >= 0 && executor.plan().resources[static_cast<size_t>(index)].used();
+      maps.push_back(drawn ? executor.read_image(name) : empty_map(o.caustic_size));
+    }
+    return stacked(maps);
   };
   MethodResult r;
   r.timings = render(scene);
@@ -212,7 +265,7 @@ void add_rows(const StabilityCase& c, const Method& m, const MethodResult& r, co
   std::snprintf(line, sizeof(line), "%s,%s,%.6f,%.6f,%.6f,%llu,%.0f,%.4f,%.6f,%.6f,%.6f,%.6f,%llu,%.6f\n", c.label, m.label,
                 r.accuracy.relative_l1, r.accuracy.energy_ratio, r.accuracy.shape_l1, static_cast<unsigned long long>(r.nonfinite),
                 r.processed, r.timings.method_ms, r.shifted.relative_l1, r.shifted.energy_ratio, r.flicker, reference.flicker,
-                static_cast<unsigned long long>(reference.traced.totals.landed_photons), reference.shift);
+                static_cast<unsigned long long>(reference.landed_photons), reference.shift);
   csv += line;
   char flicker_cell[64] = "-";
   if (c.moving_light) std::snprintf(flicker_cell, sizeof(flicker_cell), "%.4f (%.4f)", r.flicker, reference.flicker);
@@ -318,7 +371,7 @@ int cmd_bench_stability(Args& args) {
                    vk.ray_queries().missing.c_str());
       continue;
     }
-    add_rows(c, m, measure_method(*executor, g, c, scene, reference->traced.caustic_map, o), *reference, o, csv, table);
+    add_rows(c, m, measure_method(*executor, g, c, scene, reference->map, o), *reference, o, csv, table);
   }
   if (one_cell)
     write_cell(o.out_dir, first, cells.size(), kStabilityCsvHeader, {"stability", sweep, vk.device_name(), csv, table});
