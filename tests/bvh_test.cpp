@@ -107,13 +107,13 @@ TEST(Bvh, EveryTriangleIsStoredOnceUnderBoxesThatHoldIt) {
 }
 
 // The surface-area heuristic's tree over scattered triangles: small leaves, a depth near log2 of
-// the count (a median split of 20000 triangles in leaves of 8 is 12 deep).
+// the count (a median split of 8000 triangles in leaves of 8 is 10 deep; 16 when this was written).
 TEST(Bvh, TheTreeIsShallowWithSmallLeaves) {
-  const TracerBvh bvh = scene::build_bvh(soup(20000));
-  ASSERT_EQ(scene::check_bvh(bvh, 20000), "");
-  std::printf("20000 triangles: %u nodes, %u leaves, depth %u\n", bvh.node_count, bvh.leaf_count, bvh.depth);
-  EXPECT_LE(bvh.depth, 30u);
-  EXPECT_GE(bvh.leaf_count, 20000u / 8);
+  const TracerBvh bvh = scene::build_bvh(soup(8000));
+  ASSERT_EQ(scene::check_bvh(bvh, 8000), "");
+  std::printf("8000 triangles: %u nodes, %u leaves, depth %u\n", bvh.node_count, bvh.leaf_count, bvh.depth);
+  EXPECT_LE(bvh.depth, 26u);
+  EXPECT_GE(bvh.leaf_count, 8000u / 8);
 }
 
 // The checker finds each way a tree can be wrong: a leaf that lost a triangle, a box that does not
@@ -158,15 +158,15 @@ TEST(Bvh, TheCheckFindsEachBreakage) {
   EXPECT_NE(scene::check_bvh(unmasked, 300).find("has mask"), std::string::npos) << scene::check_bvh(unmasked, 300);
 }
 
-// Walking the words as documented finds, for 20000 random rays with each mask, the triangle that
+// Walking the words as documented finds, for 5000 random rays with each mask, the triangle that
 // testing every triangle finds: the layout says what the builder wrote.
 TEST(Bvh, AWalkOfTheLayoutFindsTheNearestTriangle) {
-  const std::vector<BvhInputTriangle> triangles = soup(2000, 7);
+  const std::vector<BvhInputTriangle> triangles = soup(1000, 7);
   const TracerBvh bvh = scene::build_bvh(triangles);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), signed_unit(-1.0f, 1.0f);
   uint32_t hits = 0;
-  for (int r = 0; r < 20000; ++r) {
+  for (int r = 0; r < 5000; ++r) {
     const glm::vec3 o(unit(rng), unit(rng), -0.5f);
     const glm::vec3 d = glm::normalize(glm::vec3(0.3f * signed_unit(rng), 0.3f * signed_unit(rng), 1.0f));
     const uint32_t mask = r % 3 == 0 ? CAUSTICA_RECEIVER_INSTANCES : CAUSTICA_ALL_INSTANCES;
@@ -174,5 +174,5 @@ TEST(Bvh, AWalkOfTheLayoutFindsTheNearestTriangle) {
     ASSERT_EQ(found.input, expected.input) << "ray " << r;
     hits += expected.input >= 0 ? 1 : 0;
   }
-  EXPECT_GT(hits, 2000u);  // the rays meet triangles, so the comparison says something
+  EXPECT_GT(hits, 300u);  // the rays meet triangles, so the comparison says something
 }
