@@ -3,7 +3,8 @@
 // ball lens; the bunny with its light moving; n = 2.4; grazing light; a torus; stacked refractors;
 // a refractor smaller than the adaptive start grid's spacing; one filling the light's view; the
 // light close to the refractor; a point light close to it; a bulb inside a glass globe (every cube
-// face of it a caustic view, and a second light); n = 1; no refractor. A case with several caustic views is measured on all of them at once
+// face of it a caustic view, and a second light); two lights whose caustics overlap; n = 1; no
+// refractor. A case with several caustic views is measured on all of them at once
 // (their maps stacked). The methods: the five caustic maps, the hybrid without coverage seeding, and the exact-path ladder (the adaptive
 // hybrid graph with the image-space search and with exact re-traces, and the exact tracer, by the device's tracer).
 #include <gtest/gtest.h>
@@ -80,7 +81,7 @@ bool follows_bounces(const Row& r) {
   return r.method.find("search") != std::string::npos || r.method.find("exact") != std::string::npos || r.method == "ray query";
 }
 constexpr size_t kMethods = 9;
-constexpr size_t kCases = 13;
+constexpr size_t kCases = 14;
 
 }  // namespace
 

@@ -41,6 +41,7 @@ const StabilityCase kStabilityCases[] = {
     {"light close to the refractor", "stability/close_light"},
     {"point light close to the refractor", "stability/close_point_light"},
     {"light inside a glass shade", "glass_lamp"},
+    {"caustics overlapping", "overlapping_caustics"},
     {"n = 1", "stability/index_one"},
     {"no refractor", "no_refractor"},
 };
