@@ -23,7 +23,7 @@ const uint DISTANCE_SEARCH = 4u;
 // space through a thin wall, where image space sees the exact path.
 const uint DISTANCE_MATERIAL = 5u;
 // The pass's mode. A kernel that traces exact paths is compiled for its one mode
-// (CAUSTICA_DISTANCE_MODE, passes/refraction.cpp's RayQueryScene), so that the modes it does not run
+// (CAUSTICA_DISTANCE_MODE, passes/refraction.cpp's TracedScene), so that the modes it does not run
 // are no code at all: lavapipe compiles a kernel within its first frame, and the hybrid camera
 // kernel's cold compile took 41 s with the image-space modes' code in it and 22 s without. The
 // image-space modes share one kernel and read the mode from the push constants (each of them alone
