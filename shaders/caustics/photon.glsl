@@ -105,8 +105,7 @@ void land_on_map(inout Photon ph, vec2 uv) {
 // Whether a ray from `origin` along `direction` meets the bounding box of a receiver (an opaque
 // object) ahead of it.
 bool receiver_box_ahead(vec3 origin, vec3 direction) {
-  vec3 away_from_zero = mix(vec3(1e-30), vec3(-1e-30), lessThan(direction, vec3(0.0)));
-  vec3 inverse_direction = 1.0 / mix(direction, away_from_zero, lessThan(abs(direction), vec3(1e-30)));
+  vec3 inverse_direction = slab_inverse(direction);
   for (uint o = 0u; o < uint(objects.length()); ++o) {
     if (objects[o].albedo_refractor.a != 0.0) continue;
     vec3 t0 = (objects[o].bounds_min_thin.xyz - origin) * inverse_direction, t1 = (objects[o].bounds_max_spread.xyz - origin) * inverse_direction;

@@ -99,4 +99,11 @@ float spot_cone(LightData light, vec3 direction) {
   return smoothstep(light.direction_cos.w, mix(light.direction_cos.w, 1.0, 0.02), dot(direction, light.direction_cos.xyz));
 }
 
+// 1 / direction for a ray's slab tests, every component finite: a zero one becomes a tiny one of
+// its sign, so that a box's slab gives a huge distance, never NaN.
+vec3 slab_inverse(vec3 direction) {
+  vec3 away_from_zero = mix(vec3(1e-30), vec3(-1e-30), lessThan(direction, vec3(0.0)));
+  return 1.0 / mix(direction, away_from_zero, lessThan(abs(direction), vec3(1e-30)));
+}
+
 #endif

@@ -23,8 +23,7 @@ struct BvhRay {
 BvhRay bvh_ray(vec3 origin, vec3 direction) {
   BvhRay r;
   r.origin = origin;
-  vec3 away_from_zero = mix(vec3(1e-30), vec3(-1e-30), lessThan(direction, vec3(0.0)));
-  r.inverse_direction = 1.0 / mix(direction, away_from_zero, lessThan(abs(direction), vec3(1e-30)));
+  r.inverse_direction = slab_inverse(direction);
   vec3 a = abs(direction);
   // The permuted axes (kx, ky, kz) as unit vectors, kx and ky swapped for a negative kz so that
   // the triangles' winding is kept.
