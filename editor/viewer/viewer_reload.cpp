@@ -1,5 +1,7 @@
 #include "viewer/viewer_impl.h"
 
+#include <iostream>
+
 namespace caustica::editor {
 
 bool Viewer::Impl::reload_shaders() {
@@ -46,6 +48,7 @@ bool Viewer::Impl::reload(bool first) {
   try {
     graph::GraphDesc g = first || graph_time != session_.graph_time ? graph::load_graph_file(session_.graph_file) : *session_.graph;
     auto scene = std::make_shared<const scene::Scene>(scene::load_scene_file(session_.scene_file, options_.stage));
+    for (const auto& warning : scene->warnings) std::cerr << "caustica: warning: " << warning << "\n";
     std::optional<graph::GraphDesc> previous = std::move(session_.graph);
     session_.graph = std::move(g);
     forget_still_values();

@@ -76,30 +76,6 @@ inline glm::vec3 through_thin(glm::vec3 direction, glm::vec3 m, glm::vec3 n) {
   return on_side(glm::reflect(direction, m), n, false);
 }
 
-// A ray meeting a dielectric interface, from index eta_i into eta_t, at facet m of the surface
-// whose normal n faces the ray: the one model of an interface that both references use (photons
-// choose a side by the reflectance, camera rays weight both). `fresnel` false: no reflection
-// except total internal reflection (docs/oracles.md's "no Fresnel" oracles).
-struct InterfaceCrossing {
-  glm::vec3 reflected;    // kept on the ray's side of the surface
-  glm::vec3 transmitted;  // kept on the far side; zero under total internal reflection
-  float reflectance = 0;  // 1 under total internal reflection
-  bool total_internal() const { return transmitted == glm::vec3(0.0f); }
-};
-inline InterfaceCrossing cross_interface(glm::vec3 direction, glm::vec3 m, glm::vec3 n, float eta_i, float eta_t, bool fresnel = true) {
-  InterfaceCrossing c;
-  c.reflected = on_side(glm::reflect(direction, m), n, true);
-  const glm::vec3 refracted = glm::refract(direction, m, eta_i / eta_t);
-  if (glm::dot(refracted, refracted) == 0.0f) {
-    c.transmitted = glm::vec3(0.0f);
-    c.reflectance = 1.0f;
-    return c;
-  }
-  c.transmitted = on_side(glm::normalize(refracted), n, false);
-  c.reflectance = fresnel ? fresnel_dielectric(-glm::dot(direction, m), eta_i, eta_t) : 0.0f;
-  return c;
-}
-
 // The spot's cone along `direction` (unit, from the light), with the soft edge of
 // scene/lighting.frag; 1 for point lights.
 inline float spot_cone(const scene::Light& light, glm::vec3 direction) {

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "reference/exact_scene.h"
+#include "reference/interface_physics.h"
 
 namespace caustica::reference {
 namespace {
@@ -149,35 +150,45 @@ class PhotonTracer {
         acc.totals.absorbed += mean(power - kept);
         power = kept;
       };
-      if (object.material.thin) {  // a thin wall: Fresnel reflection, or through it (unbent where smooth)
-        const float reflectance = options_.fresnel ? fresnel_dielectric(-glm::dot(direction, m), 1.0f, ior) : 0.0f;
-        origin = p;
-        if (reflectance > 0.0f && random.uniform() < reflectance) {
-          if (!refracted) acc.totals.reflected += mean(power);
-          direction = on_side(glm::reflect(direction, m), n, true);
-        } else {
-          transmit();
-          direction = through_thin(direction, m, n);
-        }
-        refracted = true;
-        continue;
-      }
-      const InterfaceCrossing crossing = cross_interface(direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
+      // A thin wall is always entered: reflected, or through it (unbent where smooth).
+      const InterfaceCrossing crossing =
+          cross_interface(object.material, direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
       origin = p;
-      if (crossing.reflectance > 0.0f && random.uniform() < crossing.reflectance) {
+      const bool first_refractor = !refracted;
+      refracted = true;
+      if (reflects(crossing, object.material, n, band, direction, power, random)) {
         // Reflected off the outside too: followed, since it lands on the receivers like any other
         // specular path (3.8% of the ball lens's floor flux); only the exact tracers model it.
-        if (entering && !refracted) acc.totals.reflected += mean(power);
-        direction = crossing.reflected;
-        refracted = true;
+        if (entering && first_refractor) acc.totals.reflected += mean(power);
+        continue;
+      }
+      if (entering) transmit();
+      if (object.material.thin) {
+        direction = through_thin(direction, m, n);
       } else {
-        if (entering) transmit();
         direction = crossing.transmitted;
         inside = entering ? static_cast<int>(hit->geometry) : -1;
-        refracted = true;
       }
     }
     acc.totals.trapped += mean(power);
+  }
+
+  // Whether a photon reflects off an interface: off the clear coat first (about a facet of the
+  // coat's roughness), else off the base with its probability (choice_probability), its power
+  // weighted so that its expectation is what each side of the interface takes. Sets `direction`
+  // where it reflects.
+  static bool reflects(const InterfaceCrossing& crossing, const scene::Material& material, glm::vec3 n, int band, glm::vec3& direction,
+                       Power& power, Random& random) {
+    if (crossing.coat > 0.0f && random.uniform() < crossing.coat) {
+      direction = on_side(glm::reflect(direction, microfacet_normal(n, direction, material.clearcoat_roughness, random)), n, true);
+      return true;
+    }
+    const glm::vec3 base = crossing.base();
+    const float p = choice_probability(base, band);
+    const bool reflected = p > 0.0f && random.uniform() < p;
+    power *= Power(reflected ? choice_weight(base, p) : choice_weight(1.0f - base, 1.0f - p));
+    if (reflected) direction = crossing.reflected;
+    return reflected;
   }
 
   void land(glm::vec3 p, const Power& power, Accumulator& acc) const {

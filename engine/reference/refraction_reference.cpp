@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "reference/exact_scene.h"
+#include "reference/interface_physics.h"
 
 namespace caustica::reference {
 namespace {
@@ -134,7 +135,7 @@ class Tracer {
       const float roughness = exact_.transmission_roughness(*hit);
       rough = rough || roughness > 0.0f;
       const glm::vec3 facet = microfacet_normal(n, direction, roughness, random);
-      const InterfaceCrossing entry = cross_interface(direction, facet, n, 1.0f, ior);
+      const InterfaceCrossing entry = cross_interface(m, direction, facet, n, 1.0f, ior);
       radiance += throughput * entry.reflectance * scene_.sky;
       throughput *= 1.0f - entry.reflectance;
       const auto [tint, transmission] = exact_.transmittance(*hit);
@@ -162,7 +163,7 @@ class Tracer {
         const float exit_roughness = exact_.transmission_roughness(*inner);
         rough = rough || exit_roughness > 0.0f;
         const InterfaceCrossing exit =
-            cross_interface(direction, microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
+            cross_interface(m, direction, microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
         origin = p;
         if (exit.total_internal()) {
           direction = exit.reflected;

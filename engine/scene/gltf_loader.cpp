@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -128,11 +129,51 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
   return out;
 }
 
-// The extensions whose content caustica reads: a file that requires any other is refused.
-const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission",     "KHR_materials_ior",          "KHR_materials_volume",
-                                                  "KHR_materials_dispersion",       "KHR_lights_punctual",        "KHR_mesh_quantization",
-                                                  "EXT_meshopt_compression",        "KHR_draco_mesh_compression", "KHR_texture_transform",
-                                                  "KHR_materials_emissive_strength"};
+// The extensions whose content caustica reads: a file that requires any other is refused, and one
+// that uses any other is read with a warning (unread_content).
+const std::vector<std::string> kReadExtensions = {
+    "KHR_materials_transmission", "KHR_materials_ior",       "KHR_materials_volume",      "KHR_materials_dispersion",
+    "KHR_materials_specular",     "KHR_materials_clearcoat", "KHR_materials_iridescence", "KHR_materials_emissive_strength",
+    "KHR_lights_punctual",        "KHR_mesh_quantization",   "EXT_meshopt_compression",   "KHR_draco_mesh_compression",
+    "KHR_texture_transform"};
+
+// What the picture loses where a file uses an extension caustica does not read.
+std::string what_is_ignored(const std::string& extension) {
+  static const std::map<std::string, std::string> kIgnored = {
+      {"KHR_materials_sheen", "the sheen"},
+      {"KHR_materials_anisotropy", "the anisotropy (highlights stay round)"},
+      {"KHR_materials_diffuse_transmission", "the diffuse transmission (the surface is drawn opaque)"},
+      {"KHR_materials_unlit", "unlit shading (lit as the metallic-roughness model)"},
+      {"KHR_materials_variants", "the material variants (each primitive's own material is drawn)"},
+      {"EXT_mesh_gpu_instancing", "the instances (each mesh is drawn once, at its node)"},
+      {"KHR_xmp_json_ld", "the metadata (which does not change the picture)"},
+      {"KHR_xmp", "the metadata (which does not change the picture)"}};
+  const auto it = kIgnored.find(extension);
+  return it == kIgnored.end() ? "its content" : it->second;
+}
+
+// Warnings for what the file says and caustica does not draw: each extension it uses and caustica
+// does not read (with the materials that use it), and a clear coat's own normal texture.
+std::vector<std::string> unread_content(const tinygltf::Model& model, const std::string& path) {
+  std::vector<std::string> warnings;
+  for (const auto& used : model.extensionsUsed) {
+    if (std::find(kReadExtensions.begin(), kReadExtensions.end(), used) != kReadExtensions.end()) continue;
+    std::string where;
+    for (size_t i = 0; i < model.materials.size(); ++i) {
+      if (model.materials[i].extensions.count(used) != 0) where += (where.empty() ? " (" : ", ") + ("/materials/" + std::to_string(i));
+    }
+    warnings.push_back(path + ": uses " + used + ", which caustica does not read: " + what_is_ignored(used) + " is ignored" +
+                       (where.empty() ? "" : where + ")"));
+  }
+  for (size_t i = 0; i < model.materials.size(); ++i) {
+    const auto coat = model.materials[i].extensions.find("KHR_materials_clearcoat");
+    if (coat != model.materials[i].extensions.end() && coat->second.Has("clearcoatNormalTexture")) {
+      warnings.push_back(path + ": /materials/" + std::to_string(i) +
+                         "/extensions/KHR_materials_clearcoat/clearcoatNormalTexture is ignored (the coat follows the surface's normal)");
+    }
+  }
+  return warnings;
+}
 
 // TEXCOORD_0 and TEXCOORD_1, when the primitive has either, into mesh.texcoords.
 void read_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::optional<gltf::DracoGeometry>& draco,
@@ -224,9 +265,9 @@ tinygltf::Model parse_model(const std::string& path, const gltf::PreparedFile& p
     if (std::find(kReadExtensions.begin(), kReadExtensions.end(), required) == kReadExtensions.end()) {
       fail(path, 0,
            "requires the extension " + required +
-               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, _dispersion, KHR_lights_punctual, "
-               "KHR_materials_emissive_strength, KHR_mesh_quantization, EXT_meshopt_compression, KHR_draco_mesh_compression and "
-               "KHR_texture_transform)");
+               ", which caustica does not read (it reads KHR_materials_transmission, _ior, _volume, _dispersion, _specular, "
+               "_clearcoat, _iridescence, _emissive_strength, KHR_lights_punctual, KHR_mesh_quantization, EXT_meshopt_compression, "
+               "KHR_draco_mesh_compression and KHR_texture_transform)");
     }
   }
   return model;
@@ -391,6 +432,7 @@ ModelFile load_gltf(const std::string& path) {
   if (out.parts.empty()) fail(path, 0, "the file has no triangle meshes");
   out.textures = textures.take();
   out.images = model.images.size();
+  out.warnings = unread_content(model, path);
   return out;
 }
 

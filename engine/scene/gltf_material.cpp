@@ -77,6 +77,31 @@ void read_core_material(const tinygltf::Material& mat, const std::string& at, co
   m.alpha_cutoff = static_cast<float>(mat.alphaCutoff);
 }
 
+// A textureInfo at `key` of extension object `v` (at JSON pointer `extension_at`), with its
+// KHR_texture_transform; unused where absent.
+TextureRef extension_texture(const tinygltf::Value& v, const std::string& extension_at, const char* key, const std::string& path,
+                             TextureTable& textures, bool srgb) {
+  if (!v.Has(key)) return {};
+  const auto& info = v.Get(key);
+  const std::string info_at = extension_at + "/" + key;
+  if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) fail(path, 0, info_at + ": needs an integer \"index\"");
+  tinygltf::TextureInfo texture;
+  texture.index = info.Get("index").GetNumberAsInt();
+  if (info.Has("texCoord")) {
+    if (!info.Get("texCoord").IsInt()) fail(path, 0, info_at + "/texCoord: must be an integer");
+    texture.texCoord = info.Get("texCoord").GetNumberAsInt();
+  }
+  if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+    texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
+  return textures.reference(texture, info_at, srgb);
+}
+
+// A texture's mean in `channel` (0 red .. 3 alpha), 1 where it is unused: what the per-object
+// value of a factor that a texture multiplies takes from it.
+float texture_mean(const TextureTable& textures, const TextureRef& ref, int channel) {
+  return ref.used() ? textures.mean(ref.texture)[channel] : 1.0f;
+}
+
 // KHR_materials_transmission, the extension object `t` at JSON pointer `extension_at`.
 void read_transmission(const tinygltf::Value& t, const std::string& extension_at, const std::string& path, TextureTable& textures,
                        Material& m) {
@@ -88,22 +113,76 @@ void read_transmission(const tinygltf::Value& t, const std::string& extension_at
   m.thin = true;      // until a volume with a thickness says otherwise
   // The specification's transmission is as rough as the surface's reflection; refraction and
   // caustics take one roughness per object: the factor times the texture's mean (green channel).
-  m.transmission_roughness =
-      m.roughness * (m.metallic_roughness_texture.used() ? textures.mean(m.metallic_roughness_texture.texture).g : 1.0f);
-  tinygltf::TextureInfo transmission_texture;
-  if (t.Has("transmissionTexture")) {
-    const auto& info = t.Get("transmissionTexture");
-    const std::string info_at = extension_at + "/transmissionTexture";
-    if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) fail(path, 0, info_at + ": needs an integer \"index\"");
-    transmission_texture.index = info.Get("index").GetNumberAsInt();
-    if (info.Has("texCoord")) transmission_texture.texCoord = info.Get("texCoord").GetNumberAsInt();
-    if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
-      transmission_texture.extensions["KHR_texture_transform"] = info.Get("extensions").Get("KHR_texture_transform");
-    // Per texel on exact paths; the image-space methods take the texture's mean (red channel).
+  m.transmission_roughness = m.roughness * texture_mean(textures, m.metallic_roughness_texture, 1);
+  // Per texel on exact paths; the image-space methods take the texture's mean (red channel).
+  m.transmission_texture = extension_texture(t, extension_at, "transmissionTexture", path, textures, false);
+  if (m.transmission_texture.used()) {
     m.transmission_factor = m.transmission;
-    m.transmission_texture = textures.reference(transmission_texture, info_at, false);
-    m.transmission *= textures.mean(m.transmission_texture.texture).r;
+    m.transmission *= texture_mean(textures, m.transmission_texture, 0);
   }
+}
+
+// KHR_materials_specular: the dielectric's reflectance scaled (specularFactor, the texture's
+// alpha) and its F0 coloured (specularColorFactor, the texture's rgb), textures by their means.
+void read_specular(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
+                   Material& m) {
+  const double factor =
+      in_unit_interval(extension_number(v, extension_at, "specularFactor", 1.0, path), extension_at + "/specularFactor", path);
+  m.specular =
+      static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "specularTexture", path, textures, false), 3);
+  if (v.Has("specularColorFactor")) {
+    const auto& c = v.Get("specularColorFactor");
+    const std::string at = extension_at + "/specularColorFactor";
+    if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, at + ": needs 3 numbers");
+    for (int k = 0; k < 3; ++k) {
+      const std::string element = at + "/" + std::to_string(k);
+      if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
+      const double value = c.Get(k).GetNumberAsDouble();
+      if (value < 0.0) fail(path, 0, element + ": " + JsonReader::format_number(value) + " must be 0 or more");
+      m.specular_color[k] = static_cast<float>(value);
+    }
+  }
+  const TextureRef color_texture = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
+  if (color_texture.used()) m.specular_color *= glm::vec3(textures.mean(color_texture.texture));
+}
+
+// KHR_materials_clearcoat: a clear coat of index 1.5 over the base, its factor (the texture's
+// red) and roughness (the texture's green) by their means. The coat follows the surface's normal:
+// a clearcoatNormalTexture is checked and not applied (ignored_content says so).
+void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
+                    Material& m) {
+  const double factor =
+      in_unit_interval(extension_number(v, extension_at, "clearcoatFactor", 0.0, path), extension_at + "/clearcoatFactor", path);
+  m.clearcoat =
+      static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "clearcoatTexture", path, textures, false), 0);
+  const double roughness = in_unit_interval(extension_number(v, extension_at, "clearcoatRoughnessFactor", 0.0, path),
+                                            extension_at + "/clearcoatRoughnessFactor", path);
+  m.clearcoat_roughness = static_cast<float>(roughness) *
+                          texture_mean(textures, extension_texture(v, extension_at, "clearcoatRoughnessTexture", path, textures, false), 1);
+  extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
+}
+
+// KHR_materials_iridescence: a thin film of iridescenceIor between the outside and the base, as
+// thick as the thickness texture's green places it between the minimum and the maximum (its mean;
+// the maximum without one), mixed in by iridescenceFactor (the texture's red).
+void read_iridescence(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
+                      Material& m) {
+  const double factor =
+      in_unit_interval(extension_number(v, extension_at, "iridescenceFactor", 0.0, path), extension_at + "/iridescenceFactor", path);
+  m.iridescence = static_cast<float>(factor) *
+                  texture_mean(textures, extension_texture(v, extension_at, "iridescenceTexture", path, textures, false), 0);
+  const double ior = extension_number(v, extension_at, "iridescenceIor", 1.3, path);
+  if (ior < 1.0 || ior > 4.0) {
+    fail(path, 0, extension_at + "/iridescenceIor: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
+  }
+  m.film_ior = static_cast<float>(ior);
+  const double thinnest = extension_number(v, extension_at, "iridescenceThicknessMinimum", 100.0, path);
+  const double thickest = extension_number(v, extension_at, "iridescenceThicknessMaximum", 400.0, path);
+  if (thinnest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMinimum: must be 0 or more");
+  if (thickest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMaximum: must be 0 or more");
+  const TextureRef thickness = extension_texture(v, extension_at, "iridescenceThicknessTexture", path, textures, false);
+  const double along = texture_mean(textures, thickness, 1);
+  m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 
 // KHR_materials_volume, the extension object `v` at JSON pointer `extension_at`.
@@ -156,6 +235,10 @@ void read_material_extensions(const tinygltf::Material& mat, const std::string& 
     m.dispersion = static_cast<float>(dispersion);
   }
   if (const auto* v = ext("KHR_materials_volume")) read_volume(*v, at + "/extensions/KHR_materials_volume", path, m);
+  if (const auto* v = ext("KHR_materials_specular")) read_specular(*v, at + "/extensions/KHR_materials_specular", path, textures, m);
+  if (const auto* v = ext("KHR_materials_clearcoat")) read_clearcoat(*v, at + "/extensions/KHR_materials_clearcoat", path, textures, m);
+  if (const auto* v = ext("KHR_materials_iridescence"))
+    read_iridescence(*v, at + "/extensions/KHR_materials_iridescence", path, textures, m);
 }
 
 // What the image-space methods, which read one value per object, take from a refractor's or a

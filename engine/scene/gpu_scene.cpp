@@ -83,7 +83,9 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
          texture_slot(m.metallic_roughness_texture), texture_slot(m.normal_texture), texture_slot(m.emissive_texture),
          glm::vec4(m.emissive, m.normal_scale),
          glm::vec4(m.metallic, m.roughness, m.metallic_roughness ? 1.0f : 0.0f, m.refractor ? m.transmission_roughness : 0.0f),
-         texture_slot(m.occlusion_texture), texture_slot(m.transmission_texture), glm::vec4(m.tint_factor, m.transmission_factor)});
+         texture_slot(m.occlusion_texture), texture_slot(m.transmission_texture), glm::vec4(m.tint_factor, m.transmission_factor),
+         glm::vec4(m.specular_color, m.specular), glm::vec4(m.clearcoat, m.clearcoat_roughness, m.iridescence, m.film_ior),
+         glm::vec4(m.film_thickness_nm, 0.0f, 0.0f, 0.0f)});
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

@@ -356,6 +356,7 @@ Scene load_scene(const JsonDocument& doc) {
       for (auto& part : model.parts) parts.push_back(object_from_part(std::move(part), scene.textures.size()));
       std::move(model.textures.begin(), model.textures.end(), std::back_inserter(scene.textures));
       scene.file_images += model.images;
+      std::move(model.warnings.begin(), model.warnings.end(), std::back_inserter(scene.warnings));
     }
     for (size_t p = 0; p < parts.size(); ++p) {
       Object& o = parts[p];
@@ -388,6 +389,7 @@ Scene load_model_scene(const std::string& path, bool stage) {
   scene.ambient = 0.25f;
   scene.textures = std::move(model.textures);
   scene.file_images = model.images;
+  scene.warnings = std::move(model.warnings);
   for (size_t p = 0; p < model.parts.size(); ++p) {
     Object o = object_from_part(std::move(model.parts[p]), 0);
     o.name = (model.parts[p].name.empty() ? scene.name : model.parts[p].name) + "." + std::to_string(p);

@@ -74,6 +74,21 @@ struct Material {
   glm::vec3 tint_factor{1.0f};
   float transmission_factor = 1.0f;
   TextureRef transmission_texture;
+  // The layers glTF's material extensions put on a refractor's interface (docs/gltf.md, "The
+  // interface"), each changing its reflectance R per colour channel (the rest, 1 - R, crosses):
+  // KHR_materials_specular scales the dielectric's Fresnel curve to F0 * specular_color (at most 1)
+  // and weights it by `specular`; KHR_materials_iridescence mixes in, by `iridescence`, the
+  // reflectance of a thin film of index `film_ior` and `film_thickness_nm` between the outside and
+  // the base, at each channel's wavelength; KHR_materials_clearcoat puts a clear coat (index 1.5,
+  // F0 0.04) of weight `clearcoat` over all of it. Textures enter as their means (one value per
+  // object).
+  float specular = 1.0f;
+  glm::vec3 specular_color{1.0f};
+  float clearcoat = 0.0f;
+  float clearcoat_roughness = 0.0f;
+  float iridescence = 0.0f;
+  float film_ior = 1.3f;
+  float film_thickness_nm = 400.0f;
 
   // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
   TextureRef base_color_texture;
@@ -219,6 +234,9 @@ struct Scene {
   size_t file_images = 0;             // images in the scene's glTF files, used or not (only `textures` are decoded)
   glm::vec3 sky{0.35f, 0.45f, 0.6f};  // radiance of everything that is not geometry
   float ambient = 0.03f;              // fraction of albedo lit without a light
+  // What its files say and the engine does not draw (ModelFile::warnings), each naming its file:
+  // the commands print them as warnings.
+  std::vector<std::string> warnings;
 
   size_t refractor_count() const;
   size_t triangle_count() const;
@@ -309,6 +327,7 @@ struct ModelFile {
   std::optional<View> camera;
   bool camera_is_orthographic = false;
   std::vector<ModelLight> lights;
+  std::vector<std::string> warnings;  // what the file says and caustica does not draw (an extension it does not read)
 };
 ModelFile load_model_file(const std::string& path);
 

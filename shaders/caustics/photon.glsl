@@ -171,7 +171,7 @@ void trace_photon_exact(inout Photon ph, LightData light, ExactStart start) {
       exact_sum(EXACT_FLUX_TRAPPED, ph.power);
       return;
     }
-    ph.random = ph.random || e.roughness > 0.0 || (e.reflectance > 0.0 && e.reflectance < 1.0);
+    ph.random = ph.random || e.roughness > 0.0 || (e.reflectance != vec3(0.0) && e.reflectance != vec3(1.0));
     if (e.reflected) {
       if (e.entering) exact_count(EXACT_REFLECTED_OUTSIDE);
       ph.bounced = ph.bounced || !e.entering;
@@ -193,8 +193,9 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
   float ior = band_ior(object, photon_band);
   vec4 back = texture(back_tex, uv);
   bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
-  float reflect_near = params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(front.x))), 1.0, ior) : 0.0;
-  float reflect_far = far_wall && params.fresnel != 0u ? fresnel_dielectric(abs(dot(direction, unpack_normal(back.x))), 1.0, ior) : 0.0;
+  float cos_near = abs(dot(direction, unpack_normal(front.x))), cos_far = abs(dot(direction, unpack_normal(back.x)));
+  vec3 reflect_near = params.fresnel != 0u ? reflectance(interface_reflection(object, cos_near, cos_near, 1.0, ior)) : vec3(0.0);
+  vec3 reflect_far = far_wall && params.fresnel != 0u ? reflectance(interface_reflection(object, cos_far, cos_far, 1.0, ior)) : vec3(0.0);
 #if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
   if (DISTANCE_MODE == DISTANCE_MATERIAL) {
     // Light a wall reflects lands too, where image space cannot follow it: the exact tracer's
@@ -204,10 +205,11 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
     // converges with their whole power while one that reflected refines on, which biases the
     // map upward (thin panes 1.033 of the reference at 2048^2); they keep the Fresnel weights.
     uint rng = photon_rng(uv);
-    if ((reflect_near > 0.0 && next_uniform(rng) < reflect_near) || (reflect_far > 0.0 && next_uniform(rng) < reflect_far)) {
+    // (image_space_is_exact: a plain interface, whose reflectance is the same in every channel)
+    if ((reflect_near.r > 0.0 && next_uniform(rng) < reflect_near.r) || (reflect_far.r > 0.0 && next_uniform(rng) < reflect_far.r)) {
       return TRACE_FROM_LIGHT;
     }
-    reflect_near = reflect_far = 0.0;
+    reflect_near = reflect_far = vec3(0.0);
   }
 #endif
   ph.power *= (1.0 - reflect_near) * caustic_transmittance(at_front_texel(object, uv));
@@ -270,16 +272,17 @@ uint hybrid_side_path(inout Photon ph, inout ExactStart start, TwoInterfaces pat
   uint next = IMAGE_SPACE_DONE;
   float share = unpackHalf2x16(params.hybrid_packed).y;
   if (params.fresnel != 0u && share > 0.0) {
-    float reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
+    vec3 reflect_in = path.reflectance_in, reflect_out = (1.0 - path.reflectance_in) * (1.0 - path.transmit_out);
+    float p_in = choice_probability(reflect_in, photon_band), p_out = choice_probability(reflect_out, photon_band);
     float choice = next_uniform(rng) / share;
-    if (choice < reflect_in) {
+    if (choice < p_in) {
       exact_count(EXACT_REFLECTED_OUTSIDE);
       start = ExactStart(p1, path.entry_reflection, -1, 1u, rng);
-      ph.side_power = ph.power / share;
+      ph.side_power = ph.power * choice_weight(reflect_in, p_in) / share;
       next = TRACE_SIDE_PATH;
-    } else if (choice < reflect_in + reflect_out) {
+    } else if (choice < p_in + p_out) {
       start = ExactStart(path.exit_point, path.exit_reflection, int(front.w), 2u, rng);
-      ph.side_power = inside_power / share;
+      ph.side_power = inside_power * choice_weight(reflect_out, p_out) / share;
       next = TRACE_SIDE_PATH;
     }
   }
@@ -306,7 +309,9 @@ uint inside_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 dir
     return IMAGE_SPACE_DONE;
   }
   ph.power *= exp(-object.absorption_ior.rgb * back.y);
-  if (params.fresnel != 0u) ph.power *= 1.0 - fresnel_dielectric(dot(direction, n), ior, 1.0);
+  if (params.fresnel != 0u) {
+    ph.power *= 1.0 - reflectance(interface_reflection(object, dot(direction, n), dot(normalize(out_direction), n), ior, 1.0));
+  }
   vec2 landing;
   if (lands_in_image_space(light, eye + direction * back.y, normalize(out_direction), landing)) land_on_map(ph, landing);
   return IMAGE_SPACE_DONE;
@@ -338,8 +343,8 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   if (thin_walled(object)) return thin_wall_photon(ph, light, uv, eye, direction, front, object, receiver, receiver_distance, p1);
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z,
-                                              band_ior(object, photon_band), uv, transmission_roughness(object), rng);
+  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, object,
+                                              photon_band, uv, transmission_roughness(object), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies).
   vec2 landing;

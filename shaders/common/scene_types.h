@@ -64,6 +64,11 @@ struct ObjectData {
   TextureSlot transmission_map;        // red: multiplies tint_transmission_factors.a (refractors)
   vec4 tint_transmission_factors;      // tint_transmission before the base colour's and the transmission texture's
                                        // means (which a graph without front_tint takes): textures.glsl reads them per texel
+  // The layers glTF's material extensions put on a refractor's interface (scene::Material; the
+  // model in refraction/interface.glsl):
+  vec4 specular;  // rgb: KHR_materials_specular's colour of F0, a: its weight
+  vec4 layers;    // x: the clear coat's weight, y: its roughness; z: the thin film's weight (iridescence), w: the film's index
+  vec4 film;      // x: the thin film's thickness in nm; yzw: 0
 };
 
 struct LightData {

@@ -31,7 +31,7 @@ vec3 lambert(vec3 p, vec3 n, vec3 albedo, bool shadowed) {
 // radiance `through` that reaches it from behind the surface (exit Fresnel and absorption applied):
 // the entry's Fresnel reflection of the sky; of the rest, the share `transmission` passes tinted,
 // the remainder is reflected diffusely with the tint as albedo (lit without shadows in image space).
-vec3 refractor_surface(ObjectData object, float reflectance_in, vec3 p, vec3 n, vec3 through) {
+vec3 refractor_surface(ObjectData object, vec3 reflectance_in, vec3 p, vec3 n, vec3 through) {
   float transmission = object.tint_transmission.a;
   vec3 tint = object.tint_transmission.rgb;
   vec3 diffuse = transmission < 1.0 ? (1.0 - transmission) * lambert(p, n, tint, false) : vec3(0.0);
@@ -77,15 +77,15 @@ vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pix
   for (uint s = 0u; s < samples; ++s) {
     vec3 m1 = microfacet_normal(n1, v, roughness, rng);
     vec3 d = through_thin(v, m1, n1);
-    float reflect_far = 0.0;
+    vec3 reflect_far = vec3(0.0);
     if (far_wall) {
       vec3 m2 = microfacet_normal(n2, d, roughness, rng);
-      reflect_far = fresnel_dielectric(-dot(d, m2), 1.0, ior);
+      reflect_far = reflectance(interface_reflection(object, -dot(d, m2), -dot(d, n2), 1.0, ior));
       d = through_thin(d, m2, n2);
     }
     vec3 through = roughness > 0.0 ? background_along(far_wall ? p2 : p1, d) : texture(background_tex, pixel_uv).rgb;
     if (far_wall) through = refractor_surface(objects[uint(front.w)], reflect_far, p2, n2, through);  // the far wall: means
-    radiance += refractor_surface(object, fresnel_dielectric(-dot(v, m1), 1.0, ior), p1, n1, through);
+    radiance += refractor_surface(object, reflectance(interface_reflection(object, -dot(v, m1), -dot(v, n1), 1.0, ior)), p1, n1, through);
   }
   return radiance / float(samples);
 }
@@ -102,7 +102,7 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
   for (uint s = 0u; s < samples; ++s) {
     for (uint band = first; band <= last; ++band) {
       TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
-                                                  band_ior(object, band), pixel_uv, transmission_roughness(object), rng);
+                                                  object, band, pixel_uv, transmission_roughness(object), rng);
       // Total internal reflection: the ray reflects and, in this two-interface model, leaves along
       // the reflected direction with all its energy (no black pixels, no NaN).
       if (path.tir) atomicAdd(counters[params.tir_counter], 1u);

@@ -69,7 +69,7 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
   radiance = vec3(0.0);
   for (uint s = 0u; s < samples; ++s) {
     for (uint band = first; band <= last; ++band) {
-      TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, band_ior(object, band), uv,
+      TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, object, band, uv,
                                                   transmission_roughness(object), rng);
       bool hit;
       vec3 behind;

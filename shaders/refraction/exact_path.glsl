@@ -40,21 +40,22 @@ struct PathEvent {
   uint object;
   bool entering;
   bool reflected;
-  float reflectance;
+  vec3 reflectance;  // per channel (refraction/interface.glsl)
   float roughness;
   vec4 tint_transmission;
 };
 
-// Traces the path to its next surface and across it. With `choose_reflection` the Fresnel
-// reflection or the transmission is chosen by a random number (photons: throughput keeps its
-// power); without, the path goes on transmitted weighted by 1 - reflectance and reflects only
-// totally (camera rays: the caller adds what the entry's reflection sees). `fresnel` off leaves
-// only total internal reflection.
+// Traces the path to its next surface and across it. With `choose_reflection` the reflection or
+// the transmission is chosen by random numbers (photons: a clear coat's reflection first, then the
+// base's, each side weighted by choice_weight, so that throughput keeps its power where the
+// interface is uncoloured); without, the path goes on transmitted weighted by 1 - reflectance and
+// reflects only totally (camera rays: the caller adds what the entry's reflection sees). `fresnel`
+// off leaves only total internal reflection.
 PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool choose_reflection) {
   PathEvent e;
   e.entering = path.inside < 0;
   e.reflected = false;
-  e.reflectance = 0.0;
+  e.reflectance = vec3(0.0);
   e.roughness = 0.0;
   e.tint_transmission = vec4(1.0);
   SurfaceHit h = trace_surface(path.origin, path.direction, path.interfaces == 0u ? 0.0 : params.exact_epsilon, CAUSTICA_ALL_INSTANCES);
@@ -88,18 +89,35 @@ PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool ch
   float ior = band_ior(object, band);
   vec3 transmitted = thin ? through_thin(direction, m, n) : refract(direction, m, e.entering ? 1.0 / ior : ior);
   bool total_internal = dot(transmitted, transmitted) == 0.0;
-  e.reflectance = total_internal ? 1.0 : 0.0;
-  if (fresnel && !total_internal) e.reflectance = fresnel_dielectric(-dot(direction, m), e.entering ? 1.0 : ior, e.entering ? ior : 1.0);
+  InterfaceReflection layers = InterfaceReflection(vec3(total_internal ? 1.0 : 0.0), 0.0);
+  if (fresnel && !total_internal) {
+    // The coat is on the outside: its cosine is the light's there (after the crossing, leaving).
+    float cos_outside = e.entering || thin ? -dot(direction, n) : -dot(normalize(transmitted), n);
+    layers = interface_reflection(object, -dot(direction, m), cos_outside, e.entering ? 1.0 : ior, e.entering ? ior : 1.0);
+  }
+  e.reflectance = reflectance(layers);
   path.origin = e.position;
   if (choose_reflection) {
-    e.reflected = e.reflectance > 0.0 && next_uniform(path.rng) < e.reflectance;
+    vec3 reflecting = m;
+    if (layers.coat > 0.0 && next_uniform(path.rng) < layers.coat) {
+      e.reflected = true;
+      reflecting = microfacet_normal(n, direction, object.layers.y, path.rng);
+    } else {
+      float p = choice_probability(layers.base, band);
+      e.reflected = p > 0.0 && next_uniform(path.rng) < p;
+      path.throughput *= e.reflected ? choice_weight(layers.base, p) : choice_weight(1.0 - layers.base, 1.0 - p);
+    }
+    if (e.reflected) {
+      path.direction = on_side(reflect(direction, reflecting), n, true);
+      return e;
+    }
   } else {
     e.reflected = total_internal;
     if (!total_internal) path.throughput *= 1.0 - e.reflectance;
-  }
-  if (e.reflected) {
-    path.direction = on_side(reflect(direction, m), n, true);
-    return e;
+    if (e.reflected) {
+      path.direction = on_side(reflect(direction, m), n, true);
+      return e;
+    }
   }
   if (e.entering) {
     e.tint_transmission = tint_transmission_at(h);

@@ -9,6 +9,7 @@
 // REFRACTION_NO_CAMERA is defined) background_tex (the image behind the refractor), depth_tex (its
 // depth) and a `counters` buffer with params.tir_counter.
 #include "scene/scene.glsl"
+#include "refraction/interface.glsl"
 
 const uint DISTANCE_DV = 0u;     // d_V: front-to-back distance along the view ray at this pixel
 const uint DISTANCE_DV_DN = 1u;  // Wyman's blend of d_V and the per-vertex d_N by refraction angle
@@ -50,16 +51,6 @@ bool exit_searched() { return DISTANCE_MODE == DISTANCE_SEARCH || DISTANCE_MODE 
 uint search_steps() { return REFRACTION_SEARCH & 0xffffu; }
 int search_tir_bounces() { return int(REFRACTION_SEARCH >> 16u); }
 
-
-float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
-  cos_i = clamp(cos_i, 0.0, 1.0);
-  float sin_t = eta_i / eta_t * sqrt(max(0.0, 1.0 - cos_i * cos_i));
-  if (sin_t >= 1.0) return 1.0;
-  float cos_t = sqrt(max(0.0, 1.0 - sin_t * sin_t));
-  float rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-  float rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-  return 0.5 * (rs * rs + rp * rp);
-}
 
 // A hash-based generator: a photon or a pixel (by its position) and a seed draw the same numbers on
 // every device and in every run.
@@ -355,8 +346,8 @@ struct TwoInterfaces {
   vec3 exit_point;
   vec3 exit_direction;  // unit
   float distance;       // travelled inside
-  float reflectance_in;
-  float transmit_out;   // 1 - Fresnel reflectance at the exit; 1 when no back surface was found
+  vec3 reflectance_in;  // per channel (refraction/interface.glsl)
+  vec3 transmit_out;    // 1 - the reflectance at the exit; 1 when no back surface was found
   bool tir;             // the exit met total internal reflection; exit_direction is then the reflection
   bool followed;        // the search followed total internal reflection inside
   vec3 entry_reflection;  // unit: the Fresnel reflection off the entry (outside the refractor)
@@ -368,16 +359,17 @@ struct TwoInterfaces {
   float back_object;
 };
 
-// A rough refractor (`roughness` above 0) refracts about microfacet normals drawn from `rng` at
-// both interfaces.
-TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 n1, float front_distance, float dn, float ior,
-                                     vec2 pixel_uv, float roughness, inout uint rng) {
+// `object` refracts colour band `band` (BAND_WHITE: all); a rough refractor (`roughness` above 0)
+// refracts about microfacet normals drawn from `rng` at both interfaces.
+TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, vec3 n1, float front_distance, float dn, ObjectData object,
+                                     uint band, vec2 pixel_uv, float roughness, inout uint rng) {
   TwoInterfaces r;
+  float ior = band_ior(object, band);
   vec3 v = view_direction(eye, p1);
   if (dot(v, n1) > 0.0) n1 = -n1;  // interpolated normals can face away at silhouettes
   vec3 m1 = microfacet_normal(n1, v, roughness, rng);
   float cos_i = -dot(v, m1);
-  r.reflectance_in = fresnel_dielectric(cos_i, 1.0, ior);
+  r.reflectance_in = reflectance(interface_reflection(object, cos_i, -dot(v, n1), 1.0, ior));
   vec3 t1 = on_side(refract(v, m1, 1.0 / ior), n1, false);
   r.entry_reflection = on_side(reflect(v, m1), n1, true);
 
@@ -396,7 +388,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
   r.exit_point = p1 + t1 * d;
   r.exit_direction = t1;
   r.exit_reflection = t1;
-  r.transmit_out = 1.0;
+  r.transmit_out = vec3(1.0);
   r.tir = false;
   r.followed = false;
   r.back_found = false;
@@ -427,10 +419,10 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
       if (dot(t2, t2) == 0.0) {
         r.tir = true;
         r.exit_direction = on_side(reflect(t1, m2), inward, true);
-        r.transmit_out = 1.0;
+        r.transmit_out = vec3(1.0);
       } else {
-        r.transmit_out = 1.0 - fresnel_dielectric(-dot(t1, m2), ior, 1.0);
         r.exit_direction = on_side(t2, inward, false);
+        r.transmit_out = 1.0 - reflectance(interface_reflection(object, -dot(t1, m2), -dot(normalize(r.exit_direction), inward), ior, 1.0));
         r.exit_reflection = normalize(on_side(reflect(t1, m2), inward, true));
       }
     }
@@ -453,8 +445,9 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
         r.exit_direction = on_side(reflect(r.exit_direction, m), inward, true);
       } else {
         r.tir = false;
-        r.transmit_out = 1.0 - fresnel_dielectric(-dot(r.exit_direction, m), ior, 1.0);
+        vec3 incident = r.exit_direction;
         r.exit_direction = on_side(normalize(out_direction), inward, false);
+        r.transmit_out = 1.0 - reflectance(interface_reflection(object, -dot(incident, m), -dot(r.exit_direction, inward), ior, 1.0));
       }
     }
   }
@@ -495,10 +488,11 @@ bool crosses_other_refractor(vec3 a, vec3 b, uint own) {
 bool thin_walled(ObjectData object) { return object.bounds_min_thin.w > 0.5; }
 // Where image space sees the exact path through a refractor (DISTANCE_MATERIAL's choice): a smooth
 // thin wall without a mask, whose tint and transmission are the same all over (image space reads
-// one per object: the textures' means).
+// one per object: the textures' means), with a plain interface (photons replay the exact tracer's
+// one Fresnel choice per wall; a layered one draws more).
 bool image_space_is_exact(ObjectData object) {
   return thin_walled(object) && object.alpha_cutoff.y < 0.0 && transmission_roughness(object) == 0.0 && object.base_color.row_u.w < 0.0 &&
-         object.transmission_map.row_u.w < 0.0;
+         object.transmission_map.row_u.w < 0.0 && !layered(object);
 }
 // DISTANCE_MATERIAL's choice, the same for photons and camera rays: a path that meets refractor `own`
 // at `entry` and would reach what lies behind it at `behind` is traced exactly unless image space
@@ -510,19 +504,6 @@ bool material_traces_exactly(uint own, vec3 entry, vec3 behind) {
 // meets its far wall too, at `back`: a closed thin object (a sphere) has two walls along a ray, a
 // pane one (its back texel is then the near wall again, or empty).
 bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-4) && back.w == front.w; }
-// Colour bands (KHR_materials_dispersion): BAND_WHITE is one path for every channel with the index
-// n_d; bands 0, 1, 2 (red, green, blue) refract with the index of the C, d and F lines. Where each
-// band's index lies, in units of n_F - n_C above n_d: (1/lambda^2 - 1/lambda_d^2) / (1/lambda_F^2 -
-// 1/lambda_C^2), from the lines in common/scene_types.h (as scene::Material::band_iors).
-const uint BAND_WHITE = 3u;
-const float BAND_INV2_C = 1.0 / (CAUSTICA_LINE_C_NM * CAUSTICA_LINE_C_NM), BAND_INV2_D = 1.0 / (CAUSTICA_LINE_D_NM * CAUSTICA_LINE_D_NM),
-            BAND_INV2_F = 1.0 / (CAUSTICA_LINE_F_NM * CAUSTICA_LINE_F_NM);
-const vec3 BAND_SPREAD = (vec3(BAND_INV2_C, BAND_INV2_D, BAND_INV2_F) - BAND_INV2_D) / (BAND_INV2_F - BAND_INV2_C);
-bool disperses(ObjectData object) { return object.bounds_max_spread.w > 0.0; }
-float band_ior(ObjectData object, uint band) {
-  return band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[band] * object.bounds_max_spread.w;
-}
-
 // The share of a photon's power past a refractor's surface (after Fresnel), per colour channel of
 // the caustic map: the transmission times the tint (per texel where at_front_texel or the exact
 // paths' tint_transmission_at gave them).

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 
 #include "core/suggest.h"
 #include "io/json_reader.h"
@@ -146,6 +147,12 @@ void configure_at_rest(const std::string& file, graph::GraphDesc& graph, const g
     std::fprintf(stderr, "caustica: note: %s: the values as declared, not those at rest (%s): %s\n", file.c_str(), values.c_str(),
                  reason.c_str());
   }
+}
+
+scene::Scene load_scene_and_warn(const std::string& path, bool stage) {
+  scene::Scene scene = scene::load_scene_file(path, stage);
+  for (const auto& warning : scene.warnings) std::cerr << "caustica: warning: " << warning << "\n";
+  return scene;
 }
 
 double median(std::vector<double> v) {

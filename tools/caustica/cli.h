@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "graph/graph_desc.h"
+#include "scene/scene.h"
 #include "vk/context.h"
 
 namespace caustica::cli {
@@ -102,6 +103,10 @@ class ProgressLine {
 };
 
 double median(std::vector<double> v);
+
+// A scene file or a model opened as one (scene::load_scene_file), its warnings (what its files say
+// and the engine does not draw) printed to stderr.
+scene::Scene load_scene_and_warn(const std::string& path, bool stage);
 
 // A headless command's graph at rest, as the viewer's once nothing moves: each parameter's first
 // while_still value, except those that `sets` (--set NAME=VALUE) sets. Returns "NAME=VALUE" of each

@@ -205,7 +205,7 @@ int cmd_graph(Args& args) {
   options.tracer = graph::tracer_from_environment();  // --tracer; without a device, auto means ray queries
   std::optional<scene::Scene> scene;
   if (o.scene_given) {
-    scene = scene::load_scene_file(o.scene, o.stage);
+    scene = load_scene_and_warn(o.scene, o.stage);
     options.scene_values = scene->expression_values();
   }
   graph::Plan plan = graph::compile_graph(graph, passes::builtin_registry(), options);
@@ -216,13 +216,13 @@ int cmd_graph(Args& args) {
   nlohmann::json out = graph::plan_to_json(plan);
   if (scene) out["lights"] = lights_report(*scene, plan);
   if (plan.tracer == graph::Tracer::compute) {
-    if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
+    if (!scene) scene = load_scene_and_warn(o.scene, o.stage);
     // The compute tracer's BVH is built on the host: its size here is the device's, to the byte.
     const scene::TracerBvh bvh = scene::build_scene_bvh(*scene, std::vector<uint32_t>(scene->objects.size(), 0));
     out["memory"]["bvh"] = {
         {"scene", o.scene}, {"triangles", bvh.triangle_count}, {"nodes", bvh.node_count}, {"depth", bvh.depth}, {"bytes", bvh.bytes()}};
   } else if (!plan.traced_passes.empty()) {
-    if (!scene) scene = scene::load_scene_file(o.scene, o.stage);
+    if (!scene) scene = load_scene_and_warn(o.scene, o.stage);
     const scene::AccelerationEstimate estimate = scene::estimate_acceleration(*scene);
     out["memory"]["acceleration"] = {{"scene", o.scene},
                                      {"triangles", estimate.triangles},

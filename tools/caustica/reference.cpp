@@ -347,7 +347,7 @@ int cmd_reference(Args& args) {
   }
   reference_flags(o).parse(args);
   const std::string out_extension = check_reference(o);
-  const scene::Scene scene = scene::load_scene_file(o.scene, o.stage);
+  const scene::Scene scene = load_scene_and_warn(o.scene, o.stage);
   if (!o.picture_out.empty()) return trace_picture(scene, o, out_extension);
   if (o.shard.count > 0 && o.photons.photons > 0) return trace_photon_shard(scene, o.photons, o.shard, o.out);
   if (o.photons.photons > 0) return trace_photons(scene, o);

@@ -187,7 +187,7 @@ int run_render(const RenderOptions& o, bool trace) {
     return (decl && decl->needs_scene) || (p.user && p.user->scene);
   });
   std::shared_ptr<const scene::Scene> scene;
-  if (needs_scene) scene = std::make_shared<const scene::Scene>(scene::load_scene_file(o.scene, o.stage));
+  if (needs_scene) scene = std::make_shared<const scene::Scene>(load_scene_and_warn(o.scene, o.stage));
 
   vk::Context vk(device_options(o.device, o.validate));
   shader::ShaderCompiler& shaders = shader::process_shader_compiler();

@@ -26,6 +26,11 @@ std::string find_graph_or_scene(const std::string& given) {
   return given;
 }
 
+// A scene's warnings (its warnings name their files), with the plan's on stdout.
+void print_warnings(const scene::Scene& scene) {
+  for (const auto& warning : scene.warnings) std::cout << "warning: " << warning << "\n";
+}
+
 }  // namespace
 
 int cmd_validate(Args& args) {
@@ -56,7 +61,9 @@ int cmd_validate(Args& args) {
   std::map<std::string, double> scene_values = graph::typical_scene_values();
   if (!scene_file.empty()) {
     try {
-      scene_values = scene::load_scene_file(scene_file, stage).expression_values();
+      const scene::Scene scene = scene::load_scene_file(scene_file, stage);
+      scene_values = scene.expression_values();
+      print_warnings(scene);
       std::cout << scene_file << ": ok\n";
     } catch (const InputError& e) {
       std::cerr << e.what() << "\n";
@@ -66,7 +73,7 @@ int cmd_validate(Args& args) {
   for (const std::string& file : files) {
     try {
       if (scene::is_model_file(file)) {  // a model opened as a scene, as --scene takes it
-        scene::load_model_scene(file);
+        print_warnings(scene::load_model_scene(file));
         std::cout << file << ": ok\n";
         continue;
       }
@@ -79,7 +86,7 @@ int cmd_validate(Args& args) {
         continue;
       }
       if (root.is_object() && (root.contains("camera") || root.contains("objects"))) {
-        scene::load_scene(doc);
+        print_warnings(scene::load_scene(doc));
       } else {
         graph::CompileOptions options;
         options.scene_values = scene_values;

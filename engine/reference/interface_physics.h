@@ -1,0 +1,154 @@
+#pragma once
+// What a refractor's interface reflects once glTF's material layers are on it (docs/gltf.md, "The
+// interface"): KHR_materials_specular's scaled Fresnel curve, KHR_materials_iridescence's thin film
+// and KHR_materials_clearcoat's coat, per colour channel. The host's own implementation for the
+// reference tracers, written from the model's text alone: a second opinion on the device's.
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include "reference/exact_scene.h"
+#include "scene/scene.h"
+
+namespace caustica::reference {
+
+// What a refractor's interface reflects, per colour channel (red, green, blue); 1 - reflectance crosses.
+struct InterfaceReflectance {
+  glm::vec3 reflectance{0.0f};
+  float coat = 0.0f;  // the clear coat's share (clearcoat * Fc), part of every channel of `reflectance`
+};
+
+// Each channel's wavelength in nm: the Fraunhofer lines C (red), d (green) and F (blue), the ones
+// the dispersion bands' indices are given at, so that a film and dispersion agree on a channel.
+inline constexpr float kChannelWavelengthsNm[3] = {656.27f, 587.56f, 486.13f};
+
+// The cosine, in a layer of index n_k, of a ray at cosine cos_j in index n_j (Snell's law). 0 where
+// the ray cannot enter the layer: its amplitude coefficients then become +-1 (total reflection; the
+// tunnelling of an evanescent wave through a thin layer is not modelled).
+inline float snell_cos(float cos_j, float n_j, float n_k) {
+  const float sin_k = n_j / n_k * std::sqrt(std::max(0.0f, 1.0f - cos_j * cos_j));
+  return sin_k >= 1.0f ? 0.0f : std::sqrt(1.0f - sin_k * sin_k);
+}
+
+// (a - b) / (a + b): both polarisations' amplitude coefficients have this form. a = b = 0 (grazing
+// on both sides) is the grazing limit, total reflection.
+inline float amplitude_ratio(float a, float b) {
+  return a + b > 0.0f ? (a - b) / (a + b) : 1.0f;
+}
+
+// The Airy sum of a layer's two interfaces for one polarisation, |r12 + r23 e^{i delta}|^2 /
+// |1 + r12 r23 e^{i delta}|^2. The denominator reaches 0 only with |r12 r23| = 1, both interfaces
+// reflecting everything, whose limit is 1.
+inline float airy_reflectance(float r12, float r23, float cos_delta) {
+  const float cross = 2.0f * r12 * r23 * cos_delta;
+  const float den = 1.0f + r12 * r12 * r23 * r23 + cross;
+  if (den <= 1e-12f) return 1.0f;
+  return std::clamp((r12 * r12 + r23 * r23 + cross) / den, 0.0f, 1.0f);
+}
+
+// Unpolarised reflectance at `wavelength_nm` of the stack incident medium (eta_i) | film (film_ior,
+// thickness_nm) | substrate (eta_t), met at cosine cos_i: the mean of the s and p Airy reflectances.
+inline float thin_film_reflectance(float cos_i, float eta_i, float film_ior, float thickness_nm, float eta_t, float wavelength_nm) {
+  const float c1 = cos_i, c2 = snell_cos(cos_i, eta_i, film_ior), c3 = snell_cos(cos_i, eta_i, eta_t);
+  const float n1 = eta_i, n2 = film_ior, n3 = eta_t;
+  // The phase one round trip through the film adds over the light reflected at its top.
+  const float delta = 4.0f * glm::pi<float>() * n2 * thickness_nm * c2 / wavelength_nm;
+  const float cos_delta = std::cos(delta);
+  const float s = airy_reflectance(amplitude_ratio(n1 * c1, n2 * c2), amplitude_ratio(n2 * c2, n3 * c3), cos_delta);
+  const float p = airy_reflectance(amplitude_ratio(n2 * c1, n1 * c2), amplitude_ratio(n3 * c2, n2 * c3), cos_delta);
+  return 0.5f * (s + p);
+}
+
+// KHR_materials_specular on one channel: the dielectric's curve F (from f0 at normal incidence to 1
+// at grazing) rescaled to start at min(f0 * colour, 1) instead, still reaching 1 at grazing.
+inline float specular_curve(float fresnel, float f0, float colour) {
+  // An interface that reflects everything keeps doing so; an uncoloured one keeps its curve exactly
+  // (the rescaling's rounding would make the channels differ, and photons' weights with them).
+  if (1.0f - f0 < 1e-6f || colour == 1.0f) return fresnel;
+  const float f0_coloured = std::min(f0 * colour, 1.0f);
+  return std::clamp(f0_coloured + (1.0f - f0_coloured) * (fresnel - f0) / (1.0f - f0), 0.0f, 1.0f);
+}
+
+// KHR_materials_clearcoat's coat Fresnel: Schlick's with F0 = 0.04 (a coat of index 1.5), at the
+// angle the ray makes outside with the surface's normal, as the extension gives it.
+inline float clearcoat_fresnel(float cos_outside) {
+  const float x = 1.0f - std::clamp(cos_outside, 0.0f, 1.0f);
+  return 0.04f + 0.96f * x * x * x * x * x;
+}
+
+// The interface's reflectance for a ray from index eta_i into eta_t: cos_i is measured against the
+// (micro)facet normal on the incident side, cos_outside against the geometric normal on the air
+// side (the coat faces the air from either side).
+inline InterfaceReflectance interface_reflectance(const scene::Material& m, float cos_i, float cos_outside, float eta_i, float eta_t) {
+  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
+  InterfaceReflectance out;
+  const float sin_i = std::sqrt(std::max(0.0f, 1.0f - cos_i * cos_i));
+  if (eta_i * sin_i > eta_t) {  // total internal reflection: no layer lets anything through
+    out.reflectance = glm::vec3(1.0f);
+    return out;
+  }
+  const float fresnel = fresnel_dielectric(cos_i, eta_i, eta_t);
+  const float f0_root = (eta_t - eta_i) / (eta_t + eta_i);
+  const float f0 = f0_root * f0_root;
+  for (int c = 0; c < 3; ++c) {
+    float f = fresnel;
+    if (m.iridescence > 0.0f) {
+      const float film = thin_film_reflectance(cos_i, eta_i, m.film_ior, m.film_thickness_nm, eta_t, kChannelWavelengthsNm[c]);
+      f = glm::mix(fresnel, film, m.iridescence);
+    }
+    out.reflectance[c] = m.specular * specular_curve(f, f0, m.specular_color[c]);
+  }
+  if (m.clearcoat > 0.0f) {
+    // The coat reflects its share first; what it passes meets the base below.
+    out.coat = m.clearcoat * clearcoat_fresnel(cos_outside);
+    out.reflectance = out.coat + (1.0f - out.coat) * out.reflectance;
+  }
+  return out;
+}
+
+// A ray meeting refractor material `m`'s interface, from index eta_i into eta_t, at facet m of the
+// surface whose normal n faces the ray: the one model of an interface that both references use
+// (photons choose a side, camera rays weight both). `fresnel` false: no reflection except total
+// internal reflection (docs/oracles.md's "no Fresnel" oracles).
+struct InterfaceCrossing {
+  glm::vec3 reflected;          // kept on the ray's side of the surface
+  glm::vec3 transmitted;        // kept on the far side; zero under total internal reflection
+  glm::vec3 reflectance{0.0f};  // per channel; 1 under total internal reflection
+  float coat = 0.0f;            // the clear coat's share of it, reflected before the base
+  // What the base reflects of the light past the coat.
+  glm::vec3 base() const { return coat < 1.0f ? (reflectance - coat) / (1.0f - coat) : glm::vec3(0.0f); }
+  bool total_internal() const { return transmitted == glm::vec3(0.0f); }
+};
+inline InterfaceCrossing cross_interface(const scene::Material& material, glm::vec3 direction, glm::vec3 m, glm::vec3 n, float eta_i,
+                                         float eta_t, bool fresnel = true) {
+  InterfaceCrossing c;
+  c.reflected = on_side(glm::reflect(direction, m), n, true);
+  const glm::vec3 refracted = glm::refract(direction, m, eta_i / eta_t);
+  if (glm::dot(refracted, refracted) == 0.0f) {
+    c.transmitted = glm::vec3(0.0f);
+    c.reflectance = glm::vec3(1.0f);
+    return c;
+  }
+  c.transmitted = on_side(glm::normalize(refracted), n, false);
+  if (!fresnel) return c;
+  // The coat is on the air's side: the light's cosine there, before an entry or after an exit.
+  const float cos_outside = eta_i < eta_t ? -glm::dot(direction, n) : -glm::dot(c.transmitted, n);
+  const InterfaceReflectance r = interface_reflectance(material, -glm::dot(direction, m), cos_outside, eta_i, eta_t);
+  c.reflectance = r.reflectance;
+  c.coat = r.coat;
+  return c;
+}
+
+// Photons choose one side of an interface at random: the probability that a photon of colour band
+// `band` (-1: white) takes `share`, and the weight that keeps its expected power.
+inline float choice_probability(glm::vec3 share, int band) {
+  if (band >= 0 || (share.x == share.y && share.y == share.z)) return share[std::max(band, 0)];
+  return (share.x + share.y + share.z) / 3.0f;
+}
+// (Exactly 1 where the share is the same in every channel: an uncoloured interface leaves powers as they are.)
+inline glm::vec3 choice_weight(glm::vec3 share, float probability) {
+  return share == glm::vec3(probability) ? glm::vec3(1.0f) : share / std::max(probability, 1e-12f);
+}
+
+}  // namespace caustica::reference

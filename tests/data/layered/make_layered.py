@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Writes the glass balls of the material-extension tests and the gallery: each a smooth UV sphere
+(radius 1, 64 x 32 segments, at the origin) whose one material is glass (KHR_materials_transmission,
+_volume, _ior 1.5) with one of the interface extensions caustica reads:
+  clearcoat_ball.gltf    KHR_materials_clearcoat, a full coat (clearcoatFactor 1)
+  specular_ball.gltf     KHR_materials_specular, a reddish F0 (specularColorFactor 2.5, 1, 0.4)
+  iridescent_ball.gltf   KHR_materials_iridescence, a film of index 2.0 and 380 nm (iridescenceFactor 1)
+and, beside each, a scene (NAME.json) that puts the ball where the ball lens of
+scenes/sphere_plane.json stands. Everything is embedded. Run from this folder: python3 make_layered.py"""
+import base64, json, math, re, struct
+
+SEGMENTS, RINGS = 64, 32
+
+
+def sphere():
+    positions, indices = [], []
+    for ring in range(RINGS + 1):
+        theta = math.pi * ring / RINGS
+        for segment in range(SEGMENTS + 1):
+            phi = 2.0 * math.pi * segment / SEGMENTS
+            positions.append((math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi)))
+    for ring in range(RINGS):
+        for segment in range(SEGMENTS):
+            a = ring * (SEGMENTS + 1) + segment
+            b = a + SEGMENTS + 1
+            # counter-clockwise seen from outside; none of zero area at the poles
+            if ring > 0:
+                indices += [a, a + 1, b]
+            if ring < RINGS - 1:
+                indices += [a + 1, b + 1, b]
+    return positions, indices
+
+
+def ball(name, extensions):
+    positions, indices = sphere()
+    blob = b"".join(struct.pack("<3f", *p) for p in positions)  # positions, and the same as normals
+    blob += b"".join(struct.pack("<H", i) for i in indices)
+    vertex_bytes = 12 * len(positions)
+    used = ["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"] + sorted(extensions)
+    material_extensions = {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                           "KHR_materials_volume": {"thicknessFactor": 2.0},
+                           "KHR_materials_ior": {"ior": 1.5}}
+    material_extensions.update(extensions)
+    gltf = {
+        "asset": {"version": "2.0", "generator": "caustica tests/data/layered/make_layered.py"},
+        "extensionsUsed": used,
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": name}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 0}, "indices": 1, "material": 0}]}],
+        "materials": [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0, "roughnessFactor": 0.0},
+                       "extensions": material_extensions}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
+                      {"bufferView": 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": vertex_bytes},
+                        {"buffer": 0, "byteOffset": vertex_bytes, "byteLength": 2 * len(indices)}],
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+    }
+    with open(name + ".gltf", "w") as f:
+        json.dump(gltf, f, separators=(",", ":"))
+        f.write("\n")
+    scene = json.load(open("../../../scenes/sphere_plane.json"))
+    scene["name"] = name
+    scene["description"] = "The ball lens of scenes/sphere_plane.json, its glass from " + name + ".gltf: " + DESCRIPTIONS[name]
+    scene["objects"][-1] = {"name": "ball", "mesh": name + ".gltf", "transform": {"translate": [0, 1.5, 0]}}
+    with open(name + ".json", "w") as f:
+        text = json.dumps(scene, indent=2)
+        # short lists of numbers on one line, as the bundled scenes write them
+        text = re.sub(r"\[\s*([-0-9.,\s]+?)\s*\]", lambda m: "[" + ", ".join(m.group(1).split()).replace(",,", ",") + "]", text)
+        f.write(text + "\n")
+
+
+DESCRIPTIONS = {
+    "clearcoat_ball": "a full clear coat (KHR_materials_clearcoat).",
+    "specular_ball": "a reddish specular F0 (KHR_materials_specular), which leaves the caustic cyan.",
+    "iridescent_ball": "a thin film of index 2.0, 380 nm thick (KHR_materials_iridescence), which colours the caustic.",
+}
+ball("clearcoat_ball", {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.0}})
+ball("specular_ball", {"KHR_materials_specular": {"specularFactor": 1.0, "specularColorFactor": [2.5, 1.0, 0.4]}})
+ball("iridescent_ball", {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": 2.0,
+                                                       "iridescenceThicknessMaximum": 380.0}})

@@ -1,0 +1,59 @@
+// The glTF interface extensions as the loader reads them (KHR_materials_specular, _clearcoat,
+// _iridescence), and the warnings for what a file uses and caustica does not read.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "scene/scene.h"
+
+namespace caustica::scene {
+namespace {
+
+const std::filesystem::path kData = std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data";
+
+Material ball_material(const char* file) {
+  const auto parts = load_mesh_file((kData / "layered" / file).string());
+  EXPECT_EQ(parts.size(), 1u);
+  EXPECT_TRUE(parts.at(0).material.has_value());
+  return *parts.at(0).material;
+}
+
+// The values tests/data/layered/make_layered.py writes, and the defaults of what it leaves out.
+TEST(GltfInterface, EachExtensionsValuesAreRead) {
+  const Material coat = ball_material("clearcoat_ball.gltf");
+  EXPECT_TRUE(coat.refractor);
+  EXPECT_FLOAT_EQ(coat.clearcoat, 1.0f);
+  EXPECT_FLOAT_EQ(coat.clearcoat_roughness, 0.0f);
+  EXPECT_FLOAT_EQ(coat.specular, 1.0f);  // no specular extension: the plain dielectric
+  EXPECT_EQ(coat.specular_color, glm::vec3(1.0f));
+  EXPECT_FLOAT_EQ(coat.iridescence, 0.0f);
+
+  const Material specular = ball_material("specular_ball.gltf");
+  EXPECT_FLOAT_EQ(specular.specular, 1.0f);
+  EXPECT_EQ(specular.specular_color, glm::vec3(2.5f, 1.0f, 0.4f));  // above 1 is allowed: it scales F0
+  EXPECT_FLOAT_EQ(specular.clearcoat, 0.0f);
+
+  const Material film = ball_material("iridescent_ball.gltf");
+  EXPECT_FLOAT_EQ(film.iridescence, 1.0f);
+  EXPECT_FLOAT_EQ(film.film_ior, 2.0f);
+  EXPECT_FLOAT_EQ(film.film_thickness_nm, 380.0f);  // without a thickness texture: the maximum
+}
+
+// A file that uses an extension caustica does not read renders, with a warning that names the
+// extension, what is lost and where it is used; through a scene file too. One that requires it is
+// refused (tests/data/bad_commands.txt has both from the command line).
+TEST(GltfInterface, AnUnreadExtensionIsAWarningNamingIt) {
+  const Scene model = load_model_scene((kData / "gltf/uses_sheen.gltf").string());
+  ASSERT_EQ(model.warnings.size(), 1u);
+  const std::string& warning = model.warnings[0];
+  EXPECT_NE(warning.find("uses_sheen.gltf: uses KHR_materials_sheen, which caustica does not read"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("the sheen is ignored (/materials/0)"), std::string::npos) << warning;
+  EXPECT_TRUE(load_model_scene((kData / "layered/clearcoat_ball.gltf").string()).warnings.empty());  // every extension read
+  const Scene through_scene = load_scene_file((kData / "warnings/sheen_scene.json").string());
+  ASSERT_EQ(through_scene.warnings.size(), 1u);
+  EXPECT_NE(through_scene.warnings[0].find("uses_sheen.gltf: uses KHR_materials_sheen"), std::string::npos) << through_scene.warnings[0];
+  EXPECT_THROW(load_model_scene((kData / "gltf/requires_basisu.gltf").string()), InputError);
+}
+
+}  // namespace
+}  // namespace caustica::scene
