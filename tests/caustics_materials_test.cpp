@@ -216,7 +216,7 @@ TEST(Caustics, TintAndTransmissionAreReadPerTexelInEveryMethod) {
 }
 
 // glTF's interface extensions change the caustic as the reference says, in every method: the ball
-// lens whose glass is tests/data/layered/*.gltf (a full clear coat; a reddish specular F0; a thin
+// lens whose glass is scenes/materials/*_ball.gltf (tests/data/layered's scenes: a full clear coat; a reddish specular F0; a thin
 // film of index 2.0, 380 nm) against the plain ball, each traced by the photon reference (its own
 // implementation of the interface, reference/interface_physics.h, whose known answers
 // interface_physics_test checks). First the reference must show the layer's effect (else the test

@@ -10,15 +10,16 @@ namespace caustica::scene {
 namespace {
 
 const std::filesystem::path kData = std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data";
+const std::filesystem::path kModels = std::filesystem::path(CAUSTICA_SOURCE_DIR) / "scenes/materials";
 
 Material ball_material(const char* file) {
-  const auto parts = load_mesh_file((kData / "layered" / file).string());
+  const auto parts = load_mesh_file((kModels / file).string());
   EXPECT_EQ(parts.size(), 1u);
   EXPECT_TRUE(parts.at(0).material.has_value());
   return *parts.at(0).material;
 }
 
-// The values tests/data/layered/make_layered.py writes, and the defaults of what it leaves out.
+// The values scenes/materials/make_layered_balls.py writes, and the defaults of what it leaves out.
 TEST(GltfInterface, EachExtensionsValuesAreRead) {
   const Material coat = ball_material("clearcoat_ball.gltf");
   EXPECT_TRUE(coat.refractor);
@@ -37,6 +38,11 @@ TEST(GltfInterface, EachExtensionsValuesAreRead) {
   EXPECT_FLOAT_EQ(film.iridescence, 1.0f);
   EXPECT_FLOAT_EQ(film.film_ior, 2.0f);
   EXPECT_FLOAT_EQ(film.film_thickness_nm, 380.0f);  // without a thickness texture: the maximum
+
+  const Material rough = ball_material("coated_rough_ball.gltf");
+  EXPECT_FLOAT_EQ(rough.clearcoat, 1.0f);
+  EXPECT_FLOAT_EQ(rough.transmission_roughness, 0.4f);  // the base is rough, the coat smooth
+  EXPECT_FLOAT_EQ(rough.clearcoat_roughness, 0.0f);
 }
 
 // A file that uses an extension caustica does not read renders, with a warning that names the
@@ -48,7 +54,7 @@ TEST(GltfInterface, AnUnreadExtensionIsAWarningNamingIt) {
   const std::string& warning = model.warnings[0];
   EXPECT_NE(warning.find("uses_sheen.gltf: uses KHR_materials_sheen, which caustica does not read"), std::string::npos) << warning;
   EXPECT_NE(warning.find("the sheen is ignored (/materials/0)"), std::string::npos) << warning;
-  EXPECT_TRUE(load_model_scene((kData / "layered/clearcoat_ball.gltf").string()).warnings.empty());  // every extension read
+  EXPECT_TRUE(load_model_scene((kModels / "clearcoat_ball.gltf").string()).warnings.empty());  // every extension read
   const Scene through_scene = load_scene_file((kData / "warnings/sheen_scene.json").string());
   ASSERT_EQ(through_scene.warnings.size(), 1u);
   EXPECT_NE(through_scene.warnings[0].find("uses_sheen.gltf: uses KHR_materials_sheen"), std::string::npos) << through_scene.warnings[0];

@@ -181,7 +181,7 @@ void read_iridescence(const tinygltf::Value& v, const std::string& extension_at,
   if (thinnest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMinimum: must be 0 or more");
   if (thickest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMaximum: must be 0 or more");
   const TextureRef thickness = extension_texture(v, extension_at, "iridescenceThicknessTexture", path, textures, false);
-  const double along = texture_mean(textures, thickness, 1);
+  const auto along = static_cast<double>(texture_mean(textures, thickness, 1));
   m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 

@@ -42,6 +42,8 @@ const StabilityCase kStabilityCases[] = {
     {"point light close to the refractor", "stability/close_point_light"},
     {"light inside a glass shade", "glass_lamp"},
     {"caustics overlapping", "overlapping_caustics"},
+    {"thin film at grazing light", "stability/grazing_film"},
+    {"clear coat over a rough base", "stability/coat_over_rough"},
     {"n = 1", "stability/index_one"},
     {"no refractor", "no_refractor"},
 };

@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""Writes the glass balls of the material-extension tests and the gallery: each a smooth UV sphere
-(radius 1, 64 x 32 segments, at the origin) whose one material is glass (KHR_materials_transmission,
-_volume, _ior 1.5) with one of the interface extensions caustica reads:
-  clearcoat_ball.gltf    KHR_materials_clearcoat, a full coat (clearcoatFactor 1)
-  specular_ball.gltf     KHR_materials_specular, a reddish F0 (specularColorFactor 2.5, 1, 0.4)
-  iridescent_ball.gltf   KHR_materials_iridescence, a film of index 2.0 and 380 nm (iridescenceFactor 1)
-and, beside each, a scene (NAME.json) that puts the ball where the ball lens of
-scenes/sphere_plane.json stands. Everything is embedded. Run from this folder: python3 make_layered.py"""
+"""Writes the glass balls of the glTF interface extensions (docs/gltf.md, "The interface"): each a
+smooth UV sphere (radius 1, 64 x 32 segments, at the origin) whose one material is glass
+(KHR_materials_transmission, _volume, _ior 1.5) with interface layers:
+  clearcoat_ball.gltf      KHR_materials_clearcoat, a full coat (clearcoatFactor 1)
+  specular_ball.gltf       KHR_materials_specular, a reddish F0 (specularColorFactor 2.5, 1, 0.4)
+  iridescent_ball.gltf     KHR_materials_iridescence, a film of index 2.0 and 380 nm (iridescenceFactor 1)
+  coated_rough_ball.gltf   a rough base (roughnessFactor 0.4) under a smooth full clear coat
+Beside the first three, in tests/data/layered, a scene (NAME.json) that puts the ball where the
+ball lens of scenes/sphere_plane.json stands (the tests' and the gallery's); scenes/stability uses
+the film and the coat over the rough base. Everything is embedded.
+Run from this folder: python3 make_layered_balls.py"""
 import base64, json, math, re, struct
 
 SEGMENTS, RINGS = 64, 32
@@ -31,7 +34,7 @@ def sphere():
     return positions, indices
 
 
-def ball(name, extensions):
+def ball(name, extensions, roughness=0.0, scene=True):
     positions, indices = sphere()
     blob = b"".join(struct.pack("<3f", *p) for p in positions)  # positions, and the same as normals
     blob += b"".join(struct.pack("<H", i) for i in indices)
@@ -46,7 +49,8 @@ def ball(name, extensions):
         "extensionsUsed": used,
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": name}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 0}, "indices": 1, "material": 0}]}],
-        "materials": [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0, "roughnessFactor": 0.0},
+        "materials": [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0,
+                                                                                          "roughnessFactor": roughness},
                        "extensions": material_extensions}],
         "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
                       {"bufferView": 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"}],
@@ -57,11 +61,13 @@ def ball(name, extensions):
     with open(name + ".gltf", "w") as f:
         json.dump(gltf, f, separators=(",", ":"))
         f.write("\n")
-    scene = json.load(open("../../../scenes/sphere_plane.json"))
+    if not scene:
+        return
+    scene = json.load(open("../sphere_plane.json"))
     scene["name"] = name
-    scene["description"] = "The ball lens of scenes/sphere_plane.json, its glass from " + name + ".gltf: " + DESCRIPTIONS[name]
-    scene["objects"][-1] = {"name": "ball", "mesh": name + ".gltf", "transform": {"translate": [0, 1.5, 0]}}
-    with open(name + ".json", "w") as f:
+    scene["description"] = "The ball lens of scenes/sphere_plane.json, its glass from scenes/materials/" + name + ".gltf: " + DESCRIPTIONS[name]
+    scene["objects"][-1] = {"name": "ball", "mesh": "../../../scenes/materials/" + name + ".gltf", "transform": {"translate": [0, 1.5, 0]}}
+    with open("../../tests/data/layered/" + name + ".json", "w") as f:
         text = json.dumps(scene, indent=2)
         # short lists of numbers on one line, as the bundled scenes write them
         text = re.sub(r"\[\s*([-0-9.,\s]+?)\s*\]", lambda m: "[" + ", ".join(m.group(1).split()).replace(",,", ",") + "]", text)
@@ -77,3 +83,4 @@ ball("clearcoat_ball", {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "cle
 ball("specular_ball", {"KHR_materials_specular": {"specularFactor": 1.0, "specularColorFactor": [2.5, 1.0, 0.4]}})
 ball("iridescent_ball", {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": 2.0,
                                                        "iridescenceThicknessMaximum": 380.0}})
+ball("coated_rough_ball", {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.0}}, roughness=0.4, scene=False)
