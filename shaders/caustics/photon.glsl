@@ -343,8 +343,9 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   if (thin_walled(object)) return thin_wall_photon(ph, light, uv, eye, direction, front, object, receiver, receiver_distance, p1);
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
-  TwoInterfaces path = refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, object,
-                                              photon_band, uv, transmission_roughness(object), rng);
+  TwoInterfaces path =
+      refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, object, photon_band, uv,
+                             transmission_roughness(object), entry_choice_draws(object, band_ior(object, photon_band), params.fresnel != 0u), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies).
   vec2 landing;

@@ -102,7 +102,7 @@ vec3 refracted_radiance(vec3 p1, vec3 n1, float front_distance, float dn, uint o
   for (uint s = 0u; s < samples; ++s) {
     for (uint band = first; band <= last; ++band) {
       TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(frame.camera_position.xyz), p1, n1, front_distance, dn,
-                                                  object, band, pixel_uv, transmission_roughness(object), rng);
+                                                  object, band, pixel_uv, transmission_roughness(object), 0u, rng);
       // Total internal reflection: the ray reflects and, in this two-interface model, leaves along
       // the reflected direction with all its energy (no black pixels, no NaN).
       if (path.tir) atomicAdd(counters[params.tir_counter], 1u);

@@ -70,7 +70,7 @@ uint hybrid_radiance(vec3 p1, vec4 front, vec2 uv, out vec3 radiance) {
   for (uint s = 0u; s < samples; ++s) {
     for (uint band = first; band <= last; ++band) {
       TwoInterfaces path = refract_two_interfaces(frame.view_proj, perspective_origin(eye), p1, n1, front.y, front.z, object, band, uv,
-                                                  transmission_roughness(object), rng);
+                                                  transmission_roughness(object), 0u, rng);
       bool hit;
       vec3 behind;
       uint reason = hybrid_exit_ray(path, front, texture(back_tex, uv), params.hybrid_tolerance, hit, behind);

@@ -104,6 +104,13 @@ InterfaceReflection interface_reflection(ObjectData object, float cos_i, float c
 // photons' choices there draw more than one number and weight their powers.
 bool layered(ObjectData object) { return object.layers.x > 0.0 || object.layers.z > 0.0 || object.specular != vec4(1.0); }
 
+// How many random numbers a photon's choices at a refractor's entry draw (refraction/exact_path.glsl:
+// the coat's where it has one, then the base's where it reflects at all).
+uint entry_choice_draws(ObjectData object, float ior, bool fresnel) {
+  if (!fresnel) return 0u;
+  return (object.layers.x > 0.0 ? 1u : 0u) + (object.specular.a > 0.0 && ior != 1.0 ? 1u : 0u);
+}
+
 // Photons choose one side of an interface at random: the probability of a path of colour band
 // `band` taking `share` (per channel), and the weight that keeps its expectation (exactly 1 where
 // the share is the same in every channel, so that an uncoloured interface leaves powers as they are).
