@@ -32,6 +32,12 @@ double extension_number(const tinygltf::Value& v, const std::string& extension_a
   return value;
 }
 
+// A factor in [0, 1] at `key` of extension object `v` (at JSON pointer `extension_at`); `fallback`
+// when absent.
+double unit_factor(const tinygltf::Value& v, const std::string& extension_at, const char* key, double fallback, const std::string& path) {
+  return in_unit_interval(extension_number(v, extension_at, key, fallback, path), extension_at + "/" + key, path);
+}
+
 // The core model: base colour, metal and roughness, normal, emissive and occlusion textures, alpha.
 void read_core_material(const tinygltf::Material& mat, const std::string& at, const std::string& path, TextureTable& textures,
                         Material& m) {
@@ -105,8 +111,7 @@ float texture_mean(const TextureTable& textures, const TextureRef& ref, int chan
 // KHR_materials_transmission, the extension object `t` at JSON pointer `extension_at`.
 void read_transmission(const tinygltf::Value& t, const std::string& extension_at, const std::string& path, TextureTable& textures,
                        Material& m) {
-  const double factor =
-      in_unit_interval(extension_number(t, extension_at, "transmissionFactor", 0.0, path), extension_at + "/transmissionFactor", path);
+  const double factor = unit_factor(t, extension_at, "transmissionFactor", 0.0, path);
   m.refractor = factor > 0.0;
   m.transmission = static_cast<float>(factor);
   m.tint = m.albedo;  // the specification tints transmitted light with the base colour
@@ -126,8 +131,7 @@ void read_transmission(const tinygltf::Value& t, const std::string& extension_at
 // alpha) and its F0 coloured (specularColorFactor, the texture's rgb), textures by their means.
 void read_specular(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                    Material& m) {
-  const double factor =
-      in_unit_interval(extension_number(v, extension_at, "specularFactor", 1.0, path), extension_at + "/specularFactor", path);
+  const double factor = unit_factor(v, extension_at, "specularFactor", 1.0, path);
   m.specular =
       static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "specularTexture", path, textures, false), 3);
   if (v.Has("specularColorFactor")) {
@@ -148,15 +152,13 @@ void read_specular(const tinygltf::Value& v, const std::string& extension_at, co
 
 // KHR_materials_clearcoat: a clear coat of index 1.5 over the base, its factor (the texture's
 // red) and roughness (the texture's green) by their means. The coat follows the surface's normal:
-// a clearcoatNormalTexture is checked and not applied (ignored_content says so).
+// a clearcoatNormalTexture is checked and not applied (gltf_loader.cpp's unread_content says so).
 void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                     Material& m) {
-  const double factor =
-      in_unit_interval(extension_number(v, extension_at, "clearcoatFactor", 0.0, path), extension_at + "/clearcoatFactor", path);
+  const double factor = unit_factor(v, extension_at, "clearcoatFactor", 0.0, path);
   m.clearcoat =
       static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "clearcoatTexture", path, textures, false), 0);
-  const double roughness = in_unit_interval(extension_number(v, extension_at, "clearcoatRoughnessFactor", 0.0, path),
-                                            extension_at + "/clearcoatRoughnessFactor", path);
+  const double roughness = unit_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, path);
   m.clearcoat_roughness = static_cast<float>(roughness) *
                           texture_mean(textures, extension_texture(v, extension_at, "clearcoatRoughnessTexture", path, textures, false), 1);
   extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
@@ -167,8 +169,7 @@ void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, c
 // the maximum without one), mixed in by iridescenceFactor (the texture's red).
 void read_iridescence(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                       Material& m) {
-  const double factor =
-      in_unit_interval(extension_number(v, extension_at, "iridescenceFactor", 0.0, path), extension_at + "/iridescenceFactor", path);
+  const double factor = unit_factor(v, extension_at, "iridescenceFactor", 0.0, path);
   m.iridescence = static_cast<float>(factor) *
                   texture_mean(textures, extension_texture(v, extension_at, "iridescenceTexture", path, textures, false), 0);
   const double ior = extension_number(v, extension_at, "iridescenceIor", 1.3, path);
