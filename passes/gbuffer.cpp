@@ -12,9 +12,13 @@ class GBufferPass final : public graph::Pass {
     state.color_formats = {graph::format_info(setup.resource("normal").format).vk, graph::format_info(setup.resource("albedo").format).vk};
     has_emission_ = setup.bound("emission");
     if (has_emission_) state.color_formats.push_back(graph::format_info(setup.resource("emission").format).vk);
+    // Written only where the scene has a surface that needs it (16 bytes a pixel of bandwidth).
+    has_material_ = setup.bound("material") && setup.scene_value("scene.surface_layers") > 0.0;
+    if (has_material_) state.color_formats.push_back(graph::format_info(setup.resource("material").format).vk);
     state.depth_format = graph::format_info(setup.resource("depth").format).vk;
     shader::Defines defines;
     if (has_emission_) defines["EMISSION"] = "1";
+    if (has_material_) defines["MATERIAL"] = has_emission_ ? "3" : "2";  // its attachment's location
     pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state, defines);
   }
 
@@ -24,6 +28,7 @@ class GBufferPass final : public graph::Pass {
     VkCommandBuffer cmd = ctx.cmd();
     std::vector<Attachment> targets{{ctx.view("normal")}, {ctx.view("albedo")}};
     if (has_emission_) targets.push_back({ctx.view("emission")});
+    if (has_material_) targets.push_back({ctx.view("material")});
     begin_rendering(cmd, extent, targets, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx, pipeline_).push(ctx.vk(), cmd, pipeline_);
@@ -36,7 +41,7 @@ class GBufferPass final : public graph::Pass {
 
  private:
   vk::Pipeline pipeline_;
-  bool has_emission_ = false;
+  bool has_emission_ = false, has_material_ = false;
 };
 
 }  // namespace
@@ -46,7 +51,8 @@ graph::PassTypeDecl gbuffer_pass_type() {
   PassTypeDecl decl{
       "gbuffer",
       "Opaque geometry seen from the camera: depth, shading normal (facing the viewer; normal maps applied) with "
-      "roughness, base colour with metallic, and emitted radiance. MASK materials cut out. Refractors are left out.",
+      "roughness, base colour with metallic, emitted radiance, and the material's extensions. MASK materials cut out. Refractors are left "
+      "out.",
       PassQueue::graphics,
       {{"depth", PortAccess::write, ResourceKind::image, PortUsage::depth_attachment, {Format::d32f}, false, "frame", "camera depth"},
        {"normal",
@@ -72,7 +78,16 @@ graph::PassTypeDecl gbuffer_pass_type() {
         {Format::rgba16f, Format::rgba32f},
         true,
         "frame",
-        "emitted radiance (glTF emissive); alpha: ambient occlusion (glTF occlusionTexture); unbound, nothing emits or is occluded"}},
+        "emitted radiance (glTF emissive); alpha: ambient occlusion (glTF occlusionTexture); unbound, nothing emits or is occluded"},
+       {"material",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba32f},
+        true,
+        "frame",
+        "xyz: the direction of glTF's anisotropy in the surface times its strength (per texel); w: the object's index, whose sheen and "
+        "diffuse transmission lighting reads; unbound, those extensions are not drawn"}},
       {},
       false,
       [] { return std::make_unique<GBufferPass>(); }};

@@ -40,12 +40,14 @@ class LightingPass final : public graph::Pass {
     caustic_maps_ = bound_elements(setup, "caustics", CAUSTICA_MAX_CAUSTIC_VIEWS);
     caustic_depths_ = bound_elements(setup, "caustic_depth", CAUSTICA_MAX_CAUSTIC_VIEWS);
     has_emission_ = setup.bound("emission");
+    has_material_ = setup.bound("material") && setup.scene_value("scene.surface_layers") > 0.0;  // as gbuffer writes it
     // The samplers' arrays as long as the elements bound, so that the pushed set stays within the
     // device's limit (32 descriptors on lavapipe: eight lights' shadows and 32 views' maps and
     // depths would be 77).
     shadow_count_ = shadow_maps_.empty() ? 0 : shadow_maps_.back() + 1;
     caustic_count_ = caustic_maps_.empty() ? 0 : std::max(caustic_maps_.back(), caustic_depths_.empty() ? 0 : caustic_depths_.back()) + 1;
-    const uint32_t descriptors = 5 + shadow_count_ + 2 * caustic_count_, limit = setup.vk().max_push_descriptors();
+    const uint32_t descriptors = 5 + (has_material_ ? 2 : 0) + shadow_count_ + 2 * caustic_count_,
+                   limit = setup.vk().max_push_descriptors();
     if (descriptors > limit) {
       throw InputError("pass '" + setup.pass().name + "' reads " + std::to_string(shadow_count_) + " lights' shadow maps and " +
                        std::to_string(caustic_count_) + " caustic views' maps and receiver depths: " + std::to_string(descriptors) +
@@ -56,6 +58,7 @@ class LightingPass final : public graph::Pass {
     if (!shadow_maps_.empty()) defines["SHADOWS"] = std::to_string(shadow_count_);
     if (!caustic_maps_.empty()) defines["CAUSTICS"] = std::to_string(caustic_count_);
     if (has_emission_) defines["EMISSION"] = "1";
+    if (has_material_) defines["MATERIAL"] = "1";
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource("color").format).vk};
     pipeline_ = setup.graphics_pipeline("lighting", {"common/fullscreen.vert", {}}, {"scene/lighting.frag", defines}, state);
@@ -75,6 +78,10 @@ class LightingPass final : public graph::Pass {
         .image("normal_tex", ctx.view("normal"), ctx.nearest_sampler())
         .image("albedo_tex", ctx.view("albedo"), ctx.nearest_sampler());
     if (has_emission_) writer.image("emission_tex", ctx.view("emission"), ctx.nearest_sampler());
+    if (has_material_) {
+      writer.image("material_tex", ctx.view("material"), ctx.nearest_sampler());
+      writer.buffer("ObjectBlock", ctx.scene().objects());
+    }
     LightingParams params{ctx.params()["shadow_bias"].get<float>(), write_shadow_maps(ctx, writer), 0, 0};
     write_caustic_maps(ctx, writer, params);
     writer.push(ctx.vk(), cmd, pipeline_);
@@ -121,7 +128,7 @@ class LightingPass final : public graph::Pass {
   vk::Pipeline pipeline_;
   std::vector<uint32_t> shadow_maps_, caustic_maps_, caustic_depths_;  // the lights (views) whose element of each is bound
   uint32_t shadow_count_ = 0, caustic_count_ = 0;                      // the arrays' lengths: the last bound element and those before
-  bool has_emission_ = false;
+  bool has_emission_ = false, has_material_ = false;
 };
 
 }  // namespace
@@ -145,6 +152,15 @@ graph::PassTypeDecl lighting_pass_type() {
         true,
         "frame",
         "emitted radiance, added as it is; alpha: ambient occlusion, which scales the sky light"},
+       {"material",
+        PortAccess::read,
+        ResourceKind::image,
+        PortUsage::sampled,
+        {Format::rgba32f},
+        true,
+        "frame",
+        "the surface's anisotropy and object (gbuffer's material): glTF's sheen, anisotropy and diffuse transmission are drawn where "
+        "bound, ignored where not"},
        {"shadow",
         PortAccess::read,
         ResourceKind::image,

@@ -49,16 +49,28 @@ TEST(GltfInterface, EachExtensionsValuesAreRead) {
 // extension, what is lost and where it is used; through a scene file too. One that requires it is
 // refused (tests/data/bad_commands.txt has both from the command line).
 TEST(GltfInterface, AnUnreadExtensionIsAWarningNamingIt) {
-  const Scene model = load_model_scene((kData / "gltf/uses_sheen.gltf").string());
+  const Scene model = load_model_scene((kData / "gltf/uses_unlit.gltf").string());
   ASSERT_EQ(model.warnings.size(), 1u);
   const std::string& warning = model.warnings[0];
-  EXPECT_NE(warning.find("uses_sheen.gltf: uses KHR_materials_sheen, which caustica does not read"), std::string::npos) << warning;
-  EXPECT_NE(warning.find("the sheen is ignored (/materials/0)"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("uses_unlit.gltf: uses KHR_materials_unlit, which caustica does not read"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("unlit shading (lit as the metallic-roughness model) is ignored (/materials/0)"), std::string::npos) << warning;
   EXPECT_TRUE(load_model_scene((kModels / "clearcoat_ball.gltf").string()).warnings.empty());  // every extension read
-  const Scene through_scene = load_scene_file((kData / "warnings/sheen_scene.json").string());
+  const Scene through_scene = load_scene_file((kData / "warnings/unlit_scene.json").string());
   ASSERT_EQ(through_scene.warnings.size(), 1u);
-  EXPECT_NE(through_scene.warnings[0].find("uses_sheen.gltf: uses KHR_materials_sheen"), std::string::npos) << through_scene.warnings[0];
+  EXPECT_NE(through_scene.warnings[0].find("uses_unlit.gltf: uses KHR_materials_unlit"), std::string::npos) << through_scene.warnings[0];
   EXPECT_THROW(load_model_scene((kData / "gltf/requires_basisu.gltf").string()), InputError);
+}
+
+// An opaque surface's layer on a transmissive material is read and not drawn, and says so.
+TEST(GltfInterface, SheenOnATransmissiveSurfaceWarnsThatItIsNotDrawn) {
+  const Scene model = load_model_scene((kData / "gltf/uses_sheen.gltf").string());
+  ASSERT_EQ(model.warnings.size(), 1u);
+  EXPECT_NE(model.warnings[0].find("/materials/0 uses KHR_materials_sheen, which caustica draws on opaque surfaces only"),
+            std::string::npos)
+      << model.warnings[0];
+  ASSERT_FALSE(model.objects.empty());
+  EXPECT_EQ(model.objects[0].material.sheen_color, glm::vec3(1.0f, 0.5f, 0.5f));
+  EXPECT_FLOAT_EQ(model.objects[0].material.sheen_roughness, 0.5f);
 }
 
 }  // namespace

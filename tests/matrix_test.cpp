@@ -44,6 +44,9 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
   scenes.insert(scenes.end(), stability.begin(), stability.end());
   // A refractor whose tint varies over it: the refractor buffers draw their front_tint too.
   scenes.push_back(std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf/tinted_pane.gltf");
+  // Opaque surfaces with glTF's sheen, anisotropy and diffuse transmission: the G-buffer's material
+  // target written and read.
+  scenes.push_back(std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/surfaces/surfaces.json");
   ASSERT_GE(graphs.size(), 9u);
   ASSERT_GE(scenes.size(), 14u);
   std::vector<std::pair<size_t, size_t>> pairs;  // (scene, graph)
@@ -53,7 +56,7 @@ TEST(Matrix, EveryGraphOnEverySceneIsValidationClean) {
   // The stability cases are paired with the graphs in turn (each graph on one of them): they differ
   // from the bundled scenes in their numbers, not in the passes a graph plans for them, and the
   // stability suite renders every caustic method on every one of them with validation.
-  const size_t first_case = scenes.size() - stability.size() - 1;  // the tinted pane comes after them
+  const size_t first_case = scenes.size() - stability.size() - 2;  // the tinted pane and the surfaces come after them
   for (size_t s = 0; s < scenes.size(); ++s) {
     const bool is_case = s >= first_case && s < first_case + stability.size();
     for (size_t g = 0; g < graphs.size(); ++g) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "picture_change.h"
 #include "reference/refraction_reference.h"
 #include "scene_engine.h"
 
@@ -401,36 +402,6 @@ TEST(Refraction, NoShadowAcneAtGrazingLight) {
   EXPECT_LT(static_cast<double>(brightened), 0.005 * static_cast<double>(lit));
 }
 
-namespace {
-
-// How a material change (dispersion, roughness) moves an engine's picture against the reference,
-// per channel over the reference's refractor pixels: the relative L1 of the changed picture
-// (`with`) and of the unchanged one (`without`) against the changed reference, and the cosine
-// between the picture's change and the reference's.
-struct ChangeAgreement {
-  double error_with, error_without, cosine;
-};
-ChangeAgreement agreement(const io::ImageData& with, const io::ImageData& without, const reference::RefractionImage& reference,
-                          const reference::RefractionImage& reference_without) {
-  double off_with = 0, off_without = 0, total = 0, dot = 0, change_norm = 0, reference_change_norm = 0;
-  for (size_t i = 0; i < reference.refractor.size(); ++i) {
-    if (!reference.refractor[i]) continue;
-    for (size_t k = i * 4; k < i * 4 + 3; ++k) {
-      const double truth = static_cast<double>(reference.radiance.rgba[k]), change = double(with.rgba[k]) - double(without.rgba[k]),
-                   reference_change = truth - double(reference_without.radiance.rgba[k]);
-      off_with += std::abs(double(with.rgba[k]) - truth);
-      off_without += std::abs(double(without.rgba[k]) - truth);
-      total += std::abs(truth);
-      dot += change * reference_change;
-      change_norm += change * change;
-      reference_change_norm += reference_change * reference_change;
-    }
-  }
-  return {off_with / total, off_without / total, dot / std::sqrt(change_norm * reference_change_norm)};
-}
-
-}  // namespace
-
 // Dispersion splits the view through the glass by colour band (scenes/rainbow_lens.json, a flint
 // ball lens), as the ray-traced reference does: per channel over the refractor's pixels, the
 // engine's dispersed picture is nearer the dispersed reference than its undispersed picture is. The
@@ -461,7 +432,8 @@ TEST(Refraction, DispersionSplitsTheViewByColourBand) {
         Case{"refraction_deferred", 1.01, 0.2, 0.1}, Case{"refraction_forward", 1.01, 0.2, 0.1},
         Case{"refraction_multilayer", 1.01, 0.2, 0.1}}) {
     const auto [error_with, error_without, cosine] =
-        agreement(e.render(graph, dispersed).refracted, e.render(graph, clear).refracted, reference, reference_clear);
+        test::picture_change(e.render(graph, dispersed).refracted, e.render(graph, clear).refracted, reference.radiance,
+                             reference_clear.radiance, &reference.refractor);
     std::printf(
         "dispersion %-22s per-channel relative L1 against the dispersed reference: %.4f dispersed, %.4f not; cosine of the "
         "changes %.4f\n",
@@ -500,7 +472,8 @@ TEST(Refraction, InterfaceLayersChangeTheViewAsTheReferenceDoes) {
     };
     for (auto [graph, at_most, min_cosine] : {Case{"refraction_raytraced", 0.2, 0.95}, Case{"refraction_deferred", 0.9, 0.6}}) {
       const auto [error_with, error_without, cosine] =
-          agreement(e.render(graph, layered).refracted, e.render(graph, plain).refracted, reference, reference_plain);
+          test::picture_change(e.render(graph, layered).refracted, e.render(graph, plain).refracted, reference.radiance,
+                               reference_plain.radiance, &reference.refractor);
       std::printf("%s %-22s per-channel relative L1 against the layered reference: %.4f layered, %.4f not; cosine of the changes %.4f\n",
                   ball, graph, error_with, error_without, cosine);
       EXPECT_LT(error_with, at_most * error_without) << ball << " " << graph;
@@ -543,7 +516,8 @@ TEST(Refraction, RoughGlassBlursTheViewThroughIt) {
           Case{"refraction_deferred", 0.7, 0.05, false}, Case{"refraction_forward", 0.7, 0.05, false},
           Case{"refraction_multilayer", 0.7, 0.05, false}}) {
       const auto [error_with, error_without, cosine] =
-          agreement(e.render(graph, rough).refracted, e.render(graph, smooth).refracted, reference, reference_smooth);
+          test::picture_change(e.render(graph, rough).refracted, e.render(graph, smooth).refracted, reference.radiance,
+                               reference_smooth.radiance, &reference.refractor);
       std::printf("rough glass %-12s %-22s relative L1 against the rough reference: %.4f rough, %.4f smooth; cosine of the changes %.4f\n",
                   name, graph, error_with, error_without, cosine);
       EXPECT_LT(error_with, at_most * error_without) << name << " " << graph;

@@ -35,6 +35,10 @@ class PassSetup {
   std::string counter_owner(const std::string& name) const;
   // How the plan's passes that trace walk the scene (Tracer::none where none traces).
   Tracer tracer() const;
+  // A value of the scene the plan is compiled for (Scene::expression_values: "scene.surface_layers",
+  // ...); 0 without a scene or such a value. A change of any of them compiles the plan again, so a
+  // pass may set up for the scene's value.
+  double scene_value(const std::string& name) const;
   // A shader of a pipeline: its path under the shader root and its defines.
   struct ShaderFile {
     std::string path;

@@ -17,6 +17,12 @@ shader::ShaderCompiler& PassSetup::shaders() const {
 Tracer PassSetup::tracer() const {
   return executor_.plan_->tracer;
 }
+double PassSetup::scene_value(const std::string& name) const {
+  if (!executor_.scene_) return 0.0;
+  const auto values = executor_.scene_->scene().expression_values();
+  const auto it = values.find(name);
+  return it == values.end() ? 0.0 : it->second;
+}
 const PlannedResource& PassSetup::resource(const std::string& port) const {
   return executor_.plan_->resources[pass_.ports.at(port)];
 }

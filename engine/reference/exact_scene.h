@@ -5,8 +5,11 @@
 #include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
+#include <optional>
+#include <utility>
 
 #include "reference/ray_scene.h"
+#include "reference/surface_physics.h"
 #include "scene/scene.h"
 
 namespace caustica::reference {
@@ -88,34 +91,29 @@ inline float spot_cone(const scene::Light& light, glm::vec3 direction) {
 }
 
 // What the engine's G-buffer holds of an opaque surface point, and its lighting model
-// (scene/lighting.frag): Lambertian reflection for scene-file materials, glTF's metallic-roughness
-// BRDF (GGX, Smith height-correlated visibility, Schlick Fresnel) for glTF materials.
+// (scene/lighting.frag with scene/surface.glsl): Lambertian reflection for scene-file materials,
+// glTF's metallic-roughness BRDF with its sheen, anisotropy and diffuse transmission
+// (reference/surface_physics.h) for glTF materials.
 struct SurfacePoint {
   glm::vec3 normal{0.0f, 1.0f, 0.0f};  // shading normal, facing the viewer
   glm::vec3 base{1.0f};
   float metallic = 0.0f;
   float roughness = -1.0f;  // below 0: Lambertian
+  SurfaceLayers layers;
   glm::vec3 emitted{0.0f};
   float occlusion = 1.0f;  // of the ambient sky light (glTF's occlusionTexture with its strength)
 
-  glm::vec3 diffuse_color() const { return roughness < 0.0f ? base : base * (1.0f - metallic); }
-  glm::vec3 f0() const { return roughness < 0.0f ? glm::vec3(0.0f) : glm::mix(glm::vec3(0.04f), base, metallic); }
-  // Reflected radiance per unit irradiance from direction l (unit, towards the light) seen from v.
-  glm::vec3 brdf(glm::vec3 v, glm::vec3 l) const {
-    if (roughness < 0.0f) return base / glm::pi<float>();
-    const glm::vec3 h = glm::normalize(v + l);
-    const float n_l = std::max(glm::dot(normal, l), 0.0f), n_v = std::max(glm::dot(normal, v), 1e-4f);
-    const float n_h = std::max(glm::dot(normal, h), 0.0f), v_h = std::max(glm::dot(v, h), 0.0f);
-    const float a = std::max(roughness * roughness, 1e-3f), a2 = a * a;
-    const glm::vec3 fresnel = f0() + (1.0f - f0()) * std::pow(1.0f - v_h, 5.0f);
-    const float d = n_h * n_h * (a2 - 1.0f) + 1.0f;
-    const float distribution = a2 / (glm::pi<float>() * d * d);
-    const float visibility =
-        0.5f / std::max(n_l * std::sqrt(n_v * n_v * (1.0f - a2) + a2) + n_v * std::sqrt(n_l * n_l * (1.0f - a2) + a2), 1e-8f);
-    return (1.0f - fresnel) * diffuse_color() / glm::pi<float>() + fresnel * distribution * visibility;
+  // The diffuse light that stays on the lit side (what a caustic lights).
+  glm::vec3 diffuse_reflected() const {
+    return diffuse_reflected_color(base, roughness < 0.0f ? 0.0f : metallic, layers.diffuse_transmission);
   }
+  // Reflected radiance per unit irradiance from direction l (unit, towards the light) seen from v;
+  // from behind the surface, what its diffuse transmission passes.
+  glm::vec3 brdf(glm::vec3 v, glm::vec3 l) const { return layered_brdf(normal, base, metallic, roughness, layers, v, l); }
   // Reflected sky light per unit of the scene's ambient sky radiance.
-  glm::vec3 ambient_reflectance() const { return diffuse_color() + f0(); }
+  glm::vec3 ambient_reflectance(glm::vec3 v) const {
+    return layered_ambient(std::max(glm::dot(normal, v), 1e-4f), base, metallic, roughness, layers);
+  }
 };
 
 class ExactScene {
@@ -149,9 +147,7 @@ class ExactScene {
   glm::vec4 base_color(const RayHit& hit) const { return base_color(scene_.objects[hit.geometry], hit.triangle, hit.u, hit.v); }
 
   // The G-buffer's view of an opaque surface where a ray along `direction` meets it: textures
-  // sampled, the normal map applied in the mesh's TANGENT frame, or without one in the frame the
-  // engine derives from the texture coordinates' screen derivatives (tangent along increasing u,
-  // bitangent = normal x tangent).
+  // sampled, the normal map applied in the tangent frame, the anisotropy's direction in it.
   SurfacePoint surface(const RayHit& hit, glm::vec3 direction) const {
     const scene::Object& object = scene_.objects[hit.geometry];
     const scene::Material& m = object.material;
@@ -159,40 +155,23 @@ class ExactScene {
     s.base = glm::vec3(base_color(hit));
     s.normal = smooth_normal(hit);
     if (m.normal_texture.used()) {  // in the front face's frame; seen from behind, all of it flips
-      const uint32_t* tri = &object.mesh.indices[3 * hit.triangle];
-      glm::vec3 t(0.0f);
-      float sign = 1.0f;
-      if (!object.mesh.tangents.empty()) {  // the file's TANGENT, interpolated
-        const glm::vec4 tangent = (1 - hit.u - hit.v) * object.mesh.tangents[tri[0]] + hit.u * object.mesh.tangents[tri[1]] +
-                                  hit.v * object.mesh.tangents[tri[2]];
-        t = glm::vec3(tangent) - s.normal * glm::dot(s.normal, glm::vec3(tangent));
-        sign = tangent.w < 0.0f ? -1.0f : 1.0f;
-      }
-      if (glm::dot(t, t) <= 1e-20f) {
-        const glm::vec2 uv0 = texcoord(object, m.normal_texture, tri[0]), uv1 = texcoord(object, m.normal_texture, tri[1]),
-                        uv2 = texcoord(object, m.normal_texture, tri[2]);
-        const glm::vec3 e1 = object.mesh.positions[tri[1]] - object.mesh.positions[tri[0]];
-        const glm::vec3 e2 = object.mesh.positions[tri[2]] - object.mesh.positions[tri[0]];
-        const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
-        const float det = d1.x * d2.y - d2.x * d1.y;
-        t = det != 0.0f ? (e1 * d2.y - e2 * d1.y) / det : glm::vec3(0.0f);
-        t -= s.normal * glm::dot(s.normal, t);
-        sign = 1.0f;
-      }
-      if (glm::dot(t, t) > 1e-20f) {
-        t = glm::normalize(t);
-        const glm::vec3 b = sign * glm::cross(s.normal, t);
+      if (const auto frame = tangent_frame(hit, s.normal, m.normal_texture)) {
         const glm::vec3 sampled = glm::vec3(sample(object, m.normal_texture, hit)) * 2.0f - 1.0f;
         const glm::vec3 mapped = glm::normalize(glm::vec3(sampled.x * m.normal_scale, sampled.y * m.normal_scale, sampled.z));
-        s.normal = glm::normalize(t * mapped.x + b * mapped.y + s.normal * mapped.z);
+        s.normal = glm::normalize(frame->first * mapped.x + frame->second * mapped.y + s.normal * mapped.z);
       }
     }
+    if (m.anisotropy > 0.0f) s.layers.anisotropy_direction = anisotropy(hit, s.normal, s.layers.anisotropy);
     if (glm::dot(smooth_normal(hit), direction) > 0.0f) s.normal = -s.normal;
     if (m.metallic_roughness) {
       const glm::vec4 mr = m.metallic_roughness_texture.used() ? sample(object, m.metallic_roughness_texture, hit) : glm::vec4(1.0f);
       s.metallic = m.metallic * mr.b;
       s.roughness = m.roughness * mr.g;
     }
+    s.layers.sheen_color = m.sheen_color;
+    s.layers.sheen_roughness = m.sheen_roughness;
+    s.layers.diffuse_transmission = m.diffuse_transmission;
+    s.layers.diffuse_transmission_color = m.diffuse_transmission_color;
     s.emitted = m.emissive;
     if (m.emissive_texture.used()) s.emitted *= glm::vec3(sample(object, m.emissive_texture, hit));
     if (m.occlusion_texture.used()) s.occlusion = 1.0f + m.occlusion_strength * (sample(object, m.occlusion_texture, hit).r - 1.0f);
@@ -249,6 +228,49 @@ class ExactScene {
   static glm::vec2 texcoord(const scene::Object& object, const scene::TextureRef& ref, uint32_t vertex) {
     return transformed(ref, object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[vertex]);
   }
+  // The tangent frame (tangent, bitangent) at a hit with normal n: the mesh's TANGENT
+  // interpolated, or without one the frame the engine derives from texture `ref`'s coordinates'
+  // screen derivatives (tangent along increasing u, bitangent = normal x tangent); none where
+  // neither gives one.
+  std::optional<std::pair<glm::vec3, glm::vec3>> tangent_frame(const RayHit& hit, glm::vec3 n, const scene::TextureRef& ref) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const uint32_t* tri = &object.mesh.indices[3 * hit.triangle];
+    glm::vec3 t(0.0f);
+    float sign = 1.0f;
+    if (!object.mesh.tangents.empty()) {
+      const glm::vec4 tangent =
+          (1 - hit.u - hit.v) * object.mesh.tangents[tri[0]] + hit.u * object.mesh.tangents[tri[1]] + hit.v * object.mesh.tangents[tri[2]];
+      t = glm::vec3(tangent) - n * glm::dot(n, glm::vec3(tangent));
+      sign = tangent.w < 0.0f ? -1.0f : 1.0f;
+    }
+    if (glm::dot(t, t) <= 1e-20f) {
+      const glm::vec2 uv0 = texcoord(object, ref, tri[0]), uv1 = texcoord(object, ref, tri[1]), uv2 = texcoord(object, ref, tri[2]);
+      const glm::vec3 e1 = object.mesh.positions[tri[1]] - object.mesh.positions[tri[0]];
+      const glm::vec3 e2 = object.mesh.positions[tri[2]] - object.mesh.positions[tri[0]];
+      const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+      const float det = d1.x * d2.y - d2.x * d1.y;
+      t = det != 0.0f ? (e1 * d2.y - e2 * d1.y) / det : glm::vec3(0.0f);
+      t -= n * glm::dot(n, t);
+      sign = 1.0f;
+    }
+    if (glm::dot(t, t) <= 1e-20f) return std::nullopt;
+    t = glm::normalize(t);
+    return std::make_pair(t, sign * glm::cross(n, t));
+  }
+
+  // KHR_materials_anisotropy's direction at a hit (unit, in the surface of normal n) and its
+  // strength: the texture's rg ((1, 0) without one) turned by the rotation, its blue times the
+  // strength; strength 0 where the surface has no tangent frame.
+  glm::vec3 anisotropy(const RayHit& hit, glm::vec3 n, float& strength) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::Material& m = object.material;
+    const glm::vec4 texel = m.anisotropy_texture.used() ? sample(object, m.anisotropy_texture, hit) : glm::vec4(1.0f, 0.5f, 1.0f, 1.0f);
+    const glm::vec2 d = anisotropy_direction(glm::vec2(texel), m.anisotropy_rotation);
+    const auto frame = tangent_frame(hit, n, m.anisotropy_texture.used() ? m.anisotropy_texture : m.normal_texture);
+    strength = frame ? m.anisotropy * texel.b : 0.0f;
+    return frame ? glm::normalize(frame->first * d.x + frame->second * d.y) : glm::vec3(1.0f, 0.0f, 0.0f);
+  }
+
   glm::vec4 sample(const scene::Object& object, const scene::TextureRef& ref, const RayHit& hit) const {
     return scene_.textures[static_cast<size_t>(ref.texture)].sample(transformed(ref, texcoords(object, hit.triangle, hit.u, hit.v)));
   }

@@ -42,10 +42,10 @@ class Tracer {
   // The engine's lighting model (scene/lighting.frag) with exact shadow rays, seen along `direction`.
   glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction) const {
     const glm::vec3 n = surface.normal, v = -direction;
-    glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance() * surface.occlusion;
+    glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance(v) * surface.occlusion;
     // The caustic's light arrives through the refractor from many directions: diffuse only.
     for (size_t view = 0; view < views_.size(); ++view) {
-      if (caustic_maps_[view]) radiance += surface.diffuse_color() / glm::pi<float>() * caustic_irradiance(view, p, n);
+      if (caustic_maps_[view]) radiance += surface.diffuse_reflected() / glm::pi<float>() * caustic_irradiance(view, p, n);
     }
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const auto& light = scene_.lights[i];
@@ -56,9 +56,13 @@ class Tracer {
       const glm::vec3 l = to_light / std::sqrt(d2);
       const float reach = directional ? std::numeric_limits<float>::infinity() : std::sqrt(d2) - epsilon_;
       float cone = spot_cone(light, -l);
+      // A surface that transmits diffusely is lit from behind too, shadowed from its far side.
+      const float n_l = glm::dot(n, l);
+      if (n_l <= 0.0f && surface.layers.diffuse_transmission <= 0.0f) continue;
+      const glm::vec3 lit_side = n_l > 0.0f ? n : -n;
       // The engine shadows every light (through its shadow map); the reference with an exact ray.
-      if (cone > 0 && rays_.intersect(p + n * epsilon_, l, 0.0f, reach)) cone = 0;
-      radiance += surface.brdf(v, l) * light.color * light.intensity * std::max(glm::dot(n, l), 0.0f) / d2 * cone;
+      if (cone > 0 && rays_.intersect(p + lit_side * epsilon_, l, 0.0f, reach)) cone = 0;
+      radiance += surface.brdf(v, l) * light.color * light.intensity * std::abs(n_l) / d2 * cone;
     }
     return radiance;
   }

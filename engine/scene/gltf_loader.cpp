@@ -131,18 +131,26 @@ std::vector<T> read_accessor(const tinygltf::Model& model, int index, int compon
 
 // The extensions whose content caustica reads: a file that requires any other is refused, and one
 // that uses any other is read with a warning (unread_content).
-const std::vector<std::string> kReadExtensions = {
-    "KHR_materials_transmission", "KHR_materials_ior",       "KHR_materials_volume",      "KHR_materials_dispersion",
-    "KHR_materials_specular",     "KHR_materials_clearcoat", "KHR_materials_iridescence", "KHR_materials_emissive_strength",
-    "KHR_lights_punctual",        "KHR_mesh_quantization",   "EXT_meshopt_compression",   "KHR_draco_mesh_compression",
-    "KHR_texture_transform"};
+const std::vector<std::string> kReadExtensions = {"KHR_materials_transmission",
+                                                  "KHR_materials_ior",
+                                                  "KHR_materials_volume",
+                                                  "KHR_materials_dispersion",
+                                                  "KHR_materials_specular",
+                                                  "KHR_materials_clearcoat",
+                                                  "KHR_materials_iridescence",
+                                                  "KHR_materials_emissive_strength",
+                                                  "KHR_materials_sheen",
+                                                  "KHR_materials_anisotropy",
+                                                  "KHR_materials_diffuse_transmission",
+                                                  "KHR_lights_punctual",
+                                                  "KHR_mesh_quantization",
+                                                  "EXT_meshopt_compression",
+                                                  "KHR_draco_mesh_compression",
+                                                  "KHR_texture_transform"};
 
 // What the picture loses where a file uses an extension caustica does not read.
 std::string what_is_ignored(const std::string& extension) {
   static const std::map<std::string, std::string> kIgnored = {
-      {"KHR_materials_sheen", "the sheen"},
-      {"KHR_materials_anisotropy", "the anisotropy (highlights stay round)"},
-      {"KHR_materials_diffuse_transmission", "the diffuse transmission (the surface is drawn opaque)"},
       {"KHR_materials_unlit", "unlit shading (lit as the metallic-roughness model)"},
       {"KHR_materials_variants", "the material variants (each primitive's own material is drawn)"},
       {"EXT_mesh_gpu_instancing", "the instances (each mesh is drawn once, at its node)"},
@@ -153,8 +161,8 @@ std::string what_is_ignored(const std::string& extension) {
 }
 
 // Warnings for what the file says and caustica does not draw: each extension it uses and caustica
-// does not read (with the materials that use it), an interface layer on an opaque material, and a
-// clear coat's own normal texture.
+// does not read (with the materials that use it), an interface layer on an opaque material, an
+// opaque surface's layer on a transmissive one, and a clear coat's own normal texture.
 std::vector<std::string> unread_content(const tinygltf::Model& model, const std::string& path) {
   std::vector<std::string> warnings;
   for (const auto& used : model.extensionsUsed) {
@@ -178,6 +186,13 @@ std::vector<std::string> unread_content(const tinygltf::Model& model, const std:
       if (!transmits && extensions.count(layer) != 0) {
         warnings.push_back(path + ": /materials/" + std::to_string(i) + " uses " + layer +
                            ", which caustica draws on transmissive surfaces only: on this opaque one it is ignored");
+      }
+    }
+    // The lighting pass shades opaque surfaces; a refractor's surface is its interface.
+    for (const char* layer : {"KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_diffuse_transmission"}) {
+      if (transmits && extensions.count(layer) != 0) {
+        warnings.push_back(path + ": /materials/" + std::to_string(i) + " uses " + layer +
+                           ", which caustica draws on opaque surfaces only: on this transmissive one it is ignored");
       }
     }
     const auto coat = model.materials[i].extensions.find("KHR_materials_clearcoat");

@@ -186,6 +186,52 @@ void read_iridescence(const tinygltf::Value& v, const std::string& extension_at,
   m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 
+// A colour factor of three numbers in [0, 1] at `key` of extension object `v`; `fallback` without.
+glm::vec3 unit_color(const tinygltf::Value& v, const std::string& extension_at, const char* key, glm::vec3 fallback,
+                     const std::string& path) {
+  if (!v.Has(key)) return fallback;
+  const auto& c = v.Get(key);
+  const std::string at = extension_at + "/" + key;
+  if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, at + ": needs 3 numbers");
+  glm::vec3 color;
+  for (int k = 0; k < 3; ++k) {
+    const std::string element = at + "/" + std::to_string(k);
+    if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
+    color[k] = static_cast<float>(in_unit_interval(c.Get(k).GetNumberAsDouble(), element, path));
+  }
+  return color;
+}
+
+// KHR_materials_sheen: the sheen's colour (the texture's rgb) and roughness (the texture's alpha),
+// textures by their means.
+void read_sheen(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures, Material& m) {
+  m.sheen_color = unit_color(v, extension_at, "sheenColorFactor", glm::vec3(0.0f), path);
+  const TextureRef color_texture = extension_texture(v, extension_at, "sheenColorTexture", path, textures, true);
+  if (color_texture.used()) m.sheen_color *= glm::vec3(textures.mean(color_texture.texture));
+  m.sheen_roughness = static_cast<float>(unit_factor(v, extension_at, "sheenRoughnessFactor", 0.0, path)) *
+                      texture_mean(textures, extension_texture(v, extension_at, "sheenRoughnessTexture", path, textures, false), 3);
+}
+
+// KHR_materials_anisotropy: strength in [0, 1] and rotation (radians), the texture per texel.
+void read_anisotropy(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
+                     Material& m) {
+  m.anisotropy = static_cast<float>(unit_factor(v, extension_at, "anisotropyStrength", 0.0, path));
+  m.anisotropy_rotation = static_cast<float>(extension_number(v, extension_at, "anisotropyRotation", 0.0, path));
+  m.anisotropy_texture = extension_texture(v, extension_at, "anisotropyTexture", path, textures, false);
+}
+
+// KHR_materials_diffuse_transmission: the share (the texture's alpha) and colour (the texture's
+// rgb) of the diffuse light that passes through, textures by their means.
+void read_diffuse_transmission(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
+                               Material& m) {
+  m.diffuse_transmission =
+      static_cast<float>(unit_factor(v, extension_at, "diffuseTransmissionFactor", 0.0, path)) *
+      texture_mean(textures, extension_texture(v, extension_at, "diffuseTransmissionTexture", path, textures, false), 3);
+  m.diffuse_transmission_color = unit_color(v, extension_at, "diffuseTransmissionColorFactor", glm::vec3(1.0f), path);
+  const TextureRef color_texture = extension_texture(v, extension_at, "diffuseTransmissionColorTexture", path, textures, true);
+  if (color_texture.used()) m.diffuse_transmission_color *= glm::vec3(textures.mean(color_texture.texture));
+}
+
 // KHR_materials_volume, the extension object `v` at JSON pointer `extension_at`.
 void read_volume(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, Material& m) {
   const double thickness = extension_number(v, extension_at, "thicknessFactor", 0.0, path);
@@ -240,6 +286,10 @@ void read_material_extensions(const tinygltf::Material& mat, const std::string& 
   if (const auto* v = ext("KHR_materials_clearcoat")) read_clearcoat(*v, at + "/extensions/KHR_materials_clearcoat", path, textures, m);
   if (const auto* v = ext("KHR_materials_iridescence"))
     read_iridescence(*v, at + "/extensions/KHR_materials_iridescence", path, textures, m);
+  if (const auto* v = ext("KHR_materials_sheen")) read_sheen(*v, at + "/extensions/KHR_materials_sheen", path, textures, m);
+  if (const auto* v = ext("KHR_materials_anisotropy")) read_anisotropy(*v, at + "/extensions/KHR_materials_anisotropy", path, textures, m);
+  if (const auto* v = ext("KHR_materials_diffuse_transmission"))
+    read_diffuse_transmission(*v, at + "/extensions/KHR_materials_diffuse_transmission", path, textures, m);
 }
 
 // What the image-space methods, which read one value per object, take from a refractor's or a

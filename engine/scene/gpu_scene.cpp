@@ -1,6 +1,7 @@
 #include "scene/gpu_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "reference/surface_physics.h"
 #include "scene/bvh.h"
 
 namespace caustica::scene {
@@ -72,20 +74,37 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
     const Material& m = object.material;
     const float refractor_kind = !m.refractor ? 0.0f : is_convex_refractor(object) ? 2.0f : 1.0f;  // scene_types.h
     objects.push_back(
-        {glm::vec4(m.albedo, refractor_kind), glm::vec4(m.absorption, m.ior), glm::vec4(m.tint, m.transmission),
-         glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f), glm::vec4(object.bounds_max, m.ior_spread()),
+        {glm::vec4(m.albedo, refractor_kind),
+         glm::vec4(m.absorption, m.ior),
+         glm::vec4(m.tint, m.transmission),
+         glm::vec4(object.bounds_min, m.thin ? 1.0f : 0.0f),
+         glm::vec4(object.bounds_max, m.ior_spread()),
          texture_slot(m.base_color_texture),
          glm::vec4(m.alpha,
                    m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff
                    : m.coverage_transmits          ? -2.0f
                                                    : -1.0f,
                    m.double_sided ? 0.0f : 1.0f, m.occlusion_strength),
-         texture_slot(m.metallic_roughness_texture), texture_slot(m.normal_texture), texture_slot(m.emissive_texture),
+         texture_slot(m.metallic_roughness_texture),
+         texture_slot(m.normal_texture),
+         texture_slot(m.emissive_texture),
          glm::vec4(m.emissive, m.normal_scale),
          glm::vec4(m.metallic, m.roughness, m.metallic_roughness ? 1.0f : 0.0f, m.refractor ? m.transmission_roughness : 0.0f),
-         texture_slot(m.occlusion_texture), texture_slot(m.transmission_texture), glm::vec4(m.tint_factor, m.transmission_factor),
-         glm::vec4(m.specular_color, m.specular), glm::vec4(m.clearcoat, m.clearcoat_roughness, m.iridescence, m.film_ior),
-         glm::vec4(m.film_thickness_nm, 0.0f, 0.0f, 0.0f)});
+         texture_slot(m.occlusion_texture),
+         texture_slot(m.transmission_texture),
+         glm::vec4(m.tint_factor, m.transmission_factor),
+         glm::vec4(m.specular_color, m.specular),
+         glm::vec4(m.clearcoat, m.clearcoat_roughness, m.iridescence, m.film_ior),
+         glm::vec4(m.film_thickness_nm, 0.0f, 0.0f, 0.0f),
+         glm::vec4(m.sheen_color, m.sheen_roughness),
+         {},
+         glm::vec4(m.anisotropy, std::cos(m.anisotropy_rotation), std::sin(m.anisotropy_rotation), 0.0f),
+         texture_slot(m.anisotropy_texture),
+         glm::vec4(m.diffuse_transmission_color, m.diffuse_transmission)});
+    if (m.sheen_color != glm::vec3(0.0f)) {
+      const std::array<float, 16> albedo = reference::sheen_albedo_table(m.sheen_roughness);
+      std::memcpy(objects.back().sheen_albedo, albedo.data(), sizeof(objects.back().sheen_albedo));
+    }
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

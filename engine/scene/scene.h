@@ -89,6 +89,21 @@ struct Material {
   float iridescence = 0.0f;
   float film_ior = 1.3f;
   float film_thickness_nm = 400.0f;
+  // What glTF's extensions put on an opaque surface's BRDF, in the lighting of direct and sky light
+  // (docs/gltf.md, "Opaque surfaces"; the model in scene/surface.glsl and reference/surface_physics.h):
+  // KHR_materials_sheen's Charlie sheen of `sheen_color` and `sheen_roughness` over the rest,
+  // which it dims by its own albedo; KHR_materials_anisotropy's stretched GGX lobe, `anisotropy`
+  // its strength and `anisotropy_rotation` (radians) turning its direction from the tangent, both
+  // per texel with `anisotropy_texture` (rg: direction, b: strength); KHR_materials_diffuse_transmission's
+  // share of the diffuse light that passes to the other side, coloured. The sheen's and diffuse
+  // transmission's textures enter as their means (one value per object).
+  glm::vec3 sheen_color{0.0f};
+  float sheen_roughness = 0.0f;
+  float anisotropy = 0.0f;
+  float anisotropy_rotation = 0.0f;
+  TextureRef anisotropy_texture;
+  float diffuse_transmission = 0.0f;
+  glm::vec3 diffuse_transmission_color{1.0f};
 
   // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
   TextureRef base_color_texture;
@@ -242,6 +257,9 @@ struct Scene {
   size_t triangle_count() const;
   // Whether a refractor disperses light: light is then traced once per colour band.
   bool disperses() const;
+  // Whether an opaque surface has glTF's sheen, anisotropy or diffuse transmission: only then do the
+  // G-buffer and lighting passes write and read their `material` target.
+  bool has_surface_layers() const;
   // Whether a refractor's tint or transmission varies over its surface (a base colour or a
   // transmission texture): only then do the refractor buffers draw their front_tint.
   bool tints_per_texel() const;

@@ -10,32 +10,13 @@ Beside the first three, in tests/data/layered, a scene (NAME.json) that puts the
 ball lens of scenes/sphere_plane.json stands (the tests' and the gallery's); scenes/stability uses
 the film and the coat over the rough base. Everything is embedded.
 Run from this folder: python3 make_layered_balls.py"""
-import base64, json, math, re, struct
+import base64, json, re, struct
 
-SEGMENTS, RINGS = 64, 32
-
-
-def sphere():
-    positions, indices = [], []
-    for ring in range(RINGS + 1):
-        theta = math.pi * ring / RINGS
-        for segment in range(SEGMENTS + 1):
-            phi = 2.0 * math.pi * segment / SEGMENTS
-            positions.append((math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi)))
-    for ring in range(RINGS):
-        for segment in range(SEGMENTS):
-            a = ring * (SEGMENTS + 1) + segment
-            b = a + SEGMENTS + 1
-            # counter-clockwise seen from outside; none of zero area at the poles
-            if ring > 0:
-                indices += [a, a + 1, b]
-            if ring < RINGS - 1:
-                indices += [a + 1, b + 1, b]
-    return positions, indices
+from uv_sphere import sphere
 
 
 def ball(name, extensions, roughness=0.0, scene=True):
-    positions, indices = sphere()
+    positions, _, indices = sphere()
     blob = b"".join(struct.pack("<3f", *p) for p in positions)  # positions, and the same as normals
     blob += b"".join(struct.pack("<H", i) for i in indices)
     vertex_bytes = 12 * len(positions)

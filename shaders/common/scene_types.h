@@ -69,6 +69,12 @@ struct ObjectData {
   vec4 specular;  // rgb: KHR_materials_specular's colour of F0, a: its weight
   vec4 layers;    // x: the clear coat's weight, y: its roughness; z: the thin film's weight (iridescence), w: the film's index
   vec4 film;      // x: the thin film's thickness in nm; yzw: 0
+  // What glTF's extensions put on an opaque surface's BRDF (scene::Material; the model in scene/surface.glsl):
+  vec4 sheen;                  // rgb: the sheen's colour, a: its roughness
+  vec4 sheen_albedo[4];        // the sheen's directional albedo at cosines (k / 15)^2, k = 0..15 (reference/surface_physics.h)
+  vec4 anisotropy;             // x: strength, y and z: cosine and sine of the rotation from the tangent; w: 0
+  TextureSlot anisotropy_map;  // rg: direction in the tangent frame, b: multiplies the strength
+  vec4 diffuse_transmission;   // rgb: the colour of the light that passes, a: its share of the diffuse light
 };
 
 struct LightData {

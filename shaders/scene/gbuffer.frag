@@ -2,7 +2,8 @@
 // Opaque geometry seen from the camera: the shading normal (facing the viewer, normal map applied)
 // with roughness, base colour (textured) with metallic, and emitted radiance with the ambient
 // occlusion (glTF's occlusionTexture) in its alpha; MASK materials cut out where their coverage is
-// below the cutoff.
+// below the cutoff; where MATERIAL is defined (its attachment's location), the anisotropy's direction
+// and the object (surface.glsl reads the object's other extensions).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
@@ -19,17 +20,20 @@ layout(location = 1) out vec4 out_albedo;
 #ifdef EMISSION
 layout(location = 2) out vec4 out_emission;
 #endif
+#ifdef MATERIAL
+layout(location = MATERIAL) out vec4 out_material;
+#endif
 
-// The normal map's tangent frame: the file's TANGENT where the mesh has one (interpolated, made
-// orthogonal to the normal; bitangent = sign * normal x tangent), else from the screen derivatives
-// of position and texture coordinates: tangent along increasing u, bitangent = normal x tangent, as
-// the Khronos sample viewer builds it. docs/gltf.md says where this differs from MikkTSpace.
-vec3 apply_normal_map(ObjectData object, vec3 n) {
-  vec3 t = tangent.xyz;
+// The normal map's tangent frame (KHR_materials_anisotropy takes the same): the file's TANGENT where
+// the mesh has one (interpolated, made orthogonal to the normal; bitangent = sign * normal x
+// tangent), else from the screen derivatives of position and texture coordinates `uv`: tangent
+// along increasing u, bitangent = normal x tangent, as the Khronos sample viewer builds it.
+// docs/gltf.md says where this differs from MikkTSpace. False where neither gives one.
+bool tangent_frame(vec3 n, vec2 uv, out vec3 t, out vec3 b) {
+  t = tangent.xyz;
   float sign = tangent.w < 0.0 ? -1.0 : 1.0;
   t -= n * dot(n, t);
   if (tangent.w == 0.0 || dot(t, t) <= 1e-20) {
-    vec2 uv = slot_uv(object.normal, texcoords);
     vec3 dp_dx = dFdx(world_position), dp_dy = dFdy(world_position);
     vec2 duv_dx = dFdx(uv), duv_dy = dFdy(uv);
     float det = duv_dx.x * duv_dy.y - duv_dy.x * duv_dx.y;
@@ -37,13 +41,36 @@ vec3 apply_normal_map(ObjectData object, vec3 n) {
     t -= n * dot(n, t);
     sign = 1.0;
   }
-  if (dot(t, t) <= 1e-20) return n;
+  b = vec3(0.0);
+  if (dot(t, t) <= 1e-20) return false;
   t = normalize(t);
-  vec3 b = sign * cross(n, t);
+  b = sign * cross(n, t);
+  return true;
+}
+
+vec3 apply_normal_map(ObjectData object, vec3 n) {
+  vec3 t, b;
+  if (!tangent_frame(n, slot_uv(object.normal, texcoords), t, b)) return n;
   vec3 m = sample_slot(object.normal, texcoords, vec4(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
   m = normalize(vec3(m.xy * object.emissive_normal_scale.w, m.z));
   return normalize(t * m.x + b * m.y + n * m.z);
 }
+
+#ifdef MATERIAL
+// KHR_materials_anisotropy's direction in the world, times its strength: the texture's rg (the
+// direction in the tangent frame; (1, 0) without one) turned by the rotation, and its blue times
+// the strength. n is the shading normal before it flips for a back face.
+vec3 anisotropy(ObjectData object, vec3 n) {
+  if (object.anisotropy.x <= 0.0) return vec3(0.0);
+  vec4 texel = sample_slot(object.anisotropy_map, texcoords, vec4(1.0, 0.5, 1.0, 1.0));
+  vec2 d = texel.rg * 2.0 - 1.0;
+  d = vec2(object.anisotropy.y * d.x - object.anisotropy.z * d.y, object.anisotropy.z * d.x + object.anisotropy.y * d.y);
+  vec3 t, b;
+  vec2 uv = slot_uv(object.anisotropy_map.row_u.w >= 0.0 ? object.anisotropy_map : object.normal, texcoords);
+  if (dot(d, d) <= 1e-12 || !tangent_frame(n, uv, t, b)) return vec3(0.0);
+  return normalize(t * d.x + b * d.y) * object.anisotropy.x * texel.b;
+}
+#endif
 
 void main() {
   ObjectData object = objects[object_index];
@@ -52,6 +79,9 @@ void main() {
   if (base.a < object.alpha_cutoff.y) discard;
   vec3 n = normalize(world_normal);
   if (object.normal.row_u.w >= 0.0) n = apply_normal_map(object, n);
+#ifdef MATERIAL
+  out_material = vec4(anisotropy(object, n), float(object_index));
+#endif
   // Seen from behind, the whole frame flips with the surface.
   if (!gl_FrontFacing) n = -n;
   float metallic = 0.0, roughness = -1.0;  // Lambertian

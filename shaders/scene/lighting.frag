@@ -5,6 +5,7 @@
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
+#include "scene/surface.glsl"
 SCENE_FRAME
 layout(set = 0, binding = 1) uniform sampler2D depth_tex;
 layout(set = 0, binding = 2) uniform sampler2D normal_tex;
@@ -24,6 +25,14 @@ layout(set = 0, binding = 6) uniform sampler2D caustic_depths[CAUSTICS];
 #ifdef EMISSION
 layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 #endif
+// What the G-buffer's material target holds (gbuffer.frag): the anisotropy's direction times its
+// strength, and the object whose extensions' values the surface takes.
+#ifdef MATERIAL
+layout(set = 0, binding = 8) uniform sampler2D material_tex;
+layout(set = 0, binding = 9, std430) readonly buffer ObjectBlock {
+  ObjectData objects[];
+};
+#endif
 
 layout(push_constant) uniform Params {
   float shadow_bias;
@@ -34,8 +43,6 @@ layout(push_constant) uniform Params {
 params;
 
 layout(location = 0) out vec4 out_color;
-
-const float PI = 3.14159265358979;
 
 // Distance along the light's axis for a depth-buffer value of its projection.
 float linear_depth(LightData light, float depth) {
@@ -146,34 +153,6 @@ vec3 caustic_irradiance(uint i, LightData light, vec3 p, vec3 n) {
 }
 #endif
 
-// The G-buffer's surface: Lambertian (roughness below 0) or glTF's metallic-roughness BRDF, GGX
-// with Smith height-correlated visibility and Schlick's Fresnel (the specification's appendix B).
-// reference/exact_scene.h's SurfacePoint is the same model on the host.
-struct Surface {
-  vec3 n;
-  vec3 base;
-  float metallic;
-  float roughness;
-};
-vec3 diffuse_color(Surface s) {
-  return s.roughness < 0.0 ? s.base : s.base * (1.0 - s.metallic);
-}
-vec3 specular_f0(Surface s) {
-  return s.roughness < 0.0 ? vec3(0.0) : mix(vec3(0.04), s.base, s.metallic);
-}
-vec3 brdf(Surface s, vec3 v, vec3 l) {
-  if (s.roughness < 0.0) return s.base / PI;
-  vec3 h = normalize(v + l);
-  float n_l = max(dot(s.n, l), 0.0), n_v = max(dot(s.n, v), 1e-4), n_h = max(dot(s.n, h), 0.0), v_h = max(dot(v, h), 0.0);
-  float a = max(s.roughness * s.roughness, 1e-3), a2 = a * a;
-  vec3 f0 = specular_f0(s);
-  vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - v_h, 5.0);
-  float d = n_h * n_h * (a2 - 1.0) + 1.0;
-  float distribution = a2 / (PI * d * d);
-  float visibility = 0.5 / max(n_l * sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * sqrt(n_l * n_l * (1.0 - a2) + a2), 1e-8);
-  return (1.0 - fresnel) * diffuse_color(s) / PI + fresnel * distribution * visibility;
-}
-
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   float depth = texture(depth_tex, uv).r;
@@ -183,10 +162,21 @@ void main() {
   }
   vec3 p = world_from_depth(frame.inv_view_proj, uv, depth);
   vec4 normal_roughness = texture(normal_tex, uv), albedo_metallic = texture(albedo_tex, uv);
-  Surface s = Surface(normalize(normal_roughness.xyz), albedo_metallic.rgb, albedo_metallic.a, normal_roughness.w);
+  Surface s = plain_surface(normalize(normal_roughness.xyz), albedo_metallic.rgb, albedo_metallic.a, normal_roughness.w);
+#ifdef MATERIAL
+  vec4 material = texture(material_tex, uv);
+  ObjectData object = objects[uint(material.w)];
+  s.sheen_color = object.sheen.rgb;
+  s.sheen_roughness = object.sheen.a;
+  s.sheen_albedo = object.sheen_albedo;
+  s.anisotropy = length(material.xyz);
+  s.anisotropy_t = s.anisotropy > 0.0 ? material.xyz / s.anisotropy : vec3(0.0);
+  s.transmission_color = object.diffuse_transmission.rgb;
+  s.transmission = object.diffuse_transmission.a;
+#endif
   vec3 n = s.n;
   vec3 v = normalize(frame.camera_position.xyz - p);
-  vec3 radiance = frame.sky_ambient.a * frame.sky_ambient.rgb * (diffuse_color(s) + specular_f0(s));
+  vec3 radiance = frame.sky_ambient.a * frame.sky_ambient.rgb * ambient_reflectance(s, v);
 #ifdef EMISSION
   vec4 emission_occlusion = texture(emission_tex, uv);
   radiance = radiance * emission_occlusion.a + emission_occlusion.rgb;
@@ -195,7 +185,7 @@ void main() {
   // The caustic's light arrives through the refractor from many directions: diffuse only.
   for (uint bits = params.caustic_lights; bits != 0u; bits &= bits - 1u) {
     uint i = uint(findLSB(bits));
-    radiance += diffuse_color(s) / PI * caustic_irradiance(i, frame.caustic_lights[i], p, n);
+    radiance += diffuse_reflected(s) / PI * caustic_irradiance(i, frame.caustic_lights[i], p, n);
   }
 #endif
   for (uint i = 0; i < frame.light_count; ++i) {
@@ -203,13 +193,15 @@ void main() {
     float d2;
     vec3 l = toward_light(light, p, d2);
     // Direct light only where it falls: outside a spot's cone and on faces turned away from the light
-    // the shadow map's nine taps would weigh nothing (with three lights, half the pass's time).
+    // the shadow map's nine taps would weigh nothing (with three lights, half the pass's time). A
+    // surface that transmits diffusely is lit from behind too, shadowed as its far side sees the light.
     float cone = spot_cone(light, -l), n_l = dot(n, l);
-    if (cone <= 0.0 || n_l <= 0.0) continue;
+    if (cone <= 0.0 || (n_l <= 0.0 && s.transmission <= 0.0) || n_l == 0.0) continue;
+    vec3 lit_side = n_l > 0.0 ? n : -n;
 #ifdef SHADOWS
-    if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, n);
+    if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, lit_side);
 #endif
-    radiance += brdf(s, v, l) * light.radiant.rgb * n_l / d2 * cone;
+    radiance += brdf(s, v, l) * light.radiant.rgb * abs(n_l) / d2 * cone;
   }
   out_color = vec4(radiance, 1.0);
 }

@@ -1,0 +1,243 @@
+#pragma once
+// What an opaque surface reflects once glTF's surface extensions are on it: KHR_materials_sheen's
+// "Charlie" sheen (Estevez & Kulla 2017, with Ashikhmin's visibility, which the extension allows),
+// KHR_materials_anisotropy's anisotropic GGX and KHR_materials_diffuse_transmission's thin-surface
+// transmission, over the engine's metallic-roughness BRDF. The host's own implementation for the
+// reference renderer, written from the model's text alone: a second opinion on the device's.
+//
+// Conventions: n is the unit shading normal, facing the viewer; v points to the viewer, l to the
+// light, all unit and in world space.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+
+namespace caustica::reference {
+
+inline float max_component(glm::vec3 c) {
+  return std::max({c.x, c.y, c.z});
+}
+
+// ---- KHR_materials_sheen ----
+
+// The sheen's alpha, kept at 1e-3 or more so that its exponent 1 / alpha stays finite.
+inline float sheen_alpha(float roughness) {
+  return std::max(roughness * roughness, 1e-3f);
+}
+
+// The Charlie distribution, (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi), with the sine's power
+// taken from its square (sin^2 = 1 - (n.h)^2) so that no square root is needed.
+inline float sheen_distribution(float roughness, float n_h) {
+  const float alpha = sheen_alpha(roughness);
+  const float sin2 = std::max(1.0f - n_h * n_h, 0.0f);
+  return (2.0f + 1.0f / alpha) * std::pow(sin2, 0.5f / alpha) / (2.0f * glm::pi<float>());
+}
+
+// Ashikhmin's visibility, 1 / (4 (n.l + n.v - n.l n.v)). Both cosines grazing (0) is a direction
+// pair that sees nothing of the surface: 0 rather than a division by zero.
+inline float sheen_visibility(float n_l, float n_v) {
+  n_l = std::clamp(n_l, 0.0f, 1.0f);
+  n_v = std::clamp(n_v, 0.0f, 1.0f);
+  const float den = 4.0f * (n_l + n_v - n_l * n_v);
+  return den > 0.0f ? 1.0f / den : 0.0f;
+}
+
+// The sheen lobe's directional albedo E(mu): the integral of D V (n.l) over the hemisphere of l,
+// for a white sheen seen at n.v = mu. Midpoint rule on 64 x 64 cells of (s, phi_l), phi_l over
+// [0, pi] only: the lobe is mirror-symmetric about the plane of n and v, so that half counts twice
+// (the density of 64 x 128 over the whole circle). theta_l = (pi/2) s (2 - s) crowds the cells
+// toward the horizon, where the integrand changes on the scale of mu (V's n.l / (n.l + mu)) and
+// where a smooth sheen's D peaks, yet stays linear in s at the pole, where D at roughness 1 has a
+// kink in theta. Uniform in theta, 64 x 128 cells erred by up to 1.5e-3 at roughness 0.3 and 9e-3
+// at 0.1; this grid is within 1.6e-4 relative for mu >= 0.01 (surface_physics_test.cpp measures it).
+inline float sheen_albedo(float mu, float roughness) {
+  constexpr int kS = 64, kPhi = 64;
+  const float pi = glm::pi<float>();
+  mu = std::clamp(mu, 0.0f, 1.0f);
+  const glm::vec3 v(std::sqrt(1.0f - mu * mu), 0.0f, mu);
+  const float d_s = 1.0f / kS, d_phi = pi / kPhi;
+  double sum = 0.0;
+  for (int i = 0; i < kS; ++i) {
+    const float s = (static_cast<float>(i) + 0.5f) * d_s;
+    const float theta = 0.5f * pi * s * (2.0f - s);
+    const float sin_t = std::sin(theta), cos_t = std::cos(theta);
+    double ring = 0.0;
+    for (int j = 0; j < kPhi; ++j) {
+      const float phi = (static_cast<float>(j) + 0.5f) * d_phi;
+      const glm::vec3 l(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t);
+      const float n_h = glm::normalize(v + l).z;
+      ring += static_cast<double>(sheen_distribution(roughness, n_h) * sheen_visibility(cos_t, mu));
+    }
+    // The cosine n.l, times dω = sin(theta) dtheta dphi with dtheta = pi (1 - s) ds.
+    sum += ring * static_cast<double>(cos_t * sin_t * pi * (1.0f - s));
+  }
+  return static_cast<float>(2.0 * sum * static_cast<double>(d_s * d_phi));
+}
+
+// What the sheen leaves to the layers beneath it, the lesser of what it lets through toward the
+// viewer and toward the light, 1 - max(sheen colour) E. E approximates the sheen's energy by its
+// brightest channel, as the extension does, so that no channel gains energy.
+inline float sheen_scaling(glm::vec3 sheen_color, float e_view, float e_light) {
+  const float c = max_component(sheen_color);
+  return std::clamp(std::min(1.0f - c * e_view, 1.0f - c * e_light), 0.0f, 1.0f);
+}
+
+// E at mu_k = (k / 15)^2 for the device, which interpolates it linearly in sqrt(mu) as
+// sheen_albedo_from_table does: E falls steeply near grazing, where the samples crowd (the worst
+// error over mu at roughness 0.1, 0.3, 0.5, 1: 0.075, 0.012, 0.0056, 0.0027, against 0.53, 0.068,
+// 0.030, 0.015 with samples even in mu). mu = 0 stands for the grazing limit: sampled at 1e-4, where
+// the view still has a direction.
+inline std::array<float, 16> sheen_albedo_table(float roughness) {
+  std::array<float, 16> table{};
+  for (std::size_t k = 0; k < table.size(); ++k) {
+    const float s = static_cast<float>(k) / 15.0f;
+    table[k] = sheen_albedo(std::max(s * s, 1e-4f), roughness);
+  }
+  return table;
+}
+
+inline float sheen_albedo_from_table(const std::array<float, 16>& table, float mu) {
+  const float x = std::sqrt(std::clamp(mu, 0.0f, 1.0f)) * 15.0f;
+  // mu = 1 falls on the last sample: its cell is the last one, at its far end.
+  const std::size_t k = std::min(static_cast<std::size_t>(x), std::size_t{14});
+  return glm::mix(table[k], table[k + 1], x - static_cast<float>(k));
+}
+
+// ---- KHR_materials_anisotropy ----
+
+// (alpha_t, alpha_b): the strength stretches the lobe along the tangent toward alpha 1, as the
+// extension gives it; alpha is kept at 1e-3 or more, where the GGX lobe is still finite.
+inline glm::vec2 anisotropic_alphas(float roughness, float strength) {
+  const float alpha = std::max(roughness * roughness, 1e-3f);
+  return {glm::mix(alpha, 1.0f, strength * strength), alpha};
+}
+
+// The anisotropic GGX distribution, from h's components along the tangent t, bitangent b and normal n.
+inline float anisotropic_distribution(float alpha_t, float alpha_b, float t_h, float b_h, float n_h) {
+  const float f = t_h * t_h / (alpha_t * alpha_t) + b_h * b_h / (alpha_b * alpha_b) + n_h * n_h;
+  return 1.0f / (glm::pi<float>() * alpha_t * alpha_b * f * f);
+}
+
+// The height-correlated Smith visibility of the anisotropic lobe; v_tbn and l_tbn are the
+// directions' (t., b., n.) components. n.v is kept at 1e-4 or more because a view at grazing would
+// otherwise zero the denominator with a light at grazing; a light below the horizon counts as at it.
+inline float anisotropic_visibility(float alpha_t, float alpha_b, glm::vec3 v_tbn, glm::vec3 l_tbn) {
+  const float n_v = std::max(v_tbn.z, 1e-4f);
+  const float n_l = std::clamp(l_tbn.z, 0.0f, 1.0f);
+  const glm::vec2 a2(alpha_t * alpha_t, alpha_b * alpha_b);
+  const float lambda_v = std::sqrt(a2.x * v_tbn.x * v_tbn.x + a2.y * v_tbn.y * v_tbn.y + n_v * n_v);
+  const float lambda_l = std::sqrt(a2.x * l_tbn.x * l_tbn.x + a2.y * l_tbn.y * l_tbn.y + n_l * n_l);
+  return 0.5f / std::max(n_l * lambda_v + n_v * lambda_l, 1e-8f);
+}
+
+// The tangent-space anisotropy direction: the texture's red-green mapped to [-1, 1], turned
+// counter-clockwise by `rotation` radians. A texel at the centre (rg = 0.5) names no direction:
+// it then stands for the untextured one, (1, 0), turned by the rotation.
+inline glm::vec2 anisotropy_direction(glm::vec2 texture_rg, float rotation) {
+  glm::vec2 d = texture_rg * 2.0f - 1.0f;
+  if (glm::dot(d, d) < 1e-12f) d = glm::vec2(1.0f, 0.0f);
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  return glm::normalize(glm::vec2(c * d.x - s * d.y, s * d.x + c * d.y));
+}
+
+// ---- KHR_materials_diffuse_transmission ----
+// Each colour below is a BRDF or BTDF times pi: the caller divides by pi.
+
+// What the diffuse lobe reflects once the share d is transmitted instead.
+inline glm::vec3 diffuse_reflected_color(glm::vec3 base, float metallic, float transmission) {
+  return base * (1.0f - metallic) * (1.0f - transmission);
+}
+
+// What the diffuse lobe passes to the other side; a metal has no diffuse lobe to transmit. The
+// extension weights this side too with a Fresnel mix, which needs a reflection's half-vector that
+// v and a light behind the surface do not define: it is not modelled, so the back passes up to F
+// more than the extension's.
+inline glm::vec3 diffuse_transmitted_color(float metallic, float transmission, glm::vec3 transmission_color) {
+  return (1.0f - metallic) * transmission * transmission_color;
+}
+
+// Under a uniform sky of radiance 1 the back hemisphere's cosine-weighted integral of the BTDF
+// (the colour above over pi) is pi times it over pi: the colour itself.
+inline glm::vec3 ambient_transmitted(float metallic, float transmission, glm::vec3 transmission_color) {
+  return diffuse_transmitted_color(metallic, transmission, transmission_color);
+}
+
+// ---- The combined surface ----
+
+struct SurfaceLayers {
+  glm::vec3 sheen_color{0.0f};
+  float sheen_roughness = 0.0f;
+  float anisotropy = 0.0f;                           // strength in [0, 1]
+  glm::vec3 anisotropy_direction{1.0f, 0.0f, 0.0f};  // world space; made perpendicular to n here
+  float diffuse_transmission = 0.0f;
+  glm::vec3 diffuse_transmission_color{1.0f};
+};
+
+// A unit tangent perpendicular to n from the layers' direction: the lobe at strength 0 is the
+// isotropic one only in an orthonormal frame, and the default direction (1, 0, 0) need not be
+// perpendicular to n. Along n itself it names no tangent; any perpendicular then serves.
+inline glm::vec3 surface_tangent(glm::vec3 n, glm::vec3 direction) {
+  glm::vec3 t = direction - n * glm::dot(n, direction);
+  if (glm::dot(t, t) < 1e-12f) t = glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f));
+  return glm::normalize(t);
+}
+
+// The metallic-roughness base under the sheen, for a light on the normal's side: Schlick's Fresnel
+// splits the light between the diffuse lobe, less its transmitted share, and the anisotropic GGX.
+inline glm::vec3 base_layer_brdf(glm::vec3 n, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers, glm::vec3 v,
+                                 glm::vec3 l) {
+  const glm::vec3 h = glm::normalize(v + l);
+  const float x = 1.0f - std::clamp(glm::dot(v, h), 0.0f, 1.0f);
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
+  const glm::vec3 fresnel = f0 + (1.0f - f0) * (x * x * x * x * x);
+  const glm::vec3 t = surface_tangent(n, layers.anisotropy_direction), b = glm::cross(n, t);
+  const glm::vec2 alphas = anisotropic_alphas(roughness, layers.anisotropy);
+  const float d = anisotropic_distribution(alphas.x, alphas.y, glm::dot(t, h), glm::dot(b, h), glm::dot(n, h));
+  const glm::vec3 v_tbn(glm::dot(t, v), glm::dot(b, v), glm::dot(n, v));
+  const glm::vec3 l_tbn(glm::dot(t, l), glm::dot(b, l), glm::dot(n, l));
+  const float vis = anisotropic_visibility(alphas.x, alphas.y, v_tbn, l_tbn);
+  const glm::vec3 diffuse = diffuse_reflected_color(base, metallic, layers.diffuse_transmission);
+  return (1.0f - fresnel) * diffuse / glm::pi<float>() + fresnel * (d * vis);
+}
+
+// The BRDF (BTDF for a light behind the surface) the caller weights with |n.l| and the light's
+// irradiance. Roughness below 0 is the engine's Lambertian surface: the diffuse lobe alone, with
+// its transmitted share, and no metal, specular or sheen (they need a microfacet roughness). The
+// sheen's albedo is the quadrature's, not the device's table: this is the reference.
+inline glm::vec3 layered_brdf(glm::vec3 n, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers, glm::vec3 v,
+                              glm::vec3 l) {
+  const float n_l = glm::dot(n, l), n_v = glm::dot(n, v), pi = glm::pi<float>();
+  const float d = layers.diffuse_transmission;
+  const bool lambertian = roughness < 0.0f, sheen = !lambertian && max_component(layers.sheen_color) > 0.0f;
+  const float e_view = sheen ? sheen_albedo(n_v, layers.sheen_roughness) : 0.0f;
+  if (n_l <= 0.0f) {
+    // Only the view's side of the sheen is modelled on the way through.
+    const glm::vec3 through = diffuse_transmitted_color(lambertian ? 0.0f : metallic, d, layers.diffuse_transmission_color) / pi;
+    return through * sheen_scaling(layers.sheen_color, e_view, 0.0f);
+  }
+  if (lambertian) return (1.0f - d) * base / pi;
+  const glm::vec3 beneath = base_layer_brdf(n, base, metallic, roughness, layers, v, l);
+  if (!sheen) return beneath;
+  const float e_light = sheen_albedo(n_l, layers.sheen_roughness);
+  const glm::vec3 h = glm::normalize(v + l);
+  const glm::vec3 lobe = layers.sheen_color * sheen_distribution(layers.sheen_roughness, glm::dot(n, h)) * sheen_visibility(n_l, n_v);
+  return beneath * sheen_scaling(layers.sheen_color, e_view, e_light) + lobe;
+}
+
+// What the surface returns toward the viewer under a uniform sky of radiance 1 (both hemispheres).
+// The specular lobe's share is taken as f0, the sheen's as C E(n.v) over what it leaves beneath.
+// The transmitted part is the model's, unscaled: layered_brdf scales it by the sheen's view-side
+// share, so this term is up to that factor brighter than the BRDF's integral.
+inline glm::vec3 layered_ambient(float n_v, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers) {
+  const float d = layers.diffuse_transmission;
+  if (roughness < 0.0f) return (1.0f - d) * base + ambient_transmitted(0.0f, d, layers.diffuse_transmission_color);
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
+  const bool sheen = max_component(layers.sheen_color) > 0.0f;
+  const float e = sheen ? sheen_albedo(n_v, layers.sheen_roughness) : 0.0f;
+  const glm::vec3 reflected = (diffuse_reflected_color(base, metallic, d) + f0) * sheen_scaling(layers.sheen_color, e, e);
+  return reflected + layers.sheen_color * e + ambient_transmitted(metallic, d, layers.diffuse_transmission_color);
+}
+
+}  // namespace caustica::reference

@@ -1,0 +1,60 @@
+#version 460
+// The device's opaque-surface model (scene/surface.glsl) at chosen materials and angles: texel i of
+// `values` holds case i's value per channel, which tests/surface_layers_test.cpp compares with values
+// worked by hand from glTF's extensions.
+#extension GL_GOOGLE_include_directive : require
+#include "scene/surface.glsl"
+
+layout(set = 0, binding = 0, rgba32f) uniform writeonly image2D values;
+
+layout(local_size_x = 10, local_size_y = 1) in;
+
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i >= imageSize(values).x) return;
+  const vec3 n = vec3(0.0, 0.0, 1.0), tilted = vec3(0.6, 0.0, 0.8), behind = vec3(0.0, 0.6, -0.8);
+  Surface s = plain_surface(n, vec3(0.8, 0.6, 0.4), 0.0, 0.5);
+  vec3 value = vec3(0.0);
+  if (i == 0) {  // KHR_materials_sheen's lobe, roughness 1, view and light both at n.h = 0.6
+    s.sheen_color = vec3(1.0, 0.5, 0.25);
+    s.sheen_roughness = 1.0;
+    value = sheen_lobe(s, 0.6, 0.6, 0.6);
+  } else if (i == 1) {  // the same at roughness 0.5
+    s.sheen_color = vec3(1.0, 0.5, 0.25);
+    s.sheen_roughness = 0.5;
+    value = sheen_lobe(s, 0.6, 0.6, 0.6);
+  } else if (i == 2) {  // the albedo table (E_k = (k / 15)^2 here, at cosines (k / 15)^2) between samples, and the scaling it gives
+    for (int k = 0; k < 16; ++k) s.sheen_albedo[k / 4][k % 4] = float(k * k) / 225.0;
+    s.sheen_color = vec3(0.5, 0.2, 0.1);
+    value = vec3(sheen_albedo(s, 0.25), sheen_scaling(s, 0.09, 0.49), sheen_scaling(s, 1.0, 0.04));
+  } else if (i == 3) {  // KHR_materials_anisotropy: strength 1 along x, view = light = n
+    s.anisotropy = 1.0;
+    s.anisotropy_t = vec3(1.0, 0.0, 0.0);
+    value = vec3(specular_lobe(s, n, n, n, 1.0, 1.0));
+  } else if (i == 4) {  // the same, view = light tilted toward the direction it stretches along
+    s.anisotropy = 1.0;
+    s.anisotropy_t = vec3(1.0, 0.0, 0.0);
+    value = vec3(specular_lobe(s, tilted, tilted, tilted, 0.8, 0.8));
+  } else if (i == 5) {  // the direction turned a quarter: tilted across it
+    s.anisotropy = 1.0;
+    s.anisotropy_t = vec3(0.0, 1.0, 0.0);
+    value = vec3(specular_lobe(s, tilted, tilted, tilted, 0.8, 0.8));
+  } else if (i == 6) {  // no anisotropy: GGX's round lobe, view = light = n
+    value = vec3(specular_lobe(s, n, n, n, 1.0, 1.0));
+  } else if (i == 7) {  // KHR_materials_diffuse_transmission: light from behind, metallic 0.25
+    s.metallic = 0.25;
+    s.transmission = 0.5;
+    s.transmission_color = vec3(1.0, 0.5, 0.2);
+    value = brdf(s, n, behind);
+  } else if (i == 8) {  // a Lambertian surface lit in front keeps what it does not pass
+    s = plain_surface(n, vec3(0.8, 0.6, 0.4), 0.0, -1.0);
+    s.transmission = 0.25;
+    value = brdf(s, n, tilted);
+  } else if (i == 9) {  // and under the sky, the light passed from behind
+    s = plain_surface(n, vec3(0.8, 0.6, 0.4), 0.0, -1.0);
+    s.transmission = 0.25;
+    s.transmission_color = vec3(1.0, 0.5, 0.0);
+    value = ambient_reflectance(s, n);
+  }
+  imageStore(values, ivec2(i, 0), vec4(value, 0.0));
+}
