@@ -1,6 +1,7 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
-// the surface's BRDF, each shadowed through its shadow map where it has one (3x3 PCF; a point light's
+// the surface's BRDF (scene/surface.glsl; with MATERIAL, glTF's sheen, anisotropy and diffuse
+// transmission from the material target and the objects), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
 // six cube faces) and adding its caustic map where one is bound, plus ambient sky light
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
@@ -196,7 +197,7 @@ void main() {
     // the shadow map's nine taps would weigh nothing (with three lights, half the pass's time). A
     // surface that transmits diffusely is lit from behind too, shadowed as its far side sees the light.
     float cone = spot_cone(light, -l), n_l = dot(n, l);
-    if (cone <= 0.0 || (n_l <= 0.0 && s.transmission <= 0.0) || n_l == 0.0) continue;
+    if (cone <= 0.0 || n_l == 0.0 || (n_l < 0.0 && s.transmission <= 0.0)) continue;
     vec3 lit_side = n_l > 0.0 ? n : -n;
 #ifdef SHADOWS
     if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, lit_side);
