@@ -180,14 +180,7 @@ TEST(Caustics, TintAndTransmissionAreReadPerTexelInEveryMethod) {
   for (const Case& pane : {Case{"tinted_pane.gltf", 0.25}, Case{"blend_pane.gltf", 1.0 / 3.0}}) {
     const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf" / pane.file).string();
     auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
-    auto halves = [&](const io::ImageData& map) {
-      std::array<glm::dvec3, 2> flux{glm::dvec3(0.0), glm::dvec3(0.0)};  // under the -x half, under the +x half
-      test::for_each_floor_point(*scene, map, [&](const glm::dvec3& floor, const glm::dvec3& rgb) {
-        if (std::abs(floor.z) > 0.9 || std::abs(floor.x) < 0.1 || std::abs(floor.x) > 0.9) return;
-        flux[floor.x < 0.0 ? 0 : 1] += rgb;
-      });
-      return flux;
-    };
+    auto halves = [&](const io::ImageData& map) { return flux_under_pane_halves(*scene, map); };
     auto mean = [](const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; };
     reference::PhotonOptions options;
     options.photons = 4'000'000;

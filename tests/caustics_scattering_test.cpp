@@ -1,7 +1,9 @@
 // Caustics on the device, materials that spread the light: rough glass (per object and per texel
-// on the exact paths) and dispersion by colour band, against the photon reference.
+// on the exact paths) and dispersion by colour band, and the interface layers per texel, against
+// the photon reference.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -165,5 +167,35 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
       EXPECT_NEAR(radius[c], reference_radius[c], 0.01 * reference_radius[c]) << graph << " band " << c;
       EXPECT_NEAR(energy[c], 1.0, 0.02) << graph << " band " << c;
     }
+  }
+}
+
+// The interface layers are read per texel where the exact paths meet a surface:
+// tests/data/gltf/layered_pane.gltf is a smooth thin pane whose layer textures give its -x half a
+// specular colour that reflects red whole and green not at all (under a coat and a film), and its
+// +x half nothing that reflects. The floor under the -x half gets no red and under the +x half
+// white light; the textures' means, which image space takes, would light both halves alike (half
+// the red). Checked in the photon reference and the exact tracer (the tracer's green and blue, and
+// the +x half's red, within 5% of the reference's).
+TEST(Caustics, InterfaceLayersAreReadPerTexelOnTheExactPaths) {
+  Engine e;
+  const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf/layered_pane.gltf").string();
+  auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
+  auto halves = [&](const io::ImageData& map) { return flux_under_pane_halves(*scene, map); };
+  reference::PhotonOptions options;
+  options.photons = 1'000'000;
+  const auto reference = halves(reference::trace_photon_reference(*scene, options).caustic_map);
+  e.render("caustics_raytraced", scene, {"grid=1024"});
+  const auto traced = halves(e.executor.read_image("caustics"));
+  std::printf("layered pane: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", traced[0].x,
+              traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x, reference[0].y, reference[0].z,
+              reference[1].x, reference[1].y, reference[1].z);
+  for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
+    EXPECT_LT(flux[0].x, 0.02 * flux[0].y) << what << ": red passes the -x half";
+    EXPECT_GT(flux[1].x, 0.95 * flux[1].y) << what << ": the +x half reflects red";
+  }
+  for (int half = 0; half < 2; ++half) {
+    for (int c = half == 0 ? 1 : 0; c < 3; ++c)
+      EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c]) << half << ", " << c;
   }
 }

@@ -21,7 +21,7 @@ inline PictureChange picture_change(const io::ImageData& with, const io::ImageDa
   for (size_t i = 0; i < reference.rgba.size() / 4; ++i) {
     if (mask && !(*mask)[i]) continue;
     for (size_t k = i * 4; k < i * 4 + 3; ++k) {
-      const double truth = reference.rgba[k], change = double(with.rgba[k]) - double(without.rgba[k]),
+      const double truth = static_cast<double>(reference.rgba[k]), change = double(with.rgba[k]) - double(without.rgba[k]),
                    reference_change = truth - double(reference_without.rgba[k]);
       off_with += std::abs(double(with.rgba[k]) - truth);
       off_without += std::abs(double(without.rgba[k]) - truth);

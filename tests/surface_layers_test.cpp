@@ -104,3 +104,33 @@ TEST(SurfaceOnTheDevice, EachExtensionChangesThePictureAsTheReferenceDoes) {
     EXPECT_GT(cosine, 0.99) << asset;
   }
 }
+
+// The interface layers' textures on the exact paths (scene/textures.glsl's interface_at), read by a
+// user pass at the middles of tests/data/gltf/layered_pane.gltf's two texels: every layer's factor
+// times its texture's channel there, and the object's own values the factors times the means.
+TEST(SurfaceOnTheDevice, TheExactPathsReadEachInterfaceLayerPerTexel) {
+  test::SceneEngine e;
+  auto scene =
+      std::make_shared<scene::Scene>(scene::load_model_scene((kSurfaceSource / "tests/data/gltf/layered_pane.gltf").string(), false));
+  size_t pane = 0;
+  while (pane < scene->objects.size() && !scene->objects[pane].material.refractor) ++pane;
+  ASSERT_LT(pane, scene->objects.size());
+  graph::GraphDesc probe = graph::load_graph_file((kSurfaceSource / "tests/data/gltf/layer_probe.json").string());
+  graph::apply_overrides(probe, {"object=" + std::to_string(pane)});
+  e.render(probe, scene, {});
+  const io::ImageData values = e.executor.read_image("values");
+  ASSERT_EQ(values.width, 4u);
+  auto texel = [&](uint32_t x, uint32_t y) { return glm::make_vec4(&values.rgba[(size_t{y} * 4 + x) * 4]); };
+  // -x texel (255, 0, 255, 255): specular colour (25, 1, 1) x (1, 0, 1), weight 1 x 1; coat 0.6 x 1,
+  // its roughness 0.3 x 0; film 0.7 x 1, 200 + 300 x 0 nm.
+  EXPECT_EQ(texel(0, 0), glm::vec4(25.0f, 0.0f, 1.0f, 1.0f));
+  EXPECT_EQ(texel(1, 0), glm::vec4(0.6f, 0.0f, 0.7f, 200.0f));
+  // +x texel (0, 255, 0, 0): colour (0, 1, 0), weight 0; coat 0, roughness 0.3; film 0, 500 nm.
+  EXPECT_EQ(texel(0, 1), glm::vec4(0.0f, 1.0f, 0.0f, 0.0f));
+  EXPECT_EQ(texel(1, 1), glm::vec4(0.0f, 0.3f, 0.0f, 500.0f));
+  // The object's own: each factor times the mean, half of each texel's.
+  for (uint32_t y = 0; y < 2; ++y) {
+    EXPECT_EQ(texel(2, y), glm::vec4(12.5f, 0.5f, 0.5f, 0.5f));
+    EXPECT_EQ(texel(3, y), glm::vec4(0.3f, 0.15f, 0.35f, 350.0f));
+  }
+}

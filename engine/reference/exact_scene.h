@@ -208,6 +208,24 @@ class ExactScene {
     return result;
   }
 
+  // A refractor's material with its interface layers where a ray meets it: per texel where it has a
+  // layer texture (each factor times its texture, as the engine's exact paths read them:
+  // textures.glsl's interface_at), written into `storage`; else the object's own material.
+  const scene::Material& interface_material(const RayHit& hit, scene::Material& storage) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::LayerTextures& t = object.material.layer_textures;
+    if (!object.material.refractor || !t.used()) return object.material;
+    auto texel = [&](const scene::TextureRef& ref) { return ref.used() ? sample(object, ref, hit) : glm::vec4(1.0f); };
+    storage = object.material;
+    storage.specular = t.specular_factor * texel(t.specular).a;
+    storage.specular_color = t.specular_color_factor * glm::vec3(texel(t.specular_color));
+    storage.clearcoat = t.clearcoat_factor * texel(t.clearcoat).r;
+    storage.clearcoat_roughness = t.clearcoat_roughness_factor * texel(t.clearcoat_roughness).g;
+    storage.iridescence = t.iridescence_factor * texel(t.iridescence).r;
+    storage.film_thickness_nm = t.thickness.used() ? glm::mix(t.thickness_min, t.thickness_max, texel(t.thickness).g) : t.thickness_max;
+    return storage;
+  }
+
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;
     const uint32_t* tri = &mesh.indices[3 * hit.triangle];

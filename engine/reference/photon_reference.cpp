@@ -151,12 +151,14 @@ class PhotonTracer {
         power = kept;
       };
       // A thin wall is always entered: reflected, or through it (unbent where smooth).
+      scene::Material textured;
+      const scene::Material& material = exact_.interface_material(*hit, textured);
       const InterfaceCrossing crossing =
-          cross_interface(object.material, direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
+          cross_interface(material, direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
       origin = p;
       const bool first_refractor = !refracted;
       refracted = true;
-      if (reflects(crossing, object.material, n, band, direction, power, random)) {
+      if (reflects(crossing, material, n, band, direction, power, random)) {
         // Reflected off the outside too: followed, since it lands on the receivers like any other
         // specular path (3.8% of the ball lens's floor flux); only the exact tracers model it.
         if (entering && first_refractor) acc.totals.reflected += mean(power);

@@ -139,7 +139,8 @@ class Tracer {
       const float roughness = exact_.transmission_roughness(*hit);
       rough = rough || roughness > 0.0f;
       const glm::vec3 facet = microfacet_normal(n, direction, roughness, random);
-      const InterfaceCrossing entry = cross_interface(m, direction, facet, n, 1.0f, ior);
+      scene::Material textured;
+      const InterfaceCrossing entry = cross_interface(exact_.interface_material(*hit, textured), direction, facet, n, 1.0f, ior);
       radiance += throughput * entry.reflectance * scene_.sky;
       throughput *= 1.0f - entry.reflectance;
       const auto [tint, transmission] = exact_.transmittance(*hit);
@@ -166,8 +167,8 @@ class Tracer {
         if (glm::dot(inward, direction) > 0) inward = -inward;
         const float exit_roughness = exact_.transmission_roughness(*inner);
         rough = rough || exit_roughness > 0.0f;
-        const InterfaceCrossing exit =
-            cross_interface(m, direction, microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
+        const InterfaceCrossing exit = cross_interface(exact_.interface_material(*inner, textured), direction,
+                                                       microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
         origin = p;
         if (exit.total_internal()) {
           direction = exit.reflected;

@@ -128,12 +128,14 @@ void read_transmission(const tinygltf::Value& t, const std::string& extension_at
 }
 
 // KHR_materials_specular: the dielectric's reflectance scaled (specularFactor, the texture's
-// alpha) and its F0 coloured (specularColorFactor, the texture's rgb), textures by their means.
+// alpha) and its F0 coloured (specularColorFactor, the texture's rgb); the fields hold the
+// textures' means, layer_textures the factors and textures.
 void read_specular(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                    Material& m) {
-  const double factor = unit_factor(v, extension_at, "specularFactor", 1.0, path);
-  m.specular =
-      static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "specularTexture", path, textures, false), 3);
+  LayerTextures& layers = m.layer_textures;
+  layers.specular_factor = static_cast<float>(unit_factor(v, extension_at, "specularFactor", 1.0, path));
+  layers.specular = extension_texture(v, extension_at, "specularTexture", path, textures, false);
+  m.specular = layers.specular_factor * texture_mean(textures, layers.specular, 3);
   if (v.Has("specularColorFactor")) {
     const auto& c = v.Get("specularColorFactor");
     const std::string at = extension_at + "/specularColorFactor";
@@ -143,35 +145,38 @@ void read_specular(const tinygltf::Value& v, const std::string& extension_at, co
       if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
       const double value = c.Get(k).GetNumberAsDouble();
       if (value < 0.0) fail(path, 0, element + ": " + JsonReader::format_number(value) + " must be 0 or more");
-      m.specular_color[k] = static_cast<float>(value);
+      layers.specular_color_factor[k] = static_cast<float>(value);
     }
   }
-  const TextureRef color_texture = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
-  if (color_texture.used()) m.specular_color *= glm::vec3(textures.mean(color_texture.texture));
+  layers.specular_color = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
+  m.specular_color = layers.specular_color_factor;
+  if (layers.specular_color.used()) m.specular_color *= glm::vec3(textures.mean(layers.specular_color.texture));
 }
 
 // KHR_materials_clearcoat: a clear coat of index 1.5 over the base, its factor (the texture's
-// red) and roughness (the texture's green) by their means. The coat follows the surface's normal:
-// a clearcoatNormalTexture is checked and not applied (gltf_loader.cpp's unread_content says so).
+// red) and roughness (the texture's green). The coat follows the surface's normal: a
+// clearcoatNormalTexture is checked and not applied (gltf_loader.cpp's unread_content says so).
 void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                     Material& m) {
-  const double factor = unit_factor(v, extension_at, "clearcoatFactor", 0.0, path);
-  m.clearcoat =
-      static_cast<float>(factor) * texture_mean(textures, extension_texture(v, extension_at, "clearcoatTexture", path, textures, false), 0);
-  const double roughness = unit_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, path);
-  m.clearcoat_roughness = static_cast<float>(roughness) *
-                          texture_mean(textures, extension_texture(v, extension_at, "clearcoatRoughnessTexture", path, textures, false), 1);
+  LayerTextures& layers = m.layer_textures;
+  layers.clearcoat_factor = static_cast<float>(unit_factor(v, extension_at, "clearcoatFactor", 0.0, path));
+  layers.clearcoat = extension_texture(v, extension_at, "clearcoatTexture", path, textures, false);
+  m.clearcoat = layers.clearcoat_factor * texture_mean(textures, layers.clearcoat, 0);
+  layers.clearcoat_roughness_factor = static_cast<float>(unit_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, path));
+  layers.clearcoat_roughness = extension_texture(v, extension_at, "clearcoatRoughnessTexture", path, textures, false);
+  m.clearcoat_roughness = layers.clearcoat_roughness_factor * texture_mean(textures, layers.clearcoat_roughness, 1);
   extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
 }
 
 // KHR_materials_iridescence: a thin film of iridescenceIor between the outside and the base, as
-// thick as the thickness texture's green places it between the minimum and the maximum (its mean;
-// the maximum without one), mixed in by iridescenceFactor (the texture's red).
+// thick as the thickness texture's green places it between the minimum and the maximum (the
+// maximum without one), mixed in by iridescenceFactor (the texture's red).
 void read_iridescence(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                       Material& m) {
-  const double factor = unit_factor(v, extension_at, "iridescenceFactor", 0.0, path);
-  m.iridescence = static_cast<float>(factor) *
-                  texture_mean(textures, extension_texture(v, extension_at, "iridescenceTexture", path, textures, false), 0);
+  LayerTextures& layers = m.layer_textures;
+  layers.iridescence_factor = static_cast<float>(unit_factor(v, extension_at, "iridescenceFactor", 0.0, path));
+  layers.iridescence = extension_texture(v, extension_at, "iridescenceTexture", path, textures, false);
+  m.iridescence = layers.iridescence_factor * texture_mean(textures, layers.iridescence, 0);
   const double ior = extension_number(v, extension_at, "iridescenceIor", 1.3, path);
   if (ior < 1.0 || ior > 4.0) {
     fail(path, 0, extension_at + "/iridescenceIor: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");
@@ -181,8 +186,10 @@ void read_iridescence(const tinygltf::Value& v, const std::string& extension_at,
   const double thickest = extension_number(v, extension_at, "iridescenceThicknessMaximum", 400.0, path);
   if (thinnest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMinimum: must be 0 or more");
   if (thickest < 0.0) fail(path, 0, extension_at + "/iridescenceThicknessMaximum: must be 0 or more");
-  const TextureRef thickness = extension_texture(v, extension_at, "iridescenceThicknessTexture", path, textures, false);
-  const auto along = static_cast<double>(texture_mean(textures, thickness, 1));
+  layers.thickness_min = static_cast<float>(thinnest);
+  layers.thickness_max = static_cast<float>(thickest);
+  layers.thickness = extension_texture(v, extension_at, "iridescenceThicknessTexture", path, textures, false);
+  const auto along = static_cast<double>(texture_mean(textures, layers.thickness, 1));
   m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 

@@ -40,6 +40,27 @@ struct TextureRef {
   bool used() const { return texture >= 0; }
 };
 
+// The interface layers' textures and the factors they multiply (glTF's KHR_materials_specular,
+// _clearcoat, _iridescence), read per texel where an exact path meets the surface; Material's
+// specular, clearcoat and film fields hold each factor times its texture's mean, which image space
+// takes (docs/gltf.md, "The interface").
+struct LayerTextures {
+  TextureRef specular;             // alpha scales specular_factor
+  TextureRef specular_color;       // rgb scales specular_color_factor
+  TextureRef clearcoat;            // red scales clearcoat_factor
+  TextureRef clearcoat_roughness;  // green scales clearcoat_roughness_factor
+  TextureRef iridescence;          // red scales iridescence_factor
+  TextureRef thickness;            // green places the film between thickness_min and thickness_max (nm)
+  float specular_factor = 1.0f;
+  glm::vec3 specular_color_factor{1.0f};
+  float clearcoat_factor = 0.0f, clearcoat_roughness_factor = 0.0f, iridescence_factor = 0.0f;
+  float thickness_min = 100.0f, thickness_max = 400.0f;
+  bool used() const {
+    return specular.used() || specular_color.used() || clearcoat.used() || clearcoat_roughness.used() || iridescence.used() ||
+           thickness.used();
+  }
+};
+
 // glTF alpha modes: coverage from the base colour's alpha. MASK cuts out where it is below the
 // cutoff, everywhere the engine sees the surface (camera, shadow and light maps, the references).
 enum class AlphaMode { opaque, mask, blend };
@@ -89,6 +110,7 @@ struct Material {
   float iridescence = 0.0f;
   float film_ior = 1.3f;
   float film_thickness_nm = 400.0f;
+  LayerTextures layer_textures;
   // What glTF's extensions put on an opaque surface's BRDF, in the lighting of direct and sky light
   // (docs/gltf.md, "Opaque surfaces"; the model in scene/surface.glsl and reference/surface_physics.h):
   // KHR_materials_sheen's Charlie sheen of `sheen_color` and `sheen_roughness` over the rest,

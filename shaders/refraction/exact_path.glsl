@@ -17,10 +17,10 @@
 struct ExactPath {
   vec3 origin;
   vec3 direction;
-  int inside;         // the refractor the path travels in, or -1
-  uint interfaces;    // refractor interfaces met so far
-  uint rng;           // the path's random numbers, in the order it draws them
-  vec3 throughput;    // what is left of what it started with (absorption, tint; Fresnel when weighted)
+  int inside;       // the refractor the path travels in, or -1
+  uint interfaces;  // refractor interfaces met so far
+  uint rng;         // the path's random numbers, in the order it draws them
+  vec3 throughput;  // what is left of what it started with (absorption, tint; Fresnel when weighted)
 };
 
 const uint PATH_ESCAPED = 0u;    // met nothing: the path left the scene
@@ -90,21 +90,26 @@ PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool ch
   vec3 transmitted = thin ? through_thin(direction, m, n) : refract(direction, m, e.entering ? 1.0 / ior : ior);
   bool total_internal = dot(transmitted, transmitted) == 0.0;
   InterfaceReflection layers = InterfaceReflection(vec3(total_internal ? 1.0 : 0.0), 0.0);
-  if (fresnel && !total_internal) {
+  // The layers here, per texel; whether a choice draws a number is the object's (its means), so
+  // that image space, which reads the object, knows how many the entry draws (entry_choice_draws).
+  ObjectData surface = interface_at(object, h.texcoords);
+  bool layered_crossing = fresnel && !total_internal;
+  if (layered_crossing) {
     // The coat is on the outside: its cosine is the light's there (after the crossing, leaving).
     float cos_outside = e.entering || thin ? -dot(direction, n) : -dot(normalize(transmitted), n);
-    layers = interface_reflection(object, -dot(direction, m), cos_outside, e.entering ? 1.0 : ior, e.entering ? ior : 1.0);
+    layers = interface_reflection(surface, -dot(direction, m), cos_outside, e.entering ? 1.0 : ior, e.entering ? ior : 1.0);
   }
   e.reflectance = reflectance(layers);
   path.origin = e.position;
   if (choose_reflection) {
     vec3 reflecting = m;
-    if (layers.coat > 0.0 && next_uniform(path.rng) < layers.coat) {
+    if (layered_crossing && object.layers.x > 0.0 && next_uniform(path.rng) < layers.coat) {
       e.reflected = true;
-      reflecting = microfacet_normal(n, direction, object.layers.y, path.rng);
+      reflecting = microfacet_normal(n, direction, surface.layers.y, path.rng);
     } else {
       float p = choice_probability(layers.base, band);
-      e.reflected = p > 0.0 && next_uniform(path.rng) < p;
+      bool draws = total_internal || (layered_crossing && base_reflects(object, ior));
+      e.reflected = draws && next_uniform(path.rng) < p;
       path.throughput *= e.reflected ? choice_weight(layers.base, p) : choice_weight(1.0 - layers.base, 1.0 - p);
     }
     if (e.reflected) {

@@ -39,7 +39,9 @@ const uint BAND_WHITE = 3u;
 const vec3 BAND_WAVELENGTHS_NM = vec3(CAUSTICA_LINE_C_NM, CAUSTICA_LINE_D_NM, CAUSTICA_LINE_F_NM);
 const vec3 BAND_INV2 = 1.0 / (BAND_WAVELENGTHS_NM * BAND_WAVELENGTHS_NM);
 const vec3 BAND_SPREAD = (BAND_INV2 - BAND_INV2.y) / (BAND_INV2.z - BAND_INV2.x);
-bool disperses(ObjectData object) { return object.bounds_max_spread.w > 0.0; }
+bool disperses(ObjectData object) {
+  return object.bounds_max_spread.w > 0.0;
+}
 float band_ior(ObjectData object, uint band) {
   return band == BAND_WHITE ? object.absorption_ior.a : object.absorption_ior.a + BAND_SPREAD[band] * object.bounds_max_spread.w;
 }
@@ -75,7 +77,9 @@ struct InterfaceReflection {
   vec3 base;
   float coat;
 };
-vec3 reflectance(InterfaceReflection r) { return r.coat + (1.0 - r.coat) * r.base; }
+vec3 reflectance(InterfaceReflection r) {
+  return r.coat + (1.0 - r.coat) * r.base;
+}
 
 // The interface of `object` met at cosine cos_i to the facet normal, from index eta_i into eta_t;
 // cos_outside is the light's cosine to the surface's normal on the outside (where the coat is).
@@ -102,13 +106,23 @@ InterfaceReflection interface_reflection(ObjectData object, float cos_i, float c
 
 // Whether an extension layers the interface (a coat, a film, a coloured or weighted specular): the
 // photons' choices there draw more than one number and weight their powers.
-bool layered(ObjectData object) { return object.layers.x > 0.0 || object.layers.z > 0.0 || object.specular != vec4(1.0); }
+bool layered(ObjectData object) {
+  return object.layers.x > 0.0 || object.layers.z > 0.0 || object.specular != vec4(1.0);
+}
+
+// Whether a refractor's base reflects anything at an interface into index ior (a film reflects
+// even where the indices match), from the object's values: where a layer texture makes it reflect
+// nothing at some texels, a photon there still draws its choice (and never reflects), so that
+// every photon at an object draws alike.
+bool base_reflects(ObjectData object, float ior) {
+  return object.specular.a > 0.0 && (ior != 1.0 || object.layers.z > 0.0);
+}
 
 // How many random numbers a photon's choices at a refractor's entry draw (refraction/exact_path.glsl:
 // the coat's where it has one, then the base's where it reflects at all).
 uint entry_choice_draws(ObjectData object, float ior, bool fresnel) {
   if (!fresnel) return 0u;
-  return (object.layers.x > 0.0 ? 1u : 0u) + (object.specular.a > 0.0 && ior != 1.0 ? 1u : 0u);
+  return (object.layers.x > 0.0 ? 1u : 0u) + (base_reflects(object, ior) ? 1u : 0u);
 }
 
 // Photons choose one side of an interface at random: the probability of a path of colour band

@@ -278,3 +278,29 @@ transformed["textures"] = [{"sampler": 0, "source": 0}]
 transformed["samplers"] = [{"magFilter": 9728, "minFilter": 9728, "wrapS": 10497, "wrapT": 10497}]
 transformed["images"] = [{"uri": data_uri("image/png", png(4, 4, [[(40 + 60 * x, 40 + 60 * y, 10, 255) for x in range(4)] for y in range(4)]))}]
 write("texture_transform.gltf", transformed)
+
+
+# layered_pane.gltf: the same smooth thin pane with glTF's interface layers textured, every layer
+# from one 2 x 1 image whose -x texel is (255, 0, 255, 255) and +x texel (0, 255, 0, 0): on the -x
+# half KHR_materials_specular's weight is 1 (alpha) and its colour (25, 0, 1) x F0, so that red is
+# reflected whole and green not at all; a clear coat of 0.6, a film of 0.7 at 200 nm. On the +x
+# half the specular weight is 0 and nothing else is on it but a coat roughness of 0.3 and the
+# thickest film (500 nm) at weight 0: all the light passes. Read per texel, the floor under the
+# -x half gets no red and the +x half white; the textures' means would give both halves the same.
+layered = json.loads(json.dumps(pane))
+layered["extensionsUsed"] = ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_specular",
+                             "KHR_materials_clearcoat", "KHR_materials_iridescence"]
+layered["materials"][1] = {
+    "name": "two-layer pane", "doubleSided": True,
+    "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0},
+    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                   "KHR_materials_specular": {"specularFactor": 1.0, "specularTexture": {"index": 0},
+                                              "specularColorFactor": [25.0, 1.0, 1.0], "specularColorTexture": {"index": 0}},
+                   "KHR_materials_clearcoat": {"clearcoatFactor": 0.6, "clearcoatTexture": {"index": 0},
+                                               "clearcoatRoughnessFactor": 0.3, "clearcoatRoughnessTexture": {"index": 0}},
+                   "KHR_materials_iridescence": {"iridescenceFactor": 0.7, "iridescenceTexture": {"index": 0},
+                                                 "iridescenceThicknessMinimum": 200.0, "iridescenceThicknessMaximum": 500.0,
+                                                 "iridescenceThicknessTexture": {"index": 0}}}}
+layered["textures"] = [{"sampler": 0, "source": 0}]
+layered["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 0, 255, 255), (0, 255, 0, 0)]]))}]
+write("layered_pane.gltf", layered)
