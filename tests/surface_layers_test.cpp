@@ -105,7 +105,7 @@ TEST(SurfaceOnTheDevice, EachExtensionChangesThePictureAsTheReferenceDoes) {
   }
 }
 
-// The interface layers' textures on the exact paths (scene/textures.glsl's interface_at), read by a
+// The interface layers' textures on the exact paths (scene/trace.glsl's layers_at), read by a
 // user pass at the middles of tests/data/gltf/layered_pane.gltf's two texels: every layer's factor
 // times its texture's channel there, and the object's own values the factors times the means.
 TEST(SurfaceOnTheDevice, TheExactPathsReadEachInterfaceLayerPerTexel) {

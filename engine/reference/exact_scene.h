@@ -210,7 +210,7 @@ class ExactScene {
 
   // A refractor's material with its interface layers where a ray meets it: per texel where it has a
   // layer texture (each factor times its texture, as the engine's exact paths read them:
-  // textures.glsl's interface_at), written into `storage`; else the object's own material.
+  // trace.glsl's layers_at), written into `storage`; else the object's own material.
   const scene::Material& interface_material(const RayHit& hit, scene::Material& storage) const {
     const scene::Object& object = scene_.objects[hit.geometry];
     const scene::LayerTextures& t = object.material.layer_textures;

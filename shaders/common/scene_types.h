@@ -70,15 +70,14 @@ struct ObjectData {
   vec4 layers;    // x: the clear coat's weight, y: its roughness; z: the thin film's weight (iridescence), w: the film's index
   vec4 film;      // x: the thin film's thickness in nm; y, z: the thinnest and thickest the thickness texture gives; w: 0
   // The same layers per texel where an exact path meets the surface (scene::LayerTextures;
-  // scene/textures.glsl's interface_at): each texture scales its factor.
-  TextureSlot specular_map;             // alpha: specular_factors.a
-  TextureSlot specular_color_map;       // rgb: specular_factors.rgb
-  TextureSlot clearcoat_map;            // red: layer_factors.x
-  TextureSlot clearcoat_roughness_map;  // green: layer_factors.y
-  TextureSlot iridescence_map;          // red: layer_factors.z
-  TextureSlot thickness_map;            // green: from film.y to film.z
-  vec4 specular_factors;                // rgb: KHR_materials_specular's colour factor, a: its factor
-  vec4 layer_factors;                   // x: clearcoat, y: clearcoat roughness, z: iridescence; w: 1 where a layer texture is used
+  // scene/trace.glsl's layers_at): each texture scales its factor.
+  // The textures: KHR_materials_specular's weight (alpha: specular_factors.a) and colour (rgb:
+  // specular_factors.rgb), the clear coat's (red: layer_factors.x) and its roughness's (green:
+  // layer_factors.y), the film's weight (red: layer_factors.z) and thickness (green: from film.y
+  // to film.z).
+  TextureSlot layer_maps[6];
+  vec4 specular_factors;  // rgb: KHR_materials_specular's colour factor, a: its factor
+  vec4 layer_factors;     // x: clearcoat, y: clearcoat roughness, z: iridescence; w: 1 where a layer texture is used
   // What glTF's extensions put on an opaque surface's BRDF (scene::Material; the model in scene/surface.glsl):
   vec4 sheen;                  // rgb: the sheen's colour, a: its roughness
   vec4 sheen_albedo[4];        // the sheen's directional albedo at cosines (k / 15)^2, k = 0..15 (reference/surface_physics.h)

@@ -52,26 +52,6 @@ vec4 tint_transmission_from(ObjectData object, vec4 base_color_texel, float tran
   if (object.transmission_map.row_u.w >= 0.0) result.a = object.tint_transmission_factors.a * transmission_texel;
   return result;
 }
-// A refractor's interface layers at texture coordinates `texcoords` (the fields interface.glsl
-// reads): per texel where its material has a layer texture, each factor times its texture at the
-// full-resolution level, as the Embree references read them (exact paths: exact_path.glsl); the
-// image-space methods take the textures' means, which the object holds.
-float layer_texel(TextureSlot slot, vec4 texcoords, int channel) {
-  return slot.row_u.w >= 0.0 ? sample_slot_at_full_resolution(slot, texcoords)[channel] : 1.0;
-}
-ObjectData interface_at(ObjectData object, vec4 texcoords) {
-  if (object.layer_factors.w <= 0.0) return object;
-  vec3 color =
-      object.specular_color_map.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.specular_color_map, texcoords).rgb : vec3(1.0);
-  object.specular = vec4(object.specular_factors.rgb * color, object.specular_factors.a * layer_texel(object.specular_map, texcoords, 3));
-  object.layers.x = object.layer_factors.x * layer_texel(object.clearcoat_map, texcoords, 0);
-  object.layers.y = object.layer_factors.y * layer_texel(object.clearcoat_roughness_map, texcoords, 1);
-  object.layers.z = object.layer_factors.z * layer_texel(object.iridescence_map, texcoords, 0);
-  object.film.x = object.thickness_map.row_u.w >= 0.0 ? mix(object.film.y, object.film.z, layer_texel(object.thickness_map, texcoords, 1))
-                                                      : object.film.z;
-  return object;
-}
-
 // Filtered over the mip chain (fragment shaders: the refractor buffers' tint, forward refraction).
 vec4 tint_transmission_filtered(ObjectData object, vec4 texcoords) {
   return tint_transmission_from(object, sample_slot(object.base_color, texcoords, vec4(1.0)),

@@ -11,7 +11,9 @@
 #include "scene/scene.glsl"
 #include "scene/textures.glsl"
 SCENE_VERTICES
-layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock { uint triangle_vertices[]; };
+layout(set = 0, binding = 15, std430) readonly buffer TriangleBlock {
+  uint triangle_vertices[];
+};
 
 struct SurfaceHit {
   bool hit;
@@ -99,6 +101,28 @@ float roughness_at(SurfaceHit h) {
   return object.metallic_roughness.y * sample_slot_at_full_resolution(map, h.texcoords).g;
 }
 
+// A refractor's interface layers where a ray meets it (the fields of ObjectData that
+// interface.glsl reads: specular, layers.xyz, film.x), for an object with layer textures
+// (layer_factors.w > 0): each factor times its texture at the full-resolution level, as the Embree
+// references read them; the image-space methods take the textures' means, which the object holds.
+// Read from the objects' buffer rather than from a copy of the object, and written into the
+// caller's: passing the whole ObjectData in and out lengthened the exact kernels' compile on
+// lavapipe by a quarter.
+float layer_texel(uint object, int map, vec4 texcoords, int channel) {
+  TextureSlot slot = objects[object].layer_maps[map];
+  return slot.row_u.w >= 0.0 ? sample_slot_at_full_resolution(slot, texcoords)[channel] : 1.0;
+}
+void layers_at(uint object, vec4 texcoords, inout vec4 specular, inout vec4 layers, inout float film_thickness) {
+  TextureSlot color = objects[object].layer_maps[1];
+  vec3 tint = color.row_u.w >= 0.0 ? sample_slot_at_full_resolution(color, texcoords).rgb : vec3(1.0);
+  vec4 factors = objects[object].specular_factors;
+  specular = vec4(factors.rgb * tint, factors.a * layer_texel(object, 0, texcoords, 3));
+  layers.xyz = objects[object].layer_factors.xyz *
+               vec3(layer_texel(object, 2, texcoords, 0), layer_texel(object, 3, texcoords, 1), layer_texel(object, 4, texcoords, 0));
+  vec4 film = objects[object].film;
+  film_thickness = objects[object].layer_maps[5].row_u.w >= 0.0 ? mix(film.y, film.z, layer_texel(object, 5, texcoords, 1)) : film.z;
+}
+
 // A refractor's tint (rgb) and transmission (a) where a ray meets it: per texel where its material
 // has a base colour or a transmission texture (the factor times the texture, at the full-resolution
 // level, as the Embree references read them; the image-space methods read the refractor buffers'
@@ -107,7 +131,8 @@ vec4 tint_transmission_at(SurfaceHit h) {
   ObjectData object = objects[h.object];
   if (!transmittance_varies(object)) return object.tint_transmission;
   vec4 base_color = object.base_color.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.base_color, h.texcoords) : vec4(1.0);
-  float transmission = object.transmission_map.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r : 1.0;
+  float transmission =
+      object.transmission_map.row_u.w >= 0.0 ? sample_slot_at_full_resolution(object.transmission_map, h.texcoords).r : 1.0;
   return tint_transmission_from(object, base_color, transmission);
 }
 
