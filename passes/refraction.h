@@ -63,7 +63,8 @@ class TracedScene {
  private:
   bool traced_ = false;
   graph::Tracer tracer_ = graph::Tracer::none;
-  uint32_t mode_ = 0;  // refraction.glsl's DISTANCE_* constant
+  uint32_t mode_ = 0;            // refraction.glsl's DISTANCE_* constant
+  bool layer_textures_ = false;  // the scene has interface layers with textures (scene.layer_textures)
 };
 
 // The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:

@@ -58,6 +58,11 @@ bool Scene::has_surface_layers() const {
   });
 }
 
+bool Scene::has_layer_textures() const {
+  return std::any_of(objects.begin(), objects.end(),
+                     [](const Object& o) { return o.material.refractor && o.material.layer_textures.used(); });
+}
+
 bool Scene::tints_per_texel() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) {
     return o.material.refractor && (o.material.base_color_texture.used() || o.material.transmission_texture.used());
@@ -72,8 +77,8 @@ std::map<std::string, double> Scene::expression_values() const {
   std::map<std::string, double> values{
       {"scene.refractors", static_cast<double>(refractor_count())}, {"scene.lights", static_cast<double>(lights.size())},
       {"scene.objects", static_cast<double>(objects.size())},       {"scene.dispersive", disperses() ? 1.0 : 0.0},
-      {"scene.surface_layers", has_surface_layers() ? 1.0 : 0.0},   {"scene.diagonal", static_cast<double>(diagonal())},
-      {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
+      {"scene.surface_layers", has_surface_layers() ? 1.0 : 0.0},   {"scene.layer_textures", has_layer_textures() ? 1.0 : 0.0},
+      {"scene.diagonal", static_cast<double>(diagonal())},          {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i];
     const std::string prefix = "scene.light" + std::to_string(i) + ".";

@@ -282,6 +282,8 @@ struct Scene {
   // Whether an opaque surface has glTF's sheen, anisotropy or diffuse transmission: only then do the
   // G-buffer and lighting passes write and read their `material` target.
   bool has_surface_layers() const;
+  // Whether a refractor's interface layers have textures, which the exact paths read per texel.
+  bool has_layer_textures() const;
   // Whether a refractor's tint or transmission varies over its surface (a base colour or a
   // transmission texture): only then do the refractor buffers draw their front_tint.
   bool tints_per_texel() const;

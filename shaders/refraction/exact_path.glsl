@@ -93,7 +93,9 @@ PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool ch
   // The layers here, per texel; whether a choice draws a number is the object's (its means), so
   // that image space, which reads the object, knows how many the entry draws (entry_choice_draws).
   ObjectData surface = object;
+#ifdef CAUSTICA_LAYER_TEXTURES
   if (object.layer_factors.w > 0.0) layers_at(h.object, h.texcoords, surface.specular, surface.layers, surface.film.x);
+#endif
   bool layered_crossing = fresnel && !total_internal;
   if (layered_crossing) {
     // The coat is on the outside: its cosine is the light's there (after the crossing, leaving).

@@ -6,6 +6,9 @@
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
+#ifdef MATERIAL
+#define SURFACE_LAYERS 1
+#endif
 #include "scene/surface.glsl"
 SCENE_FRAME
 layout(set = 0, binding = 1) uniform sampler2D depth_tex;
@@ -197,7 +200,7 @@ void main() {
     // the shadow map's nine taps would weigh nothing (with three lights, half the pass's time). A
     // surface that transmits diffusely is lit from behind too, shadowed as its far side sees the light.
     float cone = spot_cone(light, -l), n_l = dot(n, l);
-    if (cone <= 0.0 || n_l == 0.0 || (n_l < 0.0 && s.transmission <= 0.0)) continue;
+    if (cone <= 0.0 || n_l == 0.0 || (n_l < 0.0 && !transmits_diffusely(s))) continue;
     vec3 lit_side = n_l > 0.0 ? n : -n;
 #ifdef SHADOWS
     if ((params.shadowed & (1u << i)) != 0u) cone *= shadow_factor(i, light, p, lit_side);

@@ -7,7 +7,9 @@
 // KHR_materials_diffuse_transmission passes a share of the diffuse light to the other side, and
 // KHR_materials_sheen lays a Charlie sheen over the rest, which it dims by its own albedo.
 // reference/exact_scene.h's SurfacePoint (with reference/surface_physics.h) is the same model on
-// the host, written apart.
+// the host, written apart. The extensions' terms are compiled where SURFACE_LAYERS is defined
+// (lighting.frag: where the scene has such a surface): without them the lighting pass compiles
+// as before they existed, and lavapipe compiled it about a tenth slower with them.
 
 const float PI = 3.14159265358979;
 
@@ -16,6 +18,7 @@ struct Surface {
   vec3 base;
   float metallic;
   float roughness;
+#ifdef SURFACE_LAYERS
   vec3 sheen_color;
   float sheen_roughness;
   vec4 sheen_albedo[4];  // the sheen's directional albedo at cosines (k / 15)^2 (ObjectData::sheen_albedo)
@@ -23,12 +26,26 @@ struct Surface {
   float anisotropy;      // its strength, 0: round
   vec3 transmission_color;
   float transmission;  // the share of the diffuse light that passes to the other side
+#endif
 };
 
 // A surface without extensions: what the G-buffer's normal and albedo targets hold.
 Surface plain_surface(vec3 n, vec3 base, float metallic, float roughness) {
+#ifdef SURFACE_LAYERS
   vec4 none = vec4(0.0);
   return Surface(n, base, metallic, roughness, vec3(0.0), 0.0, vec4[4](none, none, none, none), vec3(0.0), 0.0, vec3(0.0), 0.0);
+#else
+  return Surface(n, base, metallic, roughness);
+#endif
+}
+
+// Whether light from behind the surface passes through it.
+bool transmits_diffusely(Surface s) {
+#ifdef SURFACE_LAYERS
+  return s.transmission > 0.0;
+#else
+  return false;
+#endif
 }
 
 float max3(vec3 v) {
@@ -40,12 +57,17 @@ vec3 diffuse_color(Surface s) {
 }
 // The diffuse light that stays on the lit side.
 vec3 diffuse_reflected(Surface s) {
+#ifdef SURFACE_LAYERS
   return diffuse_color(s) * (1.0 - s.transmission);
+#else
+  return diffuse_color(s);
+#endif
 }
 vec3 specular_f0(Surface s) {
   return s.roughness < 0.0 ? vec3(0.0) : mix(vec3(0.04), s.base, s.metallic);
 }
 
+#ifdef SURFACE_LAYERS
 // The sheen's directional albedo at cosine mu, interpolated in the object's table (sampled at
 // cosines (k / 15)^2) linearly in sqrt(mu), as reference/surface_physics.h's sheen_albedo_from_table does.
 float sheen_albedo(Surface s, float mu) {
@@ -69,17 +91,21 @@ vec3 sheen_lobe(Surface s, float n_h, float n_l, float n_v) {
   float den = 4.0 * (n_l + n_v - n_l * n_v);
   return den > 0.0 ? s.sheen_color * distribution / den : vec3(0.0);
 }
+#endif
 
 // GGX's distribution times its height-correlated visibility; stretched to alpha_t = mix(alpha, 1,
 // strength^2) along the anisotropy's direction (KHR_materials_anisotropy), round without one.
 float specular_lobe(Surface s, vec3 v, vec3 l, vec3 h, float n_l, float n_v) {
   float n_h = max(dot(s.n, h), 0.0);
   float a = max(s.roughness * s.roughness, 1e-3);
+#ifdef SURFACE_LAYERS
   if (s.anisotropy <= 0.0) {
+#endif
     float a2 = a * a;
     float d = n_h * n_h * (a2 - 1.0) + 1.0;
     float visibility = 0.5 / max(n_l * sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * sqrt(n_l * n_l * (1.0 - a2) + a2), 1e-8);
     return a2 / (PI * d * d) * visibility;
+#ifdef SURFACE_LAYERS
   }
   float at = mix(a, 1.0, s.anisotropy * s.anisotropy), ab = a;
   vec3 t = s.anisotropy_t, b = cross(s.n, t);
@@ -87,6 +113,7 @@ float specular_lobe(Surface s, vec3 v, vec3 l, vec3 h, float n_l, float n_v) {
   float distribution = 1.0 / (PI * at * ab * f * f);
   float view = length(vec3(at * dot(t, v), ab * dot(b, v), n_v)), light = length(vec3(at * dot(t, l), ab * dot(b, l), n_l));
   return distribution * 0.5 / max(n_l * view + n_v * light, 1e-8);
+#endif
 }
 
 // Radiance reflected toward v per unit irradiance arriving along l (unit, toward the light); light
@@ -94,28 +121,40 @@ float specular_lobe(Surface s, vec3 v, vec3 l, vec3 h, float n_l, float n_v) {
 // the far side, without a Fresnel term (docs/gltf.md).
 vec3 brdf(Surface s, vec3 v, vec3 l) {
   float n_l = dot(s.n, l), n_v = max(dot(s.n, v), 1e-4);
+#ifdef SURFACE_LAYERS
   if (n_l < 0.0) {
     float strongest = max3(s.sheen_color);
     float sheen_left = strongest > 0.0 ? clamp(1.0 - strongest * sheen_albedo(s, n_v), 0.0, 1.0) : 1.0;
     return (s.roughness < 0.0 ? 1.0 : 1.0 - s.metallic) * s.transmission * s.transmission_color / PI * sheen_left;
   }
+#else
+  n_l = max(n_l, 0.0);
+#endif
   if (s.roughness < 0.0) return diffuse_reflected(s) / PI;
   vec3 h = normalize(v + l);
   float v_h = max(dot(v, h), 0.0);
   vec3 f0 = specular_f0(s);
   vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - v_h, 5.0);
   vec3 beneath = (1.0 - fresnel) * diffuse_reflected(s) / PI + fresnel * specular_lobe(s, v, l, h, n_l, n_v);
+#ifdef SURFACE_LAYERS
   if (max3(s.sheen_color) <= 0.0) return beneath;
   return beneath * sheen_scaling(s, n_v, n_l) + sheen_lobe(s, max(dot(s.n, h), 0.0), n_l, n_v);
+#else
+  return beneath;
+#endif
 }
 
 // Radiance reflected toward v per unit of a uniform sky's radiance: the diffuse and F0 terms as
 // before (the split-sum's crude form), beneath the sheen's albedo at the view, plus the diffuse
 // transmission's share from the sky behind.
 vec3 ambient_reflectance(Surface s, vec3 v) {
+#ifndef SURFACE_LAYERS
+  return diffuse_color(s) + specular_f0(s);
+#else
   float e = max3(s.sheen_color) > 0.0 ? sheen_albedo(s, max(dot(s.n, v), 1e-4)) : 0.0;
   vec3 transmitted = (s.roughness < 0.0 ? 1.0 : 1.0 - s.metallic) * s.transmission * s.transmission_color;
   return (diffuse_reflected(s) + specular_f0(s)) * (1.0 - max3(s.sheen_color) * e) + s.sheen_color * e + transmitted;
+#endif
 }
 
 #endif

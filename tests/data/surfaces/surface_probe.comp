@@ -3,6 +3,7 @@
 // `values` holds case i's value per channel, which tests/surface_layers_test.cpp compares with values
 // worked by hand from glTF's extensions.
 #extension GL_GOOGLE_include_directive : require
+#define SURFACE_LAYERS 1
 #include "scene/surface.glsl"
 
 layout(set = 0, binding = 0, rgba32f) uniform writeonly image2D values;
