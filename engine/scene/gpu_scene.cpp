@@ -11,8 +11,8 @@
 #include <string_view>
 
 #include "core/error.h"
-#include "reference/surface_physics.h"
 #include "scene/bvh.h"
+#include "scene/sheen_albedo.h"
 
 namespace caustica::scene {
 namespace {
@@ -110,7 +110,7 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
     // The sheen's albedo is an integral the lighting pass cannot afford per pixel: the host's model
     // (header-only, the reference's own) integrates it once per object.
     if (m.sheen_color != glm::vec3(0.0f)) {
-      const std::array<float, 16> albedo = reference::sheen_albedo_table(m.sheen_roughness);
+      const std::array<float, 16> albedo = sheen_albedo_table(m.sheen_roughness);
       std::memcpy(objects.back().sheen_albedo, albedo.data(), sizeof(objects.back().sheen_albedo));
     }
   }
