@@ -1,6 +1,7 @@
 // The reference renderer's model of glTF's opaque-surface extensions (engine/reference/surface_physics.h)
 // against values worked by hand from the model's formulas: KHR_materials_sheen's Charlie lobe and its
-// albedo, KHR_materials_anisotropy's GGX, KHR_materials_diffuse_transmission's two sides, and the
+// albedo, KHR_materials_anisotropy's GGX, KHR_materials_diffuse_transmission's two sides,
+// KHR_materials_specular's and KHR_materials_ior's Fresnel, KHR_materials_clearcoat's coat, and the
 // combined BRDF and sky term. Integrals are checked against quadratures written here differently.
 #include <gtest/gtest.h>
 
@@ -403,4 +404,92 @@ TEST(SurfacePhysics, LayeredAmbientKnownValues) {
   leaf.sheen_color = glm::vec3(0.5f, 0.25f, 1.0f);
   leaf.sheen_roughness = 1.0f;
   expect_rgb(layered_ambient(1.0f, kBase, 0.0f, 0.5f, leaf), glm::vec3(0.8702010f, 0.5810589f, 0.4333381f), 2e-5);
+}
+
+// KHR_materials_specular's Fresnel ends over the metallic-roughness base: F0 = min(((n - 1) / (n +
+// 1))^2 x colour, 1) x weight and F90 = weight for the dielectric, the base colour and 1 for metal.
+TEST(SurfacePhysics, SpecularColourAndIndexSetTheFresnelEnds) {
+  SurfaceLayers tinted;
+  tinted.specular = 0.8f;
+  tinted.specular_color = glm::vec3(2.0f, 1.0f, 30.0f);
+  // (0.04 x (2, 1, 30), capped at 1) x 0.8 = (0.064, 0.032, 0.8)
+  FresnelEnds ends = fresnel_ends(kBase, 0.0f, tinted);
+  expect_rgb(ends.normal, glm::vec3(0.064f, 0.032f, 0.8f));
+  expect_relative(ends.grazing, 0.8);
+  // Half metal: F0 halfway to the base (0.8, 0.6, 0.4), F90 halfway to 1.
+  ends = fresnel_ends(kBase, 0.5f, tinted);
+  expect_rgb(ends.normal, glm::vec3(0.432f, 0.316f, 0.6f));
+  expect_relative(ends.grazing, 0.9);
+  // Index 2 alone: ((2 - 1) / (2 + 1))^2 = 1 / 9.
+  expect_rgb(fresnel_ends(kBase, 0.0f, SurfaceLayers{.ior = 2.0f}).normal, glm::vec3(1.0f / 9.0f));
+}
+
+// The BRDF with those ends, base (0.8, 0.6, 0.4) and roughness 0.5 (GGX's D V at n.h = 1: 1.273240
+// with v = l = n; 4.673619 at n.l = n.v = 0.5), brdf = (1 - F) base / pi + F D V. The same cases
+// as the device's (tests/surface_layers_test.cpp), worked from the formulas.
+TEST(SurfacePhysics, TheSpecularExtensionAndTheIndexChangeTheBRDFAsWorkedByHand) {
+  const glm::vec3 view60(0.8660254f, 0.0f, 0.5f), light60(-0.8660254f, 0.0f, 0.5f);
+  SurfaceLayers tinted;
+  tinted.specular = 0.8f;
+  tinted.specular_color = glm::vec3(2.0f, 1.0f, 0.5f);
+  // F = F0 = (0.064, 0.032, 0.016): red 0.936 x 0.8 / pi + 0.064 x 1.273240
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, tinted, kUp, kUp), glm::vec3(0.319838f, 0.225618f, 0.145659f), 2e-5);
+  // F = F0 + (0.8 - F0) / 32 = (0.087, 0.056, 0.0405): red 0.913 x 0.8 / pi + 0.087 x 4.673619
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, tinted, view60, light60), glm::vec3(0.639098f, 0.442013f, 0.311449f), 2e-5);
+  // F0 = 1 / 9: red (8 / 9) 0.8 / pi + 1.273240 / 9
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, SurfaceLayers{.ior = 2.0f}, kUp, kUp), glm::vec3(0.367825f, 0.311236f, 0.254648f), 2e-5);
+}
+
+// KHR_materials_clearcoat: the blend factor weight x (0.04 + 0.96 (1 - n.v)^5) of what leaves
+// toward the viewer is the coat's GGX lobe; the rest is what lies beneath.
+TEST(SurfacePhysics, TheClearCoatBlendsItsLobeOverTheBase) {
+  SurfaceLayers coat;
+  coat.clearcoat = 1.0f;
+  expect_relative(coat_blend(coat, 1.0f), 0.04);
+  expect_relative(coat_blend(coat, 0.5f), 0.07);  // 0.04 + 0.96 / 32
+  expect_relative(coat_blend(coat, 0.0f), 1.0);   // grazing: all of it
+  coat.clearcoat = 0.5f;
+  expect_relative(coat_blend(coat, 0.5f), 0.035);  // half the weight, half the share
+  coat.clearcoat = 1.0f;
+  coat.clearcoat_roughness = 0.3f;  // the base's is 0.5
+  const glm::vec3 view60(0.8660254f, 0.0f, 0.5f), light60(-0.8660254f, 0.0f, 0.5f);
+  // The coat's D V at n.h = 1 (a2 = 0.0081): 9.824379 with v = l = n, 38.828581 at n.l = n.v = 0.5.
+  // v = l = n: beneath red 0.96 x 0.8 / pi + 0.04 x 1.273240 = 0.295392; 0.96 x 0.295392 + 0.04 x 9.824379
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, coat, kUp, kUp), glm::vec3(0.676551f, 0.617880f, 0.559209f), 2e-5);
+  // 60 degrees: blend 0.07, F of the base 0.07: beneath red 0.93 x 0.8 / pi + 0.07 x 4.673619 = 0.563976;
+  // 0.93 x 0.563976 + 0.07 x 38.828581
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, coat, view60, light60), glm::vec3(3.242498f, 3.187437f, 3.132376f), 2e-5);
+  // Under the sky, seen along n: (base + 0.04) x 0.96 + 0.04
+  expect_rgb(layered_ambient(1.0f, kBase, 0.0f, 0.5f, coat), glm::vec3(0.8464f, 0.6544f, 0.4624f));
+  // Light through a leaf under a coat: its transmitted share, dimmed by 1 - blend at the view.
+  SurfaceLayers coated_leaf = coat;
+  coated_leaf.diffuse_transmission = 0.5f;
+  coated_leaf.diffuse_transmission_color = glm::vec3(1.0f, 0.5f, 0.2f);
+  const glm::vec3 behind(0.0f, 0.6f, -0.8f);
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, coated_leaf, kUp, behind), glm::vec3(1.0f, 0.5f, 0.2f) * (0.5f * 0.96f / float(kPi)));
+}
+
+// KHR_materials_iridescence over the base: the film's reflectance on a substrate whose index each
+// channel's F0 / F90 names, mixed into the curve by the weight and scaled by F90.
+TEST(SurfacePhysics, AFilmOverTheBaseReflectsAsWorkedByHand) {
+  SurfaceLayers film;
+  film.iridescence = 1.0f;
+  film.film_ior = 1.3f;
+  // No thickness: the bare substrate, which reflects the F0 that named its index: on metal the base
+  // colour, on the dielectric 0.04, on a half-weighted dielectric 0.02 (F0 0.02, F90 0.5: index 1.5).
+  expect_rgb(film_over_base(fresnel_ends(kBase, 1.0f, film), film, 1.0f), kBase, 1e-4);
+  expect_rgb(film_over_base(fresnel_ends(kBase, 0.0f, film), film, 1.0f), glm::vec3(0.04f), 1e-4);
+  SurfaceLayers weighted = film;
+  weighted.specular = 0.5f;
+  expect_rgb(film_over_base(fresnel_ends(kBase, 0.0f, weighted), weighted, 1.0f), glm::vec3(0.02f), 1e-4);
+  // A quarter wave of 1.3 at 587.56 nm on 1.5, head-on: (0.0045607, 0.0035475, 0.0074530), worked for the
+  // refractors' interface (interface_physics_test.cpp); v = l = n with roughness 0.5: red 0.9954393 x 0.8 /
+  // pi + 0.0045607 x 1.273240.
+  film.film_thickness_nm = 587.56f / (4.0f * 1.3f);
+  expect_rgb(film_over_base(fresnel_ends(kBase, 0.0f, film), film, 1.0f), glm::vec3(0.0045607f, 0.0035475f, 0.0074530f), 2e-4);
+  expect_rgb(layered_brdf(kUp, kBase, 0.0f, 0.5f, film, kUp, kUp), glm::vec3(0.259293f, 0.194825f, 0.135864f), 2e-5);
+  // Half the weight: halfway between the bare 0.04 and the film.
+  film.iridescence = 0.5f;
+  expect_rgb(layered_ambient(1.0f, kBase, 0.0f, 0.5f, film),
+             kBase + 0.5f * (glm::vec3(0.04f) + glm::vec3(0.0045607f, 0.0035475f, 0.0074530f)), 2e-5);
 }

@@ -161,6 +161,20 @@ class ExactScene {
         s.normal = glm::normalize(frame->first * mapped.x + frame->second * mapped.y + s.normal * mapped.z);
       }
     }
+    // The extensions' values (textures by their means, as the lighting pass reads them), the
+    // anisotropy's strength and direction per texel.
+    s.layers = {.sheen_color = m.sheen_color,
+                .sheen_roughness = m.sheen_roughness,
+                .diffuse_transmission = m.diffuse_transmission,
+                .diffuse_transmission_color = m.diffuse_transmission_color,
+                .specular = m.specular,
+                .specular_color = m.specular_color,
+                .ior = m.ior,
+                .clearcoat = m.clearcoat,
+                .clearcoat_roughness = m.clearcoat_roughness,
+                .iridescence = m.iridescence,
+                .film_ior = m.film_ior,
+                .film_thickness_nm = m.film_thickness_nm};
     if (m.anisotropy > 0.0f) s.layers.anisotropy_direction = anisotropy(hit, s.normal, s.layers.anisotropy);
     if (glm::dot(smooth_normal(hit), direction) > 0.0f) s.normal = -s.normal;
     if (m.metallic_roughness) {
@@ -168,10 +182,6 @@ class ExactScene {
       s.metallic = m.metallic * mr.b;
       s.roughness = m.roughness * mr.g;
     }
-    s.layers.sheen_color = m.sheen_color;
-    s.layers.sheen_roughness = m.sheen_roughness;
-    s.layers.diffuse_transmission = m.diffuse_transmission;
-    s.layers.diffuse_transmission_color = m.diffuse_transmission_color;
     s.emitted = m.emissive;
     if (m.emissive_texture.used()) s.emitted *= glm::vec3(sample(object, m.emissive_texture, hit));
     if (m.occlusion_texture.used()) s.occlusion = 1.0f + m.occlusion_strength * (sample(object, m.occlusion_texture, hit).r - 1.0f);

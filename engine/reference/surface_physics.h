@@ -1,8 +1,9 @@
 #pragma once
 // What an opaque surface reflects once glTF's surface extensions are on it: KHR_materials_sheen's
 // "Charlie" sheen (Estevez & Kulla 2017, with Ashikhmin's visibility, which the extension allows),
-// KHR_materials_anisotropy's anisotropic GGX and KHR_materials_diffuse_transmission's thin-surface
-// transmission, over the engine's metallic-roughness BRDF. The host's own implementation for the
+// KHR_materials_anisotropy's anisotropic GGX, KHR_materials_diffuse_transmission's thin-surface
+// transmission, KHR_materials_specular's (and KHR_materials_ior's) Fresnel, KHR_materials_iridescence's
+// film and KHR_materials_clearcoat's coat, over the engine's metallic-roughness BRDF. The host's own implementation for the
 // reference renderer, written from the model's text alone: a second opinion on the device's.
 //
 // Conventions: n is the unit shading normal, facing the viewer; v points to the viewer, l to the
@@ -14,6 +15,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 
+#include "reference/thin_film.h"
 #include "scene/sheen_albedo.h"
 
 namespace caustica::reference {
@@ -109,7 +111,55 @@ struct SurfaceLayers {
   glm::vec3 anisotropy_direction{1.0f, 0.0f, 0.0f};  // world space; made perpendicular to n here
   float diffuse_transmission = 0.0f;
   glm::vec3 diffuse_transmission_color{1.0f};
+  float specular = 1.0f;  // KHR_materials_specular's weight and F0 colour
+  glm::vec3 specular_color{1.0f};
+  float ior = 1.5f;
+  float clearcoat = 0.0f;  // KHR_materials_clearcoat's weight and roughness
+  float clearcoat_roughness = 0.0f;
+  float iridescence = 0.0f;  // KHR_materials_iridescence's weight, the film's index and thickness
+  float film_ior = 1.3f;
+  float film_thickness_nm = 0.0f;
 };
+
+// ---- KHR_materials_specular and KHR_materials_clearcoat ----
+
+// The Fresnel curve's ends over the metallic-roughness base. A dielectric reflects ((n - 1) /
+// (n + 1))^2 at normal incidence (0.04 at n = 1.5); the specular colour tints that, each channel
+// capped at 1, and the specular weight scales both it and the grazing end (1 without the
+// extension). Metal keeps its base colour at normal incidence and 1 at grazing; metallic mixes.
+struct FresnelEnds {
+  glm::vec3 normal;
+  float grazing;
+};
+inline FresnelEnds fresnel_ends(glm::vec3 base, float metallic, const SurfaceLayers& layers) {
+  const float root = (layers.ior - 1.0f) / (layers.ior + 1.0f);
+  const glm::vec3 dielectric = glm::min(root * root * layers.specular_color, glm::vec3(1.0f)) * layers.specular;
+  return {dielectric + (base - dielectric) * metallic, layers.specular + (1.0f - layers.specular) * metallic};
+}
+
+// KHR_materials_iridescence over the base: what a film of the layers' index and thickness reflects
+// at cosine cos_i, per channel at its wavelength (thin_film.h's Airy sum), on a substrate
+// whose index each channel's normal-incidence reflectance names: R = ((n - 1) / (n + 1))^2, so n =
+// (1 + sqrt(R)) / (1 - sqrt(R)), with R the curve's F0 over its grazing end (the dielectric's own
+// index; for metal the index of a dielectric that reflects as much head-on). The film's reflectance
+// is then scaled by the grazing end, as the curve it mixes with is.
+inline glm::vec3 film_over_base(const FresnelEnds& ends, const SurfaceLayers& layers, float cos_i) {
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const float head_on = std::clamp(ends.normal[c] / std::max(ends.grazing, 1e-6f), 0.0f, 0.9999f);
+    const float substrate = (1.0f + std::sqrt(head_on)) / (1.0f - std::sqrt(head_on));
+    out[c] = ends.grazing * thin_film_reflectance(std::clamp(cos_i, 0.0f, 1.0f), 1.0f, layers.film_ior, layers.film_thickness_nm, substrate,
+                                                  kChannelWavelengthsNm[c]);
+  }
+  return out;
+}
+
+// The share of the light that the coat takes at the viewer, the extension's blend factor: its
+// weight times Schlick's reflectance of index 1.5 (0.04 at normal incidence) at cos_v.
+inline float coat_blend(const SurfaceLayers& layers, float cos_v) {
+  const float x = 1.0f - std::clamp(cos_v, 0.0f, 1.0f);
+  return layers.clearcoat * (0.04f + 0.96f * x * x * x * x * x);
+}
 
 // A unit tangent perpendicular to n from the layers' direction: the lobe at strength 0 is the
 // isotropic one only in an orthonormal frame, and the default direction (1, 0, 0) need not be
@@ -126,8 +176,9 @@ inline glm::vec3 base_layer_brdf(glm::vec3 n, glm::vec3 base, float metallic, fl
                                  glm::vec3 l) {
   const glm::vec3 h = glm::normalize(v + l);
   const float x = 1.0f - std::clamp(glm::dot(v, h), 0.0f, 1.0f);
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
-  const glm::vec3 fresnel = f0 + (1.0f - f0) * (x * x * x * x * x);
+  const FresnelEnds ends = fresnel_ends(base, metallic, layers);
+  glm::vec3 fresnel = ends.normal + (ends.grazing - ends.normal) * (x * x * x * x * x);
+  if (layers.iridescence > 0.0f) fresnel = glm::mix(fresnel, film_over_base(ends, layers, glm::dot(v, h)), layers.iridescence);
   const glm::vec3 t = surface_tangent(n, layers.anisotropy_direction), b = glm::cross(n, t);
   const glm::vec2 alphas = anisotropic_alphas(roughness, layers.anisotropy);
   const float d = anisotropic_distribution(alphas.x, alphas.y, glm::dot(t, h), glm::dot(b, h), glm::dot(n, h));
@@ -140,8 +191,22 @@ inline glm::vec3 base_layer_brdf(glm::vec3 n, glm::vec3 base, float metallic, fl
 
 // The BRDF (BTDF for a light behind the surface) the caller weights with |n.l| and the light's
 // irradiance. Roughness below 0 is the engine's Lambertian surface: the diffuse lobe alone, with
-// its transmitted share, and no metal, specular or sheen (they need a microfacet roughness). The
-// sheen's albedo is the quadrature's, not the device's table: this is the reference.
+// its transmitted share, and no metal, specular, sheen or coat (they need a microfacet roughness).
+// The sheen's albedo is the quadrature's, not the device's table: this is the reference. The coat
+// lies over everything, the light through the surface included: its blend factor's share of what
+// leaves toward the viewer is the coat's own GGX lobe (about the shading normal) instead.
+inline glm::vec3 coat_over(glm::vec3 under, glm::vec3 n, const SurfaceLayers& layers, glm::vec3 v, glm::vec3 l) {
+  if (layers.clearcoat <= 0.0f) return under;
+  const float blend = coat_blend(layers, glm::dot(n, v));
+  if (glm::dot(n, l) <= 0.0f) return under * (1.0f - blend);
+  const float alpha = std::max(layers.clearcoat_roughness * layers.clearcoat_roughness, 1e-3f);
+  const glm::vec3 t = surface_tangent(n, glm::vec3(1.0f, 0.0f, 0.0f)), b = glm::cross(n, t), h = glm::normalize(v + l);
+  const float lobe = anisotropic_distribution(alpha, alpha, glm::dot(t, h), glm::dot(b, h), glm::dot(n, h)) *
+                     anisotropic_visibility(alpha, alpha, glm::vec3(glm::dot(t, v), glm::dot(b, v), glm::dot(n, v)),
+                                            glm::vec3(glm::dot(t, l), glm::dot(b, l), glm::dot(n, l)));
+  return under * (1.0f - blend) + glm::vec3(blend * lobe);
+}
+
 inline glm::vec3 layered_brdf(glm::vec3 n, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers, glm::vec3 v,
                               glm::vec3 l) {
   const float n_l = glm::dot(n, l), n_v = glm::dot(n, v), pi = glm::pi<float>();
@@ -151,29 +216,33 @@ inline glm::vec3 layered_brdf(glm::vec3 n, glm::vec3 base, float metallic, float
   if (n_l <= 0.0f) {
     // Only the view's side of the sheen is modelled on the way through.
     const glm::vec3 through = diffuse_transmitted_color(lambertian ? 0.0f : metallic, d, layers.diffuse_transmission_color) / pi;
-    return through * sheen_scaling(layers.sheen_color, e_view, 0.0f);
+    return coat_over(through * sheen_scaling(layers.sheen_color, e_view, 0.0f), n, layers, v, l);
   }
   if (lambertian) return (1.0f - d) * base / pi;
   const glm::vec3 beneath = base_layer_brdf(n, base, metallic, roughness, layers, v, l);
-  if (!sheen) return beneath;
+  if (!sheen) return coat_over(beneath, n, layers, v, l);
   const float e_light = sheen_albedo(n_l, layers.sheen_roughness);
   const glm::vec3 h = glm::normalize(v + l);
   const glm::vec3 lobe = layers.sheen_color * sheen_distribution(layers.sheen_roughness, glm::dot(n, h)) * sheen_visibility(n_l, n_v);
-  return beneath * sheen_scaling(layers.sheen_color, e_view, e_light) + lobe;
+  return coat_over(beneath * sheen_scaling(layers.sheen_color, e_view, e_light) + lobe, n, layers, v, l);
 }
 
 // What the surface returns toward the viewer under a uniform sky of radiance 1 (both hemispheres).
 // The specular lobe's share is taken as f0, the sheen's as C E(n.v) over what it leaves beneath.
 // The transmitted part is the model's, unscaled: layered_brdf scales it by the sheen's view-side
-// share, so this term is up to that factor brighter than the BRDF's integral.
+// share, so this term is up to that factor brighter than the BRDF's integral. The coat reflects
+// its blend factor's share of the sky whole and passes the rest; a film's F0 is its reflectance head-on.
 inline glm::vec3 layered_ambient(float n_v, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers) {
   const float d = layers.diffuse_transmission;
   if (roughness < 0.0f) return (1.0f - d) * base + ambient_transmitted(0.0f, d, layers.diffuse_transmission_color);
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
+  const FresnelEnds ends = fresnel_ends(base, metallic, layers);
+  glm::vec3 f0 = ends.normal;
+  if (layers.iridescence > 0.0f) f0 = glm::mix(f0, film_over_base(ends, layers, 1.0f), layers.iridescence);
   const bool sheen = max_component(layers.sheen_color) > 0.0f;
   const float e = sheen ? sheen_albedo(n_v, layers.sheen_roughness) : 0.0f;
   const glm::vec3 reflected = (diffuse_reflected_color(base, metallic, d) + f0) * sheen_scaling(layers.sheen_color, e, e);
-  return reflected + layers.sheen_color * e + ambient_transmitted(metallic, d, layers.diffuse_transmission_color);
+  const float coat = coat_blend(layers, n_v);
+  return (reflected + layers.sheen_color * e + ambient_transmitted(metallic, d, layers.diffuse_transmission_color)) * (1.0f - coat) + coat;
 }
 
 }  // namespace caustica::reference

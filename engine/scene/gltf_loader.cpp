@@ -161,8 +161,8 @@ std::string what_is_ignored(const std::string& extension) {
 }
 
 // Warnings for what the file says and caustica does not draw: each extension it uses and caustica
-// does not read (with the materials that use it), an interface layer on an opaque material, an
-// opaque surface's layer on a transmissive one, and a clear coat's own normal texture.
+// does not read (with the materials that use it), an opaque surface's layer on a transmissive
+// material, and a clear coat's own normal texture.
 std::vector<std::string> unread_content(const tinygltf::Model& model, const std::string& path) {
   std::vector<std::string> warnings;
   for (const auto& used : model.extensionsUsed) {
@@ -175,19 +175,11 @@ std::vector<std::string> unread_content(const tinygltf::Model& model, const std:
                        (where.empty() ? "" : where + ")"));
   }
   for (size_t i = 0; i < model.materials.size(); ++i) {
-    // The interface's layers change what crosses a refractor's surface; opaque surfaces' lighting
-    // (the metallic-roughness BRDF) does not model them.
     const auto& extensions = model.materials[i].extensions;
     const auto transmission = extensions.find("KHR_materials_transmission");
     const bool transmits = transmission != extensions.end() && transmission->second.Has("transmissionFactor") &&
                            transmission->second.Get("transmissionFactor").IsNumber() &&
                            transmission->second.Get("transmissionFactor").GetNumberAsDouble() > 0.0;
-    for (const char* layer : {"KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_iridescence"}) {
-      if (!transmits && extensions.count(layer) != 0) {
-        warnings.push_back(path + ": /materials/" + std::to_string(i) + " uses " + layer +
-                           ", which caustica draws on transmissive surfaces only: on this opaque one it is ignored");
-      }
-    }
     // The lighting pass shades opaque surfaces; a refractor's surface is its interface.
     for (const char* layer : {"KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_diffuse_transmission"}) {
       if (transmits && extensions.count(layer) != 0) {

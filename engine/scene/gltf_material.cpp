@@ -127,6 +127,29 @@ void read_transmission(const tinygltf::Value& t, const std::string& extension_at
   }
 }
 
+// A colour factor, 3 finite numbers, each in [0, 1] (`unit`) or else 0 or more, named by its JSON pointer
+// when not; `fallback` where the key is absent.
+glm::vec3 color_factor(const tinygltf::Value& v, const std::string& extension_at, const char* key, glm::vec3 fallback,
+                       const std::string& path, bool unit) {
+  if (!v.Has(key)) return fallback;
+  const auto& c = v.Get(key);
+  const std::string at = extension_at + "/" + key;
+  if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, at + ": needs 3 numbers");
+  glm::vec3 color;
+  for (int k = 0; k < 3; ++k) {
+    const std::string element = at + "/" + std::to_string(k);
+    if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
+    const double value = c.Get(k).GetNumberAsDouble();
+    if (unit) {
+      color[k] = static_cast<float>(in_unit_interval(value, element, path));
+    } else {
+      if (value < 0.0) fail(path, 0, element + ": " + JsonReader::format_number(value) + " must be 0 or more");
+      color[k] = static_cast<float>(value);
+    }
+  }
+  return color;
+}
+
 // KHR_materials_specular: the dielectric's reflectance scaled (specularFactor, the texture's
 // alpha) and its F0 coloured (specularColorFactor, the texture's rgb); the fields hold the
 // textures' means, layer_textures the factors and textures.
@@ -136,18 +159,7 @@ void read_specular(const tinygltf::Value& v, const std::string& extension_at, co
   layers.specular_factor = static_cast<float>(unit_factor(v, extension_at, "specularFactor", 1.0, path));
   layers.specular = extension_texture(v, extension_at, "specularTexture", path, textures, false);
   m.specular = layers.specular_factor * texture_mean(textures, layers.specular, 3);
-  if (v.Has("specularColorFactor")) {
-    const auto& c = v.Get("specularColorFactor");
-    const std::string at = extension_at + "/specularColorFactor";
-    if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, at + ": needs 3 numbers");
-    for (int k = 0; k < 3; ++k) {
-      const std::string element = at + "/" + std::to_string(k);
-      if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
-      const double value = c.Get(k).GetNumberAsDouble();
-      if (value < 0.0) fail(path, 0, element + ": " + JsonReader::format_number(value) + " must be 0 or more");
-      layers.specular_color_factor[k] = static_cast<float>(value);
-    }
-  }
+  layers.specular_color_factor = color_factor(v, extension_at, "specularColorFactor", glm::vec3(1.0f), path, false);
   layers.specular_color = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
   m.specular_color = layers.specular_color_factor;
   if (layers.specular_color.used()) m.specular_color *= glm::vec3(textures.mean(layers.specular_color.texture));
@@ -193,26 +205,10 @@ void read_iridescence(const tinygltf::Value& v, const std::string& extension_at,
   m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 
-// A colour factor of three numbers in [0, 1] at `key` of extension object `v`; `fallback` without.
-glm::vec3 unit_color(const tinygltf::Value& v, const std::string& extension_at, const char* key, glm::vec3 fallback,
-                     const std::string& path) {
-  if (!v.Has(key)) return fallback;
-  const auto& c = v.Get(key);
-  const std::string at = extension_at + "/" + key;
-  if (!c.IsArray() || c.ArrayLen() != 3) fail(path, 0, at + ": needs 3 numbers");
-  glm::vec3 color;
-  for (int k = 0; k < 3; ++k) {
-    const std::string element = at + "/" + std::to_string(k);
-    if (!c.Get(k).IsNumber() || !std::isfinite(c.Get(k).GetNumberAsDouble())) fail(path, 0, element + ": must be a finite number");
-    color[k] = static_cast<float>(in_unit_interval(c.Get(k).GetNumberAsDouble(), element, path));
-  }
-  return color;
-}
-
 // KHR_materials_sheen: the sheen's colour (the texture's rgb) and roughness (the texture's alpha),
 // textures by their means.
 void read_sheen(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures, Material& m) {
-  m.sheen_color = unit_color(v, extension_at, "sheenColorFactor", glm::vec3(0.0f), path);
+  m.sheen_color = color_factor(v, extension_at, "sheenColorFactor", glm::vec3(0.0f), path, true);
   const TextureRef color_texture = extension_texture(v, extension_at, "sheenColorTexture", path, textures, true);
   if (color_texture.used()) m.sheen_color *= glm::vec3(textures.mean(color_texture.texture));
   m.sheen_roughness = static_cast<float>(unit_factor(v, extension_at, "sheenRoughnessFactor", 0.0, path)) *
@@ -234,7 +230,7 @@ void read_diffuse_transmission(const tinygltf::Value& v, const std::string& exte
   m.diffuse_transmission =
       static_cast<float>(unit_factor(v, extension_at, "diffuseTransmissionFactor", 0.0, path)) *
       texture_mean(textures, extension_texture(v, extension_at, "diffuseTransmissionTexture", path, textures, false), 3);
-  m.diffuse_transmission_color = unit_color(v, extension_at, "diffuseTransmissionColorFactor", glm::vec3(1.0f), path);
+  m.diffuse_transmission_color = color_factor(v, extension_at, "diffuseTransmissionColorFactor", glm::vec3(1.0f), path, true);
   const TextureRef color_texture = extension_texture(v, extension_at, "diffuseTransmissionColorTexture", path, textures, true);
   if (color_texture.used()) m.diffuse_transmission_color *= glm::vec3(textures.mean(color_texture.texture));
 }

@@ -107,8 +107,8 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
          glm::vec4(m.anisotropy, std::cos(m.anisotropy_rotation), std::sin(m.anisotropy_rotation), 0.0f),
          texture_slot(m.anisotropy_texture),
          glm::vec4(m.diffuse_transmission_color, m.diffuse_transmission)});
-    // The sheen's albedo is an integral the lighting pass cannot afford per pixel: the host's model
-    // (header-only, the reference's own) integrates it once per object.
+    // The sheen's albedo is an integral the lighting pass cannot afford per pixel: integrated here
+    // once per object (scene/sheen_albedo.h; the reference integrates it at every point it shades).
     if (m.sheen_color != glm::vec3(0.0f)) {
       const std::array<float, 16> albedo = sheen_albedo_table(m.sheen_roughness);
       std::memcpy(objects.back().sheen_albedo, albedo.data(), sizeof(objects.back().sheen_albedo));

@@ -54,7 +54,9 @@ bool Scene::disperses() const {
 bool Scene::has_surface_layers() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) {
     const Material& m = o.material;
-    return !m.refractor && (m.sheen_color != glm::vec3(0.0f) || m.anisotropy > 0.0f || m.diffuse_transmission > 0.0f);
+    const bool brdf_layers = m.metallic_roughness && (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f) || m.clearcoat > 0.0f ||
+                                                      m.iridescence > 0.0f || m.ior != 1.5f);
+    return !m.refractor && (m.sheen_color != glm::vec3(0.0f) || m.anisotropy > 0.0f || m.diffuse_transmission > 0.0f || brdf_layers);
   });
 }
 

@@ -279,7 +279,8 @@ struct Scene {
   size_t triangle_count() const;
   // Whether a refractor disperses light: light is then traced once per colour band.
   bool disperses() const;
-  // Whether an opaque surface has glTF's sheen, anisotropy or diffuse transmission: only then do the
+  // Whether an opaque surface has glTF's sheen, anisotropy, diffuse transmission, or a specular, index,
+  // thin film or clear coat that changes its metallic-roughness BRDF: only then do the
   // G-buffer and lighting passes write and read their `material` target.
   bool has_surface_layers() const;
   // Whether a refractor's interface layers have textures, which the exact paths read per texel.

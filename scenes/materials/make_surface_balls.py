@@ -6,6 +6,10 @@
                           of latitude (KHR_materials_anisotropy, strength 0.9; TANGENT along them)
   translucent_leaf.gltf   a green double-sided leaf, 2 x 2, that passes 70% of its diffuse light to its
                           other side, yellow-green (KHR_materials_diffuse_transmission)
+  coated_ball.gltf        a rough red ball under a smooth clear coat (KHR_materials_clearcoat)
+  tinted_specular_ball.gltf  a dark ball whose dielectric F0 is tinted orange and raised by an index
+                          of 1.8 (KHR_materials_specular, KHR_materials_ior)
+  film_ball.gltf          a dark ball under a thin film of index 1.4, 350 nm thick (KHR_materials_iridescence)
 Each ball is a UV sphere of radius 1 (64 x 32 segments) at the origin; the leaf stands in the xy
 plane facing +z. Beside each, in tests/data/surfaces, a scene (NAME.json) on the floor of
 scenes/sphere_plane.json: the balls lit from above the camera's side, the leaf from behind it.
@@ -92,3 +96,20 @@ write_gltf("translucent_leaf", leaf(),
                                                    "diffuseTransmissionColorFactor": [0.7, 1.0, 0.2]}})
 write_scene("translucent_leaf", "A leaf that passes 70% of its diffuse light through (scenes/materials/translucent_leaf.gltf, "
             "KHR_materials_diffuse_transmission), lit from behind: the camera sees the light it lets through.", BACK_LIGHT, [0, 1.5, 0])
+write_gltf("coated_ball", ball(),
+           {"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.03, 0.02, 1], "metallicFactor": 0.0, "roughnessFactor": 0.6}},
+           {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.08}})
+write_scene("coated_ball", "A rough red ball under a smooth clear coat, like car paint (scenes/materials/coated_ball.gltf, "
+            "KHR_materials_clearcoat) on the floor of scenes/sphere_plane.json.", FRONT_LIGHT, [0, 1.5, 0])
+write_gltf("tinted_specular_ball", ball(),
+           {"pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.05, 0.06, 1], "metallicFactor": 0.0, "roughnessFactor": 0.3}},
+           {"KHR_materials_specular": {"specularFactor": 1.0, "specularColorFactor": [1.0, 0.55, 0.15]},
+            "KHR_materials_ior": {"ior": 1.8}})
+write_scene("tinted_specular_ball", "A dark ball whose dielectric reflection is tinted orange and raised by its index (scenes/"
+            "materials/tinted_specular_ball.gltf, KHR_materials_specular and KHR_materials_ior) on the floor of scenes/sphere_plane.json.",
+            FRONT_LIGHT, [0, 1.5, 0])
+write_gltf("film_ball", ball(),
+           {"pbrMetallicRoughness": {"baseColorFactor": [0.03, 0.03, 0.03, 1], "metallicFactor": 0.0, "roughnessFactor": 0.25}},
+           {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": 1.4, "iridescenceThicknessMaximum": 350}})
+write_scene("film_ball", "A dark ball under a thin film 350 nm thick, like oil on water (scenes/materials/film_ball.gltf, "
+            "KHR_materials_iridescence) on the floor of scenes/sphere_plane.json.", FRONT_LIGHT, [0, 1.5, 0])

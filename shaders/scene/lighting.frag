@@ -1,7 +1,7 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
-// the surface's BRDF (scene/surface.glsl; with MATERIAL, glTF's sheen, anisotropy and diffuse
-// transmission from the material target and the objects), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
+// the surface's BRDF (scene/surface.glsl; with MATERIAL, glTF's sheen, anisotropy, diffuse
+// transmission, specular, index, thin film and clear coat from the material target and the objects), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
 // six cube faces) and adding its caustic map where one is bound, plus ambient sky light
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
@@ -177,6 +177,14 @@ void main() {
   s.anisotropy_t = s.anisotropy > 0.0 ? material.xyz / s.anisotropy : vec3(0.0);
   s.transmission_color = object.diffuse_transmission.rgb;
   s.transmission = object.diffuse_transmission.a;
+  s.specular = object.specular;
+  float f0_root = (object.absorption_ior.a - 1.0) / (object.absorption_ior.a + 1.0);
+  s.dielectric_f0 = f0_root * f0_root;
+  s.coat = object.layers.x;
+  s.coat_roughness = object.layers.y;
+  s.film = object.layers.z;
+  s.film_ior = object.layers.w;
+  s.film_thickness = object.film.x;
 #endif
   vec3 n = s.n;
   vec3 v = normalize(frame.camera_position.xyz - p);
