@@ -46,7 +46,7 @@ class LightingPass final : public graph::Pass {
     // depths would be 77).
     shadow_count_ = shadow_maps_.empty() ? 0 : shadow_maps_.back() + 1;
     caustic_count_ = caustic_maps_.empty() ? 0 : std::max(caustic_maps_.back(), caustic_depths_.empty() ? 0 : caustic_depths_.back()) + 1;
-    const uint32_t descriptors = 5 + (has_material_ ? 2 : 0) + shadow_count_ + 2 * caustic_count_,
+    const uint32_t descriptors = 5 + (has_material_ ? 3 : 0) + shadow_count_ + 2 * caustic_count_,
                    limit = setup.vk().max_push_descriptors();
     if (descriptors > limit) {
       throw InputError("pass '" + setup.pass().name + "' reads " + std::to_string(shadow_count_) + " lights' shadow maps and " +
@@ -81,6 +81,7 @@ class LightingPass final : public graph::Pass {
     if (has_material_) {
       writer.image("material_tex", ctx.view("material"), ctx.nearest_sampler());
       writer.buffer("ObjectBlock", ctx.scene().objects());
+      writer.buffer("TranslucentBlock", ctx.scene().translucent_samples());
     }
     LightingParams params{ctx.params()["shadow_bias"].get<float>(), write_shadow_maps(ctx, writer), 0, 0};
     write_caustic_maps(ctx, writer, params);

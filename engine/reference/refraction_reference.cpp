@@ -8,6 +8,7 @@
 
 #include "reference/exact_scene.h"
 #include "reference/interface_physics.h"
+#include "reference/translucent_light.h"
 
 namespace caustica::reference {
 namespace {
@@ -25,6 +26,7 @@ class Tracer {
  public:
   Tracer(const scene::Scene& scene, const CausticMaps& caustic_maps)
       : exact_(scene),
+        translucent_(exact_),
         scene_(scene),
         rays_(exact_.rays()),
         epsilon_(exact_.epsilon()),
@@ -39,23 +41,22 @@ class Tracer {
 
   glm::vec3 smooth_normal(const RayHit& hit) const { return exact_.smooth_normal(hit); }
 
-  // The engine's lighting model (scene/lighting.frag) with exact shadow rays, seen along `direction`.
-  glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction) const {
+  // The engine's lighting model (scene/lighting.frag) with exact shadow rays, seen along `direction`,
+  // with the light translucent surfaces pass on (translucent_light.h) where p lies on object
+  // `receiver`: the model's receivers are opaque surfaces, so a refractor's diffuse share (-1) has none.
+  glm::vec3 shade_opaque(glm::vec3 p, const SurfacePoint& surface, glm::vec3 direction, Random& random, int receiver) const {
     const glm::vec3 n = surface.normal, v = -direction;
     glm::vec3 radiance = surface.emitted + scene_.ambient * scene_.sky * surface.ambient_reflectance(v) * surface.occlusion;
     // The caustic's light arrives through the refractor from many directions: diffuse only.
     for (size_t view = 0; view < views_.size(); ++view) {
       if (caustic_maps_[view]) radiance += surface.diffuse_reflected() / glm::pi<float>() * caustic_irradiance(view, p, n);
     }
-    for (size_t i = 0; i < scene_.lights.size(); ++i) {
-      const auto& light = scene_.lights[i];
-      // A directional light comes from infinitely far along its axis, with no falloff.
-      const bool directional = light.type == scene::LightType::directional;
-      const glm::vec3 to_light = directional ? -light.axis() : light.view.position - p;
-      const float d2 = directional ? 1.0f : std::max(glm::dot(to_light, to_light), 1e-8f);
-      const glm::vec3 l = to_light / std::sqrt(d2);
-      const float reach = directional ? std::numeric_limits<float>::infinity() : std::sqrt(d2) - epsilon_;
-      float cone = spot_cone(light, -l);
+    // So does a translucent surface's, from all over its area.
+    if (receiver >= 0 && !translucent_.empty()) {
+      radiance += surface.diffuse_reflected() / glm::pi<float>() * translucent_.irradiance(p, n, uint32_t(receiver), random);
+    }
+    for (const scene::Light& light : scene_.lights) {
+      auto [l, d2, reach, cone] = light_arrival(light, p, epsilon_);
       // A surface that transmits diffusely is lit from behind too, shadowed from its far side.
       const float n_l = glm::dot(n, l);
       if (n_l <= 0.0f && surface.layers.diffuse_transmission <= 0.0f) continue;
@@ -129,7 +130,8 @@ class Tracer {
         origin = p;  // the back of a single-sided surface: culled, as in the engine's camera view
         continue;
       }
-      if (!object.material.refractor) return radiance + throughput * shade_opaque(p, exact_.surface(*hit, direction), direction);
+      if (!object.material.refractor)
+        return radiance + throughput * shade_opaque(p, exact_.surface(*hit, direction), direction, random, int(hit->geometry));
       if (segment == 0 && hit_refractor) *hit_refractor = true;
       // Entry: reflection sees the sky (as in the engine); of the rest, the share `transmission`
       // passes tinted, the remainder is reflected diffusely with the tint as albedo.
@@ -148,7 +150,7 @@ class Tracer {
         SurfacePoint diffuse;
         diffuse.normal = n;
         diffuse.base = tint;
-        radiance += throughput * (1.0f - transmission) * shade_opaque(p, diffuse, direction);
+        radiance += throughput * (1.0f - transmission) * shade_opaque(p, diffuse, direction, random, -1);
       }
       throughput *= transmission * tint;
       origin = p;
@@ -185,6 +187,7 @@ class Tracer {
 
  private:
   ExactScene exact_;
+  TranslucentLight translucent_;  // over exact_'s scene: built after it
   const scene::Scene& scene_;
   const RayScene& rays_;
   float epsilon_;

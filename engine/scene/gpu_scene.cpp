@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "scene/bvh.h"
 #include "scene/sheen_albedo.h"
+#include "scene/translucent_samples.h"
 
 namespace caustica::scene {
 namespace {
@@ -120,6 +121,14 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
       vk::make_static_buffer(vk, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "scene indices");
   objects_ = vk::make_static_buffer(vk, objects.data(), objects.size() * sizeof(gpu::ObjectData), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "scene objects");
+  // The translucent surfaces' patches, which the lighting pass gathers from (a zero one where there
+  // are none: the binding needs a buffer). They follow from the geometry and materials, which the
+  // content key holds.
+  std::vector<gpu::TranslucentSample> patches = scene::translucent_samples(*scene_);
+  frame_data_.translucent_samples = static_cast<uint32_t>(patches.size());
+  if (patches.empty()) patches.emplace_back();
+  translucent_ = vk::make_static_buffer(vk, patches.data(), patches.size() * sizeof(gpu::TranslucentSample),
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "translucent patches");
   content_key_ = fold_bytes(fold_bytes(fold_bytes(0, vertices.data(), vertices.size()), indices.data(), indices.size()), objects.data(),
                             objects.size());
   for (const Texture& texture : scene_->textures) content_key_ = fold_bytes(content_key_, texture.rgba.data(), texture.rgba.size());

@@ -38,6 +38,8 @@ class GpuScene {
   VkBuffer vertices() const { return vertices_.get(); }
   VkBuffer indices() const { return indices_.get(); }
   VkBuffer objects() const { return objects_.get(); }
+  // The translucent surfaces' patches (scene/translucent_samples.h; FrameData::translucent_samples of them).
+  VkBuffer translucent_samples() const { return translucent_.get(); }
   VkBuffer frame() const { return frame_.get(); }
   // Set 1 of pipelines made with PipelineDesc::texture_array = CAUSTICA_MAX_TEXTURES.
   VkDescriptorSet textures() const { return textures_.set(); }
@@ -92,7 +94,7 @@ class GpuScene {
   std::vector<uint32_t> vertex_base_;  // per object: its first vertex in vertices_
   std::unique_ptr<AccelerationStructures> acceleration_;
   std::unique_ptr<TracerBuffers> tracer_bvh_;
-  vk::Buffer vertices_, indices_, objects_, frame_;
+  vk::Buffer vertices_, indices_, objects_, translucent_, frame_;
   DrawRange opaque_, refractors_, thin_refractors_;
   std::vector<DrawRange> ranges_;
   gpu::FrameData frame_data_{};

@@ -98,6 +98,14 @@ struct LightData {
                        // y: the solid refractor the light stands in (scene::Light::inside), -1: none
 };
 
+// A patch of a translucent surface (scene/translucent_samples.h), which passes on part of the light
+// that falls on one side to what lies on the other.
+struct TranslucentSample {
+  vec4 position_area;  // xyz world position, w: the area it stands for
+  vec4 normal_object;  // xyz: the surface's geometric normal, w: the object's index
+  vec4 passed;         // rgb: what it passes, (1 - metallic) diffuseTransmissionFactor colour / pi (per unit irradiance and steradian)
+};
+
 struct FrameData {
   mat4 view_proj;
   mat4 inv_view_proj;
@@ -106,7 +114,8 @@ struct FrameData {
   vec4 sizes;            // output width, height, 1/width, 1/height
   uint light_count;
   uint caustic_view_count;
-  uint pad0, pad1;
+  uint translucent_samples;  // the patches of translucent surfaces (TranslucentSample) the lighting pass gathers from
+  uint pad1;
   LightData lights[CAUSTICA_MAX_LIGHTS];
   // Light i's cube faces (+x, -x, +y, -y, +z, -z) at 6 i + face, where it is a point light: its shadow map's layers.
   mat4 light_faces[6 * CAUSTICA_MAX_LIGHTS];

@@ -1,7 +1,8 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
 // the surface's BRDF (scene/surface.glsl; with MATERIAL, glTF's sheen, anisotropy, diffuse
-// transmission, specular, index, thin film and clear coat from the material target and the objects), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
+// transmission, specular, index, thin film and clear coat from the material target and the objects, and the light
+// translucent surfaces pass on), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
 // six cube faces) and adding its caustic map where one is bound, plus ambient sky light
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
 #extension GL_GOOGLE_include_directive : require
@@ -35,6 +36,10 @@ layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 layout(set = 0, binding = 8) uniform sampler2D material_tex;
 layout(set = 0, binding = 9, std430) readonly buffer ObjectBlock {
   ObjectData objects[];
+};
+// Patches of the translucent surfaces (scene/translucent_samples.h), frame.translucent_samples of them.
+layout(set = 0, binding = 10, std430) readonly buffer TranslucentBlock {
+  TranslucentSample translucent[];
 };
 #endif
 
@@ -157,6 +162,35 @@ vec3 caustic_irradiance(uint i, LightData light, vec3 p, vec3 n) {
 }
 #endif
 
+#ifdef MATERIAL
+// The light that translucent surfaces (KHR_materials_diffuse_transmission) pass on to p, which
+// faces n, from their patches (object `self`'s own left out): each patch of area A at q, lit from
+// one side with irradiance E, sends (1 - metallic) factor colour E / pi from its other side, and
+// p on that side receives it with cos_q cos_p A / (r^2 + A / pi): a small patch's r^2 falloff, and
+// no more than a whole plane's pi L where p comes close. Neither the patch's own shadow nor
+// anything between the patch and p is seen (docs/gltf.md, "Diffuse transmission").
+vec3 translucent_irradiance(vec3 p, vec3 n, uint self) {
+  vec3 irradiance = vec3(0.0);
+  for (uint i = 0; i < frame.light_count; ++i) {
+    LightData light = frame.lights[i];
+    for (uint k = 0; k < frame.translucent_samples; ++k) {
+      TranslucentSample patch_k = translucent[k];
+      vec3 q = patch_k.position_area.xyz, n_q = patch_k.normal_object.xyz, to_p = p - q;
+      float r2 = max(dot(to_p, to_p), 1e-12), area = patch_k.position_area.w;
+      vec3 w = to_p * inversesqrt(r2);
+      float cos_p = -dot(n, w), cos_q = dot(n_q, w), d2;
+      vec3 l = toward_light(light, q, d2);
+      float n_l = dot(n_q, l);
+      // Only onto p on the patch's far side from the light, and not onto its own object.
+      if (cos_p <= 0.0 || n_l * cos_q >= 0.0 || uint(patch_k.normal_object.w) == self) continue;
+      irradiance += patch_k.passed.rgb * light.radiant.rgb * (abs(n_l) / d2 * spot_cone(light, -l) * abs(cos_q) * cos_p * area /
+                                                              (r2 + area / PI));
+    }
+  }
+  return irradiance;
+}
+#endif
+
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   float depth = texture(depth_tex, uv).r;
@@ -192,6 +226,10 @@ void main() {
 #ifdef EMISSION
   vec4 emission_occlusion = texture(emission_tex, uv);
   radiance = radiance * emission_occlusion.a + emission_occlusion.rgb;
+#endif
+#ifdef MATERIAL
+  // As a caustic's, the translucent surfaces' light arrives from many directions: diffuse only.
+  if (frame.translucent_samples > 0u) radiance += diffuse_reflected(s) / PI * translucent_irradiance(p, n, uint(material.w));
 #endif
 #ifdef CAUSTICS
   // The caustic's light arrives through the refractor from many directions: diffuse only.
