@@ -150,15 +150,25 @@ glm::vec3 color_factor(const tinygltf::Value& v, const std::string& extension_at
   return color;
 }
 
+// An interface layer's factor in [0, 1] at `factor_key` and the data texture at `texture_key` whose
+// `channel` scales it: both kept in `factor` and `texture` (the exact paths read them per texel);
+// returns the factor times the texture's mean, what image space and the lighting pass read.
+float layer_factor(const tinygltf::Value& v, const std::string& extension_at, const char* factor_key, double fallback,
+                   const char* texture_key, int channel, const std::string& path, TextureTable& textures, float& factor,
+                   TextureRef& texture) {
+  factor = static_cast<float>(unit_factor(v, extension_at, factor_key, fallback, path));
+  texture = extension_texture(v, extension_at, texture_key, path, textures, false);
+  return factor * texture_mean(textures, texture, channel);
+}
+
 // KHR_materials_specular: the dielectric's reflectance scaled (specularFactor, the texture's
 // alpha) and its F0 coloured (specularColorFactor, the texture's rgb); the fields hold the
 // textures' means, layer_textures the factors and textures.
 void read_specular(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                    Material& m) {
   LayerTextures& layers = m.layer_textures;
-  layers.specular_factor = static_cast<float>(unit_factor(v, extension_at, "specularFactor", 1.0, path));
-  layers.specular = extension_texture(v, extension_at, "specularTexture", path, textures, false);
-  m.specular = layers.specular_factor * texture_mean(textures, layers.specular, 3);
+  m.specular =
+      layer_factor(v, extension_at, "specularFactor", 1.0, "specularTexture", 3, path, textures, layers.specular_factor, layers.specular);
   layers.specular_color_factor = color_factor(v, extension_at, "specularColorFactor", glm::vec3(1.0f), path, false);
   layers.specular_color = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
   m.specular_color = layers.specular_color_factor;
@@ -171,12 +181,10 @@ void read_specular(const tinygltf::Value& v, const std::string& extension_at, co
 void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                     Material& m) {
   LayerTextures& layers = m.layer_textures;
-  layers.clearcoat_factor = static_cast<float>(unit_factor(v, extension_at, "clearcoatFactor", 0.0, path));
-  layers.clearcoat = extension_texture(v, extension_at, "clearcoatTexture", path, textures, false);
-  m.clearcoat = layers.clearcoat_factor * texture_mean(textures, layers.clearcoat, 0);
-  layers.clearcoat_roughness_factor = static_cast<float>(unit_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, path));
-  layers.clearcoat_roughness = extension_texture(v, extension_at, "clearcoatRoughnessTexture", path, textures, false);
-  m.clearcoat_roughness = layers.clearcoat_roughness_factor * texture_mean(textures, layers.clearcoat_roughness, 1);
+  m.clearcoat = layer_factor(v, extension_at, "clearcoatFactor", 0.0, "clearcoatTexture", 0, path, textures, layers.clearcoat_factor,
+                             layers.clearcoat);
+  m.clearcoat_roughness = layer_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, "clearcoatRoughnessTexture", 1, path, textures,
+                                       layers.clearcoat_roughness_factor, layers.clearcoat_roughness);
   extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
 }
 
@@ -186,9 +194,8 @@ void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, c
 void read_iridescence(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                       Material& m) {
   LayerTextures& layers = m.layer_textures;
-  layers.iridescence_factor = static_cast<float>(unit_factor(v, extension_at, "iridescenceFactor", 0.0, path));
-  layers.iridescence = extension_texture(v, extension_at, "iridescenceTexture", path, textures, false);
-  m.iridescence = layers.iridescence_factor * texture_mean(textures, layers.iridescence, 0);
+  m.iridescence = layer_factor(v, extension_at, "iridescenceFactor", 0.0, "iridescenceTexture", 0, path, textures,
+                               layers.iridescence_factor, layers.iridescence);
   const double ior = extension_number(v, extension_at, "iridescenceIor", 1.3, path);
   if (ior < 1.0 || ior > 4.0) {
     fail(path, 0, extension_at + "/iridescenceIor: " + JsonReader::format_number(ior) + " is outside [1, 4] (the range caustica renders)");

@@ -159,8 +159,11 @@ float specular_lobe(Surface s, vec3 v, vec3 l, vec3 h, float n_l, float n_v) {
 vec3 film_fresnel(Surface s, vec3 f0, float f90, float cos_i) {
   vec3 root = sqrt(clamp(f0 / max(f90, 1e-6), 0.0, 0.9999));
   vec3 base_ior = (1.0 + root) / (1.0 - root);
+  cos_i = clamp(cos_i, 0.0, 1.0);
+  // A dielectric's substrate is one index for every channel: one Airy sum gives all three.
+  if (base_ior.r == base_ior.g && base_ior.g == base_ior.b) return film_reflectance(cos_i, 1.0, s.film_ior, base_ior.r, s.film_thickness) * f90;
   vec3 film;
-  for (int c = 0; c < 3; ++c) film[c] = film_reflectance(clamp(cos_i, 0.0, 1.0), 1.0, s.film_ior, base_ior[c], s.film_thickness)[c];
+  for (int c = 0; c < 3; ++c) film[c] = film_reflectance(cos_i, 1.0, s.film_ior, base_ior[c], s.film_thickness)[c];
   return film * f90;
 }
 
