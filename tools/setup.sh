@@ -54,14 +54,6 @@ case "$mode" in
     echo "wrote $(pwd)/caustica.png"
     ;;
   test)
-    # lavapipe's JIT at 128-bit vectors (SSE4.1, 4 lanes) instead of the machine's 256 (AVX2, 8):
-    # LLVM compiles the suite's kernels in about 60% of the time (a cold exact-tracer render 7.4 s
-    # against 11.6 s) and runs them about 6% slower (docs/testing.md). Compilation is most of a cold
-    # suite, so the test command is faster; the pictures were the same to the printed digit. Only
-    # here: a render, a benchmark or a `ctest` by hand keeps the driver's width. Its own shader
-    # cache, since the width changes the code that Mesa keeps.
-    export LP_NATIVE_VECTOR_WIDTH=128
-    export MESA_SHADER_CACHE_DIR="$PWD/build/mesa-shader-cache-128"
     # The tiers and their times: docs/testing.md.
     phase_done "install"
     build build/release -DCMAKE_BUILD_TYPE=Release
