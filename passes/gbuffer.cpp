@@ -15,10 +15,15 @@ class GBufferPass final : public graph::Pass {
     // Written only where the scene has a surface that needs it (16 bytes a pixel of bandwidth).
     has_material_ = setup.bound("material") && setup.scene_value("scene.surface_layers") > 0.0;
     if (has_material_) state.color_formats.push_back(graph::format_info(setup.resource("material").format).vk);
+    // The extensions' texels only where a texture sets them (16 bytes a pixel more).
+    has_layers_ = has_material_ && setup.bound("layers") && setup.scene_value("scene.surface_textures") > 0.0;
+    if (has_layers_) state.color_formats.push_back(graph::format_info(setup.resource("layers").format).vk);
     state.depth_format = graph::format_info(setup.resource("depth").format).vk;
     shader::Defines defines;
     if (has_emission_) defines["EMISSION"] = "1";
-    if (has_material_) defines["MATERIAL"] = has_emission_ ? "3" : "2";  // its attachment's location
+    // The attachments' locations.
+    if (has_material_) defines["MATERIAL"] = has_emission_ ? "3" : "2";
+    if (has_layers_) defines["LAYERS"] = has_emission_ ? "4" : "3";
     pipeline_ = make_scene_pipeline(setup, "gbuffer", "scene/gbuffer.frag", state, defines);
   }
 
@@ -29,6 +34,7 @@ class GBufferPass final : public graph::Pass {
     std::vector<Attachment> targets{{ctx.view("normal")}, {ctx.view("albedo")}};
     if (has_emission_) targets.push_back({ctx.view("emission")});
     if (has_material_) targets.push_back({ctx.view("material")});
+    if (has_layers_) targets.push_back({ctx.view("layers")});
     begin_rendering(cmd, extent, targets, Attachment{ctx.view("depth")});
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
     scene_descriptors(ctx, pipeline_).push(ctx.vk(), cmd, pipeline_);
@@ -41,7 +47,7 @@ class GBufferPass final : public graph::Pass {
 
  private:
   vk::Pipeline pipeline_;
-  bool has_emission_ = false, has_material_ = false;
+  bool has_emission_ = false, has_material_ = false, has_layers_ = false;
 };
 
 }  // namespace
@@ -86,8 +92,18 @@ graph::PassTypeDecl gbuffer_pass_type() {
         {Format::rgba32f},
         true,
         "frame",
-        "xyz: the direction of glTF's anisotropy in the surface times its strength (per texel); w: the object's index, whose sheen and "
-        "diffuse transmission lighting reads; unbound, those extensions are not drawn"}},
+        "x: the direction of glTF's anisotropy in the surface, y: its strength, z: the clear coat's normal (directions packed as "
+        "scene/material_targets.glsl says; per texel); w: the object's index, whose extensions lighting reads; unbound, those "
+        "extensions are not drawn"},
+       {"layers",
+        PortAccess::write,
+        ResourceKind::image,
+        PortUsage::color_attachment,
+        {Format::rgba32ui},
+        true,
+        "frame",
+        "the texels of glTF's sheen, diffuse transmission, specular, clear coat and iridescence textures on opaque surfaces (with "
+        "material; scene/material_targets.glsl); unbound, lighting takes each texture's mean"}},
       {},
       false,
       [] { return std::make_unique<GBufferPass>(); }};

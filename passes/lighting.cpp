@@ -40,13 +40,14 @@ class LightingPass final : public graph::Pass {
     caustic_maps_ = bound_elements(setup, "caustics", CAUSTICA_MAX_CAUSTIC_VIEWS);
     caustic_depths_ = bound_elements(setup, "caustic_depth", CAUSTICA_MAX_CAUSTIC_VIEWS);
     has_emission_ = setup.bound("emission");
-    has_material_ = setup.bound("material") && setup.scene_value("scene.surface_layers") > 0.0;  // as gbuffer writes it
+    has_material_ = setup.bound("material") && setup.scene_value("scene.surface_layers") > 0.0;  // as gbuffer writes them
+    has_layers_ = has_material_ && setup.bound("layers") && setup.scene_value("scene.surface_textures") > 0.0;
     // The samplers' arrays as long as the elements bound, so that the pushed set stays within the
     // device's limit (32 descriptors on lavapipe: eight lights' shadows and 32 views' maps and
     // depths would be 77).
     shadow_count_ = shadow_maps_.empty() ? 0 : shadow_maps_.back() + 1;
     caustic_count_ = caustic_maps_.empty() ? 0 : std::max(caustic_maps_.back(), caustic_depths_.empty() ? 0 : caustic_depths_.back()) + 1;
-    const uint32_t descriptors = 5 + (has_material_ ? 3 : 0) + shadow_count_ + 2 * caustic_count_,
+    const uint32_t descriptors = 5 + (has_material_ ? 3 : 0) + (has_layers_ ? 1 : 0) + shadow_count_ + 2 * caustic_count_,
                    limit = setup.vk().max_push_descriptors();
     if (descriptors > limit) {
       throw InputError("pass '" + setup.pass().name + "' reads " + std::to_string(shadow_count_) + " lights' shadow maps and " +
@@ -59,6 +60,7 @@ class LightingPass final : public graph::Pass {
     if (!caustic_maps_.empty()) defines["CAUSTICS"] = std::to_string(caustic_count_);
     if (has_emission_) defines["EMISSION"] = "1";
     if (has_material_) defines["MATERIAL"] = "1";
+    if (has_layers_) defines["LAYERS"] = "1";
     vk::RasterState state;
     state.color_formats = {graph::format_info(setup.resource("color").format).vk};
     pipeline_ = setup.graphics_pipeline("lighting", {"common/fullscreen.vert", {}}, {"scene/lighting.frag", defines}, state);
@@ -83,6 +85,7 @@ class LightingPass final : public graph::Pass {
       writer.buffer("ObjectBlock", ctx.scene().objects());
       writer.buffer("TranslucentBlock", ctx.scene().translucent_samples());
     }
+    if (has_layers_) writer.image("layers_tex", ctx.view("layers"), ctx.nearest_sampler());
     LightingParams params{ctx.params()["shadow_bias"].get<float>(), write_shadow_maps(ctx, writer), 0, 0};
     write_caustic_maps(ctx, writer, params);
     writer.push(ctx.vk(), cmd, pipeline_);
@@ -129,7 +132,7 @@ class LightingPass final : public graph::Pass {
   vk::Pipeline pipeline_;
   std::vector<uint32_t> shadow_maps_, caustic_maps_, caustic_depths_;  // the lights (views) whose element of each is bound
   uint32_t shadow_count_ = 0, caustic_count_ = 0;                      // the arrays' lengths: the last bound element and those before
-  bool has_emission_ = false, has_material_ = false;
+  bool has_emission_ = false, has_material_ = false, has_layers_ = false;
 };
 
 }  // namespace
@@ -160,8 +163,16 @@ graph::PassTypeDecl lighting_pass_type() {
         {Format::rgba32f},
         true,
         "frame",
-        "the surface's anisotropy and object (gbuffer's material): glTF's sheen, anisotropy and diffuse transmission are drawn where "
-        "bound, ignored where not"},
+        "the surface's anisotropy, clear coat normal and object (gbuffer's material): glTF's material extensions on opaque surfaces "
+        "are drawn where bound, ignored where not"},
+       {"layers",
+        PortAccess::read,
+        ResourceKind::image,
+        PortUsage::sampled,
+        {Format::rgba32ui},
+        true,
+        "frame",
+        "the texels of those extensions' textures (gbuffer's layers): read per texel where bound, by their means where not"},
        {"shadow",
         PortAccess::read,
         ResourceKind::image,

@@ -73,5 +73,38 @@ TEST(GltfInterface, SheenOnATransmissiveSurfaceWarnsThatItIsNotDrawn) {
   EXPECT_FLOAT_EQ(model.objects[0].material.sheen_roughness, 0.5f);
 }
 
+// The extensions' textures on opaque surfaces are kept with their factors, which the G-buffer reads
+// per texel, and the material's values hold each factor times its texture's mean
+// (tests/data/gltf/textured_extensions.gltf, whose checker is half (255, 160, 60, 255) and half
+// (60, 140, 255, 70): in linear light its rgb mean is (0.522593, 0.306892, 0.522593) by the sRGB
+// curve, its alpha mean 0.637255). A clear coat's own normal map is read on opaque surfaces and,
+// on a transmissive one (tests/data/gltf/coat_normal_glass.gltf), warned as not drawn.
+TEST(GltfInterface, OpaqueSurfacesKeepTheirExtensionsTexturesAndFactors) {
+  const Scene model = load_model_scene((kData / "gltf/textured_extensions.gltf").string());
+  EXPECT_TRUE(model.warnings.empty()) << model.warnings.front();
+  ASSERT_GE(model.objects.size(), 5u);
+  const Material& sheen = model.objects[0].material;
+  EXPECT_TRUE(sheen.surface_textures.sheen_color.used() && sheen.surface_textures.sheen_roughness.used());
+  EXPECT_EQ(sheen.surface_textures.sheen_color_factor, glm::vec3(1.0f, 0.9f, 0.8f));
+  EXPECT_FLOAT_EQ(sheen.surface_textures.sheen_roughness_factor, 0.9f);
+  EXPECT_NEAR(sheen.sheen_color.r, 0.522593f, 2e-3f);
+  EXPECT_NEAR(sheen.sheen_color.g, 0.9f * 0.306892f, 2e-3f);
+  EXPECT_NEAR(sheen.sheen_color.b, 0.8f * 0.522593f, 2e-3f);
+  EXPECT_NEAR(sheen.sheen_roughness, 0.9f * 0.637255f, 2e-3f);
+  const Material& coat = model.objects[1].material;
+  EXPECT_TRUE(coat.surface_textures.clearcoat_normal.used());
+  EXPECT_FLOAT_EQ(coat.surface_textures.clearcoat_normal_scale, 0.8f);
+  const Material& panel = model.objects[4].material;
+  EXPECT_TRUE(panel.surface_textures.diffuse_transmission.used() && panel.surface_textures.diffuse_transmission_color.used());
+  EXPECT_FLOAT_EQ(panel.surface_textures.diffuse_transmission_factor, 0.8f);
+  EXPECT_NEAR(panel.diffuse_transmission, 0.8f * 0.637255f, 2e-3f);
+  EXPECT_TRUE(model.has_surface_textures());
+
+  const Scene glass = load_model_scene((kData / "gltf/coat_normal_glass.gltf").string());
+  ASSERT_EQ(glass.warnings.size(), 1u);
+  EXPECT_NE(glass.warnings[0].find("clearcoatNormalTexture is drawn on opaque surfaces only"), std::string::npos) << glass.warnings[0];
+  EXPECT_FALSE(glass.has_surface_textures());
+}
+
 }  // namespace
 }  // namespace caustica::scene

@@ -12,7 +12,8 @@ using nlohmann::ordered_json;
 
 constexpr float kMargin = 12.0f;     // between the canvas's edge and the graph, in the fitted view
 constexpr float kColumnGap = 40.0f;  // room for the wires between columns
-constexpr float kStackGap = 14.0f;   // between the nodes of a column
+constexpr float kStackGap = 4.0f;    // between the nodes of a column: the tallest columns (the G-buffer and light passes)
+                                     // of the bundled graphs fit the default canvas with 1 px to spare
 constexpr float kBend = 40.0f;       // the least horizontal pull of a wire's control points
 constexpr float kLoopDrop = 60.0f;   // how far below its node a pass's wire to itself loops
 

@@ -58,10 +58,10 @@ Plan Compiler::run() {
 }  // namespace compiler_internal
 
 std::map<std::string, double> typical_scene_values() {
-  return {{"scene.refractors", 1},     {"scene.lights", 1},           {"scene.objects", 2},        {"scene.dispersive", 0},
-          {"scene.diagonal", 10},      {"scene.ray_epsilon", 1e-3},   {"scene.surface_layers", 0}, {"scene.layer_textures", 0},
-          {"scene.light0.view", 1},    {"scene.light0.spot", 1},      {"scene.light0.point", 0},   {"scene.light0.directional", 0},
-          {"scene.light0.objects", 2}, {"scene.light0.refractors", 1}};
+  return {{"scene.refractors", 1},         {"scene.lights", 1},         {"scene.objects", 2},          {"scene.dispersive", 0},
+          {"scene.diagonal", 10},          {"scene.ray_epsilon", 1e-3}, {"scene.surface_layers", 0},   {"scene.layer_textures", 0},
+          {"scene.surface_textures", 0},   {"scene.light0.view", 1},    {"scene.light0.spot", 1},      {"scene.light0.point", 0},
+          {"scene.light0.directional", 0}, {"scene.light0.objects", 2}, {"scene.light0.refractors", 1}};
 }
 
 namespace {

@@ -324,6 +324,13 @@ io::ImageData Executor::read_image(const std::string& name) const {
         out[3] = 1;
         break;
       }
+      case Format::rgba32ui:
+        for (int c = 0; c < 4; ++c) {
+          uint32_t v;
+          std::memcpy(&v, in + 4 * c, 4);
+          out[c] = static_cast<float>(v);
+        }
+        break;
     }
   }
   image.display_encoded = res.format == Format::rgba8 || res.format == Format::rgba8_srgb;

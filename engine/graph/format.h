@@ -9,11 +9,11 @@
 
 namespace caustica::graph {
 
-enum class Format : uint8_t { rgba8, rgba8_srgb, rgba16f, rgba32f, r16f, rg16f, r32f, rg32f, r32ui, d32f };
+enum class Format : uint8_t { rgba8, rgba8_srgb, rgba16f, rgba32f, r16f, rg16f, r32f, rg32f, r32ui, rgba32ui, d32f };
 
 struct FormatInfo {
   Format format;
-  const char* name;           // as written in graph files
+  const char* name;  // as written in graph files
   VkFormat vk;
   uint32_t bytes_per_texel;
   bool depth;

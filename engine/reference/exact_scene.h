@@ -112,7 +112,8 @@ struct SurfacePoint {
   glm::vec3 brdf(glm::vec3 v, glm::vec3 l) const { return layered_brdf(normal, base, metallic, roughness, layers, v, l); }
   // Reflected sky light per unit of the scene's ambient sky radiance.
   glm::vec3 ambient_reflectance(glm::vec3 v) const {
-    return layered_ambient(std::max(glm::dot(normal, v), 1e-4f), base, metallic, roughness, layers);
+    return layered_ambient(std::max(glm::dot(normal, v), 1e-4f), base, metallic, roughness, layers,
+                           std::max(glm::dot(layers.clearcoat_normal, v), 1e-4f));
   }
 };
 
@@ -161,22 +162,33 @@ class ExactScene {
         s.normal = glm::normalize(frame->first * mapped.x + frame->second * mapped.y + s.normal * mapped.z);
       }
     }
-    // The extensions' values (textures by their means, as the lighting pass reads them), the
-    // anisotropy's strength and direction per texel.
-    s.layers = {.sheen_color = m.sheen_color,
-                .sheen_roughness = m.sheen_roughness,
-                .diffuse_transmission = m.diffuse_transmission,
-                .diffuse_transmission_color = m.diffuse_transmission_color,
-                .specular = m.specular,
-                .specular_color = m.specular_color,
+    // The extensions' values, per texel where textures set them (as the G-buffer's layers target
+    // holds them for the lighting pass), the anisotropy's strength and direction and the coat's normal.
+    scene::Material textured;
+    if (scene::has_surface_textures(m)) {
+      textured = m;
+      layers_at(object, hit, textured);
+      surface_extensions_at(object, hit, textured);
+    }
+    const scene::Material& e = scene::has_surface_textures(m) ? textured : m;
+    s.layers = {.sheen_color = e.sheen_color,
+                .sheen_roughness = e.sheen_roughness,
+                .diffuse_transmission = e.diffuse_transmission,
+                .diffuse_transmission_color = e.diffuse_transmission_color,
+                .specular = e.specular,
+                .specular_color = e.specular_color,
                 .ior = m.ior,
-                .clearcoat = m.clearcoat,
-                .clearcoat_roughness = m.clearcoat_roughness,
-                .iridescence = m.iridescence,
+                .clearcoat = e.clearcoat,
+                .clearcoat_roughness = e.clearcoat_roughness,
+                .clearcoat_normal = coat_normal(hit, smooth_normal(hit)),
+                .iridescence = e.iridescence,
                 .film_ior = m.film_ior,
-                .film_thickness_nm = m.film_thickness_nm};
+                .film_thickness_nm = e.film_thickness_nm};
     if (m.anisotropy > 0.0f) s.layers.anisotropy_direction = anisotropy(hit, s.normal, s.layers.anisotropy);
-    if (glm::dot(smooth_normal(hit), direction) > 0.0f) s.normal = -s.normal;
+    if (glm::dot(smooth_normal(hit), direction) > 0.0f) {  // seen from behind, the normals flip
+      s.normal = -s.normal;
+      s.layers.clearcoat_normal = -s.layers.clearcoat_normal;
+    }
     if (m.metallic_roughness) {
       const glm::vec4 mr = m.metallic_roughness_texture.used() ? sample(object, m.metallic_roughness_texture, hit) : glm::vec4(1.0f);
       s.metallic = m.metallic * mr.b;
@@ -219,20 +231,13 @@ class ExactScene {
   }
 
   // A refractor's material with its interface layers where a ray meets it: per texel where it has a
-  // layer texture (each factor times its texture, as the engine's exact paths read them:
-  // trace.glsl's layers_at), written into `storage`; else the object's own material.
+  // layer texture (as the engine's exact paths read them: trace.glsl's layers_at), written into
+  // `storage`; else the object's own material.
   const scene::Material& interface_material(const RayHit& hit, scene::Material& storage) const {
     const scene::Object& object = scene_.objects[hit.geometry];
-    const scene::LayerTextures& t = object.material.layer_textures;
-    if (!object.material.refractor || !t.used()) return object.material;
-    auto texel = [&](const scene::TextureRef& ref) { return ref.used() ? sample(object, ref, hit) : glm::vec4(1.0f); };
+    if (!object.material.refractor || !object.material.layer_textures.used()) return object.material;
     storage = object.material;
-    storage.specular = t.specular_factor * texel(t.specular).a;
-    storage.specular_color = t.specular_color_factor * glm::vec3(texel(t.specular_color));
-    storage.clearcoat = t.clearcoat_factor * texel(t.clearcoat).r;
-    storage.clearcoat_roughness = t.clearcoat_roughness_factor * texel(t.clearcoat_roughness).g;
-    storage.iridescence = t.iridescence_factor * texel(t.iridescence).r;
-    storage.film_thickness_nm = t.thickness.used() ? glm::mix(t.thickness_min, t.thickness_max, texel(t.thickness).g) : t.thickness_max;
+    layers_at(object, hit, storage);
     return storage;
   }
 
@@ -245,6 +250,43 @@ class ExactScene {
   }
 
  private:
+  glm::vec4 texel_or_one(const scene::Object& object, const scene::TextureRef& ref, const RayHit& hit) const {
+    return ref.used() ? sample(object, ref, hit) : glm::vec4(1.0f);
+  }
+  // The interface layers' values (KHR_materials_specular, _clearcoat, _iridescence) where a ray
+  // meets the object: each factor times its texture, into `m`.
+  void layers_at(const scene::Object& object, const RayHit& hit, scene::Material& m) const {
+    const scene::LayerTextures& t = object.material.layer_textures;
+    m.specular = t.specular_factor * texel_or_one(object, t.specular, hit).a;
+    m.specular_color = t.specular_color_factor * glm::vec3(texel_or_one(object, t.specular_color, hit));
+    m.clearcoat = t.clearcoat_factor * texel_or_one(object, t.clearcoat, hit).r;
+    m.clearcoat_roughness = t.clearcoat_roughness_factor * texel_or_one(object, t.clearcoat_roughness, hit).g;
+    m.iridescence = t.iridescence_factor * texel_or_one(object, t.iridescence, hit).r;
+    m.film_thickness_nm =
+        t.thickness.used() ? glm::mix(t.thickness_min, t.thickness_max, texel_or_one(object, t.thickness, hit).g) : t.thickness_max;
+  }
+  // The sheen's and the diffuse transmission's values where a ray meets the object, likewise.
+  void surface_extensions_at(const scene::Object& object, const RayHit& hit, scene::Material& m) const {
+    const scene::SurfaceTextures& t = object.material.surface_textures;
+    m.sheen_color = t.sheen_color_factor * glm::vec3(texel_or_one(object, t.sheen_color, hit));
+    m.sheen_roughness = t.sheen_roughness_factor * texel_or_one(object, t.sheen_roughness, hit).a;
+    m.diffuse_transmission = t.diffuse_transmission_factor * texel_or_one(object, t.diffuse_transmission, hit).a;
+    m.diffuse_transmission_color = t.diffuse_transmission_color_factor * glm::vec3(texel_or_one(object, t.diffuse_transmission_color, hit));
+  }
+  // The clear coat's normal at a hit whose geometry's normal is n: n bent by the coat's own normal
+  // map where it has one (the base's normal map does not reach the coat).
+  glm::vec3 coat_normal(const RayHit& hit, glm::vec3 n) const {
+    const scene::Object& object = scene_.objects[hit.geometry];
+    const scene::SurfaceTextures& t = object.material.surface_textures;
+    if (!t.clearcoat_normal.used()) return n;
+    const auto frame = tangent_frame(hit, n, t.clearcoat_normal);
+    if (!frame) return n;
+    const glm::vec3 sampled = glm::vec3(sample(object, t.clearcoat_normal, hit)) * 2.0f - 1.0f;
+    const glm::vec3 mapped =
+        glm::normalize(glm::vec3(sampled.x * t.clearcoat_normal_scale, sampled.y * t.clearcoat_normal_scale, sampled.z));
+    return glm::normalize(frame->first * mapped.x + frame->second * mapped.y + n * mapped.z);
+  }
+
   static glm::vec4 texcoords(const scene::Object& object, uint32_t triangle, float u, float v) {
     if (object.mesh.texcoords.empty()) return glm::vec4(0.0f);
     const uint32_t* tri = &object.mesh.indices[3 * triangle];

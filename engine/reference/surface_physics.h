@@ -116,7 +116,8 @@ struct SurfaceLayers {
   float ior = 1.5f;
   float clearcoat = 0.0f;  // KHR_materials_clearcoat's weight and roughness
   float clearcoat_roughness = 0.0f;
-  float iridescence = 0.0f;  // KHR_materials_iridescence's weight, the film's index and thickness
+  glm::vec3 clearcoat_normal{0.0f};  // the coat's own normal (unit, facing the viewer); 0: the surface's
+  float iridescence = 0.0f;          // KHR_materials_iridescence's weight, the film's index and thickness
   float film_ior = 1.3f;
   float film_thickness_nm = 0.0f;
 };
@@ -194,11 +195,13 @@ inline glm::vec3 base_layer_brdf(glm::vec3 n, glm::vec3 base, float metallic, fl
 // its transmitted share, and no metal, specular, sheen or coat (they need a microfacet roughness).
 // The sheen's albedo is the quadrature's, not the device's table: this is the reference. The coat
 // lies over everything, the light through the surface included: its blend factor's share of what
-// leaves toward the viewer is the coat's own GGX lobe (about the shading normal) instead.
-inline glm::vec3 coat_over(glm::vec3 under, glm::vec3 n, const SurfaceLayers& layers, glm::vec3 v, glm::vec3 l) {
+// leaves toward the viewer is the coat's own GGX lobe (about its own normal) instead; a light
+// behind the surface (n.l <= 0, base normal n) or behind the coat meets no lobe.
+inline glm::vec3 coat_over(glm::vec3 under, glm::vec3 surface_n, const SurfaceLayers& layers, glm::vec3 v, glm::vec3 l) {
   if (layers.clearcoat <= 0.0f) return under;
+  const glm::vec3 n = layers.clearcoat_normal == glm::vec3(0.0f) ? surface_n : layers.clearcoat_normal;
   const float blend = coat_blend(layers, glm::dot(n, v));
-  if (glm::dot(n, l) <= 0.0f) return under * (1.0f - blend);
+  if (glm::dot(surface_n, l) <= 0.0f || glm::dot(n, l) <= 0.0f) return under * (1.0f - blend);
   const float alpha = std::max(layers.clearcoat_roughness * layers.clearcoat_roughness, 1e-3f);
   const glm::vec3 t = surface_tangent(n, glm::vec3(1.0f, 0.0f, 0.0f)), b = glm::cross(n, t), h = glm::normalize(v + l);
   const float lobe = anisotropic_distribution(alpha, alpha, glm::dot(t, h), glm::dot(b, h), glm::dot(n, h)) *
@@ -231,8 +234,10 @@ inline glm::vec3 layered_brdf(glm::vec3 n, glm::vec3 base, float metallic, float
 // The specular lobe's share is taken as f0, the sheen's as C E(n.v) over what it leaves beneath.
 // The transmitted part is the model's, unscaled: layered_brdf scales it by the sheen's view-side
 // share, so this term is up to that factor brighter than the BRDF's integral. The coat reflects
-// its blend factor's share of the sky whole and passes the rest; a film's F0 is its reflectance head-on.
-inline glm::vec3 layered_ambient(float n_v, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers) {
+// its blend factor's share of the sky whole and passes the rest, at the cosine coat_v of the view to
+// its own normal (n_v where negative); a film's F0 is its reflectance head-on.
+inline glm::vec3 layered_ambient(float n_v, glm::vec3 base, float metallic, float roughness, const SurfaceLayers& layers,
+                                 float coat_v = -1.0f) {
   const float d = layers.diffuse_transmission;
   if (roughness < 0.0f) return (1.0f - d) * base + ambient_transmitted(0.0f, d, layers.diffuse_transmission_color);
   const FresnelEnds ends = fresnel_ends(base, metallic, layers);
@@ -241,7 +246,7 @@ inline glm::vec3 layered_ambient(float n_v, glm::vec3 base, float metallic, floa
   const bool sheen = max_component(layers.sheen_color) > 0.0f;
   const float e = sheen ? sheen_albedo(n_v, layers.sheen_roughness) : 0.0f;
   const glm::vec3 reflected = (diffuse_reflected_color(base, metallic, d) + f0) * sheen_scaling(layers.sheen_color, e, e);
-  const float coat = coat_blend(layers, n_v);
+  const float coat = coat_blend(layers, coat_v < 0.0f ? n_v : coat_v);
   return (reflected + layers.sheen_color * e + ambient_transmitted(metallic, d, layers.diffuse_transmission_color)) * (1.0f - coat) + coat;
 }
 

@@ -188,9 +188,10 @@ std::vector<std::string> unread_content(const tinygltf::Model& model, const std:
       }
     }
     const auto coat = model.materials[i].extensions.find("KHR_materials_clearcoat");
-    if (coat != model.materials[i].extensions.end() && coat->second.Has("clearcoatNormalTexture")) {
+    if (transmits && coat != model.materials[i].extensions.end() && coat->second.Has("clearcoatNormalTexture")) {
       warnings.push_back(path + ": /materials/" + std::to_string(i) +
-                         "/extensions/KHR_materials_clearcoat/clearcoatNormalTexture is ignored (the coat follows the surface's normal)");
+                         "/extensions/KHR_materials_clearcoat/clearcoatNormalTexture is drawn on opaque surfaces only: on this "
+                         "transmissive one the coat follows the surface's normal");
     }
   }
   return warnings;

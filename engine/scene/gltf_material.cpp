@@ -161,6 +161,15 @@ float layer_factor(const tinygltf::Value& v, const std::string& extension_at, co
   return factor * texture_mean(textures, texture, channel);
 }
 
+// A colour factor (in [0, 1] where `unit`) and the sRGB texture whose rgb multiplies it: the factor
+// times the texture's mean.
+glm::vec3 colour_layer(const tinygltf::Value& v, const std::string& extension_at, const char* factor_key, glm::vec3 fallback, bool unit,
+                       const char* texture_key, const std::string& path, TextureTable& textures, glm::vec3& factor, TextureRef& texture) {
+  factor = color_factor(v, extension_at, factor_key, fallback, path, unit);
+  texture = extension_texture(v, extension_at, texture_key, path, textures, true);
+  return texture.used() ? factor * glm::vec3(textures.mean(texture.texture)) : factor;
+}
+
 // KHR_materials_specular: the dielectric's reflectance scaled (specularFactor, the texture's
 // alpha) and its F0 coloured (specularColorFactor, the texture's rgb); the fields hold the
 // textures' means, layer_textures the factors and textures.
@@ -169,15 +178,13 @@ void read_specular(const tinygltf::Value& v, const std::string& extension_at, co
   LayerTextures& layers = m.layer_textures;
   m.specular =
       layer_factor(v, extension_at, "specularFactor", 1.0, "specularTexture", 3, path, textures, layers.specular_factor, layers.specular);
-  layers.specular_color_factor = color_factor(v, extension_at, "specularColorFactor", glm::vec3(1.0f), path, false);
-  layers.specular_color = extension_texture(v, extension_at, "specularColorTexture", path, textures, true);
-  m.specular_color = layers.specular_color_factor;
-  if (layers.specular_color.used()) m.specular_color *= glm::vec3(textures.mean(layers.specular_color.texture));
+  m.specular_color = colour_layer(v, extension_at, "specularColorFactor", glm::vec3(1.0f), false, "specularColorTexture", path, textures,
+                                  layers.specular_color_factor, layers.specular_color);
 }
 
 // KHR_materials_clearcoat: a clear coat of index 1.5 over the base, its factor (the texture's
-// red) and roughness (the texture's green). The coat follows the surface's normal: a
-// clearcoatNormalTexture is checked and not applied (gltf_loader.cpp's unread_content says so).
+// red) and roughness (the texture's green), and its own normal map (clearcoatNormalTexture with its
+// scale; without one the coat follows the geometry's normal, not the base's normal map).
 void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                     Material& m) {
   LayerTextures& layers = m.layer_textures;
@@ -185,7 +192,13 @@ void read_clearcoat(const tinygltf::Value& v, const std::string& extension_at, c
                              layers.clearcoat);
   m.clearcoat_roughness = layer_factor(v, extension_at, "clearcoatRoughnessFactor", 0.0, "clearcoatRoughnessTexture", 1, path, textures,
                                        layers.clearcoat_roughness_factor, layers.clearcoat_roughness);
-  extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
+  SurfaceTextures& surface = m.surface_textures;
+  surface.clearcoat_normal = extension_texture(v, extension_at, "clearcoatNormalTexture", path, textures, false);
+  if (surface.clearcoat_normal.used() && v.Get("clearcoatNormalTexture").Has("scale")) {
+    const auto& scale = v.Get("clearcoatNormalTexture").Get("scale");
+    if (!scale.IsNumber()) fail(path, 0, extension_at + "/clearcoatNormalTexture/scale: must be a number");
+    surface.clearcoat_normal_scale = static_cast<float>(scale.GetNumberAsDouble());
+  }
 }
 
 // KHR_materials_iridescence: a thin film of iridescenceIor between the outside and the base, as
@@ -212,14 +225,14 @@ void read_iridescence(const tinygltf::Value& v, const std::string& extension_at,
   m.film_thickness_nm = static_cast<float>(thinnest + (thickest - thinnest) * along);
 }
 
-// KHR_materials_sheen: the sheen's colour (the texture's rgb) and roughness (the texture's alpha),
-// textures by their means.
+// KHR_materials_sheen: the sheen's colour (the texture's rgb) and roughness (the texture's alpha);
+// the fields hold the textures' means, surface_textures the factors and textures.
 void read_sheen(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures, Material& m) {
-  m.sheen_color = color_factor(v, extension_at, "sheenColorFactor", glm::vec3(0.0f), path, true);
-  const TextureRef color_texture = extension_texture(v, extension_at, "sheenColorTexture", path, textures, true);
-  if (color_texture.used()) m.sheen_color *= glm::vec3(textures.mean(color_texture.texture));
-  m.sheen_roughness = static_cast<float>(unit_factor(v, extension_at, "sheenRoughnessFactor", 0.0, path)) *
-                      texture_mean(textures, extension_texture(v, extension_at, "sheenRoughnessTexture", path, textures, false), 3);
+  SurfaceTextures& surface = m.surface_textures;
+  m.sheen_color = colour_layer(v, extension_at, "sheenColorFactor", glm::vec3(0.0f), true, "sheenColorTexture", path, textures,
+                               surface.sheen_color_factor, surface.sheen_color);
+  m.sheen_roughness = layer_factor(v, extension_at, "sheenRoughnessFactor", 0.0, "sheenRoughnessTexture", 3, path, textures,
+                                   surface.sheen_roughness_factor, surface.sheen_roughness);
 }
 
 // KHR_materials_anisotropy: strength in [0, 1] and rotation (radians), the texture per texel.
@@ -231,15 +244,16 @@ void read_anisotropy(const tinygltf::Value& v, const std::string& extension_at, 
 }
 
 // KHR_materials_diffuse_transmission: the share (the texture's alpha) and colour (the texture's
-// rgb) of the diffuse light that passes through, textures by their means.
+// rgb) of the diffuse light that passes through; the fields hold the textures' means,
+// surface_textures the factors and textures.
 void read_diffuse_transmission(const tinygltf::Value& v, const std::string& extension_at, const std::string& path, TextureTable& textures,
                                Material& m) {
-  m.diffuse_transmission =
-      static_cast<float>(unit_factor(v, extension_at, "diffuseTransmissionFactor", 0.0, path)) *
-      texture_mean(textures, extension_texture(v, extension_at, "diffuseTransmissionTexture", path, textures, false), 3);
-  m.diffuse_transmission_color = color_factor(v, extension_at, "diffuseTransmissionColorFactor", glm::vec3(1.0f), path, true);
-  const TextureRef color_texture = extension_texture(v, extension_at, "diffuseTransmissionColorTexture", path, textures, true);
-  if (color_texture.used()) m.diffuse_transmission_color *= glm::vec3(textures.mean(color_texture.texture));
+  SurfaceTextures& surface = m.surface_textures;
+  m.diffuse_transmission = layer_factor(v, extension_at, "diffuseTransmissionFactor", 0.0, "diffuseTransmissionTexture", 3, path, textures,
+                                        surface.diffuse_transmission_factor, surface.diffuse_transmission);
+  m.diffuse_transmission_color =
+      colour_layer(v, extension_at, "diffuseTransmissionColorFactor", glm::vec3(1.0f), true, "diffuseTransmissionColorTexture", path,
+                   textures, surface.diffuse_transmission_color_factor, surface.diffuse_transmission_color);
 }
 
 // KHR_materials_volume, the extension object `v` at JSON pointer `extension_at`.

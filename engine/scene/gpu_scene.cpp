@@ -25,6 +25,14 @@ gpu::TextureSlot texture_slot(const TextureRef& ref) {
           glm::vec4(m[0][1], m[1][1], m[2][1], static_cast<float>(ref.texcoord))};
 }
 
+// What a texture multiplies, as the device takes it beside the texture (ObjectData's specular_factors,
+// layer_factors, sheen_factors and diffuse_transmission_factors): the factor where the texture is
+// used, else the material's value (the same there for a glTF material, and right for one that is not).
+template <typename T>
+T factor_or(const TextureRef& texture, T factor, T value) {
+  return texture.used() ? factor : value;
+}
+
 // Folds `count` plain structs (no padding: the gpu:: types are vec4-aligned) into `key`.
 template <typename T>
 uint64_t fold_bytes(uint64_t key, const T* data, size_t count) {
@@ -73,6 +81,8 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
   refractors_.index_count += thin_refractors_.index_count;
   for (const Object& object : scene_->objects) {
     const Material& m = object.material;
+    const LayerTextures& lt = m.layer_textures;
+    const SurfaceTextures& st = m.surface_textures;
     const float refractor_kind = !m.refractor ? 0.0f : is_convex_refractor(object) ? 2.0f : 1.0f;  // scene_types.h
     objects.push_back(
         {glm::vec4(m.albedo, refractor_kind),
@@ -96,24 +106,41 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
          glm::vec4(m.tint_factor, m.transmission_factor),
          glm::vec4(m.specular_color, m.specular),
          glm::vec4(m.clearcoat, m.clearcoat_roughness, m.iridescence, m.film_ior),
-         glm::vec4(m.film_thickness_nm, m.layer_textures.thickness_min, m.layer_textures.thickness_max, 0.0f),
-         {texture_slot(m.layer_textures.specular), texture_slot(m.layer_textures.specular_color), texture_slot(m.layer_textures.clearcoat),
-          texture_slot(m.layer_textures.clearcoat_roughness), texture_slot(m.layer_textures.iridescence),
-          texture_slot(m.layer_textures.thickness)},
-         glm::vec4(m.layer_textures.specular_color_factor, m.layer_textures.specular_factor),
-         glm::vec4(m.layer_textures.clearcoat_factor, m.layer_textures.clearcoat_roughness_factor, m.layer_textures.iridescence_factor,
-                   m.refractor && m.layer_textures.used() ? 1.0f : 0.0f),
+         glm::vec4(m.film_thickness_nm, lt.thickness_min, lt.thickness_max, 0.0f),
+         {texture_slot(lt.specular), texture_slot(lt.specular_color), texture_slot(lt.clearcoat), texture_slot(lt.clearcoat_roughness),
+          texture_slot(lt.iridescence), texture_slot(lt.thickness)},
+         glm::vec4(factor_or(lt.specular_color, lt.specular_color_factor, m.specular_color),
+                   factor_or(lt.specular, lt.specular_factor, m.specular)),
+         glm::vec4(factor_or(lt.clearcoat, lt.clearcoat_factor, m.clearcoat),
+                   factor_or(lt.clearcoat_roughness, lt.clearcoat_roughness_factor, m.clearcoat_roughness),
+                   factor_or(lt.iridescence, lt.iridescence_factor, m.iridescence), m.refractor && lt.used() ? 1.0f : 0.0f),
          glm::vec4(m.sheen_color, m.sheen_roughness),
          {},
          glm::vec4(m.anisotropy, std::cos(m.anisotropy_rotation), std::sin(m.anisotropy_rotation), 0.0f),
          texture_slot(m.anisotropy_texture),
-         glm::vec4(m.diffuse_transmission_color, m.diffuse_transmission)});
+         glm::vec4(m.diffuse_transmission_color, m.diffuse_transmission),
+         {texture_slot(st.sheen_color), texture_slot(st.sheen_roughness), texture_slot(st.diffuse_transmission),
+          texture_slot(st.diffuse_transmission_color), texture_slot(st.clearcoat_normal)},
+         glm::vec4(factor_or(st.sheen_color, st.sheen_color_factor, m.sheen_color),
+                   factor_or(st.sheen_roughness, st.sheen_roughness_factor, m.sheen_roughness)),
+         glm::vec4(factor_or(st.diffuse_transmission_color, st.diffuse_transmission_color_factor, m.diffuse_transmission_color),
+                   factor_or(st.diffuse_transmission, st.diffuse_transmission_factor, m.diffuse_transmission)),
+         glm::vec4(st.clearcoat_normal_scale, 0.0f, 0.0f, 0.0f)});
     // The sheen's albedo is an integral the lighting pass cannot afford per pixel: integrated here
     // once per object (scene/sheen_albedo.h; the reference integrates it at every point it shades).
     if (m.sheen_color != glm::vec3(0.0f)) {
       const std::array<float, 16> albedo = sheen_albedo_table(m.sheen_roughness);
       std::memcpy(objects.back().sheen_albedo, albedo.data(), sizeof(objects.back().sheen_albedo));
     }
+  }
+  // A sheen whose roughness a texture sets needs the albedo at every roughness: the table at
+  // roughness j / 15 in row j, which the lighting pass interpolates between rows.
+  const bool sheen_roughness_varies = std::any_of(scene_->objects.begin(), scene_->objects.end(), [](const Object& o) {
+    return o.material.sheen_color != glm::vec3(0.0f) && o.material.surface_textures.sheen_roughness.used();
+  });
+  for (int row = 0; sheen_roughness_varies && row < 16; ++row) {
+    const std::array<float, 16> albedo = sheen_albedo_table(static_cast<float>(row) / 15.0f);
+    std::memcpy(&frame_data_.sheen_albedo_rows[4 * row], albedo.data(), sizeof(albedo));
   }
   vertices_ = vk::make_static_buffer(vk, vertices.data(), vertices.size() * sizeof(gpu::Vertex), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                      "scene vertices");

@@ -51,13 +51,24 @@ bool Scene::disperses() const {
                      [](const Object& o) { return o.material.refractor && o.material.ior_spread() > 0.0f; });
 }
 
+bool has_surface_textures(const Material& m) {
+  const SurfaceTextures& t = m.surface_textures;
+  return !m.refractor && (t.sheen_color.used() || t.sheen_roughness.used() || t.diffuse_transmission.used() ||
+                          t.diffuse_transmission_color.used() || (m.metallic_roughness && m.layer_textures.used()));
+}
+
 bool Scene::has_surface_layers() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) {
     const Material& m = o.material;
     const bool brdf_layers = m.metallic_roughness && (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f) || m.clearcoat > 0.0f ||
                                                       m.iridescence > 0.0f || m.ior != 1.5f);
-    return !m.refractor && (m.sheen_color != glm::vec3(0.0f) || m.anisotropy > 0.0f || m.diffuse_transmission > 0.0f || brdf_layers);
+    return !m.refractor && (m.sheen_color != glm::vec3(0.0f) || m.anisotropy > 0.0f || m.diffuse_transmission > 0.0f || brdf_layers ||
+                            scene::has_surface_textures(m));
   });
+}
+
+bool Scene::has_surface_textures() const {
+  return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return scene::has_surface_textures(o.material); });
 }
 
 bool Scene::has_layer_textures() const {
@@ -77,10 +88,11 @@ size_t Scene::refractor_count() const {
 
 std::map<std::string, double> Scene::expression_values() const {
   std::map<std::string, double> values{
-      {"scene.refractors", static_cast<double>(refractor_count())}, {"scene.lights", static_cast<double>(lights.size())},
-      {"scene.objects", static_cast<double>(objects.size())},       {"scene.dispersive", disperses() ? 1.0 : 0.0},
-      {"scene.surface_layers", has_surface_layers() ? 1.0 : 0.0},   {"scene.layer_textures", has_layer_textures() ? 1.0 : 0.0},
-      {"scene.diagonal", static_cast<double>(diagonal())},          {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
+      {"scene.refractors", static_cast<double>(refractor_count())},   {"scene.lights", static_cast<double>(lights.size())},
+      {"scene.objects", static_cast<double>(objects.size())},         {"scene.dispersive", disperses() ? 1.0 : 0.0},
+      {"scene.surface_layers", has_surface_layers() ? 1.0 : 0.0},     {"scene.layer_textures", has_layer_textures() ? 1.0 : 0.0},
+      {"scene.surface_textures", has_surface_textures() ? 1.0 : 0.0}, {"scene.diagonal", static_cast<double>(diagonal())},
+      {"scene.ray_epsilon", static_cast<double>(ray_epsilon())}};
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i];
     const std::string prefix = "scene.light" + std::to_string(i) + ".";

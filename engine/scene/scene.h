@@ -61,6 +61,23 @@ struct LayerTextures {
   }
 };
 
+// The textures of what glTF's extensions put on an opaque surface's BRDF beside the interface
+// layers (KHR_materials_sheen, _diffuse_transmission, and the clear coat's own normal map) and the
+// factors they multiply, read per texel by the G-buffer and the reference; Material's sheen and
+// diffuse transmission fields hold each factor times its texture's mean.
+struct SurfaceTextures {
+  TextureRef sheen_color;                 // rgb scales sheen_color_factor
+  TextureRef sheen_roughness;             // alpha scales sheen_roughness_factor
+  TextureRef diffuse_transmission;        // alpha scales diffuse_transmission_factor
+  TextureRef diffuse_transmission_color;  // rgb scales diffuse_transmission_color_factor
+  TextureRef clearcoat_normal;            // the coat's tangent-space normal; without it the coat follows the geometry's normal
+  glm::vec3 sheen_color_factor{0.0f};
+  float sheen_roughness_factor = 0.0f;
+  glm::vec3 diffuse_transmission_color_factor{1.0f};
+  float diffuse_transmission_factor = 0.0f;
+  float clearcoat_normal_scale = 1.0f;
+};
+
 // glTF alpha modes: coverage from the base colour's alpha. MASK cuts out where it is below the
 // cutoff, everywhere the engine sees the surface (camera, shadow and light maps, the references).
 enum class AlphaMode { opaque, mask, blend };
@@ -117,8 +134,9 @@ struct Material {
   // which it dims by its own albedo; KHR_materials_anisotropy's stretched GGX lobe, `anisotropy`
   // its strength and `anisotropy_rotation` (radians) turning its direction from the tangent, both
   // per texel with `anisotropy_texture` (rg: direction, b: strength); KHR_materials_diffuse_transmission's
-  // share of the diffuse light that passes to the other side, coloured. The sheen's and diffuse
-  // transmission's textures enter as their means (one value per object).
+  // share of the diffuse light that passes to the other side, coloured. These fields hold the
+  // textures' means; surface_textures (with layer_textures) keeps the textures, which the G-buffer
+  // and the reference read per texel.
   glm::vec3 sheen_color{0.0f};
   float sheen_roughness = 0.0f;
   float anisotropy = 0.0f;
@@ -126,6 +144,7 @@ struct Material {
   TextureRef anisotropy_texture;
   float diffuse_transmission = 0.0f;
   glm::vec3 diffuse_transmission_color{1.0f};
+  SurfaceTextures surface_textures;
 
   // glTF's baseColorTexture: multiplies albedo (and tint) with its rgb, alpha with its a.
   TextureRef base_color_texture;
@@ -155,6 +174,10 @@ struct Material {
   // still cast shadows, as the engine's shadow maps draw both sides). Scene-file materials are.
   bool double_sided = true;
 };
+
+// Whether an opaque surface's extensions have textures (its sheen's, diffuse transmission's, or
+// specular, coat or film ones), which the G-buffer's layers target and the reference read per texel.
+bool has_surface_textures(const Material& m);
 
 struct Mesh {
   std::vector<glm::vec3> positions;
@@ -283,6 +306,10 @@ struct Scene {
   // thin film or clear coat that changes its metallic-roughness BRDF: only then do the
   // G-buffer and lighting passes write and read their `material` target.
   bool has_surface_layers() const;
+  // Whether such a surface has textures that set those extensions' values (the sheen's, the diffuse
+  // transmission's, or the specular, coat or film ones): only then do the G-buffer and lighting
+  // passes write and read their `layers` target, the texels.
+  bool has_surface_textures() const;
   // Whether a refractor's interface layers have textures, which the exact paths read per texel.
   bool has_layer_textures() const;
   // Whether a refractor's tint or transmission varies over its surface (a base colour or a

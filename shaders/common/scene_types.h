@@ -84,6 +84,14 @@ struct ObjectData {
   vec4 anisotropy;             // x: strength, y and z: cosine and sine of the rotation from the tangent; w: 0
   TextureSlot anisotropy_map;  // rg: direction in the tangent frame, b: multiplies the strength
   vec4 diffuse_transmission;   // rgb: the colour of the light that passes, a: its share of the diffuse light
+  // The same per texel (scene::SurfaceTextures; the G-buffer reads them, gbuffer.frag): the sheen's
+  // colour (rgb: sheen_factors.rgb) and roughness (alpha: sheen_factors.a), the diffuse
+  // transmission's share (alpha: diffuse_transmission_factors.a) and colour (rgb:
+  // diffuse_transmission_factors.rgb), and the clear coat's normal map (its scale coat_normal.x).
+  TextureSlot surface_maps[5];
+  vec4 sheen_factors;
+  vec4 diffuse_transmission_factors;
+  vec4 coat_normal;  // x: the scale of the coat's normal map; y, z, w: 0
 };
 
 struct LightData {
@@ -116,6 +124,9 @@ struct FrameData {
   uint caustic_view_count;
   uint translucent_samples;  // the patches of translucent surfaces (TranslucentSample) the lighting pass gathers from
   uint pad1;
+  // The sheen's directional albedo at roughness j / 15 in row j (4 vec4s), at cosines (k / 15)^2 as
+  // ObjectData::sheen_albedo, for sheens whose roughness a texture sets; 0 where the scene has none.
+  vec4 sheen_albedo_rows[64];
   LightData lights[CAUSTICA_MAX_LIGHTS];
   // Light i's cube faces (+x, -x, +y, -y, +z, -z) at 6 i + face, where it is a point light: its shadow map's layers.
   mat4 light_faces[6 * CAUSTICA_MAX_LIGHTS];

@@ -30,10 +30,15 @@ layout(set = 0, binding = 6) uniform sampler2D caustic_depths[CAUSTICS];
 #ifdef EMISSION
 layout(set = 0, binding = 7) uniform sampler2D emission_tex;
 #endif
-// What the G-buffer's material target holds (gbuffer.frag): the anisotropy's direction times its
-// strength, and the object whose extensions' values the surface takes.
+// What the G-buffer's material and layers targets hold (scene/material_targets.glsl): the
+// anisotropy, the clear coat's normal and the object whose extensions' values the surface takes;
+// with LAYERS, the texels of those extensions that textures set.
 #ifdef MATERIAL
+#include "scene/material_targets.glsl"
 layout(set = 0, binding = 8) uniform sampler2D material_tex;
+#ifdef LAYERS
+layout(set = 0, binding = 11) uniform usampler2D layers_tex;
+#endif
 layout(set = 0, binding = 9, std430) readonly buffer ObjectBlock {
   ObjectData objects[];
 };
@@ -191,6 +196,56 @@ vec3 translucent_irradiance(vec3 p, vec3 n, uint self) {
 }
 #endif
 
+#ifdef MATERIAL
+// The sheen's albedo table at roughness r: the object's own where no texture sets the roughness,
+// else interpolated between the frame's rows (FrameData::sheen_albedo_rows).
+void set_sheen_albedo(inout Surface s, ObjectData object) {
+  s.sheen_albedo = object.sheen_albedo;
+  if (object.surface_maps[1].row_u.w < 0.0) return;
+  float x = clamp(s.sheen_roughness, 0.0, 1.0) * 15.0;
+  int row = min(int(x), 14);
+  for (int k = 0; k < 4; ++k) s.sheen_albedo[k] = mix(frame.sheen_albedo_rows[4 * row + k], frame.sheen_albedo_rows[4 * row + 4 + k], x - float(row));
+}
+
+// The surface's extensions from the material target (and the layers target's texels, with LAYERS;
+// the objects' means without it).
+void set_extensions(inout Surface s, vec4 material) {
+  ObjectData object = objects[uint(material.w)];
+  s.anisotropy = material.y;
+  s.anisotropy_t = s.anisotropy > 0.0 ? unpack_direction(material.x) : vec3(0.0);
+  if (material.z >= 0.0) s.coat_n = unpack_direction(material.z);
+  float f0_root = (object.absorption_ior.a - 1.0) / (object.absorption_ior.a + 1.0);
+  s.dielectric_f0 = f0_root * f0_root;
+  s.film_ior = object.layers.w;
+#ifdef LAYERS
+  uvec4 texels = texelFetch(layers_tex, ivec2(gl_FragCoord.xy), 0);
+  vec4 sheen = object.sheen_factors * unpack_colour_texel(texels.x);
+  vec4 passed = object.diffuse_transmission_factors * unpack_colour_texel(texels.y);
+  vec4 coat_film = unpackUnorm4x8(texels.w);
+  s.sheen_color = sheen.rgb;
+  s.sheen_roughness = sheen.a;
+  s.transmission_color = passed.rgb;
+  s.transmission = passed.a;
+  s.specular = object.specular_factors * unpack_colour_texel(texels.z);
+  s.coat = object.layer_factors.x * coat_film.r;
+  s.coat_roughness = object.layer_factors.y * coat_film.g;
+  s.film = object.layer_factors.z * coat_film.b;
+  s.film_thickness = object.layer_maps[5].row_u.w >= 0.0 ? mix(object.film.y, object.film.z, coat_film.a) : object.film.x;
+#else
+  s.sheen_color = object.sheen.rgb;
+  s.sheen_roughness = object.sheen.a;
+  s.transmission_color = object.diffuse_transmission.rgb;
+  s.transmission = object.diffuse_transmission.a;
+  s.specular = object.specular;
+  s.coat = object.layers.x;
+  s.coat_roughness = object.layers.y;
+  s.film = object.layers.z;
+  s.film_thickness = object.film.x;
+#endif
+  set_sheen_albedo(s, object);
+}
+#endif
+
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
   float depth = texture(depth_tex, uv).r;
@@ -203,22 +258,7 @@ void main() {
   Surface s = plain_surface(normalize(normal_roughness.xyz), albedo_metallic.rgb, albedo_metallic.a, normal_roughness.w);
 #ifdef MATERIAL
   vec4 material = texture(material_tex, uv);
-  ObjectData object = objects[uint(material.w)];
-  s.sheen_color = object.sheen.rgb;
-  s.sheen_roughness = object.sheen.a;
-  s.sheen_albedo = object.sheen_albedo;
-  s.anisotropy = length(material.xyz);
-  s.anisotropy_t = s.anisotropy > 0.0 ? material.xyz / s.anisotropy : vec3(0.0);
-  s.transmission_color = object.diffuse_transmission.rgb;
-  s.transmission = object.diffuse_transmission.a;
-  s.specular = object.specular;
-  float f0_root = (object.absorption_ior.a - 1.0) / (object.absorption_ior.a + 1.0);
-  s.dielectric_f0 = f0_root * f0_root;
-  s.coat = object.layers.x;
-  s.coat_roughness = object.layers.y;
-  s.film = object.layers.z;
-  s.film_ior = object.layers.w;
-  s.film_thickness = object.film.x;
+  set_extensions(s, material);
 #endif
   vec3 n = s.n;
   vec3 v = normalize(frame.camera_position.xyz - p);

@@ -38,6 +38,7 @@ struct Surface {
   float dielectric_f0;  // ((ior - 1) / (ior + 1))^2: 0.04 at the default index 1.5
   float coat;           // the clear coat's weight
   float coat_roughness;
+  vec3 coat_n;  // the coat's normal, facing the viewer: the geometry's, or its own normal map's
   float film;  // KHR_materials_iridescence: the film's weight, index and thickness in nm
   float film_ior;
   float film_thickness;
@@ -49,7 +50,7 @@ Surface plain_surface(vec3 n, vec3 base, float metallic, float roughness) {
 #ifdef SURFACE_LAYERS
   vec4 none = vec4(0.0);
   return Surface(n, base, metallic, roughness, vec3(0.0), 0.0, vec4[4](none, none, none, none), vec3(0.0), 0.0, vec3(0.0), 0.0, vec4(1.0),
-                 0.04, 0.0, 0.0, 0.0, 1.3, 0.0);
+                 0.04, 0.0, 0.0, n, 0.0, 1.3, 0.0);
 #else
   return Surface(n, base, metallic, roughness);
 #endif
@@ -184,7 +185,7 @@ vec3 brdf(Surface s, vec3 v, vec3 l) {
     float strongest = max3(s.sheen_color);
     float sheen_left = strongest > 0.0 ? clamp(1.0 - strongest * sheen_albedo(s, n_v), 0.0, 1.0) : 1.0;
     return (s.roughness < 0.0 ? 1.0 : 1.0 - s.metallic) * s.transmission * s.transmission_color / PI * sheen_left *
-           (1.0 - coat_share(s, n_v));
+           (1.0 - coat_share(s, dot(s.coat_n, v)));
   }
 #else
   n_l = max(n_l, 0.0);
@@ -201,8 +202,11 @@ vec3 brdf(Surface s, vec3 v, vec3 l) {
 #ifdef SURFACE_LAYERS
   if (max3(s.sheen_color) > 0.0) beneath = beneath * sheen_scaling(s, n_v, n_l) + sheen_lobe(s, max(dot(s.n, h), 0.0), n_l, n_v);
   if (s.coat <= 0.0) return beneath;
-  float coat = coat_share(s, n_v);
-  return beneath * (1.0 - coat) + coat * ggx_lobe(s.coat_roughness, max(dot(s.n, h), 0.0), n_l, n_v);
+  // The coat's lobe about its own normal (KHR_materials_clearcoat's clearcoatNormalTexture).
+  float coat_v = dot(s.coat_n, v), coat_l = dot(s.coat_n, l);
+  float coat = coat_share(s, coat_v);
+  float lobe = coat_l > 0.0 ? ggx_lobe(s.coat_roughness, max(dot(s.coat_n, h), 0.0), coat_l, max(coat_v, 1e-4)) : 0.0;
+  return beneath * (1.0 - coat) + coat * lobe;
 #else
   return beneath;
 #endif
@@ -221,7 +225,7 @@ vec3 ambient_reflectance(Surface s, vec3 v) {
   vec3 f0 = specular_f0(s);
   if (s.film > 0.0 && s.roughness >= 0.0) f0 = mix(f0, film_fresnel(s, f0, specular_f90(s), 1.0), s.film);
   vec3 beneath = (diffuse_reflected(s) + f0) * (1.0 - max3(s.sheen_color) * e) + s.sheen_color * e + transmitted;
-  float coat = coat_share(s, dot(s.n, v));
+  float coat = coat_share(s, dot(s.coat_n, v));
   return beneath * (1.0 - coat) + coat;
 #endif
 }

@@ -4,8 +4,8 @@ texture coordinate set and alpha MASK. A checkered floor (texture 0 through a tr
 quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK), a spot light
 straight above, and a camera. Everything is embedded, so the file stands alone.
 Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf,
-bad_tangent_count.gltf), and textured_surfaces.gltf
-rough_pane.gltf, tinted_pane.gltf and blend_pane.gltf (below).
+bad_tangent_count.gltf), and textured_surfaces.gltf, rough_pane.gltf, tinted_pane.gltf,
+blend_pane.gltf, layered_pane.gltf and textured_extensions.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
 
@@ -304,3 +304,81 @@ layered["materials"][1] = {
 layered["textures"] = [{"sampler": 0, "source": 0}]
 layered["images"] = [{"uri": data_uri("image/png", png(2, 1, [[(255, 0, 255, 255), (0, 255, 0, 0)]]))}]
 write("layered_pane.gltf", layered)
+
+
+# textured_extensions.gltf: the extensions on opaque surfaces with their textures, read per texel
+# (docs/gltf.md, "Opaque surfaces"). Four 1 x 1 floor quads around the mirror point of a spot light
+# at (0, 3, -4) and the camera at (0, 3, 4): a sheen whose colour and roughness a checker sets; a
+# clear coat that stripes switch on and off, rough and smooth, over a ridged normal map of its own;
+# KHR_materials_specular's weight and colour from the checker (index 1.8); a thin film that the
+# stripes switch on and off, thin and thick. A panel beside them, lit from behind, passes the
+# checker's share and colour of its diffuse light (KHR_materials_diffuse_transmission). The
+# checker's squares are (255, 160, 60, 255) and (60, 140, 255, 70); the stripes (255, 40, 255, 255)
+# and (30, 200, 60, 255): red the coat's and the film's weight, green their roughness and thickness.
+checker = png(8, 8, [[(255, 160, 60, 255) if (x // 2 + y // 2) % 2 == 0 else (60, 140, 255, 70) for x in range(8)] for y in range(8)])
+stripes = png(8, 8, [[(255, 40, 255, 255) if x % 4 < 2 else (30, 200, 60, 255) for x in range(8)] for y in range(8)])
+extension_quads = [
+    ([(-1, 0, 0), (0, 0, 0), (0, 0, -1), (-1, 0, -1)], (0, 1, 0), 0),
+    ([(0, 0, 0), (1, 0, 0), (1, 0, -1), (0, 0, -1)], (0, 1, 0), 1),
+    ([(-1, 0, 1), (0, 0, 1), (0, 0, 0), (-1, 0, 0)], (0, 1, 0), 2),
+    ([(0, 0, 1), (1, 0, 1), (1, 0, 0), (0, 0, 0)], (0, 1, 0), 3),
+    ([(1.5, 0, -1.5), (2.5, 0, -1.5), (2.5, 1.2, -1.5), (1.5, 1.2, -1.5)], (0, 0, 1), 4),
+]
+extensions_blob, extension_meshes, extension_views, extension_accessors = build(extension_quads)
+base = {"baseColorFactor": [0.3, 0.05, 0.05, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}
+aim = math.atan2(-0.6, -0.8) / 2  # the spot's -z turned to (0, -0.6, 0.8), toward the origin
+extensions_gltf = {
+    "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_textured.py"},
+    "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_specular",
+                       "KHR_materials_ior", "KHR_materials_iridescence", "KHR_materials_diffuse_transmission"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 60.0, "spot": {"outerConeAngle": 0.8}}]}},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2, 3, 4, 5, 6]}],
+    "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}, {"mesh": 3}, {"mesh": 4},
+              {"translation": [0, 3, -4], "rotation": [math.sin(aim), 0, 0, math.cos(aim)],
+               "extensions": {"KHR_lights_punctual": {"light": 0}}},
+              {"camera": 0, "translation": [0, 3, 4], "rotation": [-math.sin(tilt), 0, 0, math.cos(tilt)]}],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.05, "zfar": 50}}],
+    "meshes": extension_meshes,
+    "materials": [
+        {"name": "textured sheen", "pbrMetallicRoughness": base,
+         "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 0.9, 0.8], "sheenColorTexture": {"index": 0},
+                                                "sheenRoughnessFactor": 0.9, "sheenRoughnessTexture": {"index": 0}}}},
+        {"name": "textured coat", "pbrMetallicRoughness": base,
+         "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 1},
+                                                    "clearcoatRoughnessFactor": 0.5, "clearcoatRoughnessTexture": {"index": 1},
+                                                    "clearcoatNormalTexture": {"index": 2, "scale": 0.8}}}},
+        {"name": "textured specular", "pbrMetallicRoughness": dict(base, roughnessFactor=0.3),
+         "extensions": {"KHR_materials_specular": {"specularFactor": 1.0, "specularTexture": {"index": 0},
+                                                   "specularColorFactor": [1.0, 1.0, 1.0], "specularColorTexture": {"index": 0}},
+                        "KHR_materials_ior": {"ior": 1.8}}},
+        {"name": "textured film", "pbrMetallicRoughness": dict(base, baseColorFactor=[0.03, 0.03, 0.03, 1.0], roughnessFactor=0.25),
+         "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceTexture": {"index": 1}, "iridescenceIor": 1.4,
+                                                      "iridescenceThicknessMinimum": 150.0, "iridescenceThicknessMaximum": 450.0,
+                                                      "iridescenceThicknessTexture": {"index": 1}}}},
+        {"name": "textured translucent panel", "doubleSided": True,
+         "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.45, 0.1, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8},
+         "extensions": {"KHR_materials_diffuse_transmission": {
+             "diffuseTransmissionFactor": 0.8, "diffuseTransmissionTexture": {"index": 0},
+             "diffuseTransmissionColorFactor": [1.0, 1.0, 1.0], "diffuseTransmissionColorTexture": {"index": 0}}}}],
+    "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}, {"sampler": 0, "source": 2}],
+    "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}],
+    "images": [{"uri": data_uri("image/png", checker)}, {"uri": data_uri("image/png", stripes)}, {"uri": data_uri("image/png", ridges)}],
+    "buffers": [{"byteLength": len(extensions_blob), "uri": data_uri("application/octet-stream", extensions_blob)}],
+    "bufferViews": extension_views,
+    "accessors": extension_accessors,
+}
+write("textured_extensions.gltf", extensions_gltf)
+
+
+# coat_normal_glass.gltf: the thin pane with a clear coat whose own normal map caustica reads on
+# opaque surfaces only: the loader warns that on this transmissive one it is not.
+coat_glass = json.loads(json.dumps(pane))
+coat_glass["extensionsUsed"] = ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_clearcoat"]
+coat_glass["materials"][1] = {
+    "name": "coated pane", "doubleSided": True, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0},
+    "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                   "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}}
+coat_glass["textures"] = [{"sampler": 0, "source": 0}]
+coat_glass["images"] = [{"uri": data_uri("image/png", ridges)}]
+write("coat_normal_glass.gltf", coat_glass)
