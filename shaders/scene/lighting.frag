@@ -1,7 +1,8 @@
 #version 460
 // Direct lighting of the G-buffer: every light with its inverse-square falloff and spot cone through
 // the surface's BRDF (scene/surface.glsl; with MATERIAL, glTF's sheen, anisotropy, diffuse
-// transmission, specular, index, thin film and clear coat from the material target and the objects, and the light
+// transmission, specular, index, thin film and clear coat from the material target and the objects (with LAYERS their
+// textures' texels from the layers target), and the light
 // translucent surfaces pass on), each shadowed through its shadow map where it has one (3x3 PCF; a point light's
 // six cube faces) and adding its caustic map where one is bound, plus ambient sky light
 // (occluded by the emission target's alpha) and emitted light. Sky where empty.
