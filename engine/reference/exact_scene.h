@@ -154,38 +154,35 @@ class ExactScene {
     const scene::Material& m = object.material;
     SurfacePoint s;
     s.base = glm::vec3(base_color(hit));
-    s.normal = smooth_normal(hit);
-    if (m.normal_texture.used()) {  // in the front face's frame; seen from behind, all of it flips
-      if (const auto frame = tangent_frame(hit, s.normal, m.normal_texture)) {
-        const glm::vec3 sampled = glm::vec3(sample(object, m.normal_texture, hit)) * 2.0f - 1.0f;
-        const glm::vec3 mapped = glm::normalize(glm::vec3(sampled.x * m.normal_scale, sampled.y * m.normal_scale, sampled.z));
-        s.normal = glm::normalize(frame->first * mapped.x + frame->second * mapped.y + s.normal * mapped.z);
-      }
-    }
+    const glm::vec3 geometric = smooth_normal(hit);
+    // In the front face's frame; seen from behind, all of it flips.
+    s.normal = mapped_normal(hit, geometric, m.normal_texture, m.normal_scale);
     // The extensions' values, per texel where textures set them (as the G-buffer's layers target
     // holds them for the lighting pass), the anisotropy's strength and direction and the coat's normal.
+    const bool per_texel = scene::has_surface_textures(m);
     scene::Material textured;
-    if (scene::has_surface_textures(m)) {
+    if (per_texel) {
       textured = m;
       layers_at(object, hit, textured);
       surface_extensions_at(object, hit, textured);
     }
-    const scene::Material& e = scene::has_surface_textures(m) ? textured : m;
-    s.layers = {.sheen_color = e.sheen_color,
-                .sheen_roughness = e.sheen_roughness,
-                .diffuse_transmission = e.diffuse_transmission,
-                .diffuse_transmission_color = e.diffuse_transmission_color,
-                .specular = e.specular,
-                .specular_color = e.specular_color,
-                .ior = m.ior,
-                .clearcoat = e.clearcoat,
-                .clearcoat_roughness = e.clearcoat_roughness,
-                .clearcoat_normal = coat_normal(hit, smooth_normal(hit)),
-                .iridescence = e.iridescence,
-                .film_ior = m.film_ior,
-                .film_thickness_nm = e.film_thickness_nm};
+    const scene::Material& e = per_texel ? textured : m;
+    s.layers = {
+        .sheen_color = e.sheen_color,
+        .sheen_roughness = e.sheen_roughness,
+        .diffuse_transmission = e.diffuse_transmission,
+        .diffuse_transmission_color = e.diffuse_transmission_color,
+        .specular = e.specular,
+        .specular_color = e.specular_color,
+        .ior = m.ior,
+        .clearcoat = e.clearcoat,
+        .clearcoat_roughness = e.clearcoat_roughness,
+        .clearcoat_normal = mapped_normal(hit, geometric, m.surface_textures.clearcoat_normal, m.surface_textures.clearcoat_normal_scale),
+        .iridescence = e.iridescence,
+        .film_ior = m.film_ior,
+        .film_thickness_nm = e.film_thickness_nm};
     if (m.anisotropy > 0.0f) s.layers.anisotropy_direction = anisotropy(hit, s.normal, s.layers.anisotropy);
-    if (glm::dot(smooth_normal(hit), direction) > 0.0f) {  // seen from behind, the normals flip
+    if (glm::dot(geometric, direction) > 0.0f) {  // seen from behind, the normals flip
       s.normal = -s.normal;
       s.layers.clearcoat_normal = -s.layers.clearcoat_normal;
     }
@@ -273,17 +270,15 @@ class ExactScene {
     m.diffuse_transmission = t.diffuse_transmission_factor * texel_or_one(object, t.diffuse_transmission, hit).a;
     m.diffuse_transmission_color = t.diffuse_transmission_color_factor * glm::vec3(texel_or_one(object, t.diffuse_transmission_color, hit));
   }
-  // The clear coat's normal at a hit whose geometry's normal is n: n bent by the coat's own normal
-  // map where it has one (the base's normal map does not reach the coat).
-  glm::vec3 coat_normal(const RayHit& hit, glm::vec3 n) const {
-    const scene::Object& object = scene_.objects[hit.geometry];
-    const scene::SurfaceTextures& t = object.material.surface_textures;
-    if (!t.clearcoat_normal.used()) return n;
-    const auto frame = tangent_frame(hit, n, t.clearcoat_normal);
+  // The geometry's normal n bent by tangent-space normal map `map` with its scale, where there is
+  // one and a tangent frame for it: the base's normalTexture, or the clear coat's own
+  // clearcoatNormalTexture (the base's map does not reach the coat).
+  glm::vec3 mapped_normal(const RayHit& hit, glm::vec3 n, const scene::TextureRef& map, float scale) const {
+    if (!map.used()) return n;
+    const auto frame = tangent_frame(hit, n, map);
     if (!frame) return n;
-    const glm::vec3 sampled = glm::vec3(sample(object, t.clearcoat_normal, hit)) * 2.0f - 1.0f;
-    const glm::vec3 mapped =
-        glm::normalize(glm::vec3(sampled.x * t.clearcoat_normal_scale, sampled.y * t.clearcoat_normal_scale, sampled.z));
+    const glm::vec3 sampled = glm::vec3(sample(scene_.objects[hit.geometry], map, hit)) * 2.0f - 1.0f;
+    const glm::vec3 mapped = glm::normalize(glm::vec3(sampled.x * scale, sampled.y * scale, sampled.z));
     return glm::normalize(frame->first * mapped.x + frame->second * mapped.y + n * mapped.z);
   }
 
