@@ -52,7 +52,7 @@ TEST(Caustics, ThinWallsPassTheirShareOfTheLightUnbent) {
     const glm::dvec3 k = 0.8 * tint;  // the tinted pane passes transmission x tint of each channel
     for (const char* graph : {"caustics_regular", "caustics_adaptive", "caustics_raytraced"}) {
       SCOPED_TRACE(std::string(pane) + " " + graph);
-      const std::vector<std::string> sets{"fresnel=false", "grid=2048", "caustic_size=512"};
+      const std::vector<std::string> sets{"fresnel=false", "grid=1024", "caustic_size=512"};
       e.render(graph, only(std::nullopt, 1.0f), sets);
       const io::ImageData direct = e.executor.read_image("lit");
       e.render(graph, only(glm::vec3(1.0f), 1.0f), sets);
@@ -88,11 +88,11 @@ TEST(Caustics, AThinBubbleTransmitsThroughBothWalls) {
   bubble->objects.back().material.thin = true;
   bubble->objects.back().material.tint = glm::vec3(0.5f, 0.8f, 1.0f);
   reference::PhotonOptions options;
-  options.photons = 10'000'000;
+  options.photons = 4'000'000;
   options.fresnel = false;
   const auto reference = reference::trace_photon_reference(*bubble, options);
   for (const char* graph : {"caustics_regular", "caustics_adaptive"}) {
-    e.render(graph, bubble, {"grid=2048", "fresnel=false"});
+    e.render(graph, bubble, {"grid=1024", "fresnel=false"});
     const auto c = reference::compare_images(e.executor.read_image("caustics"), reference.caustic_map, 1.5);
     std::printf("thin bubble %-18s energy %.4f, relative L1 %.4f\n", graph, c.energy_ratio, c.relative_l1);
     EXPECT_NEAR(c.energy_ratio, 1.0, 0.02) << graph;
@@ -139,14 +139,14 @@ TEST(Caustics, ColouredGlassThrowsAColouredCaustic) {
   scene->objects.back().material.absorption = glm::vec3(0.1f, 0.4f, 0.9f);
   scene->objects.back().material.tint = glm::vec3(1.0f, 0.8f, 0.9f);
   reference::PhotonOptions options;
-  options.photons = 10'000'000;
+  options.photons = 4'000'000;
   options.fresnel = false;
   const glm::dvec3 reference = channel_flux(reference::trace_photon_reference(*scene, options).caustic_map);
   const glm::dvec3 reference_share = reference / (reference.x + reference.y + reference.z);
   std::printf("coloured ball lens: reference flux per channel %.4f %.4f %.4f\n", reference.x, reference.y, reference.z);
   ASSERT_LT(reference_share.z, 0.6 * reference_share.x);  // the scene is coloured enough to tell
   for (const char* graph : {"caustics_raytraced", "caustics_regular", "caustics_adaptive", "caustics_hierarchical"}) {
-    e.render(graph, scene, {"grid=2048", "fresnel=false"});
+    e.render(graph, scene, {"grid=1024", "fresnel=false"});
     const glm::dvec3 engine = channel_flux(e.executor.read_image("caustics"));
     const glm::dvec3 ratio = engine / reference, share = engine / (engine.x + engine.y + engine.z);
     std::printf("coloured ball lens %-22s energy per channel %.4f %.4f %.4f, share %.4f %.4f %.4f (reference %.4f %.4f %.4f)\n", graph,

@@ -37,7 +37,7 @@ TEST(Caustics, RoughGlassBlursItsCaustic) {
     });
     return std::make_pair(weighted / flux, flux);
   };
-  const std::vector<std::string> sets{"grid=2048", "fresnel=false"};
+  const std::vector<std::string> sets{"grid=1024", "fresnel=false"};
   reference::PhotonOptions options;
   options.photons = 4'000'000;
   options.fresnel = false;
@@ -125,7 +125,7 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
     });
     return std::make_pair(weighted / flux, flux);
   };
-  const std::vector<std::string> sets{"grid=2048", "fresnel=false"};
+  const std::vector<std::string> sets{"grid=1024", "fresnel=false"};
   e.render("caustics_regular", scene, sets);
   const io::ImageData clear = e.executor.read_image("caustics");
   for (size_t i = 0; i < clear.rgba.size(); i += 4) {  // each channel is its own atomic sum: equal to float rounding

@@ -271,9 +271,9 @@ TEST(Progressive, UnchangedPassesAreSkippedAndFramesStayThoseOfAFreshRender) {
     }
     return result;
   };
-  // A fresh engine (without reuse) renders each state for comparison.
+  // An engine without reuse runs every pass of every frame: each state as a fresh render gives it.
+  SceneEngine fresh;
   auto expect_fresh = [&](const std::shared_ptr<const scene::Scene>& scene, const char* state) {
-    SceneEngine fresh;
     const std::set<std::string> ran_here = ran;
     frame(fresh, scene);
     for (const char* image : {"ldr", "caustics"}) {
