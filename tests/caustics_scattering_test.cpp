@@ -1,6 +1,6 @@
 // Caustics on the device, materials that spread the light: rough glass (per object and per texel
-// on the exact paths) and dispersion by colour band, and the interface layers per texel, against
-// the photon reference.
+// on the exact paths) and dispersion by colour band, and the interface layers and the coat's own
+// normal map per texel, against the photon reference.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -17,6 +17,27 @@
 
 using namespace caustica;
 using namespace caustica::test::caustic_tests;
+
+namespace {
+
+// The floor's flux under each half of pane asset tests/data/gltf/`asset` (flux_under_pane_halves):
+// the photon reference's (1e6 photons) and the exact tracer's (1024^2).
+struct PaneHalves {
+  std::array<glm::dvec3, 2> reference, traced;
+};
+PaneHalves pane_halves(Engine& e, const char* asset) {
+  const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf" / asset).string();
+  auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
+  reference::PhotonOptions options;
+  options.photons = 1'000'000;
+  PaneHalves flux;
+  flux.reference = flux_under_pane_halves(*scene, reference::trace_photon_reference(*scene, options).caustic_map);
+  e.render("caustics_raytraced", scene, {"grid=1024"});
+  flux.traced = flux_under_pane_halves(*scene, e.executor.read_image("caustics"));
+  return flux;
+}
+
+}  // namespace
 
 // Rough transmission (glTF's roughness on a transmissive material) blurs the caustic: the ball
 // lens at roughness 0.3 spreads its focused light over the floor, in the photon reference and in
@@ -179,14 +200,7 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
 // the +x half's red, within 5% of the reference's).
 TEST(Caustics, InterfaceLayersAreReadPerTexelOnTheExactPaths) {
   Engine e;
-  const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf/layered_pane.gltf").string();
-  auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
-  auto halves = [&](const io::ImageData& map) { return flux_under_pane_halves(*scene, map); };
-  reference::PhotonOptions options;
-  options.photons = 1'000'000;
-  const auto reference = halves(reference::trace_photon_reference(*scene, options).caustic_map);
-  e.render("caustics_raytraced", scene, {"grid=1024"});
-  const auto traced = halves(e.executor.read_image("caustics"));
+  const auto [reference, traced] = pane_halves(e, "layered_pane.gltf");
   std::printf("layered pane: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", traced[0].x,
               traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x, reference[0].y, reference[0].z,
               reference[1].x, reference[1].y, reference[1].z);
@@ -198,4 +212,22 @@ TEST(Caustics, InterfaceLayersAreReadPerTexelOnTheExactPaths) {
     for (int c = half == 0 ? 1 : 0; c < 3; ++c)
       EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c]) << half << ", " << c;
   }
+}
+
+// A clear coat's own normal map is read where the exact paths meet a refractor:
+// tests/data/gltf/coat_normal_glass.gltf is the thin pane under a full, smooth coat whose normal map
+// tilts the coat's normal 70 degrees towards -x over the -x half and leaves the +x half's as the
+// surface's. The light above the pane's centre meets the -x half's coat at grazing angles, where the
+// coat's Schlick term reflects a fifth to two thirds of it: the floor under the -x half gets less
+// than under the +x half (the coat following the surface's normal would light both halves alike),
+// in the photon reference and in the exact tracer, each half's flux within 5% of the reference's.
+TEST(Caustics, TheCoatsOwnNormalMapIsReadOnTheExactPaths) {
+  Engine e;
+  const auto [reference, traced] = pane_halves(e, "coat_normal_glass.gltf");
+  std::printf("coat normal map: -x half %.4g, +x half %.4g (reference %.4g, %.4g)\n", traced[0].y, traced[1].y, reference[0].y,
+              reference[1].y);
+  for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
+    EXPECT_LT(flux[0].y, 0.85 * flux[1].y) << what << ": the tilted coat reflects no more than the flat one";
+  }
+  for (int half = 0; half < 2; ++half) EXPECT_NEAR(traced[half].y, reference[half].y, 0.05 * reference[half].y) << half;
 }

@@ -238,6 +238,17 @@ class ExactScene {
     return storage;
   }
 
+  // KHR_materials_clearcoat's normal where a ray meets a surface whose coat has its own normal map
+  // (clearcoatNormalTexture): the smooth normal bent by it, turned to the side of `facing`; without
+  // one, `facing` (as trace.glsl's coat_normal_at).
+  glm::vec3 coat_normal(const RayHit& hit, glm::vec3 facing) const {
+    const scene::SurfaceTextures& t = scene_.objects[hit.geometry].material.surface_textures;
+    if (!t.clearcoat_normal.used()) return facing;
+    const glm::vec3 n = smooth_normal(hit);
+    const glm::vec3 coat = mapped_normal(hit, n, t.clearcoat_normal, t.clearcoat_normal_scale);
+    return glm::dot(n, facing) < 0.0f ? -coat : coat;
+  }
+
   glm::vec3 smooth_normal(const RayHit& hit) const {
     const auto& mesh = scene_.objects[hit.geometry].mesh;
     const uint32_t* tri = &mesh.indices[3 * hit.triangle];

@@ -68,7 +68,8 @@ inline InterfaceReflectance interface_reflectance(const scene::Material& m, floa
 }
 
 // A ray meeting refractor material `m`'s interface, from index eta_i into eta_t, at facet m of the
-// surface whose normal n faces the ray: the one model of an interface that both references use
+// surface whose normal n faces the ray, under a clear coat whose normal coat_n (n, or its own normal
+// map's: ExactScene::coat_normal) faces it too: the one model of an interface that both references use
 // (photons choose a side, camera rays weight both). `fresnel` false: no reflection except total
 // internal reflection (docs/oracles.md's "no Fresnel" oracles).
 struct InterfaceCrossing {
@@ -76,13 +77,15 @@ struct InterfaceCrossing {
   glm::vec3 transmitted;        // kept on the far side; zero under total internal reflection
   glm::vec3 reflectance{0.0f};  // per channel; 1 under total internal reflection
   float coat = 0.0f;            // the clear coat's share of it, reflected before the base
+  glm::vec3 coat_normal{0.0f};  // the coat's normal (its own normal map's), on the ray's side
   // What the base reflects of the light past the coat.
   glm::vec3 base() const { return coat < 1.0f ? (reflectance - coat) / (1.0f - coat) : glm::vec3(0.0f); }
   bool total_internal() const { return transmitted == glm::vec3(0.0f); }
 };
-inline InterfaceCrossing cross_interface(const scene::Material& material, glm::vec3 direction, glm::vec3 m, glm::vec3 n, float eta_i,
-                                         float eta_t, bool fresnel = true) {
+inline InterfaceCrossing cross_interface(const scene::Material& material, glm::vec3 direction, glm::vec3 m, glm::vec3 n, glm::vec3 coat_n,
+                                         float eta_i, float eta_t, bool fresnel = true) {
   InterfaceCrossing c;
+  c.coat_normal = coat_n;
   c.reflected = on_side(glm::reflect(direction, m), n, true);
   const glm::vec3 refracted = glm::refract(direction, m, eta_i / eta_t);
   if (glm::dot(refracted, refracted) == 0.0f) {
@@ -93,7 +96,7 @@ inline InterfaceCrossing cross_interface(const scene::Material& material, glm::v
   c.transmitted = on_side(glm::normalize(refracted), n, false);
   if (!fresnel) return c;
   // The coat is on the air's side: the light's cosine there, before an entry or after an exit.
-  const float cos_outside = eta_i < eta_t ? -glm::dot(direction, n) : -glm::dot(c.transmitted, n);
+  const float cos_outside = eta_i < eta_t ? -glm::dot(direction, coat_n) : -glm::dot(c.transmitted, coat_n);
   const InterfaceReflectance r = interface_reflectance(material, -glm::dot(direction, m), cos_outside, eta_i, eta_t);
   c.reflectance = r.reflectance;
   c.coat = r.coat;

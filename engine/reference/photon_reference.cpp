@@ -153,8 +153,8 @@ class PhotonTracer {
       // A thin wall is always entered: reflected, or through it (unbent where smooth).
       scene::Material textured;
       const scene::Material& material = exact_.interface_material(*hit, textured);
-      const InterfaceCrossing crossing =
-          cross_interface(material, direction, m, n, entering ? 1.0f : ior, entering ? ior : 1.0f, options_.fresnel);
+      const InterfaceCrossing crossing = cross_interface(material, direction, m, n, exact_.coat_normal(*hit, n), entering ? 1.0f : ior,
+                                                         entering ? ior : 1.0f, options_.fresnel);
       origin = p;
       const bool first_refractor = !refracted;
       refracted = true;
@@ -176,13 +176,14 @@ class PhotonTracer {
   }
 
   // Whether a photon reflects off an interface: off the clear coat first (about a facet of the
-  // coat's roughness), else off the base with its probability (choice_probability), its power
+  // coat's roughness around the coat's normal), else off the base with its probability (choice_probability), its power
   // weighted so that its expectation is what each side of the interface takes. Sets `direction`
   // where it reflects.
   static bool reflects(const InterfaceCrossing& crossing, const scene::Material& material, glm::vec3 n, int band, glm::vec3& direction,
                        Power& power, Random& random) {
     if (crossing.coat > 0.0f && random.uniform() < crossing.coat) {
-      direction = on_side(glm::reflect(direction, microfacet_normal(n, direction, material.clearcoat_roughness, random)), n, true);
+      const glm::vec3 facet = microfacet_normal(crossing.coat_normal, direction, material.clearcoat_roughness, random);
+      direction = on_side(glm::reflect(direction, facet), n, true);
       return true;
     }
     const glm::vec3 base = crossing.base();

@@ -142,7 +142,8 @@ class Tracer {
       rough = rough || roughness > 0.0f;
       const glm::vec3 facet = microfacet_normal(n, direction, roughness, random);
       scene::Material textured;
-      const InterfaceCrossing entry = cross_interface(exact_.interface_material(*hit, textured), direction, facet, n, 1.0f, ior);
+      const InterfaceCrossing entry =
+          cross_interface(exact_.interface_material(*hit, textured), direction, facet, n, exact_.coat_normal(*hit, n), 1.0f, ior);
       radiance += throughput * entry.reflectance * scene_.sky;
       throughput *= 1.0f - entry.reflectance;
       const auto [tint, transmission] = exact_.transmittance(*hit);
@@ -170,7 +171,8 @@ class Tracer {
         const float exit_roughness = exact_.transmission_roughness(*inner);
         rough = rough || exit_roughness > 0.0f;
         const InterfaceCrossing exit = cross_interface(exact_.interface_material(*inner, textured), direction,
-                                                       microfacet_normal(inward, direction, exit_roughness, random), inward, ior, 1.0f);
+                                                       microfacet_normal(inward, direction, exit_roughness, random), inward,
+                                                       exact_.coat_normal(*inner, inward), ior, 1.0f);
         origin = p;
         if (exit.total_internal()) {
           direction = exit.reflected;

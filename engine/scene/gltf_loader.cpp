@@ -161,8 +161,8 @@ std::string what_is_ignored(const std::string& extension) {
 }
 
 // Warnings for what the file says and caustica does not draw: each extension it uses and caustica
-// does not read (with the materials that use it), an opaque surface's layer on a transmissive
-// material, and a clear coat's own normal texture.
+// does not read (with the materials that use it), and an opaque surface's layer on a transmissive
+// material.
 std::vector<std::string> unread_content(const tinygltf::Model& model, const std::string& path) {
   std::vector<std::string> warnings;
   for (const auto& used : model.extensionsUsed) {
@@ -186,12 +186,6 @@ std::vector<std::string> unread_content(const tinygltf::Model& model, const std:
         warnings.push_back(path + ": /materials/" + std::to_string(i) + " uses " + layer +
                            ", which caustica draws on opaque surfaces only: on this transmissive one it is ignored");
       }
-    }
-    const auto coat = model.materials[i].extensions.find("KHR_materials_clearcoat");
-    if (transmits && coat != model.materials[i].extensions.end() && coat->second.Has("clearcoatNormalTexture")) {
-      warnings.push_back(path + ": /materials/" + std::to_string(i) +
-                         "/extensions/KHR_materials_clearcoat/clearcoatNormalTexture is drawn on opaque surfaces only: on this "
-                         "transmissive one the coat follows the surface's normal");
     }
   }
   return warnings;

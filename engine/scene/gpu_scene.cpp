@@ -113,7 +113,7 @@ GpuScene::GpuScene(vk::Context& vk, std::shared_ptr<const Scene> scene)
                    factor_or(lt.specular, lt.specular_factor, m.specular)),
          glm::vec4(factor_or(lt.clearcoat, lt.clearcoat_factor, m.clearcoat),
                    factor_or(lt.clearcoat_roughness, lt.clearcoat_roughness_factor, m.clearcoat_roughness),
-                   factor_or(lt.iridescence, lt.iridescence_factor, m.iridescence), m.refractor && lt.used() ? 1.0f : 0.0f),
+                   factor_or(lt.iridescence, lt.iridescence_factor, m.iridescence), has_layer_textures(m) ? 1.0f : 0.0f),
          glm::vec4(m.sheen_color, m.sheen_roughness),
          {},
          glm::vec4(m.anisotropy, std::cos(m.anisotropy_rotation), std::sin(m.anisotropy_rotation), 0.0f),

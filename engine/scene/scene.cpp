@@ -57,6 +57,10 @@ bool has_surface_textures(const Material& m) {
                           t.diffuse_transmission_color.used() || (m.metallic_roughness && m.layer_textures.used()));
 }
 
+bool has_layer_textures(const Material& m) {
+  return m.refractor && (m.layer_textures.used() || m.surface_textures.clearcoat_normal.used());
+}
+
 bool Scene::has_surface_layers() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) {
     const Material& m = o.material;
@@ -72,8 +76,7 @@ bool Scene::has_surface_textures() const {
 }
 
 bool Scene::has_layer_textures() const {
-  return std::any_of(objects.begin(), objects.end(),
-                     [](const Object& o) { return o.material.refractor && o.material.layer_textures.used(); });
+  return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return scene::has_layer_textures(o.material); });
 }
 
 bool Scene::tints_per_texel() const {

@@ -178,6 +178,9 @@ struct Material {
 // Whether an opaque surface's extensions have textures (its sheen's, diffuse transmission's, or
 // specular, coat or film ones), which the G-buffer's layers target and the reference read per texel.
 bool has_surface_textures(const Material& m);
+// Whether a refractor's interface has textures (its specular, coat or film layers', or the coat's own
+// normal map), which the exact paths and the references read per texel.
+bool has_layer_textures(const Material& m);
 
 struct Mesh {
   std::vector<glm::vec3> positions;

@@ -93,13 +93,17 @@ PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool ch
   // The layers here, per texel; whether a choice draws a number is the object's (its means), so
   // that image space, which reads the object, knows how many the entry draws (entry_choice_draws).
   ObjectData surface = object;
+  vec3 coat_n = n;  // the clear coat's normal: its own normal map's, per texel, where it has one
 #ifdef CAUSTICA_LAYER_TEXTURES
-  if (object.layer_factors.w > 0.0) layers_at(h.object, h.texcoords, surface.specular, surface.layers, surface.film.x);
+  if (object.layer_factors.w > 0.0) {
+    layers_at(h.object, h.texcoords, surface.specular, surface.layers, surface.film.x);
+    coat_n = coat_normal_at(h, n);
+  }
 #endif
   bool layered_crossing = fresnel && !total_internal;
   if (layered_crossing) {
     // The coat is on the outside: its cosine is the light's there (after the crossing, leaving).
-    float cos_outside = e.entering || thin ? -dot(direction, n) : -dot(normalize(transmitted), n);
+    float cos_outside = e.entering || thin ? -dot(direction, coat_n) : -dot(normalize(transmitted), coat_n);
     layers = interface_reflection(surface, -dot(direction, m), cos_outside, e.entering ? 1.0 : ior, e.entering ? ior : 1.0);
   }
   e.reflectance = reflectance(layers);
@@ -108,7 +112,7 @@ PathEvent exact_path_step(inout ExactPath path, uint band, bool fresnel, bool ch
     vec3 reflecting = m;
     if (layered_crossing && object.layers.x > 0.0 && next_uniform(path.rng) < layers.coat) {
       e.reflected = true;
-      reflecting = microfacet_normal(n, direction, surface.layers.y, path.rng);
+      reflecting = microfacet_normal(coat_n, direction, surface.layers.y, path.rng);
     } else {
       float p = choice_probability(layers.base, band);
       bool draws = total_internal || (layered_crossing && base_reflects(object, ior));

@@ -21,6 +21,8 @@ struct SurfaceHit {
   vec3 normal;  // interpolated, unit
   uint object;
   vec4 texcoords;  // interpolated: TEXCOORD_0 in xy, TEXCOORD_1 in zw
+  uint triangle;   // in TriangleBlock's order
+  vec2 barycentrics;  // v1's and v2's weights
 };
 
 // Whether triangle `triangle` (of TriangleBlock) is there at barycentrics `b` (v1's and v2's
@@ -46,6 +48,8 @@ SurfaceHit surface_hit(uint triangle, vec2 b, float t) {
   h.normal = dot(n, n) > 1e-20 ? normalize(n) : normalize(geometric);
   h.object = uint(v0.normal_object.w + 0.5);
   h.texcoords = (1.0 - b.x - b.y) * v0.texcoords + b.x * v1.texcoords + b.y * v2.texcoords;
+  h.triangle = triangle;
+  h.barycentrics = b;
   return h;
 }
 
@@ -56,6 +60,8 @@ SurfaceHit missed_surface() {
   h.normal = vec3(0.0, 1.0, 0.0);
   h.object = 0u;
   h.texcoords = vec4(0.0);
+  h.triangle = 0u;
+  h.barycentrics = vec2(0.0);
   return h;
 }
 
@@ -121,6 +127,38 @@ void layers_at(uint object, vec4 texcoords, inout vec4 specular, inout vec4 laye
                vec3(layer_texel(object, 2, texcoords, 0), layer_texel(object, 3, texcoords, 1), layer_texel(object, 4, texcoords, 0));
   vec4 film = objects[object].film;
   film_thickness = objects[object].layer_maps[5].row_u.w >= 0.0 ? mix(film.y, film.z, layer_texel(object, 5, texcoords, 1)) : film.z;
+}
+
+// KHR_materials_clearcoat's normal where a ray meets a refractor whose coat has its own normal map
+// (clearcoatNormalTexture, ObjectData::surface_maps[4]): the hit's outward normal bent by the map in
+// the triangle's tangent frame, turned to the side of `facing`; `facing` where the object has none.
+// The frame is the vertices' TANGENT, or without one the triangle's direction of increasing u (as
+// the G-buffer derives it from screen derivatives, and the references from the triangle).
+vec3 coat_normal_at(SurfaceHit h, vec3 facing) {
+  TextureSlot map = objects[h.object].surface_maps[4];
+  if (map.row_u.w < 0.0) return facing;
+  Vertex v0 = vertices[triangle_vertices[3u * h.triangle]];
+  Vertex v1 = vertices[triangle_vertices[3u * h.triangle + 1u]];
+  Vertex v2 = vertices[triangle_vertices[3u * h.triangle + 2u]];
+  vec2 b = h.barycentrics;
+  vec3 n = h.normal;
+  vec4 tangent = (1.0 - b.x - b.y) * v0.tangent + b.x * v1.tangent + b.y * v2.tangent;
+  vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+  float sign = tangent.w < 0.0 ? -1.0 : 1.0;
+  if (v0.tangent.w == 0.0 || dot(t, t) <= 1e-20) {
+    vec2 uv0 = slot_uv(map, v0.texcoords), d1 = slot_uv(map, v1.texcoords) - uv0, d2 = slot_uv(map, v2.texcoords) - uv0;
+    float det = d1.x * d2.y - d2.x * d1.y;
+    vec3 e1 = v1.position_dn.xyz - v0.position_dn.xyz, e2 = v2.position_dn.xyz - v0.position_dn.xyz;
+    t = det != 0.0 ? (e1 * d2.y - e2 * d1.y) / det : vec3(0.0);
+    t -= n * dot(n, t);
+    sign = 1.0;
+  }
+  if (dot(t, t) <= 1e-20) return facing;
+  t = normalize(t);
+  vec3 m = sample_slot_at_full_resolution(map, h.texcoords).xyz * 2.0 - 1.0;
+  m = normalize(vec3(m.xy * objects[h.object].coat_normal.x, m.z));
+  vec3 coat = normalize(t * m.x + sign * cross(n, t) * m.y + n * m.z);
+  return dot(n, facing) < 0.0 ? -coat : coat;
 }
 
 // A refractor's tint (rgb) and transmission (a) where a ray meets it: per texel where its material
