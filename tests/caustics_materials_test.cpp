@@ -192,7 +192,7 @@ TEST(Caustics, TintAndTransmissionAreReadPerTexelInEveryMethod) {
       const char* graph;
       std::vector<std::string> sets;
     };
-    for (const Run& run : {Run{"caustics_raytraced", {"grid=2048"}}, Run{"caustics_raytraced", {"grid=2048", "distance=material"}},
+    for (const Run& run : {Run{"caustics_raytraced", {"grid=1024"}}, Run{"caustics_raytraced", {"grid=1024", "distance=material"}},
                            Run{"caustics_adaptive", {}}, Run{"caustics_regular", {"grid=1024"}}}) {
       e.render(run.graph, scene, run.sets);
       const auto map = halves(e.executor.read_image("caustics"));
