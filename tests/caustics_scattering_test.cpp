@@ -198,36 +198,35 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
 // white light; the textures' means, which image space takes, would light both halves alike (half
 // the red). Checked in the photon reference and the exact tracer (the tracer's green and blue, and
 // the +x half's red, within 5% of the reference's).
+// So is a clear coat's own normal map: tests/data/gltf/coat_normal_glass.gltf is the pane under a
+// full, smooth coat whose normal map tilts the coat's normal 70 degrees towards -x over the -x half
+// and leaves the +x half's as the surface's. The light above the pane's centre meets the -x half's
+// coat at grazing angles, where the coat's Schlick term reflects a fifth to two thirds of it: the
+// floor under the -x half gets less than under the +x half (the coat following the surface's normal
+// would light both halves alike), in the photon reference and in the exact tracer, each half's flux
+// within 5% of the reference's. (One test, so that one process compiles the exact kernel that reads
+// the layers' textures: two run side by side compiled it twice.)
 TEST(Caustics, InterfaceLayersAreReadPerTexelOnTheExactPaths) {
   Engine e;
-  const auto [reference, traced] = pane_halves(e, "layered_pane.gltf");
-  std::printf("layered pane: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", traced[0].x,
-              traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x, reference[0].y, reference[0].z,
-              reference[1].x, reference[1].y, reference[1].z);
-  for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
-    EXPECT_LT(flux[0].x, 0.02 * flux[0].y) << what << ": red passes the -x half";
-    EXPECT_GT(flux[1].x, 0.95 * flux[1].y) << what << ": the +x half reflects red";
+  {
+    const auto [reference, traced] = pane_halves(e, "layered_pane.gltf");
+    std::printf("layered pane: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", traced[0].x,
+                traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x, reference[0].y, reference[0].z,
+                reference[1].x, reference[1].y, reference[1].z);
+    for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
+      EXPECT_LT(flux[0].x, 0.02 * flux[0].y) << what << ": red passes the -x half";
+      EXPECT_GT(flux[1].x, 0.95 * flux[1].y) << what << ": the +x half reflects red";
+    }
+    for (int half = 0; half < 2; ++half) {
+      for (int c = half == 0 ? 1 : 0; c < 3; ++c)
+        EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c]) << half << ", " << c;
+    }
   }
-  for (int half = 0; half < 2; ++half) {
-    for (int c = half == 0 ? 1 : 0; c < 3; ++c)
-      EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c]) << half << ", " << c;
-  }
-}
-
-// A clear coat's own normal map is read where the exact paths meet a refractor:
-// tests/data/gltf/coat_normal_glass.gltf is the thin pane under a full, smooth coat whose normal map
-// tilts the coat's normal 70 degrees towards -x over the -x half and leaves the +x half's as the
-// surface's. The light above the pane's centre meets the -x half's coat at grazing angles, where the
-// coat's Schlick term reflects a fifth to two thirds of it: the floor under the -x half gets less
-// than under the +x half (the coat following the surface's normal would light both halves alike),
-// in the photon reference and in the exact tracer, each half's flux within 5% of the reference's.
-TEST(Caustics, TheCoatsOwnNormalMapIsReadOnTheExactPaths) {
-  Engine e;
   const auto [reference, traced] = pane_halves(e, "coat_normal_glass.gltf");
   std::printf("coat normal map: -x half %.4g, +x half %.4g (reference %.4g, %.4g)\n", traced[0].y, traced[1].y, reference[0].y,
               reference[1].y);
   for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
     EXPECT_LT(flux[0].y, 0.85 * flux[1].y) << what << ": the tilted coat reflects no more than the flat one";
   }
-  for (int half = 0; half < 2; ++half) EXPECT_NEAR(traced[half].y, reference[half].y, 0.05 * reference[half].y) << half;
+  for (int half = 0; half < 2; ++half) EXPECT_NEAR(traced[half].y, reference[half].y, 0.05 * reference[half].y) << "coat, " << half;
 }
