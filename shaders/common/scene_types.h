@@ -77,7 +77,8 @@ struct ObjectData {
   // to film.z).
   TextureSlot layer_maps[6];
   vec4 specular_factors;  // rgb: KHR_materials_specular's colour factor, a: its factor
-  vec4 layer_factors;     // x: clearcoat, y: clearcoat roughness, z: iridescence; w: 1 where a refractor has a layer texture or a coat normal map
+  vec4 layer_factors;     // x: clearcoat, y: clearcoat roughness, z: iridescence; w: 1 where a refractor's layers have textures
+                          // (scene::has_layer_textures: the coat's own normal map too)
   // What glTF's extensions put on an opaque surface's BRDF (scene::Material; the model in scene/surface.glsl):
   vec4 sheen;                  // rgb: the sheen's colour, a: its roughness
   vec4 sheen_albedo[4];        // the sheen's directional albedo at cosines (k / 15)^2, k = 0..15 (reference/surface_physics.h)
