@@ -77,8 +77,8 @@ TEST(GltfInterface, SheenOnATransmissiveSurfaceWarnsThatItIsNotDrawn) {
 // per texel, and the material's values hold each factor times its texture's mean
 // (tests/data/gltf/textured_extensions.gltf, whose checker is half (255, 160, 60, 255) and half
 // (60, 140, 255, 70): in linear light its rgb mean is (0.522593, 0.306892, 0.522593) by the sRGB
-// curve, its alpha mean 0.637255). A clear coat's own normal map is read on opaque surfaces and,
-// on a transmissive one (tests/data/gltf/coat_normal_glass.gltf), warned as not drawn.
+// curve, its alpha mean 0.637255). A clear coat's own normal map is kept on opaque surfaces and on
+// a transmissive one (tests/data/gltf/coat_normal_glass.gltf), without a warning.
 TEST(GltfInterface, OpaqueSurfacesKeepTheirExtensionsTexturesAndFactors) {
   const Scene model = load_model_scene((kData / "gltf/textured_extensions.gltf").string());
   EXPECT_TRUE(model.warnings.empty()) << model.warnings.front();

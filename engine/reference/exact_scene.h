@@ -167,20 +167,19 @@ class ExactScene {
       surface_extensions_at(object, hit, textured);
     }
     const scene::Material& e = per_texel ? textured : m;
-    s.layers = {
-        .sheen_color = e.sheen_color,
-        .sheen_roughness = e.sheen_roughness,
-        .diffuse_transmission = e.diffuse_transmission,
-        .diffuse_transmission_color = e.diffuse_transmission_color,
-        .specular = e.specular,
-        .specular_color = e.specular_color,
-        .ior = m.ior,
-        .clearcoat = e.clearcoat,
-        .clearcoat_roughness = e.clearcoat_roughness,
-        .clearcoat_normal = mapped_normal(hit, geometric, m.surface_textures.clearcoat_normal, m.surface_textures.clearcoat_normal_scale),
-        .iridescence = e.iridescence,
-        .film_ior = m.film_ior,
-        .film_thickness_nm = e.film_thickness_nm};
+    s.layers = {.sheen_color = e.sheen_color,
+                .sheen_roughness = e.sheen_roughness,
+                .diffuse_transmission = e.diffuse_transmission,
+                .diffuse_transmission_color = e.diffuse_transmission_color,
+                .specular = e.specular,
+                .specular_color = e.specular_color,
+                .ior = m.ior,
+                .clearcoat = e.clearcoat,
+                .clearcoat_roughness = e.clearcoat_roughness,
+                .clearcoat_normal = coat_normal(hit, geometric),
+                .iridescence = e.iridescence,
+                .film_ior = m.film_ior,
+                .film_thickness_nm = e.film_thickness_nm};
     if (m.anisotropy > 0.0f) s.layers.anisotropy_direction = anisotropy(hit, s.normal, s.layers.anisotropy);
     if (glm::dot(geometric, direction) > 0.0f) {  // seen from behind, the normals flip
       s.normal = -s.normal;

@@ -63,8 +63,9 @@ struct LayerTextures {
 
 // The textures of what glTF's extensions put on an opaque surface's BRDF beside the interface
 // layers (KHR_materials_sheen, _diffuse_transmission, and the clear coat's own normal map) and the
-// factors they multiply, read per texel by the G-buffer and the reference; Material's sheen and
-// diffuse transmission fields hold each factor times its texture's mean.
+// factors they multiply, read per texel by the G-buffer and the reference (the coat's normal map on
+// refractors too, by the exact paths); Material's sheen and diffuse transmission fields hold each
+// factor times its texture's mean.
 struct SurfaceTextures {
   TextureRef sheen_color;                 // rgb scales sheen_color_factor
   TextureRef sheen_roughness;             // alpha scales sheen_roughness_factor
