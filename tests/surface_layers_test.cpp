@@ -249,6 +249,34 @@ TEST(SurfaceOnTheDevice, ALeafPassesItsLightToTheFloorBeneath) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], expected[c], 0.03f * expected[c]) << c;
 }
 
+// What a translucent surface passes on is its texels' (tests/data/surfaces/half_leaf_over_floor.json:
+// the leaf above, its diffuseTransmissionTexture passing light through its -x half only): the
+// patches the lighting pass gathers from read the texture where they lie. The floor's radiance
+// under each half's middle, 0.8 / pi x 0.7 x 3 x F (green), F the view factor of the -x half from
+// there worked by hand in translucent_light_test.cpp (0.360737 under the -x half, 0.137164 under
+// the +x half): 0.192910 and 0.073350; the texture's mean would give both 0.133127. Within 6% (0.3% and 3.7% off when written): the
+// 64 patches' sum for a view factor (docs/gltf.md).
+TEST(SurfaceOnTheDevice, WhatALeafPassesIsItsTexelsAtEachPatch) {
+  test::SceneEngine e;
+  e.width = e.height = 64;
+  auto scene =
+      std::make_shared<scene::Scene>(scene::load_scene_file((kSurfaceSource / "tests/data/surfaces/half_leaf_over_floor.json").string()));
+  e.render("refraction_forward", scene, {}, {"lit"});
+  const io::ImageData lit = e.executor.read_image("lit");
+  const glm::mat4 view_projection = scene->camera.view_projection(1.0f);
+  for (const auto& [x, expected] : {std::pair{-0.5f, 0.192910f}, std::pair{0.5f, 0.073350f}}) {
+    const glm::vec4 clip = view_projection * glm::vec4(x, 0.0f, 0.0f, 1.0f);
+    const auto pixel = [&](float ndc, uint32_t size) { return static_cast<uint32_t>((ndc * 0.5f + 0.5f) * float(size)); };
+    const uint32_t px = pixel(clip.x / clip.w, lit.width), py = pixel(clip.y / clip.w, lit.height);
+    ASSERT_LT(px, lit.width);
+    ASSERT_LT(py, lit.height);
+    const float green = lit.rgba[(size_t{py} * lit.width + px) * 4 + 1];
+    std::printf("floor under x = %+.1f (pixel %u, %u): green %.6f, worked by hand %.6f\n", double(x), px, py, double(green),
+                double(expected));
+    EXPECT_NEAR(green, expected, 0.06f * expected) << x;
+  }
+}
+
 // The interface layers' textures on the exact paths (scene/trace.glsl's layers_at), read by a
 // user pass at the middles of tests/data/gltf/layered_pane.gltf's two texels: every layer's factor
 // times its texture's channel there, and the object's own values the factors times the means.

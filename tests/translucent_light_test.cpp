@@ -56,6 +56,29 @@ glm::vec3 gathered(const scene::Scene& s, glm::vec3 p, glm::vec3 n, uint32_t rec
   return light.irradiance(p, n, receiver, random);
 }
 
+// E_t's green at floor point p (facing up, on object 0) over 64 estimates of 256 samples each, each
+// with its own random numbers: their mean, and one estimate's standard deviation.
+struct Estimates {
+  double mean, deviation;
+  glm::vec3 first;  // the first estimate, every channel
+};
+Estimates estimate_green(const scene::Scene& s, glm::vec3 p) {
+  const reference::ExactScene exact(s);
+  const reference::TranslucentLight light(exact);
+  constexpr int kEstimates = 64;
+  double sum = 0, sum2 = 0;
+  glm::vec3 first(0.0f);
+  for (int key = 0; key < kEstimates; ++key) {
+    reference::Random random(uint64_t(key), 1);
+    const glm::vec3 e = light.irradiance(p, glm::vec3(0, 1, 0), 0, random);
+    if (key == 0) first = e;
+    sum += double(e.g);
+    sum2 += double(e.g) * double(e.g);
+  }
+  const double mean = sum / kEstimates;
+  return {mean, std::sqrt(std::max(0.0, sum2 / kEstimates - mean * mean)), first};
+}
+
 // The view factor from a point to an a x b rectangle parallel to its surface, at distance c, the
 // point under one of its corners (the standard closed form).
 double corner_view_factor(double a, double b, double c) {
@@ -83,27 +106,42 @@ TEST(TranslucentLight, TheFloorUnderALeafGathersItsViewFactorOfTheTransmittedLig
   const double expected = 0.7 * 1.0 * double(kE0) * 4 * quarter;  // green
   EXPECT_NEAR(expected, 0.77578, 1e-5);
   for (bool normal_up : {true, false}) {
-    const scene::Scene s = leaf_over_floor(normal_up);
-    const reference::ExactScene exact(s);
-    const reference::TranslucentLight light(exact);
-    constexpr int kEstimates = 64;
-    double sum = 0, sum2 = 0;
-    glm::vec3 first(0.0f);
-    for (int key = 0; key < kEstimates; ++key) {
-      reference::Random random(uint64_t(key), 1);
-      const glm::vec3 e = light.irradiance(glm::vec3(0.0f), glm::vec3(0, 1, 0), 0, random);
-      if (key == 0) first = e;
-      sum += double(e.g);
-      sum2 += double(e.g) * double(e.g);
-    }
-    const double mean = sum / kEstimates, deviation = std::sqrt(std::max(0.0, sum2 / kEstimates - mean * mean));
+    const auto [mean, deviation, first] = estimate_green(leaf_over_floor(normal_up), glm::vec3(0.0f));
     std::printf("normal %s: E_t green %.5f (exact %.5f), one estimate's relative deviation %.4f\n", normal_up ? "+y" : "-y", mean, expected,
                 deviation / mean);
-    EXPECT_NEAR(mean, expected, 4 * deviation / std::sqrt(double(kEstimates)));
+    EXPECT_NEAR(mean, expected, 4 * deviation / 8);
     EXPECT_LT(deviation / expected, 0.04);
     // The colour is the transmission colour's: red and blue in its proportions, sample by sample.
     EXPECT_NEAR(first.r / first.g, 0.7f, 1e-5f);
     EXPECT_NEAR(first.b / first.g, 0.2f, 1e-5f);
+  }
+}
+
+// What a leaf passes is its texels' (tests/data/surfaces/half_leaf_over_floor.json: the same leaf
+// at the same height, under a directional light of 3 W/m^2, its diffuseTransmissionTexture passing
+// light through the -x half only): E_t = 0.7 x 1 x 3 x F (green) with F the view factor of the -x
+// half, [-1, 0] x [-1, 1], from the floor point. Under the -x half's middle (x = -0.5) it is four
+// 0.5 x 1 corner rectangles at distance 1, X = 0.5, Y = 1, sqrt(1 + X^2) = 1.118034:
+//   F_c(0.5, 1) = [0.447214 atan(0.894427) + 0.707107 atan(0.353553)] / (2 pi)
+//               = [0.447214 x 0.729728 + 0.707107 x 0.339837] / 6.283185 = 0.566647 / 6.283185 = 0.090184,
+// F = 0.360737, E_t = 0.757548. Under the +x half's middle (x = 0.5) the -x half is the 1.5 wide
+// rectangle less the 0.5 wide one on either side of the point, sqrt(1 + 1.5^2) = 1.802776:
+//   F_c(1.5, 1) = [0.832050 atan(0.554700) + 0.707107 atan(1.060660)] / (2 pi)
+//               = [0.832050 x 0.506445 + 0.707107 x 0.814827] / 6.283185 = 0.997557 / 6.283185 = 0.158766,
+// F = 2 x (0.158766 - 0.090184) = 0.137164, E_t = 0.288044. The texture's mean (half the factor)
+// would give both points 0.35 x 3 x (0.360737 + 0.137164) = 0.522796. Each within 4 deviations of
+// the mean of 64 estimates, as above.
+TEST(TranslucentLight, WhatALeafPassesIsItsTexelsAtEachPoint) {
+  EXPECT_NEAR(4 * corner_view_factor(0.5, 1, 1), 0.360737, 1e-6);
+  EXPECT_NEAR(2 * (corner_view_factor(1.5, 1, 1) - corner_view_factor(0.5, 1, 1)), 0.137164, 1e-6);
+  const scene::Scene s = scene::load_scene_file((data_dir() / "tests/data/surfaces/half_leaf_over_floor.json").string());
+  ASSERT_EQ(s.objects.front().name, "floor");
+  ASSERT_TRUE(s.objects.back().material.surface_textures.diffuse_transmission.used());
+  for (const auto& [x, expected] : {std::pair{-0.5f, 0.757548}, std::pair{0.5f, 0.288044}}) {
+    const auto [mean, deviation, first] = estimate_green(s, glm::vec3(x, 0.0f, 0.0f));
+    std::printf("under x = %+.1f: E_t green %.5f (exact %.5f), one estimate's relative deviation %.4f\n", double(x), mean, expected,
+                deviation / mean);
+    EXPECT_NEAR(mean, expected, 4 * deviation / 8) << x;
   }
 }
 

@@ -140,10 +140,7 @@ class ExactScene {
   // (u, v), its texture sampled as the engine's sampler reads the full-resolution level.
   glm::vec4 base_color(const scene::Object& object, uint32_t triangle, float u, float v) const {
     const scene::Material& m = object.material;
-    glm::vec4 color(m.albedo, m.alpha);
-    if (!m.base_color_texture.used()) return color;
-    const glm::vec4 uv = texcoords(object, triangle, u, v);
-    return color * scene_.textures[static_cast<size_t>(m.base_color_texture.texture)].sample(transformed(m.base_color_texture, uv));
+    return glm::vec4(m.albedo, m.alpha) * scene::texel_at(scene_, object, m.base_color_texture, triangle, u, v);
   }
   glm::vec4 base_color(const RayHit& hit) const { return base_color(scene_.objects[hit.geometry], hit.triangle, hit.u, hit.v); }
 
@@ -186,7 +183,7 @@ class ExactScene {
       s.layers.clearcoat_normal = -s.layers.clearcoat_normal;
     }
     if (m.metallic_roughness) {
-      const glm::vec4 mr = m.metallic_roughness_texture.used() ? sample(object, m.metallic_roughness_texture, hit) : glm::vec4(1.0f);
+      const glm::vec4 mr = sample(object, m.metallic_roughness_texture, hit);
       s.metallic = m.metallic * mr.b;
       s.roughness = m.roughness * mr.g;
     }
@@ -257,28 +254,25 @@ class ExactScene {
   }
 
  private:
-  glm::vec4 texel_or_one(const scene::Object& object, const scene::TextureRef& ref, const RayHit& hit) const {
-    return ref.used() ? sample(object, ref, hit) : glm::vec4(1.0f);
-  }
   // The interface layers' values (KHR_materials_specular, _clearcoat, _iridescence) where a ray
   // meets the object: each factor times its texture, into `m`.
   void layers_at(const scene::Object& object, const RayHit& hit, scene::Material& m) const {
     const scene::LayerTextures& t = object.material.layer_textures;
-    m.specular = t.specular_factor * texel_or_one(object, t.specular, hit).a;
-    m.specular_color = t.specular_color_factor * glm::vec3(texel_or_one(object, t.specular_color, hit));
-    m.clearcoat = t.clearcoat_factor * texel_or_one(object, t.clearcoat, hit).r;
-    m.clearcoat_roughness = t.clearcoat_roughness_factor * texel_or_one(object, t.clearcoat_roughness, hit).g;
-    m.iridescence = t.iridescence_factor * texel_or_one(object, t.iridescence, hit).r;
+    m.specular = t.specular_factor * sample(object, t.specular, hit).a;
+    m.specular_color = t.specular_color_factor * glm::vec3(sample(object, t.specular_color, hit));
+    m.clearcoat = t.clearcoat_factor * sample(object, t.clearcoat, hit).r;
+    m.clearcoat_roughness = t.clearcoat_roughness_factor * sample(object, t.clearcoat_roughness, hit).g;
+    m.iridescence = t.iridescence_factor * sample(object, t.iridescence, hit).r;
     m.film_thickness_nm =
-        t.thickness.used() ? glm::mix(t.thickness_min, t.thickness_max, texel_or_one(object, t.thickness, hit).g) : t.thickness_max;
+        t.thickness.used() ? glm::mix(t.thickness_min, t.thickness_max, sample(object, t.thickness, hit).g) : t.thickness_max;
   }
   // The sheen's and the diffuse transmission's values where a ray meets the object, likewise.
   void surface_extensions_at(const scene::Object& object, const RayHit& hit, scene::Material& m) const {
     const scene::SurfaceTextures& t = object.material.surface_textures;
-    m.sheen_color = t.sheen_color_factor * glm::vec3(texel_or_one(object, t.sheen_color, hit));
-    m.sheen_roughness = t.sheen_roughness_factor * texel_or_one(object, t.sheen_roughness, hit).a;
-    m.diffuse_transmission = t.diffuse_transmission_factor * texel_or_one(object, t.diffuse_transmission, hit).a;
-    m.diffuse_transmission_color = t.diffuse_transmission_color_factor * glm::vec3(texel_or_one(object, t.diffuse_transmission_color, hit));
+    m.sheen_color = t.sheen_color_factor * glm::vec3(sample(object, t.sheen_color, hit));
+    m.sheen_roughness = t.sheen_roughness_factor * sample(object, t.sheen_roughness, hit).a;
+    m.diffuse_transmission = t.diffuse_transmission_factor * sample(object, t.diffuse_transmission, hit).a;
+    m.diffuse_transmission_color = t.diffuse_transmission_color_factor * glm::vec3(sample(object, t.diffuse_transmission_color, hit));
   }
   // The geometry's normal n bent by tangent-space normal map `map` with its scale, where there is
   // one and a tangent frame for it: the base's normalTexture, or the clear coat's own
@@ -292,16 +286,8 @@ class ExactScene {
     return glm::normalize(frame->first * mapped.x + frame->second * mapped.y + n * mapped.z);
   }
 
-  static glm::vec4 texcoords(const scene::Object& object, uint32_t triangle, float u, float v) {
-    if (object.mesh.texcoords.empty()) return glm::vec4(0.0f);
-    const uint32_t* tri = &object.mesh.indices[3 * triangle];
-    return (1 - u - v) * object.mesh.texcoords[tri[0]] + u * object.mesh.texcoords[tri[1]] + v * object.mesh.texcoords[tri[2]];
-  }
-  static glm::vec2 transformed(const scene::TextureRef& ref, glm::vec4 uv) {
-    return glm::vec2(ref.transform * glm::vec3(ref.texcoord == 1 ? glm::vec2(uv.z, uv.w) : glm::vec2(uv.x, uv.y), 1.0f));
-  }
   static glm::vec2 texcoord(const scene::Object& object, const scene::TextureRef& ref, uint32_t vertex) {
-    return transformed(ref, object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[vertex]);
+    return scene::texture_coordinates(ref, object.mesh.texcoords.empty() ? glm::vec4(0.0f) : object.mesh.texcoords[vertex]);
   }
   // The tangent frame (tangent, bitangent) at a hit with normal n: the mesh's TANGENT
   // interpolated, or without one the frame the engine derives from texture `ref`'s coordinates'
@@ -346,8 +332,9 @@ class ExactScene {
     return frame ? glm::normalize(frame->first * d.x + frame->second * d.y) : glm::vec3(1.0f, 0.0f, 0.0f);
   }
 
+  // Texture `ref` where the ray met the object; 1 where `ref` is unused.
   glm::vec4 sample(const scene::Object& object, const scene::TextureRef& ref, const RayHit& hit) const {
-    return scene_.textures[static_cast<size_t>(ref.texture)].sample(transformed(ref, texcoords(object, hit.triangle, hit.u, hit.v)));
+    return scene::texel_at(scene_, object, ref, hit.triangle, hit.u, hit.v);
   }
 
   const scene::Scene& scene_;

@@ -51,6 +51,7 @@ class TranslucentLight {
   explicit TranslucentLight(const ExactScene& exact) : exact_(exact) {
     const auto& objects = exact.scene().objects;
     passed_.resize(objects.size(), glm::vec3(0.0f));
+    per_texel_.resize(objects.size(), false);
     double total = 0.0;
     for (uint32_t o = 0; o < objects.size(); ++o) {
       const scene::Material& m = objects[o].material;
@@ -59,6 +60,7 @@ class TranslucentLight {
       const bool lambertian = !m.metallic_roughness || m.roughness < 0.0f;
       passed_[o] = diffuse_transmitted_color(lambertian ? 0.0f : m.metallic, m.diffuse_transmission, m.diffuse_transmission_color) /
                    glm::pi<float>();
+      per_texel_[o] = scene::has_surface_textures(m) || m.metallic_roughness_texture.used();
       const auto& mesh = objects[o].mesh;
       for (uint32_t t = 0; t < mesh.indices.size() / 3; ++t) {
         const glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
@@ -99,7 +101,7 @@ class TranslucentLight {
       const glm::vec3 from = p + n_p * epsilon, to = s.q + s.n * (cos_q > 0.0f ? epsilon : -epsilon);
       const float length = glm::distance(from, to);
       if (length > 0.0f && exact_.rays().intersect(from, (to - from) / length, 0.0f, length)) continue;
-      sum += passed_[s.object] * arriving * (cos_p * std::abs(cos_q) / r2);
+      sum += s.passed * arriving * (cos_p * std::abs(cos_q) / r2);
     }
     return sum * (area_ / float(kTranslucentAreaSamples));
   }
@@ -111,7 +113,8 @@ class TranslucentLight {
   struct AreaSample {
     glm::vec3 q, n;  // the point and its smooth normal (the model's: no normal map)
     uint32_t object;
-    bool cut_out;  // where a MASK material's coverage is below its cutoff: no surface there
+    bool cut_out;      // where a MASK material's coverage is below its cutoff: no surface there
+    glm::vec3 passed;  // its far side's radiance per unit irradiance, from the textures' texels there
   };
 
   // Sample k of the N stratified ones: uniform in area over every translucent triangle (pdf 1 / the
@@ -133,7 +136,8 @@ class TranslucentLight {
     AreaSample s{.q = b0 * positions[tri[0]] + b1 * positions[tri[1]] + b2 * positions[tri[2]],
                  .n = glm::vec3(0.0f),
                  .object = t.object,
-                 .cut_out = false};
+                 .cut_out = false,
+                 .passed = passed_[t.object]};
     const glm::vec3 face = glm::cross(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]);
     s.n = glm::normalize(face);
     if (!object.mesh.normals.empty()) {
@@ -142,6 +146,14 @@ class TranslucentLight {
     }
     if (object.material.alpha_mode == scene::AlphaMode::mask) {
       s.cut_out = exact_.base_color(object, t.triangle, b1, b2).a < object.material.alpha_cutoff;
+    }
+    if (per_texel_[t.object]) {
+      // As the G-buffer sees the surface there; which side it is seen from does not change the texels.
+      const SurfacePoint at =
+          exact_.surface({.distance = 0.0f, .geometry = t.object, .triangle = t.triangle, .geometric_normal = s.n, .u = b1, .v = b2}, -s.n);
+      s.passed = diffuse_transmitted_color(at.roughness < 0.0f ? 0.0f : at.metallic, at.layers.diffuse_transmission,
+                                           at.layers.diffuse_transmission_color) /
+                 glm::pi<float>();
     }
     return s;
   }
@@ -165,6 +177,7 @@ class TranslucentLight {
 
   const ExactScene& exact_;
   std::vector<glm::vec3> passed_;  // per object: its far side's radiance per unit irradiance, 0 where it passes none
+  std::vector<bool> per_texel_;    // per object: whether textures set what it passes (then each sample reads its texels)
   std::vector<Triangle> triangles_;
   std::vector<double> cdf_;  // over triangles_, by area, ending at 1
   float area_ = 0.0f;

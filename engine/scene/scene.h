@@ -366,6 +366,13 @@ bool fit_caustic_view(Light& light, const Scene& scene);
 // caustic view again, as the engine does for a light the viewer moves (GpuScene::replace_view).
 void move_light(Scene& scene, size_t index, glm::vec3 offset);
 
+// The coordinates texture `ref` reads at a point whose TEXCOORD sets are `uv` (set 0 in xy, set 1
+// in zw): its set, through its transform.
+glm::vec2 texture_coordinates(const TextureRef& ref, glm::vec4 uv);
+// Texture `ref` of `object` at barycentric (u, v) of its triangle `triangle` (the weights of the
+// triangle's second and third vertices), as Texture::sample reads it; 1 where `ref` is unused.
+glm::vec4 texel_at(const Scene& scene, const Object& object, const TextureRef& ref, uint32_t triangle, float u, float v);
+
 // Throws InputError naming the file, line and JSON pointer (or the mesh file and its line).
 // A scene file, or a model file opened as a scene (load_model_scene).
 Scene load_scene_file(const std::string& path, bool stage = true);

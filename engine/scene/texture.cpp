@@ -63,4 +63,18 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
   return glm::mix(glm::mix(texel(x, y), texel(x + 1, y), f.x), glm::mix(texel(x, y + 1), texel(x + 1, y + 1), f.x), f.y);
 }
 
+glm::vec2 texture_coordinates(const TextureRef& ref, glm::vec4 uv) {
+  return glm::vec2(ref.transform * glm::vec3(ref.texcoord == 1 ? glm::vec2(uv.z, uv.w) : glm::vec2(uv.x, uv.y), 1.0f));
+}
+
+glm::vec4 texel_at(const Scene& scene, const Object& object, const TextureRef& ref, uint32_t triangle, float u, float v) {
+  if (!ref.used()) return glm::vec4(1.0f);
+  glm::vec4 uv(0.0f);
+  if (!object.mesh.texcoords.empty()) {
+    const uint32_t* corner = &object.mesh.indices[3 * size_t{triangle}];
+    uv = (1 - u - v) * object.mesh.texcoords[corner[0]] + u * object.mesh.texcoords[corner[1]] + v * object.mesh.texcoords[corner[2]];
+  }
+  return scene.textures[static_cast<size_t>(ref.texture)].sample(texture_coordinates(ref, uv));
+}
+
 }  // namespace caustica::scene

@@ -62,11 +62,22 @@ std::vector<gpu::TranslucentSample> translucent_samples(const Scene& scene) {
     }
     const glm::vec3 point = a + static_cast<float>(u) * (b - a) + static_cast<float>(v) * (c - a);
     const glm::vec3 normal = glm::normalize(glm::cross(b - a, c - a));
-    // The Lambertian BTDF of the lighting pass's back-lit surface (scene/surface.glsl), with the
-    // material's metallic factor: metal passes nothing.
-    const Material& m = scene.objects[t.object].material;
-    const float metallic = m.metallic_roughness ? m.metallic : 0.0f;
-    const glm::vec3 passed = (1.0f - metallic) * m.diffuse_transmission * m.diffuse_transmission_color / glm::pi<float>();
+    // The Lambertian BTDF of the lighting pass's back-lit surface (scene/surface.glsl) with the
+    // patch's own texels, as the G-buffer reads them there (a leaf's veins pass less than its blade):
+    // each factor times its texture, metal passing nothing.
+    const Object& object = scene.objects[t.object];
+    const Material& m = object.material;
+    const SurfaceTextures& st = m.surface_textures;
+    auto texel = [&](const TextureRef& ref) {
+      return texel_at(scene, object, ref, t.first_index / 3, static_cast<float>(u), static_cast<float>(v));
+    };
+    const float metallic = m.metallic_roughness ? m.metallic * texel(m.metallic_roughness_texture).b : 0.0f;
+    const float share_passed =
+        st.diffuse_transmission.used() ? st.diffuse_transmission_factor * texel(st.diffuse_transmission).a : m.diffuse_transmission;
+    const glm::vec3 colour = st.diffuse_transmission_color.used()
+                                 ? st.diffuse_transmission_color_factor * glm::vec3(texel(st.diffuse_transmission_color))
+                                 : m.diffuse_transmission_color;
+    const glm::vec3 passed = (1.0f - metallic) * share_passed * colour / glm::pi<float>();
     samples.push_back({glm::vec4(point, share), glm::vec4(normal, static_cast<float>(t.object)), glm::vec4(passed, 0.0f)});
   }
   return samples;

@@ -1,8 +1,8 @@
 #pragma once
 // Points over the scene's translucent surfaces (opaque objects with KHR_materials_diffuse_transmission)
 // from which the lighting pass gathers the light they pass on to what lies behind them: each a small
-// patch of a surface, its share of the area, its geometric normal and its object (docs/gltf.md,
-// "Diffuse transmission").
+// patch of a surface, its share of the area, its geometric normal, its object and what it passes
+// (its textures' texels where it lies; docs/gltf.md, "Diffuse transmission").
 #include <cstdint>
 #include <vector>
 

@@ -5,7 +5,7 @@ quad whose coverage is a checker of alpha 0 and 1 (texture 1, TEXCOORD_1, MASK),
 straight above, and a camera. Everything is embedded, so the file stands alone.
 Also writes malformed variants for the bad-input tests (bad_texture_*.gltf, bad_occlusion_strength.gltf,
 bad_tangent_count.gltf), and textured_surfaces.gltf, rough_pane.gltf, tinted_pane.gltf,
-blend_pane.gltf, layered_pane.gltf and textured_extensions.gltf (below).
+blend_pane.gltf, layered_pane.gltf, textured_extensions.gltf and half_leaf.gltf (below).
 Run from this folder: python3 make_textured.py"""
 import base64, json, math, struct, zlib
 
@@ -386,3 +386,33 @@ coat_glass["textures"] = [{"sampler": 0, "source": 0}]
 coat_tilt = math.radians(70)
 coat_glass["images"] = [{"uri": data_uri("image/png", png(2, 1, [[encode_normal(-math.sin(coat_tilt), 0.0), encode_normal(0.0, 0.0)]]))}]
 write("coat_normal_glass.gltf", coat_glass)
+
+
+# half_leaf.gltf: the 2 x 2 translucent leaf of scenes/materials/translucent_leaf.gltf (facing +y,
+# diffuse transmission 0.7 of colour (0.7, 1, 0.2)) whose diffuseTransmissionTexture, sampled
+# NEAREST, passes light through its -x half (alpha 255) and none through its +x half (alpha 0): the
+# floor under each half gathers what the -x half passes, a known answer from rectangles' view
+# factors (tests/translucent_light_test.cpp, tests/surface_layers_test.cpp), where the texture's
+# mean would light both alike.
+leaf_blob, leaf_meshes, leaf_views, leaf_accessors = build([([(-1, 0, 1), (1, 0, 1), (1, 0, -1), (-1, 0, -1)], (0, 1, 0), 0)])
+half_leaf = {
+    "asset": {"version": "2.0", "generator": "caustica tests/data/gltf/make_textured.py"},
+    "extensionsUsed": ["KHR_materials_diffuse_transmission"],
+    "scene": 0,
+    "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": leaf_meshes,
+    "materials": [
+        {"name": "half-translucent leaf", "doubleSided": True,
+         "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.45, 0.1, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8},
+         "extensions": {"KHR_materials_diffuse_transmission": {
+             "diffuseTransmissionFactor": 0.7, "diffuseTransmissionTexture": {"index": 0},
+             "diffuseTransmissionColorFactor": [0.7, 1.0, 0.2]}}}],
+    "textures": [{"sampler": 0, "source": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
+    "images": [{"uri": data_uri("image/png", png(2, 1, [[(255, 255, 255, 255), (255, 255, 255, 0)]]))}],
+    "buffers": [{"byteLength": len(leaf_blob), "uri": data_uri("application/octet-stream", leaf_blob)}],
+    "bufferViews": leaf_views,
+    "accessors": leaf_accessors,
+}
+write("half_leaf.gltf", half_leaf)
