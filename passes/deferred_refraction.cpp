@@ -51,6 +51,7 @@ graph::PassTypeDecl deferred_refraction_pass_type() {
   ports.push_back(surfaces("front", "refractor front surfaces (refractor_buffers)"));
   ports.push_back(surfaces("back", "refractor back surfaces (refractor_buffers)"));
   ports.push_back(RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "frame"));
+  ports.push_back(RefractorSurfaces::front_layers_port(PortAccess::read, PortUsage::sampled, "frame"));
   ports.push_back({"color",
                    PortAccess::write,
                    ResourceKind::image,

@@ -89,7 +89,8 @@ std::vector<graph::PortDecl> photon_ports() {
            "flux per texel, in the light's image plane: r32f with a layer per colour channel (\"layers\": 3)",
            false,
            3},
-          RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "light")};
+          RefractorSurfaces::front_tint_port(PortAccess::read, PortUsage::sampled, "light"),
+          RefractorSurfaces::front_layers_port(PortAccess::read, PortUsage::sampled, "light")};
 }
 
 void require_photon_features(const graph::PassSetup& setup, const std::string& pass_type) {
@@ -114,7 +115,7 @@ vk::DescriptorWriter photon_descriptors(const graph::PassContext& ctx, const vk:
       .buffer("CounterBlock", ctx.counter_buffer())
       .buffer("SumBlock", ctx.counter_buffer());
   exact.bind(ctx, writer);
-  bind_front_tint(ctx, writer);
+  bind_front_texels(ctx, writer);
   return writer;
 }
 

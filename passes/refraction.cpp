@@ -173,11 +173,13 @@ void TracedScene::bind_textures(const graph::PassContext& ctx, const vk::Pipelin
 
 shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines) {
   if (setup.bound("front_tint")) defines["REFRACTOR_TINT"] = "1";
+  if (setup.bound("front_layers")) defines["REFRACTOR_LAYERS"] = "1";
   return defines;
 }
 
-void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
+void bind_front_texels(const graph::PassContext& ctx, vk::DescriptorWriter& writer) {
   if (ctx.bound("front_tint")) writer.image("front_tint_tex", ctx.view("front_tint"), ctx.nearest_sampler());
+  if (ctx.bound("front_layers")) writer.image("front_layers_tex", ctx.view("front_layers"), ctx.nearest_sampler());
 }
 
 std::vector<graph::PortDecl> refraction_inputs() {
@@ -209,7 +211,7 @@ vk::DescriptorWriter refraction_descriptors(const graph::PassContext& ctx, const
       .image("back_tex", back, ctx.nearest_sampler())
       .buffer("CounterBlock", ctx.counter_buffer());
   if (exact) exact->bind(ctx, writer);
-  bind_front_tint(ctx, writer);
+  bind_front_texels(ctx, writer);
   return writer;
 }
 

@@ -67,12 +67,13 @@ class TracedScene {
   bool layer_textures_ = false;  // the scene has interface layers with textures (scene.layer_textures)
 };
 
-// The optional front_tint input (RefractorSurfaces::front_tint_port), where a pass has it bound:
-// front_tint_tex of its shaders (shaders/refraction/refraction.glsl, at_front_texel).
+// The optional front_tint and front_layers inputs (RefractorSurfaces::front_tint_port,
+// front_layers_port), where a pass has them bound: front_tint_tex and front_layers_tex of its
+// shaders (shaders/refraction/refraction.glsl, at_front_texel).
 // The defines of a pass's refraction shaders that its setup decides: REFRACTOR_TINT where front_tint
-// is bound.
+// is bound, REFRACTOR_LAYERS where front_layers is.
 shader::Defines refraction_defines(const graph::PassSetup& setup, shader::Defines defines = {});
-void bind_front_tint(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
+void bind_front_texels(const graph::PassContext& ctx, vk::DescriptorWriter& writer);
 
 // The ports every refraction pass reads: the image behind the refractors and its depth.
 std::vector<graph::PortDecl> refraction_inputs();

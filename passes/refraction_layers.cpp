@@ -23,7 +23,8 @@ struct Use {
 };
 constexpr Use kAttachmentWrite{VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT};
-constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
+constexpr Use kSampledRead{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
 constexpr Use kStorageWrite{VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 
 class RefractionLayersPass final : public graph::Pass {
@@ -47,16 +48,16 @@ class RefractionLayersPass final : public graph::Pass {
     // Every port starts and ends in the plan's layout for it; in between each is wherever the last
     // layer left it.
     std::map<std::string, Use> state{{"color", kStorageWrite}, {"background", kStorageWrite}};
-    for (const char* surface : {"front", "back", "front_tint"}) state[surface] = kAttachmentWrite;
+    for (const char* surface : {"front", "back", "front_tint", "front_layers"}) state[surface] = kAttachmentWrite;
     auto make = [&](const std::string& name, const Use& wanted) {
       Use& current = state.at(name);
       if (current.layout == wanted.layout) return;
-      image_barrier(cmd, ctx.image(name), VK_IMAGE_ASPECT_COLOR_BIT, current.layout, wanted.layout, current.stage, current.access, wanted.stage,
-                    wanted.access);
+      image_barrier(cmd, ctx.image(name), VK_IMAGE_ASPECT_COLOR_BIT, current.layout, wanted.layout, current.stage, current.access,
+                    wanted.stage, wanted.access);
       current = wanted;
     };
     auto make_surfaces = [&](const Use& wanted) {
-      for (const char* surface : {"front", "back", "front_tint"}) {
+      for (const char* surface : {"front", "back", "front_tint", "front_layers"}) {
         if (ctx.bound(surface)) make(surface, wanted);
       }
     };
@@ -104,7 +105,7 @@ class RefractionLayersPass final : public graph::Pass {
  private:
   RefractorSurfaces surfaces_;
   DeferredRefractionShading shading_;
-  static constexpr std::array<const char*, 5> kSurfacePorts{"front", "back", "front_tint", "front_depth", "back_depth"};
+  static constexpr std::array<const char*, 6> kSurfacePorts{"front", "back", "front_tint", "front_layers", "front_depth", "back_depth"};
   uint32_t tir_counter_ = 0, layers_counter_ = 0, drawn_counter_ = 0;
   bool one_layer_drawn_ = false;  // the last run drew one layer's surfaces
 };
@@ -137,9 +138,10 @@ graph::PassTypeDecl refraction_layers_pass_type() {
   ports.push_back(scratch("front", Format::rgba32f, PortUsage::color_attachment, "one refractor's front surface, reused per layer"));
   ports.push_back(scratch("back", Format::rgba32f, PortUsage::color_attachment, "one refractor's back surface, reused per layer"));
   ports.push_back(RefractorSurfaces::front_tint_port(PortAccess::write, PortUsage::color_attachment, "frame"));
+  ports.push_back(RefractorSurfaces::front_layers_port(PortAccess::write, PortUsage::color_attachment, "frame"));
   for (auto& port : ports)
-    port.also_sampled =
-        port.name == "background" || port.name == "front" || port.name == "back" || port.name == "color" || port.name == "front_tint";
+    port.also_sampled = port.name == "background" || port.name == "front" || port.name == "back" || port.name == "color" ||
+                        port.name == "front_tint" || port.name == "front_layers";
   ports.push_back(scratch("front_depth", Format::d32f, PortUsage::depth_attachment, "depth for the front-surface draw"));
   ports.push_back(RefractorSurfaces::back_depth_port("frame"));
   PassTypeDecl decl{"refraction_layers",

@@ -1,7 +1,7 @@
 // refractor_buffers: front and back surfaces of the refractors from the camera or a light, in one
 // pass (two draws with opposite culling). Each texel: packed outward normal, distance from the eye,
 // d_N, object index; distance 0 where there is no refractor. Optionally the front surfaces' tint
-// and transmission (front_tint).
+// and transmission (front_tint) and interface layers (front_layers).
 #include "refractor_buffers.h"
 
 #include "builtin_passes.h"
@@ -16,10 +16,15 @@ void RefractorSurfaces::setup(graph::PassSetup& setup, const std::string& front,
     state.cull = kind == 0 ? VK_CULL_MODE_BACK_BIT : kind == 1 ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_NONE;
     const char* names[] = {"refractor_front", "refractor_back", "refractor_thin"};
     pipelines_[kind] = make_scene_pipeline(setup, names[kind], "scene/refractor.frag", state);
-    if (kind == 1 || !setup.bound("front_tint")) continue;
-    state.color_formats.push_back(graph::format_info(setup.resource("front_tint").format).vk);
-    tinted_[kind / 2] = make_scene_pipeline(setup, kind ? "refractor_thin_tinted" : "refractor_front_tinted", "scene/refractor.frag", state,
-                                            {{"REFRACTOR_TINT", "1"}});
+    if (kind == 1 || (!setup.bound("front_tint") && !setup.bound("front_layers"))) continue;
+    shader::Defines defines;
+    for (const char* port : kTexelPorts) {
+      if (!setup.bound(port)) continue;
+      state.color_formats.push_back(graph::format_info(setup.resource(port).format).vk);
+      defines[port == kTexelPorts[0] ? "REFRACTOR_TINT" : "REFRACTOR_LAYERS"] = "1";
+    }
+    per_texel_[kind / 2] =
+        make_scene_pipeline(setup, kind ? "refractor_thin_per_texel" : "refractor_front_per_texel", "scene/refractor.frag", state, defines);
   }
 }
 
@@ -30,20 +35,39 @@ RefractorSurfaces::Targets RefractorSurfaces::targets(graph::PassContext& ctx) {
           ctx.view("front_depth"),
           ctx.image("front_depth"),
           ctx.bound("back_depth") ? ctx.view("back_depth") : VK_NULL_HANDLE,
-          ctx.bound("front_tint") ? ctx.view("front_tint") : VK_NULL_HANDLE};
+          ctx.bound("front_tint") ? ctx.view("front_tint") : VK_NULL_HANDLE,
+          ctx.bound("front_layers") ? ctx.view("front_layers") : VK_NULL_HANDLE};
 }
 
+namespace {
+
+// An optional port of the front surfaces' texels: what image space reads per texel where it meets a
+// refractor's front surface, and without which it takes each material's means.
+graph::PortDecl front_texels_port(const char* name, std::vector<graph::Format> formats, graph::PortAccess access, graph::PortUsage usage,
+                                  const char* extent_group, const std::string& what) {
+  return graph::PortDecl{name,
+                         access,
+                         graph::ResourceKind::image,
+                         usage,
+                         std::move(formats),
+                         true,
+                         extent_group,
+                         "optional: " + what + ", from the refractors' textures; without it image space takes each material's means"};
+}
+
+}  // namespace
+
 graph::PortDecl RefractorSurfaces::front_tint_port(graph::PortAccess access, graph::PortUsage usage, const char* extent_group) {
-  using namespace graph;
-  return PortDecl{"front_tint",
-                  access,
-                  ResourceKind::image,
-                  usage,
-                  {Format::rgba8_srgb, Format::rgba8, Format::rgba16f},
-                  true,
-                  extent_group,
-                  "optional: the front surfaces' tint (rgb) and transmission (a) per texel, from the refractors' textures; "
-                  "without it image space takes each material's means"};
+  using graph::Format;
+  return front_texels_port("front_tint", {Format::rgba8_srgb, Format::rgba8, Format::rgba16f}, access, usage, extent_group,
+                           "the front surfaces' tint (rgb) and transmission (a) per texel");
+}
+
+graph::PortDecl RefractorSurfaces::front_layers_port(graph::PortAccess access, graph::PortUsage usage, const char* extent_group) {
+  return front_texels_port(
+      "front_layers", {graph::Format::rg32ui}, access, usage, extent_group,
+      "the front surfaces' interface layers per texel (the texels of KHR_materials_specular's, _clearcoat's and "
+      "_iridescence's textures, packed as the G-buffer's layers target's z and w, shaders/scene/material_targets.glsl)");
 }
 
 graph::PortDecl RefractorSurfaces::back_depth_port(const char* extent_group) {
@@ -59,15 +83,20 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
                                bool back_only) {
   VkCommandBuffer cmd = ctx.cmd();
   const DrawPush push(view);
-  // front_tint is drawn only where a refractor's tint varies: nothing reads it elsewhere, and
-  // drawing it cost the untextured bunny's light view 13% (45 -> 51 ms at 1024^2 on lavapipe).
-  const bool tinted = targets.front_tint != VK_NULL_HANDLE && ctx.scene().scene().tints_per_texel();
+  // front_tint and front_layers are drawn only where a refractor's tint or interface layers vary:
+  // nothing reads them elsewhere, and drawing the tint cost the untextured bunny's light view 13%
+  // (45 -> 51 ms at 1024^2 on lavapipe).
+  const scene::Scene& scene = ctx.scene().scene();
+  const bool per_texel = (targets.front_tint != VK_NULL_HANDLE && scene.tints_per_texel()) ||
+                         (targets.front_layers != VK_NULL_HANDLE && scene.has_layer_textures());
   for (int back = 0; back < 2; ++back) {
     const scene::DrawRange drawn = back || !back_only ? range : scene::DrawRange{};  // back_only: the front is only cleared
     const bool shared_depth = back && targets.back_depth == VK_NULL_HANDLE;
     if (shared_depth) wait_for_depth_writes(cmd, targets.front_depth_image);
     std::vector<Attachment> colors{{back ? targets.back : targets.front}};
-    if (!back && tinted) colors.push_back({targets.front_tint});
+    for (VkImageView texels : {targets.front_tint, targets.front_layers}) {
+      if (!back && per_texel && texels != VK_NULL_HANDLE) colors.push_back({texels});
+    }
     begin_rendering(cmd, targets.extent, colors, Attachment{back && !shared_depth ? targets.back_depth : targets.front_depth});
     // A thin wall is one surface, seen from either side: the front draw takes its nearest face
     // whichever way it faces; the back draw, as for solids, the nearest back face (a closed thin
@@ -76,7 +105,7 @@ void RefractorSurfaces::record(graph::PassContext& ctx, const SceneView& view, s
     const scene::DrawRange parts[2] = {solid, thin};
     for (int part = 0; part < 2; ++part) {
       if (parts[part].index_count == 0) continue;
-      const vk::Pipeline& pipeline = back ? pipelines_[1] : tinted ? tinted_[part] : pipelines_[part ? 2 : 0];
+      const vk::Pipeline& pipeline = back ? pipelines_[1] : per_texel ? per_texel_[part] : pipelines_[part ? 2 : 0];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline.get());
       scene_descriptors(ctx, pipeline).push(ctx.vk(), cmd, pipeline);
       bind_scene_textures(ctx, cmd, pipeline);
@@ -120,7 +149,8 @@ graph::PassTypeDecl refractor_buffers_pass_type() {
       "distance from the eye, d_N and object index per texel (distance 0: no refractor).",
       PassQueue::graphics,
       {surface("front", "front faces"), surface("back", "back faces"), depth("front_depth"), RefractorSurfaces::back_depth_port("view"),
-       RefractorSurfaces::front_tint_port(PortAccess::write, PortUsage::color_attachment, "view")},
+       RefractorSurfaces::front_tint_port(PortAccess::write, PortUsage::color_attachment, "view"),
+       RefractorSurfaces::front_layers_port(PortAccess::write, PortUsage::color_attachment, "view")},
       [] {
         auto params = view_params();
         params.push_back({"faces",

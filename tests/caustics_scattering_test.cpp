@@ -21,11 +21,12 @@ using namespace caustica::test::caustic_tests;
 namespace {
 
 // The floor's flux under each half of pane asset tests/data/gltf/`asset` (flux_under_pane_halves):
-// the photon reference's (1e6 photons) and the exact tracer's (1024^2).
+// the photon reference's (1e6 photons), the exact tracer's (1024^2) and, where asked, image space's
+// (caustics_regular, 1024^2).
 struct PaneHalves {
-  std::array<glm::dvec3, 2> reference, traced;
+  std::array<glm::dvec3, 2> reference, traced, image_space;
 };
-PaneHalves pane_halves(Engine& e, const char* asset) {
+PaneHalves pane_halves(Engine& e, const char* asset, bool image_space = false) {
   const std::string file = (std::filesystem::path(CAUSTICA_SOURCE_DIR) / "tests/data/gltf" / asset).string();
   auto scene = std::make_shared<scene::Scene>(scene::load_model_scene(file, false));
   reference::PhotonOptions options;
@@ -34,6 +35,10 @@ PaneHalves pane_halves(Engine& e, const char* asset) {
   flux.reference = flux_under_pane_halves(*scene, reference::trace_photon_reference(*scene, options).caustic_map);
   e.render("caustics_raytraced", scene, {"grid=1024"});
   flux.traced = flux_under_pane_halves(*scene, e.executor.read_image("caustics"));
+  if (image_space) {
+    e.render("caustics_regular", scene, {"grid=1024"});
+    flux.image_space = flux_under_pane_halves(*scene, e.executor.read_image("caustics"));
+  }
   return flux;
 }
 
@@ -191,13 +196,15 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
   }
 }
 
-// The interface layers are read per texel where the exact paths meet a surface:
+// The interface layers are read per texel where the exact paths meet a surface, and in image space
+// where the light's refractor buffers hold them (the front_layers port):
 // tests/data/gltf/layered_pane.gltf is a smooth thin pane whose layer textures give its -x half a
 // specular colour that reflects red whole and green not at all (under a coat and a film), and its
 // +x half nothing that reflects. The floor under the -x half gets no red and under the +x half
-// white light; the textures' means, which image space takes, would light both halves alike (half
-// the red). Checked in the photon reference and the exact tracer (the tracer's green and blue, and
-// the +x half's red, within 5% of the reference's).
+// white light; the textures' means would light both halves alike (half the red). Checked in the
+// photon reference, the exact tracer and image space (caustics_regular: through a thin wall image
+// space sees the exact path), each one's green and blue, and the +x half's red, within 5% of the
+// reference's.
 // So is a clear coat's own normal map: tests/data/gltf/coat_normal_glass.gltf is the pane under a
 // full, smooth coat whose normal map tilts the coat's normal 70 degrees towards -x over the -x half
 // and leaves the +x half's as the surface's. The light above the pane's centre meets the -x half's
@@ -206,23 +213,23 @@ TEST(Caustics, DispersionSeparatesTheBandsInOrder) {
 // would light both halves alike), in the photon reference and in the exact tracer, each half's flux
 // within 5% of the reference's. (One test, so that one process compiles the exact kernel that reads
 // the layers' textures: two run side by side compiled it twice.)
-TEST(Caustics, InterfaceLayersAreReadPerTexelOnTheExactPaths) {
+TEST(Caustics, InterfaceLayersAreReadPerTexel) {
   Engine e;
   {
-    const auto [reference, traced] = pane_halves(e, "layered_pane.gltf");
-    std::printf("layered pane: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g (reference %.4g %.4g %.4g, %.4g %.4g %.4g)\n", traced[0].x,
-                traced[0].y, traced[0].z, traced[1].x, traced[1].y, traced[1].z, reference[0].x, reference[0].y, reference[0].z,
-                reference[1].x, reference[1].y, reference[1].z);
-    for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {
+    const auto [reference, traced, image_space] = pane_halves(e, "layered_pane.gltf", true);
+    for (const auto& [what, flux] :
+         {std::make_pair("reference", reference), std::make_pair("exact tracer", traced), std::make_pair("image space", image_space)}) {
+      std::printf("layered pane, %-12s: -x half %.4g %.4g %.4g, +x half %.4g %.4g %.4g\n", what, flux[0].x, flux[0].y, flux[0].z, flux[1].x,
+                  flux[1].y, flux[1].z);
       EXPECT_LT(flux[0].x, 0.02 * flux[0].y) << what << ": red passes the -x half";
       EXPECT_GT(flux[1].x, 0.95 * flux[1].y) << what << ": the +x half reflects red";
-    }
-    for (int half = 0; half < 2; ++half) {
-      for (int c = half == 0 ? 1 : 0; c < 3; ++c)
-        EXPECT_NEAR(traced[half][c], reference[half][c], 0.05 * reference[half][c]) << half << ", " << c;
+      for (int half = 0; half < 2; ++half) {
+        for (int c = half == 0 ? 1 : 0; c < 3; ++c)
+          EXPECT_NEAR(flux[half][c], reference[half][c], 0.05 * reference[half][c]) << what << half << c;
+      }
     }
   }
-  const auto [reference, traced] = pane_halves(e, "coat_normal_glass.gltf");
+  const auto [reference, traced, image_space] = pane_halves(e, "coat_normal_glass.gltf");
   std::printf("coat normal map: -x half %.4g, +x half %.4g (reference %.4g, %.4g)\n", traced[0].y, traced[1].y, reference[0].y,
               reference[1].y);
   for (const auto& [what, flux] : {std::make_pair("reference", reference), std::make_pair("exact tracer", traced)}) {

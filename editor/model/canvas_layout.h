@@ -95,10 +95,10 @@ CanvasView fit_view(const std::vector<CanvasNode>& nodes, float width, float hei
 
 // Where the editor docks at the bottom of a window of `height`, unless the user drags its top edge:
 // below half of the window, so that most of the picture stays in view.
-inline constexpr float kDockFraction = 0.45f;
+inline constexpr float kDockFraction = 0.48f;
 // The canvas that the dock leaves beside its side panel in the editor's default window (1600x900),
 // as ImGui lays it out; tests/view/edit_test.sh checks the window's, tests/editor_model_test.cpp
 // every bundled graph in it.
-inline constexpr float kDefaultCanvasWidth = 1282.0f, kDefaultCanvasHeight = 337.0f;
+inline constexpr float kDefaultCanvasWidth = 1282.0f, kDefaultCanvasHeight = 364.0f;
 
 }  // namespace caustica::editor

@@ -196,7 +196,8 @@ void Compiler::size_resources() {
     }
     const PlannedResource& r = plan_.resources[static_cast<size_t>(index)];
     const bool linear_float = r.kind == ResourceKind::image && r.format != Format::rgba8 && r.format != Format::rgba8_srgb &&
-                              r.format != Format::r32ui && r.format != Format::rgba32ui && r.format != Format::d32f;
+                              r.format != Format::r32ui && r.format != Format::rg32ui && r.format != Format::rgba32ui &&
+                              r.format != Format::d32f;
     if (!linear_float) {
       throw graph_.error("/linear_output", "linear_output '" + r.name + "' is " +
                                                (r.kind == ResourceKind::image ? std::string(format_info(r.format).name) : "a buffer") +

@@ -324,8 +324,11 @@ io::ImageData Executor::read_image(const std::string& name) const {
         out[3] = 1;
         break;
       }
+      case Format::rg32ui:
       case Format::rgba32ui:
-        for (int c = 0; c < 4; ++c) {
+        out[2] = 0;
+        out[3] = 1;
+        for (int c = 0; c < (res.format == Format::rg32ui ? 2 : 4); ++c) {
           uint32_t v;
           std::memcpy(&v, in + 4 * c, 4);
           out[c] = static_cast<float>(v);

@@ -4,7 +4,7 @@
 
 namespace caustica::graph {
 namespace {
-constexpr std::array<FormatInfo, 11> kFormats{{
+constexpr std::array<FormatInfo, 12> kFormats{{
     {Format::rgba8, "rgba8", VK_FORMAT_R8G8B8A8_UNORM, 4, false, "rgba8"},
     {Format::rgba8_srgb, "rgba8_srgb", VK_FORMAT_R8G8B8A8_SRGB, 4, false, ""},
     {Format::rgba16f, "rgba16f", VK_FORMAT_R16G16B16A16_SFLOAT, 8, false, "rgba16f"},
@@ -14,6 +14,7 @@ constexpr std::array<FormatInfo, 11> kFormats{{
     {Format::r32f, "r32f", VK_FORMAT_R32_SFLOAT, 4, false, "r32f"},
     {Format::rg32f, "rg32f", VK_FORMAT_R32G32_SFLOAT, 8, false, "rg32f"},
     {Format::r32ui, "r32ui", VK_FORMAT_R32_UINT, 4, false, "r32ui"},
+    {Format::rg32ui, "rg32ui", VK_FORMAT_R32G32_UINT, 8, false, "rg32ui"},
     {Format::rgba32ui, "rgba32ui", VK_FORMAT_R32G32B32A32_UINT, 16, false, "rgba32ui"},
     {Format::d32f, "d32f", VK_FORMAT_D32_SFLOAT, 4, true, ""},
 }};

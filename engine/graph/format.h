@@ -9,7 +9,7 @@
 
 namespace caustica::graph {
 
-enum class Format : uint8_t { rgba8, rgba8_srgb, rgba16f, rgba32f, r16f, rg16f, r32f, rg32f, r32ui, rgba32ui, d32f };
+enum class Format : uint8_t { rgba8, rgba8_srgb, rgba16f, rgba32f, r16f, rg16f, r32f, rg32f, r32ui, rg32ui, rgba32ui, d32f };
 
 struct FormatInfo {
   Format format;

@@ -194,7 +194,8 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
   vec4 back = texture(back_tex, uv);
   bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
   float cos_near = abs(dot(direction, unpack_normal(front.x))), cos_far = abs(dot(direction, unpack_normal(back.x)));
-  vec3 reflect_near = params.fresnel != 0u ? reflectance(interface_reflection(object, cos_near, cos_near, 1.0, ior)) : vec3(0.0);
+  ObjectData near = at_front_texel(object, uv);  // the near wall's texels; the far wall keeps the means
+  vec3 reflect_near = params.fresnel != 0u ? reflectance(interface_reflection(near, cos_near, cos_near, 1.0, ior)) : vec3(0.0);
   vec3 reflect_far = far_wall && params.fresnel != 0u ? reflectance(interface_reflection(object, cos_far, cos_far, 1.0, ior)) : vec3(0.0);
 #if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
   if (DISTANCE_MODE == DISTANCE_MATERIAL) {
@@ -212,7 +213,7 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
     reflect_near = reflect_far = vec3(0.0);
   }
 #endif
-  ph.power *= (1.0 - reflect_near) * caustic_transmittance(at_front_texel(object, uv));
+  ph.power *= (1.0 - reflect_near) * caustic_transmittance(near);
   if (far_wall) ph.power *= (1.0 - reflect_far) * caustic_transmittance(object);  // the far wall: means
   float roughness = transmission_roughness(object);
   ph.random = roughness > 0.0;
@@ -343,8 +344,11 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
   if (thin_walled(object)) return thin_wall_photon(ph, light, uv, eye, direction, front, object, receiver, receiver_distance, p1);
   uint rng = photon_rng(uv);
   ph.random = transmission_roughness(object) > 0.0;
+  // The interfaces at the entry's texels (the exit takes the same); the numbers drawn, the object's
+  // (its means), as the exact tracer draws them.
+  ObjectData entered = at_front_texel(object, uv);
   TwoInterfaces path =
-      refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, object, photon_band, uv,
+      refract_two_interfaces(light.view_proj, origin, p1, buffer_normal(front_tex, uv, front), front.y, front.z, entered, photon_band, uv,
                              transmission_roughness(object), entry_choice_draws(object, band_ior(object, photon_band), params.fresnel != 0u), rng);
   // The hybrid re-traces a photon exactly, from the light, only where the estimate cannot be
   // trusted; one counter per reason (the first that applies).
@@ -363,7 +367,7 @@ uint image_space_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec
     ph.tir = true;
     return IMAGE_SPACE_DONE;
   }
-  vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(at_front_texel(object, uv));
+  vec3 inside_power = ph.power * exp(-object.absorption_ior.rgb * path.distance) * caustic_transmittance(entered);
 #ifdef CAUSTICA_HYBRID
   uint next = hybrid_side_path(ph, start, path, p1, front, inside_power, rng);
 #else

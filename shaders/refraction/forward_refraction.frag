@@ -40,6 +40,7 @@ void main() {
   if (cut_out(objects[object_index], texcoords)) discard;   // MASK: no surface here
   float front_distance = distance(world_position, frame.camera_position.xyz);
   ObjectData object = objects[object_index];
-  object.tint_transmission = tint_transmission_filtered(object, texcoords);  // per fragment
+  object.tint_transmission = tint_transmission_filtered(object, texcoords);  // per fragment, as the layers
+  if (object.layer_factors.w > 0.0) object = with_interface_layer_texels(object, interface_layer_texels_filtered(object, texcoords));
   out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, object, uv), 1.0);
 }

@@ -10,6 +10,7 @@
 // depth) and a `counters` buffer with params.tir_counter.
 #include "scene/scene.glsl"
 #include "refraction/interface.glsl"
+#include "scene/material_targets.glsl"
 
 const uint DISTANCE_DV = 0u;     // d_V: front-to-back distance along the view ray at this pixel
 const uint DISTANCE_DV_DN = 1u;  // Wyman's blend of d_V and the per-vertex d_N by refraction angle
@@ -518,17 +519,38 @@ bool thin_far_wall(vec4 front, vec4 back) { return back.y > front.y * (1.0 + 1e-
 // paths' tint_transmission_at gave them).
 vec3 caustic_transmittance(ObjectData object) { return object.tint_transmission.a * object.tint_transmission.rgb; }
 
+// The object with its interface layers (the fields interface_reflection reads: specular,
+// layers.xyz, film.x) at the texels interface_layer_texels_filtered packed: each factor times its
+// texel, as scene/trace.glsl's layers_at reads them where an exact path meets the surface.
+ObjectData with_interface_layer_texels(ObjectData object, uvec2 texels) {
+  vec4 coat_film = unpackUnorm4x8(texels.y);
+  object.specular = object.specular_factors * unpack_colour_texel(texels.x);
+  object.layers.xyz = object.layer_factors.xyz * coat_film.rgb;
+  object.film.x = object.layer_maps[5].row_u.w >= 0.0 ? mix(object.film.y, object.film.z, coat_film.a) : object.film.x;
+  return object;
+}
+
 #ifdef REFRACTION_FRONT_TEX
 #ifdef REFRACTOR_TINT
 layout(set = 0, binding = 16) uniform sampler2D front_tint_tex;
 #endif
-// The refractor seen at texel uv of the front refractor buffer, with its tint and transmission
-// there where its textures vary them and the buffers carry them (the front_tint port, compiled in
-// as REFRACTOR_TINT); else with its materials' means. The surface met first is the one whose
-// tint counts: a thin object's far wall keeps the means.
+#ifdef REFRACTOR_LAYERS
+layout(set = 0, binding = 17) uniform usampler2D front_layers_tex;
+#endif
+// The refractor seen at texel uv of the front refractor buffer, with its tint and transmission and
+// its interface layers there where its textures vary them and the buffers carry them (the
+// front_tint and front_layers ports, compiled in as REFRACTOR_TINT and REFRACTOR_LAYERS); else
+// with its materials' means. The surface met first is the one whose texels count: a thin object's
+// far wall, and a solid's exit, keep the entry's (the layers) or the means (the tint).
 ObjectData at_front_texel(ObjectData object, vec2 uv) {
 #ifdef REFRACTOR_TINT
   if (transmittance_varies(object)) object.tint_transmission = texture(front_tint_tex, uv);
+#endif
+#ifdef REFRACTOR_LAYERS
+  if (object.layer_factors.w > 0.0) {
+    ivec2 texel = min(ivec2(uv * vec2(textureSize(front_layers_tex, 0))), textureSize(front_layers_tex, 0) - 1);
+    object = with_interface_layer_texels(object, texelFetch(front_layers_tex, texel, 0).xy);
+  }
 #endif
   return object;
 }

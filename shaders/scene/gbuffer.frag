@@ -95,11 +95,7 @@ uvec4 layer_texels(ObjectData object) {
   vec4 one = vec4(1.0);
   vec4 sheen = vec4(sample_slot(object.surface_maps[0], texcoords, one).rgb, sample_slot(object.surface_maps[1], texcoords, one).a);
   vec4 passed = vec4(sample_slot(object.surface_maps[3], texcoords, one).rgb, sample_slot(object.surface_maps[2], texcoords, one).a);
-  vec4 specular = vec4(sample_slot(object.layer_maps[1], texcoords, one).rgb, sample_slot(object.layer_maps[0], texcoords, one).a);
-  vec4 coat_film = vec4(sample_slot(object.layer_maps[2], texcoords, one).r, sample_slot(object.layer_maps[3], texcoords, one).g,
-                        sample_slot(object.layer_maps[4], texcoords, one).r, sample_slot(object.layer_maps[5], texcoords, one).g);
-  return uvec4(pack_colour_texel(sheen.rgb, sheen.a), pack_colour_texel(passed.rgb, passed.a), pack_colour_texel(specular.rgb, specular.a),
-               packUnorm4x8(coat_film));
+  return uvec4(pack_colour_texel(sheen.rgb, sheen.a), pack_colour_texel(passed.rgb, passed.a), interface_layer_texels_filtered(object, texcoords));
 }
 #endif
 

@@ -2,8 +2,10 @@
 // Refractor surfaces, front or back faces depending on the pipeline's culling: the outward normal,
 // the distance from the eye (along the axis for an orthographic view), d_N, and the object, in one
 // rgba32f texel. MASK materials cut out where their coverage is below the cutoff. With
-// REFRACTOR_TINT (the pass's optional tint port bound) also the surface's tint and transmission, so
-// that image space reads textured refractors per texel (tint_transmission_filtered).
+// REFRACTOR_TINT (the pass's optional tint port bound) also the surface's tint and transmission,
+// and with REFRACTOR_LAYERS (its front_layers port) the texels of its interface layers, so that
+// image space reads textured refractors per texel (tint_transmission_filtered,
+// interface_layer_texels_filtered).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
@@ -23,6 +25,12 @@ layout(location = 4) in vec4 texcoords;
 layout(location = 0) out vec4 out_surface;
 #ifdef REFRACTOR_TINT
 layout(location = 1) out vec4 out_tint_transmission;
+#define LAYERS_LOCATION 2
+#else
+#define LAYERS_LOCATION 1
+#endif
+#ifdef REFRACTOR_LAYERS
+layout(location = LAYERS_LOCATION) out uvec2 out_layers;
 #endif
 
 void main() {
@@ -31,5 +39,8 @@ void main() {
   out_surface = vec4(pack_normal(normalize(world_normal)), from_eye, normal_distance, float(object_index));
 #ifdef REFRACTOR_TINT
   out_tint_transmission = tint_transmission_filtered(objects[object_index], texcoords);
+#endif
+#ifdef REFRACTOR_LAYERS
+  out_layers = interface_layer_texels_filtered(objects[object_index], texcoords);
 #endif
 }

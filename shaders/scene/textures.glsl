@@ -5,6 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_nonuniform_qualifier : require
 #include "scene/scene.glsl"
+#include "scene/material_targets.glsl"
 layout(set = 1, binding = 0) uniform sampler2D scene_textures[CAUSTICA_MAX_TEXTURES];
 
 vec2 slot_uv(TextureSlot slot, vec4 texcoords) {
@@ -56,6 +57,18 @@ vec4 tint_transmission_from(ObjectData object, vec4 base_color_texel, float tran
 vec4 tint_transmission_filtered(ObjectData object, vec4 texcoords) {
   return tint_transmission_from(object, sample_slot(object.base_color, texcoords, vec4(1.0)),
                                 sample_slot(object.transmission_map, texcoords, vec4(1.0)).r);
+}
+
+// The texels of the interface layers' textures (KHR_materials_specular's colour and weight; the
+// clear coat's weight and roughness, the film's weight and thickness), packed as the G-buffer's
+// layers target's z and w (material_targets.glsl), 1 where the object has no such texture; filtered
+// over the mip chain. with_interface_layer_texels (refraction/refraction.glsl) reads them back.
+uvec2 interface_layer_texels_filtered(ObjectData object, vec4 texcoords) {
+  vec4 one = vec4(1.0);
+  vec4 specular = vec4(sample_slot(object.layer_maps[1], texcoords, one).rgb, sample_slot(object.layer_maps[0], texcoords, one).a);
+  vec4 coat_film = vec4(sample_slot(object.layer_maps[2], texcoords, one).r, sample_slot(object.layer_maps[3], texcoords, one).g,
+                        sample_slot(object.layer_maps[4], texcoords, one).r, sample_slot(object.layer_maps[5], texcoords, one).g);
+  return uvec2(pack_colour_texel(specular.rgb, specular.a), packUnorm4x8(coat_film));
 }
 
 #endif
