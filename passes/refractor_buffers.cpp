@@ -64,10 +64,10 @@ graph::PortDecl RefractorSurfaces::front_tint_port(graph::PortAccess access, gra
 }
 
 graph::PortDecl RefractorSurfaces::front_layers_port(graph::PortAccess access, graph::PortUsage usage, const char* extent_group) {
-  return front_texels_port(
-      "front_layers", {graph::Format::rg32ui}, access, usage, extent_group,
-      "the front surfaces' interface layers per texel (the texels of KHR_materials_specular's, _clearcoat's and "
-      "_iridescence's textures, packed as the G-buffer's layers target's z and w, shaders/scene/material_targets.glsl)");
+  return front_texels_port("front_layers", {graph::Format::rgba32ui, graph::Format::rg32ui}, access, usage, extent_group,
+                           "the front surfaces' interface layers per texel (the texels of KHR_materials_specular's, _clearcoat's and "
+                           "_iridescence's textures, packed as the G-buffer's layers target's z and w, "
+                           "shaders/scene/material_targets.glsl; rgba32ui: and the coat's normal where its own map bends it)");
 }
 
 graph::PortDecl RefractorSurfaces::back_depth_port(const char* extent_group) {

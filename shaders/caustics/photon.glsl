@@ -195,7 +195,9 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
   bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
   float cos_near = abs(dot(direction, unpack_normal(front.x))), cos_far = abs(dot(direction, unpack_normal(back.x)));
   ObjectData near = at_front_texel(object, uv);  // the near wall's texels; the far wall keeps the means
-  vec3 reflect_near = params.fresnel != 0u ? reflectance(interface_reflection(near, cos_near, cos_near, 1.0, ior)) : vec3(0.0);
+  vec3 facing = unpack_normal(front.x) * (dot(direction, unpack_normal(front.x)) > 0.0 ? -1.0 : 1.0);
+  vec3 reflect_near =
+      params.fresnel != 0u ? reflectance(interface_reflection(near, cos_near, coat_cos_outside(near, direction, facing), 1.0, ior)) : vec3(0.0);
   vec3 reflect_far = far_wall && params.fresnel != 0u ? reflectance(interface_reflection(object, cos_far, cos_far, 1.0, ior)) : vec3(0.0);
 #if defined(CAUSTICA_RAY_QUERY) && !defined(PHOTON_CLUSTERS)
   if (DISTANCE_MODE == DISTANCE_MATERIAL) {

@@ -92,7 +92,8 @@ struct ObjectData {
   TextureSlot surface_maps[5];
   vec4 sheen_factors;
   vec4 diffuse_transmission_factors;
-  vec4 coat_normal;  // x: the scale of the coat's normal map; y, z, w: 0
+  vec4 coat_normal;  // x: the scale of the coat's normal map; y, z, w: 0 (image space's copy of a refractor at a
+                     // texel: the coat's normal there, where its map bends it: refraction.glsl's coat_cos_outside)
 };
 
 struct LightData {

@@ -85,7 +85,8 @@ vec3 through_thin_wall(ObjectData object, vec3 p1, vec3 n1, vec4 front, vec2 pix
     }
     vec3 through = roughness > 0.0 ? background_along(far_wall ? p2 : p1, d) : texture(background_tex, pixel_uv).rgb;
     if (far_wall) through = refractor_surface(objects[uint(front.w)], reflect_far, p2, n2, through);  // the far wall: means
-    radiance += refractor_surface(object, reflectance(interface_reflection(object, -dot(v, m1), -dot(v, n1), 1.0, ior)), p1, n1, through);
+    radiance +=
+        refractor_surface(object, reflectance(interface_reflection(object, -dot(v, m1), coat_cos_outside(object, v, n1), 1.0, ior)), p1, n1, through);
   }
   return radiance / float(samples);
 }

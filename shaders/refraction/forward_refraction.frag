@@ -32,7 +32,9 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;
+layout(location = 5) in vec4 tangent;
 layout(location = 0) out vec4 out_color;
+#include "scene/tangent_frame.glsl"
 
 void main() {
   vec2 uv = gl_FragCoord.xy * frame.sizes.zw;
@@ -41,6 +43,9 @@ void main() {
   float front_distance = distance(world_position, frame.camera_position.xyz);
   ObjectData object = objects[object_index];
   object.tint_transmission = tint_transmission_filtered(object, texcoords);  // per fragment, as the layers
-  if (object.layer_factors.w > 0.0) object = with_interface_layer_texels(object, interface_layer_texels_filtered(object, texcoords));
+  if (object.layer_factors.w > 0.0) {
+    object = with_interface_layer_texels(object, interface_layer_texels_filtered(object, texcoords));
+    if (object.surface_maps[4].row_u.w >= 0.0) object.coat_normal.yzw = coat_normal(object, normalize(world_normal), texcoords);
+  }
   out_color = vec4(refracted_radiance(world_position, normalize(world_normal), front_distance, normal_distance, object_index, object, uv), 1.0);
 }

@@ -104,6 +104,16 @@ InterfaceReflection interface_reflection(ObjectData object, float cos_i, float c
   return r;
 }
 
+// The light's cosine to the coat's normal where a ray along v meets a surface whose normal n faces
+// the ray's origin: the coat's own where its normal map bends it (ObjectData::coat_normal.yzw, which
+// image space's at_front_texel and forward refraction set from the map at the entry's texel),
+// turned to n's side; else n's.
+float coat_cos_outside(ObjectData object, vec3 v, vec3 n) {
+  vec3 coat = object.coat_normal.yzw;
+  if (dot(coat, coat) == 0.0) return -dot(v, n);
+  return -dot(v, dot(coat, n) < 0.0 ? -coat : coat);
+}
+
 // Whether an extension layers the interface (a coat, a film, a coloured or weighted specular): the
 // photons' choices there draw more than one number and weight their powers.
 bool layered(ObjectData object) {

@@ -377,7 +377,7 @@ TwoInterfaces refract_two_interfaces(mat4 view_proj, ViewOrigin eye, vec3 p1, ve
     for (uint k = 0u; k < entry_draws; ++k) next_uniform(rng);
   }
   float cos_i = -dot(v, m1);
-  r.reflectance_in = reflectance(interface_reflection(object, cos_i, -dot(v, n1), 1.0, ior));
+  r.reflectance_in = reflectance(interface_reflection(object, cos_i, coat_cos_outside(object, v, n1), 1.0, ior));
   vec3 t1 = on_side(refract(v, m1, 1.0 / ior), n1, false);
   r.entry_reflection = on_side(reflect(v, m1), n1, true);
 
@@ -549,7 +549,9 @@ ObjectData at_front_texel(ObjectData object, vec2 uv) {
 #ifdef REFRACTOR_LAYERS
   if (object.layer_factors.w > 0.0) {
     ivec2 texel = min(ivec2(uv * vec2(textureSize(front_layers_tex, 0))), textureSize(front_layers_tex, 0) - 1);
-    object = with_interface_layer_texels(object, texelFetch(front_layers_tex, texel, 0).xy);
+    uvec4 texels = texelFetch(front_layers_tex, texel, 0);
+    object = with_interface_layer_texels(object, texels.xy);
+    if (texels.z > 0u) object.coat_normal.yzw = unpack_direction(float(texels.z - 1u));
   }
 #endif
   return object;

@@ -35,6 +35,12 @@ vec3 unpack_direction(float packed) {
   return normalize(d);
 }
 
+// A refractor's coat normal in the refractor buffers' front_layers (z): 1 + pack_direction where
+// its own normal map bends it, 0 where the coat follows the surface (or the target has no z).
+uint pack_coat_normal(ObjectData object, vec3 coat) {
+  return object.surface_maps[4].row_u.w >= 0.0 ? 1u + uint(pack_direction(coat)) : 0u;
+}
+
 uint pack_colour_texel(vec3 rgb, float value) {
   return packUnorm4x8(vec4(sqrt(clamp(rgb, 0.0, 1.0)), value));
 }

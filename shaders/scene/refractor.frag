@@ -5,7 +5,8 @@
 // REFRACTOR_TINT (the pass's optional tint port bound) also the surface's tint and transmission,
 // and with REFRACTOR_LAYERS (its front_layers port) the texels of its interface layers, so that
 // image space reads textured refractors per texel (tint_transmission_filtered,
-// interface_layer_texels_filtered).
+// interface_layer_texels_filtered, and in z the coat's normal where its own map bends it:
+// pack_coat_normal; an rg32ui target drops it).
 #extension GL_GOOGLE_include_directive : require
 #include "scene/scene.glsl"
 SCENE_OBJECTS
@@ -22,6 +23,7 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 2) in float normal_distance;
 layout(location = 3) flat in uint object_index;
 layout(location = 4) in vec4 texcoords;
+layout(location = 5) in vec4 tangent;
 layout(location = 0) out vec4 out_surface;
 #ifdef REFRACTOR_TINT
 layout(location = 1) out vec4 out_tint_transmission;
@@ -30,7 +32,8 @@ layout(location = 1) out vec4 out_tint_transmission;
 #define LAYERS_LOCATION 1
 #endif
 #ifdef REFRACTOR_LAYERS
-layout(location = LAYERS_LOCATION) out uvec2 out_layers;
+#include "scene/tangent_frame.glsl"
+layout(location = LAYERS_LOCATION) out uvec4 out_layers;
 #endif
 
 void main() {
@@ -41,6 +44,7 @@ void main() {
   out_tint_transmission = tint_transmission_filtered(objects[object_index], texcoords);
 #endif
 #ifdef REFRACTOR_LAYERS
-  out_layers = interface_layer_texels_filtered(objects[object_index], texcoords);
+  out_layers = uvec4(interface_layer_texels_filtered(objects[object_index], texcoords),
+                     pack_coat_normal(objects[object_index], coat_normal(objects[object_index], normalize(world_normal), texcoords)), 0u);
 #endif
 }
