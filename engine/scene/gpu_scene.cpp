@@ -25,14 +25,6 @@ gpu::TextureSlot texture_slot(const TextureRef& ref) {
           glm::vec4(m[0][1], m[1][1], m[2][1], static_cast<float>(ref.texcoord))};
 }
 
-// What a texture multiplies, as the device takes it beside the texture (ObjectData's specular_factors,
-// layer_factors, sheen_factors and diffuse_transmission_factors): the factor where the texture is
-// used, else the material's value (the same there for a glTF material, and right for one that is not).
-template <typename T>
-T factor_or(const TextureRef& texture, T factor, T value) {
-  return texture.used() ? factor : value;
-}
-
 // Folds `count` plain structs (no padding: the gpu:: types are vec4-aligned) into `key`.
 template <typename T>
 uint64_t fold_bytes(uint64_t key, const T* data, size_t count) {

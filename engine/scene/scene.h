@@ -79,6 +79,15 @@ struct SurfaceTextures {
   float clearcoat_normal_scale = 1.0f;
 };
 
+// What a texture multiplies, as the device and the translucent patches take it beside the texture
+// (ObjectData's specular_factors, layer_factors, sheen_factors and diffuse_transmission_factors):
+// the factor where the texture is used, else the material's value (the same there for a glTF
+// material, and right for one that is not).
+template <typename T>
+T factor_or(const TextureRef& texture, T factor, T value) {
+  return texture.used() ? factor : value;
+}
+
 // glTF alpha modes: coverage from the base colour's alpha. MASK cuts out where it is below the
 // cutoff, everywhere the engine sees the surface (camera, shadow and light maps, the references).
 enum class AlphaMode { opaque, mask, blend };

@@ -73,10 +73,9 @@ std::vector<gpu::TranslucentSample> translucent_samples(const Scene& scene) {
     };
     const float metallic = m.metallic_roughness ? m.metallic * texel(m.metallic_roughness_texture).b : 0.0f;
     const float share_passed =
-        st.diffuse_transmission.used() ? st.diffuse_transmission_factor * texel(st.diffuse_transmission).a : m.diffuse_transmission;
-    const glm::vec3 colour = st.diffuse_transmission_color.used()
-                                 ? st.diffuse_transmission_color_factor * glm::vec3(texel(st.diffuse_transmission_color))
-                                 : m.diffuse_transmission_color;
+        factor_or(st.diffuse_transmission, st.diffuse_transmission_factor, m.diffuse_transmission) * texel(st.diffuse_transmission).a;
+    const glm::vec3 colour = factor_or(st.diffuse_transmission_color, st.diffuse_transmission_color_factor, m.diffuse_transmission_color) *
+                             glm::vec3(texel(st.diffuse_transmission_color));
     const glm::vec3 passed = (1.0f - metallic) * share_passed * colour / glm::pi<float>();
     samples.push_back({glm::vec4(point, share), glm::vec4(normal, static_cast<float>(t.object)), glm::vec4(passed, 0.0f)});
   }

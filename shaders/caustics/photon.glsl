@@ -193,9 +193,10 @@ uint thin_wall_photon(inout Photon ph, LightData light, vec2 uv, vec3 eye, vec3 
   float ior = band_ior(object, photon_band);
   vec4 back = texture(back_tex, uv);
   bool far_wall = thin_far_wall(front, back) && back.y < receiver_distance;
-  float cos_near = abs(dot(direction, unpack_normal(front.x))), cos_far = abs(dot(direction, unpack_normal(back.x)));
+  vec3 n_near = unpack_normal(front.x);
+  float cos_near = abs(dot(direction, n_near)), cos_far = abs(dot(direction, unpack_normal(back.x)));
   ObjectData near = at_front_texel(object, uv);  // the near wall's texels; the far wall keeps the means
-  vec3 facing = unpack_normal(front.x) * (dot(direction, unpack_normal(front.x)) > 0.0 ? -1.0 : 1.0);
+  vec3 facing = dot(direction, n_near) > 0.0 ? -n_near : n_near;
   vec3 reflect_near =
       params.fresnel != 0u ? reflectance(interface_reflection(near, cos_near, coat_cos_outside(near, direction, facing), 1.0, ior)) : vec3(0.0);
   vec3 reflect_far = far_wall && params.fresnel != 0u ? reflectance(interface_reflection(object, cos_far, cos_far, 1.0, ior)) : vec3(0.0);
